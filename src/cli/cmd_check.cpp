@@ -1,0 +1,160 @@
+#include <iostream>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "coral/compiler.h"
+#include "core/diagnostic_printer.h"
+
+namespace strata::cli {
+namespace {
+
+struct Options {
+  std::vector<std::string> files;
+  std::string format = "text";
+  std::string net;
+};
+
+// Diagnostics of all roots, with a problem found through two roots (a phase
+// file checked alone and through the mission that imports it) shown once.
+class Report {
+ public:
+  void add(const core::SourceManager& sources, const core::DiagnosticSink& sink) {
+    for (const auto& d : sink.diagnostics()) {
+      std::string path = d.span.file < sources.size() ? sources.path(d.span.file) : "";
+      auto key = std::make_tuple(path, d.span.offset, static_cast<int>(d.kind), d.message);
+      if (!seen_.insert(key).second) continue;
+      if (d.severity == core::Severity::Error) ++errors_;
+      if (d.severity == core::Severity::Warning) ++warnings_;
+      if (d.kind == core::DiagnosticKind::FileUnreadable && d.span.file >= sources.size()) {
+        unreadable_root_ = true;
+      }
+      json_.push_back(core::diagnostics_to_json(sources, std::span(&d, 1))[0]);
+      core::print_diagnostic(text_, sources, d);
+    }
+  }
+  std::size_t errors() const { return errors_; }
+  std::size_t warnings() const { return warnings_; }
+  bool unreadable_root() const { return unreadable_root_; }
+  std::string text() const { return text_.str(); }
+  const nlohmann::json& json() const { return json_; }
+
+ private:
+  std::set<std::tuple<std::string, std::uint32_t, int, std::string>> seen_;
+  std::size_t errors_ = 0, warnings_ = 0;
+  bool unreadable_root_ = false;
+  std::ostringstream text_;
+  nlohmann::json json_ = nlohmann::json::array();
+};
+
+int exit_code_for(const Report& report) {
+  if (report.unreadable_root()) return kExitIo;
+  return report.errors() > 0 ? kExitInvalid : kExitOk;
+}
+
+std::string plural(std::size_t n, std::string_view word) {
+  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
+
+int run_check(const Options& o) {
+  coral::DiskFileProvider disk;
+  Report report;
+  nlohmann::json files = nlohmann::json::array();
+  std::vector<std::string> summaries;
+  for (const auto& file : o.files) {
+    core::SourceManager sources;
+    core::DiagnosticSink sink;
+    auto program = coral::compile_file(file, disk, sources, sink);
+    sink.sort();
+    report.add(sources, sink);
+    std::size_t nets = program ? program->nets.size() : 0;
+    std::size_t transitions = 0;
+    if (program) {
+      for (const auto& n : program->nets) transitions += n.net.transition_count();
+    }
+    files.push_back(nlohmann::json{{"file", file}, {"ok", program.has_value()}, {"nets", nets},
+                                   {"transitions", transitions}, {"errors", sink.error_count()},
+                                   {"warnings", sink.warning_count()}});
+    summaries.push_back(program ? fmt::format("{}: ok ({}, {})", file, plural(nets, "net"),
+                                              plural(transitions, "transition"))
+                                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
+  }
+  if (o.format == "json") {
+    nlohmann::json out = {{"diagnostics", report.json()}, {"files", files},
+                          {"errors", report.errors()}, {"warnings", report.warnings()}};
+    std::cout << core::dump_json(out) << "\n";
+  } else {
+    std::cerr << report.text();
+    for (const auto& s : summaries) std::cout << s << "\n";
+    if (report.errors() + report.warnings() > 0) {
+      std::cout << plural(report.errors(), "error") << ", " << plural(report.warnings(), "warning")
+                << "\n";
+    }
+  }
+  return exit_code_for(report);
+}
+
+int run_dump(const Options& o) {
+  coral::DiskFileProvider disk;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+  auto program = coral::compile_file(o.files.front(), disk, sources, sink);
+  sink.sort();
+  Report report;
+  report.add(sources, sink);
+  if (o.format == "json") {
+    if (!program) std::cout << core::dump_json({{"diagnostics", report.json()}}) << "\n";
+  } else {
+    std::cerr << report.text();
+  }
+  if (!program) return exit_code_for(report);
+  if (!o.net.empty()) {
+    const auto* n = program->find(o.net);
+    if (!n) {
+      std::cerr << fmt::format("strata dump: no net '{}' in {}\n", o.net, o.files.front());
+      return kExitUsage;
+    }
+    std::cout << coral::dump_net(*n);
+  } else {
+    std::cout << coral::dump_program(*program);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Runner add_check_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("check", "Check CORAL mission files and report diagnostics");
+  cmd->add_option("files", o->files, "Mission files (.coral); each is checked with its imports")
+      ->required();
+  cmd->add_option("--format", o->format, "Output format: text (for people) or json (for tools)")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
+  cmd->footer("Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
+              "74 when a file cannot be read.");
+  return [o] { return run_check(*o); };
+}
+
+Runner add_dump_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand(
+      "dump", "Print the compiled Petri nets and action tables of a CORAL mission");
+  cmd->add_option("file", o->files, "Mission file (.coral)")
+      ->required()
+      ->expected(1);
+  cmd->add_option("--net", o->net, "Print only this net");
+  cmd->add_option("--format", o->format, "Diagnostics format: text or json")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
+  return [o] { return run_dump(*o); };
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,10 @@
+#include "cli/exit_codes.h"
+
+namespace strata::cli {
+
+const char* exit_code_help() {
+  return "Exit codes: 0 ok, 1 mission ended in abort, 64 usage, 65 invalid mission,\n"
+         "70 internal error, 74 I/O error (a file or the vehicle cannot be reached).";
+}
+
+}  // namespace strata::cli

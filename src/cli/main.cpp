@@ -1,0 +1,37 @@
+// strata: strategic-level mission control for autonomous underwater vehicles.
+#include <exception>
+#include <iostream>
+#include <map>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+
+int main(int argc, char** argv) {
+  using namespace strata::cli;
+  CLI::App app{
+      "Strata: strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)",
+      "strata"};
+  app.set_version_flag("--version", "strata 0.1.0");
+  app.require_subcommand(1);
+  app.footer(exit_code_help());
+
+  std::map<std::string, Runner> runners;
+  runners["check"] = add_check_command(app);
+  runners["dump"] = add_dump_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  try {
+    for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();
+  } catch (const std::exception& e) {
+    std::cerr << "strata: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+  return kExitUsage;
+}

@@ -1,0 +1,409 @@
+#include "coral/checker.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "coral/program.h"
+
+namespace strata::coral {
+namespace {
+
+using core::DiagnosticKind;
+
+struct NetRef {
+  const ast::Net* net;
+  const LoadedFile* file;
+};
+
+std::size_t expected_places(ast::TacticType type) {
+  switch (type) {
+    case ast::TacticType::Ask: return 2;
+    case ast::TacticType::Exec:
+    case ast::TacticType::Ood: return 1;
+    default: return 0;
+  }
+}
+
+std::string_view expected_places_text(ast::TacticType type) {
+  switch (type) {
+    case ast::TacticType::Ask: return "two places (true, then false)";
+    case ast::TacticType::Exec: return "one place (marked when the function completes)";
+    case ast::TacticType::Ood: return "one place (marked when the OOD is done)";
+    default: return "no places";
+  }
+}
+
+class NetChecker {
+ public:
+  NetChecker(const ast::Net& net, const std::unordered_map<std::string, NetRef>& library,
+             core::DiagnosticSink& sink, const CheckOptions& options)
+      : net_(net), library_(library), sink_(sink), options_(options) {}
+
+  void run() {
+    std::size_t errors_before = sink_.error_count();
+    declare_places();
+    check_data();
+    std::map<std::string, const ast::Transition*> transitions;
+    for (const auto& t : net_.transitions) {
+      auto [it, fresh] = transitions.emplace(t.name.text, &t);
+      if (!fresh) {
+        auto* d = sink_.report(DiagnosticKind::DuplicateTransition, t.name.span,
+                               fmt::format("transition '{}' is declared twice in '{}'",
+                                           t.name.text, net_.name.text));
+        core::add_note(d, it->second->name.span, "first declared here");
+      }
+      check_transition(t);
+    }
+    if (sink_.error_count() == errors_before) warn_structure();
+  }
+
+ private:
+  void declare_places() {
+    for (const auto& p : net_.places) {
+      auto [it, fresh] = places_.emplace(p.name.text, &p);
+      if (!fresh) {
+        auto* d = sink_.report(DiagnosticKind::DuplicatePlace, p.name.span,
+                               fmt::format("place '{}' is declared twice in '{}'", p.name.text,
+                                           net_.name.text));
+        core::add_note(d, it->second->name.span, "first declared here");
+      } else {
+        place_names_.push_back(p.name.text);
+      }
+      if (p.is_exit && p.initial > 0) {
+        sink_.report(DiagnosticKind::ExitHasInitialMark, p.initial_span,
+                     fmt::format("exit place '{}' cannot hold an initial mark: the phase would end "
+                                 "before it starts",
+                                 p.name.text));
+      }
+    }
+  }
+
+  void check_data() {
+    if (net_.kind == ast::Net::Kind::Phase) {
+      for (const auto& d : net_.data) {
+        sink_.report(DiagnosticKind::DataOutsideMission, d.span,
+                     "a data file belongs to the mission, not to a phase net");
+      }
+    } else if (net_.data.size() > 1) {
+      auto* d = sink_.report(DiagnosticKind::DuplicateData, net_.data[1].span,
+                             fmt::format("mission '{}' names more than one data file", net_.name.text));
+      core::add_note(d, net_.data[0].span, "first data file given here");
+    }
+  }
+
+  // Returns the declaration, or reports UndefinedPlace.
+  const ast::PlaceDecl* resolve(const ast::Name& n) {
+    auto it = places_.find(n.text);
+    if (it != places_.end()) return it->second;
+    auto* d = sink_.report(DiagnosticKind::UndefinedPlace, n.span,
+                           fmt::format("place '{}' is not declared in '{}'", n.text, net_.name.text));
+    if (auto s = suggest(n.text, place_names_)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+    return nullptr;
+  }
+
+  void check_arcs(const std::vector<ast::ArcRef>& arcs, std::string_view clause) {
+    std::map<std::string, const ast::ArcRef*> seen;
+    for (const auto& a : arcs) {
+      if (!resolve(a.place)) continue;
+      auto [it, fresh] = seen.emplace(a.place.text, &a);
+      if (!fresh) {
+        auto* d = sink_.report(DiagnosticKind::DuplicateArc, a.span,
+                               fmt::format("place '{}' appears twice in this {}; write it once "
+                                           "with a weight ({}*N)",
+                                           a.place.text, clause, a.place.text));
+        core::add_note(d, it->second->span, "first listed here");
+      }
+    }
+  }
+
+  void check_transition(const ast::Transition& t) {
+    check_arcs(t.waits, "wait");
+    check_arcs(t.signals, "signal");
+    for (const auto& action : t.actions) {
+      if (const auto* tactic = std::get_if<ast::Tactic>(&action)) {
+        check_tactic(*tactic);
+      } else {
+        check_phase(std::get<ast::Phase>(action));
+      }
+    }
+  }
+
+  void check_tactic(const ast::Tactic& a) {
+    for (const auto& p : a.places) resolve(p);
+    if (a.type == ast::TacticType::Unknown) return;
+    std::size_t want = expected_places(a.type);
+    if (a.places.size() != want) {
+      auto* d = sink_.report(DiagnosticKind::TacticArity, a.type_name.span,
+                             fmt::format("TACTIC({}, ...) takes {}, but {} given", a.type_name.text,
+                                         expected_places_text(a.type), a.places.size()));
+      if (a.type == ast::TacticType::Ask) {
+        core::add_note(d, "ASK marks its first place when the predicate is true, its second when false");
+      }
+    }
+    if (a.function && options_.primitive) check_primitive(a);
+  }
+
+  void check_primitive(const ast::Tactic& a) {
+    const ast::Call& call = *a.function;
+    auto sig = options_.primitive(call.name.text);
+    if (!sig) {
+      auto* d = sink_.report(DiagnosticKind::UnknownPrimitive, call.name.span,
+                             fmt::format("unknown primitive '{}'", call.name.text));
+      if (auto s = suggest(call.name.text, options_.primitive_names)) {
+        core::add_note(d, call.name.span, fmt::format("did you mean '{}'?", *s));
+      }
+      return;
+    }
+    if (sig->kind != a.type) {
+      sink_.report(DiagnosticKind::TacticArguments, call.name.span,
+                   fmt::format("'{}' is a {} primitive, not {}", call.name.text,
+                               std::string(tactic_type_name(sig->kind)), a.type_name.text));
+    }
+    if (call.args.size() < sig->min_args || call.args.size() > sig->max_args) {
+      sink_.report(DiagnosticKind::PrimitiveArity, call.span,
+                   sig->min_args == sig->max_args
+                       ? fmt::format("'{}' takes {} argument(s), but {} given", call.name.text,
+                                     sig->min_args, call.args.size())
+                       : fmt::format("'{}' takes {} to {} arguments, but {} given", call.name.text,
+                                     sig->min_args, sig->max_args, call.args.size()));
+    }
+  }
+
+  void check_phase(const ast::Phase& a) {
+    for (const auto& p : a.places) resolve(p);
+    auto it = library_.find(a.phase.text);
+    if (it == library_.end()) {
+      auto* d = sink_.report(DiagnosticKind::UnknownPhase, a.phase.span,
+                             fmt::format("no phase net '{}' in the mission library", a.phase.text));
+      std::vector<std::string> phases;
+      for (const auto& [name, ref] : library_) {
+        if (ref.net->kind == ast::Net::Kind::Phase) phases.push_back(name);
+      }
+      if (auto s = suggest(a.phase.text, phases)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+      else core::add_note(d, "import the file that declares it");
+      return;
+    }
+    const ast::Net& phase = *it->second.net;
+    if (phase.kind == ast::Net::Kind::Mission) {
+      sink_.report(DiagnosticKind::PhaseIsMission, a.phase.span,
+                   fmt::format("'{}' is a mission; PHASE runs a phase net", a.phase.text));
+      return;
+    }
+    if (a.places.size() != phase.exits.size()) {
+      auto* d = sink_.report(DiagnosticKind::PhaseArity, a.phase.span,
+                             fmt::format("phase '{}' has {} exit(s), but PHASE gives {} place(s)",
+                                         a.phase.text, phase.exits.size(), a.places.size()));
+      std::string exits;
+      for (const auto& e : phase.exits) exits += (exits.empty() ? "" : ", ") + e.text;
+      core::add_note(d, phase.span,
+                     exits.empty() ? std::string("the phase declares no exit")
+                                   : fmt::format("its exits, in order: {}", exits));
+    }
+  }
+
+  // Warnings: transitions without input, places nothing touches, and
+  // transitions that no sequence of firings can ever enable.
+  void warn_structure() {
+    std::set<std::string> read, written;
+    for (const auto& t : net_.transitions) {
+      for (const auto& a : t.waits) read.insert(a.place.text);
+      for (const auto& a : t.signals) written.insert(a.place.text);
+      for (const auto& action : t.actions) {
+        const auto& places = std::holds_alternative<ast::Tactic>(action)
+                                 ? std::get<ast::Tactic>(action).places
+                                 : std::get<ast::Phase>(action).places;
+        for (const auto& p : places) written.insert(p.text);
+      }
+      if (t.waits.empty()) {
+        sink_.report(DiagnosticKind::NoInput, t.name.span,
+                     fmt::format("transition '{}' waits for nothing, so it is always enabled and "
+                                 "fires without end",
+                                 t.name.text));
+      }
+    }
+    for (const auto& p : net_.places) {
+      if (places_.at(p.name.text) != &p) continue;  // a duplicate, reported already
+      if (p.is_exit) {
+        if (!written.count(p.name.text)) {
+          sink_.report(DiagnosticKind::ExitNeverMarked, p.name.span,
+                       fmt::format("exit '{}' is never marked, so the phase never ends there",
+                                   p.name.text));
+        }
+      } else if (!read.count(p.name.text) && !written.count(p.name.text)) {
+        sink_.report(DiagnosticKind::UnusedPlace, p.name.span,
+                     fmt::format("place '{}' is never read and never written", p.name.text));
+      }
+    }
+    warn_never_enabled();
+  }
+
+  // Least fixpoint: a place may be marked if it starts marked or some
+  // possibly-fireable transition writes it (by signal or action outcome); a
+  // transition may fire if all its inputs may be marked. Weights are ignored,
+  // so this over-approximates: what it calls dead is dead.
+  void warn_never_enabled() {
+    std::set<std::string> markable;
+    for (const auto& p : net_.places) {
+      if (p.initial > 0) markable.insert(p.name.text);
+    }
+    std::vector<bool> can_fire(net_.transitions.size(), false);
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t i = 0; i < net_.transitions.size(); ++i) {
+        if (can_fire[i]) continue;
+        const auto& t = net_.transitions[i];
+        bool all = std::all_of(t.waits.begin(), t.waits.end(),
+                               [&](const ast::ArcRef& a) { return markable.count(a.place.text) > 0; });
+        if (!all) continue;
+        can_fire[i] = changed = true;
+        for (const auto& a : t.signals) markable.insert(a.place.text);
+        for (const auto& action : t.actions) {
+          const auto& places = std::holds_alternative<ast::Tactic>(action)
+                                   ? std::get<ast::Tactic>(action).places
+                                   : std::get<ast::Phase>(action).places;
+          for (const auto& p : places) markable.insert(p.text);
+        }
+      }
+    }
+    for (std::size_t i = 0; i < net_.transitions.size(); ++i) {
+      const auto& t = net_.transitions[i];
+      if (can_fire[i] || t.waits.empty()) continue;
+      auto* d = sink_.report(DiagnosticKind::NeverEnabled, t.name.span,
+                             fmt::format("transition '{}' can never be enabled", t.name.text));
+      for (const auto& a : t.waits) {
+        if (!markable.count(a.place.text)) {
+          core::add_note(d, a.place.span,
+                         fmt::format("no firing can ever mark '{}'", a.place.text));
+          break;
+        }
+      }
+    }
+  }
+
+  const ast::Net& net_;
+  const std::unordered_map<std::string, NetRef>& library_;
+  core::DiagnosticSink& sink_;
+  const CheckOptions& options_;
+  std::unordered_map<std::string, const ast::PlaceDecl*> places_;
+  std::vector<std::string> place_names_;
+};
+
+// A PHASE cycle would load phases without end: report the PHASE that closes
+// it. Iterative depth-first search, so a long chain cannot overflow the stack.
+void check_phase_recursion(const std::unordered_map<std::string, NetRef>& library,
+                           core::DiagnosticSink& sink) {
+  enum class Mark { None, Active, Done };
+  std::unordered_map<const ast::Net*, Mark> marks;
+  std::vector<const ast::Net*> roots;
+  for (const auto& [name, ref] : library) roots.push_back(ref.net);
+  std::sort(roots.begin(), roots.end(), [](const ast::Net* a, const ast::Net* b) {
+    return a->name.text < b->name.text;
+  });
+  auto calls = [&](const ast::Net* net) {
+    std::vector<const ast::Phase*> out;
+    for (const auto& t : net->transitions) {
+      for (const auto& action : t.actions) {
+        if (const auto* phase = std::get_if<ast::Phase>(&action)) out.push_back(phase);
+      }
+    }
+    return out;
+  };
+  struct Frame {
+    const ast::Net* net;
+    std::vector<const ast::Phase*> calls;
+    std::size_t next = 0;
+  };
+  for (const ast::Net* root : roots) {
+    if (marks[root] != Mark::None) continue;
+    std::vector<Frame> stack;
+    marks[root] = Mark::Active;
+    stack.push_back({root, calls(root)});
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (f.next == f.calls.size()) {
+        marks[f.net] = Mark::Done;
+        stack.pop_back();
+        continue;
+      }
+      const ast::Phase* phase = f.calls[f.next++];
+      auto it = library.find(phase->phase.text);
+      if (it == library.end()) continue;
+      const ast::Net* callee = it->second.net;
+      Mark m = marks[callee];
+      if (m == Mark::Active) {
+        sink.report(DiagnosticKind::PhaseRecursion, phase->phase.span,
+                    fmt::format("PHASE({}) in '{}' runs a phase that is already running",
+                                phase->phase.text, f.net->name.text));
+      } else if (m == Mark::None) {
+        marks[callee] = Mark::Active;
+        stack.push_back({callee, calls(callee)});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options) {
+  std::unordered_map<std::string, NetRef> library;
+  const ast::Net* mission = nullptr;
+  for (const auto& file : load.files) {
+    for (const auto& net : file.tree.nets) {
+      auto [it, fresh] = library.emplace(net.name.text, NetRef{&net, &file});
+      if (!fresh) {
+        auto* d = sink.report(DiagnosticKind::DuplicateNet, net.name.span,
+                              fmt::format("'{}' is declared twice in the mission library", net.name.text));
+        core::add_note(d, it->second.net->name.span, "first declared here");
+      }
+      if (net.kind == ast::Net::Kind::Mission) {
+        if (mission) {
+          auto* d = sink.report(DiagnosticKind::MultipleMissions, net.name.span,
+                                fmt::format("a load holds one mission, but '{}' is a second",
+                                            net.name.text));
+          core::add_note(d, mission->name.span, "the first mission");
+        } else {
+          mission = &net;
+        }
+      }
+    }
+  }
+  for (const auto& file : load.files) {
+    for (const auto& net : file.tree.nets) NetChecker(net, library, sink, options).run();
+  }
+  check_phase_recursion(library, sink);
+}
+
+std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diag = up;
+      }
+    }
+    return row[b.size()];
+  };
+  if (name.size() > 64) return std::nullopt;
+  std::optional<std::string> best;
+  std::size_t best_d = std::max<std::size_t>(1, name.size() / 3) + 1;
+  for (const auto& c : candidates) {
+    if (c.size() > 64) continue;
+    std::size_t d = distance(name, c);
+    if (d < best_d) {
+      best_d = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace strata::coral

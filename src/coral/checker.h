@@ -1,0 +1,38 @@
+#pragma once
+// Semantic checks over a whole load (the root file and its imports): names,
+// TACTIC and PHASE shapes, the mission library, and structural warnings.
+// See docs/language.md for the list of checks.
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "coral/ast.h"
+#include "coral/loader.h"
+#include "core/diagnostic.h"
+
+namespace strata::coral {
+
+// What the checker needs to know of a vehicle primitive. The catalogue lives
+// in the Tactical level; the checker sees it only through this lookup.
+struct PrimitiveSignature {
+  ast::TacticType kind = ast::TacticType::Exec;
+  std::size_t min_args = 0;
+  std::size_t max_args = 0;
+};
+
+struct CheckOptions {
+  // When set, every EXEC/ASK/OOD primitive must be known to it.
+  std::function<std::optional<PrimitiveSignature>(std::string_view)> primitive;
+  // Every known primitive name, for "did you mean" notes.
+  std::vector<std::string> primitive_names;
+};
+
+void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options = {});
+
+// The closest candidate to `name` by edit distance, if close enough to be a
+// plausible typo.
+std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates);
+
+}  // namespace strata::coral

@@ -1,0 +1,480 @@
+#include "coral/parser.h"
+
+#include <charconv>
+#include <initializer_list>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "coral/lexer.h"
+
+namespace strata::coral {
+namespace {
+
+using core::DiagnosticKind;
+using TK = TokenKind;
+
+// Tokens that start a declaration: recovery never skips past one.
+bool is_declaration_keyword(TK k) {
+  return k == TK::KwNet || k == TK::KwMission || k == TK::KwImport || k == TK::KwPlace ||
+         k == TK::KwExit || k == TK::KwData || k == TK::KwTransition;
+}
+
+bool is_clause_keyword(TK k) { return k == TK::KwWait || k == TK::KwAction || k == TK::KwSignal; }
+
+std::string describe(const Token& t) {
+  switch (t.kind) {
+    case TK::Identifier:
+    case TK::Integer:
+    case TK::Float:
+      return fmt::format("'{}'", t.text.substr(0, 40));
+    case TK::String:
+      return "a string";
+    default:
+      return std::string(token_kind_name(t.kind));
+  }
+}
+
+class Parser {
+ public:
+  Parser(const core::SourceManager& sources, core::FileId id, core::DiagnosticSink& sink)
+      : lexer_(id, sources.text(id), sink), sink_(sink) {
+    file_.id = id;
+    advance();
+  }
+
+  ast::File parse_file() {
+    while (!at(TK::EndOfFile)) {
+      panic_ = false;
+      if (match(TK::KwImport)) {
+        parse_import();
+      } else if (at(TK::KwNet) || at(TK::KwMission)) {
+        parse_net();
+      } else {
+        error_here("expected 'net', 'mission' or 'import' at the top level");
+        // Skip to the next top-level declaration.
+        while (!at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) && !at(TK::KwImport)) {
+          advance();
+        }
+      }
+    }
+    return std::move(file_);
+  }
+
+ private:
+  // --- token plumbing -------------------------------------------------------
+  void advance() {
+    prev_ = tok_;
+    tok_ = lexer_.next();
+  }
+  bool at(TK k) const { return tok_.kind == k; }
+  bool match(TK k) {
+    if (!at(k)) return false;
+    advance();
+    return true;
+  }
+  void error_at(const Token& t, const std::string& message) {
+    if (panic_) return;
+    panic_ = true;
+    if (t.malformed) return;  // the lexer said what is wrong with it
+    sink_.report(DiagnosticKind::UnexpectedToken, t.span, message);
+  }
+  void error_here(const std::string& expected) {
+    error_at(tok_, fmt::format("{}, found {}", expected, describe(tok_)));
+  }
+  bool expect(TK k, std::string_view context) {
+    if (match(k)) return true;
+    error_here(fmt::format("expected {} {}", token_kind_name(k), context));
+    return false;
+  }
+
+  // Skips to `closer` at nesting depth 0 and consumes it, or stops before a
+  // declaration keyword (or a clause keyword, if `stop_at_clause`) so the
+  // enclosing loop can resume there.
+  void recover(TK closer, bool stop_at_clause = false) {
+    int depth = 0;
+    while (!at(TK::EndOfFile)) {
+      if (depth == 0 && at(closer)) {
+        advance();
+        return;
+      }
+      if (depth == 0 && (is_declaration_keyword(tok_.kind) ||
+                         (stop_at_clause && is_clause_keyword(tok_.kind)))) {
+        return;
+      }
+      if (at(TK::LBrace) || at(TK::LParen)) ++depth;
+      if ((at(TK::RBrace) || at(TK::RParen)) && depth > 0) --depth;
+      else if (at(TK::RBrace) && closer != TK::RBrace) return;  // end of an enclosing block
+      advance();
+    }
+  }
+
+  core::SourceSpan join(core::SourceSpan a, core::SourceSpan b) const {
+    return {a.file, a.offset, b.offset + b.length - a.offset};
+  }
+
+  std::optional<ast::Name> name(std::string_view what) {
+    if (!at(TK::Identifier)) {
+      error_here(fmt::format("expected {}", what));
+      return std::nullopt;
+    }
+    ast::Name n{std::string(tok_.text), tok_.span};
+    advance();
+    return n;
+  }
+
+  // An unsigned integer in [lo, hi]; out of range gives `kind` and returns lo.
+  std::uint32_t integer(std::uint64_t lo, std::uint64_t hi, DiagnosticKind kind,
+                        std::string_view what, core::SourceSpan* where = nullptr) {
+    if (!at(TK::Integer)) {
+      error_here(fmt::format("expected {}", what));
+      return static_cast<std::uint32_t>(lo);
+    }
+    std::uint64_t v = 0;
+    auto [p, ec] = std::from_chars(tok_.text.data(), tok_.text.data() + tok_.text.size(), v);
+    bool ok = ec == std::errc() && p == tok_.text.data() + tok_.text.size() && v >= lo && v <= hi;
+    if (where) *where = tok_.span;
+    if (!ok) {
+      sink_.report(kind, tok_.span,
+                   fmt::format("{} must be from {} to {}, not {}", what, lo, hi,
+                               tok_.text.substr(0, 40)));
+      v = lo;
+    }
+    advance();
+    return static_cast<std::uint32_t>(v);
+  }
+
+  // --- declarations -----------------------------------------------------------
+  void parse_import() {
+    Token head = prev_;
+    if (!at(TK::String)) {
+      error_here("expected a file name in quotes after 'import'");
+      recover(TK::Semicolon);
+      return;
+    }
+    file_.imports.push_back({unescape(tok_.text), join(head.span, tok_.span)});
+    advance();
+    if (!expect(TK::Semicolon, "after the import")) recover(TK::Semicolon);
+  }
+
+  void parse_net() {
+    ast::Net net;
+    net.kind = at(TK::KwMission) ? ast::Net::Kind::Mission : ast::Net::Kind::Phase;
+    Token head = tok_;
+    advance();
+    auto n = name(net.kind == ast::Net::Kind::Mission ? "a mission name" : "a net name");
+    if (!n) {
+      recover(TK::RBrace);
+      return;
+    }
+    net.name = *n;
+    net.span = join(head.span, n->span);
+    if (!expect(TK::LBrace, "to open the net body")) {
+      recover(TK::RBrace);
+      return;
+    }
+    while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) &&
+           !at(TK::KwImport)) {
+      panic_ = false;
+      if (match(TK::KwPlace)) {
+        parse_places(net, false);
+      } else if (match(TK::KwExit)) {
+        parse_places(net, true);
+      } else if (match(TK::KwData)) {
+        parse_data(net);
+      } else if (match(TK::KwTransition)) {
+        parse_transition(net);
+      } else {
+        error_here("expected 'place', 'exit', 'data', 'transition' or '}' in the net body");
+        recover(TK::Semicolon);
+      }
+    }
+    if (!at(TK::RBrace)) {
+      error_at(tok_, fmt::format("expected '}}' to close {} '{}', found {}",
+                                 net.kind == ast::Net::Kind::Mission ? "mission" : "net",
+                                 net.name.text, describe(tok_)));
+    } else {
+      advance();
+    }
+    file_.nets.push_back(std::move(net));
+  }
+
+  void parse_places(ast::Net& net, bool is_exit) {
+    do {
+      auto n = name(is_exit ? "an exit place name" : "a place name");
+      if (!n) {
+        recover(TK::Semicolon);
+        return;
+      }
+      ast::PlaceDecl decl{*n, 0, is_exit, {}};
+      if (match(TK::Equals)) {
+        decl.initial = integer(0, std::numeric_limits<std::uint32_t>::max(),
+                               DiagnosticKind::BadWeight, "an initial mark", &decl.initial_span);
+      }
+      if (is_exit) net.exits.push_back(decl.name);
+      net.places.push_back(std::move(decl));
+    } while (match(TK::Comma));
+    if (!expect(TK::Semicolon, is_exit ? "after the exit places" : "after the places")) {
+      recover(TK::Semicolon);
+    }
+  }
+
+  void parse_data(ast::Net& net) {
+    if (!at(TK::String)) {
+      error_here("expected a file name in quotes after 'data'");
+      recover(TK::Semicolon);
+      return;
+    }
+    net.data.push_back(literal());
+    if (!expect(TK::Semicolon, "after the data file")) recover(TK::Semicolon);
+  }
+
+  void parse_transition(ast::Net& net) {
+    Token head = prev_;
+    auto n = name("a transition name");
+    if (!n) {
+      recover(TK::RBrace);
+      return;
+    }
+    ast::Transition t;
+    t.name = *n;
+    t.span = join(head.span, n->span);
+    if (match(TK::KwPriority)) {
+      bool negative = at(TK::Integer) && tok_.text.starts_with("-");
+      if (negative) {
+        Token minus = tok_;
+        minus.text.remove_prefix(1);
+        tok_ = minus;
+      }
+      auto v = static_cast<int>(integer(0, 1000000, DiagnosticKind::InvalidNumber, "a priority"));
+      t.priority = negative ? -v : v;
+    }
+    if (!expect(TK::LBrace, "to open the transition body")) {
+      recover(TK::RBrace);
+      net.transitions.push_back(std::move(t));
+      return;
+    }
+    bool seen_wait = false, seen_action = false, seen_signal = false;
+    while (!at(TK::RBrace) && !at(TK::EndOfFile) && !is_declaration_keyword(tok_.kind)) {
+      panic_ = false;
+      Token clause = tok_;
+      auto once = [&](bool& seen) {
+        if (seen) {
+          sink_.report(DiagnosticKind::DuplicateClause, clause.span,
+                       fmt::format("transition '{}' has more than one '{}' clause; merge them",
+                                   t.name.text, clause.text));
+        }
+        seen = true;
+      };
+      if (match(TK::KwWait)) {
+        once(seen_wait);
+        parse_arcs(t.waits);
+      } else if (match(TK::KwAction)) {
+        once(seen_action);
+        parse_actions(t.actions);
+      } else if (match(TK::KwSignal)) {
+        once(seen_signal);
+        parse_arcs(t.signals);
+      } else {
+        error_here("expected 'wait', 'action', 'signal' or '}' in the transition body");
+        recover(TK::RBrace, true);
+        if (prev_.kind == TK::RBrace) {  // consumed the transition's own '}'
+          net.transitions.push_back(std::move(t));
+          return;
+        }
+      }
+    }
+    if (!expect(TK::RBrace, fmt::format("to close transition '{}'", t.name.text))) {
+      recover(TK::RBrace, true);
+    }
+    net.transitions.push_back(std::move(t));
+  }
+
+  void parse_arcs(std::vector<ast::ArcRef>& out) {
+    if (!expect(TK::LBrace, "to open the place list")) {
+      recover(TK::RBrace, true);
+      return;
+    }
+    if (match(TK::RBrace)) return;
+    do {
+      auto n = name("a place name");
+      if (!n) {
+        recover(TK::RBrace, true);
+        return;
+      }
+      ast::ArcRef arc{*n, 1, n->span};
+      if (match(TK::Star)) {
+        core::SourceSpan w{};
+        arc.weight = integer(1, std::numeric_limits<std::uint32_t>::max(),
+                             DiagnosticKind::BadWeight, "an arc weight", &w);
+        arc.span = join(n->span, w.length ? w : n->span);
+      }
+      out.push_back(std::move(arc));
+    } while (match(TK::Comma));
+    if (!expect(TK::RBrace, "to close the place list (places are separated by ',')")) {
+      recover(TK::RBrace, true);
+    }
+  }
+
+  void parse_actions(std::vector<ast::Action>& out) {
+    if (!expect(TK::LBrace, "to open the action list")) {
+      recover(TK::RBrace, true);
+      return;
+    }
+    if (match(TK::RBrace)) return;
+    do {
+      if (match(TK::KwTactic)) {
+        auto a = parse_tactic();
+        if (!a) {
+          recover(TK::RBrace, true);
+          return;
+        }
+        out.emplace_back(std::move(*a));
+      } else if (match(TK::KwPhase)) {
+        auto a = parse_phase();
+        if (!a) {
+          recover(TK::RBrace, true);
+          return;
+        }
+        out.emplace_back(std::move(*a));
+      } else {
+        error_here("expected TACTIC(...) or PHASE(...)");
+        recover(TK::RBrace, true);
+        return;
+      }
+    } while (match(TK::Comma));
+    if (!expect(TK::RBrace, "to close the action list (actions are separated by ',')")) {
+      recover(TK::RBrace, true);
+    }
+  }
+
+  // After TACTIC: (TYPE, function-or-string {, place}).
+  std::optional<ast::Tactic> parse_tactic() {
+    Token head = prev_;
+    if (!expect(TK::LParen, "after TACTIC")) return std::nullopt;
+    ast::Tactic a;
+    auto type = name("a TACTIC type: EXEC, ASK, REPORT or OOD");
+    if (!type) return std::nullopt;
+    a.type_name = *type;
+    if (type->text == "EXEC") a.type = ast::TacticType::Exec;
+    else if (type->text == "ASK") a.type = ast::TacticType::Ask;
+    else if (type->text == "REPORT") a.type = ast::TacticType::Report;
+    else if (type->text == "OOD") a.type = ast::TacticType::Ood;
+    else {
+      sink_.report(DiagnosticKind::UnknownTacticType, type->span,
+                   fmt::format("unknown TACTIC type '{}'; expected EXEC, ASK, REPORT or OOD",
+                               type->text));
+    }
+    if (!expect(TK::Comma, "after the TACTIC type")) return std::nullopt;
+    if (at(TK::String)) {
+      ast::Literal text = literal();
+      if (a.type != ast::TacticType::Report && a.type != ast::TacticType::Unknown) {
+        sink_.report(DiagnosticKind::TacticArguments, text.span,
+                     fmt::format("TACTIC({}, ...) takes a primitive name, not a string",
+                                 a.type_name.text));
+      }
+      a.text = std::move(text);
+    } else if (at(TK::Identifier)) {
+      auto call = parse_call();
+      if (!call) return std::nullopt;
+      if (a.type == ast::TacticType::Report) {
+        sink_.report(DiagnosticKind::TacticArguments, call->span,
+                     "TACTIC(REPORT, ...) takes a string in quotes");
+      }
+      a.function = std::move(*call);
+    } else {
+      error_here(a.type == ast::TacticType::Report ? "expected a string in quotes"
+                                                   : "expected a primitive name");
+      return std::nullopt;
+    }
+    while (match(TK::Comma)) {
+      auto p = name("a place name");
+      if (!p) return std::nullopt;
+      if (at(TK::LParen)) {
+        error_here(fmt::format("expected ',' or ')' after place '{}' (places take no arguments)",
+                               p->text));
+        return std::nullopt;
+      }
+      a.places.push_back(std::move(*p));
+    }
+    if (!expect(TK::RParen, "to close TACTIC(...)")) return std::nullopt;
+    a.span = join(head.span, prev_.span);
+    return a;
+  }
+
+  std::optional<ast::Phase> parse_phase() {
+    Token head = prev_;
+    if (!expect(TK::LParen, "after PHASE")) return std::nullopt;
+    ast::Phase a;
+    auto n = name("a phase name");
+    if (!n) return std::nullopt;
+    a.phase = *n;
+    while (match(TK::Comma)) {
+      auto p = name("a place name");
+      if (!p) return std::nullopt;
+      a.places.push_back(std::move(*p));
+    }
+    if (!expect(TK::RParen, "to close PHASE(...)")) return std::nullopt;
+    a.span = join(head.span, prev_.span);
+    return a;
+  }
+
+  std::optional<ast::Call> parse_call() {
+    ast::Call call;
+    call.name = {std::string(tok_.text), tok_.span};
+    advance();
+    call.span = call.name.span;
+    if (match(TK::LParen)) {
+      call.has_parens = true;
+      if (!at(TK::RParen)) {
+        do {
+          if (!at(TK::Integer) && !at(TK::Float) && !at(TK::String)) {
+            error_here("expected a literal argument (a number or a string)");
+            return std::nullopt;
+          }
+          call.args.push_back(literal());
+        } while (match(TK::Comma));
+      }
+      if (!expect(TK::RParen, fmt::format("to close the arguments of '{}'", call.name.text))) {
+        return std::nullopt;
+      }
+      call.span = join(call.name.span, prev_.span);
+    }
+    return call;
+  }
+
+  ast::Literal literal() {
+    ast::Literal lit;
+    lit.kind = at(TK::String) ? ast::Literal::Kind::String
+             : at(TK::Float)  ? ast::Literal::Kind::Float
+                              : ast::Literal::Kind::Integer;
+    lit.text = std::string(tok_.text);
+    lit.value = lit.kind == ast::Literal::Kind::String ? unescape(tok_.text) : lit.text;
+    lit.span = tok_.span;
+    advance();
+    return lit;
+  }
+
+  Lexer lexer_;
+  core::DiagnosticSink& sink_;
+  Token tok_;
+  Token prev_;
+  bool panic_ = false;
+  ast::File file_;
+};
+
+}  // namespace
+
+ast::File parse(const core::SourceManager& sources, core::FileId id, core::DiagnosticSink& sink) {
+  std::string_view text = sources.text(id);
+  if (text.size() > kMaxSourceSize) {
+    sink.report(DiagnosticKind::FileTooLarge, {id, 0, 0},
+                fmt::format("file is {} bytes; the limit is {}", text.size(), kMaxSourceSize));
+    ast::File f;
+    f.id = id;
+    return f;
+  }
+  return Parser(sources, id, sink).parse_file();
+}
+
+}  // namespace strata::coral

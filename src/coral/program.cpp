@@ -1,0 +1,78 @@
+#include "coral/program.h"
+
+#include <fmt/format.h>
+
+#include "petri/dump.h"
+
+namespace strata::coral {
+
+const CompiledNet* Program::find(std::string_view name) const {
+  for (const auto& n : nets) {
+    if (n.name == name) return &n;
+  }
+  return nullptr;
+}
+
+std::string_view tactic_type_name(ast::TacticType type) {
+  switch (type) {
+    case ast::TacticType::Exec: return "EXEC";
+    case ast::TacticType::Ask: return "ASK";
+    case ast::TacticType::Report: return "REPORT";
+    case ast::TacticType::Ood: return "OOD";
+    case ast::TacticType::Unknown: break;
+  }
+  return "?";
+}
+
+namespace {
+
+std::string places(const petri::Net& net, const std::vector<petri::PlaceId>& ids) {
+  std::string s;
+  for (auto p : ids) s += (s.empty() ? "" : ", ") + net.place_name(p);
+  return s;
+}
+
+std::string describe(const petri::Net& net, const ActionSpec& a) {
+  if (a.kind == ActionSpec::Kind::Phase) {
+    return fmt::format("PHASE({}) -> [{}]", a.target, places(net, a.outcomes));
+  }
+  std::string what;
+  if (a.tactic == ast::TacticType::Report) {
+    what = fmt::format("\"{}\"", a.text);
+  } else {
+    what = a.target;
+    if (!a.args.empty()) {
+      std::string args;
+      for (const auto& l : a.args) args += (args.empty() ? "" : ", ") + l.text;
+      what += "(" + args + ")";
+    }
+  }
+  return fmt::format("TACTIC({}, {}) -> [{}]", tactic_type_name(a.tactic), what,
+                     places(net, a.outcomes));
+}
+
+}  // namespace
+
+std::string dump_net(const CompiledNet& n) {
+  std::string out = fmt::format("{} {}\n", n.kind == ast::Net::Kind::Mission ? "mission" : "net", n.name);
+  if (!n.data_file.empty()) out += fmt::format("data \"{}\"\n", n.data_as_written);
+  if (!n.exits.empty()) out += fmt::format("exits [{}]\n", places(n.net, n.exits));
+  out += petri::dump_net(n.net);
+  for (petri::TransitionId t = 0; t < n.net.transition_count(); ++t) {
+    for (const auto& a : n.actions[t]) {
+      out += fmt::format("action {}: {}\n", n.net.transition_name(t), describe(n.net, a));
+    }
+  }
+  return out;
+}
+
+std::string dump_program(const Program& program) {
+  std::string out;
+  for (const auto& n : program.nets) {
+    if (!out.empty()) out += '\n';
+    out += dump_net(n);
+  }
+  return out;
+}
+
+}  // namespace strata::coral

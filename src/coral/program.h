@@ -1,0 +1,53 @@
+#pragma once
+// The compiled form of a CORAL load: one petri::Net per net plus the action
+// table (what each transition issues when it fires, and which places the
+// replies mark). This is what the CORAL Engine runs and `strata dump` prints.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coral/ast.h"
+#include "petri/net.h"
+
+namespace strata::coral {
+
+struct ActionSpec {
+  enum class Kind { Tactic, Phase };
+  Kind kind = Kind::Tactic;
+  ast::TacticType tactic = ast::TacticType::Unknown;  // Kind::Tactic only
+  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  std::vector<ast::Literal> args;  // literal arguments of the primitive
+  std::string text;                // REPORT only
+  // Places marked by the outcome: EXEC/OOD [done]; ASK [true, false];
+  // REPORT []; PHASE one per exit of the phase, in exit order.
+  std::vector<petri::PlaceId> outcomes;
+  core::SourceSpan span;
+};
+
+struct CompiledNet {
+  std::string name;
+  ast::Net::Kind kind = ast::Net::Kind::Phase;
+  petri::Net net;
+  std::vector<std::vector<ActionSpec>> actions;  // indexed by TransitionId
+  std::vector<petri::PlaceId> exits;             // in declaration order
+  std::string data_file;    // mission only: resolved against the mission's folder, or empty
+  std::string data_as_written;  // the path as the mission wrote it
+  std::string source_file;  // the file that declares the net
+  core::SourceSpan span;
+};
+
+struct Program {
+  std::vector<CompiledNet> nets;  // in load order
+  std::optional<std::size_t> mission;
+
+  const CompiledNet* find(std::string_view name) const;
+};
+
+std::string_view tactic_type_name(ast::TacticType type);
+
+// Stable text of a compiled net or of a whole program, for golden tests and
+// `strata dump`.
+std::string dump_net(const CompiledNet& net);
+std::string dump_program(const Program& program);
+
+}  // namespace strata::coral
