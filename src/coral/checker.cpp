@@ -394,7 +394,8 @@ std::optional<std::string> suggest(std::string_view name, const std::vector<std:
   };
   if (name.size() > 64) return std::nullopt;
   std::optional<std::string> best;
-  std::size_t best_d = std::max<std::size_t>(1, name.size() / 3) + 1;
+  // Accept up to about a third of the name in edits (two for a five-letter name).
+  std::size_t best_d = std::max<std::size_t>(1, (name.size() + 2) / 3) + 1;
   for (const auto& c : candidates) {
     if (c.size() > 64) continue;
     std::size_t d = distance(name, c);

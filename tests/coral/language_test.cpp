@@ -1,0 +1,124 @@
+// Language tests written in CORAL:
+//  - tests/coral/ok/NAME.coral must compile with no diagnostic, and its
+//    `strata dump` must equal NAME.dump (STRATA_UPDATE_GOLDEN=1 rewrites it);
+//  - tests/coral/fail_NAME.coral must give exactly the diagnostics its
+//    annotations list, one per line: `// error: LINE:COL [Kind]` or
+//    `// warning: LINE:COL [Kind]`. Diagnostics in other files are ignored.
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "coral/compiler.h"
+#include "core/diagnostic_printer.h"
+
+namespace strata::coral {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kRoot = fs::path(STRATA_SOURCE_DIR) / "tests" / "coral";
+
+std::vector<std::string> files(const fs::path& dir, const std::string& prefix) {
+  std::vector<std::string> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string name = e.path().filename().string();
+    if (e.is_regular_file() && e.path().extension() == ".coral" && name.starts_with(prefix)) {
+      out.push_back(e.path().string());
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string s = fs::path(info.param).stem().string();
+  for (char& c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return s;
+}
+
+struct Run {
+  core::SourceManager sources;
+  core::DiagnosticSink sink{1000};
+  std::optional<Program> program;
+};
+
+std::unique_ptr<Run> compile(const std::string& path) {
+  auto r = std::make_unique<Run>();
+  DiskFileProvider disk;
+  r->program = compile_file(path, disk, r->sources, r->sink);
+  r->sink.sort();
+  return r;
+}
+
+std::string printed(const Run& r) {
+  std::ostringstream out;
+  core::print_diagnostics(out, r.sources, r.sink.diagnostics());
+  return out.str();
+}
+
+class OkFile : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OkFile, CompilesCleanlyAndMatchesItsGoldenDump) {
+  const std::string& path = GetParam();
+  auto r = compile(path);
+  ASSERT_TRUE(r->program) << printed(*r);
+  EXPECT_EQ(0u, r->sink.diagnostics().size()) << printed(*r);
+  std::string dump = dump_program(*r->program);
+  fs::path golden = fs::path(path).replace_extension(".dump");
+  if (std::getenv("STRATA_UPDATE_GOLDEN")) {
+    std::ofstream(golden, std::ios::binary) << dump;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << "missing golden dump " << golden
+                                  << " (run with STRATA_UPDATE_GOLDEN=1 to create it)";
+  EXPECT_EQ(read(golden), dump);
+}
+
+INSTANTIATE_TEST_SUITE_P(Coral, OkFile, ::testing::ValuesIn(files(kRoot / "ok", "")), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(OkFile);
+
+class FailFile : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
+  const std::string& path = GetParam();
+  std::vector<std::string> expected;
+  static const std::regex annotation(R"(//\s*(error|warning):\s*(\d+):(\d+)\s*\[(\w+)\])");
+  std::string text = read(path);
+  for (std::sregex_iterator it(text.begin(), text.end(), annotation), end; it != end; ++it) {
+    expected.push_back(fmt::format("{} {}:{} [{}]", (*it)[1].str(), (*it)[2].str(), (*it)[3].str(),
+                                   (*it)[4].str()));
+  }
+  ASSERT_FALSE(expected.empty()) << path << " has no // error: or // warning: annotation";
+  auto r = compile(path);
+  std::vector<std::string> got;
+  for (const auto& d : r->sink.diagnostics()) {
+    if (d.span.file >= r->sources.size() || r->sources.path(d.span.file) != path) continue;
+    auto lc = r->sources.line_col(d.span.file, d.span.offset);
+    got.push_back(fmt::format("{} {}:{} [{}]", core::severity_name(d.severity), lc.line, lc.col,
+                              core::kind_name(d.kind)));
+  }
+  std::sort(expected.begin(), expected.end());
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(expected, got) << printed(*r);
+}
+
+INSTANTIATE_TEST_SUITE_P(Coral, FailFile, ::testing::ValuesIn(files(kRoot, "fail_")), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(FailFile);
+
+}  // namespace
+}  // namespace strata::coral
