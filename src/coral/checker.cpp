@@ -333,6 +333,7 @@ void check_phase_recursion(const std::unordered_map<std::string, NetRef>& librar
       auto it = library.find(phase->phase.text);
       if (it == library.end()) continue;
       const ast::Net* callee = it->second.net;
+      if (callee->kind == ast::Net::Kind::Mission) continue;  // PhaseIsMission says it
       Mark m = marks[callee];
       if (m == Mark::Active) {
         sink.report(DiagnosticKind::PhaseRecursion, phase->phase.span,

@@ -102,6 +102,11 @@ TEST(Checker, OneMissionPerLoadAndDataOnlyInMissions) {
   EXPECT_EQ((std::vector<std::string>{"2:9 MultipleMissions", "3:14 DataOutsideMission"}), c->kinds());
 }
 
+TEST(Checker, MissionCalledAsAPhaseIsReportedOnce) {
+  auto c = compile_text("mission m { place a = 1; transition t { wait {a} action {PHASE(m)} } }");
+  EXPECT_EQ((std::vector<std::string>{"1:64 PhaseIsMission"}), c->kinds());
+}
+
 TEST(Suggest, OnlyCloseNames) {
   EXPECT_EQ("depth_reached", suggest("depth_reachd", {"time_out", "depth_reached"}));
   EXPECT_FALSE(suggest("xyz", {"depth_reached"}));

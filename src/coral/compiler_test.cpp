@@ -37,6 +37,20 @@ TEST(Compiler, WaitIsPreSignalIsPostActionsAreATable) {
   EXPECT_EQ("e:1", petri::dump_marking(n.net, s.marking()));
 }
 
+// Regression: REPORT text and the data path were dumped unescaped, so a
+// newline in a report broke the one-line-per-action dump.
+TEST(Compiler, DumpEscapesReportTextAndDataPath) {
+  auto c = compile_text(
+      "mission m { data \"a \\\"b\\\".toml\"; place s = 1; exit e;\n"
+      "  transition t { wait { s } action { TACTIC(REPORT, \"say \\\"hi\\\"\\n\\tnext\") } signal { e } } }");
+  ASSERT_TRUE(c->program) << ::testing::PrintToString(c->kinds());
+  std::string dump = dump_net(c->program->nets[0]);
+  EXPECT_NE(std::string::npos, dump.find("data \"a \\\"b\\\".toml\"\n")) << dump;
+  EXPECT_NE(std::string::npos,
+            dump.find("action t: TACTIC(REPORT, \"say \\\"hi\\\"\\n\\tnext\") -> []\n"))
+      << dump;
+}
+
 TEST(Compiler, DataFileResolvesAgainstTheMissionFolder) {
   auto c = compile_text("import \"sub/m.coral\";",
                         {{"sub/m.coral", "mission m { data \"sp.toml\"; place s = 1; exit e;\n"

@@ -140,13 +140,19 @@ Token Lexer::lex_string(std::size_t begin) {
     }
     if (c == '\n') break;
     if (c == '\\') {
-      char e = pos_ + 1 < text_.size() ? text_[pos_ + 1] : '\0';
-      if (e != '"' && e != '\\' && e != 'n' && e != 't') {
-        sink_.report(core::DiagnosticKind::InvalidEscape, span(pos_, pos_ + 2),
-                     fmt::format("unknown escape '\\{}' in string; use \\\", \\\\, \\n or \\t",
-                                 e == '\0' || e == '\n' ? ' ' : e));
+      if (pos_ + 1 >= text_.size() || text_[pos_ + 1] == '\n') {
+        ++pos_;  // keep the backslash in the token; the string is unterminated, below
+        break;
       }
-      pos_ += (e == '\0' || e == '\n') ? 1 : 2;
+      char e = text_[pos_ + 1];
+      if (e != '"' && e != '\\' && e != 'n' && e != 't') {
+        auto u = static_cast<unsigned char>(e);
+        std::string shown = u >= 0x21 && u < 0x7f ? fmt::format("'\\{}'", e)
+                                                  : fmt::format("'\\' before byte 0x{:02x}", u);
+        sink_.report(core::DiagnosticKind::InvalidEscape, span(pos_, pos_ + 2),
+                     fmt::format("unknown escape {} in string; use \\\", \\\\, \\n or \\t", shown));
+      }
+      pos_ += 2;
       continue;
     }
     ++pos_;
@@ -208,6 +214,20 @@ Token Lexer::next() {
     sink_.report(core::DiagnosticKind::InvalidCharacter, span(begin, pos_),
                  fmt::format("unexpected {} in mission text", describe_byte(c)));
   }
+}
+
+std::string escape(std::string_view value) {
+  std::string out = "\"";
+  for (char c : value) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default: out.push_back(c);
+    }
+  }
+  return out + "\"";
 }
 
 std::string unescape(std::string_view quoted) {

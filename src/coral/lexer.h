@@ -38,5 +38,7 @@ class Lexer {
 // The value of a string literal token (quotes removed, escapes applied).
 // Assumes the lexer already reported any malformed escape.
 std::string unescape(std::string_view quoted);
+// The inverse: a quoted literal whose unescape() is value.
+std::string escape(std::string_view value);
 
 }  // namespace strata::coral

@@ -58,6 +58,20 @@ TEST(Lexer, MalformedNumberAndLongToken) {
   EXPECT_EQ(core::DiagnosticKind::TokenTooLong, sink.diagnostics()[1].kind);
 }
 
+TEST(Lexer, BackslashAtTheEndOfALineIsOnlyAnUnterminatedString) {
+  core::DiagnosticSink sink;
+  lex("\"abc\\\nnext", sink);
+  ASSERT_EQ(1u, sink.diagnostics().size());
+  EXPECT_EQ(core::DiagnosticKind::UnterminatedString, sink.diagnostics()[0].kind);
+}
+
+TEST(Lexer, EscapeIsTheInverseOfUnescape) {
+  for (std::string s : {"", "plain", "say \"hi\"\n\tnext", "back\\slash"}) {
+    EXPECT_EQ(s, unescape(escape(s)));
+  }
+  EXPECT_EQ("\"a\\nb\"", escape("a\nb"));
+}
+
 TEST(Lexer, UnescapeAppliesEscapes) {
   EXPECT_EQ("a\"b\\c\nd\te", unescape("\"a\\\"b\\\\c\\nd\\te\""));
 }

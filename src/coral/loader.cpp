@@ -68,8 +68,8 @@ class Loader {
         auto* d = sink_.report(core::DiagnosticKind::ImportCycle, from ? from->span : core::SourceSpan{},
                                fmt::format("import of '{}' makes a cycle", path));
         std::string chain;
-        for (std::size_t j = i; j < stack_.size(); ++j) chain += stack_[j] + " -> ";
-        core::add_note(d, "the cycle is " + chain + key);
+        for (std::size_t j = i; j < stack_.size(); ++j) chain += shown_[j] + " -> ";
+        core::add_note(d, "the cycle is " + chain + path);
         return;
       }
     }
@@ -96,6 +96,7 @@ class Loader {
     std::size_t index = load_.files.size();
     load_.files.push_back({path, parse(sources_, id, sink_)});
     stack_.push_back(key);
+    shown_.push_back(path);
     // Copy: visiting appends to load_.files, which may move the tree.
     std::vector<ast::Import> imports = load_.files[index].tree.imports;
     fs::path dir = fs::path(path).parent_path();
@@ -103,6 +104,7 @@ class Loader {
       visit((dir / imp.path).lexically_normal().string(), &imp);
     }
     stack_.pop_back();
+    shown_.pop_back();
   }
 
   Load take() { return std::move(load_); }
@@ -111,7 +113,8 @@ class Loader {
   const FileProvider& provider_;
   core::SourceManager& sources_;
   core::DiagnosticSink& sink_;
-  std::vector<std::string> stack_;
+  std::vector<std::string> stack_;  // canonical keys of the files being loaded
+  std::vector<std::string> shown_;  // the same files, as reached (for messages)
   std::set<std::string> done_;
   Load load_;
 };

@@ -66,6 +66,9 @@ class Parser {
   void advance() {
     prev_ = tok_;
     tok_ = lexer_.next();
+    // After a token the lexer rejected, syntax errors until the next
+    // declaration would only echo it.
+    if (tok_.malformed) panic_ = true;
   }
   bool at(TK k) const { return tok_.kind == k; }
   bool match(TK k) {
@@ -88,25 +91,31 @@ class Parser {
     return false;
   }
 
-  // Skips to `closer` at nesting depth 0 and consumes it, or stops before a
-  // declaration keyword (or a clause keyword, if `stop_at_clause`) so the
-  // enclosing loop can resume there.
-  void recover(TK closer, bool stop_at_clause = false) {
+  // Skips to `closer` at nesting depth 0 and consumes it (returns true), or
+  // stops before a declaration keyword (or a clause keyword, if
+  // `stop_at_clause`) or an enclosing block's '}' so the enclosing loop can
+  // resume there (returns false).
+  bool recover(TK closer, bool stop_at_clause = false) {
     int depth = 0;
     while (!at(TK::EndOfFile)) {
       if (depth == 0 && at(closer)) {
         advance();
-        return;
+        return true;
       }
       if (depth == 0 && (is_declaration_keyword(tok_.kind) ||
                          (stop_at_clause && is_clause_keyword(tok_.kind)))) {
-        return;
+        return false;
       }
-      if (at(TK::LBrace) || at(TK::LParen)) ++depth;
-      if ((at(TK::RBrace) || at(TK::RParen)) && depth > 0) --depth;
-      else if (at(TK::RBrace) && closer != TK::RBrace) return;  // end of an enclosing block
+      if (at(TK::LBrace) || at(TK::LParen)) {
+        ++depth;
+      } else if ((at(TK::RBrace) || at(TK::RParen)) && depth > 0) {
+        --depth;
+      } else if (at(TK::RBrace)) {
+        return false;  // the end of an enclosing block
+      }
       advance();
     }
+    return false;
   }
 
   core::SourceSpan join(core::SourceSpan a, core::SourceSpan b) const {
@@ -144,6 +153,27 @@ class Parser {
     return static_cast<std::uint32_t>(v);
   }
 
+  // A priority in [-kMaxPriority, kMaxPriority]; out of range gives InvalidNumber and 0.
+  int priority() {
+    constexpr long long kMaxPriority = 1000000;
+    if (!at(TK::Integer)) {
+      error_here("expected a priority (an integer)");
+      return 0;
+    }
+    long long v = 0;
+    auto [p, ec] = std::from_chars(tok_.text.data(), tok_.text.data() + tok_.text.size(), v);
+    bool ok = ec == std::errc() && p == tok_.text.data() + tok_.text.size() && v >= -kMaxPriority &&
+              v <= kMaxPriority;
+    if (!ok) {
+      sink_.report(DiagnosticKind::InvalidNumber, tok_.span,
+                   fmt::format("a priority must be from {} to {}, not {}", -kMaxPriority,
+                               kMaxPriority, tok_.text.substr(0, 40)));
+      v = 0;
+    }
+    advance();
+    return static_cast<int>(v);
+  }
+
   // --- declarations -----------------------------------------------------------
   void parse_import() {
     Token head = prev_;
@@ -169,13 +199,12 @@ class Parser {
     }
     net.name = *n;
     net.span = join(head.span, n->span);
-    if (!expect(TK::LBrace, "to open the net body")) {
-      recover(TK::RBrace);
-      return;
-    }
+    // A missing '{' is reported, then the body is parsed as if it were there.
+    bool opened = expect(TK::LBrace, "to open the net body");
     while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) &&
            !at(TK::KwImport)) {
-      panic_ = false;
+      if (opened) panic_ = false;
+      opened = true;
       if (match(TK::KwPlace)) {
         parse_places(net, false);
       } else if (match(TK::KwExit)) {
@@ -239,16 +268,7 @@ class Parser {
     ast::Transition t;
     t.name = *n;
     t.span = join(head.span, n->span);
-    if (match(TK::KwPriority)) {
-      bool negative = at(TK::Integer) && tok_.text.starts_with("-");
-      if (negative) {
-        Token minus = tok_;
-        minus.text.remove_prefix(1);
-        tok_ = minus;
-      }
-      auto v = static_cast<int>(integer(0, 1000000, DiagnosticKind::InvalidNumber, "a priority"));
-      t.priority = negative ? -v : v;
-    }
+    if (match(TK::KwPriority)) t.priority = priority();
     if (!expect(TK::LBrace, "to open the transition body")) {
       recover(TK::RBrace);
       net.transitions.push_back(std::move(t));
@@ -277,8 +297,7 @@ class Parser {
         parse_arcs(t.signals);
       } else {
         error_here("expected 'wait', 'action', 'signal' or '}' in the transition body");
-        recover(TK::RBrace, true);
-        if (prev_.kind == TK::RBrace) {  // consumed the transition's own '}'
+        if (recover(TK::RBrace, true)) {  // consumed the transition's own '}'
           net.transitions.push_back(std::move(t));
           return;
         }

@@ -109,5 +109,27 @@ TEST(Parser, EmptyAndGarbageInputEnd) {
   EXPECT_TRUE(parse_text("net n { transition")->sink.has_errors());
 }
 
+// Regressions: each used to give more than one diagnostic for one mistake.
+TEST(Parser, MissingBraceAfterNetNameIsOneError) {
+  auto p = parse_text("net foo\n  place a;\n}");
+  ASSERT_EQ(1u, p->sink.diagnostics().size());
+  ASSERT_EQ(1u, p->file.nets.size());
+  EXPECT_EQ(1u, p->file.nets[0].places.size());  // the body was still parsed
+}
+
+TEST(Parser, JunkWithBracesInATransitionBodyIsOneError) {
+  auto p = parse_text("net n {\n  place a;\n  transition t { foo {x} wait {a} }\n}");
+  ASSERT_EQ(1u, p->sink.diagnostics().size());
+  ASSERT_EQ(1u, p->file.nets.size());
+  EXPECT_EQ(1u, p->file.nets[0].transitions[0].waits.size());
+}
+
+TEST(Parser, NegativePriorityOutOfRangeKeepsItsSignInTheMessage) {
+  auto p = parse_text("net n { transition t priority -2000000 { } }");
+  ASSERT_EQ(1u, p->sink.diagnostics().size());
+  EXPECT_EQ("a priority must be from -1000000 to 1000000, not -2000000",
+            p->sink.diagnostics()[0].message);
+}
+
 }  // namespace
 }  // namespace strata::coral

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "coral/lexer.h"
 #include "petri/dump.h"
 
 namespace strata::coral {
@@ -38,7 +39,7 @@ std::string describe(const petri::Net& net, const ActionSpec& a) {
   }
   std::string what;
   if (a.tactic == ast::TacticType::Report) {
-    what = fmt::format("\"{}\"", a.text);
+    what = escape(a.text);
   } else {
     what = a.target;
     if (!a.args.empty()) {
@@ -55,7 +56,7 @@ std::string describe(const petri::Net& net, const ActionSpec& a) {
 
 std::string dump_net(const CompiledNet& n) {
   std::string out = fmt::format("{} {}\n", n.kind == ast::Net::Kind::Mission ? "mission" : "net", n.name);
-  if (!n.data_file.empty()) out += fmt::format("data \"{}\"\n", n.data_as_written);
+  if (!n.data_file.empty()) out += fmt::format("data {}\n", escape(n.data_as_written));
   if (!n.exits.empty()) out += fmt::format("exits [{}]\n", places(n.net, n.exits));
   out += petri::dump_net(n.net);
   for (petri::TransitionId t = 0; t < n.net.transition_count(); ++t) {

@@ -3,7 +3,9 @@
 //    `strata dump` must equal NAME.dump (STRATA_UPDATE_GOLDEN=1 rewrites it);
 //  - tests/coral/fail_NAME.coral must give exactly the diagnostics its
 //    annotations list, one per line: `// error: LINE:COL [Kind]` or
-//    `// warning: LINE:COL [Kind]`. Diagnostics in other files are ignored.
+//    `// warning: LINE:COL [Kind]`; a diagnostic in an imported file is
+//    annotated with that file's path relative to this one:
+//    `// error: fail_lib/x.coral:3:1 [ImportCycle]`.
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -54,7 +56,7 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 
 struct Run {
   core::SourceManager sources;
-  core::DiagnosticSink sink{1000};
+  core::DiagnosticSink sink;  // the limit strata check uses
   std::optional<Program> program;
 };
 
@@ -97,20 +99,28 @@ class FailFile : public ::testing::TestWithParam<std::string> {};
 TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
   const std::string& path = GetParam();
   std::vector<std::string> expected;
-  static const std::regex annotation(R"(//\s*(error|warning):\s*(\d+):(\d+)\s*\[(\w+)\])");
+  static const std::regex annotation(
+      R"(//\s*(error|warning):\s*([^\s:]+:)?(\d+):(\d+)\s*\[(\w+)\])");
   std::string text = read(path);
   for (std::sregex_iterator it(text.begin(), text.end(), annotation), end; it != end; ++it) {
-    expected.push_back(fmt::format("{} {}:{} [{}]", (*it)[1].str(), (*it)[2].str(), (*it)[3].str(),
-                                   (*it)[4].str()));
+    expected.push_back(fmt::format("{} {}{}:{} [{}]", (*it)[1].str(), (*it)[2].str(),
+                                   (*it)[3].str(), (*it)[4].str(), (*it)[5].str()));
   }
   ASSERT_FALSE(expected.empty()) << path << " has no // error: or // warning: annotation";
   auto r = compile(path);
   std::vector<std::string> got;
+  const fs::path dir = fs::path(path).parent_path();
   for (const auto& d : r->sink.diagnostics()) {
-    if (d.span.file >= r->sources.size() || r->sources.path(d.span.file) != path) continue;
+    if (d.span.file >= r->sources.size()) {
+      got.push_back(fmt::format("{} ? [{}]", core::severity_name(d.severity), core::kind_name(d.kind)));
+      continue;
+    }
+    const std::string& where = r->sources.path(d.span.file);
+    std::string prefix =
+        where == path ? "" : fs::path(where).lexically_relative(dir).generic_string() + ":";
     auto lc = r->sources.line_col(d.span.file, d.span.offset);
-    got.push_back(fmt::format("{} {}:{} [{}]", core::severity_name(d.severity), lc.line, lc.col,
-                              core::kind_name(d.kind)));
+    got.push_back(fmt::format("{} {}{}:{} [{}]", core::severity_name(d.severity), prefix, lc.line,
+                              lc.col, core::kind_name(d.kind)));
   }
   std::sort(expected.begin(), expected.end());
   std::sort(got.begin(), got.end());
