@@ -101,6 +101,7 @@ class NetChecker {
     if (it != places_.end()) return it->second;
     auto* d = sink_.report(DiagnosticKind::UndefinedPlace, n.span,
                            fmt::format("place '{}' is not declared in '{}'", n.text, net_.name.text));
+    if (!d) return nullptr;  // past the error limit: spare the suggestion's cost
     if (auto s = suggest(n.text, place_names_)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
     return nullptr;
   }
@@ -153,6 +154,7 @@ class NetChecker {
     if (!sig) {
       auto* d = sink_.report(DiagnosticKind::UnknownPrimitive, call.name.span,
                              fmt::format("unknown primitive '{}'", call.name.text));
+      if (!d) return;
       if (auto s = suggest(call.name.text, options_.primitive_names)) {
         core::add_note(d, call.name.span, fmt::format("did you mean '{}'?", *s));
       }
@@ -179,6 +181,7 @@ class NetChecker {
     if (it == library_.end()) {
       auto* d = sink_.report(DiagnosticKind::UnknownPhase, a.phase.span,
                              fmt::format("no phase net '{}' in the mission library", a.phase.text));
+      if (!d) return;
       std::vector<std::string> phases;
       for (const auto& [name, ref] : library_) {
         if (ref.net->kind == ast::Net::Kind::Phase) phases.push_back(name);
@@ -244,38 +247,58 @@ class NetChecker {
   // Least fixpoint: a place may be marked if it starts marked or some
   // possibly-fireable transition writes it (by signal or action outcome); a
   // transition may fire if all its inputs may be marked. Weights are ignored,
-  // so this over-approximates: what it calls dead is dead.
+  // so this over-approximates: what it calls dead is dead. A worklist over
+  // each place's readers keeps it linear in the arcs, whatever the order of
+  // declaration.
   void warn_never_enabled() {
-    std::set<std::string> markable;
-    for (const auto& p : net_.places) {
-      if (p.initial > 0) markable.insert(p.name.text);
+    const auto& ts = net_.transitions;
+    std::unordered_map<std::string_view, std::size_t> place_index;
+    for (const auto& p : net_.places) place_index.emplace(p.name.text, place_index.size());
+    std::vector<std::vector<std::size_t>> readers(place_index.size());
+    std::vector<std::size_t> waiting(ts.size(), 0);  // distinct inputs not yet markable
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+      std::set<std::size_t> inputs;
+      for (const auto& a : ts[i].waits) inputs.insert(place_index.at(a.place.text));
+      waiting[i] = inputs.size();
+      for (std::size_t p : inputs) readers[p].push_back(i);
     }
-    std::vector<bool> can_fire(net_.transitions.size(), false);
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (std::size_t i = 0; i < net_.transitions.size(); ++i) {
-        if (can_fire[i]) continue;
-        const auto& t = net_.transitions[i];
-        bool all = std::all_of(t.waits.begin(), t.waits.end(),
-                               [&](const ast::ArcRef& a) { return markable.count(a.place.text) > 0; });
-        if (!all) continue;
-        can_fire[i] = changed = true;
-        for (const auto& a : t.signals) markable.insert(a.place.text);
-        for (const auto& action : t.actions) {
-          const auto& places = std::holds_alternative<ast::Tactic>(action)
-                                   ? std::get<ast::Tactic>(action).places
-                                   : std::get<ast::Phase>(action).places;
-          for (const auto& p : places) markable.insert(p.text);
-        }
+    std::vector<bool> markable(place_index.size(), false);
+    std::vector<bool> can_fire(ts.size(), false);
+    std::vector<std::size_t> work;  // transitions that became able to fire
+    auto mark = [&](std::string_view name) {
+      std::size_t p = place_index.at(name);
+      if (markable[p]) return;
+      markable[p] = true;
+      for (std::size_t t : readers[p]) {
+        if (--waiting[t] == 0) work.push_back(t);
+      }
+    };
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+      if (waiting[i] == 0) work.push_back(i);
+    }
+    for (const auto& p : net_.places) {
+      if (p.initial > 0) mark(p.name.text);
+    }
+    while (!work.empty()) {
+      std::size_t i = work.back();
+      work.pop_back();
+      if (can_fire[i]) continue;
+      can_fire[i] = true;
+      for (const auto& a : ts[i].signals) mark(a.place.text);
+      for (const auto& action : ts[i].actions) {
+        const auto& places = std::holds_alternative<ast::Tactic>(action)
+                                 ? std::get<ast::Tactic>(action).places
+                                 : std::get<ast::Phase>(action).places;
+        for (const auto& p : places) mark(p.text);
       }
     }
-    for (std::size_t i = 0; i < net_.transitions.size(); ++i) {
-      const auto& t = net_.transitions[i];
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+      const auto& t = ts[i];
       if (can_fire[i] || t.waits.empty()) continue;
       auto* d = sink_.report(DiagnosticKind::NeverEnabled, t.name.span,
                              fmt::format("transition '{}' can never be enabled", t.name.text));
       for (const auto& a : t.waits) {
-        if (!markable.count(a.place.text)) {
+        if (!markable[place_index.at(a.place.text)]) {
           core::add_note(d, a.place.span,
                          fmt::format("no firing can ever mark '{}'", a.place.text));
           break;
@@ -397,8 +420,13 @@ std::optional<std::string> suggest(std::string_view name, const std::vector<std:
   std::optional<std::string> best;
   // Accept up to about a third of the name in edits (two for a five-letter name).
   std::size_t best_d = std::max<std::size_t>(1, (name.size() + 2) / 3) + 1;
+  // Bound the work on huge nets: at most kMaxTried distance computations.
+  constexpr std::size_t kMaxTried = 4096;
+  std::size_t tried = 0;
   for (const auto& c : candidates) {
-    if (c.size() > 64) continue;
+    std::size_t gap = c.size() > name.size() ? c.size() - name.size() : name.size() - c.size();
+    if (c.size() > 64 || gap >= best_d) continue;  // length alone rules it out
+    if (++tried > kMaxTried) break;
     std::size_t d = distance(name, c);
     if (d < best_d) {
       best_d = d;

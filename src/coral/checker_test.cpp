@@ -74,6 +74,22 @@ TEST(Checker, NeverEnabledFollowsChainsOfDeadTransitions) {
   EXPECT_EQ((std::vector<std::string>{"3:14 NeverEnabled", "4:14 NeverEnabled"}), c->kinds());
 }
 
+// Regression: the fixpoint was a pass per link on nets declared against the
+// flow; the worklist must still reach every transition.
+TEST(Checker, ChainDeclaredAgainstTheFlowIsLive) {
+  std::string text = "net n { place p0 = 1";
+  for (int i = 1; i <= 50; ++i) text += ", p" + std::to_string(i);
+  text += "; exit e;\n";
+  for (int i = 50; i >= 1; --i) {
+    text += "transition t" + std::to_string(i) + " { wait { p" + std::to_string(i - 1) +
+            " } signal { p" + std::to_string(i) + " } }\n";
+  }
+  text += "transition last { wait { p50 } signal { e } } }";
+  auto c = compile_text(text);
+  EXPECT_TRUE(c->program);
+  EXPECT_TRUE(c->kinds().empty()) << ::testing::PrintToString(c->kinds());
+}
+
 TEST(Checker, PrimitivesAreCheckedAgainstTheCatalogueWhenGiven) {
   CheckOptions options;
   options.primitive = [](std::string_view name) -> std::optional<PrimitiveSignature> {

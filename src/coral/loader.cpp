@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -25,20 +24,24 @@ core::Result<std::string> DiskFileProvider::read(const std::string& path) const 
   if (fs::is_directory(path, ec)) {
     return core::make_error(core::ErrorCode::Io, fmt::format("'{}' is a directory", path));
   }
-  auto size = fs::file_size(path, ec);
-  if (!ec && size > kMaxSourceSize) {
-    return core::make_error(core::ErrorCode::InvalidInput,
-                            fmt::format("'{}' is {} bytes; the limit is {}", path, size, kMaxSourceSize));
-  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     return core::make_error(core::ErrorCode::Io,
                             fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  // Read in chunks, never more than the limit: a device or a pipe has no
+  // size to ask for in advance.
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxSourceSize) {
+      return core::make_error(core::ErrorCode::InvalidInput,
+                              fmt::format("'{}' is over the limit of {} bytes", path, kMaxSourceSize));
+    }
+  }
   if (in.bad()) return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
-  return ss.str();
+  return text;
 }
 
 std::string MemoryFileProvider::canonical(const std::string& path) const {
@@ -89,7 +92,16 @@ class Loader {
     if (!text) {
       // An unreadable root has no location: the span's file is out of range.
       core::SourceSpan where = from ? from->span : core::SourceSpan{core::FileId(-1), 0, 0};
-      sink_.report(core::DiagnosticKind::FileUnreadable, where, text.error().message);
+      sink_.report(text.error().code == core::ErrorCode::InvalidInput
+                       ? core::DiagnosticKind::FileTooLarge
+                       : core::DiagnosticKind::FileUnreadable,
+                   where, text.error().message);
+      return;
+    }
+    total_bytes_ += text.value().size();
+    if (total_bytes_ > kMaxTotalSource) {
+      sink_.report(core::DiagnosticKind::FileTooLarge, from ? from->span : core::SourceSpan{core::FileId(-1), 0, 0},
+                   fmt::format("the files of this load pass {} bytes in all", kMaxTotalSource));
       return;
     }
     core::FileId id = sources_.add(path, std::move(text).value());
@@ -116,6 +128,7 @@ class Loader {
   std::vector<std::string> stack_;  // canonical keys of the files being loaded
   std::vector<std::string> shown_;  // the same files, as reached (for messages)
   std::set<std::string> done_;
+  std::size_t total_bytes_ = 0;
   Load load_;
 };
 

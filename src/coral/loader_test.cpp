@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "coral/lexer.h"
 #include "coral/test_support.h"
 
 namespace strata::coral {
@@ -45,6 +46,11 @@ TEST(Loader, MissingImportIsUnreadableAtTheImport) {
 TEST(Loader, SelfImportIsACycle) {
   auto c = compile_text("import \"main.coral\";");
   EXPECT_EQ((std::vector<std::string>{"1:1 ImportCycle"}), c->kinds());
+}
+
+TEST(Loader, OversizedFileIsReportedNotParsed) {
+  auto c = compile_text("import \"big.coral\";", {{"big.coral", std::string(kMaxSourceSize + 1, ' ')}});
+  EXPECT_EQ((std::vector<std::string>{"1:1 FileTooLarge"}), c->kinds());
 }
 
 }  // namespace

@@ -29,7 +29,10 @@ namespace {
 
 std::string places(const petri::Net& net, const std::vector<petri::PlaceId>& ids) {
   std::string s;
-  for (auto p : ids) s += (s.empty() ? "" : ", ") + net.place_name(p);
+  for (auto p : ids) {
+    if (!s.empty()) s += ", ";
+    s += net.place_name(p);
+  }
   return s;
 }
 

@@ -23,7 +23,7 @@ std::string dump_net(const Net& net) {
     out += fmt::format("place {} = {}\n", net.place_name(p), net.initial_marking()[p]);
   }
   for (TransitionId t = 0; t < net.transition_count(); ++t) {
-    out += "transition " + net.transition_name(t);
+    out += fmt::format("transition {}", net.transition_name(t));
     if (net.priority(t) != 0) out += fmt::format(" priority {}", net.priority(t));
     out += fmt::format(": in{{{}}} out{{{}}}\n", arcs(net, net.inputs(t)), arcs(net, net.outputs(t)));
   }
@@ -43,7 +43,7 @@ std::string dump_marking(const Net& net, const Marking& m) {
 std::string dump_incidence(const Net& net) {
   std::string out;
   for (PlaceId p = 0; p < net.place_count(); ++p) {
-    out += net.place_name(p) + ":";
+    out += fmt::format("{}:", net.place_name(p));
     for (TransitionId t = 0; t < net.transition_count(); ++t) {
       out += fmt::format(" {}", net.incidence(p, t));
     }

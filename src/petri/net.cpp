@@ -46,20 +46,20 @@ std::uint32_t weight_in(std::span<const Arc> arcs, std::uint32_t node) {
   return it != arcs.end() && it->node == node ? it->weight : 0;
 }
 
-std::vector<std::uint32_t> sorted_by_name(const std::vector<std::string>& names) {
+std::vector<std::uint32_t> sorted_by_name(const NameTable& names) {
   std::vector<std::uint32_t> ids(names.size());
   for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
   std::stable_sort(ids.begin(), ids.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return names[a] < names[b]; });
+                   [&](std::uint32_t a, std::uint32_t b) { return names.at(a) < names.at(b); });
   return ids;
 }
 
-std::optional<std::uint32_t> find_by_name(const std::vector<std::string>& names,
+std::optional<std::uint32_t> find_by_name(const NameTable& names,
                                           const std::vector<std::uint32_t>& sorted,
                                           std::string_view name) {
   auto it = std::lower_bound(sorted.begin(), sorted.end(), name,
-                             [&](std::uint32_t id, std::string_view n) { return names[id] < n; });
-  if (it == sorted.end() || names[*it] != name) return std::nullopt;
+                             [&](std::uint32_t id, std::string_view n) { return names.at(id) < n; });
+  if (it == sorted.end() || names.at(*it) != name) return std::nullopt;
   return *it;
 }
 
@@ -76,29 +76,27 @@ std::optional<TransitionId> Net::find_transition(std::string_view name) const {
   return find_by_name(transition_names_, transitions_by_name_, name);
 }
 
-std::size_t Net::memory_bytes() const {
-  auto strings = [](const std::vector<std::string>& v) {
-    std::size_t n = v.capacity() * sizeof(std::string);
-    for (const auto& s : v) {
-      if (s.capacity() > 15) n += s.capacity() + 1;  // beyond libstdc++'s small-string buffer
-    }
-    return n;
-  };
-  auto vec = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return sizeof(*this) + strings(place_names_) + strings(transition_names_) + vec(priorities_) +
-         vec(initial_) + vec(pre_begin_) + vec(post_begin_) + vec(readers_begin_) +
-         vec(writers_begin_) + vec(pre_) + vec(post_) + vec(readers_) + vec(writers_) +
-         vec(places_by_name_) + vec(transitions_by_name_);
+void NameTable::push_back(std::string_view name) {
+  chars_.append(name);
+  begin_.push_back(static_cast<std::uint32_t>(chars_.size()));
 }
 
-PlaceId NetBuilder::add_place(std::string name, Tokens initial) {
-  net_.place_names_.push_back(std::move(name));
+std::size_t Net::memory_bytes() const {
+  auto vec = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return sizeof(*this) + place_names_.memory_bytes() + transition_names_.memory_bytes() +
+         vec(priorities_) + vec(initial_) + vec(pre_begin_) + vec(post_begin_) +
+         vec(readers_begin_) + vec(writers_begin_) + vec(pre_) + vec(post_) + vec(readers_) +
+         vec(writers_) + vec(places_by_name_) + vec(transitions_by_name_);
+}
+
+PlaceId NetBuilder::add_place(std::string_view name, Tokens initial) {
+  net_.place_names_.push_back(name);
   net_.initial_.push_back(initial);
   return static_cast<PlaceId>(net_.place_names_.size() - 1);
 }
 
-TransitionId NetBuilder::add_transition(std::string name, int priority) {
-  net_.transition_names_.push_back(std::move(name));
+TransitionId NetBuilder::add_transition(std::string_view name, int priority) {
+  net_.transition_names_.push_back(name);
   net_.priorities_.push_back(priority);
   return static_cast<TransitionId>(net_.transition_names_.size() - 1);
 }

@@ -27,6 +27,26 @@ struct Arc {
   std::uint32_t weight;
 };
 
+// Names of one kind of node, packed in one buffer: about 4 bytes of index per
+// name plus its characters, instead of a std::string each.
+class NameTable {
+ public:
+  NameTable() : begin_{0} {}
+  void push_back(std::string_view name);
+  std::size_t size() const { return begin_.size() - 1; }
+  std::string_view at(std::uint32_t i) const {
+    return std::string_view(chars_).substr(begin_[i], begin_[i + 1] - begin_[i]);
+  }
+  void reserve(std::size_t n) { begin_.reserve(n + 1); }
+  std::size_t memory_bytes() const {
+    return chars_.capacity() + begin_.capacity() * sizeof(std::uint32_t);
+  }
+
+ private:
+  std::string chars_;
+  std::vector<std::uint32_t> begin_;
+};
+
 class Net {
  public:
   std::size_t place_count() const { return place_names_.size(); }
@@ -34,8 +54,8 @@ class Net {
   // Number of arcs in A: Pre arcs plus Post arcs.
   std::size_t arc_count() const { return pre_.size() + post_.size(); }
 
-  const std::string& place_name(PlaceId p) const { return place_names_[p]; }
-  const std::string& transition_name(TransitionId t) const { return transition_names_[t]; }
+  std::string_view place_name(PlaceId p) const { return place_names_.at(p); }
+  std::string_view transition_name(TransitionId t) const { return transition_names_.at(t); }
   int priority(TransitionId t) const { return priorities_[t]; }
   const Marking& initial_marking() const { return initial_; }
 
@@ -72,8 +92,8 @@ class Net {
 
  private:
   friend class NetBuilder;
-  std::vector<std::string> place_names_;
-  std::vector<std::string> transition_names_;
+  NameTable place_names_;
+  NameTable transition_names_;
   std::vector<int> priorities_;
   Marking initial_;
   std::vector<std::uint32_t> pre_begin_, post_begin_, readers_begin_, writers_begin_;
@@ -88,8 +108,8 @@ class Net {
 // between the same pair are merged by adding their weights.
 class NetBuilder {
  public:
-  PlaceId add_place(std::string name, Tokens initial = 0);
-  TransitionId add_transition(std::string name, int priority = 0);
+  PlaceId add_place(std::string_view name, Tokens initial = 0);
+  TransitionId add_transition(std::string_view name, int priority = 0);
   // Preconditions: ids were returned by this builder, weight >= 1.
   void add_input(TransitionId t, PlaceId p, std::uint32_t weight = 1);
   void add_output(TransitionId t, PlaceId p, std::uint32_t weight = 1);

@@ -16,11 +16,14 @@ EnabledSet::EnabledSet(const Net& net)
   });
   for (std::uint32_t r = 0; r < n; ++r) rank_[by_rank_[r]] = r;
   std::size_t bits = std::max<std::size_t>(n, 1);
+  std::size_t total = 0;
   do {
     std::size_t words = (bits + 63) / 64;
-    levels_.emplace_back(words, 0);
+    level_begin_.push_back(static_cast<std::uint32_t>(total));
+    total += words;
     bits = words;
   } while (bits > 1);
+  bits_.assign(total, 0);
 }
 
 void EnabledSet::insert(TransitionId t) {
@@ -28,8 +31,8 @@ void EnabledSet::insert(TransitionId t) {
   pos_[t] = static_cast<std::uint32_t>(dense_.size());
   dense_.push_back(t);
   std::size_t i = rank_[t];
-  for (auto& level : levels_) {
-    std::uint64_t& word = level[i / 64];
+  for (std::uint32_t begin : level_begin_) {
+    std::uint64_t& word = bits_[begin + i / 64];
     bool was_empty = word == 0;
     word |= std::uint64_t{1} << (i % 64);
     if (!was_empty) break;
@@ -46,8 +49,8 @@ void EnabledSet::erase(TransitionId t) {
   dense_.pop_back();
   pos_[t] = kAbsent;
   std::size_t i = rank_[t];
-  for (auto& level : levels_) {
-    std::uint64_t& word = level[i / 64];
+  for (std::uint32_t begin : level_begin_) {
+    std::uint64_t& word = bits_[begin + i / 64];
     word &= ~(std::uint64_t{1} << (i % 64));
     if (word != 0) break;
     i /= 64;
@@ -57,8 +60,8 @@ void EnabledSet::erase(TransitionId t) {
 std::optional<TransitionId> EnabledSet::first() const {
   if (dense_.empty()) return std::nullopt;
   std::size_t i = 0;
-  for (std::size_t l = levels_.size(); l-- > 0;) {
-    std::uint64_t word = levels_[l][i];
+  for (std::size_t l = level_begin_.size(); l-- > 0;) {
+    std::uint64_t word = bits_[level_begin_[l] + i];
     assert(word != 0);
     i = i * 64 + static_cast<std::size_t>(std::countr_zero(word));
   }
@@ -74,8 +77,8 @@ std::vector<TransitionId> EnabledSet::sorted() const {
 std::size_t EnabledSet::memory_bytes() const {
   std::size_t n = (rank_.capacity() + by_rank_.capacity() + dense_.capacity() + pos_.capacity()) *
                   sizeof(std::uint32_t);
-  for (const auto& l : levels_) n += l.capacity() * sizeof(std::uint64_t);
-  return n;
+  return n + bits_.capacity() * sizeof(std::uint64_t) +
+         level_begin_.capacity() * sizeof(std::uint32_t);
 }
 
 State::State(const Net& net) : State(net, net.initial_marking()) {}
@@ -106,14 +109,18 @@ void State::set_tokens(PlaceId p, Tokens value) {
   }
 }
 
+core::Error State::overflow(PlaceId p) const {
+  return core::make_error(core::ErrorCode::Overflow,
+                          "place '" + std::string(net_->place_name(p)) + "' would exceed " +
+                              std::to_string(kMaxTokens) + " tokens");
+}
+
 core::Result<void> State::fire(TransitionId t) {
   assert(is_enabled(t));
   for (const Arc& a : net_->outputs(t)) {
     // Conservative: ignores tokens a self-loop would take first.
     if (marking_[a.node] > kMaxTokens - a.weight) {
-      return core::make_error(core::ErrorCode::Overflow,
-                              "place '" + net_->place_name(a.node) + "' would exceed " +
-                                  std::to_string(kMaxTokens) + " tokens");
+      return overflow(a.node);
     }
   }
   for (const Arc& a : net_->inputs(t)) set_tokens(a.node, marking_[a.node] - a.weight);
@@ -123,9 +130,7 @@ core::Result<void> State::fire(TransitionId t) {
 
 core::Result<void> State::add_tokens(PlaceId p, Tokens n) {
   if (marking_[p] > kMaxTokens - n) {
-    return core::make_error(core::ErrorCode::Overflow,
-                            "place '" + net_->place_name(p) + "' would exceed " +
-                                std::to_string(kMaxTokens) + " tokens");
+    return overflow(p);
   }
   if (n != 0) set_tokens(p, marking_[p] + n);
   return {};

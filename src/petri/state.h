@@ -36,7 +36,11 @@ class EnabledSet {
   static constexpr std::uint32_t kAbsent = UINT32_MAX;
   std::vector<std::uint32_t> rank_;             // transition -> rank
   std::vector<TransitionId> by_rank_;           // rank -> transition
-  std::vector<std::vector<std::uint64_t>> levels_;  // levels_[0]: one bit per rank
+  // A hierarchical bitmap in one array: level 0 has one bit per rank, each
+  // higher level one bit per non-zero word below. level_begin_[l] is the
+  // first word of level l; the top level is one word.
+  std::vector<std::uint64_t> bits_;
+  std::vector<std::uint32_t> level_begin_;
   std::vector<TransitionId> dense_;
   std::vector<std::uint32_t> pos_;              // transition -> index in dense_, or kAbsent
 };
@@ -68,6 +72,7 @@ class State {
 
  private:
   void set_tokens(PlaceId p, Tokens value);
+  core::Error overflow(PlaceId p) const;
 
   const Net* net_;
   Marking marking_;

@@ -1,5 +1,7 @@
 #include <random>
 
+#include <fmt/format.h>
+
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -83,9 +85,9 @@ TEST(EnabledSet, WorksAcrossManyLevels) {
   // 70000 transitions: three levels of 64-bit words.
   NetBuilder b;
   std::vector<PlaceId> places;
-  for (int i = 0; i < 70000; ++i) places.push_back(b.add_place("p" + std::to_string(i)));
+  for (int i = 0; i < 70000; ++i) places.push_back(b.add_place(fmt::format("p{}", i)));
   for (int i = 0; i < 70000; ++i) {
-    TransitionId t = b.add_transition("t" + std::to_string(i));
+    TransitionId t = b.add_transition(fmt::format("t{}", i));
     b.add_input(t, places[i]);
   }
   Net net = std::move(b).build();
@@ -107,10 +109,10 @@ RC_GTEST_PROP(StateProperty, IncrementalEnabledSetMatchesFullRescan, ()) {
   const auto transitions = *rc::gen::inRange<std::size_t>(1, 16);
   NetBuilder b;
   for (std::size_t p = 0; p < places; ++p) {
-    b.add_place("p" + std::to_string(p), *rc::gen::inRange<Tokens>(0, 4));
+    b.add_place(fmt::format("p{}", p), *rc::gen::inRange<Tokens>(0, 4));
   }
   for (std::size_t t = 0; t < transitions; ++t) {
-    TransitionId id = b.add_transition("t" + std::to_string(t), *rc::gen::inRange(-1, 2));
+    TransitionId id = b.add_transition(fmt::format("t{}", t), *rc::gen::inRange(-1, 2));
     auto arcs = *rc::gen::inRange<std::size_t>(0, 4);
     for (std::size_t i = 0; i < arcs; ++i) {
       auto p = *rc::gen::inRange<std::size_t>(0, places);
