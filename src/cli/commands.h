@@ -1,9 +1,15 @@
 #pragma once
 // Each subcommand registers itself on the app and runs when chosen. A
 // command's run function returns an ExitCode.
+#include <cstdint>
 #include <functional>
+#include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
+
+#include "core/result.h"
+#include "vehicle/scenario.h"
 
 namespace strata::cli {
 
@@ -12,5 +18,15 @@ using Runner = std::function<int()>;
 // `strata check FILE...` and `strata dump FILE`.
 Runner add_check_command(CLI::App& app);
 Runner add_dump_command(CLI::App& app);
+// `strata vehicle`.
+Runner add_vehicle_command(CLI::App& app);
+// `strata primitives`.
+Runner add_primitives_command(CLI::App& app);
+
+// "PORT" or "ADDRESS:PORT" (ADDRESS defaults to 127.0.0.1).
+core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::string& text);
+// --scenario: nominal when empty; a path; or NAME in the mission's scenarios/.
+core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
+                                                     const std::string& mission);
 
 }  // namespace strata::cli

@@ -1,0 +1,145 @@
+// `strata vehicle`: the simulated Phoenix (Execution level) on a TCP port.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <asio.hpp>
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "vehicle/execution.h"
+#include "vehicle/params.h"
+#include "vehicle/scenario.h"
+#include "vehicle/server.h"
+
+namespace strata::cli {
+namespace {
+
+struct VehicleOptions {
+  std::string listen = "127.0.0.1:7020";
+  std::string params;
+  std::string scenario;
+  std::string mission;
+  std::optional<std::uint64_t> seed;
+  bool realtime = false;
+  double speed = 1.0;
+  bool interface = false;
+  bool trace = false;
+};
+
+int run_vehicle(const VehicleOptions& o) {
+  if (o.interface) {
+    std::cout << vehicle::interface_text();
+    return kExitOk;
+  }
+  auto endpoint = parse_listen(o.listen);
+  if (!endpoint) {
+    std::cerr << "strata vehicle: " << endpoint.error().message << "\n";
+    return kExitUsage;
+  }
+  vehicle::VehicleParams params = vehicle::default_params();
+  if (!o.params.empty()) {
+    auto p = vehicle::load_params(o.params);
+    if (!p) {
+      std::cerr << "strata vehicle: " << p.error().message << "\n";
+      return p.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+    }
+    params = p.value();
+  }
+  auto scenario = load_scenario_option(o.scenario, o.mission);
+  if (!scenario) {
+    std::cerr << "strata vehicle: " << scenario.error().message << "\n";
+    return scenario.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+  }
+  if (o.seed) scenario.value().seed = *o.seed;
+
+  asio::io_context io;
+  vehicle::Simulation sim(params, scenario.value());
+  vehicle::ServerOptions so;
+  so.address = endpoint.value().first;
+  so.port = endpoint.value().second;
+  so.clock = o.realtime ? protocol::ClockMode::Wall : protocol::ClockMode::Lockstep;
+  so.speed = o.speed;
+  so.trace = o.trace;
+  so.log = [](const std::string& line) { std::cerr << "vehicle: " << line << std::endl; };
+  vehicle::VehicleServer server(io, sim, so);
+  if (auto r = server.start(); !r) {
+    std::cerr << "strata vehicle: " << r.error().message << "\n";
+    return kExitIo;
+  }
+  // The first line of stdout is the address, for scripts and tests.
+  std::cout << so.address << ":" << server.port() << std::endl;
+  std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})",
+                           so.address, server.port(), o.realtime ? "wall" : "lockstep",
+                           o.realtime ? fmt::format(", speed {}", o.speed) : "",
+                           scenario.value().description, scenario.value().seed)
+            << std::endl;
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const asio::error_code& e, int) {
+    if (e) return;
+    std::cerr << "vehicle: stopping" << std::endl;
+    server.stop();
+    io.stop();
+  });
+  io.run();
+  return kExitOk;
+}
+
+}  // namespace
+
+core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::string& text) {
+  std::string host = "127.0.0.1";
+  std::string port = text;
+  if (auto colon = text.rfind(':'); colon != std::string::npos) {
+    host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+  }
+  char* end = nullptr;
+  long value = std::strtol(port.c_str(), &end, 10);
+  if (port.empty() || *end != '\0' || value < 0 || value > 65535) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("'{}' is not a port (0-65535) or ADDRESS:PORT", text));
+  }
+  return std::make_pair(host, static_cast<std::uint16_t>(value));
+}
+
+core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
+                                                     const std::string& mission) {
+  namespace fs = std::filesystem;
+  if (scenario.empty()) return vehicle::Scenario::nominal();
+  std::error_code ec;
+  if (fs::is_regular_file(scenario, ec)) return vehicle::load_scenario(scenario);
+  if (!mission.empty()) {
+    fs::path beside = fs::path(mission).parent_path() / "scenarios" / (scenario + ".toml");
+    if (fs::is_regular_file(beside, ec)) return vehicle::load_scenario(beside.string());
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("no scenario '{}': neither a file nor {}", scenario,
+                                        beside.string()));
+  }
+  return core::make_error(core::ErrorCode::Io,
+                          fmt::format("no scenario file '{}' (give a path, or --mission to look "
+                                      "in the mission's scenarios/ folder)",
+                                      scenario));
+}
+
+Runner add_vehicle_command(CLI::App& app) {
+  auto o = std::make_shared<VehicleOptions>();
+  auto* cmd = app.add_subcommand("vehicle", "Run the simulated Phoenix (Execution level) on a TCP port");
+  cmd->add_option("--listen", o->listen,
+                  "PORT or ADDRESS:PORT to listen on; 0 picks a free port (printed on the first line)")
+      ->capture_default_str();
+  cmd->add_option("--params", o->params, "Vehicle parameter file (default: built in, as config/phoenix.toml)");
+  cmd->add_option("--scenario", o->scenario, "Scenario: a path, or NAME in the --mission's scenarios/ folder");
+  cmd->add_option("--mission", o->mission, "Mission file whose scenarios/ folder --scenario NAME is looked up in");
+  cmd->add_option("--seed", o->seed, "Seed for noise and faults (overrides the scenario's)");
+  cmd->add_flag("--realtime", o->realtime, "Run on the wall clock (default: lockstep virtual time)");
+  cmd->add_option("--speed", o->speed, "With --realtime: simulated seconds per wall second")
+      ->check(CLI::Range(0.01, 1000.0))
+      ->capture_default_str();
+  cmd->add_flag("--interface", o->interface, "Print every message the vehicle accepts and emits, and exit");
+  cmd->add_flag("--trace", o->trace, "Log every line received and sent");
+  return [o] { return run_vehicle(*o); };
+}
+
+}  // namespace strata::cli

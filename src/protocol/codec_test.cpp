@@ -1,0 +1,427 @@
+#include "protocol/codec.h"
+
+#include <cmath>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+namespace strata::protocol {
+
+// rapidcheck shows counterexamples as their wire form.
+void showValue(const Request& r, std::ostream& os) { os << encode(r); }
+void showValue(const VehicleMessage& m, std::ostream& os) { os << encode(m); }
+
+namespace {
+
+namespace gen = rc::gen;
+
+// ---- examples ---------------------------------------------------------------
+
+TEST(Codec, EncodesRequestsAsTheTableSays) {
+  EXPECT_EQ("hello 1 strata 1\n", encode(make_hello(1, "strata")));
+  EXPECT_EQ("exec 7 sleep 1\n", encode(make_exec(7, "sleep", {Value::integer(1)})));
+  EXPECT_EQ("exec 8 setpoint 0.6 30\n",
+            encode(make_exec(8, "setpoint", {Value::real(0.6), Value::integer(30)})));
+  EXPECT_EQ("exec 9 log \"say \\\"hi\\\"\" 2.0\n",
+            encode(make_exec(9, "log", {Value::string("say \"hi\""), Value::real(2.0)})));
+  EXPECT_EQ("ask 10 depth_reached\n", encode(make_ask(10, "depth_reached")));
+  EXPECT_EQ("ood 11 start_network\n", encode(make_ood(11, "start_network")));
+  EXPECT_EQ("telemetry 12 2.0\n", encode(make_telemetry(12, 2.0)));
+  EXPECT_EQ("ping 13\n", encode(make_ping(13)));
+  EXPECT_EQ("bye 14\n", encode(make_bye(14)));
+}
+
+TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
+  EXPECT_EQ("ok 1 phoenix 1 lockstep\n", encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep}));
+  EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n", encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall}));
+  EXPECT_EQ("ok 3\n", encode(Ok{3}));
+  EXPECT_EQ("done 4 1\n", encode(Done{4, true}));
+  EXPECT_EQ("answer 5 0\n", encode(Answer{5, false}));
+  EXPECT_EQ("pong 6 12.5\n", encode(Pong{6, 12.5}));
+  EXPECT_EQ("err 0 bad_line \"empty line\"\n", encode(Err{0, ErrorCode::BadLine, "empty line"}));
+  EXPECT_EQ("hb 3.0\n", encode(Heartbeat{3.0}));
+  EXPECT_EQ("event 4.25 \"watchdog tripped\"\n", encode(Event{4.25, "watchdog tripped"}));
+  Telemetry t;
+  t.sim_time_s = 12.5;
+  t.depth_m = 1.02;
+  t.rate_mps = 0.05;
+  t.thrust_n = -3.25;
+  t.extras = {{"mode", "diving"}, {"depth", "9"}, {"bad key", "1"}, {"x", "a b"}};
+  EXPECT_EQ("tlm 12.5 depth=1.02 rate=0.05 thrust=-3.25 mode=diving\n", encode(t));
+}
+
+TEST(Codec, DecodesRequests) {
+  auto r = decode_request("exec 8 setpoint 0.6 30");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(make_exec(8, "setpoint", {Value::real(0.6), Value::integer(30)}), r.value());
+  EXPECT_EQ(make_ping(5), decode_request("   ping   5  ").value());
+  EXPECT_EQ(make_ping(5), decode_request("ping 5\r\n").value());
+  EXPECT_EQ(make_ping(5), decode_request("ping 5\n").value());
+  EXPECT_EQ(make_ping(kMaxRequestId), decode_request("ping 9223372036854775807").value());
+  EXPECT_EQ(make_exec(9, "say", {Value::string("a b"), Value::integer(-3), Value::real(1e3)}),
+            decode_request(R"(exec 9 "say" "a b" -3 1e3)").value());
+  Request hello = make_hello(1, "strata-tactical");
+  hello.version = 2;  // the vehicle, not the decoder, refuses other versions
+  EXPECT_EQ(hello, decode_request("hello 1 strata-tactical 2").value());
+  EXPECT_EQ(make_telemetry(4, 0.0), decode_request("telemetry 4 0").value());
+  EXPECT_EQ(make_telemetry(4, 100.0), decode_request("telemetry 4 100").value());
+}
+
+TEST(Codec, DecodesVehicleMessages) {
+  auto m = decode_vehicle_message(
+      "tlm 12.5 depth=1.02 fdepth=1 rate=0.05 thrust=-3.2 setpoint=1.5 mode=diving leak=0");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  const Telemetry& t = std::get<Telemetry>(m.value());
+  EXPECT_EQ(12.5, t.sim_time_s);
+  EXPECT_EQ(1.02, t.depth_m);
+  EXPECT_EQ(1.0, t.filtered_depth_m);
+  EXPECT_EQ(0.05, t.rate_mps);
+  EXPECT_EQ(-3.2, t.thrust_n);
+  EXPECT_EQ(1.5, t.setpoint_m);
+  EXPECT_EQ((std::map<std::string, std::string>{{"leak", "0"}, {"mode", "diving"}}), t.extras);
+
+  EXPECT_EQ(VehicleMessage{Telemetry{}}, decode_vehicle_message("tlm 0").value());
+  EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall}),
+            decode_vehicle_message("ok 1 phoenix 1 wall").value());
+  EXPECT_EQ(VehicleMessage(Err{0, ErrorCode::Busy, "another client"}),
+            decode_vehicle_message("err 0 busy \"another client\"\r\n").value());
+  EXPECT_EQ(VehicleMessage(Event{2.0, "leak"}), decode_vehicle_message("event 2 leak").value());
+  EXPECT_EQ(std::optional<RequestId>(4), reply_id(decode_vehicle_message("done 4 1").value()));
+  EXPECT_EQ(std::nullopt, reply_id(decode_vehicle_message("hb 1").value()));
+}
+
+// ---- rejections ---------------------------------------------------------------
+
+struct Rejection {
+  std::string line;
+  ErrorCode code;
+  RequestId id;
+};
+
+std::string long_line(std::string_view start, std::size_t bytes) {
+  std::string line(start);
+  line += " \"";
+  line.append(bytes - line.size() - 1, 'x');
+  line += '"';
+  return line;
+}
+
+void expect_rejected(const Rejection& r, const DecodeError& e) {
+  EXPECT_EQ(code_name(r.code), code_name(e.code)) << r.line << " -> " << e.message;
+  EXPECT_EQ(r.id, e.id) << r.line << " -> " << e.message;
+  EXPECT_FALSE(e.message.empty());
+}
+
+TEST(Codec, RejectsMalformedRequestsWithTheCodeToAnswer) {
+  std::string fields = "exec 21 f";
+  for (std::size_t i = 3; i <= kMaxFields; ++i) fields += " 1";
+  const std::vector<Rejection> cases = {
+      {"", ErrorCode::BadLine, 0},
+      {"   ", ErrorCode::BadLine, 0},
+      {"\n", ErrorCode::BadLine, 0},
+      {"fly 3", ErrorCode::UnknownVerb, 3},
+      {"fly", ErrorCode::UnknownVerb, 0},
+      {"EXEC 3 sleep 1", ErrorCode::UnknownVerb, 3},
+      {"\"exec\" 3 sleep 1", ErrorCode::UnknownVerb, 0},
+      {"hb 3.0", ErrorCode::UnknownVerb, 0},
+      {"exec", ErrorCode::BadLine, 0},
+      {"ping 0", ErrorCode::BadLine, 0},
+      {"ping 9223372036854775808", ErrorCode::BadLine, 0},
+      {"ping 99999999999999999999999", ErrorCode::BadLine, 0},
+      {"ping abc", ErrorCode::BadLine, 0},
+      {"ping -1", ErrorCode::BadLine, 0},
+      {"ping 1.5", ErrorCode::BadLine, 0},
+      {"ping \"1\"", ErrorCode::BadLine, 0},
+      {R"(exec 4 log "a\qb")", ErrorCode::BadLine, 4},
+      {R"(exec 5 log "abc)", ErrorCode::BadLine, 5},
+      {R"(exec 5 log "abc"def)", ErrorCode::BadLine, 5},
+      {"exec 6 sleep 1\x01", ErrorCode::BadLine, 6},
+      {"exec 6 say \"\xc3\xa9\"", ErrorCode::BadLine, 6},
+      {"exec\t7 sleep 1", ErrorCode::BadLine, 0},
+      {"exec 7 sleep 1\r", ErrorCode::BadLine, 7},
+      {"exec 7 sleep 1\n\n", ErrorCode::BadLine, 7},
+      {"exec 7 sleep #1", ErrorCode::BadLine, 7},
+      {fields, ErrorCode::BadLine, 21},
+      {"exec 8 setpoint nan 30", ErrorCode::BadArgument, 8},
+      {"exec 8 setpoint inf 30", ErrorCode::BadArgument, 8},
+      {"exec 8 setpoint -inf 30", ErrorCode::BadArgument, 8},
+      {"exec 8 setpoint 1e999 30", ErrorCode::BadArgument, 8},
+      {"exec 8 sleep 9223372036854775808", ErrorCode::BadArgument, 8},
+      {"exec 8 goto north", ErrorCode::BadArgument, 8},
+      {"exec 8", ErrorCode::BadArgument, 8},
+      {"exec 8 \"\"", ErrorCode::BadArgument, 8},
+      {"ask 8", ErrorCode::BadArgument, 8},
+      {"ood 8", ErrorCode::BadArgument, 8},
+      {"ping 9 extra", ErrorCode::BadArgument, 9},
+      {"bye 9 now", ErrorCode::BadArgument, 9},
+      {"hello 1 strata", ErrorCode::BadArgument, 1},
+      {"hello 1 strata 1 x", ErrorCode::BadArgument, 1},
+      {"hello 1 strata 0", ErrorCode::BadArgument, 1},
+      {"hello 1 strata one", ErrorCode::BadArgument, 1},
+      {"hello 1 strata 1.0", ErrorCode::BadArgument, 1},
+      {"hello 1 \"\" 1", ErrorCode::BadArgument, 1},
+      {"telemetry 2", ErrorCode::BadArgument, 2},
+      {"telemetry 2 -1", ErrorCode::BadArgument, 2},
+      {"telemetry 2 101", ErrorCode::BadArgument, 2},
+      {"telemetry 2 fast", ErrorCode::BadArgument, 2},
+      {"telemetry 2 \"5\"", ErrorCode::BadArgument, 2},
+      {long_line("exec 31 say", kMaxLineBytes), ErrorCode::TooLong, 31},
+      {long_line("exec 32 say", kMaxLineBytes - 1) + "\r\n", ErrorCode::TooLong, 32},
+  };
+  for (const Rejection& r : cases) {
+    auto d = decode_request(r.line);
+    ASSERT_FALSE(d.ok()) << r.line;
+    expect_rejected(r, d.error());
+  }
+  // Right at the limit is fine, with either terminator.
+  EXPECT_TRUE(decode_request(long_line("exec 33 say", kMaxLineBytes - 1)).ok());
+  EXPECT_TRUE(decode_request(long_line("exec 33 say", kMaxLineBytes - 2) + "\r\n").ok());
+}
+
+TEST(Codec, RejectsMalformedVehicleMessages) {
+  const std::vector<Rejection> cases = {
+      {"", ErrorCode::BadLine, 0},
+      {"ok", ErrorCode::BadLine, 0},
+      {"ok 0", ErrorCode::BadLine, 0},
+      {"ok 3 phoenix", ErrorCode::BadArgument, 3},
+      {"ok 3 phoenix 1 fast", ErrorCode::BadArgument, 3},
+      {"ok 3 phoenix 0 wall", ErrorCode::BadArgument, 3},
+      {"done 3 2", ErrorCode::BadArgument, 3},
+      {"done 3 yes", ErrorCode::BadArgument, 3},
+      {"done 3 \"1\"", ErrorCode::BadArgument, 3},
+      {"answer 4", ErrorCode::BadArgument, 4},
+      {"answer 4 1 1", ErrorCode::BadArgument, 4},
+      {"pong 5 nan", ErrorCode::BadArgument, 5},
+      {"pong 5 -1.0", ErrorCode::BadArgument, 5},
+      {"err 0 weird \"x\"", ErrorCode::BadArgument, 0},
+      {"err 6 failed", ErrorCode::BadArgument, 6},
+      {"err -1 failed \"x\"", ErrorCode::BadLine, 0},
+      {"welcome 7", ErrorCode::UnknownVerb, 7},
+      {"tlm", ErrorCode::BadArgument, 0},
+      {"tlm -1", ErrorCode::BadArgument, 0},
+      {"tlm 1 depth", ErrorCode::BadArgument, 0},
+      {"tlm 1 depth=x", ErrorCode::BadArgument, 0},
+      {"tlm 1 depth=nan", ErrorCode::BadArgument, 0},
+      {"tlm 1 depth=1 depth=2", ErrorCode::BadArgument, 0},
+      {"tlm 1 mode=a mode=b", ErrorCode::BadArgument, 0},
+      {"tlm 1 =3", ErrorCode::BadArgument, 0},
+      {"tlm 1 9x=3", ErrorCode::BadArgument, 0},
+      {"tlm 1 depth=", ErrorCode::BadArgument, 0},
+      {"tlm 1 \"depth=1\"", ErrorCode::BadArgument, 0},
+      {"hb", ErrorCode::BadArgument, 0},
+      {"hb 1 2", ErrorCode::BadArgument, 0},
+      {"hb inf", ErrorCode::BadArgument, 0},
+      {"event 1", ErrorCode::BadArgument, 0},
+      {"event 1 \"a\\x\"", ErrorCode::BadLine, 0},
+      {long_line("event 1.0", kMaxLineBytes), ErrorCode::TooLong, 0},
+  };
+  for (const Rejection& r : cases) {
+    auto d = decode_vehicle_message(r.line);
+    ASSERT_FALSE(d.ok()) << r.line;
+    expect_rejected(r, d.error());
+  }
+}
+
+TEST(Codec, ErrorsConvertForBothChannels) {
+  DecodeError e = decode_request("ping 4 5").error();
+  EXPECT_EQ("err 4 bad_argument \"'ping' takes ID only (3 fields given)\"\n", encode(to_err(e)));
+  core::Error c = e.to_core();
+  EXPECT_EQ(core::ErrorCode::Protocol, c.code);
+  EXPECT_EQ("bad_argument: 'ping' takes ID only (3 fields given)", c.message);
+  core::Result<Request> r = decode_request("ping 4").to_core();
+  EXPECT_TRUE(r.ok());
+}
+
+TEST(Codec, PeekIdReadsTheSecondField) {
+  EXPECT_EQ(12u, peek_id("exec 12 \"unterminated"));
+  EXPECT_EQ(0u, peek_id("exec twelve"));
+  EXPECT_EQ(0u, peek_id(""));
+}
+
+TEST(Codec, LongFreeTextIsCutToFitTheLine) {
+  std::string text(5000, '"');
+  std::string line = encode(Err{kMaxRequestId, ErrorCode::UnknownFunction, text});
+  EXPECT_LE(line.size(), kMaxLineBytes);
+  EXPECT_GE(line.size(), kMaxLineBytes - 1);  // an escape is 2 bytes
+  auto back = decode_vehicle_message(line);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_TRUE(std::get<Err>(back.value()).message.ends_with("\"..."));
+}
+
+// ---- properties ---------------------------------------------------------------
+
+rc::Gen<RequestId> ids() {
+  return gen::oneOf(gen::inRange<RequestId>(1, kMaxRequestId),
+                    gen::element<RequestId>(1, 2, kMaxRequestId - 1, kMaxRequestId));
+}
+
+// Text the grammar carries unchanged: printable ASCII, newline and tab.
+rc::Gen<std::string> texts(int max_length) {
+  auto chars = gen::weightedOneOf<char>({
+      {8, gen::inRange<char>(0x20, 0x7f)},
+      {1, gen::element('"', '\\', '\n', '\t', ' ')},
+  });
+  return gen::mapcat(gen::inRange(0, max_length + 1), [chars](int n) {
+    return gen::container<std::string>(static_cast<std::size_t>(n), chars);
+  });
+}
+
+rc::Gen<std::string> names() {
+  return gen::oneOf(gen::element<std::string>("sleep", "setpoint", "depth_reached", "phoenix"),
+                    gen::nonEmpty(texts(24)));
+}
+
+rc::Gen<double> finite_doubles() {
+  return gen::oneOf(gen::suchThat(gen::arbitrary<double>(), [](double d) { return std::isfinite(d); }),
+                    gen::element(0.0, -0.0, 0.6, 1.0, 1e300, 5e-324, -2.5e-3));
+}
+
+rc::Gen<double> times() {
+  return gen::map(finite_doubles(), [](double d) { return std::fabs(d); });
+}
+
+rc::Gen<Value> values() {
+  return gen::oneOf(gen::map(gen::arbitrary<std::int64_t>(), Value::integer),
+                    gen::map(finite_doubles(), Value::real),
+                    gen::map(texts(24), Value::string));
+}
+
+rc::Gen<Request> requests() {
+  auto call = [](Verb verb) {
+    return gen::apply(
+        [verb](RequestId id, std::string name, std::vector<Value> args) {
+          Request r = make_exec(id, std::move(name), std::move(args));
+          r.verb = verb;
+          return r;
+        },
+        ids(), names(),
+        gen::mapcat(gen::inRange(0, 9), [](int n) {
+          return gen::container<std::vector<Value>>(static_cast<std::size_t>(n), values());
+        }));
+  };
+  return gen::oneOf(
+      gen::apply(
+          [](RequestId id, std::string name, int version) {
+            Request r = make_hello(id, std::move(name));
+            r.version = version;
+            return r;
+          },
+          ids(), names(), gen::inRange(1, 1 << 30)),
+      call(Verb::Exec), call(Verb::Ask), call(Verb::Ood),
+      gen::apply(make_telemetry, ids(),
+                 gen::oneOf(gen::element(0.0, 1.0, 2.5, kMaxTelemetryRateHz),
+                            gen::map(gen::inRange(0, 1 << 20),
+                                     [](int i) { return kMaxTelemetryRateHz * i / (1 << 20); }))),
+      gen::map(ids(), make_ping), gen::map(ids(), make_bye));
+}
+
+rc::Gen<std::optional<double>> maybe_times() {
+  return gen::oneOf(gen::just(std::optional<double>()),
+                    gen::map(finite_doubles(), [](double d) { return std::optional<double>(d); }));
+}
+
+rc::Gen<std::map<std::string, std::string>> extras() {
+  auto key = gen::element<std::string>("mode", "leak", "battery_v", "x_1", "_k");
+  auto value = gen::nonEmpty(gen::container<std::string>(
+      gen::element('a', 'Z', '0', '9', '_', '.', ':', '+', '-', '/', '=')));
+  return gen::container<std::map<std::string, std::string>>(key, value);
+}
+
+rc::Gen<VehicleMessage> vehicle_messages() {
+  auto as_message = [](auto g) {
+    return gen::map(std::move(g), [](auto m) { return VehicleMessage(std::move(m)); });
+  };
+  auto codes = gen::element(ErrorCode::BadLine, ErrorCode::TooLong, ErrorCode::UnknownVerb,
+                            ErrorCode::BadArgument, ErrorCode::UnknownFunction, ErrorCode::Busy,
+                            ErrorCode::NotReady, ErrorCode::Failed, ErrorCode::DuplicateId);
+  return gen::oneOf(
+      as_message(gen::apply(
+          [](RequestId id, std::string name, int version, bool wall) {
+            return Welcome{id, std::move(name), version, wall ? ClockMode::Wall : ClockMode::Lockstep};
+          },
+          ids(), names(), gen::inRange(1, 1 << 30), gen::arbitrary<bool>())),
+      as_message(gen::map(ids(), [](RequestId id) { return Ok{id}; })),
+      as_message(gen::apply([](RequestId id, bool b) { return Done{id, b}; }, ids(),
+                            gen::arbitrary<bool>())),
+      as_message(gen::apply([](RequestId id, bool b) { return Answer{id, b}; }, ids(),
+                            gen::arbitrary<bool>())),
+      as_message(gen::apply([](RequestId id, double t) { return Pong{id, t}; }, ids(), times())),
+      as_message(gen::apply(
+          [](RequestId id, ErrorCode code, std::string text) { return Err{id, code, std::move(text)}; },
+          gen::oneOf(ids(), gen::just<RequestId>(0)), codes, texts(200))),
+      as_message(gen::apply(
+          [](double t, std::optional<double> a, std::optional<double> b, std::optional<double> c,
+             std::optional<double> d, std::optional<double> e,
+             std::map<std::string, std::string> x) { return Telemetry{t, a, b, c, d, e, std::move(x)}; },
+          times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(),
+          extras())),
+      as_message(gen::map(times(), [](double t) { return Heartbeat{t}; })),
+      as_message(gen::apply([](double t, std::string s) { return Event{t, std::move(s)}; }, times(),
+                            texts(200))));
+}
+
+// A valid line: printable ASCII, one "\n" at the end, within the limit.
+bool is_wire_line(const std::string& line) {
+  if (line.empty() || line.size() > kMaxLineBytes || line.back() != '\n') return false;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    if (line[i] < 0x20 || line[i] > 0x7e) return false;
+  }
+  return true;
+}
+
+RC_GTEST_PROP(Codec, EveryRequestRoundTrips, ()) {
+  const Request r = *requests();
+  const std::string line = encode(r);
+  RC_ASSERT(is_wire_line(line));
+  auto back = decode_request(line);
+  RC_ASSERT(back.ok());
+  RC_ASSERT(back.value() == r);
+}
+
+RC_GTEST_PROP(Codec, EveryVehicleMessageRoundTrips, ()) {
+  const VehicleMessage m = *vehicle_messages();
+  const std::string line = encode(m);
+  RC_ASSERT(is_wire_line(line));
+  auto back = decode_vehicle_message(line);
+  RC_ASSERT(back.ok());
+  RC_ASSERT(back.value() == m);
+}
+
+// Free text of any bytes and length still makes a line the other end reads.
+RC_GTEST_PROP(Codec, AnyFreeTextMakesAValidLine, (const std::string& text, RequestId id)) {
+  for (const VehicleMessage& m : {VehicleMessage(Err{id % (kMaxRequestId + 1), ErrorCode::Failed, text + text + text}),
+                                  VehicleMessage(Event{1.5, text})}) {
+    const std::string line = encode(m);
+    RC_ASSERT(is_wire_line(line));
+    RC_ASSERT(decode_vehicle_message(line).ok());
+  }
+}
+
+// Any accepted line has one canonical form that decodes to the same request.
+RC_GTEST_PROP(Codec, DecodingArbitraryBytesIsSafeAndCanonical, ()) {
+  const std::string line = *gen::oneOf(
+      gen::arbitrary<std::string>(),
+      gen::map(requests(), [](const Request& r) { return encode(r); }),
+      gen::apply([](std::string a, std::string b) { return a + " " + b; },
+                 gen::element<std::string>("exec 1", "ask 2 x", "hello 3", "telemetry 4"),
+                 gen::container<std::string>(gen::element('1', '.', 'e', '-', ' ', '"', '\\', 'n', 'a', '='))));
+  auto r = decode_request(line);
+  if (r.ok()) {
+    auto again = decode_request(encode(r.value()));
+    RC_ASSERT(again.ok());
+    RC_ASSERT(again.value() == r.value());
+  } else {
+    RC_ASSERT(!r.error().message.empty());
+    RC_ASSERT(r.error().id <= kMaxRequestId);
+  }
+  auto m = decode_vehicle_message(line);
+  if (m.ok()) RC_ASSERT(decode_vehicle_message(encode(m.value())).value() == m.value());
+}
+
+}  // namespace
+}  // namespace strata::protocol

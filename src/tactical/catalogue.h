@@ -1,0 +1,92 @@
+#pragma once
+// The vehicle primitive catalogue (design.md §2.6): every primitive the
+// Strategic level may call, its arguments with units, its reply timeout and
+// the script message it sends. The catalogue is data: config/primitives.toml
+// is compiled into the library (Catalogue::builtin()); a vehicle with other
+// primitives brings its own file (Catalogue::load()). The format is described
+// at the top of config/primitives.toml.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "coral/checker.h"
+#include "core/result.h"
+#include "tactical/message_template.h"
+#include "tactical/value.h"
+
+namespace strata::tactical {
+
+enum class Kind { Exec, Ask, Ood, Report };
+
+// "exec", "ask", "ood", "report": the catalogue's spelling and the wire verb.
+std::string_view kind_name(Kind kind);
+std::optional<Kind> kind_from_name(std::string_view name);
+coral::ast::TacticType tactic_type(Kind kind);
+
+// Where the Tactical level takes a primitive's data from, beside its arguments.
+enum class DataSource {
+  None,
+  Setpoint,  // each call advances the mission data cursor; {depth_m}, {timeout_s}
+};
+
+struct Argument {
+  std::string name;
+  Value::Type type = Value::Type::Number;
+  std::string unit;                   // "s", "m", ...; "" for none
+  std::optional<double> min;          // inclusive; numbers only
+  std::optional<double> max;          // inclusive; numbers only
+  std::optional<Value> default_value; // set: the argument may be left out
+};
+
+struct Primitive {
+  std::string name;  // as written in CORAL
+  Kind kind = Kind::Exec;
+  std::vector<Argument> args;
+  double timeout_s = 0;  // the reply timeout, s; 0 for report
+  std::string doc;
+  std::string message;  // the template, e.g. "exec sleep {seconds}"; "" for report
+  std::string timeout_plus_arg;  // an argument in seconds added to timeout_s; "" if none
+  DataSource data = DataSource::None;
+  std::uint32_t line = 0;  // where the [[primitive]] table starts in its file
+
+  std::size_t min_args() const;  // arguments without a default
+  std::size_t max_args() const { return args.size(); }
+  const Argument* find_arg(std::string_view arg_name) const;
+  // How PROLOG calls it: "exec_sleep/2", "ask_time_out/1", "ood/2", "report/1".
+  std::string prolog_predicate() const;
+  // The call as a rule writes it, for people: "exec_sleep(Seconds, X)",
+  // "ood('shutdown_network', X)", "report(Text)".
+  std::string prolog_call() const;
+};
+
+class Catalogue {
+ public:
+  // Reads and checks a catalogue file. Errors are InvalidInput with one
+  // "path:line:col: message" line per problem, or Io.
+  static core::Result<Catalogue> load(const std::string& path);
+  // The same from text; source_name labels the errors.
+  static core::Result<Catalogue> parse(std::string_view text, const std::string& source_name);
+  // config/primitives.toml as compiled in. Parsed on first use; thread-safe.
+  static const Catalogue& builtin();
+  static std::string_view builtin_text();
+
+  const Primitive* find(std::string_view name) const;
+  // In file order.
+  const std::vector<Primitive>& all() const { return primitives_; }
+  // Where it came from: a path, or "<builtin>/config/primitives.toml".
+  const std::string& source() const { return source_; }
+
+  // The lookup and the names the CORAL checker needs. The options hold their
+  // own copy of the signatures: they stay valid when the catalogue is gone.
+  coral::CheckOptions check_options() const;
+
+ private:
+  std::string source_;
+  std::vector<Primitive> primitives_;
+  std::map<std::string, std::size_t, std::less<>> index_;
+};
+
+}  // namespace strata::tactical

@@ -1,0 +1,302 @@
+#include "tactical/catalogue.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "coral/compiler.h"
+#include "tactical/catalogue_print.h"
+
+namespace strata::tactical {
+namespace {
+
+const std::string kSourceDir = STRATA_SOURCE_DIR;
+
+std::string read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Diagnostics of compiling main.coral = text against the built-in catalogue,
+// as "LINE:COL Kind" strings.
+struct Checked {
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+  std::optional<coral::Program> program;
+  std::vector<std::string> kinds() const {
+    std::vector<std::string> out;
+    for (const auto& d : sink.diagnostics()) {
+      auto lc = sources.line_col(d.span.file, d.span.offset);
+      out.push_back(std::to_string(lc.line) + ":" + std::to_string(lc.col) + " " +
+                    std::string(core::kind_name(d.kind)));
+    }
+    return out;
+  }
+};
+
+std::unique_ptr<Checked> check_text(const std::string& text) {
+  auto c = std::make_unique<Checked>();
+  coral::MemoryFileProvider files;
+  files.add("main.coral", text);
+  c->program = coral::compile_file("main.coral", files, c->sources, c->sink,
+                                   Catalogue::builtin().check_options());
+  c->sink.sort();
+  return c;
+}
+
+std::string parse_error(const std::string& text) {
+  auto c = Catalogue::parse(text, "cat.toml");
+  EXPECT_FALSE(c.ok());
+  return c.ok() ? "" : c.error().message;
+}
+
+TEST(Catalogue, BuiltinParsesAndHasEveryFigure10Primitive) {
+  const Catalogue& c = Catalogue::builtin();
+  EXPECT_EQ("<builtin>/config/primitives.toml", c.source());
+  const std::vector<std::pair<std::string, Kind>> figure10 = {
+      {"next_setpt_data", Kind::Exec}, {"start_depth_filter", Kind::Exec}, {"submerge", Kind::Exec},
+      {"start_timer", Kind::Exec},     {"sleep", Kind::Exec},              {"surface", Kind::Exec},
+      {"depth_filter_off", Kind::Ask}, {"depth_reached", Kind::Ask},       {"time_out", Kind::Ask},
+      {"system_problem", Kind::Ask},   {"surface_reached", Kind::Ask},     {"start_network", Kind::Ood},
+      {"shutdown_network", Kind::Ood}, {"report", Kind::Report}};
+  for (const auto& [name, kind] : figure10) {
+    const Primitive* p = c.find(name);
+    ASSERT_TRUE(p) << name;
+    EXPECT_EQ(kind, p->kind) << name;
+    EXPECT_FALSE(p->doc.empty()) << name;
+    if (kind != Kind::Report) {
+      EXPECT_GT(p->timeout_s, 0) << name;
+    }
+  }
+  EXPECT_EQ(figure10.size(), c.all().size());
+  EXPECT_EQ(nullptr, c.find("exec_submerge"));  // CORAL names carry no prefix
+
+  const Primitive& sleep = *c.find("sleep");
+  ASSERT_EQ(1u, sleep.args.size());
+  EXPECT_EQ("seconds", sleep.args[0].name);
+  EXPECT_EQ("s", sleep.args[0].unit);
+  EXPECT_EQ(0.1, sleep.args[0].min);
+  EXPECT_EQ(3600, sleep.args[0].max);
+  EXPECT_EQ("exec sleep {seconds}", sleep.message);
+  EXPECT_EQ(DataSource::Setpoint, c.find("next_setpt_data")->data);
+  EXPECT_EQ("exec setpoint {depth_m} {timeout_s}", c.find("next_setpt_data")->message);
+  EXPECT_EQ("ood shutdown_network", c.find("shutdown_network")->message);
+  EXPECT_EQ("", c.find("report")->message);
+}
+
+TEST(Catalogue, PrologPredicatesFollowFigure10) {
+  const Catalogue& c = Catalogue::builtin();
+  EXPECT_EQ("exec_next_setpt_data/1", c.find("next_setpt_data")->prolog_predicate());
+  EXPECT_EQ("exec_sleep/2", c.find("sleep")->prolog_predicate());
+  EXPECT_EQ("ask_depth_reached/1", c.find("depth_reached")->prolog_predicate());
+  EXPECT_EQ("ood/2", c.find("shutdown_network")->prolog_predicate());
+  EXPECT_EQ("report/1", c.find("report")->prolog_predicate());
+  EXPECT_EQ("exec_sleep(Seconds, X)", c.find("sleep")->prolog_call());
+  EXPECT_EQ("exec_submerge(X)", c.find("submerge")->prolog_call());
+  EXPECT_EQ("ask_time_out(X)", c.find("time_out")->prolog_call());
+  EXPECT_EQ("ood('shutdown_network', X)", c.find("shutdown_network")->prolog_call());
+  EXPECT_EQ("report(Text)", c.find("report")->prolog_call());
+}
+
+TEST(Catalogue, EmbeddedTextIsTheConfigFile) {
+  EXPECT_EQ(read(kSourceDir + "/config/primitives.toml"), Catalogue::builtin_text());
+}
+
+TEST(Catalogue, LoadsFromAPath) {
+  auto c = Catalogue::load(kSourceDir + "/config/primitives.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_EQ(Catalogue::builtin().all().size(), c.value().all().size());
+  EXPECT_EQ(kSourceDir + "/config/primitives.toml", c.value().source());
+
+  auto missing = Catalogue::load(kSourceDir + "/config/no_such_file.toml");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(core::ErrorCode::Io, missing.error().code);
+  EXPECT_NE(std::string::npos, missing.error().message.find("no_such_file.toml"));
+}
+
+TEST(Catalogue, CheckOptionsAcceptTheTankMission) {
+  coral::DiskFileProvider disk;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+  auto program = coral::compile_file(kSourceDir + "/missions/tank/tank.coral", disk, sources, sink,
+                                     Catalogue::builtin().check_options());
+  EXPECT_TRUE(program);
+  EXPECT_FALSE(sink.has_errors());
+  EXPECT_EQ(0u, sink.warning_count());
+}
+
+TEST(Catalogue, CheckOptionsRejectAMisspelledPrimitiveWithASuggestion) {
+  auto c = check_text(
+      "net n { place s = 1, a, b; exit e;\n"
+      "  transition t1 { wait { s } action { TACTIC(ASK, depth_reachd, a, b) } }\n"
+      "  transition t2 { wait { a } signal { e } }\n"
+      "  transition t3 { wait { b } signal { e } } }");
+  EXPECT_EQ((std::vector<std::string>{"2:51 UnknownPrimitive"}), c->kinds());
+  ASSERT_EQ(1u, c->sink.diagnostics().size());
+  ASSERT_EQ(1u, c->sink.diagnostics()[0].notes.size());
+  EXPECT_EQ("did you mean 'depth_reached'?", c->sink.diagnostics()[0].notes[0].message);
+  EXPECT_FALSE(c->program);
+}
+
+TEST(Catalogue, CheckOptionsRejectAMissingArgument) {
+  auto c = check_text(
+      "net n { place s = 1; exit e;\n"
+      "  transition t { wait { s } action { TACTIC(EXEC, sleep, e) } } }");
+  EXPECT_EQ((std::vector<std::string>{"2:51 PrimitiveArity"}), c->kinds());
+  EXPECT_EQ("'sleep' takes 1 argument(s), but 0 given", c->sink.diagnostics()[0].message);
+}
+
+TEST(Catalogue, CheckOptionsRejectAWrongKind) {
+  auto c = check_text(
+      "net n { place s = 1; exit e;\n"
+      "  transition t { wait { s } action { TACTIC(EXEC, depth_reached, e) } } }");
+  EXPECT_EQ((std::vector<std::string>{"2:51 TacticArguments"}), c->kinds());
+}
+
+TEST(Catalogue, CheckOptionsOutliveTheCatalogue) {
+  coral::CheckOptions options;
+  {
+    auto c = Catalogue::load(kSourceDir + "/config/primitives.toml");
+    ASSERT_TRUE(c.ok());
+    options = c.value().check_options();
+  }
+  auto sig = options.primitive("sleep");
+  ASSERT_TRUE(sig);
+  EXPECT_EQ(coral::ast::TacticType::Exec, sig->kind);
+  EXPECT_EQ(1u, sig->min_args);
+  EXPECT_EQ(1u, sig->max_args);
+  EXPECT_FALSE(options.primitive("nope"));
+  EXPECT_EQ(14u, options.primitive_names.size());
+}
+
+TEST(Catalogue, SyntaxErrorsCarryLineAndColumn) {
+  EXPECT_EQ(0u, parse_error("[[primitive]]\nname = \"x\"\nkind = \n").rfind("cat.toml:3:", 0));
+  EXPECT_EQ(0u, parse_error("[[primitive]]\nname = \"x\"\nname = \"y\"\n").rfind("cat.toml:3:", 0));
+}
+
+const std::string kGood =
+    "[[primitive]]\n"
+    "name = \"sleep\"\n"
+    "kind = \"exec\"\n"
+    "args = [{ name = \"seconds\", type = \"number\", unit = \"s\", min = 0.1 }]\n"
+    "timeout_s = 2\n"
+    "doc = \"wait\"\n"
+    "message = \"exec sleep {seconds}\"\n";
+
+TEST(Catalogue, AMinimalFileParses) {
+  auto c = Catalogue::parse(kGood, "cat.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  ASSERT_EQ(1u, c.value().all().size());
+  EXPECT_EQ(1u, c.value().all()[0].line);
+}
+
+TEST(Catalogue, SemanticErrorsAreLocated) {
+  std::string bad_kind = kGood;
+  bad_kind.replace(bad_kind.find("\"exec\""), 6, "\"run\"");
+  EXPECT_EQ("cat.toml:3:8: primitive 'sleep': unknown kind 'run': expected exec, ask, ood or report",
+            parse_error(bad_kind));
+
+  EXPECT_EQ("cat.toml:10:8: duplicate primitive 'sleep' (first declared at line 1)",
+            parse_error(kGood + "\n" + kGood));
+
+  std::string bad_placeholder = kGood;
+  bad_placeholder.replace(bad_placeholder.find("{seconds}"), 9, "{second}");
+  EXPECT_EQ(
+      "cat.toml:7:11: primitive 'sleep': placeholder {second} in the message names no argument (it "
+      "knows: seconds)\n"
+      "cat.toml:7:11: primitive 'sleep': argument 'seconds' does not appear in the message; write "
+      "{seconds} where it goes",
+      parse_error(bad_placeholder));
+
+  EXPECT_EQ("cat.toml:8:1: primitive 'sleep': unknown key 'colour' (known: args, data, doc, kind, "
+            "message, name, timeout_plus_arg, timeout_s)",
+            parse_error(kGood + "colour = \"red\"\n"));
+}
+
+TEST(Catalogue, ShapeErrors) {
+  auto has = [](const std::string& text, const std::string& what) {
+    std::string e = parse_error(text);
+    EXPECT_NE(std::string::npos, e.find(what)) << e;
+  };
+  has("", "cat.toml:1:1: no [[primitive]] tables");
+  has("primitive = []\n", "cat.toml:1:13: the catalogue lists no primitive");
+  has("primitive = 3\n", "cat.toml:1:13: 'primitive' must be an array of tables");
+  has("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ndoc = \"d\"\nmessage = \"ask a\"\n",
+      "cat.toml:1:1: primitive 'a' has no 'timeout_s'");
+  has("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ndoc = \"d\"\ntimeout_s = 0\nmessage = \"ask a\"\n",
+      "cat.toml:5:13: primitive 'a': timeout_s must be a number of seconds above 0");
+  has("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ndoc = \"d\"\ntimeout_s = 1\nmessage = \"exec a\"\n",
+      "cat.toml:6:11: primitive 'a': the message must start with the verb 'ask'");
+  has("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ndoc = \"d\"\ntimeout_s = 1\nmessage = \"ask a {x\"\n",
+      "cat.toml:6:11: primitive 'a': '{' at byte 7 of the message is never closed");
+  has("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ndoc = \"d\"\ntimeout_s = 1\n",
+      "cat.toml:1:1: primitive 'a' has no 'message'");
+  has("[[primitive]]\nname = \"r\"\nkind = \"report\"\ndoc = \"d\"\nmessage = \"report r\"\n",
+      "cat.toml:5:11: primitive 'r': a report sends nothing to the vehicle, so it has no message");
+  has("[[primitive]]\nname = \"a\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 1\n"
+      "message = \"exec a {depth_m}\"\n",
+      "setpoint fields need data = \"setpoint\"");
+  has("[[primitive]]\nname = \"a b\"\n", "cat.toml:2:8: primitive name 'a b' is not an identifier");
+  has(kGood + "timeout_plus_arg = \"other\"\n",
+      "cat.toml:8:20: primitive 'sleep': timeout_plus_arg 'other' must name a number argument");
+  has("[[primitive]]\nname = \"a\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 1\n"
+      "message = \"exec a {x}\"\nargs = [{ name = \"x\", type = \"integer\" }]\n",
+      "cat.toml:7:30: primitive 'a', argument 'x': unknown type 'integer'");
+  has("[[primitive]]\nname = \"a\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 1\n"
+      "message = \"exec a {x}\"\nargs = [{ name = \"x\", type = \"number\" }]\n",
+      "cat.toml:7:9: primitive 'a', argument 'x' has no 'unit'");
+  has("[[primitive]]\nname = \"a\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 1\n"
+      "message = \"exec a {x} {y}\"\nargs = [{ name = \"x\", type = \"string\", default = \"q\" },\n"
+      "        { name = \"y\", type = \"string\" }]\n",
+      "cat.toml:8:9: primitive 'a', argument 'y': an argument without a default cannot follow");
+  has("[[primitive]]\nname = \"a\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 1\n"
+      "message = \"exec a {x}\"\nargs = [{ name = \"x\", type = \"number\", unit = \"m\", min = 2, "
+      "max = 1 }]\n",
+      "primitive 'a', argument 'x': min 2 is above max 1");
+}
+
+TEST(Catalogue, OptionalArgumentsWidenTheSignature) {
+  auto c = Catalogue::parse(
+      "[[primitive]]\nname = \"goto_depth\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 5\n"
+      "message = \"exec goto_depth {depth_m} {speed}\"\n"
+      "args = [{ name = \"depth_m\", type = \"number\", unit = \"m\", min = 0 },\n"
+      "        { name = \"speed\", type = \"number\", unit = \"m/s\", default = 0.2 }]\n",
+      "cat.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  auto sig = c.value().check_options().primitive("goto_depth");
+  ASSERT_TRUE(sig);
+  EXPECT_EQ(1u, sig->min_args);
+  EXPECT_EQ(2u, sig->max_args);
+}
+
+TEST(CataloguePrint, TableListsEveryPrimitiveWithUnits) {
+  std::string table = format_catalogue(Catalogue::builtin());
+  EXPECT_EQ(0u, table.rfind("NAME", 0));
+  EXPECT_NE(std::string::npos, table.find("sleep "));
+  EXPECT_NE(std::string::npos, table.find("seconds (s, 0.1..3600)"));
+  EXPECT_NE(std::string::npos, table.find("2 s + seconds"));
+  EXPECT_NE(std::string::npos, table.find("text (string)"));
+  EXPECT_NE(std::string::npos, table.find("ood('start_network', X)"));
+  EXPECT_NE(std::string::npos, table.find("14 primitives from <builtin>/config/primitives.toml"));
+  // A header, 14 rows, a blank line and the source line.
+  EXPECT_EQ(17, std::count(table.begin(), table.end(), '\n'));
+}
+
+TEST(CataloguePrint, Json) {
+  auto j = catalogue_json(Catalogue::builtin());
+  ASSERT_EQ(14u, j["primitives"].size());
+  const auto& sleep = j["primitives"][4];
+  EXPECT_EQ(
+      R"({"name":"sleep","kind":"exec","args":[{"name":"seconds","type":"number","unit":"s","min":0.1,)"
+      R"("max":3600.0}],"timeout_s":2.0,"timeout_plus_arg":"seconds","prolog":"exec_sleep/2",)"
+      R"("doc":"Let the vehicle run for the given time, then reply","message":"exec sleep {seconds}"})",
+      sleep.dump());
+  EXPECT_EQ("report", j["primitives"][13]["kind"]);
+  EXPECT_FALSE(j["primitives"][13].contains("message"));
+}
+
+}  // namespace
+}  // namespace strata::tactical

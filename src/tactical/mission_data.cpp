@@ -1,0 +1,141 @@
+#include "tactical/mission_data.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "tactical/toml_support.h"
+
+namespace strata::tactical {
+
+namespace {
+
+std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits,
+                                     detail::TomlErrors& errors) {
+  std::vector<Setpoint> out;
+  for (auto&& [key, node] : root) {
+    if (key.str() != "setpoint") {
+      errors.add(key, fmt::format("unknown key '{}' at the top level: mission data holds only "
+                                  "[[setpoint]] tables",
+                                  key.str()));
+    }
+  }
+  const toml::node* list = root.get("setpoint");
+  if (!list) {
+    errors.add(toml::source_region{{1, 1}, {1, 1}, nullptr},
+               "no setpoints: add [[setpoint]] tables with depth_m and timeout_s");
+    return out;
+  }
+  const toml::array* array = list->as_array();
+  if (array && array->empty()) {
+    errors.add(*list, "the setpoint list is empty");
+    return out;
+  }
+  if (!array || !array->is_array_of_tables()) {
+    errors.add(*list, "'setpoint' must be an array of tables: write each as [[setpoint]]");
+    return out;
+  }
+  std::size_t index = 0;
+  for (const toml::node& node : *array) {
+    ++index;
+    const toml::table& t = *node.as_table();
+    Setpoint sp;
+    sp.line = t.source().begin.line;
+    const std::string owner = fmt::format("setpoint {}", index);
+    for (auto&& [key, value] : t) {
+      const std::string_view k = key.str();
+      if (k != "name" && k != "depth_m" && k != "timeout_s") {
+        errors.add(key, fmt::format("{}: unknown key '{}' (known: depth_m, name, timeout_s)", owner, k));
+      }
+    }
+    if (const toml::node* name = t.get("name")) {
+      if (const auto* s = name->as_string()) {
+        sp.name = s->get();
+      } else {
+        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, detail::type_phrase(*name)));
+      }
+    }
+    if (const toml::node* depth = t.get("depth_m")) {
+      auto v = detail::as_number(*depth);
+      if (!v) {
+        errors.add(*depth, fmt::format("{}: depth_m must be a number of metres, not {}", owner,
+                                       detail::type_phrase(*depth)));
+      } else if (!std::isfinite(*v) || *v < 0 || *v > limits.max_depth_m) {
+        errors.add(*depth, fmt::format("{}: depth_m is {} m; it must lie in 0 .. {} m (positive down, "
+                                       "within the tank)",
+                                       owner, *v, limits.max_depth_m));
+      } else {
+        sp.depth_m = *v;
+      }
+    } else {
+      errors.add(t, fmt::format("{} has no depth_m", owner));
+    }
+    if (const toml::node* timeout = t.get("timeout_s")) {
+      auto v = detail::as_number(*timeout);
+      if (!v) {
+        errors.add(*timeout, fmt::format("{}: timeout_s must be a number of seconds, not {}", owner,
+                                         detail::type_phrase(*timeout)));
+      } else if (!std::isfinite(*v) || *v <= 0) {
+        errors.add(*timeout, fmt::format("{}: timeout_s is {} s; it must be above 0", owner, *v));
+      } else {
+        sp.timeout_s = *v;
+      }
+    } else {
+      errors.add(t, fmt::format("{} has no timeout_s", owner));
+    }
+    out.push_back(std::move(sp));
+  }
+  return out;
+}
+
+}  // namespace
+
+core::Result<MissionData> MissionData::parse(std::string_view text, const std::string& source_name,
+                                             const DataLimits& limits) {
+  auto root = detail::parse_toml(text, source_name);
+  if (!root) return root.error();
+  detail::TomlErrors errors(source_name);
+  std::vector<Setpoint> setpoints = read_setpoints(root.value(), limits, errors);
+  if (!errors.empty()) return errors.error();
+  MissionData data;
+  data.path_ = source_name;
+  data.setpoints_ = std::move(setpoints);
+  return data;
+}
+
+core::Result<MissionData> MissionData::load(const std::string& path, const DataLimits& limits) {
+  auto text = detail::read_text_file(path);
+  if (!text) return text.error();
+  return parse(text.value(), path, limits);
+}
+
+core::Result<const Setpoint*> DataCursor::next() {
+  ++calls_;
+  const auto& all = data_->setpoints();
+  if (position_ >= all.size()) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("mission data has {} setpoint{}; next_setpt_data was called "
+                                        "a {} time",
+                                        all.size(), all.size() == 1 ? "" : "s", ordinal(calls_)));
+  }
+  return &all[position_++];
+}
+
+const Setpoint* DataCursor::current() const {
+  return position_ == 0 ? nullptr : &data_->setpoints()[position_ - 1];
+}
+
+std::string ordinal(std::size_t n) {
+  std::string_view suffix = "th";
+  if (n % 100 < 11 || n % 100 > 13) {
+    switch (n % 10) {
+      case 1: suffix = "st"; break;
+      case 2: suffix = "nd"; break;
+      case 3: suffix = "rd"; break;
+      default: break;
+    }
+  }
+  return fmt::format("{}{}", n, suffix);
+}
+
+}  // namespace strata::tactical

@@ -1,0 +1,222 @@
+#include "tactical/mission_log.h"
+
+#include <cassert>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+
+#include <fmt/format.h>
+
+namespace strata::tactical {
+
+using nlohmann::ordered_json;
+
+namespace {
+
+std::string dump(const ordered_json& j) {
+  // replace: text from a mission (a REPORT string) may hold invalid UTF-8;
+  // the log must take it rather than throw.
+  return j.dump(-1, ' ', false, ordered_json::error_handler_t::replace);
+}
+
+void strip(ordered_json& j) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end();) {
+      if (it.key().rfind("wall_", 0) == 0) {
+        it = j.erase(it);
+      } else {
+        strip(it.value());
+        ++it;
+      }
+    }
+  } else if (j.is_array()) {
+    for (auto& e : j) strip(e);
+  }
+}
+
+}  // namespace
+
+WallTimeSource WallTimeSource::system() {
+  // The one place the mission log's wall fields meet the real clocks.
+  return {[] { return std::chrono::system_clock::now(); }, [] { return std::chrono::steady_clock::now(); }};
+}
+
+double log_time(double sim_time_s) {
+  if (!std::isfinite(sim_time_s)) return sim_time_s;
+  return std::round(sim_time_s * 1e6) / 1e6;
+}
+
+std::string iso8601_utc(std::chrono::system_clock::time_point t) {
+  using namespace std::chrono;
+  auto us = duration_cast<microseconds>(t.time_since_epoch()).count();
+  auto secs = us / 1000000;
+  auto frac = us % 1000000;
+  if (frac < 0) {
+    frac += 1000000;
+    secs -= 1;
+  }
+  std::time_t tt = static_cast<std::time_t>(secs);
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:06}Z", tm.tm_year + 1900, tm.tm_mon + 1,
+                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, frac);
+}
+
+ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_point wall_time) {
+  ordered_json j;
+  j["event"] = "run";
+  j["version"] = run.version;
+  j["mission"] = run.mission;
+  j["mission_sha256"] = run.mission_sha256;
+  j["data"] = run.data.empty() ? ordered_json(nullptr) : ordered_json(run.data);
+  j["data_sha256"] = run.data.empty() ? ordered_json(nullptr) : ordered_json(run.data_sha256);
+  j["scenario"] = run.scenario;
+  j["seed"] = run.seed;
+  j["clock"] = run.clock;
+  j["wall_time"] = iso8601_utc(wall_time);
+  return j;
+}
+
+MissionLog::MissionLog(std::unique_ptr<std::ostream> owned, std::ostream* out, std::string path,
+                       WallTimeSource wall)
+    : owned_(std::move(owned)), out_(out), path_(std::move(path)), wall_(std::move(wall)) {}
+
+core::Result<MissionLog> MissionLog::start(MissionLog log, const RunInfo& run) {
+  if (run.clock != "lockstep" && run.clock != "wall") {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("mission log: clock must be \"lockstep\" or \"wall\", not \"{}\"",
+                                        run.clock));
+  }
+  log.write(run_header(run, log.wall_.now()));
+  if (auto s = log.status(); !s) return s.error();
+  return log;
+}
+
+core::Result<MissionLog> MissionLog::open(const std::string& path, const RunInfo& run, WallTimeSource wall) {
+  auto file = std::make_unique<std::ofstream>(path, std::ios::out | std::ios::trunc | std::ios::binary);
+  if (!*file) {
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("{}: cannot create the mission log: {}", path, std::strerror(errno)));
+  }
+  std::ostream* out = file.get();
+  return start(MissionLog(std::move(file), out, path, std::move(wall)), run);
+}
+
+core::Result<MissionLog> MissionLog::to_stream(std::ostream& out, const RunInfo& run, WallTimeSource wall) {
+  return start(MissionLog(nullptr, &out, "<stream>", std::move(wall)), run);
+}
+
+void MissionLog::write(const ordered_json& line) {
+  assert(line.is_object());
+  if (failure_) return;
+  std::string text = dump(line);
+  text += '\n';
+  out_->write(text.data(), static_cast<std::streamsize>(text.size()));
+  out_->flush();
+  if (!*out_) {
+    failure_ = core::make_error(core::ErrorCode::Io, fmt::format("{}: write to the mission log failed", path_));
+    return;
+  }
+  ++lines_;
+}
+
+void MissionLog::request(std::uint64_t id, std::string_view primitive, std::string_view message,
+                         double sim_time_s) {
+  pending_[id] = Pending{sim_time_s, wall_.monotonic()};
+  ordered_json j;
+  j["event"] = "request";
+  j["id"] = id;
+  j["primitive"] = primitive;
+  j["message"] = message;
+  j["sim_time"] = log_time(sim_time_s);
+  write(j);
+}
+
+void MissionLog::reply(std::uint64_t id, const ordered_json& result, double sim_time_s) {
+  ordered_json j;
+  j["event"] = "reply";
+  j["id"] = id;
+  j["result"] = result;
+  j["sim_time"] = log_time(sim_time_s);
+  auto it = pending_.find(id);
+  if (it == pending_.end()) {
+    j["latency_sim_s"] = nullptr;
+    j["wall_latency_us"] = nullptr;
+  } else {
+    j["latency_sim_s"] = log_time(sim_time_s - it->second.sim_time_s);
+    auto wall = std::chrono::duration_cast<std::chrono::microseconds>(wall_.monotonic() - it->second.wall);
+    j["wall_latency_us"] = wall.count();
+    pending_.erase(it);
+  }
+  write(j);
+}
+
+void MissionLog::telemetry(double sim_time_s, const ordered_json& fields) {
+  assert(fields.is_object() || fields.is_null());
+  ordered_json j;
+  j["event"] = "telemetry";
+  j["sim_time"] = log_time(sim_time_s);
+  if (fields.is_object()) {
+    for (const auto& [k, v] : fields.items()) j[k] = v;
+  }
+  write(j);
+}
+
+void MissionLog::report(std::string_view text, double sim_time_s) {
+  ordered_json j;
+  j["event"] = "report";
+  j["text"] = text;
+  j["sim_time"] = log_time(sim_time_s);
+  write(j);
+}
+
+void MissionLog::error(std::string_view message, double sim_time_s) {
+  ordered_json j;
+  j["event"] = "error";
+  j["message"] = message;
+  j["sim_time"] = log_time(sim_time_s);
+  write(j);
+}
+
+void MissionLog::event(std::string_view name, const ordered_json& fields) {
+  assert(fields.is_object() || fields.is_null());
+  ordered_json j;
+  j["event"] = name;
+  if (fields.is_object()) {
+    for (const auto& [k, v] : fields.items()) {
+      assert(k != "event");
+      j[k] = v;
+    }
+  }
+  write(j);
+}
+
+core::Result<void> MissionLog::status() const {
+  if (failure_) return *failure_;
+  return {};
+}
+
+std::string strip_wall_fields(std::string_view line) {
+  ordered_json j = ordered_json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return std::string(line);
+  strip(j);
+  return dump(j);
+}
+
+std::string strip_wall_fields_from_log(std::string_view text) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    std::string_view line = text.substr(start, end == std::string_view::npos ? end : end - start);
+    out += strip_wall_fields(line);
+    out += '\n';
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace strata::tactical

@@ -1,0 +1,126 @@
+#pragma once
+// The mission log: JSON Lines, one event per line, keys in a fixed order.
+// The first line is the run header; every line is flushed as soon as it is
+// written, so a crash loses nothing already logged.
+//
+// Determinism rule: every field whose value depends on the wall clock is
+// named wall_* (wall_time, wall_latency_us). Two runs of the same inputs in
+// lockstep give logs that differ only in those fields; strip_wall_fields()
+// removes them for comparison. Simulation times come from the caller and are
+// written rounded to the microsecond; the log reads no clock of its own
+// except through the WallTimeSource it is given.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+
+namespace strata::tactical {
+
+// Where the log takes its wall_* values from (not core::WallClock, which is
+// a run clock). Tests give fixed ones.
+struct WallTimeSource {
+  std::function<std::chrono::system_clock::time_point()> now;        // wall_time
+  std::function<std::chrono::steady_clock::time_point()> monotonic;  // wall_latency_us
+  // The system's clocks.
+  static WallTimeSource system();
+};
+
+// What the run header records: enough to say which inputs made the log.
+struct RunInfo {
+  std::string version;         // strata's version
+  std::string mission;         // the mission file, as given
+  std::string mission_sha256;  // see sha256.h
+  std::string data;            // the mission data file; "" for none (logged as null)
+  std::string data_sha256;
+  std::string scenario;        // the vehicle scenario's name
+  std::uint64_t seed = 0;
+  std::string clock = "lockstep";  // "lockstep" | "wall"
+};
+
+class MissionLog {
+ public:
+  // Creates (truncates) path and writes the run header. Io error if the file
+  // cannot be opened; InvalidInput if run.clock is neither lockstep nor wall.
+  static core::Result<MissionLog> open(const std::string& path, const RunInfo& run,
+                                       WallTimeSource wall = WallTimeSource::system());
+  // The same onto a stream the caller owns and keeps alive (tests).
+  static core::Result<MissionLog> to_stream(std::ostream& out, const RunInfo& run,
+                                            WallTimeSource wall = WallTimeSource::system());
+
+  MissionLog(MissionLog&&) = default;
+  MissionLog& operator=(MissionLog&&) = default;
+  MissionLog(const MissionLog&) = delete;
+  MissionLog& operator=(const MissionLog&) = delete;
+  ~MissionLog() = default;
+
+  // {"event":"request","id","primitive","message","sim_time"}. message is the
+  // script message without its id (RenderedCall::text()).
+  void request(std::uint64_t id, std::string_view primitive, std::string_view message,
+               double sim_time_s);
+  // {"event":"reply","id","result","sim_time","latency_sim_s","wall_latency_us"}.
+  // The latencies are measured from the request of the same id; null if no
+  // such request was logged. result is what the vehicle answered (1/0, "done",
+  // an error object...).
+  void reply(std::uint64_t id, const nlohmann::ordered_json& result, double sim_time_s);
+  // {"event":"telemetry","sim_time", ...fields}; fields is an object such as
+  // {"depth_m": 1.2, "depth_rate_mps": 0.1}.
+  void telemetry(double sim_time_s, const nlohmann::ordered_json& fields);
+  // {"event":"report","text","sim_time"}
+  void report(std::string_view text, double sim_time_s);
+  // {"event":"error","message","sim_time"}
+  void error(std::string_view message, double sim_time_s);
+  // {"event": name, ...fields}: for events defined later (firings, phases).
+  // fields is an object; it should carry its own sim_time.
+  void event(std::string_view name, const nlohmann::ordered_json& fields);
+  // Any object, as one line. Wall-clock-dependent keys must be named wall_*.
+  void write(const nlohmann::ordered_json& line);
+
+  // Ok, or the first write failure; once a write failed, later ones are dropped.
+  core::Result<void> status() const;
+  // Lines written, the header included.
+  std::size_t lines() const { return lines_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Pending {
+    double sim_time_s = 0;
+    std::chrono::steady_clock::time_point wall;
+  };
+
+  MissionLog(std::unique_ptr<std::ostream> owned, std::ostream* out, std::string path, WallTimeSource wall);
+  static core::Result<MissionLog> start(MissionLog log, const RunInfo& run);
+
+  std::unique_ptr<std::ostream> owned_;
+  std::ostream* out_ = nullptr;
+  std::string path_;
+  WallTimeSource wall_;
+  std::unordered_map<std::uint64_t, Pending> pending_;
+  std::size_t lines_ = 0;
+  std::optional<core::Error> failure_;
+};
+
+// The run header line's object (without writing it).
+nlohmann::ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_point wall_time);
+
+// "2024-05-01T12:34:56.123456Z"
+std::string iso8601_utc(std::chrono::system_clock::time_point t);
+
+// One log line with every wall_* key removed, at any depth, re-serialised
+// compactly in the same key order. A line that is not JSON comes back as is.
+std::string strip_wall_fields(std::string_view line);
+// The same for each line of a whole log.
+std::string strip_wall_fields_from_log(std::string_view text);
+
+// A simulation time as logged: rounded to the microsecond.
+double log_time(double sim_time_s);
+
+}  // namespace strata::tactical

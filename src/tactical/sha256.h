@@ -1,0 +1,40 @@
+#pragma once
+// SHA-256 (FIPS 180-4), for the mission log's run header: a stable digest of
+// the mission and data files, so a log says exactly which inputs made it.
+// Not used for security.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "core/result.h"
+
+namespace strata::tactical {
+
+class Sha256 {
+ public:
+  using Digest = std::array<std::uint8_t, 32>;
+
+  Sha256();
+  void update(std::string_view bytes);
+  // Pads and returns the digest; the object must not be updated afterwards.
+  Digest finish();
+
+  static std::string hex(const Digest& digest);
+
+ private:
+  void compress(const std::uint8_t* block);
+
+  std::array<std::uint32_t, 8> h_;
+  std::array<std::uint8_t, 64> buffer_{};
+  std::size_t buffered_ = 0;
+  std::uint64_t length_ = 0;  // bytes so far
+  bool finished_ = false;
+};
+
+// Lower-case hex digest of bytes.
+std::string sha256_hex(std::string_view bytes);
+// Lower-case hex digest of a file's bytes, or an Io error.
+core::Result<std::string> sha256_file(const std::string& path);
+
+}  // namespace strata::tactical

@@ -1,0 +1,277 @@
+#include "tactical/vehicle_link.h"
+
+#include <fmt/format.h>
+
+namespace strata::tactical {
+
+using core::ErrorCode;
+using core::make_error;
+
+std::string describe(const protocol::Request& request) {
+  std::string line = protocol::encode(request);
+  // "exec 7 sleep 1\n" -> "exec sleep 1": the id says nothing to a person.
+  std::string out(protocol::verb_name(request.verb));
+  auto first = line.find(' ');
+  auto second = first == std::string::npos ? std::string::npos : line.find(' ', first + 1);
+  if (second != std::string::npos) out += line.substr(second, line.size() - second - 1);
+  return out;
+}
+
+std::shared_ptr<VehicleLink> VehicleLink::create(asio::io_context& io, LinkOptions options) {
+  return std::shared_ptr<VehicleLink>(new VehicleLink(io, std::move(options)));
+}
+
+VehicleLink::VehicleLink(asio::io_context& io, LinkOptions options)
+    : io_(io), options_(std::move(options)), socket_(io), connect_timer_(io) {}
+
+VehicleLink::~VehicleLink() {
+  asio::error_code ignored;
+  socket_.close(ignored);
+}
+
+void VehicleLink::connect(std::function<void(core::Result<protocol::Welcome>)> done) {
+  reconnects_left_ = options_.reconnect_attempts;
+  closing_ = false;
+  start_connect(std::move(done));
+}
+
+void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcome>)> done) {
+  auto self = shared_from_this();
+  asio::error_code ec;
+  auto address = asio::ip::make_address(options_.host == "localhost" ? "127.0.0.1" : options_.host, ec);
+  if (ec) {
+    done(make_error(ErrorCode::Io, fmt::format("'{}' is not an IP address", options_.host)));
+    return;
+  }
+  asio::ip::tcp::endpoint endpoint(address, options_.port);
+  socket_ = asio::ip::tcp::socket(io_);
+  framer_.reset();
+  auto finished = std::make_shared<bool>(false);
+  connect_timer_.expires_after(options_.connect_timeout);
+  connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
+    if (e || *finished) return;
+    *finished = true;
+    asio::error_code ignored;
+    socket_.close(ignored);
+    done(make_error(ErrorCode::Timeout,
+                    fmt::format("no answer from the vehicle at {}:{} within {} ms", options_.host,
+                                options_.port, options_.connect_timeout.count())));
+  });
+  socket_.async_connect(endpoint, [this, self, finished, done](const asio::error_code& e) {
+    if (*finished) return;
+    if (e) {
+      *finished = true;
+      connect_timer_.cancel();
+      done(make_error(ErrorCode::Io, fmt::format("cannot reach the vehicle at {}:{}: {}",
+                                                 options_.host, options_.port, e.message())));
+      return;
+    }
+    asio::ip::tcp::no_delay nodelay(true);
+    asio::error_code ignored;
+    socket_.set_option(nodelay, ignored);
+    connected_ = true;
+    start_read();
+    send(protocol::make_hello(0, options_.client_name),
+         [this, self, finished, done](core::Result<protocol::VehicleMessage> r) {
+           if (*finished) return;
+           *finished = true;
+           connect_timer_.cancel();
+           if (!r) {
+             done(r.error());
+             return;
+           }
+           if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
+             if (w->version != protocol::kProtocolVersion) {
+               done(make_error(ErrorCode::Protocol,
+                               fmt::format("vehicle speaks protocol {}, we speak {}", w->version,
+                                           protocol::kProtocolVersion)));
+               return;
+             }
+             done(*w);
+             return;
+           }
+           done(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
+         },
+         options_.connect_timeout);
+  });
+}
+
+protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler handler,
+                                      std::optional<std::chrono::milliseconds> timeout) {
+  request.id = next_id_++;
+  std::string what = describe(request);
+  if (!connected_) {
+    // Report asynchronously, like every other outcome, so callers see one order.
+    asio::post(io_, [handler = std::move(handler), what] {
+      handler(make_error(ErrorCode::Closed, fmt::format("cannot send `{}`: no link to the vehicle", what)));
+    });
+    return request.id;
+  }
+  Pending p;
+  p.handler = std::move(handler);
+  p.what = what;
+  p.timer = std::make_unique<asio::steady_timer>(io_);
+  auto wait = timeout.value_or(options_.reply_timeout);
+  p.timer->expires_after(wait);
+  auto id = request.id;
+  auto self = shared_from_this();
+  p.timer->async_wait([this, self, id, wait, what](const asio::error_code& e) {
+    if (e) return;
+    complete(id, make_error(ErrorCode::Timeout,
+                            fmt::format("no reply to `{}` (request {}) within {} ms", what, id,
+                                        wait.count())));
+  });
+  pending_.emplace(id, std::move(p));
+  write(protocol::encode(request));
+  return id;
+}
+
+void VehicleLink::complete(protocol::RequestId id, core::Result<protocol::VehicleMessage> result) {
+  auto it = pending_.find(id);
+  if (it == pending_.end()) return;
+  ReplyHandler handler = std::move(it->second.handler);
+  it->second.timer->cancel();
+  pending_.erase(it);
+  handler(std::move(result));
+}
+
+void VehicleLink::write(std::string line) {
+  write_queue_.push_back(std::move(line));
+  if (!writing_) start_write();
+}
+
+void VehicleLink::start_write() {
+  if (write_queue_.empty() || !connected_) {
+    writing_ = false;
+    return;
+  }
+  writing_ = true;
+  auto self = shared_from_this();
+  asio::async_write(socket_, asio::buffer(write_queue_.front()),
+                    [this, self](const asio::error_code& e, std::size_t) {
+                      if (!write_queue_.empty()) write_queue_.pop_front();
+                      if (e) {
+                        writing_ = false;
+                        lost(fmt::format("cannot write to the vehicle: {}", e.message()));
+                        return;
+                      }
+                      start_write();
+                    });
+}
+
+void VehicleLink::start_read() {
+  auto self = shared_from_this();
+  socket_.async_read_some(asio::buffer(read_buffer_), [this, self](const asio::error_code& e,
+                                                                   std::size_t n) {
+    if (e) {
+      if (!closing_) {
+        lost(e == asio::error::eof ? std::string("the vehicle closed the link")
+                                   : fmt::format("link to the vehicle failed: {}", e.message()));
+      }
+      return;
+    }
+    for (const auto& frame : framer_.feed(std::string_view(read_buffer_.data(), n))) {
+      handle_line(frame);
+      if (!connected_) return;  // a handler closed the link
+    }
+    start_read();
+  });
+}
+
+void VehicleLink::handle_line(const protocol::Frame& frame) {
+  if (frame.too_long) {
+    if (on_garbage_) on_garbage_(fmt::format("a line over {} bytes (discarded)", protocol::kMaxLineBytes));
+    return;
+  }
+  auto decoded = protocol::decode_vehicle_message(frame.line);
+  if (!decoded) {
+    if (on_garbage_) on_garbage_(fmt::format("{}: {}", decoded.error().message, frame.line));
+    return;
+  }
+  protocol::VehicleMessage& msg = decoded.value();
+  if (auto* t = std::get_if<protocol::Telemetry>(&msg)) {
+    if (on_telemetry_) on_telemetry_(*t);
+    return;
+  }
+  if (auto* ev = std::get_if<protocol::Event>(&msg)) {
+    if (on_event_) on_event_(*ev);
+    return;
+  }
+  if (std::holds_alternative<protocol::Heartbeat>(msg)) return;
+  if (auto* err = std::get_if<protocol::Err>(&msg)) {
+    std::string text = fmt::format("vehicle error {}: {}", protocol::code_name(err->code), err->message);
+    if (err->id == 0) {
+      if (err->code == protocol::ErrorCode::Busy) {
+        fail_all(make_error(ErrorCode::Protocol, text));
+      } else if (on_garbage_) {
+        on_garbage_(text);
+      }
+      return;
+    }
+    auto it = pending_.find(err->id);
+    if (it != pending_.end()) {
+      text = fmt::format("vehicle refused `{}` (request {}): {}: {}", it->second.what, err->id,
+                         protocol::code_name(err->code), err->message);
+    }
+    complete(err->id, make_error(ErrorCode::Protocol, text));
+    return;
+  }
+  auto id = protocol::reply_id(msg);
+  if (!id || !pending_.count(*id)) {
+    if (on_garbage_) on_garbage_(fmt::format("a reply for no request in flight: {}", frame.line));
+    return;
+  }
+  complete(*id, std::move(msg));
+}
+
+void VehicleLink::fail_all(const core::Error& error) {
+  auto pending = std::move(pending_);
+  pending_.clear();
+  for (auto& [id, p] : pending) {
+    p.timer->cancel();
+    p.handler(make_error(error.code, fmt::format("`{}` (request {}) failed: {}", p.what, id, error.message)));
+  }
+}
+
+void VehicleLink::lost(const std::string& why) {
+  if (!connected_) return;
+  connected_ = false;
+  asio::error_code ignored;
+  socket_.close(ignored);
+  write_queue_.clear();
+  fail_all(make_error(ErrorCode::Closed, why));
+  try_reconnect(why);
+}
+
+void VehicleLink::try_reconnect(const std::string& why) {
+  if (closing_) return;
+  if (reconnects_left_ <= 0) {
+    if (on_lost_) on_lost_(make_error(ErrorCode::Closed, why));
+    return;
+  }
+  --reconnects_left_;
+  auto self = shared_from_this();
+  auto timer = std::make_shared<asio::steady_timer>(io_, options_.reconnect_delay);
+  timer->async_wait([this, self, timer, why](const asio::error_code& e) {
+    if (e || closing_) return;
+    start_connect([this, self, why](core::Result<protocol::Welcome> r) {
+      if (r) {
+        reconnects_left_ = options_.reconnect_attempts;
+      } else {
+        try_reconnect(why);
+      }
+    });
+  });
+}
+
+void VehicleLink::close() {
+  closing_ = true;
+  connected_ = false;
+  connect_timer_.cancel();
+  asio::error_code ignored;
+  socket_.close(ignored);
+  write_queue_.clear();
+  fail_all(make_error(ErrorCode::Closed, "the link was closed"));
+}
+
+}  // namespace strata::tactical

@@ -1,0 +1,274 @@
+// The Tactical level's link against the real Execution-level server, in one
+// process on one io_context, over loopback TCP on a free port.
+#include <chrono>
+#include <optional>
+
+#include <asio.hpp>
+#include <gtest/gtest.h>
+
+#include "protocol/codec.h"
+#include "tactical/vehicle_link.h"
+#include "vehicle/server.h"
+
+namespace strata::tactical {
+namespace {
+
+using namespace std::chrono_literals;
+using protocol::VehicleMessage;
+
+// Runs io until done() or a time bound passes; the bound only keeps a broken
+// test from hanging, it asserts nothing about speed.
+template <typename Pred>
+bool run_until(asio::io_context& io, Pred done, std::chrono::milliseconds bound = 5000ms) {
+  auto deadline = std::chrono::steady_clock::now() + bound;
+  io.restart();
+  while (!done() && std::chrono::steady_clock::now() < deadline) {
+    io.run_for(10ms);
+    io.restart();
+  }
+  return done();
+}
+
+struct Rig {
+  explicit Rig(vehicle::Scenario scenario = vehicle::Scenario::nominal(),
+               protocol::ClockMode clock = protocol::ClockMode::Lockstep)
+      : sim(vehicle::default_params(), std::move(scenario)) {
+    vehicle::ServerOptions so;
+    so.clock = clock;
+    so.speed = 20.0;
+    so.log = [this](const std::string& line) { vehicle_log.push_back(line); };
+    server = std::make_unique<vehicle::VehicleServer>(io, sim, so);
+    EXPECT_TRUE(server->start().ok());
+  }
+
+  std::shared_ptr<VehicleLink> connect(LinkOptions options = {}) {
+    options.port = server->port();
+    auto link = VehicleLink::create(io, options);
+    std::optional<core::Result<protocol::Welcome>> welcome;
+    link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+    EXPECT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+    EXPECT_TRUE(welcome && welcome->ok()) << (welcome && !welcome->ok() ? welcome->error().message : "");
+    return link;
+  }
+
+  core::Result<VehicleMessage> call(VehicleLink& link, protocol::Request r,
+                                    std::optional<std::chrono::milliseconds> timeout = std::nullopt) {
+    std::optional<core::Result<VehicleMessage>> reply;
+    link.send(std::move(r), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, timeout);
+    EXPECT_TRUE(run_until(io, [&] { return reply.has_value(); }));
+    if (!reply) return core::make_error(core::ErrorCode::Internal, "no reply in the test's bound");
+    return std::move(*reply);
+  }
+
+  bool ask(VehicleLink& link, const std::string& predicate) {
+    auto r = call(link, protocol::make_ask(0, predicate));
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    return r.ok() && std::get<protocol::Answer>(r.value()).value;
+  }
+
+  bool exec(VehicleLink& link, const std::string& f, std::vector<protocol::Value> args = {}) {
+    auto r = call(link, protocol::make_exec(0, f, std::move(args)));
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    return r.ok() && std::get<protocol::Done>(r.value()).success;
+  }
+
+  asio::io_context io;
+  vehicle::Simulation sim;
+  std::unique_ptr<vehicle::VehicleServer> server;
+  std::vector<std::string> vehicle_log;
+};
+
+TEST(VehicleLink, HelloIsAnsweredWithTheVehicleAndItsClock) {
+  Rig rig;
+  auto link = rig.connect();
+  EXPECT_TRUE(link->connected());
+}
+
+TEST(VehicleLink, EveryRequestCostsOneCycleInLockstep) {
+  Rig rig;
+  auto link = rig.connect();
+  auto ood = rig.call(*link, protocol::make_ood(0, "start_network"));
+  ASSERT_TRUE(ood.ok());
+  EXPECT_TRUE(std::get<protocol::Done>(ood.value()).success);
+  EXPECT_NEAR(0.1, rig.sim.time_s(), 1e-9);
+  EXPECT_TRUE(rig.ask(*link, "depth_filter_off"));
+  EXPECT_NEAR(0.2, rig.sim.time_s(), 1e-9);
+  EXPECT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(2)}));
+  EXPECT_NEAR(2.2, rig.sim.time_s(), 1e-9);
+  auto pong = rig.call(*link, protocol::make_ping(0));
+  ASSERT_TRUE(pong.ok());
+  EXPECT_NEAR(2.2, std::get<protocol::Pong>(pong.value()).sim_time_s, 1e-9);  // ping is free
+}
+
+TEST(VehicleLink, UnknownFunctionAndBadArgumentsAreRefusedWithReasons) {
+  Rig rig;
+  auto link = rig.connect();
+  auto r = rig.call(*link, protocol::make_exec(0, "fly"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(core::ErrorCode::Protocol, r.error().code);
+  EXPECT_NE(std::string::npos, r.error().message.find("unknown_function")) << r.error().message;
+  r = rig.call(*link, protocol::make_exec(0, "sleep"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(std::string::npos, r.error().message.find("bad_argument")) << r.error().message;
+  r = rig.call(*link, protocol::make_exec(0, "depth_reached"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(std::string::npos, r.error().message.find("is an ask function")) << r.error().message;
+}
+
+TEST(VehicleLink, AFailedFunctionIsDoneZeroWithAnEventSayingWhy) {
+  Rig rig;
+  auto link = rig.connect();
+  std::vector<std::string> events;
+  link->on_event([&](const protocol::Event& e) { events.push_back(e.text); });
+  EXPECT_FALSE(rig.exec(*link, "submerge"));  // network not started
+  ASSERT_FALSE(events.empty());
+  EXPECT_NE(std::string::npos, events[0].find("submerge failed")) << events[0];
+}
+
+// The Figure 10 call sequence (phase 2), issued from the Tactical side.
+bool figure10_phase2(Rig& rig, VehicleLink& link, double depth_m, double timeout_s) {
+  EXPECT_TRUE(rig.call(link, protocol::make_ood(0, "start_network")).ok());
+  EXPECT_TRUE(rig.exec(link, "setpoint", {protocol::Value::real(depth_m), protocol::Value::real(timeout_s)}));
+  if (rig.ask(link, "depth_filter_off")) {
+    EXPECT_TRUE(rig.exec(link, "start_depth_filter"));
+    EXPECT_TRUE(rig.exec(link, "sleep", {protocol::Value::integer(1)}));
+  }
+  EXPECT_TRUE(rig.exec(link, "submerge"));
+  EXPECT_TRUE(rig.exec(link, "start_timer"));
+  for (int i = 0; i < 1000; ++i) {
+    EXPECT_TRUE(rig.exec(link, "sleep", {protocol::Value::integer(1)}));
+    if (rig.ask(link, "depth_reached")) return true;
+    if (rig.ask(link, "time_out") || rig.ask(link, "system_problem")) {
+      EXPECT_TRUE(rig.exec(link, "surface"));
+      for (int j = 0; j < 1000 && !rig.ask(link, "surface_reached"); ++j) {
+      }
+      return false;
+    }
+  }
+  ADD_FAILURE() << "phase 2 neither completed nor aborted";
+  return false;
+}
+
+TEST(Figure10, Phase2ReachesDepthInNominal) {
+  Rig rig;
+  auto link = rig.connect();
+  EXPECT_TRUE(figure10_phase2(rig, *link, 0.6, 30));
+  EXPECT_NEAR(0.6, rig.sim.heave().depth_m, 0.15);
+}
+
+TEST(Figure10, Phase2TimesOutWithWeakThrusters) {
+  vehicle::Scenario weak = vehicle::Scenario::nominal();
+  weak.faults.push_back({vehicle::FaultKind::WeakThrusters, 0.0, 0.1, std::nullopt});
+  Rig rig(weak);
+  auto link = rig.connect();
+  EXPECT_FALSE(figure10_phase2(rig, *link, 0.6, 30));
+  EXPECT_TRUE(rig.sim.time_out());
+  EXPECT_TRUE(rig.sim.surface_reached());
+}
+
+TEST(VehicleLink, TelemetryFlowsAtTheRequestedRateOfSimTime) {
+  Rig rig;
+  auto link = rig.connect();
+  std::vector<protocol::Telemetry> samples;
+  link->on_telemetry([&](const protocol::Telemetry& t) { samples.push_back(t); });
+  ASSERT_TRUE(rig.call(*link, protocol::make_telemetry(0, 2.0)).ok());
+  EXPECT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(3)}));
+  ASSERT_TRUE(run_until(rig.io, [&] { return samples.size() >= 6; }));
+  EXPECT_EQ(6u, samples.size());
+  EXPECT_NEAR(0.5, samples[1].sim_time_s - samples[0].sim_time_s, 1e-6);
+  EXPECT_TRUE(samples[0].depth_m.has_value());
+}
+
+TEST(VehicleLink, ASecondClientIsRefused) {
+  Rig rig;
+  auto first = rig.connect();
+  LinkOptions o;
+  o.port = rig.server->port();
+  o.reconnect_attempts = 0;
+  auto second = VehicleLink::create(rig.io, o);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  second->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  ASSERT_TRUE(run_until(rig.io, [&] { return welcome.has_value(); }));
+  ASSERT_FALSE(welcome->ok());
+  EXPECT_NE(std::string::npos, welcome->error().message.find("busy")) << welcome->error().message;
+  EXPECT_EQ(1u, rig.server->clients_refused());
+  EXPECT_TRUE(rig.ask(*first, "depth_filter_off"));  // the first still works
+}
+
+TEST(VehicleLink, ASilentVehicleIsATimeoutNotAHang) {
+  // link_loss from the start: the vehicle drops every line after hello.
+  vehicle::Scenario lost = vehicle::Scenario::nominal();
+  lost.faults.push_back({vehicle::FaultKind::LinkLoss, 0.05, 1.0, std::nullopt});
+  Rig rig(lost);
+  auto link = rig.connect();
+  // This request's cycle crosses into the loss: its reply is lost too.
+  auto r = rig.call(*link, protocol::make_ood(0, "start_network"), 200ms);
+  EXPECT_FALSE(r.ok());
+  auto r2 = rig.call(*link, protocol::make_ask(0, "depth_reached"), 200ms);
+  ASSERT_FALSE(r2.ok());
+  EXPECT_EQ(core::ErrorCode::Timeout, r2.error().code);
+  EXPECT_NE(std::string::npos, r2.error().message.find("no reply to `ask depth_reached`"))
+      << r2.error().message;
+}
+
+TEST(VehicleLink, VehicleGoneMidRequestFailsThePendingRequest) {
+  Rig rig;
+  LinkOptions o;
+  o.reconnect_attempts = 1;
+  o.reconnect_delay = 20ms;
+  auto link = rig.connect(o);
+  std::optional<core::Error> lost;
+  link->on_lost([&](const core::Error& e) { lost = e; });
+  std::optional<core::Result<VehicleMessage>> reply;
+  link->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(1)}),
+             [&](core::Result<VehicleMessage> m) { reply = std::move(m); });
+  rig.server->stop();  // before the request is read
+  ASSERT_TRUE(run_until(rig.io, [&] { return reply.has_value() && lost.has_value(); }));
+  ASSERT_FALSE(reply->ok());
+  EXPECT_EQ(core::ErrorCode::Closed, reply->error().code);
+  EXPECT_FALSE(link->connected());
+}
+
+TEST(VehicleLink, GarbageFromTheVehicleIsReportedAndSkipped) {
+  asio::io_context io;
+  asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
+  asio::ip::tcp::socket peer(io);
+  acceptor.async_accept(peer, [&](const asio::error_code&) {
+    std::string lines = "\x01\x02 garbage\n" + std::string(2000, 'x') + "\nanswer 99 1\n";
+    asio::write(peer, asio::buffer(lines));
+  });
+  LinkOptions o;
+  o.port = acceptor.local_endpoint().port();
+  o.connect_timeout = 300ms;
+  auto link = VehicleLink::create(io, o);
+  std::vector<std::string> garbage;
+  link->on_garbage([&](const std::string& g) { garbage.push_back(g); });
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  EXPECT_FALSE(welcome->ok());  // no real hello answer: a timeout
+  EXPECT_EQ(core::ErrorCode::Timeout, welcome->error().code);
+  ASSERT_EQ(3u, garbage.size());
+  EXPECT_NE(std::string::npos, garbage[1].find("over 1024 bytes"));
+  EXPECT_NE(std::string::npos, garbage[2].find("no request in flight"));
+}
+
+TEST(VehicleServer, WatchdogSurfacesTheVehicleWhenTheClientDrops) {
+  Rig rig;
+  auto link = rig.connect();
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  ASSERT_TRUE(rig.exec(*link, "setpoint", {protocol::Value::real(1.0), protocol::Value::integer(60)}));
+  ASSERT_TRUE(rig.exec(*link, "start_depth_filter"));
+  ASSERT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(1)}));
+  ASSERT_TRUE(rig.exec(*link, "submerge"));
+  ASSERT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(10)}));
+  ASSERT_GT(rig.sim.heave().depth_m, 0.5);
+  link->close();
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped() && rig.sim.surface_reached(); }));
+  bool said_why = false;
+  for (const auto& line : rig.vehicle_log) said_why |= line.find("link dropped") != std::string::npos;
+  EXPECT_TRUE(said_why);
+}
+
+}  // namespace
+}  // namespace strata::tactical

@@ -1,0 +1,141 @@
+#include "vehicle/execution.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace strata::vehicle {
+
+using protocol::Verb;
+
+const std::vector<FunctionSpec>& function_table() {
+  static const std::vector<FunctionSpec> table = {
+      {Verb::Exec, "setpoint", {{"depth", "m"}, {"timeout", "s"}},
+       "load the next depth setpoint and its time limit (sent by next_setpt_data)"},
+      {Verb::Exec, "start_depth_filter", {}, "start the depth filter (depth and depth rate)"},
+      {Verb::Exec, "submerge", {}, "engage the depth law toward the loaded setpoint"},
+      {Verb::Exec, "start_timer", {}, "start the mission timer with the loaded setpoint's timeout"},
+      {Verb::Exec, "sleep", {{"duration", "s"}}, "let the given time pass, then reply"},
+      {Verb::Exec, "surface", {}, "drive to the surface"},
+      {Verb::Ask, "depth_filter_off", {}, "is the depth filter off?"},
+      {Verb::Ask, "depth_reached", {}, "is the vehicle settled at the setpoint?"},
+      {Verb::Ask, "time_out", {}, "has the mission timer run out?"},
+      {Verb::Ask, "system_problem", {}, "is a system problem (leak) active?"},
+      {Verb::Ask, "surface_reached", {}, "is the vehicle at the surface?"},
+      {Verb::Ood, "start_network", {}, "open the vehicle network; commands are refused before"},
+      {Verb::Ood, "shutdown_network", {}, "stop the thrusters and close the vehicle network"},
+  };
+  return table;
+}
+
+const FunctionSpec* find_function(Verb verb, std::string_view name) {
+  for (const auto& f : function_table()) {
+    if (f.verb == verb && f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+namespace {
+
+Outcome refuse(protocol::ErrorCode code, std::string message) {
+  Outcome o;
+  o.refused = code;
+  o.message = std::move(message);
+  return o;
+}
+
+Outcome from(core::Result<void> r) {
+  Outcome o;
+  o.value = r.ok();
+  if (!r) o.message = r.error().message;
+  return o;
+}
+
+Outcome answer(bool v) {
+  Outcome o;
+  o.value = v;
+  return o;
+}
+
+}  // namespace
+
+Outcome execute(Simulation& sim, const protocol::Request& request) {
+  const FunctionSpec* spec = find_function(request.verb, request.name);
+  if (!spec) {
+    // Say so when the name exists under another verb: a common slip.
+    for (const auto& f : function_table()) {
+      if (f.name == request.name) {
+        return refuse(protocol::ErrorCode::UnknownFunction,
+                      fmt::format("'{}' is an {} function, not {}", f.name, protocol::verb_name(f.verb),
+                                  protocol::verb_name(request.verb)));
+      }
+    }
+    return refuse(protocol::ErrorCode::UnknownFunction,
+                  fmt::format("no {} function '{}'", protocol::verb_name(request.verb), request.name));
+  }
+  if (request.args.size() != spec->args.size()) {
+    return refuse(protocol::ErrorCode::BadArgument,
+                  fmt::format("'{}' takes {} argument(s), got {}", spec->name, spec->args.size(),
+                              request.args.size()));
+  }
+  std::vector<double> numbers;
+  for (std::size_t i = 0; i < request.args.size(); ++i) {
+    auto n = request.args[i].number();
+    if (!n || !std::isfinite(*n)) {
+      return refuse(protocol::ErrorCode::BadArgument,
+                    fmt::format("'{}': argument {} ({}) must be a number of {}", spec->name, i + 1,
+                                spec->args[i].name, spec->args[i].unit));
+    }
+    numbers.push_back(*n);
+  }
+  const std::string& f = spec->name;
+  if (f == "setpoint") return from(sim.set_setpoint(numbers[0], numbers[1]));
+  if (f == "start_depth_filter") return from(sim.start_depth_filter());
+  if (f == "submerge") return from(sim.submerge());
+  if (f == "start_timer") return from(sim.start_timer());
+  if (f == "surface") return from(sim.surface());
+  if (f == "sleep") {
+    if (numbers[0] < 0 || numbers[0] > 3600) {
+      return refuse(protocol::ErrorCode::BadArgument, "'sleep' takes 0 to 3600 s");
+    }
+    Outcome o = answer(true);
+    o.sleep_s = numbers[0];
+    return o;
+  }
+  if (f == "depth_filter_off") return answer(sim.depth_filter_off());
+  if (f == "depth_reached") return answer(sim.depth_reached());
+  if (f == "time_out") return answer(sim.time_out());
+  if (f == "system_problem") return answer(sim.system_problem());
+  if (f == "surface_reached") return answer(sim.surface_reached());
+  if (f == "start_network") return from(sim.start_network());
+  if (f == "shutdown_network") return from(sim.shutdown_network());
+  return refuse(protocol::ErrorCode::UnknownFunction, "function table and dispatch disagree: " + f);
+}
+
+std::string interface_text() {
+  std::string out =
+      "strata vehicle: protocol v1, one message per line (docs/protocol.md)\n\n"
+      "accepts (client -> vehicle):\n"
+      "  hello ID CLIENT_NAME VERSION   -> ok ID VEHICLE_NAME VERSION CLOCK\n"
+      "  exec ID FUNCTION [ARG...]      -> done ID 0|1\n"
+      "  ask ID PREDICATE [ARG...]      -> answer ID 0|1\n"
+      "  ood ID FUNCTION [ARG...]       -> done ID 0|1\n"
+      "  telemetry ID RATE_HZ           -> ok ID, then tlm lines at RATE_HZ of sim time (0 stops)\n"
+      "  ping ID                        -> pong ID SIM_TIME_S\n"
+      "  bye ID                         -> ok ID, then the vehicle closes the link\n\n"
+      "emits (vehicle -> client):\n"
+      "  ok, done, answer, pong         replies, carrying the request's id\n"
+      "  err ID CODE \"MESSAGE\"          a request that could not be taken (ID 0: unreadable)\n"
+      "  tlm SIM_TIME_S depth= fdepth= rate= thrust= setpoint= ...   telemetry\n"
+      "  hb SIM_TIME_S                  heartbeat (wall clock mode, once a second)\n"
+      "  event SIM_TIME_S \"TEXT\"        the vehicle's own log: faults, watchdog, failures\n\n"
+      "functions:\n";
+  for (const auto& f : function_table()) {
+    std::string args;
+    for (const auto& a : f.args) args += fmt::format(" {}[{}]", a.name, a.unit);
+    out += fmt::format("  {:<5} {:<36} {}\n", protocol::verb_name(f.verb), f.name + args, f.doc);
+  }
+  return out;
+}
+
+}  // namespace strata::vehicle

@@ -1,0 +1,146 @@
+#include "vehicle/params.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "vehicle/toml_util.h"
+
+namespace strata::vehicle {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One entry per parameter: where it lives in the file, where it goes in the
+// struct, and its admissible range (lo < v or lo <= v; v <= hi).
+struct Field {
+  std::string_view table;
+  std::string_view key;
+  std::variant<double VehicleParams::*, int VehicleParams::*> member;
+  double lo;
+  bool lo_open;
+  double hi;
+};
+
+const Field kFields[] = {
+    {"hull", "mass_kg", &VehicleParams::mass_kg, 0.0, true, kInf},
+    {"hull", "added_mass_kg", &VehicleParams::added_mass_kg, 0.0, false, kInf},
+    {"hull", "drag_coeff", &VehicleParams::drag_coeff, 0.0, false, kInf},
+    {"hull", "buoyancy_n", &VehicleParams::buoyancy_n, -kInf, true, kInf},
+    {"thrusters", "max_n", &VehicleParams::thruster_max_n, 0.0, false, kInf},
+    {"thrusters", "lag_s", &VehicleParams::thruster_lag_s, 0.0, false, kInf},
+    {"depth_cell", "noise_m", &VehicleParams::depth_noise_m, 0.0, false, kInf},
+    {"filter", "alpha", &VehicleParams::filter_alpha, 0.0, true, 1.0},
+    {"filter", "beta", &VehicleParams::filter_beta, 0.0, true, 2.0},
+    {"controller", "lambda_per_s", &VehicleParams::ctrl_lambda_per_s, 0.0, true, kInf},
+    {"controller", "gain_n", &VehicleParams::ctrl_gain_n, 0.0, false, kInf},
+    {"controller", "boundary_mps", &VehicleParams::ctrl_phi_mps, 0.0, true, kInf},
+    {"simulation", "cycle_s", &VehicleParams::cycle_s, 0.0, true, 60.0},
+    {"simulation", "substeps", &VehicleParams::substeps, 1.0, false, 10000.0},
+    {"simulation", "tank_depth_m", &VehicleParams::tank_depth_m, 0.0, true, kInf},
+    {"detection", "depth_tolerance_m", &VehicleParams::depth_tolerance_m, 0.0, true, kInf},
+    {"detection", "settle_rate_mps", &VehicleParams::settle_rate_mps, 0.0, true, kInf},
+    {"detection", "surface_depth_m", &VehicleParams::surface_depth_m, 0.0, false, kInf},
+    {"watchdog", "silence_s", &VehicleParams::watchdog_s, 0.0, true, kInf},
+};
+
+const Field* find_field(std::string_view table, std::string_view key) {
+  for (const Field& f : kFields) {
+    if (f.table == table && f.key == key) return &f;
+  }
+  return nullptr;
+}
+
+bool known_table(std::string_view table) {
+  for (const Field& f : kFields) {
+    if (f.table == table) return true;
+  }
+  return false;
+}
+
+std::string range_text(const Field& f) {
+  std::string lo = f.lo == -kInf ? "" : fmt::format("{} {} ", f.lo, f.lo_open ? "<" : "<=");
+  std::string hi = f.hi == kInf ? "" : fmt::format(" <= {}", f.hi);
+  return lo + "value" + hi;
+}
+
+core::Result<void> set_field(std::string_view path, const Field& f, const toml::node& node,
+                             VehicleParams& p) {
+  const std::string name = fmt::format("{}.{}", f.table, f.key);
+  double v = 0.0;
+  if (std::holds_alternative<int VehicleParams::*>(f.member)) {
+    if (!node.is_integer()) {
+      return detail::error_at(path, node.source(), fmt::format("'{}' must be an integer", name));
+    }
+    v = static_cast<double>(*node.value<std::int64_t>());
+  } else {
+    auto n = detail::number_at(path, node, name);
+    if (!n) return n.error();
+    v = n.value();
+  }
+  const bool lo_ok = f.lo_open ? v > f.lo : v >= f.lo;
+  if (!std::isfinite(v) || !lo_ok || v > f.hi) {
+    return detail::error_at(path, node.source(),
+                            fmt::format("'{}' = {} is out of range ({})", name, v, range_text(f)));
+  }
+  if (auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
+    p.**m = static_cast<int>(v);
+  } else {
+    p.*std::get<double VehicleParams::*>(f.member) = v;
+  }
+  return {};
+}
+
+core::Result<VehicleParams> from_table(std::string_view path, const toml::table& root) {
+  VehicleParams p;
+  for (auto&& [tname, tnode] : root) {
+    if (!known_table(tname.str())) {
+      return detail::error_at(path, tname.source(),
+                              fmt::format("unknown table '{}'", tname.str()));
+    }
+    const toml::table* t = tnode.as_table();
+    if (t == nullptr) {
+      return detail::error_at(path, tnode.source(),
+                              fmt::format("'{}' must be a table", tname.str()));
+    }
+    for (auto&& [key, node] : *t) {
+      const Field* f = find_field(tname.str(), key.str());
+      if (f == nullptr) {
+        return detail::error_at(path, key.source(),
+                                fmt::format("unknown key '{}.{}'", tname.str(), key.str()));
+      }
+      if (auto r = set_field(path, *f, node, p); !r) return r.error();
+    }
+  }
+  for (const Field& f : kFields) {
+    const toml::node* node = root.at_path(fmt::format("{}.{}", f.table, f.key)).node();
+    if (node == nullptr) {
+      return detail::error_in(path, fmt::format("missing key '{}.{}'", f.table, f.key));
+    }
+  }
+  if (p.surface_depth_m >= p.tank_depth_m) {
+    return detail::error_in(path, "detection.surface_depth_m must be less than "
+                                  "simulation.tank_depth_m");
+  }
+  return p;
+}
+
+}  // namespace
+
+core::Result<VehicleParams> load_params(std::string_view path) {
+  auto table = detail::parse_toml_file(path);
+  if (!table) return table.error();
+  return from_table(path, table.value());
+}
+
+core::Result<VehicleParams> parse_params(std::string_view text, std::string_view path) {
+  auto table = detail::parse_toml(text, path);
+  if (!table) return table.error();
+  return from_table(path, table.value());
+}
+
+}  // namespace strata::vehicle

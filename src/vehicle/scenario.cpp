@@ -1,0 +1,195 @@
+#include "vehicle/scenario.h"
+
+#include <cmath>
+#include <initializer_list>
+
+#include <fmt/format.h>
+
+#include "vehicle/time_compare.h"
+#include "vehicle/toml_util.h"
+
+namespace strata::vehicle {
+
+std::string_view to_string(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::WeakThrusters: return "weak_thrusters";
+    case FaultKind::Leak: return "leak";
+    case FaultKind::SensorDropout: return "sensor_dropout";
+    case FaultKind::LinkLoss: return "link_loss";
+  }
+  return "?";
+}
+
+bool Scenario::link_lost(double t_s) const {
+  for (const Fault& f : faults) {
+    if (f.kind != FaultKind::LinkLoss || !time_reached(t_s, f.at_s)) continue;
+    if (!f.duration_s || !time_reached(t_s, f.at_s + *f.duration_s)) return true;
+  }
+  return false;
+}
+
+std::optional<double> Scenario::link_lost_at() const {
+  std::optional<double> first;
+  for (const Fault& f : faults) {
+    if (f.kind == FaultKind::LinkLoss && (!first || f.at_s < *first)) first = f.at_s;
+  }
+  return first;
+}
+
+namespace {
+
+std::optional<FaultKind> kind_from(std::string_view s) {
+  for (FaultKind k : {FaultKind::WeakThrusters, FaultKind::Leak, FaultKind::SensorDropout,
+                      FaultKind::LinkLoss}) {
+    if (to_string(k) == s) return k;
+  }
+  return std::nullopt;
+}
+
+// Keys a fault of this kind may carry besides kind and at_s.
+bool allowed_key(FaultKind kind, std::string_view key) {
+  switch (kind) {
+    case FaultKind::WeakThrusters: return key == "health";
+    case FaultKind::Leak: return false;
+    case FaultKind::SensorDropout: return key == "duration_s";
+    case FaultKind::LinkLoss: return key == "duration_s" || key == "forever";
+  }
+  return false;
+}
+
+core::Result<double> non_negative(std::string_view path, const toml::node& node,
+                                  std::string_view what, bool allow_zero) {
+  auto v = detail::number_at(path, node, what);
+  if (!v) return v;
+  const double x = v.value();
+  if (!std::isfinite(x) || x < 0.0 || (!allow_zero && x == 0.0)) {
+    return detail::error_at(path, node.source(),
+                            fmt::format("'{}' must be {}", what, allow_zero ? ">= 0" : "> 0"));
+  }
+  return x;
+}
+
+core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
+  const toml::node* kind_node = t.get("kind");
+  if (kind_node == nullptr) return detail::error_at(path, t.source(), "fault without 'kind'");
+  const auto kind_text = kind_node->value<std::string_view>();
+  if (!kind_text) return detail::error_at(path, kind_node->source(), "'kind' must be a string");
+  const auto kind = kind_from(*kind_text);
+  if (!kind) {
+    return detail::error_at(path, kind_node->source(),
+                            fmt::format("unknown fault kind '{}' (expected weak_thrusters, leak, "
+                                        "sensor_dropout or link_loss)",
+                                        *kind_text));
+  }
+  Fault f;
+  f.kind = *kind;
+  for (auto&& [key, node] : t) {
+    const std::string_view k = key.str();
+    if (k == "kind" || k == "at_s" || allowed_key(*kind, k)) continue;
+    return detail::error_at(path, key.source(),
+                            fmt::format("unknown key '{}' for a {} fault", k, *kind_text));
+  }
+
+  const toml::node* at = t.get("at_s");
+  if (at == nullptr) return detail::error_at(path, t.source(), "fault without 'at_s'");
+  auto at_s = non_negative(path, *at, "at_s", true);
+  if (!at_s) return at_s.error();
+  f.at_s = at_s.value();
+
+  switch (f.kind) {
+    case FaultKind::WeakThrusters: {
+      const toml::node* h = t.get("health");
+      if (h == nullptr) {
+        return detail::error_at(path, t.source(), "weak_thrusters fault without 'health'");
+      }
+      auto health = non_negative(path, *h, "health", true);
+      if (!health) return health.error();
+      if (health.value() > 1.0) {
+        return detail::error_at(path, h->source(), "'health' must be in [0, 1]");
+      }
+      f.health = health.value();
+      break;
+    }
+    case FaultKind::Leak: break;
+    case FaultKind::SensorDropout:
+    case FaultKind::LinkLoss: {
+      const toml::node* d = t.get("duration_s");
+      const toml::node* forever = t.get("forever");
+      if (forever != nullptr) {
+        if (!forever->is_boolean() || !*forever->value<bool>()) {
+          return detail::error_at(path, forever->source(),
+                                  "'forever' must be true (omit it for a limited loss)");
+        }
+        if (d != nullptr) {
+          return detail::error_at(path, d->source(),
+                                  "give either 'duration_s' or 'forever = true', not both");
+        }
+        break;
+      }
+      if (d == nullptr) {
+        return detail::error_at(path, t.source(),
+                                f.kind == FaultKind::LinkLoss
+                                    ? "link_loss fault needs 'duration_s' or 'forever = true'"
+                                    : "sensor_dropout fault without 'duration_s'");
+      }
+      auto dur = non_negative(path, *d, "duration_s", false);
+      if (!dur) return dur.error();
+      f.duration_s = dur.value();
+      break;
+    }
+  }
+  return f;
+}
+
+core::Result<Scenario> from_table(std::string_view path, const toml::table& root) {
+  Scenario s;
+  for (auto&& [key, node] : root) {
+    const std::string_view k = key.str();
+    if (k != "seed" && k != "description" && k != "fault") {
+      return detail::error_at(path, key.source(), fmt::format("unknown key '{}'", k));
+    }
+  }
+  const toml::node* seed = root.get("seed");
+  if (seed == nullptr) return detail::error_in(path, "missing 'seed'");
+  if (!seed->is_integer() || *seed->value<std::int64_t>() < 0) {
+    return detail::error_at(path, seed->source(), "'seed' must be an integer >= 0");
+  }
+  s.seed = static_cast<std::uint64_t>(*seed->value<std::int64_t>());
+
+  if (const toml::node* d = root.get("description")) {
+    if (!d->is_string()) {
+      return detail::error_at(path, d->source(), "'description' must be a string");
+    }
+    s.description = *d->value<std::string>();
+  }
+
+  if (const toml::node* faults = root.get("fault")) {
+    const toml::array* arr = faults->as_array();
+    if (arr == nullptr || (!arr->empty() && !arr->is_array_of_tables())) {
+      return detail::error_at(path, faults->source(),
+                              "'fault' must be an array of tables ([[fault]])");
+    }
+    for (const toml::node& n : *arr) {
+      auto f = parse_fault(path, *n.as_table());
+      if (!f) return f.error();
+      s.faults.push_back(f.value());
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+core::Result<Scenario> load_scenario(std::string_view path) {
+  auto table = detail::parse_toml_file(path);
+  if (!table) return table.error();
+  return from_table(path, table.value());
+}
+
+core::Result<Scenario> parse_scenario(std::string_view text, std::string_view path) {
+  auto table = detail::parse_toml(text, path);
+  if (!table) return table.error();
+  return from_table(path, table.value());
+}
+
+}  // namespace strata::vehicle

@@ -1,0 +1,373 @@
+#include "vehicle/server.h"
+
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "protocol/codec.h"
+#include "vehicle/execution.h"
+
+namespace strata::vehicle {
+
+using protocol::ErrorCode;
+
+namespace {
+
+// Simulated time on the wire, rounded to the microsecond: cycle * 0.1 is not
+// exact in binary, and "5.6000000000000005" helps nobody.
+double wire_time(double t_s) { return std::round(t_s * 1e6) / 1e6; }
+
+}  // namespace
+
+class VehicleServer::Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(VehicleServer& server, asio::ip::tcp::socket socket)
+      : server_(server), socket_(std::move(socket)) {}
+
+  void start_reading() { read(); }
+
+  void write(std::string line) {
+    if (closed_) return;
+    if (server_.options_.trace) server_.log("> " + line.substr(0, line.size() - 1));
+    queue_.push_back(std::move(line));
+    if (queue_.size() == 1) write_front();
+  }
+
+  // Closes once everything queued is written.
+  void close_after_writes() {
+    closing_ = true;
+    if (queue_.empty()) close();
+  }
+
+  void close() {
+    if (closed_) return;
+    closed_ = true;
+    asio::error_code ignored;
+    socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+    socket_.close(ignored);
+  }
+
+  bool closed() const { return closed_; }
+
+ private:
+  void read() {
+    auto self = shared_from_this();
+    socket_.async_read_some(asio::buffer(buffer_), [this, self](const asio::error_code& e, std::size_t n) {
+      if (closed_) return;
+      if (e) {
+        close();
+        server_.on_closed(*this);
+        return;
+      }
+      for (const auto& frame : framer_.feed(std::string_view(buffer_.data(), n))) {
+        server_.on_line(*this, frame);
+        if (closed_) return;
+      }
+      read();
+    });
+  }
+
+  void write_front() {
+    auto self = shared_from_this();
+    asio::async_write(socket_, asio::buffer(queue_.front()), [this, self](const asio::error_code& e, std::size_t) {
+      if (closed_) return;
+      queue_.pop_front();
+      if (e) {
+        close();
+        server_.on_closed(*this);
+        return;
+      }
+      if (!queue_.empty()) {
+        write_front();
+      } else if (closing_) {
+        close();
+      }
+    });
+  }
+
+  VehicleServer& server_;
+  asio::ip::tcp::socket socket_;
+  protocol::LineFramer framer_;
+  std::array<char, 4096> buffer_{};
+  std::deque<std::string> queue_;
+  bool closing_ = false;
+  bool closed_ = false;
+};
+
+VehicleServer::VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options)
+    : io_(io), sim_(sim), options_(std::move(options)), acceptor_(io), tick_timer_(io),
+      silence_timer_(io) {}
+
+VehicleServer::~VehicleServer() { stop(); }
+
+void VehicleServer::log(const std::string& line) {
+  if (options_.log) options_.log(line);
+}
+
+core::Result<void> VehicleServer::start() {
+  asio::error_code ec;
+  auto address = asio::ip::make_address(options_.address, ec);
+  if (ec) return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not an IP address", options_.address));
+  asio::ip::tcp::endpoint endpoint(address, options_.port);
+  acceptor_.open(endpoint.protocol(), ec);
+  if (!ec) acceptor_.set_option(asio::ip::tcp::acceptor::reuse_address(true), ec);
+  if (!ec) acceptor_.bind(endpoint, ec);
+  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) {
+    return core::make_error(core::ErrorCode::Io, fmt::format("cannot listen on {}:{}: {}",
+                                                             options_.address, options_.port, ec.message()));
+  }
+  port_ = acceptor_.local_endpoint().port();
+  accept();
+  if (options_.clock == protocol::ClockMode::Wall) tick();
+  return {};
+}
+
+void VehicleServer::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  asio::error_code ignored;
+  acceptor_.close(ignored);
+  tick_timer_.cancel();
+  silence_timer_.cancel();
+  if (controller_) controller_->close();
+  controller_.reset();
+}
+
+void VehicleServer::accept() {
+  acceptor_.async_accept([this](const asio::error_code& e, asio::ip::tcp::socket socket) {
+    if (stopped_) return;
+    if (!e) {
+      asio::error_code ignored;
+      socket.set_option(asio::ip::tcp::no_delay(true), ignored);
+      auto c = std::make_shared<Connection>(*this, std::move(socket));
+      if (controller_ && !controller_->closed()) {
+        ++refused_;
+        log("refused a second client: one client controls the vehicle");
+        c->write(protocol::encode(protocol::VehicleMessage{
+            protocol::Err{0, ErrorCode::Busy, "another client controls the vehicle"}}));
+        c->close_after_writes();
+      } else {
+        controller_ = c;
+        hello_done_ = false;
+        telemetry_rate_hz_ = 0.0;
+        last_rx_s_ = sim_.time_s();
+        log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
+        c->start_reading();
+        arm_silence_watchdog();
+      }
+    }
+    accept();
+  });
+}
+
+void VehicleServer::send(const protocol::VehicleMessage& m) {
+  if (!controller_ || controller_->closed()) return;
+  if (sim_.link_lost()) return;  // the link is silent both ways
+  controller_->write(protocol::encode(m));
+}
+
+void VehicleServer::on_line(Connection& c, const protocol::Frame& frame) {
+  if (&c != controller_.get()) return;
+  if (sim_.link_lost()) return;  // lost on the way
+  last_rx_s_ = sim_.time_s();
+  arm_silence_watchdog();
+  if (options_.trace) log("< " + frame.line);
+  if (frame.too_long) {
+    log(fmt::format("rejected a line over {} bytes", protocol::kMaxLineBytes));
+    send(protocol::Err{protocol::peek_id(frame.line), ErrorCode::TooLong,
+                       fmt::format("line over {} bytes", protocol::kMaxLineBytes)});
+    return;
+  }
+  auto decoded = protocol::decode_request(frame.line);
+  if (!decoded) {
+    const auto& err = decoded.error();
+    log(fmt::format("rejected line: {}: {}", err.message, frame.line.substr(0, 120)));
+    send(protocol::to_err(err));
+    return;
+  }
+  on_request(c, decoded.value());
+}
+
+void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
+  using protocol::Verb;
+  if (r.verb == Verb::Hello) {
+    hello_done_ = true;
+    send(protocol::Welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock});
+    return;
+  }
+  if (!hello_done_) {
+    send(protocol::Err{r.id, ErrorCode::NotReady, "say hello first"});
+    return;
+  }
+  switch (r.verb) {
+    case Verb::Telemetry:
+      // The first sample comes one period after the request.
+      telemetry_rate_hz_ = r.rate_hz;
+      next_telemetry_s_ = r.rate_hz > 0 ? sim_.time_s() + 1.0 / r.rate_hz : 0.0;
+      send(protocol::Ok{r.id});
+      return;
+    case Verb::Ping:
+      send(protocol::Pong{r.id, wire_time(sim_.time_s())});
+      return;
+    case Verb::Bye:
+      send(protocol::Ok{r.id});
+      c.close_after_writes();
+      return;
+    default:
+      break;
+  }
+  Outcome out = execute(sim_, r);
+  if (out.refused) {
+    log(fmt::format("{:.1f} s: refused {} {}: {}", sim_.time_s(), protocol::verb_name(r.verb), r.name, out.message));
+    send(protocol::Err{r.id, *out.refused, out.message});
+    return;
+  }
+  if (!out.value && r.verb != Verb::Ask) {
+    std::string text = fmt::format("{} {} failed: {}", protocol::verb_name(r.verb), r.name, out.message);
+    log(fmt::format("{:.1f} s: {}", sim_.time_s(), text));
+    send(protocol::Event{wire_time(sim_.time_s()), text});
+  }
+  auto reply = [&]() -> protocol::VehicleMessage {
+    if (r.verb == Verb::Ask) return protocol::Answer{r.id, out.value};
+    return protocol::Done{r.id, out.value};
+  };
+  if (options_.clock == protocol::ClockMode::Lockstep) {
+    // A request costs at least one cycle; sleep costs its duration.
+    auto cycles = std::max<std::uint64_t>(
+        1, static_cast<std::uint64_t>(std::llround(out.sleep_s / sim_.params().cycle_s)));
+    for (std::uint64_t i = 0; i < cycles && !sim_.link_lost(); ++i) step_one();
+    if (r.verb == Verb::Ask) {
+      // The answer is the state after the cycle the question cost.
+      out = execute(sim_, r);
+    }
+    send(reply());
+    if (sim_.link_lost() && !running_alone_) {
+      // Nobody can ask the simulation to move now: it runs on alone, and
+      // the watchdog trips after watchdog_s of silence.
+      log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
+      run_alone(sim_.time_s() + sim_.params().watchdog_s);
+    }
+    return;
+  }
+  if (out.sleep_s > 0) {
+    reply_later(r.id, sim_.time_s() + out.sleep_s);
+    return;
+  }
+  send(reply());
+}
+
+void VehicleServer::step_one() {
+  sim_.step();
+  after_step();
+}
+
+void VehicleServer::after_step() {
+  flush_events();
+  if (telemetry_rate_hz_ > 0 && sim_.time_s() + 1e-9 >= next_telemetry_s_) {
+    auto t = sim_.telemetry();
+    protocol::Telemetry m;
+    m.sim_time_s = wire_time(t.time_s);
+    m.depth_m = t.measured_depth_m;
+    m.filtered_depth_m = t.filtered_depth_m;
+    m.rate_mps = t.rate_mps;
+    m.thrust_n = t.thrust_n;
+    m.setpoint_m = t.setpoint_m;
+    m.extras["true_depth"] = fmt::format("{:.4f}", t.depth_m);
+    m.extras["mode"] = std::string(to_string(t.mode));
+    send(m);
+    next_telemetry_s_ += 1.0 / telemetry_rate_hz_;
+    if (next_telemetry_s_ < sim_.time_s()) next_telemetry_s_ = sim_.time_s() + 1.0 / telemetry_rate_hz_;
+  }
+}
+
+void VehicleServer::flush_events() {
+  for (auto& ev : sim_.take_events()) {
+    log(fmt::format("{:.1f} s: {}", ev.time_s, ev.text));
+    send(protocol::Event{wire_time(ev.time_s), ev.text});
+  }
+}
+
+void VehicleServer::reply_later(protocol::RequestId id, double until_s) {
+  deferred_.push_back({id, until_s});
+}
+
+void VehicleServer::arm_silence_watchdog() {
+  if (options_.clock != protocol::ClockMode::Lockstep) return;  // wall: checked per tick
+  silence_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(sim_.params().watchdog_s)));
+  silence_timer_.async_wait([this](const asio::error_code& e) {
+    if (e || stopped_ || !controller_ || controller_->closed()) return;
+    trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+  });
+}
+
+void VehicleServer::on_closed(Connection& c) {
+  if (&c != controller_.get()) return;
+  log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
+  silence_timer_.cancel();
+  controller_.reset();
+  if (sim_.network_up()) trip("link dropped");
+}
+
+void VehicleServer::trip(const std::string& reason) {
+  if (sim_.watchdog_tripped()) return;
+  sim_.watchdog_trip(reason);
+  flush_events();
+  if (options_.clock == protocol::ClockMode::Lockstep) run_alone(std::nullopt);
+}
+
+// Lockstep without a client: nobody will ask the simulation to move, so it
+// runs on its own (in batches, without blocking the event loop). If trip_at_s
+// is set, the watchdog trips then (the link went silent); after the trip it
+// runs until the vehicle is at the surface, or autonomous_run_s has passed.
+void VehicleServer::run_alone(std::optional<double> trip_at_s) {
+  if (running_alone_) return;
+  running_alone_ = true;
+  double until = sim_.time_s() + options_.autonomous_run_s;
+  auto batch = std::make_shared<std::function<void()>>();
+  *batch = [this, until, trip_at_s, batch] {
+    if (stopped_) return;
+    for (int i = 0; i < 100 && sim_.time_s() < until; ++i) {
+      step_one();
+      if (trip_at_s && !sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *trip_at_s) {
+        sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+        flush_events();
+      }
+    }
+    if ((sim_.watchdog_tripped() && sim_.surface_reached()) || sim_.time_s() >= until) {
+      log(fmt::format("{:.1f} s: {}", sim_.time_s(),
+                      sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
+      running_alone_ = false;
+      *batch = nullptr;  // breaks the self-reference
+      return;
+    }
+    asio::post(io_, *batch);
+  };
+  asio::post(io_, *batch);
+}
+
+void VehicleServer::tick() {
+  auto period = std::chrono::duration<double>(sim_.params().cycle_s / options_.speed);
+  tick_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(period));
+  tick_timer_.async_wait([this](const asio::error_code& e) {
+    if (e || stopped_) return;
+    step_one();
+    while (!deferred_.empty() && sim_.time_s() + 1e-9 >= deferred_.front().until_s) {
+      send(protocol::Done{deferred_.front().id, true});
+      deferred_.pop_front();
+    }
+    if (sim_.time_s() + 1e-9 >= next_heartbeat_s_) {
+      send(protocol::Heartbeat{wire_time(sim_.time_s())});
+      next_heartbeat_s_ += 1.0;
+    }
+    if (controller_ && !controller_->closed() &&
+        sim_.time_s() - last_rx_s_ >= sim_.params().watchdog_s) {
+      trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+    }
+    tick();
+  });
+}
+
+}  // namespace strata::vehicle

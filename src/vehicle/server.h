@@ -1,0 +1,106 @@
+#pragma once
+// `strata vehicle`: the Execution level behind a TCP socket, speaking
+// protocol v1 to one controlling client at a time.
+//
+// Clocks (design.md §2.4):
+//  - Lockstep: simulated time moves only when a request asks it to. Every
+//    exec/ask/ood costs one cycle (0.1 s) before it is answered; `sleep N`
+//    costs N seconds (at least one cycle). Replies therefore follow requests
+//    in arrival order, and a run is a pure function of its inputs.
+//  - Wall: the simulation steps on a timer at cycle_s / speed wall seconds;
+//    requests are answered at once, `sleep N` after N simulated seconds.
+//
+// Watchdog: when the controlling link drops, or stays silent for watchdog_s
+// (simulated seconds on the wall clock; wall seconds in lockstep, where the
+// simulation does not move while the client is silent), the vehicle surfaces
+// by itself and says why in an event. In lockstep it then runs on its own
+// until it is at the surface.
+//
+// A scenario's link_loss makes the link silent: from its time on, the
+// vehicle neither reads nor answers the controller (lines are dropped, as a
+// cut cable would), and the watchdog does the rest.
+//
+// Threads: one; everything runs on the io_context given.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <asio.hpp>
+
+#include "protocol/framer.h"
+#include "protocol/message.h"
+#include "vehicle/simulation.h"
+
+namespace strata::vehicle {
+
+struct ServerOptions {
+  std::string address = "127.0.0.1";
+  std::uint16_t port = 0;  // 0: a free port, see VehicleServer::port()
+  protocol::ClockMode clock = protocol::ClockMode::Lockstep;
+  double speed = 1.0;       // wall clock: simulated seconds per wall second
+  std::string vehicle_name = "phoenix-sim";
+  // Where the vehicle's own log lines go ("12.3 s: watchdog: ..."), and
+  // every line received and sent when trace is on.
+  std::function<void(const std::string&)> log;
+  bool trace = false;
+  // Lockstep, after a watchdog trip: simulated seconds to run on alone.
+  double autonomous_run_s = 120.0;
+};
+
+class VehicleServer {
+ public:
+  VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options);
+  ~VehicleServer();
+
+  // Binds and listens; fails with ErrorCode::Io if the address is taken.
+  core::Result<void> start();
+  void stop();
+  std::uint16_t port() const { return port_; }
+  std::size_t clients_refused() const { return refused_; }
+
+ private:
+  class Connection;
+  friend class Connection;
+
+  void accept();
+  void on_request(Connection& c, const protocol::Request& r);
+  void on_line(Connection& c, const protocol::Frame& frame);
+  void on_closed(Connection& c);
+  void send(const protocol::VehicleMessage& m);
+  void step_one();
+  void after_step();
+  void flush_events();
+  void reply_later(protocol::RequestId id, double until_s);
+  void arm_silence_watchdog();
+  void trip(const std::string& reason);
+  void run_alone(std::optional<double> trip_at_s);
+  void tick();
+  void log(const std::string& line);
+
+  asio::io_context& io_;
+  Simulation& sim_;
+  ServerOptions options_;
+  asio::ip::tcp::acceptor acceptor_;
+  asio::steady_timer tick_timer_;
+  asio::steady_timer silence_timer_;
+  std::shared_ptr<Connection> controller_;
+  std::uint16_t port_ = 0;
+  std::size_t refused_ = 0;
+  bool stopped_ = false;
+  bool hello_done_ = false;
+  bool running_alone_ = false;
+  double telemetry_rate_hz_ = 0.0;
+  double next_telemetry_s_ = 0.0;
+  double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)
+  double next_heartbeat_s_ = 1.0;
+  struct Deferred {
+    protocol::RequestId id;
+    double until_s;
+  };
+  std::deque<Deferred> deferred_;  // wall clock: sleeps waiting for their time
+};
+
+}  // namespace strata::vehicle

@@ -1,0 +1,246 @@
+#include "vehicle/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "vehicle/depth_controller.h"
+#include "vehicle/time_compare.h"
+
+namespace strata::vehicle {
+
+std::string_view to_string(ControlMode mode) {
+  switch (mode) {
+    case ControlMode::Idle: return "idle";
+    case ControlMode::Depth: return "depth";
+    case ControlMode::Surface: return "surface";
+  }
+  return "?";
+}
+
+namespace {
+
+core::Error refused(std::string message) {
+  return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
+}
+
+}  // namespace
+
+Simulation::Simulation(VehicleParams params, Scenario scenario)
+    : params_(params),
+      scenario_(std::move(scenario)),
+      cell_(params_.depth_noise_m, scenario_.seed),
+      filter_(params_.filter_alpha, params_.filter_beta, params_.cycle_s),
+      fault_applied_(scenario_.faults.size(), false) {
+  apply_faults();
+  sense();
+}
+
+core::Result<void> Simulation::require_network() const {
+  if (!network_up_) return refused("network not started");
+  return {};
+}
+
+core::Result<void> Simulation::start_network() {
+  network_up_ = true;
+  watchdog_tripped_ = false;
+  return {};
+}
+
+core::Result<void> Simulation::shutdown_network() {
+  network_up_ = false;
+  mode_ = ControlMode::Idle;
+  return {};
+}
+
+core::Result<void> Simulation::set_setpoint(double depth_m, double timeout_s) {
+  if (auto r = require_network(); !r) return r;
+  if (!std::isfinite(depth_m) || depth_m < 0.0 || depth_m > params_.tank_depth_m) {
+    return refused(fmt::format("setpoint depth {} m outside the tank (0 to {} m)", depth_m,
+                               params_.tank_depth_m));
+  }
+  if (!std::isfinite(timeout_s) || timeout_s <= 0.0) {
+    return refused(fmt::format("setpoint timeout {} s must be positive", timeout_s));
+  }
+  loaded_ = Setpoint{depth_m, timeout_s};
+  return {};
+}
+
+core::Result<void> Simulation::start_depth_filter() {
+  if (auto r = require_network(); !r) return r;
+  if (!filter_.on()) {
+    filter_.start();
+    filter_.update(reading_m_);  // initialise from the current reading, if any
+  }
+  return {};
+}
+
+core::Result<void> Simulation::submerge() {
+  if (auto r = require_network(); !r) return r;
+  if (!loaded_) return refused("no setpoint loaded");
+  if (!filter_.on()) return refused("depth filter is off");
+  if (watchdog_tripped_) return refused("watchdog tripped: surfacing until the network restarts");
+  active_setpoint_m_ = loaded_->depth_m;
+  mode_ = ControlMode::Depth;
+  return {};
+}
+
+core::Result<void> Simulation::start_timer() {
+  if (auto r = require_network(); !r) return r;
+  if (!loaded_) return refused("no setpoint loaded");
+  timer_ = Timer{time_s(), loaded_->timeout_s};
+  return {};
+}
+
+core::Result<void> Simulation::surface() {
+  if (auto r = require_network(); !r) return r;
+  active_setpoint_m_ = 0.0;
+  mode_ = ControlMode::Surface;
+  return {};
+}
+
+void Simulation::watchdog_trip(std::string_view reason) {
+  active_setpoint_m_ = 0.0;
+  mode_ = ControlMode::Surface;
+  if (watchdog_tripped_) return;
+  watchdog_tripped_ = true;
+  event(fmt::format("watchdog: {}: surfacing", reason));
+}
+
+bool Simulation::depth_reached() const {
+  if (mode_ != ControlMode::Depth || !active_setpoint_m_ || !filter_.ready()) return false;
+  return std::abs(filter_.depth_m() - *active_setpoint_m_) < params_.depth_tolerance_m &&
+         std::abs(filter_.rate_mps()) < params_.settle_rate_mps;
+}
+
+bool Simulation::time_out() const {
+  return timer_ && time_reached(time_s(), timer_->start_s + timer_->timeout_s);
+}
+
+bool Simulation::surface_reached() const {
+  const auto z = depth_estimate();
+  return z && *z <= params_.surface_depth_m;
+}
+
+std::optional<double> Simulation::depth_estimate() const {
+  if (filter_.ready()) return filter_.depth_m();
+  if (filter_.on()) return std::nullopt;  // started, no reading yet
+  return reading_m_;
+}
+
+double Simulation::control() const {
+  switch (mode_) {
+    case ControlMode::Idle: return 0.0;
+    case ControlMode::Depth:
+      if (!filter_.ready() || !active_setpoint_m_) return 0.0;
+      return sliding_mode_thrust(params_, filter_.depth_m(), filter_.rate_mps(),
+                                 *active_setpoint_m_);
+    case ControlMode::Surface: return surface_thrust(params_, depth_estimate());
+  }
+  return 0.0;
+}
+
+void Simulation::step() {
+  thrust_cmd_n_ = control();
+  // The Execution level's own model of its thrusters: the lag, at nominal
+  // strength (it cannot know they are weak).
+  thrust_model_n_ += (thrust_cmd_n_ - thrust_model_n_) *
+                     (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
+  const double limit = params_.max_total_thrust_n() * faults_.thrust_health;
+  const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, heave_);
+  ++cycle_;
+  if (contact.bottom && !at_bottom_) {
+    event(fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
+  }
+  at_bottom_ = contact.bottom;
+  apply_faults();
+  sense();
+}
+
+std::uint64_t Simulation::advance(double seconds) {
+  if (!(seconds > 0.0)) return 0;
+  const auto n = static_cast<std::uint64_t>(std::llround(seconds / params_.cycle_s));
+  for (std::uint64_t i = 0; i < n; ++i) step();
+  return n;
+}
+
+void Simulation::apply_faults() {
+  const double t = time_s();
+  for (std::size_t i = 0; i < scenario_.faults.size(); ++i) {
+    const Fault& f = scenario_.faults[i];
+    if (fault_applied_[i] || !time_reached(t, f.at_s)) continue;
+    fault_applied_[i] = true;
+    switch (f.kind) {
+      case FaultKind::WeakThrusters:
+        faults_.thrust_health = f.health;
+        event(fmt::format("fault: thrusters weakened to {:.0f}% of nominal thrust",
+                          100.0 * f.health));
+        break;
+      case FaultKind::Leak:
+        faults_.leak = true;
+        event("fault: leak started (system problem)");
+        break;
+      case FaultKind::SensorDropout:
+        dropout_until_s_ = std::max(dropout_until_s_.value_or(0.0), f.at_s + *f.duration_s);
+        faults_.sensor_dropout = true;
+        event(fmt::format("fault: depth cell dropout for {:.1f} s", *f.duration_s));
+        break;
+      case FaultKind::LinkLoss:
+        event(f.duration_s ? fmt::format("fault: link lost for {:.1f} s", *f.duration_s)
+                           : std::string("fault: link lost for good"));
+        break;
+    }
+  }
+  if (dropout_until_s_ && time_reached(t, *dropout_until_s_)) {
+    dropout_until_s_.reset();
+    faults_.sensor_dropout = false;
+    event("fault: depth cell readings back");
+  }
+  const bool lost = scenario_.link_lost(t);
+  if (faults_.link_lost && !lost) event("fault: link restored");
+  faults_.link_lost = lost;
+}
+
+void Simulation::sense() {
+  reading_m_ = cell_.sample(heave_.depth_m, faults_.sensor_dropout);
+  filter_.update(reading_m_, expected_accel_mps2());
+}
+
+// The filter's prediction uses the heave model (heave.h) under the thrust
+// the Execution level believes it has: it knows what it commanded, not what
+// the thrusters gave (weak thrusters show up as residuals the filter corrects).
+double Simulation::expected_accel_mps2() const {
+  if (!filter_.ready()) return 0.0;
+  const double w = filter_.rate_mps();
+  return (thrust_model_n_ - params_.buoyancy_n - params_.drag_coeff * w * std::abs(w)) /
+         params_.total_mass_kg();
+}
+
+void Simulation::event(std::string text) { events_.push_back({time_s(), std::move(text)}); }
+
+std::vector<Event> Simulation::take_events() { return std::exchange(events_, {}); }
+
+Telemetry Simulation::telemetry() const {
+  Telemetry t;
+  t.time_s = time_s();
+  t.depth_m = heave_.depth_m;
+  t.w_mps = heave_.w_mps;
+  t.measured_depth_m = reading_m_;
+  if (filter_.ready()) {
+    t.filtered_depth_m = filter_.depth_m();
+    t.rate_mps = filter_.rate_mps();
+  }
+  t.thrust_n = heave_.thrust_n;
+  t.thrust_cmd_n = thrust_cmd_n_;
+  if (mode_ != ControlMode::Idle) t.setpoint_m = active_setpoint_m_;
+  t.filter_on = filter_.on();
+  t.mode = mode_;
+  t.network_up = network_up_;
+  t.watchdog_tripped = watchdog_tripped_;
+  t.faults = faults_;
+  return t;
+}
+
+}  // namespace strata::vehicle

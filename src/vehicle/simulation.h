@@ -1,0 +1,186 @@
+#pragma once
+// The Execution level of the NPS Phoenix in a test tank, simulated: heave
+// dynamics, depth cell, depth filter, depth and surface laws, mission timer,
+// scenario faults. One method per Execution-level function the wire protocol
+// calls, plus step() to advance one cycle.
+//
+// Pure and deterministic: no I/O, no threads, no clocks. Time moves only in
+// step()/advance(), in whole cycles of params.cycle_s; a simulation built
+// from the same params and scenario and driven by the same calls gives the
+// same trajectory, bit for bit. Not thread-safe; the owner serialises calls.
+//
+// Decisions (documented for the protocol server and the missions):
+// - Network: until start_network(), every command except start_network and
+//   shutdown_network fails ("network not started"); queries always answer.
+//   shutdown_network() stops the thrusters (controller idle; the vehicle,
+//   positively buoyant, floats up) and is idempotent.
+// - Setpoints: set_setpoint() only LOADS the next setpoint; the controller
+//   keeps holding the active one until submerge() makes the loaded one
+//   active. start_timer() uses the loaded setpoint's timeout.
+// - Filter: submerge() is refused while the depth filter is off (the depth
+//   law needs a rate estimate; the missions start the filter first). The
+//   surface law needs no filter: it uses the raw reading when the filter is
+//   off. The filter predicts with the heave model under the thrust the
+//   Execution level commanded (through its own model of the thruster lag at
+//   nominal strength), so it has no lag while the vehicle accelerates and
+//   coasts well through a sensor dropout.
+// - depth_reached(): the depth law is engaged, the filter is ready, and
+//   |depth - setpoint| < depth_tolerance_m and |rate| < settle_rate_mps.
+// - surface_reached(): the depth estimate (filtered if the filter runs, the
+//   raw reading otherwise) is <= surface_depth_m; false with no estimate.
+// - watchdog_trip(): autonomous surface (surface law) and an event; until
+//   start_network() is called again, submerge() is refused.
+// - Faults take effect in the step that reaches their at_s: a leak at 2.0 s
+//   makes system_problem() true from time_s() == 2.0.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+#include "vehicle/depth_cell.h"
+#include "vehicle/depth_filter.h"
+#include "vehicle/heave.h"
+#include "vehicle/params.h"
+#include "vehicle/scenario.h"
+
+namespace strata::vehicle {
+
+enum class ControlMode {
+  Idle,     // thrusters off
+  Depth,    // sliding-mode law toward the active setpoint
+  Surface,  // surface law (commanded, or autonomous after a watchdog trip)
+};
+
+std::string_view to_string(ControlMode mode);
+
+struct Event {
+  double time_s = 0.0;
+  std::string text;  // e.g. "fault: leak started", "watchdog: link silent 3.0 s: surfacing"
+
+  bool operator==(const Event&) const = default;
+};
+
+struct FaultState {
+  bool leak = false;
+  double thrust_health = 1.0;   // fraction of nominal thrust available
+  bool sensor_dropout = false;  // the depth cell gives no reading now
+  bool link_lost = false;       // the scenario says the link is silent now
+
+  bool operator==(const FaultState&) const = default;
+};
+
+struct Telemetry {
+  double time_s = 0.0;
+  double depth_m = 0.0;                     // true depth
+  double w_mps = 0.0;                       // true heave rate
+  std::optional<double> measured_depth_m;   // last depth cell reading (none in a dropout)
+  std::optional<double> filtered_depth_m;   // filter output (none while off or not ready)
+  std::optional<double> rate_mps;           // filtered depth rate
+  double thrust_n = 0.0;                    // actual total thrust
+  double thrust_cmd_n = 0.0;                // commanded total thrust
+  std::optional<double> setpoint_m;         // the depth the controller drives to (0 when surfacing)
+  bool filter_on = false;
+  ControlMode mode = ControlMode::Idle;
+  bool network_up = false;
+  bool watchdog_tripped = false;
+  FaultState faults;
+
+  bool operator==(const Telemetry&) const = default;
+};
+
+class Simulation {
+ public:
+  // The vehicle starts at rest at the surface, thrusters off, filter off,
+  // network down. Faults with at_s <= 0 apply at once.
+  Simulation(VehicleParams params, Scenario scenario);
+
+  // ---- commands: ok, or ErrorCode::InvalidInput with a reason -------------
+  core::Result<void> start_network();
+  core::Result<void> shutdown_network();
+  // depth_m in [0, tank_depth_m], timeout_s > 0.
+  core::Result<void> set_setpoint(double depth_m, double timeout_s);
+  core::Result<void> start_depth_filter();
+  core::Result<void> submerge();
+  core::Result<void> start_timer();
+  core::Result<void> surface();
+  // Autonomous surface with an event "watchdog: <reason>: surfacing". The
+  // protocol server calls it after watchdog_s of link silence. Repeated trips
+  // record nothing new.
+  void watchdog_trip(std::string_view reason);
+
+  // ---- queries ------------------------------------------------------------
+  bool depth_filter_off() const { return !filter_.on(); }
+  bool depth_reached() const;
+  bool time_out() const;
+  bool surface_reached() const;
+  bool system_problem() const { return faults_.leak; }
+  bool network_up() const { return network_up_; }
+  bool watchdog_tripped() const { return watchdog_tripped_; }
+  // Link loss, for the protocol server (the simulation itself ignores it).
+  bool link_lost() const { return faults_.link_lost; }
+  std::optional<double> link_lost_at() const { return scenario_.link_lost_at(); }
+
+  // ---- time -----------------------------------------------------------------
+  // One cycle of params.cycle_s: control, dynamics, faults, sensing, filter.
+  void step();
+  // round(seconds / cycle_s) cycles (none for seconds <= 0); returns the count.
+  std::uint64_t advance(double seconds);
+  double time_s() const { return static_cast<double>(cycle_) * params_.cycle_s; }
+  std::uint64_t cycle() const { return cycle_; }
+
+  Telemetry telemetry() const;
+  // Events since construction, in time order; take_events() hands them over
+  // and clears the list.
+  const std::vector<Event>& events() const { return events_; }
+  std::vector<Event> take_events();
+
+  const VehicleParams& params() const { return params_; }
+  const Scenario& scenario() const { return scenario_; }
+  const HeaveState& heave() const { return heave_; }
+
+ private:
+  struct Setpoint {
+    double depth_m;
+    double timeout_s;
+  };
+  struct Timer {
+    double start_s;
+    double timeout_s;
+  };
+
+  core::Result<void> require_network() const;
+  std::optional<double> depth_estimate() const;
+  double control() const;
+  double expected_accel_mps2() const;
+  void apply_faults();
+  void sense();
+  void event(std::string text);
+
+  VehicleParams params_;
+  Scenario scenario_;
+  DepthCell cell_;
+  DepthFilter filter_;
+  HeaveState heave_;
+  std::uint64_t cycle_ = 0;
+
+  ControlMode mode_ = ControlMode::Idle;
+  bool network_up_ = false;
+  bool watchdog_tripped_ = false;
+  std::optional<Setpoint> loaded_;
+  std::optional<double> active_setpoint_m_;
+  std::optional<Timer> timer_;
+  std::optional<double> reading_m_;
+  double thrust_cmd_n_ = 0.0;
+  double thrust_model_n_ = 0.0;
+
+  FaultState faults_;
+  std::vector<bool> fault_applied_;
+  std::optional<double> dropout_until_s_;
+  bool at_bottom_ = false;
+
+  std::vector<Event> events_;
+};
+
+}  // namespace strata::vehicle
