@@ -250,8 +250,12 @@ std::string encode(const VehicleMessage& message) {
                                clock_name(m.clock));
           },
           [](const Ok& m) { return fmt::format("ok {}\n", m.id); },
-          [](const Done& m) { return fmt::format("done {} {}\n", m.id, m.success ? 1 : 0); },
-          [](const Answer& m) { return fmt::format("answer {} {}\n", m.id, m.value ? 1 : 0); },
+          [](const Done& m) {
+            return fmt::format("done {} {} {}\n", m.id, m.success ? 1 : 0, format_double(m.sim_time_s));
+          },
+          [](const Answer& m) {
+            return fmt::format("answer {} {} {}\n", m.id, m.value ? 1 : 0, format_double(m.sim_time_s));
+          },
           [](const Pong& m) { return fmt::format("pong {} {}\n", m.id, format_double(m.sim_time_s)); },
           [](const Err& m) {
             return with_text(fmt::format("err {} {} ", m.id, code_name(m.code)), m.message);
@@ -409,11 +413,13 @@ DecodeResult<VehicleMessage> decode_vehicle_message(std::string_view line) {
 
   if (verb == "ok") return decode_ok(f, id);
   if (verb == "done" || verb == "answer") {
-    if (f.size() != 3) return wrong_arity(verb, id, "ID 0|1", f.size());
+    if (f.size() != 4) return wrong_arity(verb, id, "ID 0|1 SIM_TIME_S", f.size());
     auto flag = read_flag(f[2], id);
     if (!flag.ok()) return flag.error();
-    if (verb == "done") return VehicleMessage{Done{id, flag.value()}};
-    return VehicleMessage{Answer{id, flag.value()}};
+    auto time = read_time(f[3], id);
+    if (!time.ok()) return time.error();
+    if (verb == "done") return VehicleMessage{Done{id, flag.value(), time.value()}};
+    return VehicleMessage{Answer{id, flag.value(), time.value()}};
   }
   if (verb == "pong") {
     if (f.size() != 3) return wrong_arity(verb, id, "ID SIM_TIME_S", f.size());

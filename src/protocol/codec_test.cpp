@@ -40,8 +40,8 @@ TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
   EXPECT_EQ("ok 1 phoenix 1 lockstep\n", encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep}));
   EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n", encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall}));
   EXPECT_EQ("ok 3\n", encode(Ok{3}));
-  EXPECT_EQ("done 4 1\n", encode(Done{4, true}));
-  EXPECT_EQ("answer 5 0\n", encode(Answer{5, false}));
+  EXPECT_EQ("done 4 1 2.5\n", encode(Done{4, true, 2.5}));
+  EXPECT_EQ("answer 5 0 0.1\n", encode(Answer{5, false, 0.1}));
   EXPECT_EQ("pong 6 12.5\n", encode(Pong{6, 12.5}));
   EXPECT_EQ("err 0 bad_line \"empty line\"\n", encode(Err{0, ErrorCode::BadLine, "empty line"}));
   EXPECT_EQ("hb 3.0\n", encode(Heartbeat{3.0}));
@@ -91,7 +91,7 @@ TEST(Codec, DecodesVehicleMessages) {
   EXPECT_EQ(VehicleMessage(Err{0, ErrorCode::Busy, "another client"}),
             decode_vehicle_message("err 0 busy \"another client\"\r\n").value());
   EXPECT_EQ(VehicleMessage(Event{2.0, "leak"}), decode_vehicle_message("event 2 leak").value());
-  EXPECT_EQ(std::optional<RequestId>(4), reply_id(decode_vehicle_message("done 4 1").value()));
+  EXPECT_EQ(std::optional<RequestId>(4), reply_id(decode_vehicle_message("done 4 1 0.0").value()));
   EXPECT_EQ(std::nullopt, reply_id(decode_vehicle_message("hb 1").value()));
 }
 
@@ -191,11 +191,13 @@ TEST(Codec, RejectsMalformedVehicleMessages) {
       {"ok 3 phoenix", ErrorCode::BadArgument, 3},
       {"ok 3 phoenix 1 fast", ErrorCode::BadArgument, 3},
       {"ok 3 phoenix 0 wall", ErrorCode::BadArgument, 3},
-      {"done 3 2", ErrorCode::BadArgument, 3},
-      {"done 3 yes", ErrorCode::BadArgument, 3},
-      {"done 3 \"1\"", ErrorCode::BadArgument, 3},
+      {"done 3 2 0.0", ErrorCode::BadArgument, 3},
+      {"done 3 yes 0.0", ErrorCode::BadArgument, 3},
+      {"done 3 \"1\" 0.0", ErrorCode::BadArgument, 3},
+      {"done 3 1", ErrorCode::BadArgument, 3},
+      {"done 3 1 nan", ErrorCode::BadArgument, 3},
       {"answer 4", ErrorCode::BadArgument, 4},
-      {"answer 4 1 1", ErrorCode::BadArgument, 4},
+      {"answer 4 1 1.0 1", ErrorCode::BadArgument, 4},
       {"pong 5 nan", ErrorCode::BadArgument, 5},
       {"pong 5 -1.0", ErrorCode::BadArgument, 5},
       {"err 0 weird \"x\"", ErrorCode::BadArgument, 0},
@@ -346,10 +348,10 @@ rc::Gen<VehicleMessage> vehicle_messages() {
           },
           ids(), names(), gen::inRange(1, 1 << 30), gen::arbitrary<bool>())),
       as_message(gen::map(ids(), [](RequestId id) { return Ok{id}; })),
-      as_message(gen::apply([](RequestId id, bool b) { return Done{id, b}; }, ids(),
-                            gen::arbitrary<bool>())),
-      as_message(gen::apply([](RequestId id, bool b) { return Answer{id, b}; }, ids(),
-                            gen::arbitrary<bool>())),
+      as_message(gen::apply([](RequestId id, bool b, double t) { return Done{id, b, t}; }, ids(),
+                            gen::arbitrary<bool>(), times())),
+      as_message(gen::apply([](RequestId id, bool b, double t) { return Answer{id, b, t}; }, ids(),
+                            gen::arbitrary<bool>(), times())),
       as_message(gen::apply([](RequestId id, double t) { return Pong{id, t}; }, ids(), times())),
       as_message(gen::apply(
           [](RequestId id, ErrorCode code, std::string text) { return Err{id, code, std::move(text)}; },

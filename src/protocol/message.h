@@ -115,16 +115,19 @@ struct Ok {
   RequestId id = 1;
   friend bool operator==(const Ok&, const Ok&) = default;
 };
-// `done ID 0|1`: the reply to exec and ood; success = the function executed.
+// `done ID 0|1 SIM_TIME_S`: the reply to exec and ood; success = the function
+// executed; the vehicle's simulated time when it replied.
 struct Done {
   RequestId id = 1;
   bool success = false;
+  double sim_time_s = 0.0;
   friend bool operator==(const Done&, const Done&) = default;
 };
-// `answer ID 0|1`: the reply to ask.
+// `answer ID 0|1 SIM_TIME_S`: the reply to ask, and the simulated time it holds for.
 struct Answer {
   RequestId id = 1;
   bool value = false;
+  double sim_time_s = 0.0;
   friend bool operator==(const Answer&, const Answer&) = default;
 };
 // `pong ID SIM_TIME_S`: the reply to ping.

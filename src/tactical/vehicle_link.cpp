@@ -186,6 +186,13 @@ void VehicleLink::handle_line(const protocol::Frame& frame) {
   auto decoded = protocol::decode_vehicle_message(frame.line);
   if (!decoded) {
     if (on_garbage_) on_garbage_(fmt::format("{}: {}", decoded.error().message, frame.line));
+    // A malformed reply to a request in flight ends that request now,
+    // rather than at its timeout.
+    auto id = decoded.error().id;
+    if (id != 0 && pending_.count(id)) {
+      complete(id, make_error(ErrorCode::Protocol,
+                              fmt::format("malformed reply from the vehicle: {}", decoded.error().message)));
+    }
     return;
   }
   protocol::VehicleMessage& msg = decoded.value();

@@ -234,7 +234,7 @@ TEST(VehicleLink, GarbageFromTheVehicleIsReportedAndSkipped) {
   asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
   asio::ip::tcp::socket peer(io);
   acceptor.async_accept(peer, [&](const asio::error_code&) {
-    std::string lines = "\x01\x02 garbage\n" + std::string(2000, 'x') + "\nanswer 99 1\n";
+    std::string lines = "\x01\x02 garbage\n" + std::string(2000, 'x') + "\nanswer 99 1 0.0\n";
     asio::write(peer, asio::buffer(lines));
   });
   LinkOptions o;

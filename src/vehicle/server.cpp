@@ -230,8 +230,9 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
     send(protocol::Event{wire_time(sim_.time_s()), text});
   }
   auto reply = [&]() -> protocol::VehicleMessage {
-    if (r.verb == Verb::Ask) return protocol::Answer{r.id, out.value};
-    return protocol::Done{r.id, out.value};
+    double t = wire_time(sim_.time_s());
+    if (r.verb == Verb::Ask) return protocol::Answer{r.id, out.value, t};
+    return protocol::Done{r.id, out.value, t};
   };
   if (options_.clock == protocol::ClockMode::Lockstep) {
     // A request costs at least one cycle; sleep costs its duration.
@@ -269,10 +270,15 @@ void VehicleServer::after_step() {
     auto t = sim_.telemetry();
     protocol::Telemetry m;
     m.sim_time_s = wire_time(t.time_s);
-    m.depth_m = t.measured_depth_m;
-    m.filtered_depth_m = t.filtered_depth_m;
-    m.rate_mps = t.rate_mps;
-    m.thrust_n = t.thrust_n;
+    // Rounded to what the instruments resolve: 0.1 mm, 0.1 mm/s, 0.01 N.
+    auto round_to = [](std::optional<double> v, double step) -> std::optional<double> {
+      if (!v) return v;
+      return std::round(*v / step) * step;
+    };
+    m.depth_m = round_to(t.measured_depth_m, 1e-4);
+    m.filtered_depth_m = round_to(t.filtered_depth_m, 1e-4);
+    m.rate_mps = round_to(t.rate_mps, 1e-4);
+    m.thrust_n = round_to(t.thrust_n, 1e-2);
     m.setpoint_m = t.setpoint_m;
     m.extras["true_depth"] = fmt::format("{:.4f}", t.depth_m);
     m.extras["mode"] = std::string(to_string(t.mode));
@@ -355,7 +361,7 @@ void VehicleServer::tick() {
     if (e || stopped_) return;
     step_one();
     while (!deferred_.empty() && sim_.time_s() + 1e-9 >= deferred_.front().until_s) {
-      send(protocol::Done{deferred_.front().id, true});
+      send(protocol::Done{deferred_.front().id, true, wire_time(sim_.time_s())});
       deferred_.pop_front();
     }
     if (sim_.time_s() + 1e-9 >= next_heartbeat_s_) {
