@@ -18,6 +18,7 @@ namespace {
 
 struct Options {
   std::vector<std::string> files;
+  std::string catalogue;
   std::string format = "text";
   std::string net;
 };
@@ -64,6 +65,12 @@ std::string plural(std::size_t n, std::string_view word) {
 }
 
 int run_check(const Options& o) {
+  auto catalogue = load_catalogue_option(o.catalogue);
+  if (!catalogue) {
+    std::cerr << "strata check: " << catalogue.error().message << "\n";
+    return catalogue.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+  }
+  const coral::CheckOptions options = catalogue.value().check_options();
   coral::DiskFileProvider disk;
   Report report;
   nlohmann::json files = nlohmann::json::array();
@@ -71,7 +78,7 @@ int run_check(const Options& o) {
   for (const auto& file : o.files) {
     core::SourceManager sources;
     core::DiagnosticSink sink;
-    auto program = coral::compile_file(file, disk, sources, sink);
+    auto program = coral::compile_file(file, disk, sources, sink, options);
     sink.sort();
     report.add(sources, sink);
     std::size_t nets = program ? program->nets.size() : 0;
@@ -102,10 +109,16 @@ int run_check(const Options& o) {
 }
 
 int run_dump(const Options& o) {
+  auto catalogue = load_catalogue_option(o.catalogue);
+  if (!catalogue) {
+    std::cerr << "strata dump: " << catalogue.error().message << "\n";
+    return catalogue.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+  }
   coral::DiskFileProvider disk;
   core::SourceManager sources;
   core::DiagnosticSink sink;
-  auto program = coral::compile_file(o.files.front(), disk, sources, sink);
+  auto program =
+      coral::compile_file(o.files.front(), disk, sources, sink, catalogue.value().check_options());
   sink.sort();
   Report report;
   report.add(sources, sink);
@@ -138,6 +151,8 @@ Runner add_check_command(CLI::App& app) {
   cmd->add_option("--format", o->format, "Output format: text (for people) or json (for tools)")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
+  cmd->add_option("--catalogue", o->catalogue,
+                  "Primitive catalogue to check TACTIC calls against (default: built in)");
   cmd->footer("Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
               "74 when a file cannot be read.");
   return [o] { return run_check(*o); };
@@ -151,6 +166,7 @@ Runner add_dump_command(CLI::App& app) {
       ->required()
       ->expected(1);
   cmd->add_option("--net", o->net, "Print only this net");
+  cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
   cmd->add_option("--format", o->format, "Diagnostics format: text or json")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/result.h"
+#include "tactical/catalogue.h"
 #include "vehicle/scenario.h"
 
 namespace strata::cli {
@@ -25,6 +26,8 @@ Runner add_primitives_command(CLI::App& app);
 
 // "PORT" or "ADDRESS:PORT" (ADDRESS defaults to 127.0.0.1).
 core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::string& text);
+// --catalogue: the built-in catalogue when empty, else the file.
+core::Result<tactical::Catalogue> load_catalogue_option(const std::string& path);
 // --scenario: nominal when empty; a path; or NAME in the mission's scenarios/.
 core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
                                                      const std::string& mission);

@@ -162,14 +162,14 @@ class NetChecker {
     }
     if (sig->kind != a.type) {
       sink_.report(DiagnosticKind::TacticArguments, call.name.span,
-                   fmt::format("'{}' is a {} primitive, not {}", call.name.text,
+                   fmt::format("'{}' is an {} primitive, not {}", call.name.text,
                                std::string(tactic_type_name(sig->kind)), a.type_name.text));
     }
     if (call.args.size() < sig->min_args || call.args.size() > sig->max_args) {
       sink_.report(DiagnosticKind::PrimitiveArity, call.span,
                    sig->min_args == sig->max_args
-                       ? fmt::format("'{}' takes {} argument(s), but {} given", call.name.text,
-                                     sig->min_args, call.args.size())
+                       ? fmt::format("'{}' takes {} argument{}, but {} given", call.name.text,
+                                     sig->min_args, sig->min_args == 1 ? "" : "s", call.args.size())
                        : fmt::format("'{}' takes {} to {} arguments, but {} given", call.name.text,
                                      sig->min_args, sig->max_args, call.args.size()));
     }

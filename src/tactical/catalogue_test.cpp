@@ -146,7 +146,7 @@ TEST(Catalogue, CheckOptionsRejectAMissingArgument) {
       "net n { place s = 1; exit e;\n"
       "  transition t { wait { s } action { TACTIC(EXEC, sleep, e) } } }");
   EXPECT_EQ((std::vector<std::string>{"2:51 PrimitiveArity"}), c->kinds());
-  EXPECT_EQ("'sleep' takes 1 argument(s), but 0 given", c->sink.diagnostics()[0].message);
+  EXPECT_EQ("'sleep' takes 1 argument, but 0 given", c->sink.diagnostics()[0].message);
 }
 
 TEST(Catalogue, CheckOptionsRejectAWrongKind) {

@@ -75,8 +75,8 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   }
   if (request.args.size() != spec->args.size()) {
     return refuse(protocol::ErrorCode::BadArgument,
-                  fmt::format("'{}' takes {} argument(s), got {}", spec->name, spec->args.size(),
-                              request.args.size()));
+                  fmt::format("'{}' takes {} argument{}, got {}", spec->name, spec->args.size(),
+                              spec->args.size() == 1 ? "" : "s", request.args.size()));
   }
   std::vector<double> numbers;
   for (std::size_t i = 0; i < request.args.size(); ++i) {

@@ -18,6 +18,7 @@
 
 #include "coral/compiler.h"
 #include "core/diagnostic_printer.h"
+#include "tactical/catalogue.h"
 
 namespace strata::coral {
 namespace {
@@ -60,10 +61,31 @@ struct Run {
   std::optional<Program> program;
 };
 
+// Primitives are checked against the built-in catalogue plus the test
+// primitives of tests/coral/catalogue.toml.
+const CheckOptions& check_options() {
+  static const CheckOptions options = [] {
+    auto extra = tactical::Catalogue::load((kRoot / "catalogue.toml").string());
+    if (!extra) throw std::runtime_error(extra.error().message);
+    CheckOptions builtin = tactical::Catalogue::builtin().check_options();
+    CheckOptions tests = extra.value().check_options();
+    CheckOptions both;
+    both.primitive = [builtin, tests](std::string_view name) {
+      auto found = tests.primitive(name);
+      return found ? found : builtin.primitive(name);
+    };
+    both.primitive_names = builtin.primitive_names;
+    both.primitive_names.insert(both.primitive_names.end(), tests.primitive_names.begin(),
+                                tests.primitive_names.end());
+    return both;
+  }();
+  return options;
+}
+
 std::unique_ptr<Run> compile(const std::string& path) {
   auto r = std::make_unique<Run>();
   DiskFileProvider disk;
-  r->program = compile_file(path, disk, r->sources, r->sink);
+  r->program = compile_file(path, disk, r->sources, r->sink, check_options());
   r->sink.sort();
   return r;
 }
