@@ -67,6 +67,9 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   void on_garbage(std::function<void(const std::string&)> f) { on_garbage_ = std::move(f); }
 
   bool connected() const { return connected_; }
+  std::chrono::milliseconds default_timeout() const { return options_.reply_timeout; }
+  // Runs f on the link's event loop, after the current handler.
+  void post(std::function<void()> f) { asio::post(io_, std::move(f)); }
   std::size_t in_flight() const { return pending_.size(); }
   // Closes the socket; pending requests fail with Closed.
   void close();

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "protocol/codec.h"
+#include "tactical/test_rig.h"
 #include "tactical/vehicle_link.h"
 #include "vehicle/server.h"
 
@@ -15,68 +16,8 @@ namespace {
 
 using namespace std::chrono_literals;
 using protocol::VehicleMessage;
-
-// Runs io until done() or a time bound passes; the bound only keeps a broken
-// test from hanging, it asserts nothing about speed.
-template <typename Pred>
-bool run_until(asio::io_context& io, Pred done, std::chrono::milliseconds bound = 5000ms) {
-  auto deadline = std::chrono::steady_clock::now() + bound;
-  io.restart();
-  while (!done() && std::chrono::steady_clock::now() < deadline) {
-    io.run_for(10ms);
-    io.restart();
-  }
-  return done();
-}
-
-struct Rig {
-  explicit Rig(vehicle::Scenario scenario = vehicle::Scenario::nominal(),
-               protocol::ClockMode clock = protocol::ClockMode::Lockstep)
-      : sim(vehicle::default_params(), std::move(scenario)) {
-    vehicle::ServerOptions so;
-    so.clock = clock;
-    so.speed = 20.0;
-    so.log = [this](const std::string& line) { vehicle_log.push_back(line); };
-    server = std::make_unique<vehicle::VehicleServer>(io, sim, so);
-    EXPECT_TRUE(server->start().ok());
-  }
-
-  std::shared_ptr<VehicleLink> connect(LinkOptions options = {}) {
-    options.port = server->port();
-    auto link = VehicleLink::create(io, options);
-    std::optional<core::Result<protocol::Welcome>> welcome;
-    link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
-    EXPECT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
-    EXPECT_TRUE(welcome && welcome->ok()) << (welcome && !welcome->ok() ? welcome->error().message : "");
-    return link;
-  }
-
-  core::Result<VehicleMessage> call(VehicleLink& link, protocol::Request r,
-                                    std::optional<std::chrono::milliseconds> timeout = std::nullopt) {
-    std::optional<core::Result<VehicleMessage>> reply;
-    link.send(std::move(r), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, timeout);
-    EXPECT_TRUE(run_until(io, [&] { return reply.has_value(); }));
-    if (!reply) return core::make_error(core::ErrorCode::Internal, "no reply in the test's bound");
-    return std::move(*reply);
-  }
-
-  bool ask(VehicleLink& link, const std::string& predicate) {
-    auto r = call(link, protocol::make_ask(0, predicate));
-    EXPECT_TRUE(r.ok()) << r.error().message;
-    return r.ok() && std::get<protocol::Answer>(r.value()).value;
-  }
-
-  bool exec(VehicleLink& link, const std::string& f, std::vector<protocol::Value> args = {}) {
-    auto r = call(link, protocol::make_exec(0, f, std::move(args)));
-    EXPECT_TRUE(r.ok()) << r.error().message;
-    return r.ok() && std::get<protocol::Done>(r.value()).success;
-  }
-
-  asio::io_context io;
-  vehicle::Simulation sim;
-  std::unique_ptr<vehicle::VehicleServer> server;
-  std::vector<std::string> vehicle_log;
-};
+using testing::Rig;
+using testing::run_until;
 
 TEST(VehicleLink, HelloIsAnsweredWithTheVehicleAndItsClock) {
   Rig rig;

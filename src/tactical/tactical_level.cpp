@@ -1,0 +1,161 @@
+#include "tactical/tactical_level.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "tactical/render.h"
+
+namespace strata::tactical {
+
+protocol::Request to_request(const RenderedCall& call) {
+  protocol::Request r;
+  r.verb = call.verb == "ask" ? protocol::Verb::Ask
+         : call.verb == "ood" ? protocol::Verb::Ood
+                              : protocol::Verb::Exec;
+  r.name = call.name;
+  for (const auto& v : call.args) {
+    if (v.type == Value::Type::String) {
+      r.args.push_back(protocol::Value::string(v.text));
+    } else if (std::nearbyint(v.number) == v.number && std::fabs(v.number) < 9.0e15) {
+      // Whole numbers go as integers, so sleep(1) and sleep(1.0) send one line.
+      r.args.push_back(protocol::Value::integer(static_cast<std::int64_t>(v.number)));
+    } else {
+      r.args.push_back(protocol::Value::real(v.number));
+    }
+  }
+  return r;
+}
+
+TacticalLevel::TacticalLevel(const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
+                             DataCursor* cursor, MissionLog* log)
+    : catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
+  if (!link_) return;
+  link_->on_telemetry([this](const protocol::Telemetry& t) {
+    sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
+    if (log_) {
+      nlohmann::ordered_json fields;
+      auto put = [&](const char* key, const std::optional<double>& v) {
+        if (v) fields[key] = *v;
+      };
+      put("depth_m", t.depth_m);
+      put("filtered_depth_m", t.filtered_depth_m);
+      put("rate_mps", t.rate_mps);
+      put("thrust_n", t.thrust_n);
+      put("setpoint_m", t.setpoint_m);
+      log_->telemetry(t.sim_time_s, fields);
+    }
+    if (on_telemetry_) on_telemetry_(t);
+  });
+  link_->on_event([this](const protocol::Event& e) {
+    sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+    if (log_) log_->event("vehicle_event", {{"text", e.text}, {"sim_time", e.sim_time_s}});
+    if (on_event_) on_event_(e);
+  });
+  link_->on_garbage([this](const std::string& what) {
+    if (log_) log_->error(fmt::format("from the vehicle: {}", what), sim_time_s_);
+  });
+}
+
+void TacticalLevel::finish(const CallRecord& record, CallHandler& done,
+                           core::Result<CallOutcome> outcome) {
+  --in_flight_;
+  if (on_call_) on_call_(record);
+  done(std::move(outcome));
+}
+
+void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHandler done) {
+  ++calls_;
+  ++in_flight_;
+  CallRecord record;
+  record.primitive = std::string(name);
+  // Every outcome is delivered from the event loop, never inside call().
+  auto fail_later = [this](CallRecord rec, CallHandler h, core::Error e) {
+    rec.error = e.message;
+    if (log_) log_->error(fmt::format("{}: {}", rec.primitive, e.message), sim_time_s_);
+    auto post = [this, rec = std::move(rec), h = std::move(h), e = std::move(e)]() mutable {
+      finish(rec, h, e);
+    };
+    if (link_) {
+      link_->post(std::move(post));
+    } else {
+      post();
+    }
+  };
+
+  const Primitive* p = catalogue_.find(name);
+  if (!p) {
+    fail_later(record, std::move(done),
+               core::make_error(core::ErrorCode::InvalidInput, fmt::format("unknown primitive '{}'", name)));
+    return;
+  }
+  core::Result<RenderedCall> rendered =
+      p->data == DataSource::Setpoint
+          ? (cursor_ ? advance_and_render(*p, args, *cursor_)
+                     : core::Result<RenderedCall>(core::make_error(
+                           core::ErrorCode::InvalidInput,
+                           fmt::format("'{}' needs mission data, and the mission names none", name))))
+          : render(*p, args, cursor_);
+  if (!rendered) {
+    fail_later(record, std::move(done), rendered.error());
+    return;
+  }
+  const RenderedCall& rc = rendered.value();
+  record.message = rc.text();
+
+  if (!rc.to_vehicle()) {  // REPORT
+    std::string text = rc.args.empty() ? std::string() : rc.args.front().text;
+    if (log_) log_->report(text, sim_time_s_);
+    if (on_report_) on_report_(text, sim_time_s_);
+    record.value = true;
+    auto post = [this, record, done = std::move(done), t = sim_time_s_]() mutable {
+      finish(record, done, CallOutcome{true, t});
+    };
+    if (link_) {
+      link_->post(std::move(post));
+    } else {
+      post();
+    }
+    return;
+  }
+  if (!link_) {
+    fail_later(record, std::move(done), core::make_error(core::ErrorCode::Closed, "no vehicle link"));
+    return;
+  }
+  protocol::Request request = to_request(rc);
+  auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(rc.timeout_s * 1000.0)));
+  // The catalogue's timeout is in simulated seconds; in lockstep the vehicle
+  // answers at once, so the link's own (wall) timeout is the stricter bound.
+  auto id = std::make_shared<std::uint64_t>(0);
+  *id = link_->send(
+      std::move(request),
+      [this, record, done = std::move(done), id](core::Result<protocol::VehicleMessage> reply) mutable {
+        if (!reply) {
+          record.error = reply.error().message;
+          if (log_) {
+            log_->reply(*id, {{"error", reply.error().message}}, sim_time_s_);
+          }
+          finish(record, done, reply.error());
+          return;
+        }
+        CallOutcome out;
+        if (auto* d = std::get_if<protocol::Done>(&reply.value())) {
+          out = {d->success, d->sim_time_s};
+        } else if (auto* a = std::get_if<protocol::Answer>(&reply.value())) {
+          out = {a->value, a->sim_time_s};
+        } else {
+          record.error = "unexpected reply";
+          finish(record, done, core::make_error(core::ErrorCode::Protocol,
+                                                fmt::format("unexpected reply to `{}`", record.message)));
+          return;
+        }
+        sim_time_s_ = std::max(sim_time_s_, out.sim_time_s);
+        record.value = out.value;
+        if (log_) log_->reply(*id, out.value ? 1 : 0, out.sim_time_s);
+        finish(record, done, out);
+      },
+      std::max(timeout, link_->default_timeout()));
+  if (log_) log_->request(*id, record.primitive, record.message, sim_time_s_);
+}
+
+}  // namespace strata::tactical

@@ -1,0 +1,92 @@
+#pragma once
+// The Tactical level as the Strategic level sees it (paper §2.1): vehicle
+// primitives called by name, each answered 1 or 0 (TRUE/FALSE in response to
+// commands and queries). It renders each call from the catalogue, serves
+// next_setpt_data from the mission data cursor, sends the script message over
+// the VehicleLink, prints and logs REPORT, and writes every request, reply,
+// telemetry sample and vehicle event to the mission log.
+//
+// Both Strategic levels (the CORAL Engine and the PROLOG executor) call this
+// one interface, so they issue the same primitive calls.
+//
+// Threads: one; call on the io_context's thread. Handlers run there.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+#include "tactical/catalogue.h"
+#include "tactical/mission_data.h"
+#include "tactical/mission_log.h"
+#include "tactical/render.h"
+#include "tactical/value.h"
+#include "tactical/vehicle_link.h"
+
+namespace strata::tactical {
+
+struct CallOutcome {
+  bool value = false;       // exec/ood: the function executed; ask: the predicate
+  double sim_time_s = 0.0;  // the vehicle's time at the reply
+};
+
+using CallHandler = std::function<void(core::Result<CallOutcome>)>;
+
+// What one call looked like, for traces (strata compare) and tests.
+struct CallRecord {
+  std::string primitive;
+  std::string message;  // "exec sleep 1"; for report, the text
+  std::optional<bool> value;
+  std::string error;
+};
+
+class TacticalLevel {
+ public:
+  // link may be null for a run that only reports (tests). cursor and log may
+  // be null (no mission data; no log). All must outlive this object.
+  TacticalLevel(const Catalogue& catalogue, std::shared_ptr<VehicleLink> link, DataCursor* cursor,
+                MissionLog* log);
+
+  // Calls primitive `name` with args. done is called exactly once, never
+  // before call() returns: with the outcome, or with an error (unknown
+  // primitive, bad arguments, past the last setpoint, the vehicle refused,
+  // timed out, or the link is gone). REPORT answers 1 at once.
+  void call(std::string_view name, std::vector<Value> args, CallHandler done);
+
+  // Where REPORT text goes besides the log (the operator console).
+  void on_report(std::function<void(const std::string&, double sim_time_s)> f) { on_report_ = std::move(f); }
+  // Telemetry samples and vehicle events, after they are logged.
+  void on_telemetry(std::function<void(const protocol::Telemetry&)> f) { on_telemetry_ = std::move(f); }
+  void on_vehicle_event(std::function<void(const protocol::Event&)> f) { on_event_ = std::move(f); }
+  // Every call as it completes, in completion order.
+  void on_call(std::function<void(const CallRecord&)> f) { on_call_ = std::move(f); }
+
+  // The vehicle's time as last heard (replies, telemetry, events).
+  double sim_time_s() const { return sim_time_s_; }
+  std::uint64_t calls() const { return calls_; }
+  std::size_t in_flight() const { return in_flight_; }
+
+ private:
+  void finish(const CallRecord& record, CallHandler& done, core::Result<CallOutcome> outcome);
+
+  const Catalogue& catalogue_;
+  std::shared_ptr<VehicleLink> link_;
+  DataCursor* cursor_;
+  MissionLog* log_;
+  std::function<void(const std::string&, double)> on_report_;
+  std::function<void(const CallRecord&)> on_call_;
+  std::function<void(const protocol::Telemetry&)> on_telemetry_;
+  std::function<void(const protocol::Event&)> on_event_;
+  double sim_time_s_ = 0.0;
+  std::uint64_t calls_ = 0;
+  std::size_t in_flight_ = 0;
+  std::uint64_t next_report_id_ = 1;
+};
+
+// A protocol request for a rendered call (verb, name and typed arguments).
+protocol::Request to_request(const RenderedCall& call);
+
+}  // namespace strata::tactical
