@@ -32,8 +32,9 @@ bool run_until(asio::io_context& io, Pred done, std::chrono::milliseconds bound 
 
 struct Rig {
   explicit Rig(vehicle::Scenario scenario = vehicle::Scenario::nominal(),
-               protocol::ClockMode clock = protocol::ClockMode::Lockstep)
-      : sim(vehicle::default_params(), std::move(scenario)) {
+               protocol::ClockMode clock = protocol::ClockMode::Lockstep,
+               vehicle::VehicleParams params = vehicle::default_params())
+      : sim(params, std::move(scenario)) {
     vehicle::ServerOptions so;
     so.clock = clock;
     so.speed = 20.0;

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include <asio.hpp>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "protocol/codec.h"
@@ -209,6 +210,59 @@ TEST(VehicleServer, WatchdogSurfacesTheVehicleWhenTheClientDrops) {
   bool said_why = false;
   for (const auto& line : rig.vehicle_log) said_why |= line.find("link dropped") != std::string::npos;
   EXPECT_TRUE(said_why);
+}
+
+TEST(VehicleServer, LinkLossSilencesTheVehicleAndItsWatchdogSurfacesIt) {
+  auto scenario = vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) +
+                                         "/missions/tank/scenarios/link_loss.toml");
+  ASSERT_TRUE(scenario.ok());
+  double lost_at = *scenario.value().link_lost_at();
+  Rig rig(scenario.value());
+  auto link = rig.connect();
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  ASSERT_TRUE(rig.exec(*link, "setpoint", {protocol::Value::real(1.5), protocol::Value::integer(60)}));
+  ASSERT_TRUE(rig.exec(*link, "start_depth_filter"));
+  ASSERT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(1)}));
+  ASSERT_TRUE(rig.exec(*link, "submerge"));
+  // Dive until the link goes: this request's reply is lost.
+  auto r = rig.call(*link, protocol::make_exec(0, "sleep", {protocol::Value::integer(30)}), 300ms);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(core::ErrorCode::Timeout, r.error().code);
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped() && rig.sim.surface_reached(); }));
+  // It kept diving alone for the watchdog time, then surfaced.
+  std::string expected = fmt::format("{:.1f} s: watchdog: link silent for {:.1f} s: surfacing",
+                                     lost_at + rig.sim.params().watchdog_s, rig.sim.params().watchdog_s);
+  bool tripped_in_time = false;
+  for (const auto& line : rig.vehicle_log) tripped_in_time |= line == expected;
+  EXPECT_TRUE(tripped_in_time) << ::testing::PrintToString(rig.vehicle_log);
+}
+
+TEST(VehicleServer, ASilentClientTripsTheWatchdogInLockstep) {
+  vehicle::VehicleParams params = vehicle::default_params();
+  params.watchdog_s = 0.2;  // wall seconds of silence, in lockstep
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, params);
+  auto link = rig.connect();
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 3000ms));
+  bool said_why = false;
+  for (const auto& line : rig.vehicle_log) said_why |= line.find("link silent for 0.2 s") != std::string::npos;
+  EXPECT_TRUE(said_why);
+}
+
+TEST(VehicleServer, WallClockRunsOnItsOwnAndAnswersSleepLater) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Wall);  // speed 20
+  auto link = rig.connect();
+  int heartbeats = 0;
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  double before = rig.sim.time_s();
+  auto r = rig.call(*link, protocol::make_exec(0, "sleep", {protocol::Value::integer(2)}));
+  ASSERT_TRUE(r.ok());
+  const auto& done = std::get<protocol::Done>(r.value());
+  EXPECT_GE(done.sim_time_s, before + 2.0 - 1e-9);
+  // The simulation moved while nobody asked: that is the wall clock.
+  double t = rig.sim.time_s();
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.time_s() > t + 0.5; }));
+  (void)heartbeats;
 }
 
 }  // namespace

@@ -1,0 +1,145 @@
+// The Tactical level against a real `strata vehicle` process on a free
+// loopback port: what a user runs, not an in-process stand-in.
+#include <asio.hpp>
+#include <gtest/gtest.h>
+
+#include "support/child_process.h"
+#include "tactical/tactical_level.h"
+#include "tactical/test_rig.h"
+
+namespace strata::tactical {
+namespace {
+
+using strata::testing::ChildProcess;
+using testing::run_until;
+using namespace std::chrono_literals;
+
+struct VehicleProcess {
+  explicit VehicleProcess(std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {STRATA_BINARY, "vehicle", "--listen", "0"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    child = std::make_unique<ChildProcess>(argv);
+    auto line = child->first_line(10s);
+    EXPECT_TRUE(line.has_value()) << "strata vehicle printed no address";
+    if (line) port = static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)));
+  }
+  std::unique_ptr<ChildProcess> child;
+  std::uint16_t port = 0;
+};
+
+std::shared_ptr<VehicleLink> connect(asio::io_context& io, std::uint16_t port,
+                                     std::optional<core::Result<protocol::Welcome>>& welcome,
+                                     int reconnects = 0) {
+  LinkOptions o;
+  o.port = port;
+  o.reply_timeout = 2000ms;
+  o.reconnect_attempts = reconnects;
+  o.reconnect_delay = 50ms;
+  auto link = VehicleLink::create(io, o);
+  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  EXPECT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  return link;
+}
+
+core::Result<CallOutcome> call(asio::io_context& io, TacticalLevel& t, std::string_view name,
+                               std::vector<Value> args = {}) {
+  std::optional<core::Result<CallOutcome>> out;
+  t.call(name, std::move(args), [&](core::Result<CallOutcome> r) { out = std::move(r); });
+  EXPECT_TRUE(run_until(io, [&] { return out.has_value(); }));
+  if (!out) return core::make_error(core::ErrorCode::Internal, "no outcome within the test's bound");
+  return std::move(*out);
+}
+
+TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
+  VehicleProcess v;
+  asio::io_context io;
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  auto link = connect(io, v.port, welcome);
+  ASSERT_TRUE(welcome && welcome->ok());
+  EXPECT_EQ("phoenix-sim", welcome->value().vehicle_name);
+  auto data = MissionData::load(std::string(STRATA_SOURCE_DIR) + "/missions/tank/setpoints.toml");
+  ASSERT_TRUE(data.ok());
+  DataCursor cursor(data.value());
+  TacticalLevel t(Catalogue::builtin(), link, &cursor, nullptr);
+  std::vector<std::string> answered;
+  for (const auto& p : Catalogue::builtin().all()) {
+    std::vector<Value> args;
+    if (p.name == "sleep") args.push_back(Value::of(1.0));
+    if (p.name == "report") args.push_back(Value::of("hello"));
+    if (p.name == "shutdown_network") continue;  // last, below
+    auto r = call(io, t, p.name, args);
+    EXPECT_TRUE(r.ok()) << p.name << ": " << (r.ok() ? "" : r.error().message);
+    if (r.ok()) answered.push_back(p.name);
+  }
+  auto r = call(io, t, "shutdown_network");
+  EXPECT_TRUE(r.ok() && r.value().value);
+  EXPECT_EQ(Catalogue::builtin().all().size() - 1, answered.size());
+  EXPECT_GT(t.sim_time_s(), 1.0);
+}
+
+TEST(VehicleProcess, ASecondClientIsRefusedWhileTheFirstKeepsControl) {
+  VehicleProcess v;
+  asio::io_context io;
+  std::optional<core::Result<protocol::Welcome>> first_welcome, second_welcome;
+  auto first = connect(io, v.port, first_welcome);
+  ASSERT_TRUE(first_welcome && first_welcome->ok());
+  auto second = connect(io, v.port, second_welcome);
+  ASSERT_TRUE(second_welcome.has_value());
+  ASSERT_FALSE(second_welcome->ok());
+  EXPECT_NE(std::string::npos, second_welcome->error().message.find("busy"));
+  TacticalLevel t(Catalogue::builtin(), first, nullptr, nullptr);
+  EXPECT_TRUE(call(io, t, "depth_filter_off").ok());
+}
+
+TEST(VehicleProcess, AVehicleThatDiesMidRequestIsAClearErrorNotAHang) {
+  VehicleProcess v;
+  asio::io_context io;
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  auto link = connect(io, v.port, welcome, /*reconnects=*/2);
+  ASSERT_TRUE(welcome && welcome->ok());
+  std::optional<core::Error> lost;
+  link->on_lost([&](const core::Error& e) { lost = e; });
+  TacticalLevel t(Catalogue::builtin(), link, nullptr, nullptr);
+  std::optional<core::Result<CallOutcome>> out;
+  t.call("sleep", {Value::of(3000.0)}, [&](core::Result<CallOutcome> r) { out = std::move(r); });
+  v.child->kill_now();
+  ASSERT_TRUE(run_until(io, [&] { return out.has_value() && lost.has_value(); }, 10s));
+  ASSERT_FALSE(out->ok());
+  EXPECT_EQ(core::ErrorCode::Closed, out->error().code) << out->error().message;
+  EXPECT_NE(std::string::npos, out->error().message.find("sleep")) << out->error().message;
+  auto after = call(io, t, "depth_reached");
+  ASSERT_FALSE(after.ok());
+  EXPECT_NE(std::string::npos, after.error().message.find("no link to the vehicle")) << after.error().message;
+}
+
+TEST(VehicleProcess, GarbageToTheVehicleGetsErrorLinesAndTheLinkLives) {
+  VehicleProcess v;
+  asio::io_context io;
+  asio::ip::tcp::socket s(io);
+  s.connect({asio::ip::make_address("127.0.0.1"), v.port});
+  std::string junk = "hello 1 raw 1\n\x01\x02\x03\nexec\nexec 0 sleep 1\n" + std::string(3000, 'z') +
+                     "\nexec 7 sleep \"x\n" + "ping 8\n";
+  asio::write(s, asio::buffer(junk));
+  std::string got;
+  std::array<char, 4096> buf{};
+  auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (got.find("pong 8") == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    s.non_blocking(true);
+    asio::error_code ec;
+    auto n = s.read_some(asio::buffer(buf), ec);
+    if (ec == asio::error::would_block) {
+      std::this_thread::sleep_for(10ms);
+      continue;
+    }
+    ASSERT_FALSE(ec) << ec.message();
+    got.append(buf.data(), n);
+  }
+  EXPECT_NE(std::string::npos, got.find("ok 1 phoenix-sim 1 lockstep")) << got;
+  EXPECT_NE(std::string::npos, got.find("err 0 bad_line")) << got;
+  EXPECT_NE(std::string::npos, got.find("err 0 too_long")) << got;
+  EXPECT_NE(std::string::npos, got.find("err 7 bad_line")) << got;
+  EXPECT_NE(std::string::npos, got.find("pong 8 0")) << got;  // still serving
+}
+
+}  // namespace
+}  // namespace strata::tactical
