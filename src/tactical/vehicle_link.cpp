@@ -51,11 +51,16 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
   connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
     if (e || *finished) return;
     *finished = true;
+    auto error = make_error(ErrorCode::Timeout,
+                            fmt::format("no answer from the vehicle at {}:{} within {} ms",
+                                        options_.host, options_.port, options_.connect_timeout.count()));
+    // Not a lost link (there never was one): no reconnecting, just stop.
+    connected_ = false;
     asio::error_code ignored;
     socket_.close(ignored);
-    done(make_error(ErrorCode::Timeout,
-                    fmt::format("no answer from the vehicle at {}:{} within {} ms", options_.host,
-                                options_.port, options_.connect_timeout.count())));
+    write_queue_.clear();
+    fail_all(error);
+    done(error);
   });
   socket_.async_connect(endpoint, [this, self, finished, done](const asio::error_code& e) {
     if (*finished) return;
@@ -71,8 +76,10 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     socket_.set_option(nodelay, ignored);
     connected_ = true;
     start_read();
+    // This handler is kept in pending_, inside the link: it must not hold
+    // `self`, or the link would own itself.
     send(protocol::make_hello(0, options_.client_name),
-         [this, self, finished, done](core::Result<protocol::VehicleMessage> r) {
+         [this, finished, done](core::Result<protocol::VehicleMessage> r) {
            if (*finished) return;
            *finished = true;
            connect_timer_.cancel();

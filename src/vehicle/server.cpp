@@ -331,27 +331,28 @@ void VehicleServer::trip(const std::string& reason) {
 void VehicleServer::run_alone(std::optional<double> trip_at_s) {
   if (running_alone_) return;
   running_alone_ = true;
-  double until = sim_.time_s() + options_.autonomous_run_s;
-  auto batch = std::make_shared<std::function<void()>>();
-  *batch = [this, until, trip_at_s, batch] {
-    if (stopped_) return;
-    for (int i = 0; i < 100 && sim_.time_s() < until; ++i) {
-      step_one();
-      if (trip_at_s && !sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *trip_at_s) {
-        sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
-        flush_events();
-      }
+  alone_until_s_ = sim_.time_s() + options_.autonomous_run_s;
+  alone_trip_at_s_ = trip_at_s;
+  asio::post(io_, [this] { run_alone_batch(); });
+}
+
+// One batch of cycles, then yield to the event loop.
+void VehicleServer::run_alone_batch() {
+  if (stopped_ || !running_alone_) return;
+  for (int i = 0; i < 100 && sim_.time_s() < alone_until_s_; ++i) {
+    step_one();
+    if (alone_trip_at_s_ && !sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *alone_trip_at_s_) {
+      sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+      flush_events();
     }
-    if ((sim_.watchdog_tripped() && sim_.surface_reached()) || sim_.time_s() >= until) {
-      log(fmt::format("{:.1f} s: {}", sim_.time_s(),
-                      sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
-      running_alone_ = false;
-      *batch = nullptr;  // breaks the self-reference
-      return;
-    }
-    asio::post(io_, *batch);
-  };
-  asio::post(io_, *batch);
+  }
+  if ((sim_.watchdog_tripped() && sim_.surface_reached()) || sim_.time_s() >= alone_until_s_) {
+    log(fmt::format("{:.1f} s: {}", sim_.time_s(),
+                    sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
+    running_alone_ = false;
+    return;
+  }
+  asio::post(io_, [this] { run_alone_batch(); });
 }
 
 void VehicleServer::tick() {

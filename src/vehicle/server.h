@@ -20,7 +20,9 @@
 // vehicle neither reads nor answers the controller (lines are dropped, as a
 // cut cable would), and the watchdog does the rest.
 //
-// Threads: one; everything runs on the io_context given.
+// Threads: one; everything runs on the io_context given, which must not run
+// this server's handlers after it is destroyed (destroy the server, then
+// stop or destroy the io_context without running it again).
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -77,6 +79,7 @@ class VehicleServer {
   void arm_silence_watchdog();
   void trip(const std::string& reason);
   void run_alone(std::optional<double> trip_at_s);
+  void run_alone_batch();
   void tick();
   void log(const std::string& line);
 
@@ -92,6 +95,8 @@ class VehicleServer {
   bool stopped_ = false;
   bool hello_done_ = false;
   bool running_alone_ = false;
+  double alone_until_s_ = 0.0;
+  std::optional<double> alone_trip_at_s_;
   double telemetry_rate_hz_ = 0.0;
   double next_telemetry_s_ = 0.0;
   double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)

@@ -1,8 +1,9 @@
 #pragma once
 // Test support: run a program as a child process, read its first stdout line
 // within a time bound, and stop it by its process id (SIGTERM, then SIGKILL).
+#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <poll.h>
 #include <unistd.h>
@@ -12,25 +13,32 @@
 #include <string>
 #include <vector>
 
-extern char** environ;
-
 namespace strata::testing {
 
 class ChildProcess {
  public:
-  // Starts argv[0] with argv; stdout is a pipe read by first_line().
-  explicit ChildProcess(std::vector<std::string> argv) {
+  // Starts argv[0] with argv. Its stdout is a pipe read by first_line(); its
+  // stderr goes to stderr_path (or is dropped), never to the test's own
+  // stderr, which ctest reads to its end. The child is killed if the test
+  // process dies first, so a crashed test leaves no server behind.
+  explicit ChildProcess(std::vector<std::string> argv, const std::string& stderr_path = "/dev/null") {
     int fds[2];
     if (pipe(fds) != 0) return;
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
-    posix_spawn_file_actions_addclose(&actions, fds[0]);
     std::vector<char*> args;
     for (auto& a : argv) args.push_back(a.data());
     args.push_back(nullptr);
-    if (posix_spawn(&pid_, args[0], &actions, nullptr, args.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
+    pid_t parent = getpid();
+    pid_ = fork();
+    if (pid_ == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (getppid() != parent) _exit(127);  // the parent is already gone
+      dup2(fds[1], STDOUT_FILENO);
+      int err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (err >= 0) dup2(err, STDERR_FILENO);
+      close(fds[0]);
+      execv(args[0], args.data());
+      _exit(127);
+    }
     close(fds[1]);
     out_ = fds[0];
   }
