@@ -42,6 +42,31 @@ TEST(VehicleLink, EveryRequestCostsOneCycleInLockstep) {
   EXPECT_NEAR(2.2, std::get<protocol::Pong>(pong.value()).sim_time_s, 1e-9);  // ping is free
 }
 
+TEST(VehicleLink, SeveralRequestsInFlightEachGetTheirOwnReply) {
+  Rig rig;
+  auto link = rig.connect();
+  std::vector<std::pair<protocol::RequestId, std::string>> replies;
+  std::vector<protocol::RequestId> ids;
+  auto record = [&](std::string what) {
+    return [&replies, what](core::Result<VehicleMessage> m) {
+      ASSERT_TRUE(m.ok()) << m.error().message;
+      replies.emplace_back(*protocol::reply_id(m.value()), what);
+    };
+  };
+  ids.push_back(link->send(protocol::make_ood(0, "start_network"), record("ood")));
+  ids.push_back(link->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(1)}), record("sleep")));
+  ids.push_back(link->send(protocol::make_ask(0, "depth_filter_off"), record("ask")));
+  ids.push_back(link->send(protocol::make_ping(0), record("ping")));
+  EXPECT_EQ(4u, link->in_flight());
+  ASSERT_TRUE(run_until(rig.io, [&] { return replies.size() == 4; }));
+  // Lockstep serves them in arrival order; each reply matched its request.
+  EXPECT_EQ((std::vector<std::pair<protocol::RequestId, std::string>>{
+                {ids[0], "ood"}, {ids[1], "sleep"}, {ids[2], "ask"}, {ids[3], "ping"}}),
+            replies);
+  EXPECT_NEAR(1.2, rig.sim.time_s(), 1e-9);  // 0.1 + 1.0 + 0.1; ping is free
+  EXPECT_EQ(0u, link->in_flight());
+}
+
 TEST(VehicleLink, UnknownFunctionAndBadArgumentsAreRefusedWithReasons) {
   Rig rig;
   auto link = rig.connect();
