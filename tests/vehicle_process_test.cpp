@@ -60,7 +60,7 @@ TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
   auto data = MissionData::load(std::string(STRATA_SOURCE_DIR) + "/missions/tank/setpoints.toml");
   ASSERT_TRUE(data.ok());
   DataCursor cursor(data.value());
-  TacticalLevel t(Catalogue::builtin(), link, &cursor, nullptr);
+  TacticalLevel t(io, Catalogue::builtin(), link, &cursor, nullptr);
   std::vector<std::string> answered;
   for (const auto& p : Catalogue::builtin().all()) {
     std::vector<Value> args;
@@ -87,7 +87,7 @@ TEST(VehicleProcess, ASecondClientIsRefusedWhileTheFirstKeepsControl) {
   ASSERT_TRUE(second_welcome.has_value());
   ASSERT_FALSE(second_welcome->ok());
   EXPECT_NE(std::string::npos, second_welcome->error().message.find("busy"));
-  TacticalLevel t(Catalogue::builtin(), first, nullptr, nullptr);
+  TacticalLevel t(io, Catalogue::builtin(), first, nullptr, nullptr);
   EXPECT_TRUE(call(io, t, "depth_filter_off").ok());
 }
 
@@ -99,7 +99,7 @@ TEST(VehicleProcess, AVehicleThatDiesMidRequestIsAClearErrorNotAHang) {
   ASSERT_TRUE(welcome && welcome->ok());
   std::optional<core::Error> lost;
   link->on_lost([&](const core::Error& e) { lost = e; });
-  TacticalLevel t(Catalogue::builtin(), link, nullptr, nullptr);
+  TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
   std::optional<core::Result<CallOutcome>> out;
   t.call("sleep", {Value::of(3000.0)}, [&](core::Result<CallOutcome> r) { out = std::move(r); });
   v.child->kill_now();

@@ -101,6 +101,13 @@ core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::stri
     return core::make_error(core::ErrorCode::InvalidInput,
                             fmt::format("'{}' is not a port (0-65535) or ADDRESS:PORT", text));
   }
+  if (host == "localhost") host = "127.0.0.1";
+  asio::error_code ec;
+  asio::ip::make_address_v4(host, ec);
+  if (ec) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("'{}' is not an IPv4 address (e.g. 127.0.0.1)", host));
+  }
   return std::make_pair(host, static_cast<std::uint16_t>(value));
 }
 

@@ -58,7 +58,8 @@ class NetChecker {
       }
       check_transition(t);
     }
-    if (sink_.error_count() == errors_before) warn_structure();
+    // No warnings for a net with errors, nor once the sink stopped counting.
+    if (sink_.error_count() == errors_before && !sink_.saturated()) warn_structure();
   }
 
  private:
@@ -186,6 +187,7 @@ class NetChecker {
       for (const auto& [name, ref] : library_) {
         if (ref.net->kind == ast::Net::Kind::Phase) phases.push_back(name);
       }
+      std::sort(phases.begin(), phases.end());  // ties resolve the same way every run
       if (auto s = suggest(a.phase.text, phases)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
       else core::add_note(d, "import the file that declares it");
       return;
@@ -258,7 +260,10 @@ class NetChecker {
     std::vector<std::size_t> waiting(ts.size(), 0);  // distinct inputs not yet markable
     for (std::size_t i = 0; i < ts.size(); ++i) {
       std::set<std::size_t> inputs;
-      for (const auto& a : ts[i].waits) inputs.insert(place_index.at(a.place.text));
+      for (const auto& a : ts[i].waits) {
+        auto it = place_index.find(a.place.text);
+        if (it != place_index.end()) inputs.insert(it->second);
+      }
       waiting[i] = inputs.size();
       for (std::size_t p : inputs) readers[p].push_back(i);
     }
@@ -266,7 +271,9 @@ class NetChecker {
     std::vector<bool> can_fire(ts.size(), false);
     std::vector<std::size_t> work;  // transitions that became able to fire
     auto mark = [&](std::string_view name) {
-      std::size_t p = place_index.at(name);
+      auto it = place_index.find(name);
+      if (it == place_index.end()) return;
+      std::size_t p = it->second;
       if (markable[p]) return;
       markable[p] = true;
       for (std::size_t t : readers[p]) {
@@ -298,7 +305,8 @@ class NetChecker {
       auto* d = sink_.report(DiagnosticKind::NeverEnabled, t.name.span,
                              fmt::format("transition '{}' can never be enabled", t.name.text));
       for (const auto& a : t.waits) {
-        if (!markable[place_index.at(a.place.text)]) {
+        auto it = place_index.find(a.place.text);
+        if (it != place_index.end() && !markable[it->second]) {
           core::add_note(d, a.place.span,
                          fmt::format("no firing can ever mark '{}'", a.place.text));
           break;

@@ -123,6 +123,19 @@ TEST(Checker, MissionCalledAsAPhaseIsReportedOnce) {
   EXPECT_EQ((std::vector<std::string>{"1:64 PhaseIsMission"}), c->kinds());
 }
 
+// Regression: past the error limit the sink stopped counting, so a later
+// net with an undeclared place was thought clean and its structural
+// warnings threw on the unknown name: exit 70 instead of 65.
+TEST(Checker, ErrorsPastTheLimitDoNotReachTheWarnings) {
+  std::string text = "net a { place p;\n";
+  for (int i = 0; i < 60; ++i) text += "transition t" + std::to_string(i) + " { wait { q" + std::to_string(i) + " } }\n";
+  text += "}\nnet b { place x; transition u { wait { nope } } }\n";
+  std::unique_ptr<testing::Compiled> c;
+  ASSERT_NO_THROW(c = compile_text(text));
+  EXPECT_FALSE(c->program);
+  EXPECT_TRUE(c->sink.saturated());
+}
+
 TEST(Suggest, OnlyCloseNames) {
   EXPECT_EQ("depth_reached", suggest("depth_reachd", {"time_out", "depth_reached"}));
   EXPECT_FALSE(suggest("xyz", {"depth_reached"}));

@@ -8,6 +8,7 @@
 #include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "tactical/builtin_catalogue_text.h"  // generated from config/primitives.toml
 #include "tactical/toml_support.h"
@@ -25,12 +26,7 @@ bool is_setpoint_field(std::string_view name) {
 }
 
 std::string join_names(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) {
-    if (!out.empty()) out += ", ";
-    out += n;
-  }
-  return out;
+  return fmt::format("{}", fmt::join(names, ", "));
 }
 
 // Checks one document against the catalogue's shape, collecting every problem.

@@ -3,18 +3,14 @@
 #include <cctype>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace strata::tactical {
 
 namespace {
 
 std::string join_names(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) {
-    if (!out.empty()) out += ", ";
-    out += n;
-  }
-  return out;
+  return fmt::format("{}", fmt::join(names, ", "));
 }
 
 }  // namespace

@@ -27,9 +27,9 @@ protocol::Request to_request(const RenderedCall& call) {
   return r;
 }
 
-TacticalLevel::TacticalLevel(const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
-                             DataCursor* cursor, MissionLog* log)
-    : catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
+TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
+                             std::shared_ptr<VehicleLink> link, DataCursor* cursor, MissionLog* log)
+    : io_(io), catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
   if (!link_) return;
   link_->on_telemetry([this](const protocol::Telemetry& t) {
     sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
@@ -73,14 +73,9 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   auto fail_later = [this](CallRecord rec, CallHandler h, core::Error e) {
     rec.error = e.message;
     if (log_) log_->error(fmt::format("{}: {}", rec.primitive, e.message), sim_time_s_);
-    auto post = [this, rec = std::move(rec), h = std::move(h), e = std::move(e)]() mutable {
+    asio::post(io_, [this, rec = std::move(rec), h = std::move(h), e = std::move(e)]() mutable {
       finish(rec, h, e);
-    };
-    if (link_) {
-      link_->post(std::move(post));
-    } else {
-      post();
-    }
+    });
   };
 
   const Primitive* p = catalogue_.find(name);
@@ -108,14 +103,9 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     if (log_) log_->report(text, sim_time_s_);
     if (on_report_) on_report_(text, sim_time_s_);
     record.value = true;
-    auto post = [this, record, done = std::move(done), t = sim_time_s_]() mutable {
+    asio::post(io_, [this, record, done = std::move(done), t = sim_time_s_]() mutable {
       finish(record, done, CallOutcome{true, t});
-    };
-    if (link_) {
-      link_->post(std::move(post));
-    } else {
-      post();
-    }
+    });
     return;
   }
   if (!link_) {
@@ -123,7 +113,8 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     return;
   }
   protocol::Request request = to_request(rc);
-  auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(rc.timeout_s * 1000.0)));
+  auto timeout = std::chrono::milliseconds(
+      static_cast<std::int64_t>(std::ceil(rc.timeout_s * wall_per_sim_ * 1000.0)));
   // The catalogue's timeout is in simulated seconds; in lockstep the vehicle
   // answers at once, so the link's own (wall) timeout is the stricter bound.
   auto id = std::make_shared<std::uint64_t>(0);
@@ -145,6 +136,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
           out = {a->value, a->sim_time_s};
         } else {
           record.error = "unexpected reply";
+          if (log_) log_->reply(*id, {{"error", "unexpected reply"}}, sim_time_s_);
           finish(record, done, core::make_error(core::ErrorCode::Protocol,
                                                 fmt::format("unexpected reply to `{}`", record.message)));
           return;

@@ -45,10 +45,16 @@ struct CallRecord {
 
 class TacticalLevel {
  public:
-  // link may be null for a run that only reports (tests). cursor and log may
-  // be null (no mission data; no log). All must outlive this object.
-  TacticalLevel(const Catalogue& catalogue, std::shared_ptr<VehicleLink> link, DataCursor* cursor,
-                MissionLog* log);
+  // Outcomes are delivered on io. link may be null for a run that only
+  // reports (tests). cursor and log may be null (no mission data; no log).
+  // All must outlive this object.
+  TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
+                DataCursor* cursor, MissionLog* log);
+
+  // On the wall clock at speed K, a call that may take T simulated seconds
+  // takes T/K wall seconds: set 1/K here so reply timeouts stretch to match.
+  // Lockstep and real time: 1 (the default).
+  void set_wall_seconds_per_sim_second(double scale) { wall_per_sim_ = scale; }
 
   // Calls primitive `name` with args. done is called exactly once, never
   // before call() returns: with the outcome, or with an error (unknown
@@ -72,6 +78,7 @@ class TacticalLevel {
  private:
   void finish(const CallRecord& record, CallHandler& done, core::Result<CallOutcome> outcome);
 
+  asio::io_context& io_;
   const Catalogue& catalogue_;
   std::shared_ptr<VehicleLink> link_;
   DataCursor* cursor_;
@@ -81,6 +88,7 @@ class TacticalLevel {
   std::function<void(const protocol::Telemetry&)> on_telemetry_;
   std::function<void(const protocol::Event&)> on_event_;
   double sim_time_s_ = 0.0;
+  double wall_per_sim_ = 1.0;
   std::uint64_t calls_ = 0;
   std::size_t in_flight_ = 0;
   std::uint64_t next_report_id_ = 1;

@@ -19,7 +19,7 @@ struct Mission {
         cursor(data),
         log(MissionLog::to_stream(log_text, RunInfo{"test", "tank", "", "setpoints.toml", "", "nominal", 1}).value()),
         link(rig.connect()),
-        tactical(Catalogue::builtin(), link, &cursor, &log),
+        tactical(rig.io, Catalogue::builtin(), link, &cursor, &log),
         rig_(rig) {}
 
   // Calls a primitive and waits for its outcome.
@@ -128,6 +128,22 @@ TEST(TacticalLevel, ErrorsAreOutcomesNotExceptions) {
   auto refused = m.call("submerge");
   ASSERT_TRUE(refused.ok());
   EXPECT_FALSE(refused.value().value);
+}
+
+// Regression: without a link, REPORT answered inside call(), so an engine
+// firing a REPORT re-entered itself.
+TEST(TacticalLevel, OutcomesNeverArriveInsideCall) {
+  asio::io_context io;
+  TacticalLevel t(io, Catalogue::builtin(), nullptr, nullptr, nullptr);
+  bool returned = false, early = false, answered = false;
+  t.call("report", {Value::of("hello")}, [&](core::Result<CallOutcome> r) {
+    early = !returned;
+    answered = r.ok() && r.value().value;
+  });
+  returned = true;
+  io.run();
+  EXPECT_FALSE(early);
+  EXPECT_TRUE(answered);
 }
 
 TEST(TacticalLevel, RequestsToAVanishedVehicleFailWithAReason) {

@@ -54,12 +54,7 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     auto error = make_error(ErrorCode::Timeout,
                             fmt::format("no answer from the vehicle at {}:{} within {} ms",
                                         options_.host, options_.port, options_.connect_timeout.count()));
-    // Not a lost link (there never was one): no reconnecting, just stop.
-    connected_ = false;
-    asio::error_code ignored;
-    socket_.close(ignored);
-    write_queue_.clear();
-    fail_all(error);
+    abandon(error);
     done(error);
   });
   socket_.async_connect(endpoint, [this, self, finished, done](const asio::error_code& e) {
@@ -83,21 +78,27 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
            if (*finished) return;
            *finished = true;
            connect_timer_.cancel();
+           // A hello that fails ends this connection: a refused or foreign
+           // vehicle is not a lost link to reconnect to.
+           auto refuse = [&](core::Error error) {
+             abandon(error);
+             done(std::move(error));
+           };
            if (!r) {
-             done(r.error());
+             refuse(r.error());
              return;
            }
            if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
              if (w->version != protocol::kProtocolVersion) {
-               done(make_error(ErrorCode::Protocol,
-                               fmt::format("vehicle speaks protocol {}, we speak {}", w->version,
-                                           protocol::kProtocolVersion)));
+               refuse(make_error(ErrorCode::Protocol,
+                                 fmt::format("vehicle speaks protocol {}, we speak {}", w->version,
+                                             protocol::kProtocolVersion)));
                return;
              }
              done(*w);
              return;
            }
-           done(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
+           refuse(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
          },
          options_.connect_timeout);
   });
@@ -276,6 +277,15 @@ void VehicleLink::try_reconnect(const std::string& why) {
       }
     });
   });
+}
+
+void VehicleLink::abandon(const core::Error& error) {
+  connected_ = false;
+  reconnects_left_ = 0;
+  asio::error_code ignored;
+  socket_.close(ignored);
+  write_queue_.clear();
+  fail_all(error);
 }
 
 void VehicleLink::close() {

@@ -68,8 +68,6 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
 
   bool connected() const { return connected_; }
   std::chrono::milliseconds default_timeout() const { return options_.reply_timeout; }
-  // Runs f on the link's event loop, after the current handler.
-  void post(std::function<void()> f) { asio::post(io_, std::move(f)); }
   std::size_t in_flight() const { return pending_.size(); }
   // Closes the socket; pending requests fail with Closed.
   void close();
@@ -91,6 +89,8 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   void fail_all(const core::Error& error);
   void lost(const std::string& why);
   void try_reconnect(const std::string& why);
+  // Ends this connection for good (no reconnect): pending requests fail.
+  void abandon(const core::Error& error);
   void complete(protocol::RequestId id, core::Result<protocol::VehicleMessage> result);
 
   asio::io_context& io_;

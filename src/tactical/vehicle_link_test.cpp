@@ -162,6 +162,44 @@ TEST(VehicleLink, ASecondClientIsRefused) {
   EXPECT_TRUE(rig.ask(*first, "depth_filter_off"));  // the first still works
 }
 
+// Regression: a refused hello left the socket open, so the link reconnected
+// on its own after reporting the refusal.
+TEST(VehicleLink, ARefusedHelloDoesNotReconnect) {
+  Rig rig;
+  auto first = rig.connect();
+  LinkOptions o;
+  o.port = rig.server->port();
+  o.reconnect_attempts = 3;
+  o.reconnect_delay = 10ms;
+  auto second = VehicleLink::create(rig.io, o);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  second->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  ASSERT_TRUE(run_until(rig.io, [&] { return welcome.has_value(); }));
+  ASSERT_FALSE(welcome->ok());
+  run_until(rig.io, [] { return false; }, 200ms);  // time for any reconnect to happen
+  EXPECT_FALSE(second->connected());
+  EXPECT_EQ(1u, rig.server->clients_refused());
+}
+
+// Regression: in wall mode a sleep owed to a client that left was answered
+// to the next client, whose request ids start again at 1.
+TEST(VehicleServer, RepliesOwedToAClientThatLeftAreNotSentToTheNext) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Wall);  // speed 20
+  {
+    auto a = rig.connect();
+    a->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(2)}), [](auto) {});
+    run_until(rig.io, [] { return false; }, 20ms);
+    a->close();
+  }
+  run_until(rig.io, [] { return false; }, 20ms);
+  auto b = rig.connect();
+  double start = rig.sim.time_s();
+  // Same id as a's sleep (both links number from 1); a's would come first.
+  auto r = rig.call(*b, protocol::make_exec(0, "sleep", {protocol::Value::integer(5)}));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_GE(std::get<protocol::Done>(r.value()).sim_time_s, start + 5.0 - 1e-9);
+}
+
 TEST(VehicleLink, ASilentVehicleIsATimeoutNotAHang) {
   // link_loss from the start: the vehicle drops every line after hello.
   vehicle::Scenario lost = vehicle::Scenario::nominal();

@@ -62,7 +62,7 @@ class VehicleServer::Connection : public std::enable_shared_from_this<Connection
       }
       for (const auto& frame : framer_.feed(std::string_view(buffer_.data(), n))) {
         server_.on_line(*this, frame);
-        if (closed_) return;
+        if (closed_ || closing_) return;  // nothing after bye is read
       }
       read();
     });
@@ -151,6 +151,7 @@ void VehicleServer::accept() {
       } else {
         controller_ = c;
         hello_done_ = false;
+        deferred_.clear();  // replies owed to a previous client are not this one's
         telemetry_rate_hz_ = 0.0;
         last_rx_s_ = sim_.time_s();
         log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
@@ -218,6 +219,13 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
     default:
       break;
   }
+  if (running_alone_) {
+    // The watchdog has the vehicle; stepping for a client too would make the
+    // run depend on how the two interleave.
+    send(protocol::Err{r.id, ErrorCode::NotReady,
+                       "the watchdog tripped: the vehicle is surfacing on its own"});
+    return;
+  }
   Outcome out = execute(sim_, r);
   if (out.refused) {
     log(fmt::format("{:.1f} s: refused {} {}: {}", sim_.time_s(), protocol::verb_name(r.verb), r.name, out.message));
@@ -244,6 +252,7 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
       out = execute(sim_, r);
     }
     send(reply());
+    arm_silence_watchdog();  // silence counts from the reply, not from the request
     if (sim_.link_lost() && !running_alone_) {
       // Nobody can ask the simulation to move now: it runs on alone, and
       // the watchdog trips after watchdog_s of silence.
@@ -301,10 +310,11 @@ void VehicleServer::reply_later(protocol::RequestId id, double until_s) {
 
 void VehicleServer::arm_silence_watchdog() {
   if (options_.clock != protocol::ClockMode::Lockstep) return;  // wall: checked per tick
+  double silence_s = std::min(sim_.params().watchdog_s, 86400.0);  // a day is "never" here
   silence_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(sim_.params().watchdog_s)));
+      std::chrono::duration<double>(silence_s)));
   silence_timer_.async_wait([this](const asio::error_code& e) {
-    if (e || stopped_ || !controller_ || controller_->closed()) return;
+    if (e || stopped_ || !controller_ || controller_->closed() || !sim_.network_up()) return;
     trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
   });
 }
@@ -314,6 +324,7 @@ void VehicleServer::on_closed(Connection& c) {
   log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
   silence_timer_.cancel();
   controller_.reset();
+  deferred_.clear();
   if (sim_.network_up()) trip("link dropped");
 }
 
@@ -356,8 +367,15 @@ void VehicleServer::run_alone_batch() {
 }
 
 void VehicleServer::tick() {
-  auto period = std::chrono::duration<double>(sim_.params().cycle_s / options_.speed);
-  tick_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(period));
+  auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(sim_.params().cycle_s / options_.speed));
+  // Against the previous expiry, not now: the loop must not drift by the
+  // time each tick takes.
+  if (tick_timer_.expiry() == asio::steady_timer::time_point{}) {
+    tick_timer_.expires_after(period);
+  } else {
+    tick_timer_.expires_at(tick_timer_.expiry() + period);
+  }
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     step_one();
