@@ -1,5 +1,7 @@
-// Replays every seed of the fuzz corpus through the fuzz target, so a crash
-// found once stays fixed in every ordinary build.
+// Replays every seed of a fuzz corpus through its fuzz target, so a crash
+// found once stays fixed in every ordinary build. Built once per target
+// (each defines LLVMFuzzerTestOneInput): STRATA_FUZZ_CORPUS names the folder
+// under fuzz/corpus/, STRATA_MIN_SEEDS how many seeds it must hold.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +17,7 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> seeds() {
   std::vector<std::string> out;
-  fs::path dir = fs::path(STRATA_SOURCE_DIR) / "fuzz" / "corpus" / "coral";
+  fs::path dir = fs::path(STRATA_SOURCE_DIR) / "fuzz" / "corpus" / STRATA_FUZZ_CORPUS;
   for (const auto& e : fs::directory_iterator(dir)) {
     if (e.is_regular_file()) out.push_back(e.path().string());
   }
@@ -23,7 +25,7 @@ std::vector<std::string> seeds() {
   return out;
 }
 
-TEST(FuzzSeeds, CorpusIsNotEmpty) { EXPECT_GE(seeds().size(), 10u); }
+TEST(FuzzSeeds, CorpusIsNotEmpty) { EXPECT_GE(seeds().size(), std::size_t{STRATA_MIN_SEEDS}); }
 
 TEST(FuzzSeeds, EverySeedRunsThroughTheTarget) {
   for (const auto& path : seeds()) {
