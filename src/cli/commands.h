@@ -21,6 +21,8 @@ Runner add_check_command(CLI::App& app);
 Runner add_dump_command(CLI::App& app);
 // `strata vehicle`.
 Runner add_vehicle_command(CLI::App& app);
+// `strata run`.
+Runner add_run_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
 

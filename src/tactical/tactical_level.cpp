@@ -36,7 +36,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
     if (log_) {
       nlohmann::ordered_json fields;
       auto put = [&](const char* key, const std::optional<double>& v) {
-        if (v) fields[key] = *v;
+        if (v) fields[key] = log_time(*v);  // to the microsecond, like every logged number
       };
       put("depth_m", t.depth_m);
       put("filtered_depth_m", t.filtered_depth_m);

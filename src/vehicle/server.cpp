@@ -133,6 +133,7 @@ void VehicleServer::stop() {
   silence_timer_.cancel();
   if (controller_) controller_->close();
   controller_.reset();
+  settled();
 }
 
 void VehicleServer::accept() {
@@ -361,9 +362,21 @@ void VehicleServer::run_alone_batch() {
     log(fmt::format("{:.1f} s: {}", sim_.time_s(),
                     sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
     running_alone_ = false;
+    settled();
     return;
   }
   asio::post(io_, [this] { run_alone_batch(); });
+}
+
+void VehicleServer::when_settled(std::function<void()> f) {
+  settled_waiters_.push_back(std::move(f));
+  if (!running_alone_ || stopped_) settled();
+}
+
+void VehicleServer::settled() {
+  auto waiters = std::move(settled_waiters_);
+  settled_waiters_.clear();
+  for (auto& f : waiters) asio::post(io_, std::move(f));
 }
 
 void VehicleServer::tick() {

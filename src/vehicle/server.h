@@ -29,6 +29,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <asio.hpp>
 
@@ -62,6 +63,10 @@ class VehicleServer {
   void stop();
   std::uint16_t port() const { return port_; }
   std::size_t clients_refused() const { return refused_; }
+  // Calls f (on the io_context) once the vehicle is not running on its own:
+  // at once, unless a lockstep watchdog trip has it surfacing by itself, in
+  // which case when that is over (or the server stops).
+  void when_settled(std::function<void()> f);
 
  private:
   class Connection;
@@ -80,6 +85,7 @@ class VehicleServer {
   void trip(const std::string& reason);
   void run_alone(std::optional<double> trip_at_s);
   void run_alone_batch();
+  void settled();
   void tick();
   void log(const std::string& line);
 
@@ -97,6 +103,7 @@ class VehicleServer {
   bool running_alone_ = false;
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;
+  std::vector<std::function<void()>> settled_waiters_;
   double telemetry_rate_hz_ = 0.0;
   double next_telemetry_s_ = 0.0;
   double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)

@@ -1,0 +1,50 @@
+// `strata run MISSION`: the mission against the simulated vehicle (or a real
+// one), end to end.
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "cli/mission_run.h"
+
+namespace strata::cli {
+
+Runner add_run_command(CLI::App& app) {
+  auto o = std::make_shared<RunOptions>();
+  auto* cmd = app.add_subcommand(
+      "run",
+      "Run a mission: check it, start the simulated vehicle on a free loopback port (unless "
+      "--vehicle), and execute it through the Tactical level");
+  cmd->add_option("mission", o->mission, "The mission (.coral)")->required();
+  cmd->add_option("--data", o->data, "Mission data file (default: the one the mission names)");
+  cmd->add_option("--scenario", o->scenario,
+                  "Vehicle scenario: NAME in the mission's scenarios/ folder, or a path (default: nominal)");
+  cmd->add_option("--params", o->params, "Vehicle parameter file (default: built in, as config/phoenix.toml)");
+  cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
+  cmd->add_option("--seed", o->seed,
+                  "Choose among enabled transitions of equal priority at random, from this seed "
+                  "(default: declaration order)");
+  cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
+  cmd->add_option("--speed", o->speed, "With --realtime: simulated seconds per wall second")
+      ->check(CLI::Range(0.01, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--vehicle", o->vehicle, "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");
+  cmd->add_option("--log", o->log, "Write the mission log (JSON Lines) to this file");
+  cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  return [o, cmd] {
+    if (cmd->count("--speed") > 0 && !o->realtime && o->vehicle.empty()) {
+      std::cerr << "strata run: --speed needs --realtime (lockstep runs as fast as it can)\n";
+      return static_cast<int>(kExitUsage);
+    }
+    RunOptions options = *o;
+    options.tty = isatty(STDOUT_FILENO) == 1;
+    options.handle_signals = true;
+    return run_mission(options, std::cout, std::cerr).exit_code;
+  };
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,106 @@
+#include "cli/console.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace strata::cli {
+
+void Console::print(const std::string& text, std::optional<double> sim_time_s) {
+  if (status_shown_) out_ << "\r\033[K";
+  if (sim_time_s) {
+    out_ << fmt::format("[{:7.1f} s] {}\n", *sim_time_s, text);
+  } else {
+    out_ << text << "\n";
+  }
+  status_shown_ = false;
+  if (tty_) draw_status(true);
+  out_.flush();
+}
+
+void Console::draw_status(bool force) {
+  if (!tty_) return;
+  if (!force && sim_time_s_ - last_draw_s_ < 0.1) return;
+  last_draw_s_ = sim_time_s_;
+  std::string phase = phase_stack_.empty() ? "-" : phase_stack_.back();
+  std::string depth = depth_m_ ? fmt::format("{:.2f} m", *depth_m_) : "-";
+  std::string setpoint = setpoint_m_ ? fmt::format("{:.2f} m", *setpoint_m_) : "-";
+  std::string text = fmt::format("{:7.1f} s | {} | depth {} | setpoint {} | {}", sim_time_s_, phase,
+                                 depth, setpoint, action_.empty() ? "idle" : action_);
+  out_ << "\r\033[K" << text;
+  out_.flush();
+  status_shown_ = true;
+}
+
+void Console::phase_started(const strategic::PhaseStart& e) {
+  sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+  if (e.depth == 0) {
+    print(fmt::format("mission {} started", e.name), e.sim_time_s);
+    phase_stack_.emplace_back(e.name);
+    return;
+  }
+  phase_stack_.emplace_back(e.name);
+  print(fmt::format("{}phase {} started", std::string(2 * (e.depth - 1), ' '), e.name), e.sim_time_s);
+}
+
+void Console::phase_ended(const strategic::PhaseEnd& e) {
+  sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+  auto it = std::find(phase_stack_.rbegin(), phase_stack_.rend(), std::string(e.name));
+  std::size_t depth = 0;
+  if (it != phase_stack_.rend()) {
+    depth = static_cast<std::size_t>(std::distance(it, phase_stack_.rend())) - 1;
+    phase_stack_.erase(std::next(it).base());
+  }
+  if (depth == 0) return;  // the mission itself: the summary says how it ended
+  std::string result = e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted";
+  if (depth == 1) phases_.push_back(fmt::format("{} {}", e.name, result));
+  print(fmt::format("{}phase {} {}{}", std::string(2 * (depth - 1), ' '), e.name, result,
+                    e.cancelled ? "" : fmt::format(" (exit {})", e.exit)),
+        e.sim_time_s);
+}
+
+void Console::action_started(const strategic::ActionStart& e) {
+  if (e.kind == "phase" || e.kind == "report") return;
+  sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+  action_ = fmt::format("{} {}", e.kind, e.primitive);
+  draw_status(false);
+}
+
+void Console::action_finished(const strategic::ActionFinish& e) {
+  sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+  action_.clear();
+}
+
+void Console::notice(const strategic::Notice& e) { print("note: " + e.text, e.sim_time_s); }
+
+void Console::mission_ended(const strategic::MissionResult&) { action_.clear(); }
+
+void Console::report(const std::string& text, double sim_time_s) {
+  sim_time_s_ = std::max(sim_time_s_, sim_time_s);
+  print("REPORT: " + text, sim_time_s);
+}
+
+void Console::telemetry(const protocol::Telemetry& t) {
+  sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
+  depth_m_ = t.filtered_depth_m ? t.filtered_depth_m : t.depth_m;
+  if (t.setpoint_m) setpoint_m_ = t.setpoint_m;
+  draw_status(false);
+}
+
+void Console::vehicle_event(const std::string& text, double sim_time_s) {
+  sim_time_s_ = std::max(sim_time_s_, sim_time_s);
+  print("vehicle: " + text, sim_time_s);
+}
+
+void Console::line(const std::string& text, std::optional<double> sim_time_s) { print(text, sim_time_s); }
+
+void Console::clear_status() {
+  if (status_shown_) {
+    out_ << "\r\033[K";
+    out_.flush();
+    status_shown_ = false;
+  }
+  tty_ = false;
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,56 @@
+#pragma once
+// The operator's console during `strata run`: an observer of the Strategic
+// level plus the Tactical level's reports, telemetry and vehicle events.
+// Event lines ("[  12.3 s] phase dive_from_surface completed") always; on a
+// TTY also a live status line (phase, depth, setpoint, sim time, the action
+// in flight), redrawn in place at most once per 0.1 s of simulated time so a
+// lockstep run does not flood the terminal.
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "protocol/message.h"
+#include "strategic/executor.h"
+
+namespace strata::cli {
+
+class Console final : public strategic::Observer {
+ public:
+  Console(std::ostream& out, bool tty) : out_(out), tty_(tty) {}
+
+  void phase_started(const strategic::PhaseStart& e) override;
+  void phase_ended(const strategic::PhaseEnd& e) override;
+  void action_started(const strategic::ActionStart& e) override;
+  void action_finished(const strategic::ActionFinish& e) override;
+  void notice(const strategic::Notice& e) override;
+  void mission_ended(const strategic::MissionResult& e) override;
+
+  void report(const std::string& text, double sim_time_s);
+  void telemetry(const protocol::Telemetry& t);
+  void vehicle_event(const std::string& text, double sim_time_s);
+  // Any other event line ("vehicle: 6.1 s: watchdog ...").
+  void line(const std::string& text, std::optional<double> sim_time_s = std::nullopt);
+  // Erases the status line (before the summary).
+  void clear_status();
+
+  // Phases that ended, in order: "initialize completed".
+  const std::vector<std::string>& phases() const { return phases_; }
+
+ private:
+  void print(const std::string& text, std::optional<double> sim_time_s);
+  void draw_status(bool force);
+
+  std::ostream& out_;
+  bool tty_;
+  bool status_shown_ = false;
+  double last_draw_s_ = -1.0;
+  double sim_time_s_ = 0.0;
+  std::vector<std::string> phase_stack_;  // live phases, outermost first
+  std::optional<double> depth_m_;
+  std::optional<double> setpoint_m_;
+  std::string action_;
+  std::vector<std::string> phases_;
+};
+
+}  // namespace strata::cli

@@ -1,0 +1,368 @@
+#include "cli/mission_run.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <csignal>
+#include <filesystem>
+#include <memory>
+
+#include <asio.hpp>
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "cli/console.h"
+#include "cli/exit_codes.h"
+#include "coral/compiler.h"
+#include "core/diagnostic_printer.h"
+#include "strategic/coral_engine.h"
+#include "strategic/log_observer.h"
+#include "tactical/mission_data.h"
+#include "tactical/mission_log.h"
+#include "tactical/sha256.h"
+#include "tactical/tactical_level.h"
+#include "tactical/vehicle_link.h"
+#include "vehicle/params.h"
+#include "vehicle/server.h"
+
+namespace strata::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using strategic::MissionResult;
+using strategic::Outcome;
+
+constexpr const char* kVersion = "0.1.0";
+// The primitive Figure 10's `done` calls: the runner sends it itself when the
+// Strategic level could not go on (its own abort path never ran).
+constexpr const char* kShutdownPrimitive = "shutdown_network";
+
+std::string sha256_or_empty(const std::string& path) {
+  auto r = tactical::sha256_file(path);
+  return r ? r.value() : std::string();
+}
+
+int io_or_invalid(const core::Error& e) { return e.code == core::ErrorCode::Io ? kExitIo : kExitInvalid; }
+
+struct LoadedMission {
+  core::SourceManager sources;
+  std::optional<coral::Program> program;
+};
+
+// Compiles the mission; diagnostics (warnings too) go to err.
+int load_coral(const std::string& path, const tactical::Catalogue& catalogue, LoadedMission& loaded,
+               std::ostream& err) {
+  coral::DiskFileProvider disk;
+  core::DiagnosticSink sink;
+  loaded.program = coral::compile_file(path, disk, loaded.sources, sink, catalogue.check_options());
+  sink.sort();
+  bool unreadable_root = false;
+  for (const auto& d : sink.diagnostics()) {
+    core::print_diagnostic(err, loaded.sources, d);
+    if (d.kind == core::DiagnosticKind::FileUnreadable && d.span.file >= loaded.sources.size()) {
+      unreadable_root = true;
+    }
+  }
+  if (loaded.program && !loaded.program->mission) {
+    err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
+    loaded.program.reset();
+    return kExitInvalid;
+  }
+  if (!loaded.program) {
+    err << fmt::format("strata run: {}: {} error{}; not running\n", path, sink.error_count(),
+                       sink.error_count() == 1 ? "" : "s");
+    return unreadable_root ? kExitIo : kExitInvalid;
+  }
+  return kExitOk;
+}
+
+std::string format_wall(double seconds) {
+  return seconds < 1.0 ? fmt::format("{:.0f} ms", seconds * 1000.0) : fmt::format("{:.2f} s", seconds);
+}
+
+}  // namespace
+
+RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err) {
+  RunReport report;
+  auto wall_start = std::chrono::steady_clock::now();
+  auto fail = [&](int code) {
+    report.exit_code = code;
+    return report;
+  };
+
+  // ---- inputs ---------------------------------------------------------------
+  if (fs::path(o.mission).extension() != ".coral") {
+    err << fmt::format("strata run: '{}': a mission is a .coral file (PROLOG missions are not "
+                       "supported yet)\n",
+                       o.mission);
+    return fail(kExitUsage);
+  }
+  auto catalogue = load_catalogue_option(o.catalogue);
+  if (!catalogue) {
+    err << "strata run: " << catalogue.error().message << "\n";
+    return fail(io_or_invalid(catalogue.error()));
+  }
+  LoadedMission loaded;
+  if (int code = load_coral(o.mission, catalogue.value(), loaded, err); code != kExitOk) return fail(code);
+  const coral::Program& program = *loaded.program;
+  const coral::CompiledNet& mission_net = program.nets[*program.mission];
+
+  vehicle::VehicleParams params = vehicle::default_params();
+  if (!o.params.empty()) {
+    auto p = vehicle::load_params(o.params);
+    if (!p) {
+      err << "strata run: " << p.error().message << "\n";
+      return fail(io_or_invalid(p.error()));
+    }
+    params = p.value();
+  }
+
+  std::string data_path = !o.data.empty() ? o.data : mission_net.data_file;
+  std::optional<tactical::MissionData> data;
+  if (!data_path.empty()) {
+    auto d = tactical::MissionData::load(data_path, tactical::DataLimits{params.tank_depth_m});
+    if (!d) {
+      err << "strata run: " << d.error().message << "\n";
+      return fail(io_or_invalid(d.error()));
+    }
+    data = std::move(d.value());
+  }
+  std::optional<tactical::DataCursor> cursor;
+  if (data) cursor.emplace(*data);
+
+  auto scenario = load_scenario_option(o.scenario, o.mission);
+  if (!scenario) {
+    err << "strata run: " << scenario.error().message << "\n";
+    return fail(io_or_invalid(scenario.error()));
+  }
+  const bool embedded = o.vehicle.empty();
+  if (!embedded && (!o.scenario.empty() || !o.params.empty())) {
+    err << "strata run: --scenario and --params set up the embedded vehicle; with --vehicle they "
+           "belong to that vehicle's own command line\n";
+    return fail(kExitUsage);
+  }
+
+  std::optional<tactical::MissionLog> log;
+  if (!o.log.empty()) {
+    tactical::RunInfo info;
+    info.version = kVersion;
+    info.mission = o.mission;
+    info.mission_sha256 = sha256_or_empty(o.mission);
+    info.data = data_path;
+    if (!data_path.empty()) info.data_sha256 = sha256_or_empty(data_path);
+    info.scenario = embedded ? (o.scenario.empty() ? "nominal" : o.scenario) : "external";
+    info.seed = embedded ? scenario.value().seed : 0;
+    info.clock = o.realtime ? "wall" : "lockstep";
+    auto opened = tactical::MissionLog::open(o.log, info);
+    if (!opened) {
+      err << "strata run: cannot write the mission log: " << opened.error().message << "\n";
+      return fail(kExitIo);
+    }
+    log = std::move(opened.value());
+    if (o.seed) log->write({{"event", "choice"}, {"seed", *o.seed}});
+  }
+
+  // ---- the vehicle ----------------------------------------------------------
+  asio::io_context io;
+  Console console(out, o.tty);
+  std::vector<std::string> vehicle_log;
+  std::optional<vehicle::Simulation> sim;
+  std::unique_ptr<vehicle::VehicleServer> server;
+  tactical::LinkOptions link_options;
+  if (embedded) {
+    sim.emplace(params, scenario.value());
+    vehicle::ServerOptions so;
+    so.clock = o.realtime ? protocol::ClockMode::Wall : protocol::ClockMode::Lockstep;
+    so.speed = o.speed;
+    // The embedded vehicle's own log ("6.0 s: watchdog: ..."). What it says
+    // while the link works also reaches us as protocol events, so these are
+    // kept and shown only for the time after we last heard from it.
+    so.log = [&vehicle_log](const std::string& line) { vehicle_log.push_back(line); };
+    server = std::make_unique<vehicle::VehicleServer>(io, *sim, so);
+    if (auto r = server->start(); !r) {
+      err << "strata run: cannot start the simulated vehicle: " << r.error().message << "\n";
+      return fail(kExitIo);
+    }
+    link_options.port = server->port();
+    // In lockstep the vehicle answers within microseconds: a second of
+    // silence is a lost link, not a slow vehicle.
+    if (!o.realtime) link_options.reply_timeout = std::chrono::milliseconds(1000);
+  } else {
+    auto endpoint = parse_listen(o.vehicle);
+    if (!endpoint) {
+      err << "strata run: --vehicle: " << endpoint.error().message << "\n";
+      return fail(kExitUsage);
+    }
+    link_options.host = endpoint.value().first;
+    link_options.port = endpoint.value().second;
+  }
+  if (link_options.port == 0) {
+    err << "strata run: --vehicle needs a port (HOST:PORT)\n";
+    return fail(kExitUsage);
+  }
+
+  auto link = tactical::VehicleLink::create(io, link_options);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
+  while (!welcome && io.run_one() > 0) {
+  }
+  if (!welcome || !welcome->ok()) {
+    err << "strata run: "
+        << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello"))
+        << "\n";
+    return fail(kExitIo);
+  }
+  const bool lockstep = welcome->value().clock == protocol::ClockMode::Lockstep;
+  console.line(fmt::format("vehicle {} at {}:{} ({}{}{})", welcome->value().vehicle_name,
+                           link_options.host, link_options.port, lockstep ? "lockstep" : "wall clock",
+                           embedded ? ", embedded" : "",
+                           embedded ? fmt::format(", scenario {}",
+                                                  o.scenario.empty() ? "nominal" : o.scenario)
+                                    : ""));
+
+  // ---- the Tactical and Strategic levels --------------------------------------
+  tactical::TacticalLevel tactical(io, catalogue.value(), link, cursor ? &*cursor : nullptr,
+                                   log ? &*log : nullptr);
+  // Lockstep: replies come at once whatever the simulated duration, so the
+  // link's own timeout is the bound. Wall clock: a call may take its
+  // simulated time divided by the speed.
+  tactical.set_wall_seconds_per_sim_second(lockstep ? 0.0 : 1.0 / o.speed);
+  tactical.on_report([&](const std::string& text, double t) { console.report(text, t); });
+  tactical.on_telemetry([&](const protocol::Telemetry& t) { console.telemetry(t); });
+  tactical.on_vehicle_event([&](const protocol::Event& e) { console.vehicle_event(e.text, e.sim_time_s); });
+  if (o.telemetry_hz > 0) {
+    link->send(protocol::make_telemetry(0, o.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
+  }
+
+  strategic::TacticalTactics tactics(tactical);
+  strategic::EngineOptions engine_options;
+  engine_options.seed = o.seed;
+  strategic::CoralEngine engine(program, tactics, engine_options);
+  engine.add_observer(console);
+  std::optional<strategic::LogObserver> log_observer;
+  if (log) {
+    log_observer.emplace(*log);
+    engine.add_observer(*log_observer);
+  }
+
+  bool link_lost = false;
+  std::string link_lost_why;
+  link->on_lost([&](const core::Error& e) {
+    link_lost = true;
+    link_lost_why = e.message;
+    engine.cancel(fmt::format("lost the link to the vehicle: {}", e.message));
+  });
+
+  std::optional<asio::signal_set> signals;
+  if (o.handle_signals) {
+    signals.emplace(io, SIGINT, SIGTERM);
+    signals->async_wait([&](const asio::error_code& e, int) {
+      if (!e) engine.cancel("interrupted by the operator");
+    });
+  }
+
+  // After the mission: Figure 10's `done` if the Strategic level could not
+  // run its own abort path, then the link closes and an embedded vehicle is
+  // left to settle (its watchdog may be surfacing it) before the loop ends.
+  bool finished = false;
+  auto wrap_up = [&] {
+    if (signals) signals->cancel();
+    link->close();
+    if (server) {
+      server->when_settled([&] {
+        server->stop();
+        finished = true;
+      });
+    } else {
+      finished = true;
+    }
+  };
+  engine.start([&](const MissionResult& result) {
+    report.result = result;
+    if (result.outcome != Outcome::Failed || !link->connected() ||
+        !catalogue.value().find(kShutdownPrimitive)) {
+      wrap_up();
+      return;
+    }
+    report.emergency_shutdown = true;
+    console.line(fmt::format("the mission could not go on; sending ood {} as Figure 10's done does",
+                             kShutdownPrimitive),
+                 result.sim_time_s);
+    if (log) {
+      log->write({{"event", "emergency"},
+                  {"action", fmt::format("ood {}", kShutdownPrimitive)},
+                  {"sim_time", tactical::log_time(result.sim_time_s)}});
+    }
+    tactical.call(kShutdownPrimitive, {}, [&](core::Result<tactical::CallOutcome> r) {
+      if (!r) console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
+      wrap_up();
+    });
+  });
+  while (!finished && io.run_one() > 0) {
+  }
+  // Handlers still queued (a closed socket's last callbacks) run now, before
+  // the objects they point at go.
+  io.restart();
+  io.poll();
+
+  // ---- the summary --------------------------------------------------------------
+  report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  report.primitive_calls = tactical.calls();
+  report.sim_time_s = report.result ? report.result->sim_time_s : tactical.sim_time_s();
+  report.phases = console.phases();
+  // What the embedded vehicle did after we last heard from it.
+  const double last_heard_s = tactical.sim_time_s();
+  for (const auto& line : vehicle_log) {
+    if (std::strtod(line.c_str(), nullptr) > last_heard_s + 1e-9) console.line("vehicle: " + line);
+  }
+  if (sim) {
+    report.final_depth_m = sim->heave().depth_m;
+    report.vehicle_watchdog_tripped = sim->watchdog_tripped();
+    if (log) {
+      log->write({{"event", "vehicle_final"},
+                  {"depth_m", tactical::log_time(sim->heave().depth_m)},
+                  {"watchdog_tripped", sim->watchdog_tripped()},
+                  {"sim_time", tactical::log_time(sim->time_s())}});
+    }
+  }
+  console.clear_status();
+
+  if (!report.result) {
+    err << "strata run: the mission did not start\n";
+    return fail(kExitInternal);
+  }
+  const MissionResult& r = *report.result;
+  const bool link_gone = link_lost || (r.call_error && (*r.call_error == core::ErrorCode::Timeout ||
+                                                        *r.call_error == core::ErrorCode::Closed));
+  std::string how = r.outcome == Outcome::Completed ? "completed"
+                    : r.outcome == Outcome::Aborted ? "ABORTED"
+                    : link_gone                     ? "ABORTED: lost the link to the vehicle"
+                                                    : "ABORTED: the Strategic level could not go on";
+  out << fmt::format("mission {}: {}{}\n", mission_net.name, how,
+                     r.exit.empty() ? "" : fmt::format(" (exit {})", r.exit));
+  if (!r.reason.empty()) out << "  reason: " << r.reason << "\n";
+  std::string phases;
+  for (const auto& p : report.phases) phases += (phases.empty() ? "" : ", ") + p;
+  out << "  phases: " << (phases.empty() ? "none ended" : phases) << "\n";
+  double speedup = report.wall_time_s > 0 ? report.sim_time_s / report.wall_time_s : 0.0;
+  out << fmt::format("  sim time {:.1f} s, {} primitive calls, wall time {}{}\n", report.sim_time_s,
+                     report.primitive_calls, format_wall(report.wall_time_s),
+                     lockstep && speedup > 1.0 ? fmt::format(" ({:.0f}x real time)", speedup) : "");
+  if (report.final_depth_m) {
+    out << fmt::format("  vehicle: depth {:.2f} m at {:.1f} s{}\n", *report.final_depth_m, sim->time_s(),
+                       report.vehicle_watchdog_tripped ? ", surfaced by its own watchdog" : "");
+  }
+  if (link_lost) out << "  link: lost (" << link_lost_why << ")\n";
+  if (report.emergency_shutdown) out << fmt::format("  after it: ood {} (sent by strata run)\n", kShutdownPrimitive);
+  if (log) {
+    if (auto s = log->status(); !s) {
+      err << "strata run: the mission log is incomplete: " << s.error().message << "\n";
+      return fail(kExitIo);
+    }
+    out << "  log: " << log->path() << " (" << log->lines() << " lines)\n";
+  }
+  out.flush();
+  report.exit_code = r.outcome == Outcome::Completed ? kExitOk : kExitAbort;
+  return report;
+}
+
+}  // namespace strata::cli

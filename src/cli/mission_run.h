@@ -1,0 +1,51 @@
+#pragma once
+// `strata run`: one mission, end to end. Loads and checks the mission, starts
+// the simulated vehicle on a free loopback port unless a vehicle address is
+// given, connects the Tactical level to it over TCP, runs the Strategic
+// executor, and reports to the console and the mission log.
+//
+// Kept apart from the command line so tests run whole missions in-process.
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "strategic/executor.h"
+
+namespace strata::cli {
+
+struct RunOptions {
+  std::string mission;        // a .coral file
+  std::string data;           // overrides the mission's data file
+  std::string scenario;       // name (in the mission's scenarios/) or path; "" nominal
+  std::string params;         // vehicle parameter file; "" built in
+  std::string catalogue;      // primitive catalogue; "" built in
+  std::optional<std::uint64_t> seed;  // seeded choice among enabled transitions
+  bool realtime = false;      // the embedded vehicle on the wall clock
+  double speed = 1.0;         // with realtime: simulated seconds per wall second
+  std::string vehicle;        // HOST:PORT of a running vehicle; "" embedded
+  std::string log;            // mission log path; "" none
+  bool tty = false;           // a live status line instead of plain event lines
+  bool handle_signals = false;  // SIGINT/SIGTERM cancel the mission (the CLI)
+  double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
+};
+
+// What happened, for the summary and for tests.
+struct RunReport {
+  int exit_code = 0;
+  std::optional<strategic::MissionResult> result;  // unset if the mission never started
+  std::vector<std::string> phases;  // "initialize completed", in the order they ended
+  std::uint64_t primitive_calls = 0;
+  double sim_time_s = 0.0;
+  double wall_time_s = 0.0;
+  bool emergency_shutdown = false;  // the runner sent Figure 10's `done` itself
+  // Embedded vehicle only: its state when the run was over.
+  std::optional<double> final_depth_m;
+  bool vehicle_watchdog_tripped = false;
+};
+
+// Runs the mission; console lines go to out, problems to err.
+RunReport run_mission(const RunOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace strata::cli

@@ -1,0 +1,422 @@
+#include "strategic/coral_engine.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include <fmt/format.h>
+
+#include "petri/dump.h"
+
+namespace strata::strategic {
+
+std::string_view to_string(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::Completed: return "completed";
+    case Outcome::Aborted: return "aborted";
+    case Outcome::Failed: return "failed";
+  }
+  return "failed";
+}
+
+namespace {
+
+std::string_view kind_name(const coral::ActionSpec& a) {
+  if (a.kind == coral::ActionSpec::Kind::Phase) return "phase";
+  switch (a.tactic) {
+    case coral::ast::TacticType::Exec: return "exec";
+    case coral::ast::TacticType::Ask: return "ask";
+    case coral::ast::TacticType::Report: return "report";
+    case coral::ast::TacticType::Ood: return "ood";
+    case coral::ast::TacticType::Unknown: break;
+  }
+  return "unknown";
+}
+
+// The primitive a TACTIC calls: REPORT goes to the catalogue's `report`.
+std::string_view primitive_of(const coral::ActionSpec& a) {
+  return a.tactic == coral::ast::TacticType::Report ? std::string_view("report")
+                                                    : std::string_view(a.target);
+}
+
+}  // namespace
+
+struct CoralEngine::Instance {
+  InstanceId id = 0;
+  const coral::CompiledNet* net = nullptr;
+  std::size_t net_index = 0;
+  std::optional<petri::State> state;  // reset when the instance ends
+  std::optional<InstanceId> parent;
+  const coral::ActionSpec* caller = nullptr;  // the PHASE action that started it
+  std::vector<InstanceId> children;
+  std::size_t depth = 0;
+  bool dirty = false;
+};
+
+CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, EngineOptions options)
+    : program_(program), tactics_(tactics), options_(options),
+      self_(std::make_shared<CoralEngine*>(this)) {
+  assert(program_.mission.has_value());
+  if (options_.seed) rng_.emplace(*options_.seed);
+  args_.resize(program_.nets.size());
+  is_exit_.resize(program_.nets.size());
+  for (std::size_t n = 0; n < program_.nets.size(); ++n) {
+    const coral::CompiledNet& net = program_.nets[n];
+    args_[n].resize(net.actions.size());
+    for (std::size_t t = 0; t < net.actions.size(); ++t) {
+      for (const coral::ActionSpec& a : net.actions[t]) {
+        std::vector<tactical::Value> values;
+        if (a.kind == coral::ActionSpec::Kind::Tactic && a.tactic == coral::ast::TacticType::Report) {
+          values.push_back(tactical::Value::of(a.text));
+        } else {
+          for (const auto& literal : a.args) values.push_back(tactical::Value::from_literal(literal));
+        }
+        args_[n][t].push_back(std::move(values));
+      }
+    }
+    is_exit_[n].assign(net.net.place_count(), false);
+    for (petri::PlaceId p : net.exits) is_exit_[n][p] = true;
+  }
+}
+
+CoralEngine::~CoralEngine() { *self_ = nullptr; }
+
+std::size_t CoralEngine::net_index(const coral::CompiledNet& net) const {
+  return static_cast<std::size_t>(&net - program_.nets.data());
+}
+
+void CoralEngine::start(std::function<void(const MissionResult&)> on_end) {
+  assert(!running_ && !ended_);
+  on_end_ = std::move(on_end);
+  running_ = true;
+  draining_ = true;
+  firings_this_event_ = 0;
+  start_instance(program_.nets[*program_.mission], std::nullopt, nullptr, "");
+  run_dirty();
+  draining_ = false;
+  drain();  // also judges a mission that ended or stalled at once
+}
+
+void CoralEngine::cancel(std::string reason) {
+  if (running_) fail(std::move(reason));
+}
+
+InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optional<InstanceId> parent,
+                                       const coral::ActionSpec* caller_action, std::string_view caller) {
+  auto inst = std::make_unique<Instance>();
+  inst->id = static_cast<InstanceId>(instances_.size());
+  inst->net = &net;
+  inst->net_index = net_index(net);
+  inst->state.emplace(net.net);
+  inst->parent = parent;
+  inst->caller = caller_action;
+  if (parent) {
+    Instance& p = *instances_[*parent];
+    inst->depth = p.depth + 1;
+    p.children.push_back(inst->id);
+  }
+  InstanceId id = inst->id;
+  instances_.push_back(std::move(inst));
+  Instance& i = *instances_[id];
+  PhaseStart event{id, parent.value_or(id), net.name, caller, i.depth, &*i.state, now()};
+  for (Observer* o : observers_) o->phase_started(event);
+  i.dirty = true;
+  dirty_.push_back(id);
+  // An exit marked from the start ends the phase before it fires anything.
+  for (std::size_t e = 0; e < net.exits.size(); ++e) {
+    if (i.state->tokens(net.exits[e]) > 0) {
+      check_exits(id, net.exits[e]);
+      break;
+    }
+  }
+  return id;
+}
+
+void CoralEngine::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
+  if (!running_) {
+    if (ended_) {
+      Notice n{fmt::format("reply for action {} after the mission ended, ignored", id), now()};
+      for (Observer* o : observers_) o->notice(n);
+    }
+    return;
+  }
+  buffer_.push_back(Message{id, std::move(outcome)});
+  drain();
+}
+
+void CoralEngine::drain() {
+  if (draining_) return;  // a reply delivered while handling another: queued
+  draining_ = true;
+  while (running_ && !buffer_.empty()) {
+    Message message = std::move(buffer_.front());
+    buffer_.pop_front();
+    firings_this_event_ = 0;
+    handle(message);
+    run_dirty();
+  }
+  draining_ = false;
+  if (!running_ || !in_flight_.empty() || !buffer_.empty()) return;
+  // Nothing enabled anywhere (run_dirty ran every touched instance to rest)
+  // and nothing in flight: the mission can never move again.
+  const coral::CompiledNet& mission = program_.nets[*program_.mission];
+  if (mission.exits.empty()) {
+    finish({Outcome::Completed, "", "", std::nullopt, now()});
+    return;
+  }
+  fail(fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}",
+                   marking_text("; ")));
+}
+
+void CoralEngine::handle(Message& message) {
+  auto it = in_flight_.find(message.id);
+  if (it == in_flight_.end()) {
+    bool late = orphaned_.erase(message.id) > 0;
+    Notice n{late ? fmt::format("reply for action {} of a phase that has ended, ignored", message.id)
+                  : fmt::format("reply for unknown action {}, ignored", message.id),
+             now()};
+    for (Observer* o : observers_) o->notice(n);
+    return;
+  }
+  InFlight action = it->second;
+  in_flight_.erase(it);
+  const coral::ActionSpec& a = *action.spec;
+  std::string_view kind = kind_name(a);
+  if (!message.outcome) {
+    MissionResult result{Outcome::Failed, "",
+                         fmt::format("{} {} failed: {}", kind, primitive_of(a), message.outcome.error().message),
+                         message.outcome.error().code, now()};
+    finish(std::move(result));
+    return;
+  }
+  const tactical::CallOutcome& out = message.outcome.value();
+  std::optional<petri::PlaceId> place;
+  switch (a.tactic) {
+    case coral::ast::TacticType::Ask:
+      place = a.outcomes.at(out.value ? 0 : 1);
+      break;
+    case coral::ast::TacticType::Exec:
+    case coral::ast::TacticType::Ood:
+      if (!out.value) {
+        fail(fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind,
+                         primitive_of(a), out.sim_time_s));
+        return;
+      }
+      place = a.outcomes.at(0);
+      break;
+    case coral::ast::TacticType::Report:
+    case coral::ast::TacticType::Unknown:
+      break;
+  }
+  Instance& inst = *instances_[action.instance];
+  ActionFinish f{message.id, action.instance, inst.net->name, primitive_of(a), out.value,
+                 place ? inst.net->net.place_name(*place) : std::string_view(), out.sim_time_s};
+  for (Observer* o : observers_) o->action_finished(f);
+  if (place) mark(action.instance, *place, 1);
+}
+
+void CoralEngine::run_dirty() {
+  // Instances touched by the last message, in the order touched; running one
+  // may touch others (a phase started, a caller marked by an exit).
+  for (std::size_t i = 0; i < dirty_.size() && running_; ++i) {
+    InstanceId id = dirty_[i];
+    instances_[id]->dirty = false;
+    run_instance(id);
+  }
+  dirty_.clear();
+}
+
+void CoralEngine::run_instance(InstanceId id) {
+  Instance& inst = *instances_[id];
+  while (running_ && inst.state && !inst.state->enabled().empty()) {
+    if (firings_this_event_ >= options_.max_firings_per_event) {
+      fail(fmt::format("net '{}' fired {} transitions without waiting for any reply: it cycles "
+                       "without acting (marking: {})",
+                       inst.net->name, firings_this_event_,
+                       petri::dump_marking(inst.net->net, inst.state->marking())));
+      return;
+    }
+    fire(inst, choose(*inst.state));
+  }
+}
+
+petri::TransitionId CoralEngine::choose(const petri::State& state) {
+  const petri::EnabledSet& enabled = state.enabled();
+  petri::TransitionId best = *enabled.first();
+  if (!rng_ || enabled.size() == 1) return best;
+  int priority = state.net().priority(best);
+  std::vector<petri::TransitionId> candidates;
+  for (std::size_t i = 0; i < enabled.size(); ++i) {
+    petri::TransitionId t = enabled.at(i);
+    if (state.net().priority(t) == priority) candidates.push_back(t);
+  }
+  // Sorted, so the choice depends on the seed and the net, not on the set's layout.
+  std::sort(candidates.begin(), candidates.end());
+  return candidates[(*rng_)() % candidates.size()];
+}
+
+void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
+  const petri::Net& net = inst.net->net;
+  Firing event;
+  if (!observers_.empty()) {
+    for (const petri::Arc& arc : net.inputs(t)) event.consumed.emplace_back(net.place_name(arc.node), arc.weight);
+    for (const petri::Arc& arc : net.outputs(t)) event.produced.emplace_back(net.place_name(arc.node), arc.weight);
+  }
+  if (auto r = inst.state->fire(t); !r) {
+    fail(fmt::format("net '{}', transition '{}': {}", inst.net->name, net.transition_name(t),
+                     r.error().message));
+    return;
+  }
+  ++firings_;
+  ++firings_this_event_;
+  if (!observers_.empty()) {
+    event.instance = inst.id;
+    event.net = inst.net->name;
+    event.transition = t;
+    event.transition_name = net.transition_name(t);
+    event.state = &*inst.state;
+    event.index = firings_;
+    event.sim_time_s = now();
+    for (Observer* o : observers_) o->fired(event);
+  }
+  const auto& actions = inst.net->actions[t];
+  for (std::size_t i = 0; i < actions.size() && running_ && inst.state; ++i) issue(inst, t, i, actions[i]);
+  // Signals into an exit end the phase, after its actions are issued (so a
+  // REPORT beside `signal { abort }` is still sent).
+  if (!running_ || !inst.state) return;
+  for (const petri::Arc& arc : net.outputs(t)) {
+    if (is_exit_[inst.net_index][arc.node]) {
+      check_exits(inst.id, arc.node);
+      return;
+    }
+  }
+}
+
+void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index,
+                        const coral::ActionSpec& a) {
+  ActionId id = next_action_++;
+  std::string_view transition = inst.net->net.transition_name(t);
+  ActionStart event{id, inst.id, kind_name(a), primitive_of(a), transition, now()};
+  for (Observer* o : observers_) o->action_started(event);
+  if (a.kind == coral::ActionSpec::Kind::Phase) {
+    const coral::CompiledNet* phase = program_.find(a.target);
+    assert(phase && "the checker guarantees PHASE names a phase net");
+    if (inst.depth + 1 > options_.max_phase_depth) {
+      fail(fmt::format("PHASE({}) in '{}' would nest phases {} deep (limit {}): does a phase run itself?",
+                       a.target, inst.net->name, inst.depth + 1, options_.max_phase_depth));
+      return;
+    }
+    start_instance(*phase, inst.id, &a, transition);
+    return;
+  }
+  in_flight_.emplace(id, InFlight{inst.id, &a, transition});
+  std::weak_ptr<CoralEngine*> self = self_;
+  tactics_.call(primitive_of(a), args_[inst.net_index][t][index],
+                [self, id](core::Result<tactical::CallOutcome> outcome) {
+                  if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
+                });
+}
+
+void CoralEngine::mark(InstanceId id, petri::PlaceId p, petri::Tokens n) {
+  Instance& inst = *instances_[id];
+  if (!inst.state) return;
+  if (auto r = inst.state->add_tokens(p, n); !r) {
+    fail(fmt::format("net '{}': {}", inst.net->name, r.error().message));
+    return;
+  }
+  if (!inst.dirty) {
+    inst.dirty = true;
+    dirty_.push_back(id);
+  }
+  if (is_exit_[inst.net_index][p]) check_exits(id, p);
+}
+
+void CoralEngine::check_exits(InstanceId id, petri::PlaceId) {
+  Instance& inst = *instances_[id];
+  // The first exit marked, in declaration order, decides.
+  const auto& exits = inst.net->exits;
+  for (std::size_t e = 0; e < exits.size(); ++e) {
+    if (inst.state->tokens(exits[e]) == 0) continue;
+    if (!inst.parent) {
+      PhaseEnd end{id, inst.net->name, inst.net->net.place_name(exits[e]), e, false, now()};
+      for (Observer* o : observers_) o->phase_ended(end);
+      MissionResult result{e == 0 ? Outcome::Completed : Outcome::Aborted,
+                           std::string(inst.net->net.place_name(exits[e])), "", std::nullopt, now()};
+      finish(std::move(result));
+      return;
+    }
+    end_instance(id, e, false);
+    return;
+  }
+}
+
+void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_index, bool cancelled) {
+  Instance& inst = *instances_[id];
+  if (!inst.state) return;
+  for (InstanceId child : inst.children) end_instance(child, std::nullopt, true);
+  std::string_view exit =
+      exit_index ? inst.net->net.place_name(inst.net->exits[*exit_index]) : std::string_view();
+  PhaseEnd event{id, inst.net->name, exit, exit_index.value_or(0), cancelled, now()};
+  for (Observer* o : observers_) o->phase_ended(event);
+  inst.state.reset();
+  for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+    if (it->second.instance == id) {
+      orphaned_.insert(it->first);
+      it = in_flight_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (!cancelled && exit_index && inst.parent && inst.caller) {
+    mark(*inst.parent, inst.caller->outcomes.at(*exit_index), 1);
+  }
+}
+
+void CoralEngine::fail(std::string reason) {
+  finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()});
+}
+
+void CoralEngine::finish(MissionResult result) {
+  if (!running_) return;
+  running_ = false;
+  ended_ = true;
+  // Phases still running end with the mission.
+  if (!instances_.empty()) {
+    Instance& mission = *instances_[0];
+    for (InstanceId child : mission.children) end_instance(child, std::nullopt, true);
+    mission.state.reset();
+  }
+  for (const auto& [id, action] : in_flight_) orphaned_.insert(id);
+  in_flight_.clear();
+  buffer_.clear();
+  for (Observer* o : observers_) o->mission_ended(result);
+  if (on_end_) {
+    auto on_end = std::move(on_end_);
+    on_end_ = nullptr;
+    on_end(result);
+  }
+}
+
+std::optional<CoralEngine::InstanceView> CoralEngine::instance(InstanceId id) const {
+  if (id >= instances_.size()) return std::nullopt;
+  const Instance& i = *instances_[id];
+  return InstanceView{i.id, i.net, i.state ? &*i.state : nullptr};
+}
+
+std::vector<CoralEngine::InstanceView> CoralEngine::live_instances() const {
+  std::vector<InstanceView> out;
+  for (const auto& i : instances_) {
+    if (i->state) out.push_back({i->id, i->net, &*i->state});
+  }
+  return out;
+}
+
+std::string CoralEngine::marking_text(std::string_view separator) const {
+  std::string out;
+  for (const auto& i : instances_) {
+    if (!i->state) continue;
+    if (!out.empty()) out += separator;
+    out += fmt::format("{}: {}", i->net->name, petri::dump_marking(i->net->net, i->state->marking()));
+  }
+  return out;
+}
+
+}  // namespace strata::strategic

@@ -1,0 +1,143 @@
+#pragma once
+// The CORAL Engine (paper §3.2, design.md §2.3): runs a compiled mission
+// library as Petri nets, event-driven on one thread with no polling loop.
+//
+// For each message in the input buffer: (1) add the marks it carries;
+// (2) find the enabled transitions; (3) choose one: highest priority, then
+// declaration order, or a seeded random choice among the best priority;
+// (4) remove its input tokens; (5) issue its actions and add its signal
+// marks; (6) repeat 2-5 until nothing is enabled. A TACTIC action is a
+// primitive call with its own id; its reply is a later message that marks
+// the action's outcome place. Several actions may be in flight at once.
+//
+// The mission library: a PHASE(name, p_1..p_k) action starts a new instance
+// of phase net `name` at its initial marking. When its i-th exit is marked
+// the instance ends (with every phase it started, and its replies still in
+// flight are ignored) and p_i is marked in the calling instance. The mission
+// ends when an exit of the mission net is marked: the first exit completes
+// it, a later one aborts it. A mission net with no exits completes when
+// nothing is enabled and nothing is in flight.
+//
+// Failures end the mission with Outcome::Failed: a primitive call that
+// fails (error, lost link, timeout), an EXEC or OOD the vehicle answered 0
+// ("did not execute": CORAL has no place for that outcome), a token count
+// overflow, a stall (an exit never marked, nothing enabled, nothing in
+// flight), or more than max_firings_per_event firings without a reply (a net
+// that cycles without acting).
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "coral/program.h"
+#include "petri/state.h"
+#include "strategic/executor.h"
+#include "strategic/tactics.h"
+
+namespace strata::strategic {
+
+struct EngineOptions {
+  // Unset: priority, then declaration order. Set: a random choice among the
+  // enabled transitions of the best priority, from this seed.
+  std::optional<std::uint64_t> seed;
+  // Firings allowed while handling one message before the net is judged to
+  // be cycling without acting.
+  std::uint64_t max_firings_per_event = 1'000'000;
+  // How deep PHASE may nest (a phase that runs itself would recurse forever).
+  std::size_t max_phase_depth = 64;
+};
+
+class CoralEngine final : public Executor {
+ public:
+  // program must hold a mission net; program and tactics must outlive the engine.
+  CoralEngine(const coral::Program& program, Tactics& tactics, EngineOptions options = {});
+  ~CoralEngine() override;
+
+  void add_observer(Observer& observer) override { observers_.push_back(&observer); }
+  // on_end may be called inside start() if the mission ends without issuing
+  // a single action.
+  void start(std::function<void(const MissionResult&)> on_end) override;
+  void cancel(std::string reason) override;
+  bool running() const override { return running_; }
+
+  // The input buffer: the reply to action id. Tactics replies come here; a
+  // reply for an id the engine never issued, or for an action whose phase
+  // has ended, is told to observers as a Notice and otherwise ignored.
+  void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
+
+  // Inspection, for observers and tests.
+  struct InstanceView {
+    InstanceId id;
+    const coral::CompiledNet* net;
+    const petri::State* state;  // null once the instance has ended
+  };
+  std::optional<InstanceView> instance(InstanceId id) const;
+  // Live instances, mission first, then phases in the order started.
+  std::vector<InstanceView> live_instances() const;
+  // "net: place:1 other:2" for each live instance, joined by separator.
+  std::string marking_text(std::string_view separator = "\n") const;
+  std::size_t in_flight() const { return in_flight_.size(); }
+  std::uint64_t firings() const { return firings_; }
+
+ private:
+  struct Instance;
+  struct InFlight {
+    InstanceId instance;
+    const coral::ActionSpec* spec;
+    std::string_view transition;
+  };
+  struct Message {
+    ActionId id;
+    core::Result<tactical::CallOutcome> outcome;
+  };
+  // Arguments of each action, converted once: [net][transition][action].
+  using ArgTable = std::vector<std::vector<std::vector<std::vector<tactical::Value>>>>;
+
+  void drain();
+  void handle(Message& message);
+  void run_dirty();
+  void run_instance(InstanceId id);
+  petri::TransitionId choose(const petri::State& state);
+  void fire(Instance& inst, petri::TransitionId t);
+  void issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a);
+  InstanceId start_instance(const coral::CompiledNet& net, std::optional<InstanceId> parent,
+                            const coral::ActionSpec* caller_action, std::string_view caller);
+  // Adds n tokens to p in inst; ends the instance if p is an exit.
+  void mark(InstanceId id, petri::PlaceId p, petri::Tokens n);
+  void check_exits(InstanceId id, petri::PlaceId p);
+  void end_instance(InstanceId id, std::optional<std::size_t> exit_index, bool cancelled);
+  void fail(std::string reason);
+  void finish(MissionResult result);
+  std::size_t net_index(const coral::CompiledNet& net) const;
+  double now() const { return tactics_.sim_time_s(); }
+
+  const coral::Program& program_;
+  Tactics& tactics_;
+  EngineOptions options_;
+  std::vector<Observer*> observers_;
+  ArgTable args_;
+  std::vector<std::vector<bool>> is_exit_;  // [net][place]
+  std::vector<std::unique_ptr<Instance>> instances_;
+  std::unordered_map<ActionId, InFlight> in_flight_;
+  std::unordered_set<ActionId> orphaned_;  // issued by an instance that has ended
+  std::deque<Message> buffer_;
+  std::vector<InstanceId> dirty_;
+  std::optional<std::mt19937_64> rng_;
+  std::function<void(const MissionResult&)> on_end_;
+  ActionId next_action_ = 1;
+  std::uint64_t firings_ = 0;
+  std::uint64_t firings_this_event_ = 0;
+  bool running_ = false;
+  bool draining_ = false;
+  bool ended_ = false;
+  // Keeps callbacks from the Tactics level harmless after the engine is gone.
+  std::shared_ptr<CoralEngine*> self_;
+};
+
+}  // namespace strata::strategic

@@ -1,0 +1,136 @@
+#pragma once
+// The Strategic level as the rest of Strata sees it: an executor that runs
+// one mission through the Tactics interface and tells observers what it did.
+// The CORAL Engine implements it; the PROLOG executor will too. The console,
+// the mission log and the studio are observers: the executor knows none of
+// them, and an observer must not call back into the executor.
+//
+// Threads: one; everything runs on the event loop's thread.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/result.h"
+#include "petri/net.h"
+
+namespace strata::petri {
+class State;
+}
+
+namespace strata::strategic {
+
+// How a mission ended.
+//  Completed: the mission's first exit was marked (PROLOG: the rules finished).
+//  Aborted:   a later exit was marked: the mission's own abort path ran.
+//  Failed:    the Strategic level could not go on (a primitive call failed,
+//             the link was lost, the net stalled or looped without acting,
+//             the run was cancelled); `reason` says which.
+enum class Outcome { Completed, Aborted, Failed };
+std::string_view to_string(Outcome outcome);
+
+struct MissionResult {
+  Outcome outcome = Outcome::Failed;
+  std::string exit;    // CORAL: the exit place of the mission net that ended it
+  std::string reason;  // Failed (and Aborted when known): why, for people
+  // Failed because a primitive call failed: that call's error code
+  // (Timeout or Closed mean the link to the vehicle is gone).
+  std::optional<core::ErrorCode> call_error;
+  double sim_time_s = 0.0;
+};
+
+// A net (or a PROLOG phase) being run: the mission itself is instance 0,
+// each PHASE action starts a new instance whose parent is the caller's.
+using InstanceId = std::uint32_t;
+using ActionId = std::uint64_t;
+
+struct PhaseStart {
+  InstanceId instance = 0;
+  InstanceId parent = 0;  // the mission itself: its own id (0)
+  std::string_view name;  // the net's (phase's) name
+  std::string_view caller;  // the transition whose PHASE action started it; "" for the mission
+  std::size_t depth = 0;    // 0 for the mission, 1 for a phase it runs, ...
+  const petri::State* state = nullptr;  // CORAL: the initial marking; PROLOG: null
+  double sim_time_s = 0.0;
+};
+
+struct PhaseEnd {
+  InstanceId instance = 0;
+  std::string_view name;
+  std::string_view exit;     // the exit place that ended it ("" if cancelled)
+  std::size_t exit_index = 0;  // 0: the first exit (completed)
+  bool cancelled = false;    // ended because its caller ended first
+  double sim_time_s = 0.0;
+};
+
+// One firing: steps 4-5 of the engine. consumed/produced are the token
+// changes of the firing itself (wait and signal arcs); marks carried later
+// by replies come as ActionFinish.
+struct Firing {
+  InstanceId instance = 0;
+  std::string_view net;
+  petri::TransitionId transition = 0;
+  std::string_view transition_name;
+  std::vector<std::pair<std::string_view, petri::Tokens>> consumed;
+  std::vector<std::pair<std::string_view, petri::Tokens>> produced;
+  const petri::State* state = nullptr;  // the marking after the firing
+  std::uint64_t index = 0;              // 1 for the run's first firing
+  double sim_time_s = 0.0;
+};
+
+struct ActionStart {
+  ActionId id = 0;
+  InstanceId instance = 0;
+  std::string_view kind;       // "exec" | "ask" | "report" | "ood" | "phase"
+  std::string_view primitive;  // the primitive, or the phase net
+  std::string_view transition; // CORAL: the transition that issued it
+  double sim_time_s = 0.0;
+};
+
+struct ActionFinish {
+  ActionId id = 0;
+  InstanceId instance = 0;
+  std::string_view net;
+  std::string_view primitive;
+  bool value = false;      // the answer (1/0)
+  std::string_view marks;  // the place the reply marked, "" if none
+  double sim_time_s = 0.0;
+};
+
+// Something worth a line in the log that is not a firing: a reply for an
+// unknown or finished action, an internal limit reached.
+struct Notice {
+  std::string text;
+  double sim_time_s = 0.0;
+};
+
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void phase_started(const PhaseStart&) {}
+  virtual void phase_ended(const PhaseEnd&) {}
+  virtual void fired(const Firing&) {}
+  virtual void action_started(const ActionStart&) {}
+  virtual void action_finished(const ActionFinish&) {}
+  virtual void notice(const Notice&) {}
+  virtual void mission_ended(const MissionResult&) {}
+};
+
+class Executor {
+ public:
+  virtual ~Executor() = default;
+  // Observers are told in the order added; each must outlive the run.
+  virtual void add_observer(Observer& observer) = 0;
+  // Starts the mission. on_end is called exactly once, from the event loop,
+  // after observers heard mission_ended; nothing is issued after it.
+  virtual void start(std::function<void(const MissionResult&)> on_end) = 0;
+  // Ends a running mission now (the operator's interrupt): Outcome::Failed
+  // with reason. Replies still in flight are ignored when they come.
+  virtual void cancel(std::string reason) = 0;
+  virtual bool running() const = 0;
+};
+
+}  // namespace strata::strategic
