@@ -200,6 +200,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     return fail(kExitUsage);
   }
 
+  link_options.tap = o.wire_tap;
   auto link = tactical::VehicleLink::create(io, link_options);
   std::optional<core::Result<protocol::Welcome>> welcome;
   link->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });

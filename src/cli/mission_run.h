@@ -6,9 +6,11 @@
 //
 // Kept apart from the command line so tests run whole missions in-process.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "strategic/executor.h"
@@ -29,6 +31,8 @@ struct RunOptions {
   bool tty = false;           // a live status line instead of plain event lines
   bool handle_signals = false;  // SIGINT/SIGTERM cancel the mission (the CLI)
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
+  // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
+  std::function<void(bool sent, std::string_view line)> wire_tap;
 };
 
 // What happened, for the summary and for tests.

@@ -144,6 +144,11 @@ void VehicleLink::complete(protocol::RequestId id, core::Result<protocol::Vehicl
 }
 
 void VehicleLink::write(std::string line) {
+  if (options_.tap) {
+    std::string_view text(line);
+    if (!text.empty() && text.back() == '\n') text.remove_suffix(1);
+    options_.tap(true, text);
+  }
   write_queue_.push_back(std::move(line));
   if (!writing_) start_write();
 }
@@ -187,6 +192,7 @@ void VehicleLink::start_read() {
 }
 
 void VehicleLink::handle_line(const protocol::Frame& frame) {
+  if (options_.tap && !frame.too_long) options_.tap(false, frame.line);
   if (frame.too_long) {
     if (on_garbage_) on_garbage_(fmt::format("a line over {} bytes (discarded)", protocol::kMaxLineBytes));
     return;

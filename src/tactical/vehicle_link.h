@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <array>
 #include <deque>
@@ -38,6 +39,10 @@ struct LinkOptions {
   // when it dropped fail; they are never sent twice.
   int reconnect_attempts = 2;
   std::chrono::milliseconds reconnect_delay{200};
+  // Sees every line as it is sent (sent = true, when its write starts) and
+  // as it arrives (before it is handled), without the newline. For traces
+  // and for measuring the link; must be quick and must not call the link.
+  std::function<void(bool sent, std::string_view line)> tap;
 };
 
 // The reply to one request: ok/done/answer/pong/welcome, or an error whose
