@@ -100,7 +100,9 @@ class Rig {
       }
     });
 
-    link_ = VehicleLink::create(io_, LinkOptions{.port = port});
+    LinkOptions options;
+    options.port = port;
+    link_ = VehicleLink::create(io_, options);
     std::optional<core::Result<protocol::Welcome>> welcome;
     link_->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
     while (!welcome && run_once()) {
