@@ -100,9 +100,9 @@ class Rig {
       }
     });
 
-    LinkOptions options;
-    options.port = port;
-    link_ = VehicleLink::create(io_, options);
+    LinkOptions link_options;
+    link_options.port = port;
+    link_ = VehicleLink::create(io_, link_options);
     std::optional<core::Result<protocol::Welcome>> welcome;
     link_->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
     while (!welcome && run_once()) {
