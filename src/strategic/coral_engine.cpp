@@ -255,7 +255,9 @@ petri::TransitionId CoralEngine::choose(const petri::State& state) {
 
 void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
   const petri::Net& net = inst.net->net;
-  Firing event;
+  Firing& event = firing_;  // reused: its vectors keep their capacity
+  event.consumed.clear();
+  event.produced.clear();
   if (!observers_.empty()) {
     for (const petri::Arc& arc : net.inputs(t)) event.consumed.emplace_back(net.place_name(arc.node), arc.weight);
     for (const petri::Arc& arc : net.outputs(t)) event.produced.emplace_back(net.place_name(arc.node), arc.weight);

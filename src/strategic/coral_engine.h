@@ -129,6 +129,7 @@ class CoralEngine final : public Executor {
   std::deque<Message> buffer_;
   std::vector<InstanceId> dirty_;
   std::optional<std::mt19937_64> rng_;
+  Firing firing_;  // scratch for the event told to observers
   std::function<void(const MissionResult&)> on_end_;
   ActionId next_action_ = 1;
   std::uint64_t firings_ = 0;
