@@ -62,7 +62,10 @@ struct FakeTactics final : Tactics {
       out += c.name;
       if (!c.args.empty()) {
         out += '(';
-        for (std::size_t k = 0; k < c.args.size(); ++k) out += (k ? "," : "") + tactical::to_string(c.args[k]);
+        for (std::size_t k = 0; k < c.args.size(); ++k) {
+          if (k > 0) out += ',';
+          out += tactical::to_string(c.args[k]);
+        }
         out += ')';
       }
     }
