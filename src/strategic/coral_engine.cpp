@@ -384,6 +384,11 @@ void CoralEngine::finish(MissionResult result) {
   if (!instances_.empty()) {
     Instance& mission = *instances_[0];
     for (InstanceId child : mission.children) end_instance(child, std::nullopt, true);
+    if (mission.state && result.outcome == Outcome::Failed) {
+      // Ended without an exit: say so, so every phase_start has its phase_end.
+      PhaseEnd end{0, mission.net->name, "", 0, true, result.sim_time_s};
+      for (Observer* o : observers_) o->phase_ended(end);
+    }
     mission.state.reset();
   }
   for (const auto& [id, action] : in_flight_) orphaned_.insert(id);

@@ -1,0 +1,661 @@
+// `strata run` of the tank mission, in-process (cli::run_mission), for every
+// shipped scenario: the phases and how they end, the primitive calls in the
+// order the nets make them, the vehicle's final state, and the mission log
+// that records it all. Then determinism (two runs give the same log once the
+// wall_* fields are stripped), and a run against a real `strata vehicle`
+// process on a free loopback port.
+//
+// Bounds come from the inputs, not from the current output: the setpoints and
+// their time limits (missions/tank/setpoints.toml), the fault times
+// (missions/tank/scenarios/*.toml) and the vehicle's thresholds
+// (vehicle::default_params(), the same as config/phoenix.toml).
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/mission_run.h"
+#include "support/child_process.h"
+#include "tactical/mission_data.h"
+#include "tactical/mission_log.h"
+#include "vehicle/params.h"
+#include "vehicle/scenario.h"
+
+namespace strata::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using strategic::Outcome;
+using namespace std::chrono_literals;
+
+const std::string kTankDir = std::string(STRATA_SOURCE_DIR) + "/missions/tank";
+const std::string kMission = kTankDir + "/tank.coral";
+// A reply and the next request carry the same sim_time; logged times are
+// rounded to the microsecond.
+constexpr double kEps = 1e-6;
+// One monitoring cycle of phases 2 and 3: sleep(1) and three questions of
+// one 0.1 s cycle each (the scenario files' "within 1.3 s").
+constexpr double kMonitoringCycleS = 1.3;
+
+// A fresh folder under the test temp dir, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (fs::path(::testing::TempDir()) / "strata_run_XXXXXX").string();
+    if (char* made = mkdtemp(pattern.data())) path_ = made;
+    EXPECT_FALSE(path_.empty()) << "mkdtemp failed for " << pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+// One primitive call to the vehicle, from its `request` line and the `reply`
+// line of the same id.
+struct Call {
+  std::uint64_t id = 0;
+  std::string primitive;
+  std::string phase;  // the depth-1 phase running when it was requested; "" for the mission net
+  double requested_s = 0;
+  std::size_t request_line = 0;
+  std::optional<json> result;  // 1 / 0, or {"error": ...}
+  double replied_s = 0;
+  std::size_t reply_line = 0;
+
+  bool answered(int value) const { return result && result->is_number_integer() && *result == value; }
+  bool failed() const { return result && result->is_object() && result->contains("error"); }
+  bool is(std::string_view name, int value) const { return primitive == name && answered(value); }
+};
+
+struct PhaseEndLine {
+  std::string net;
+  std::string result;  // completed | aborted | cancelled
+  double sim_time_s = 0;
+  std::size_t line = 0;
+};
+
+struct ParsedLog {
+  std::string text;
+  std::vector<json> lines;
+  std::vector<Call> calls;  // in request order
+  std::vector<PhaseEndLine> phase_ends;  // depth 1 only
+  std::vector<std::string> started;      // depth-1 phases, in start order
+  std::vector<std::size_t> report_lines;
+  std::vector<double> telemetry_depths_m;
+  std::optional<std::size_t> mission_end, emergency, vehicle_final;
+
+  const json& at(std::optional<std::size_t> i) const { return lines.at(i.value()); }
+  std::vector<std::string> phases() const {
+    std::vector<std::string> out;
+    for (const auto& p : phase_ends) out.push_back(p.net + " " + p.result);
+    return out;
+  }
+  std::vector<const Call*> in_phase(std::string_view phase) const {
+    std::vector<const Call*> out;
+    for (const auto& c : calls) {
+      if (c.phase == phase) out.push_back(&c);
+    }
+    return out;
+  }
+  const Call* first(const std::function<bool(const Call&)>& pred) const {
+    for (const auto& c : calls) {
+      if (pred(c)) return &c;
+    }
+    return nullptr;
+  }
+  std::size_t count(const std::function<bool(const Call&)>& pred) const {
+    return static_cast<std::size_t>(std::count_if(calls.begin(), calls.end(), pred));
+  }
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+ParsedLog parse_log(const std::string& text) {
+  ParsedLog log;
+  log.text = text;
+  std::istringstream in(text);
+  std::string line;
+  std::map<std::uint64_t, std::size_t> call_of_id;
+  std::map<std::uint64_t, std::size_t> depth_of_instance;
+  std::map<std::uint64_t, std::string> phase_of_instance;
+  std::string current_phase;
+  while (std::getline(in, line)) {
+    json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("event")) {
+      ADD_FAILURE() << "log line " << log.lines.size() + 1 << " is not a JSON event: " << line;
+      continue;
+    }
+    const std::size_t n = log.lines.size();
+    const std::string event = j["event"];
+    if (event == "phase_start") {
+      depth_of_instance[j["instance"]] = j["depth"];
+      if (j["depth"] == 1) {
+        current_phase = j["net"];
+        log.started.push_back(current_phase);
+        phase_of_instance[j["instance"]] = current_phase;
+      }
+    } else if (event == "phase_end") {
+      if (depth_of_instance[j["instance"]] == 1) {
+        log.phase_ends.push_back({j["net"], j["result"], j["sim_time"], n});
+        current_phase.clear();
+      }
+    } else if (event == "request") {
+      call_of_id[j["id"]] = log.calls.size();
+      log.calls.push_back({j["id"], j["primitive"], current_phase, j["sim_time"], n, std::nullopt, 0, 0});
+    } else if (event == "reply") {
+      auto it = call_of_id.find(j["id"]);
+      if (it == call_of_id.end()) {
+        ADD_FAILURE() << "reply without a request: " << line;
+      } else {
+        Call& c = log.calls[it->second];
+        EXPECT_FALSE(c.result.has_value()) << "second reply for request " << c.id;
+        c.result = j["result"];
+        c.replied_s = j["sim_time"];
+        c.reply_line = n;
+      }
+    } else if (event == "report") {
+      log.report_lines.push_back(n);
+    } else if (event == "telemetry") {
+      if (j.contains("depth_m")) log.telemetry_depths_m.push_back(j["depth_m"]);
+    } else if (event == "mission_end") {
+      EXPECT_FALSE(log.mission_end.has_value()) << "two mission_end lines";
+      log.mission_end = n;
+    } else if (event == "emergency") {
+      log.emergency = n;
+    } else if (event == "vehicle_final") {
+      log.vehicle_final = n;
+    }
+    log.lines.push_back(std::move(j));
+  }
+  return log;
+}
+
+struct MissionRun {
+  RunReport report;
+  std::string out, err;
+  ParsedLog log;
+  std::string log_path;
+};
+
+MissionRun run_tank(const std::string& scenario, std::optional<std::uint64_t> seed = std::nullopt,
+             const std::string& vehicle = "") {
+  TempDir dir;
+  RunOptions o;
+  o.mission = kMission;
+  o.scenario = scenario;
+  o.seed = seed;
+  o.vehicle = vehicle;
+  o.log = dir.file("mission.jsonl");
+  std::ostringstream out, err;
+  MissionRun run;
+  run.report = run_mission(o, out, err);
+  run.out = out.str();
+  run.err = err.str();
+  run.log_path = o.log;
+  run.log = parse_log(read_file(o.log));
+  return run;
+}
+
+// Each scenario once per process, shared by the tests that only read it
+// (ctest runs each test in its own process; a plain run of the binary shares).
+const MissionRun& scenario_run(const std::string& name) {
+  static std::map<std::string, MissionRun> runs;
+  auto it = runs.find(name);
+  if (it == runs.end()) it = runs.emplace(name, run_tank(name)).first;
+  return it->second;
+}
+
+// The tank mission's data: one setpoint per phase 2, 3, 4.
+std::vector<tactical::Setpoint> setpoints() {
+  auto d = tactical::MissionData::load(kTankDir + "/setpoints.toml");
+  EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
+  std::vector<tactical::Setpoint> out = d.ok() ? d.value().setpoints() : std::vector<tactical::Setpoint>{};
+  EXPECT_EQ(3u, out.size());
+  out.resize(3);
+  return out;
+}
+
+vehicle::Fault fault_of(const std::string& scenario, vehicle::FaultKind kind) {
+  auto s = vehicle::load_scenario(kTankDir + "/scenarios/" + scenario + ".toml");
+  EXPECT_TRUE(s.ok()) << scenario;
+  if (s.ok()) {
+    for (const auto& f : s.value().faults) {
+      if (f.kind == kind) return f;
+    }
+  }
+  ADD_FAILURE() << scenario << " has no " << vehicle::to_string(kind) << " fault";
+  return {};
+}
+
+const vehicle::VehicleParams kParams = vehicle::default_params();
+
+// What holds for every run of a valid mission on the embedded vehicle: the
+// log is well formed, agrees with the RunReport and the console summary, and
+// ends with the vehicle's final state.
+void expect_consistent(const MissionRun& r, const std::string& scenario) {
+  const ParsedLog& log = r.log;
+  ASSERT_FALSE(log.lines.empty());
+  EXPECT_EQ("", r.err) << "a valid mission writes nothing to err";
+  ASSERT_TRUE(r.report.result.has_value()) << r.out << r.err;
+
+  const json& header = log.lines.front();
+  EXPECT_EQ("run", header["event"]);
+  EXPECT_EQ(scenario, header["scenario"]);
+  EXPECT_EQ("lockstep", header["clock"]);
+
+  double last = 0;
+  for (std::size_t i = 0; i < log.lines.size(); ++i) {
+    if (!log.lines[i].contains("sim_time")) continue;
+    double t = log.lines[i]["sim_time"];
+    EXPECT_GE(t, last - kEps) << "sim_time goes back at line " << i + 1 << ": " << log.lines[i].dump();
+    last = std::max(last, t);
+  }
+  for (const auto& c : log.calls) {
+    EXPECT_TRUE(c.result.has_value()) << "request " << c.id << " (" << c.primitive << ") has no reply line";
+    if (!c.result) continue;
+    EXPECT_GT(c.reply_line, c.request_line);
+    EXPECT_GE(c.replied_s, c.requested_s - kEps);
+  }
+  // Every call the Tactical level made: to the vehicle (request lines) or REPORTs.
+  EXPECT_EQ(r.report.primitive_calls, log.calls.size() + log.report_lines.size());
+
+  EXPECT_EQ(r.report.phases, log.phases());
+  ASSERT_TRUE(log.mission_end.has_value());
+  const json& end = log.at(log.mission_end);
+  const auto& result = *r.report.result;
+  EXPECT_EQ(std::string(strategic::to_string(result.outcome)), end["outcome"]);
+  EXPECT_EQ(result.exit, end["exit"]);
+  EXPECT_EQ(result.reason, end["reason"]);
+  EXPECT_EQ(result.outcome == Outcome::Completed ? 0 : 1, r.report.exit_code);
+
+  ASSERT_TRUE(log.vehicle_final.has_value());
+  EXPECT_EQ(log.lines.size() - 1, *log.vehicle_final) << "vehicle_final is the last line";
+  const json& final_line = log.at(log.vehicle_final);
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_NEAR(*r.report.final_depth_m, final_line["depth_m"].get<double>(), kEps);
+  EXPECT_EQ(r.report.vehicle_watchdog_tripped, final_line["watchdog_tripped"].get<bool>());
+  EXPECT_GE(final_line["sim_time"].get<double>(), result.sim_time_s - kEps);
+
+  EXPECT_NE(std::string::npos,
+            r.out.find("log: " + r.log_path + " (" + std::to_string(log.lines.size()) + " lines)"))
+      << r.out;
+
+  // The OOD opens the network first and the last request shuts it down.
+  ASSERT_FALSE(log.calls.empty());
+  EXPECT_EQ("start_network", log.calls.front().primitive);
+  EXPECT_EQ("initialize", log.calls.front().phase);
+  EXPECT_TRUE(log.calls.front().answered(1));
+  EXPECT_EQ("shutdown_network", log.calls.back().primitive);
+  EXPECT_EQ("", log.calls.back().phase) << "the mission net's own OOD call";
+  EXPECT_EQ(1u, log.count([](const Call& c) { return c.primitive == "shutdown_network"; }));
+  ASSERT_FALSE(log.phase_ends.empty());
+  EXPECT_GT(log.calls.back().request_line, log.phase_ends.back().line) << "shutdown_network after every phase";
+  if (!log.emergency) {
+    EXPECT_LT(log.calls.back().reply_line, *log.mission_end) << "the mission's own call";
+  }
+}
+
+// The mission's own abort path (paper Figure 10): `trigger` answered 1 in
+// `phase`, the phase surfaces at once, asks surface_reached until it answers
+// 1, and aborts; the mission REPORTs and shuts the network down.
+void expect_abort_path(const MissionRun& r, const std::string& phase, const std::string& trigger) {
+  const ParsedLog& log = r.log;
+  ASSERT_TRUE(r.report.result.has_value());
+  EXPECT_EQ(Outcome::Aborted, r.report.result->outcome);
+  EXPECT_EQ("closed_after_abort", r.report.result->exit) << "tank.coral's second exit";
+  EXPECT_EQ(1, r.report.exit_code);
+  EXPECT_FALSE(r.report.emergency_shutdown) << "the mission ran its own abort path";
+  EXPECT_FALSE(log.emergency.has_value());
+  EXPECT_FALSE(r.report.vehicle_watchdog_tripped);
+  EXPECT_TRUE(std::all_of(log.calls.begin(), log.calls.end(), [](const Call& c) { return !c.failed(); }));
+
+  std::vector<const Call*> calls = log.in_phase(phase);
+  auto trig = std::find_if(calls.begin(), calls.end(), [&](const Call* c) { return c->is(trigger, 1); });
+  ASSERT_TRUE(trig != calls.end()) << trigger << " never answered 1 in " << phase;
+  auto next = trig + 1;
+  ASSERT_TRUE(next != calls.end()) << "nothing after " << trigger << " answered 1";
+  EXPECT_EQ("surface", (*next)->primitive) << "the phase surfaces right after " << trigger;
+  EXPECT_TRUE((*next)->answered(1));
+  const Call* surfaced = nullptr;
+  for (auto it = next + 1; it != calls.end(); ++it) {
+    EXPECT_EQ("surface_reached", (*it)->primitive) << "only surface_reached after surface";
+    EXPECT_EQ(nullptr, surfaced) << "asked again after surface_reached answered 1";
+    if ((*it)->answered(1)) surfaced = *it;
+  }
+  ASSERT_NE(nullptr, surfaced) << "surface_reached never answered 1 in " << phase;
+
+  ASSERT_FALSE(log.phase_ends.empty());
+  const PhaseEndLine& end = log.phase_ends.back();
+  EXPECT_EQ(phase, end.net);
+  EXPECT_EQ("aborted", end.result);
+  EXPECT_GT(end.line, surfaced->reply_line);
+  ASSERT_EQ(1u, log.report_lines.size());
+  const json& report = log.lines[log.report_lines.front()];
+  EXPECT_EQ("mission aborted: shutting down the vehicle network", report["text"]);
+  EXPECT_GT(log.report_lines.front(), end.line);
+  const Call& shutdown = log.calls.back();
+  EXPECT_GT(shutdown.request_line, log.report_lines.front());
+  EXPECT_TRUE(shutdown.answered(1));
+  EXPECT_GT(*log.mission_end, shutdown.reply_line);
+  EXPECT_EQ(1u, log.count([](const Call& c) { return c.primitive == "surface"; }));
+
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m) << "the vehicle ends at the surface";
+  EXPECT_NE(std::string::npos, r.out.find("mission tank: ABORTED (exit closed_after_abort)")) << r.out;
+}
+
+// A leak at the scenario's time is seen at the next system_problem check of
+// `phase` (within one monitoring cycle), never before it.
+void expect_leak_seen_in_time(const MissionRun& r, const std::string& scenario, const std::string& phase) {
+  const double leak_s = fault_of(scenario, vehicle::FaultKind::Leak).at_s;
+  const ParsedLog& log = r.log;
+  for (const auto& c : log.calls) {
+    if (c.primitive == "system_problem" && c.replied_s < leak_s - kEps) {
+      EXPECT_TRUE(c.answered(0)) << "system_problem answered " << c.result->dump() << " at " << c.replied_s
+                                 << " s, before the leak at " << leak_s << " s";
+    }
+  }
+  const Call* first_after = log.first(
+      [&](const Call& c) { return c.primitive == "system_problem" && c.requested_s >= leak_s - kEps; });
+  ASSERT_NE(nullptr, first_after) << "no system_problem check after the leak at " << leak_s << " s";
+  EXPECT_TRUE(first_after->answered(1)) << "the first check after the leak missed it";
+  EXPECT_EQ(phase, first_after->phase);
+  EXPECT_LE(first_after->requested_s, leak_s + kMonitoringCycleS + kEps);
+  ASSERT_FALSE(log.phase_ends.empty());
+  EXPECT_GT(log.phase_ends.back().sim_time_s, leak_s);
+  EXPECT_EQ(0u, log.count([](const Call& c) { return c.is("time_out", 1); }));
+}
+
+// ---- the scenarios ----------------------------------------------------------
+
+TEST(TankScenario, NominalCompletesAllFourPhases) {
+  const MissionRun& r = scenario_run("nominal");
+  expect_consistent(r, "nominal");
+  const ParsedLog& log = r.log;
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface completed",
+                                      "submerge_to_depth completed", "return_to_surface completed"}),
+            r.report.phases);
+  ASSERT_TRUE(r.report.result.has_value());
+  EXPECT_EQ(Outcome::Completed, r.report.result->outcome);
+  EXPECT_EQ("closed", r.report.result->exit);
+  EXPECT_EQ("", r.report.result->reason);
+  EXPECT_EQ(0, r.report.exit_code);
+  EXPECT_NE(std::string::npos, r.out.find("mission tank: completed (exit closed)")) << r.out;
+
+  // One setpoint read per phase 2, 3, 4, in the order of the data file.
+  const auto data = setpoints();
+  std::vector<std::string> setpoint_phases;
+  for (const auto& c : log.calls) {
+    if (c.primitive != "next_setpt_data") continue;
+    EXPECT_TRUE(c.answered(1));
+    setpoint_phases.push_back(c.phase);
+  }
+  EXPECT_EQ(data.size(), setpoint_phases.size());
+  EXPECT_EQ((std::vector<std::string>{"dive_from_surface", "submerge_to_depth", "return_to_surface"}),
+            setpoint_phases);
+
+  // The key calls, in this order (other calls may come between them).
+  const std::vector<std::pair<std::string, int>> key = {
+      {"start_network", 1},   {"next_setpt_data", 1}, {"submerge", 1},        {"depth_reached", 1},
+      {"next_setpt_data", 1}, {"submerge", 1},        {"depth_reached", 1},   {"next_setpt_data", 1},
+      {"surface", 1},         {"surface_reached", 1}, {"shutdown_network", 1}};
+  std::size_t k = 0;
+  for (const auto& c : log.calls) {
+    if (k < key.size() && c.is(key[k].first, key[k].second)) ++k;
+  }
+  EXPECT_EQ(key.size(), k) << "missing or out of order: " << (k < key.size() ? key[k].first : "");
+
+  // Each dive ends on its first "depth reached"; nothing went wrong on the way.
+  for (const std::string phase : {"dive_from_surface", "submerge_to_depth"}) {
+    auto calls = log.in_phase(phase);
+    ASSERT_FALSE(calls.empty()) << phase;
+    EXPECT_TRUE(calls.back()->is("depth_reached", 1)) << phase << " ended on " << calls.back()->primitive;
+    EXPECT_EQ(1, std::count_if(calls.begin(), calls.end(), [](const Call* c) { return c->is("depth_reached", 1); }));
+  }
+  EXPECT_TRUE(log.in_phase("return_to_surface").back()->is("surface_reached", 1));
+  for (const auto& c : log.calls) {
+    EXPECT_FALSE(c.failed()) << c.primitive << ": " << c.result->dump();
+    EXPECT_FALSE(c.is("time_out", 1) || c.is("system_problem", 1)) << c.primitive << " at " << c.replied_s;
+  }
+  EXPECT_TRUE(log.report_lines.empty());
+  EXPECT_FALSE(log.emergency.has_value());
+  EXPECT_FALSE(r.report.emergency_shutdown);
+
+  // The vehicle went down past the first setpoint and came back up.
+  ASSERT_FALSE(log.telemetry_depths_m.empty());
+  EXPECT_GT(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()),
+            data.at(0).depth_m);
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
+  EXPECT_FALSE(r.report.vehicle_watchdog_tripped);
+}
+
+TEST(TankScenario, WeakThrustersTimeOutInPhase2AndAbort) {
+  const MissionRun& r = scenario_run("weak_thrusters");
+  expect_consistent(r, "weak_thrusters");
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface aborted"}), r.report.phases);
+  expect_abort_path(r, "dive_from_surface", "time_out");
+  const ParsedLog& log = r.log;
+
+  // time_out says yes once the setpoint's time limit has passed since
+  // start_timer, at the first check after it (one monitoring cycle at most).
+  const double limit_s = setpoints().at(0).timeout_s;
+  const Call* timer = log.first([](const Call& c) { return c.primitive == "start_timer"; });
+  const Call* out = log.first([](const Call& c) { return c.is("time_out", 1); });
+  ASSERT_NE(nullptr, timer);
+  ASSERT_NE(nullptr, out);
+  EXPECT_EQ("dive_from_surface", timer->phase);
+  EXPECT_GE(out->requested_s - timer->requested_s, limit_s - kEps);
+  EXPECT_LE(out->requested_s - timer->replied_s, limit_s + kMonitoringCycleS + kEps);
+  for (const auto& c : log.calls) {
+    if (c.primitive == "time_out" && c.requested_s - timer->replied_s < limit_s - kEps) {
+      EXPECT_TRUE(c.answered(0)) << "time_out answered yes early, at " << c.requested_s << " s";
+    }
+  }
+  EXPECT_EQ(0u, log.count([](const Call& c) { return c.is("depth_reached", 1); }));
+  EXPECT_EQ(0u, log.count([](const Call& c) { return c.is("system_problem", 1); }));
+  // 10% thrust cannot beat the buoyancy: the vehicle never leaves the surface.
+  ASSERT_FALSE(log.telemetry_depths_m.empty());
+  EXPECT_LE(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()),
+            kParams.surface_depth_m);
+}
+
+TEST(TankScenario, LeakInPhase2SurfacesAndAborts) {
+  const MissionRun& r = scenario_run("leak_phase2");
+  expect_consistent(r, "leak_phase2");
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface aborted"}), r.report.phases);
+  expect_abort_path(r, "dive_from_surface", "system_problem");
+  expect_leak_seen_in_time(r, "leak_phase2", "dive_from_surface");
+  EXPECT_EQ(0u, r.log.count([](const Call& c) { return c.is("depth_reached", 1); }))
+      << "the leak comes before the first setpoint is reached";
+}
+
+TEST(TankScenario, LeakInPhase3SurfacesAndAborts) {
+  const MissionRun& r = scenario_run("leak_phase3");
+  expect_consistent(r, "leak_phase3");
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface completed",
+                                      "submerge_to_depth aborted"}),
+            r.report.phases);
+  expect_abort_path(r, "submerge_to_depth", "system_problem");
+  expect_leak_seen_in_time(r, "leak_phase3", "submerge_to_depth");
+  auto phase2 = r.log.in_phase("dive_from_surface");
+  ASSERT_FALSE(phase2.empty());
+  EXPECT_TRUE(phase2.back()->is("depth_reached", 1));
+  EXPECT_LT(phase2.back()->replied_s, fault_of("leak_phase3", vehicle::FaultKind::Leak).at_s);
+  EXPECT_EQ(1u, r.log.count([](const Call& c) { return c.is("depth_reached", 1); }));
+}
+
+TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
+  const MissionRun& r = scenario_run("link_loss");
+  expect_consistent(r, "link_loss");
+  const ParsedLog& log = r.log;
+  const vehicle::Fault loss = fault_of("link_loss", vehicle::FaultKind::LinkLoss);
+  EXPECT_FALSE(loss.duration_s.has_value()) << "lost for good";
+
+  ASSERT_TRUE(r.report.result.has_value());
+  const auto& result = *r.report.result;
+  EXPECT_EQ(Outcome::Failed, result.outcome);
+  EXPECT_EQ("", result.exit);
+  EXPECT_EQ(1, r.report.exit_code);
+  ASSERT_TRUE(result.call_error.has_value());
+  EXPECT_TRUE(*result.call_error == core::ErrorCode::Timeout || *result.call_error == core::ErrorCode::Closed)
+      << "Timeout or Closed: the link to the vehicle is gone";
+  EXPECT_NE(std::string::npos, result.reason.find("no reply")) << result.reason;
+  EXPECT_NE(std::string::npos, r.out.find("mission tank: ABORTED: lost the link to the vehicle")) << r.out;
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface cancelled"}), r.report.phases);
+
+  // The vehicle answered nothing after the link went; the call in flight then failed.
+  const Call* first_failed = log.first([](const Call& c) { return c.failed(); });
+  ASSERT_NE(nullptr, first_failed);
+  EXPECT_EQ("dive_from_surface", first_failed->phase);
+  EXPECT_LE(first_failed->requested_s, loss.at_s + kEps);
+  for (const auto& c : log.calls) {
+    if (!c.failed()) {
+      EXPECT_LE(c.replied_s, loss.at_s + kEps) << c.primitive << " answered after the loss";
+    }
+  }
+  EXPECT_TRUE(log.report_lines.empty()) << "the mission's abort path never ran";
+  EXPECT_EQ(0u, log.count([](const Call& c) { return c.primitive == "surface"; }));
+
+  // The runner sent Figure 10's `done` itself, and nobody answered.
+  EXPECT_TRUE(r.report.emergency_shutdown);
+  ASSERT_TRUE(log.emergency.has_value());
+  EXPECT_EQ("ood shutdown_network", log.at(log.emergency)["action"]);
+  EXPECT_GT(*log.emergency, *log.mission_end);
+  const Call& shutdown = log.calls.back();
+  EXPECT_EQ("shutdown_network", shutdown.primitive);
+  EXPECT_GT(shutdown.request_line, *log.emergency);
+  EXPECT_TRUE(shutdown.failed()) << "a lost link answers nothing";
+  EXPECT_NE(std::string::npos, r.out.find("after it: ood shutdown_network (sent by strata run)")) << r.out;
+
+  // The vehicle's watchdog surfaced it after watchdog_s of silence.
+  EXPECT_TRUE(r.report.vehicle_watchdog_tripped);
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
+  EXPECT_GE(log.at(log.vehicle_final)["sim_time"].get<double>(), loss.at_s + kParams.watchdog_s - kEps);
+  EXPECT_NE(std::string::npos, r.out.find("surfaced by its own watchdog")) << r.out;
+}
+
+// Every phase_start has its phase_end (log_observer.h: "these replay a run's
+// markings exactly"), also when the mission fails: regression test for the
+// mission net being closed without a phase_end on a Failed run.
+TEST(TankScenario, EveryPhaseStartHasAPhaseEndWhenTheMissionFails) {
+  const MissionRun& r = scenario_run("link_loss");
+  std::map<std::uint64_t, int> open;
+  for (const auto& line : r.log.lines) {
+    if (line["event"] == "phase_start") ++open[line["instance"].get<std::uint64_t>()];
+    if (line["event"] == "phase_end") --open[line["instance"].get<std::uint64_t>()];
+  }
+  for (const auto& [instance, n] : open) EXPECT_EQ(0, n) << "instance " << instance;
+}
+
+// ---- determinism ------------------------------------------------------------
+
+// Two logs that must be the same run: equal once wall_* fields are stripped,
+// so any raw difference is in lines with wall_* fields.
+void expect_same_run(const std::string& first, const std::string& second) {
+  const std::string a = tactical::strip_wall_fields_from_log(first);
+  const std::string b = tactical::strip_wall_fields_from_log(second);
+  EXPECT_EQ(std::string::npos, a.find("\"wall_")) << "stripping left a wall_* field";
+  ASSERT_FALSE(a.empty());
+  if (a == b) return;
+  std::istringstream la(a), lb(b);
+  std::string x, y;
+  for (int n = 1; std::getline(la, x) && std::getline(lb, y); ++n) {
+    if (x != y) {
+      ADD_FAILURE() << "first difference at line " << n << ":\n  " << x << "\n  " << y;
+      return;
+    }
+  }
+  ADD_FAILURE() << "one log is a prefix of the other (" << a.size() << " vs " << b.size() << " bytes)";
+}
+
+class Determinism : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Determinism, TwoRunsLogTheSameOnceWallFieldsAreStripped) {
+  const MissionRun& first = scenario_run(GetParam());
+  MissionRun second = run_tank(GetParam());
+  EXPECT_EQ(first.report.exit_code, second.report.exit_code);
+  EXPECT_EQ(first.report.phases, second.report.phases);
+  EXPECT_EQ(first.log.lines.size(), second.log.lines.size());
+  expect_same_run(first.log.text, second.log.text);
+}
+
+INSTANTIATE_TEST_SUITE_P(TankScenarios, Determinism,
+                         ::testing::Values("nominal", "weak_thrusters", "leak_phase2", "leak_phase3",
+                                           "link_loss"));
+
+TEST(DeterminismSeeded, TwoRunsWithTheSameSeedLogTheSame) {
+  for (const std::string scenario : {"nominal", "leak_phase3"}) {
+    SCOPED_TRACE(scenario);
+    MissionRun a = run_tank(scenario, 7);
+    MissionRun b = run_tank(scenario, 7);
+    ASSERT_FALSE(a.log.lines.size() < 2);
+    EXPECT_EQ("choice", a.log.lines[1]["event"]);
+    EXPECT_EQ(7, a.log.lines[1]["seed"]);
+    EXPECT_EQ(a.report.exit_code, b.report.exit_code);
+    EXPECT_EQ(a.report.phases, b.report.phases);
+    expect_same_run(a.log.text, b.log.text);
+  }
+}
+
+// ---- a real `strata vehicle` process ----------------------------------------
+
+TEST(RunAgainstVehicleProcess, NominalMissionCompletes) {
+  TempDir dir;
+  strata::testing::ChildProcess vehicle({STRATA_BINARY, "vehicle", "--listen", "0", "--scenario", "nominal",
+                                         "--mission", kMission},
+                                        dir.file("vehicle.err"));
+  auto line = vehicle.first_line(10s);
+  ASSERT_TRUE(line.has_value()) << "strata vehicle printed no address; stderr:\n"
+                                << read_file(dir.file("vehicle.err"));
+  ASSERT_EQ(0u, line->rfind("127.0.0.1:", 0)) << *line;
+  const std::string address = *line;
+
+  MissionRun r = run_tank("", std::nullopt, address);
+  EXPECT_EQ(0, r.report.exit_code) << r.out << r.err;
+  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface completed",
+                                      "submerge_to_depth completed", "return_to_surface completed"}),
+            r.report.phases);
+  EXPECT_FALSE(r.report.final_depth_m.has_value()) << "no embedded vehicle to look at";
+  EXPECT_FALSE(r.report.emergency_shutdown);
+  ASSERT_FALSE(r.log.lines.empty());
+  EXPECT_EQ("external", r.log.lines.front()["scenario"]);
+  ASSERT_FALSE(r.log.calls.empty());
+  EXPECT_EQ("start_network", r.log.calls.front().primitive);
+  EXPECT_TRUE(r.log.calls.back().is("shutdown_network", 1));
+  EXPECT_NE(std::string::npos, r.out.find("vehicle phoenix-sim at " + address)) << r.out;
+
+  // Stopped by its pid (SIGTERM): a clean exit.
+  int status = vehicle.stop();
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+      << "status " << status << "; stderr:\n" << read_file(dir.file("vehicle.err"));
+}
+
+}  // namespace
+}  // namespace strata::cli
