@@ -27,7 +27,9 @@ Runner add_run_command(CLI::App& app) {
                   "Choose among enabled transitions of equal priority at random, from this seed "
                   "(default: declaration order)");
   cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
-  cmd->add_option("--speed", o->speed, "With --realtime: simulated seconds per wall second")
+  cmd->add_option("--speed", o->speed,
+                  "With --realtime: simulated seconds per wall second (with --vehicle: the speed "
+                  "that vehicle runs at, to scale reply timeouts)")
       ->check(CLI::Range(0.01, 1000.0))
       ->capture_default_str();
   cmd->add_option("--vehicle", o->vehicle, "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");

@@ -213,6 +213,14 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     return fail(kExitIo);
   }
   const bool lockstep = welcome->value().clock == protocol::ClockMode::Lockstep;
+  if (log) {
+    // The vehicle's own word on its clock (the header says what was asked).
+    // No address: the port is chosen at random and the log must not vary.
+    log->write({{"event", "vehicle"},
+                {"name", welcome->value().vehicle_name},
+                {"clock", lockstep ? "lockstep" : "wall"},
+                {"embedded", embedded}});
+  }
   console.line(fmt::format("vehicle {} at {}:{} ({}{}{})", welcome->value().vehicle_name,
                            link_options.host, link_options.port, lockstep ? "lockstep" : "wall clock",
                            embedded ? ", embedded" : "",
