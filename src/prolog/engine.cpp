@@ -1,0 +1,113 @@
+#include "prolog/engine.h"
+
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace strata::prolog {
+namespace {
+
+bool g_initialised = false;
+
+constexpr int kQueryFlags = PL_Q_NODEBUG | PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS;
+
+// Rules must never end the host: halt/0,1 in module user throw instead, and
+// the executor turns strata_halt into the end of the mission.
+constexpr const char* kHaltGuard =
+    "(redefine_system_predicate(user:halt), assertz((user:halt :- throw(strata_halt))),"
+    " redefine_system_predicate(user:halt(_)), assertz((user:halt(C) :- throw(strata_halt(C)))))";
+
+}  // namespace
+
+core::Result<void> initialise(const EngineOptions& options) {
+  if (g_initialised) return {};
+  std::string stack = "--stack-limit=" + options.stack_limit;
+  // SWI keeps argv; these strings live as long as the process.
+  static std::vector<std::string> args;
+  args = {"strata", "--no-signals", "--no-packs", "--no-tty", "-q", stack};
+  static std::vector<char*> argv;
+  argv.clear();
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  if (!PL_initialise(static_cast<int>(args.size()), argv.data())) {
+    return core::make_error(core::ErrorCode::Internal, "SWI-Prolog could not be initialised");
+  }
+  g_initialised = true;
+  auto guard = call_once(kHaltGuard);
+  if (!guard || !guard.value()) {
+    return core::make_error(core::ErrorCode::Internal, "could not guard halt/0 in SWI-Prolog");
+  }
+  return {};
+}
+
+bool initialised() { return g_initialised; }
+
+std::string term_text(term_t t) {
+  char* s = nullptr;
+  std::size_t len = 0;
+  if (PL_get_nchars(t, &len, &s, CVT_WRITEQ | CVT_EXCEPTION | BUF_STACK | REP_UTF8)) {
+    return std::string(s, len);
+  }
+  PL_clear_exception();
+  return "<term>";
+}
+
+Query::Query(term_t goal, bool allow_yield) {
+  static predicate_t call1 = PL_predicate("call", 1, "user");
+  qid_ = PL_open_query(nullptr, kQueryFlags | (allow_yield ? PL_Q_ALLOW_YIELD : 0), call1, goal);
+  open_ = qid_ != 0;
+}
+
+Query::~Query() { cut(); }
+
+Query::Status Query::next() {
+  if (!open_) return Status::False;
+  switch (PL_next_solution(qid_)) {
+    case PL_S_TRUE: return Status::True;
+    case PL_S_LAST: return Status::Last;
+    case PL_S_YIELD: return Status::Yield;
+    case PL_S_EXCEPTION: {
+      term_t ex = PL_exception(qid_);
+      exception_ = ex ? term_text(ex) : std::string("unknown exception");
+      return Status::Exception;
+    }
+    default: return Status::False;
+  }
+}
+
+void Query::cut() {
+  if (!open_) return;
+  PL_cut_query(qid_);
+  open_ = false;
+}
+
+core::Result<term_t> parse_term(std::string_view text) {
+  term_t t = PL_new_term_ref();
+  std::string s(text);
+  if (!PL_chars_to_term(s.c_str(), t)) {
+    // On a syntax error t holds the exception term.
+    std::string why = term_text(t);
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("cannot read `{}`: {}", text, why));
+  }
+  return t;
+}
+
+core::Result<bool> call_once(std::string_view goal) {
+  Frame frame;
+  auto t = parse_term(goal);
+  if (!t) return t.error();
+  Query q(t.value(), false);
+  switch (q.next()) {
+    case Query::Status::True:
+    case Query::Status::Last: return true;
+    case Query::Status::False: return false;
+    case Query::Status::Exception:
+      return core::make_error(core::ErrorCode::InvalidInput, q.exception_text());
+    case Query::Status::Yield:
+      return core::make_error(core::ErrorCode::Internal, "a foreign predicate yielded outside a mission query");
+  }
+  return false;
+}
+
+}  // namespace strata::prolog

@@ -1,0 +1,76 @@
+#pragma once
+// A thin RAII layer over SWI-Prolog's C API (design.md §2.5), used by the
+// PROLOG Strategic level. SWI-Prolog has one engine per process here:
+// initialise() starts it once (no signal handlers, a stack limit, no
+// debugger, halt/0 and halt/1 made to throw strata_halt instead of ending
+// the host), and every other call must come from the thread that did.
+//
+// Errors: a Prolog exception becomes a core::Error whose message keeps the
+// exception term's text.
+#include <SWI-Prolog.h>
+
+#include <string>
+#include <string_view>
+
+#include "core/result.h"
+
+namespace strata::prolog {
+
+struct EngineOptions {
+  std::string stack_limit = "256m";  // SWI's --stack-limit: deep recursion ends in resource_error
+};
+
+// Starts the engine (once; later calls check nothing and return ok).
+core::Result<void> initialise(const EngineOptions& options = {});
+bool initialised();
+
+// The term as writeq/1 prints it.
+std::string term_text(term_t t);
+
+// A foreign frame: term references made inside it are released when it
+// ends (discarded: bindings made inside are undone).
+class Frame {
+ public:
+  Frame() : fid_(PL_open_foreign_frame()) {}
+  ~Frame() { PL_discard_foreign_frame(fid_); }
+  Frame(const Frame&) = delete;
+  Frame& operator=(const Frame&) = delete;
+
+ private:
+  fid_t fid_;
+};
+
+// An open query. Opened with PL_Q_NODEBUG | PL_Q_CATCH_EXCEPTION |
+// PL_Q_EXT_STATUS, plus PL_Q_ALLOW_YIELD when asked: a foreign predicate may
+// then yield and next() returns Status::Yield until resumed by another next().
+// Only one query is open at a time per nesting level (SWI's rule); the
+// destructor cuts it.
+class Query {
+ public:
+  enum class Status { True, Last, False, Exception, Yield };
+
+  // Calls user:call(Goal) for goal, a term in the caller's frame.
+  Query(term_t goal, bool allow_yield);
+  ~Query();
+  Query(const Query&) = delete;
+  Query& operator=(const Query&) = delete;
+
+  Status next();
+  // After Status::Exception: the exception term's text.
+  const std::string& exception_text() const { return exception_; }
+  // Ends the query now (keeping bindings); next() may not be called after.
+  void cut();
+
+ private:
+  qid_t qid_ = 0;
+  bool open_ = false;
+  std::string exception_;
+};
+
+// Parses text as a term into a new term reference (InvalidInput on a syntax error).
+core::Result<term_t> parse_term(std::string_view text);
+
+// Runs goal text once: true, false, or the exception as an error.
+core::Result<bool> call_once(std::string_view goal);
+
+}  // namespace strata::prolog
