@@ -551,7 +551,7 @@ TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
   EXPECT_EQ("shutdown_network", shutdown.primitive);
   EXPECT_GT(shutdown.request_line, *log.emergency);
   EXPECT_TRUE(shutdown.failed()) << "a lost link answers nothing";
-  EXPECT_NE(std::string::npos, r.out.find("after it: ood shutdown_network (sent by strata run)")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("after it: ood shutdown_network sent by strata run, unanswered (")) << r.out;
 
   // The vehicle's watchdog surfaced it after watchdog_s of silence.
   EXPECT_TRUE(r.report.vehicle_watchdog_tripped);

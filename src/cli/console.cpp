@@ -22,7 +22,7 @@ void Console::draw_status(bool force) {
   if (!tty_) return;
   if (!force && sim_time_s_ - last_draw_s_ < 0.1) return;
   last_draw_s_ = sim_time_s_;
-  std::string phase = phase_stack_.empty() ? "-" : phase_stack_.back();
+  std::string phase = current_phase_.empty() ? "-" : current_phase_;
   std::string depth = depth_m_ ? fmt::format("{:.2f} m", *depth_m_) : "-";
   std::string setpoint = setpoint_m_ ? fmt::format("{:.2f} m", *setpoint_m_) : "-";
   std::string text = fmt::format("{:7.1f} s | {} | depth {} | setpoint {} | {}", sim_time_s_, phase,
@@ -34,22 +34,28 @@ void Console::draw_status(bool force) {
 
 void Console::phase_started(const strategic::PhaseStart& e) {
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+  live_[e.instance] = Live{std::string(e.name), e.depth};
+  current_phase_ = std::string(e.name);
   if (e.depth == 0) {
     print(fmt::format("mission {} started", e.name), e.sim_time_s);
-    phase_stack_.emplace_back(e.name);
     return;
   }
-  phase_stack_.emplace_back(e.name);
   print(fmt::format("{}phase {} started", std::string(2 * (e.depth - 1), ' '), e.name), e.sim_time_s);
 }
 
 void Console::phase_ended(const strategic::PhaseEnd& e) {
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
-  auto it = std::find(phase_stack_.rbegin(), phase_stack_.rend(), std::string(e.name));
-  std::size_t depth = 0;
-  if (it != phase_stack_.rend()) {
-    depth = static_cast<std::size_t>(std::distance(it, phase_stack_.rend())) - 1;
-    phase_stack_.erase(std::next(it).base());
+  auto it = live_.find(e.instance);
+  std::size_t depth = it != live_.end() ? it->second.depth : 0;
+  if (it != live_.end()) live_.erase(it);
+  // The status line shows the deepest phase still running.
+  current_phase_.clear();
+  std::size_t deepest = 0;
+  for (const auto& [id, live] : live_) {
+    if (current_phase_.empty() || live.depth >= deepest) {
+      current_phase_ = live.name;
+      deepest = live.depth;
+    }
   }
   if (depth == 0) return;  // the mission itself: the summary says how it ended
   std::string result = e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted";

@@ -5,6 +5,7 @@
 // TTY also a live status line (phase, depth, setpoint, sim time, the action
 // in flight), redrawn in place at most once per 0.1 s of simulated time so a
 // lockstep run does not flood the terminal.
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -46,7 +47,12 @@ class Console final : public strategic::Observer {
   bool status_shown_ = false;
   double last_draw_s_ = -1.0;
   double sim_time_s_ = 0.0;
-  std::vector<std::string> phase_stack_;  // live phases, outermost first
+  struct Live {
+    std::string name;
+    std::size_t depth;
+  };
+  std::map<strategic::InstanceId, Live> live_;  // running nets by instance
+  std::string current_phase_;                   // the one last started, for the status line
   std::optional<double> depth_m_;
   std::optional<double> setpoint_m_;
   std::string action_;

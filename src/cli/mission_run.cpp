@@ -35,6 +35,9 @@ constexpr const char* kVersion = "0.1.0";
 // The primitive Figure 10's `done` calls: the runner sends it itself when the
 // Strategic level could not go on (its own abort path never ran).
 constexpr const char* kShutdownPrimitive = "shutdown_network";
+constexpr const char* kInterrupted = "interrupted by the operator";
+// Lockstep: wall seconds allowed per simulated second of a call (>= 100x real time).
+constexpr double kLockstepWallPerSim = 0.01;
 
 std::string sha256_or_empty(const std::string& path) {
   auto r = tactical::sha256_file(path);
@@ -135,9 +138,9 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     return fail(io_or_invalid(scenario.error()));
   }
   const bool embedded = o.vehicle.empty();
-  if (!embedded && (!o.scenario.empty() || !o.params.empty())) {
-    err << "strata run: --scenario and --params set up the embedded vehicle; with --vehicle they "
-           "belong to that vehicle's own command line\n";
+  if (!embedded && (!o.scenario.empty() || !o.params.empty() || o.realtime)) {
+    err << "strata run: --scenario, --params and --realtime set up the embedded vehicle; with "
+           "--vehicle they belong to that vehicle's own command line\n";
     return fail(kExitUsage);
   }
 
@@ -231,10 +234,11 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // ---- the Tactical and Strategic levels --------------------------------------
   tactical::TacticalLevel tactical(io, catalogue.value(), link, cursor ? &*cursor : nullptr,
                                    log ? &*log : nullptr);
-  // Lockstep: replies come at once whatever the simulated duration, so the
-  // link's own timeout is the bound. Wall clock: a call may take its
-  // simulated time divided by the speed.
-  tactical.set_wall_seconds_per_sim_second(lockstep ? 0.0 : 1.0 / o.speed);
+  // Wall clock: a call may take its simulated time divided by the speed.
+  // Lockstep: the vehicle computes a call's simulated time as fast as it
+  // can; allow for at least 100x real time (a 1 h sleep may take 36 s of
+  // wall time on a slow machine) on top of the link's own timeout.
+  tactical.set_wall_seconds_per_sim_second(lockstep ? kLockstepWallPerSim : 1.0 / o.speed);
   tactical.on_report([&](const std::string& text, double t) { console.report(text, t); });
   tactical.on_telemetry([&](const protocol::Telemetry& t) { console.telemetry(t); });
   tactical.on_vehicle_event([&](const protocol::Event& e) { console.vehicle_event(e.text, e.sim_time_s); });
@@ -265,7 +269,9 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   if (o.handle_signals) {
     signals.emplace(io, SIGINT, SIGTERM);
     signals->async_wait([&](const asio::error_code& e, int) {
-      if (!e) engine.cancel("interrupted by the operator");
+      if (e) return;
+      signals->clear();  // a second Ctrl-C ends the process at once
+      engine.cancel(kInterrupted);
     });
   }
 
@@ -273,8 +279,9 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // run its own abort path, then the link closes and an embedded vehicle is
   // left to settle (its watchdog may be surfacing it) before the loop ends.
   bool finished = false;
+  std::string emergency_error;
   auto wrap_up = [&] {
-    if (signals) signals->cancel();
+    if (signals) signals->clear();  // from here on Ctrl-C ends the process at once
     link->close();
     if (server) {
       server->when_settled([&] {
@@ -293,7 +300,8 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
       return;
     }
     report.emergency_shutdown = true;
-    console.line(fmt::format("the mission could not go on; sending ood {} as Figure 10's done does",
+    console.line(fmt::format("the mission ended without its own abort path; sending ood {} as "
+                             "Figure 10's done does",
                              kShutdownPrimitive),
                  result.sim_time_s);
     if (log) {
@@ -302,7 +310,10 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                   {"sim_time", tactical::log_time(result.sim_time_s)}});
     }
     tactical.call(kShutdownPrimitive, {}, [&](core::Result<tactical::CallOutcome> r) {
-      if (!r) console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
+      if (!r) {
+        emergency_error = r.error().message;
+        console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
+      }
       wrap_up();
     });
   });
@@ -345,6 +356,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   std::string how = r.outcome == Outcome::Completed ? "completed"
                     : r.outcome == Outcome::Aborted ? "ABORTED"
                     : link_gone                     ? "ABORTED: lost the link to the vehicle"
+                    : r.reason == kInterrupted      ? "ABORTED: interrupted by the operator"
                                                     : "ABORTED: the Strategic level could not go on";
   out << fmt::format("mission {}: {}{}\n", mission_net.name, how,
                      r.exit.empty() ? "" : fmt::format(" (exit {})", r.exit));
@@ -355,13 +367,18 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   double speedup = report.wall_time_s > 0 ? report.sim_time_s / report.wall_time_s : 0.0;
   out << fmt::format("  sim time {:.1f} s, {} primitive calls, wall time {}{}\n", report.sim_time_s,
                      report.primitive_calls, format_wall(report.wall_time_s),
-                     lockstep && speedup > 1.0 ? fmt::format(" ({:.0f}x real time)", speedup) : "");
+                     lockstep && r.outcome != Outcome::Failed && speedup > 1.0
+                         ? fmt::format(" ({:.0f}x real time)", speedup)
+                         : "");
   if (report.final_depth_m) {
     out << fmt::format("  vehicle: depth {:.2f} m at {:.1f} s{}\n", *report.final_depth_m, sim->time_s(),
                        report.vehicle_watchdog_tripped ? ", surfaced by its own watchdog" : "");
   }
   if (link_lost) out << "  link: lost (" << link_lost_why << ")\n";
-  if (report.emergency_shutdown) out << fmt::format("  after it: ood {} (sent by strata run)\n", kShutdownPrimitive);
+  if (report.emergency_shutdown) {
+    out << fmt::format("  after it: ood {} sent by strata run{}\n", kShutdownPrimitive,
+                       emergency_error.empty() ? "" : ", unanswered (" + emergency_error + ")");
+  }
   if (log) {
     if (auto s = log->status(); !s) {
       err << "strata run: the mission log is incomplete: " << s.error().message << "\n";

@@ -309,6 +309,11 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
     start_instance(*phase, inst.id, &a, transition);
     return;
   }
+  if (a.tactic == coral::ast::TacticType::Report) {
+    // A REPORT marks nothing and waits for nothing: sent, not tracked.
+    tactics_.call(primitive_of(a), args_[inst.net_index][t][index], [](core::Result<tactical::CallOutcome>) {});
+    return;
+  }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
   std::weak_ptr<CoralEngine*> self = self_;
   tactics_.call(primitive_of(a), args_[inst.net_index][t][index],
@@ -368,7 +373,13 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
     }
   }
   if (!cancelled && exit_index && inst.parent && inst.caller) {
-    mark(*inst.parent, inst.caller->outcomes.at(*exit_index), 1);
+    Instance& parent = *instances_[*inst.parent];
+    petri::PlaceId place = inst.caller->outcomes.at(*exit_index);
+    // The phase's exit marks its caller's place: told like a reply's mark.
+    ActionFinish f{0, parent.id, parent.net->name, inst.net->name, *exit_index == 0,
+                   parent.net->net.place_name(place), now()};
+    for (Observer* o : observers_) o->action_finished(f);
+    mark(*inst.parent, place, 1);
   }
 }
 

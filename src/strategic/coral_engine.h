@@ -48,7 +48,7 @@ struct EngineOptions {
   std::optional<std::uint64_t> seed;
   // Firings allowed while handling one message before the net is judged to
   // be cycling without acting.
-  std::uint64_t max_firings_per_event = 1'000'000;
+  std::uint64_t max_firings_per_event = 100'000;
   // How deep PHASE may nest (a phase that runs itself would recurse forever).
   std::size_t max_phase_depth = 64;
 };

@@ -90,6 +90,8 @@ struct ActionStart {
   double sim_time_s = 0.0;
 };
 
+// A reply marked a place; or (id 0, primitive = the phase's name) a phase's
+// exit marked its caller's place.
 struct ActionFinish {
   ActionId id = 0;
   InstanceId instance = 0;
