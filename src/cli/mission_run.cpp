@@ -281,7 +281,10 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   bool finished = false;
   std::string emergency_error;
   auto wrap_up = [&] {
-    if (signals) signals->clear();  // from here on Ctrl-C ends the process at once
+    if (signals) {
+      signals->clear();  // from here on Ctrl-C ends the process at once
+      signals->cancel();
+    }
     link->close();
     if (server) {
       server->when_settled([&] {
