@@ -68,7 +68,7 @@ int run_check(const Options& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata check: " << catalogue.error().message << "\n";
-    return catalogue.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+    return exit_code_for_input(catalogue.error());
   }
   const coral::CheckOptions options = catalogue.value().check_options();
   coral::DiskFileProvider disk;
@@ -112,7 +112,7 @@ int run_dump(const Options& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata dump: " << catalogue.error().message << "\n";
-    return catalogue.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+    return exit_code_for_input(catalogue.error());
   }
   coral::DiskFileProvider disk;
   core::SourceManager sources;

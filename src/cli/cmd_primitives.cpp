@@ -20,7 +20,7 @@ int run_primitives(const PrimitivesOptions& o) {
   auto loaded = load_catalogue_option(o.catalogue);
   if (!loaded) {
     std::cerr << "strata primitives: " << loaded.error().message << "\n";
-    return loaded.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+    return exit_code_for_input(loaded.error());
   }
   if (o.format == "json") {
     std::cout << tactical::catalogue_json(loaded.value()).dump(2) << "\n";

@@ -43,14 +43,14 @@ int run_vehicle(const VehicleOptions& o) {
     auto p = vehicle::load_params(o.params);
     if (!p) {
       std::cerr << "strata vehicle: " << p.error().message << "\n";
-      return p.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+      return exit_code_for_input(p.error());
     }
     params = p.value();
   }
   auto scenario = load_scenario_option(o.scenario, o.mission);
   if (!scenario) {
     std::cerr << "strata vehicle: " << scenario.error().message << "\n";
-    return scenario.error().code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+    return exit_code_for_input(scenario.error());
   }
   if (o.seed) scenario.value().seed = *o.seed;
 

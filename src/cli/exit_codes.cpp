@@ -7,4 +7,8 @@ const char* exit_code_help() {
          "70 internal error, 74 I/O error (a file or the vehicle cannot be reached).";
 }
 
+int exit_code_for_input(const core::Error& error) {
+  return error.code == core::ErrorCode::Io ? kExitIo : kExitInvalid;
+}
+
 }  // namespace strata::cli

@@ -1,5 +1,7 @@
 #pragma once
 // Exit codes of every strata command (style.md; sysexits-like).
+#include "core/result.h"
+
 namespace strata::cli {
 
 enum ExitCode : int {
@@ -12,5 +14,9 @@ enum ExitCode : int {
 };
 
 const char* exit_code_help();
+
+// The exit code for an input that could not be loaded: 74 when it could not
+// be read (ErrorCode::Io), 65 when it was read and is invalid.
+int exit_code_for_input(const core::Error& error);
 
 }  // namespace strata::cli

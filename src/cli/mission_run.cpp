@@ -44,8 +44,6 @@ std::string sha256_or_empty(const std::string& path) {
   return r ? r.value() : std::string();
 }
 
-int io_or_invalid(const core::Error& e) { return e.code == core::ErrorCode::Io ? kExitIo : kExitInvalid; }
-
 struct LoadedMission {
   core::SourceManager sources;
   std::optional<coral::Program> program;
@@ -102,7 +100,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     err << "strata run: " << catalogue.error().message << "\n";
-    return fail(io_or_invalid(catalogue.error()));
+    return fail(exit_code_for_input(catalogue.error()));
   }
   LoadedMission loaded;
   if (int code = load_coral(o.mission, catalogue.value(), loaded, err); code != kExitOk) return fail(code);
@@ -114,7 +112,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     auto p = vehicle::load_params(o.params);
     if (!p) {
       err << "strata run: " << p.error().message << "\n";
-      return fail(io_or_invalid(p.error()));
+      return fail(exit_code_for_input(p.error()));
     }
     params = p.value();
   }
@@ -125,7 +123,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     auto d = tactical::MissionData::load(data_path, tactical::DataLimits{params.tank_depth_m});
     if (!d) {
       err << "strata run: " << d.error().message << "\n";
-      return fail(io_or_invalid(d.error()));
+      return fail(exit_code_for_input(d.error()));
     }
     data = std::move(d.value());
   }
@@ -135,7 +133,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   auto scenario = load_scenario_option(o.scenario, o.mission);
   if (!scenario) {
     err << "strata run: " << scenario.error().message << "\n";
-    return fail(io_or_invalid(scenario.error()));
+    return fail(exit_code_for_input(scenario.error()));
   }
   const bool embedded = o.vehicle.empty();
   if (!embedded && (!o.scenario.empty() || !o.params.empty() || o.realtime)) {
