@@ -97,7 +97,18 @@ core::Result<bool> call_once(std::string_view goal) {
   Frame frame;
   auto t = parse_term(goal);
   if (!t) return t.error();
-  Query q(t.value(), false);
+  return call_term(t.value());
+}
+
+std::string text_of(term_t t) {
+  char* s = nullptr;
+  std::size_t len = 0;
+  if (PL_get_nchars(t, &len, &s, CVT_ATOMIC | BUF_STACK | REP_UTF8)) return std::string(s, len);
+  return term_text(t);
+}
+
+core::Result<bool> call_term(term_t goal) {
+  Query q(goal, false);
   switch (q.next()) {
     case Query::Status::True:
     case Query::Status::Last: return true;

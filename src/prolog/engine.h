@@ -72,5 +72,10 @@ core::Result<term_t> parse_term(std::string_view text);
 
 // Runs goal text once: true, false, or the exception as an error.
 core::Result<bool> call_once(std::string_view goal);
+// The same for a goal term (in the caller's frame; its bindings are kept).
+core::Result<bool> call_term(term_t goal);
+
+// A term's text when it is an atom, a string or a number; its writeq text otherwise.
+std::string text_of(term_t t);
 
 }  // namespace strata::prolog

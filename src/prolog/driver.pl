@@ -1,0 +1,310 @@
+/*  The PROLOG Strategic level's driver (design.md §2.5, docs/language.md §7).
+
+    Compiled into the strata binary and loaded once per process. It loads a
+    mission's rules into a module of their own, defines the vehicle
+    primitives there from the catalogue, checks the rules before they run,
+    runs mission/0 and says how it ended. The host (C++) provides:
+
+      '$strata_call'(+Name, +Args, -Answer)  calls a primitive and yields
+                                             until the vehicle answers 1 or 0
+      '$strata_report'(+Name, +Args)         a REPORT: sent, not waited for
+      '$strata_phase'(+Event, +Phase)        tells observers a phase started
+                                             (start) or ended (end(Exit))
+*/
+:- module(strata_driver,
+          [ open_mission/2,          % -Module, +PrimitiveSpecs
+            load_mission/2,          % +Module, +File
+            check_mission/2,         % +Module, -Problems
+            run_mission/2,           % +Module, +InferenceLimit
+            mission_outcome/2,       % +Module, -Outcome
+            close_mission/1,         % +Module
+            unlimited/0
+          ]).
+:- use_module(library(lists)).
+:- use_module(library(apply)).
+:- use_module(library(prolog_codewalk)).
+:- use_module(library(prolog_wrap)).
+
+:- dynamic loading/1,            % Module: collecting load messages for it
+           load_message/5,       % Kind, File, Line, Column, Text
+           walk_problem/4,       % File, Line, Callee, Text
+           inference_budget/1.   % inferences allowed between primitive calls
+
+                 /*******************************
+                 *   THE MISSION'S OWN MODULE   *
+                 *******************************/
+
+%!  open_mission(-Module, +Primitives) is det.
+%
+%   Creates a fresh temporary module for one mission and defines in it one
+%   predicate per primitive. Primitives is a list of
+%   primitive(Name, Kind, MinArgs, MaxArgs) with Kind exec, ask, ood or
+%   report, as in the catalogue. The rules call them as Figure 10 does:
+%   exec_Name(A1, ..., X), ask_Name(A1, ..., X), ood('Name', A1, ..., X) and
+%   Name(A1, ...) for a report; X is unified with the answer, 1 or 0.
+
+open_mission(Module, Primitives) :-
+    flag(strata_mission, N, N + 1),
+    format(atom(Module), 'strata_mission_~d', [N]),
+    set_module(Module:class(temporary)),
+    guard_halt(Module),
+    forall(member(P, Primitives), define_primitive(Module, P)),
+    (   setof(A, ood_arity(Primitives, A), Arities)
+    ->  forall(member(A, Arities), define_ood(Module, Primitives, A))
+    ;   true
+    ).
+
+% halt/0,1 in the rules end the mission, not the host: they throw
+% strata_halt and strata_halt(Code), which the host turns into the end.
+guard_halt(M) :-
+    redefine_system_predicate(M:halt),
+    M:assertz((halt :- throw(strata_halt))),
+    redefine_system_predicate(M:halt(_)),
+    M:assertz((halt(Code) :- throw(strata_halt(Code)))),
+    compile_predicates(M:[halt/0, halt/1]).
+
+define_primitive(_, primitive(_, ood, _, _)) :- !.
+define_primitive(M, primitive(Name, Kind, Min, Max)) :-
+    forall(between(Min, Max, N), define_primitive(M, Name, Kind, N)).
+
+define_primitive(M, Name, Kind, N) :-
+    length(Args, N),
+    (   Kind == report
+    ->  Head =.. [Name|Args],
+        Body = strata_driver:'$strata_report'(Name, Args)
+    ;   atomic_list_concat([Kind, '_', Name], Functor),
+        append(Args, [X], HeadArgs),
+        Head =.. [Functor|HeadArgs],
+        Body = strata_driver:call_primitive(Name, Args, X)
+    ),
+    functor(Head, F, A),
+    M:assertz((Head :- Body)),
+    compile_predicates(M:[F/A]).
+
+ood_arity(Primitives, A) :-
+    member(primitive(_, ood, Min, Max), Primitives),
+    between(Min, Max, N),
+    A is N + 2.
+
+% ood('Name', A1, ..., X): one predicate for every OOD primitive of that arity.
+define_ood(M, Primitives, A) :-
+    N is A - 2,
+    length(Args, N),
+    append([Name|Args], [X], HeadArgs),
+    Head =.. [ood|HeadArgs],
+    findall(P, ( member(primitive(P, ood, Min, Max), Primitives),
+                 between(Min, Max, N) ), Names),
+    M:assertz((Head :- strata_driver:call_ood(Names, Name, Args, X))),
+    compile_predicates(M:[ood/A]).
+
+call_ood(Names, Name, Args, X) :-
+    (   atom(Name), memberchk(Name, Names)
+    ->  call_primitive(Name, Args, X)
+    ;   length(Args, N),
+        throw(error(existence_error(ood_primitive, Name/N), _))
+    ).
+
+call_primitive(Name, Args, X) :-
+    '$strata_call'(Name, Args, Answer),
+    rearm,
+    X = Answer.
+
+%!  close_mission(+Module) is det.
+%
+%   Forgets the mission: its module, its clauses and the files loaded into
+%   it (so the same files can be loaded again into a new module).
+
+close_mission(Module) :-
+    unlimited,
+    retractall(system:'$load_context_module'(_, Module, _)),
+    catch('$destroy_module'(Module), _, true).
+
+                 /*******************************
+                 *          LOADING             *
+                 *******************************/
+
+%!  load_mission(+Module, +File) is det.
+%
+%   Loads File into Module. Errors and warnings printed while loading are
+%   kept (not printed) as load_message/5 facts, with their file and line.
+
+load_mission(Module, File) :-
+    retractall(load_message(_, _, _, _, _)),
+    setup_call_cleanup(
+        asserta(loading(Module), Ref),
+        catch(load_files(Module:File, [if(true)]), E, load_exception(E)),
+        erase(Ref)).
+
+load_exception(E) :-
+    message_text(E, error, Text),
+    (   source_location(F, L) -> true ; F = '', L = 0 ),
+    assertz(load_message(error, F, L, 0, Text)).
+
+:- multifile user:message_hook/3.
+user:message_hook(Term, Kind, _Lines) :-
+    loading(_),
+    (   Kind == error ; Kind == warning ),
+    !,
+    message_location(Term, File, Line, Column),
+    message_text(Term, Kind, Text),
+    assertz(load_message(Kind, File, Line, Column, Text)).
+
+message_location(error(_, file(File, Line, LinePos, _)), File, Line, Column) :-
+    !,
+    Column is LinePos + 1.
+message_location(_, File, Line, 0) :-
+    source_location(File, Line),
+    !.
+message_location(_, '', 0, 0).
+
+message_text(Term, _Kind, Text) :-
+    catch(( '$messages':translate_message(Term, Lines, []),
+            with_output_to(string(Text0),
+                           print_message_lines(current_output, '', Lines)),
+            normalize_space(string(Text), Text0)
+          ), _, fail),
+    !.
+message_text(Term, _, Text) :-
+    format(string(Text), '~q', [Term]).
+
+                 /*******************************
+                 *          CHECKING            *
+                 *******************************/
+
+%!  check_mission(+Module, -Problems) is det.
+%
+%   Problems is a list of problem(File, Line, Text): calls to predicates
+%   nobody defines (a primitive the catalogue does not have among them),
+%   and a missing mission/0.
+
+check_mission(Module, Problems) :-
+    retractall(walk_problem(_, _, _, _)),
+    prolog_walk_code([ module(Module),
+                       undefined(trace),
+                       on_trace(strata_driver:undefined_call(Module)),
+                       source(false)
+                     ]),
+    findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
+    sort(Walked, Sorted),
+    (   current_predicate(Module:mission/0)
+    ->  Problems = Sorted
+    ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
+                   |Sorted]
+    ).
+
+undefined_call(Module, Callee, _Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    functor(Goal, Name, Arity),
+    location_file_line(Location, File, Line),
+    undefined_text(Module, Name, Arity, Text),
+    (   walk_problem(File, Line, Name/Arity, _)
+    ->  true
+    ;   assertz(walk_problem(File, Line, Name/Arity, Text))
+    ).
+
+location_file_line(clause_term_position(Ref, _), File, Line) :- !,
+    clause_file_line(Ref, File, Line).
+location_file_line(clause(Ref), File, Line) :- !,
+    clause_file_line(Ref, File, Line).
+location_file_line(file(File, Line, _, _), File, Line) :- !.
+location_file_line(_, '', 0).
+
+clause_file_line(Ref, File, Line) :-
+    (   clause_property(Ref, file(File)) -> true ; File = '' ),
+    (   clause_property(Ref, line_count(Line)) -> true ; Line = 0 ).
+
+undefined_text(Module, Name, Arity, Text) :-
+    primitive_prefix(Name, Kind, Primitive),
+    !,
+    (   known_arities(Module, Name, Arities)
+    ->  format(string(Text), "~w/~d: ~w takes ~w argument(s) here: use ~w",
+               [Name, Arity, Primitive, Arity, Arities])
+    ;   format(string(Text), "~w/~d: `~w` is not an ~w primitive in the catalogue \c
+                              (`strata primitives` lists them)",
+               [Name, Arity, Primitive, Kind])
+    ).
+undefined_text(_, Name, Arity, Text) :-
+    format(string(Text), "~w/~d is called but not defined", [Name, Arity]).
+
+primitive_prefix(Name, exec, Primitive) :-
+    atom_concat(exec_, Primitive, Name), !.
+primitive_prefix(Name, ask, Primitive) :-
+    atom_concat(ask_, Primitive, Name), !.
+
+known_arities(Module, Name, Arities) :-
+    findall(Text, ( current_predicate(Module:Name/A),
+                    format(atom(Text), '~w/~d', [Name, A]) ), Arities0),
+    Arities0 \== [],
+    atomic_list_concat(Arities0, ' or ', Arities).
+
+                 /*******************************
+                 *           RUNNING            *
+                 *******************************/
+
+%!  run_mission(+Module, +InferenceLimit) is semidet.
+%
+%   Runs Module:mission once. Between two primitive calls the rules may use
+%   at most InferenceLimit inferences; past it they raise
+%   inference_limit_exceeded (an endless loop that never acts).
+%   execute_phase/1, when the rules define it, is wrapped to tell the host
+%   when each phase starts and ends.
+
+run_mission(Module, Limit) :-
+    retractall(inference_budget(_)),
+    assertz(inference_budget(Limit)),
+    wrap_phases(Module),
+    rearm,
+    Module:mission,
+    !,
+    unlimited.
+
+wrap_phases(Module) :-
+    (   current_predicate(Module:execute_phase/1)
+    ->  wrap_predicate(Module:execute_phase(P), strata_phase, W,
+                       strata_driver:run_phase(Module, P, W))
+    ;   true
+    ).
+
+run_phase(Module, Phase, Wrapped) :-
+    '$strata_phase'(start, Phase),
+    (   call(Wrapped)
+    *-> phase_exit(Module, Phase, Exit),
+        '$strata_phase'(end(Exit), Phase)
+    ;   '$strata_phase'(end(failed), Phase),
+        fail
+    ).
+
+% Figure 10's phases say how they ended with complete(P) or abort(P).
+phase_exit(Module, Phase, Exit) :-
+    (   holds(Module, complete(Phase)) -> Exit = complete
+    ;   holds(Module, abort(Phase))    -> Exit = abort
+    ;   Exit = done
+    ).
+
+holds(Module, Goal) :-
+    functor(Goal, N, A),
+    current_predicate(Module:N/A),
+    \+ \+ catch(Module:Goal, _, fail).
+
+% The inference limit is reset after every primitive call: SWI's own
+% '$inference_limit'/2 only lowers it, so restore "none" first.
+rearm :-
+    inference_budget(Limit),
+    !,
+    unlimited,
+    system:'$inference_limit'(Limit, _).
+rearm.
+
+unlimited :-
+    (   system:'$inference_limit_false'(0x7fffffffffffffff) -> true ; true ).
+
+%!  mission_outcome(+Module, -Outcome) is det.
+%
+%   After mission/0: aborted when the rules left current_phase(mission_abort)
+%   (Figure 10's `done`), completed otherwise.
+
+mission_outcome(Module, Outcome) :-
+    (   holds(Module, current_phase(mission_abort))
+    ->  Outcome = aborted
+    ;   Outcome = completed
+    ).

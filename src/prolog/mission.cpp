@@ -1,0 +1,338 @@
+#include "prolog/mission.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "prolog/driver_text.h"
+
+namespace strata::prolog {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The executor whose query is running; set by MissionQuery::next().
+Host* g_host = nullptr;
+
+term_t new_atom(const std::string& name) {
+  term_t t = PL_new_term_ref();
+  PL_put_atom_chars(t, name.c_str());
+  return t;
+}
+
+// strata_driver:Name(Args...)
+term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
+  term_t refs = PL_new_term_refs(static_cast<int>(args.size()));
+  int i = 0;
+  for (term_t a : args) {
+    if (!PL_put_term(refs + i++, a)) PL_clear_exception();
+  }
+  term_t goal = PL_new_term_ref();
+  term_t call = PL_new_term_ref();
+  if (!PL_cons_functor_v(goal, PL_new_functor(PL_new_atom(name), args.size()), refs) ||
+      !PL_cons_functor(call, PL_new_functor(PL_new_atom(":"), 2), new_atom("strata_driver"), goal)) {
+    PL_clear_exception();
+  }
+  return call;
+}
+
+core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args) {
+  return call_term(driver_goal(name, args));
+}
+
+// A primitive argument: a number, or text (an atom or a string). Raises a
+// Prolog error and returns nullopt otherwise.
+std::optional<tactical::Value> value_of(term_t t) {
+  double number = 0;
+  if (PL_is_number(t) && PL_get_float(t, &number)) return tactical::Value::of(number);
+  char* s = nullptr;
+  std::size_t len = 0;
+  if (PL_get_nchars(t, &len, &s, CVT_ATOM | CVT_STRING | BUF_STACK | REP_UTF8)) {
+    return tactical::Value::of(std::string(s, len));
+  }
+  if (PL_is_variable(t)) {
+    PL_instantiation_error(t);
+  } else {
+    PL_type_error("number_or_text", t);
+  }
+  return std::nullopt;
+}
+
+bool call_arguments(term_t name_t, term_t list, std::string& name, std::vector<tactical::Value>& args) {
+  char* s = nullptr;
+  if (!PL_get_atom_chars(name_t, &s)) return PL_type_error("atom", name_t);
+  name = s;
+  term_t head = PL_new_term_ref();
+  term_t tail = PL_copy_term_ref(list);
+  while (PL_get_list(tail, head, tail)) {
+    auto v = value_of(head);
+    if (!v) return false;
+    args.push_back(std::move(*v));
+  }
+  if (!PL_get_nil(tail)) return PL_type_error("list", list);
+  return true;
+}
+
+bool no_host() {
+  term_t ex = PL_new_term_ref();
+  return PL_unify_term(ex, PL_FUNCTOR_CHARS, "strata_error", 1, PL_CHARS,
+                       "a primitive was called outside a running mission") &&
+         PL_raise_exception(ex);
+}
+
+// '$strata_call'(+Name, +Args, -Answer): yields to the host until the
+// vehicle answers, then unifies Answer with 1 or 0.
+foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_t handle) {
+  alignas(8) static int token = 0;
+  switch (PL_foreign_control(handle)) {
+    case PL_FIRST_CALL: {
+      if (!g_host) return no_host();
+      std::string name;
+      std::vector<tactical::Value> args;
+      if (!call_arguments(name_t, args_t, name, args)) return FALSE;
+      g_host->primitive(name, std::move(args));
+      PL_yield_address(&token);
+    }
+    case PL_RESUME: {
+      auto answer = g_host ? g_host->answer() : std::nullopt;
+      if (!answer) {
+        term_t ex = PL_new_term_ref();
+        PL_put_atom_chars(ex, "strata_cancelled");
+        return PL_raise_exception(ex);
+      }
+      return PL_unify_integer(answer_t, *answer);
+    }
+    default: return TRUE;
+  }
+}
+
+foreign_t pl_strata_report(term_t name_t, term_t args_t) {
+  if (!g_host) return no_host();
+  std::string name;
+  std::vector<tactical::Value> args;
+  if (!call_arguments(name_t, args_t, name, args)) return FALSE;
+  g_host->report(name, std::move(args));
+  return TRUE;
+}
+
+// '$strata_phase'(+Event, +Phase): Event is start or end(Exit).
+foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
+  if (!g_host) return TRUE;  // the rules run outside a mission (plunit)
+  std::string phase = text_of(phase_t);
+  char* s = nullptr;
+  if (PL_get_atom_chars(event_t, &s)) {
+    g_host->phase_started(phase);
+    return TRUE;
+  }
+  term_t exit = PL_new_term_ref();
+  if (PL_is_functor(event_t, PL_new_functor(PL_new_atom("end"), 1)) && PL_get_arg(1, event_t, exit)) {
+    g_host->phase_ended(phase, text_of(exit));
+    return TRUE;
+  }
+  return PL_domain_error("phase_event", event_t);
+}
+
+core::Result<void> ensure_driver() {
+  static bool loaded = false;
+  if (loaded) return {};
+  if (auto r = initialise(); !r) return r.error();
+  Frame frame;
+  auto goal = parse_term(
+      "open_string(Text, S), call_cleanup(load_files(strata_driver, [stream(S), silent(true)]), "
+      "close(S))");
+  if (!goal) return goal.error();
+  term_t open = PL_new_term_ref();
+  term_t text = PL_new_term_ref();
+  if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text) ||
+      !PL_unify_chars(text, PL_STRING, kDriverText.size(), kDriverText.data())) {
+    return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
+  }
+  auto r = call_term(goal.value());
+  if (!r || !r.value()) {
+    return core::make_error(core::ErrorCode::Internal,
+                            "the PROLOG driver did not load: " + (r ? std::string("failed") : r.error().message));
+  }
+  PL_register_foreign_in_module("strata_driver", "$strata_call", 3,
+                                reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
+  PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_report), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
+  loaded = true;
+  return {};
+}
+
+std::string prolog_atom(std::string_view s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "'";
+}
+
+std::string primitive_specs(const tactical::Catalogue& catalogue) {
+  std::string out = "[";
+  for (const auto& p : catalogue.all()) {
+    if (out.size() > 1) out += ",";
+    out += fmt::format("primitive({},{},{},{})", prolog_atom(p.name), tactical::kind_name(p.kind),
+                       p.min_args(), p.max_args());
+  }
+  return out + "]";
+}
+
+// A file as the user would name it: relative to the current folder when inside it.
+std::string shown_path(const std::string& file) {
+  if (file.empty()) return file;
+  std::error_code ec;
+  fs::path rel = fs::proximate(file, ec);
+  return ec || rel.empty() || rel.native().starts_with("..") ? file : rel.string();
+}
+
+std::uint32_t get_uint(term_t t) {
+  int64_t v = 0;
+  return PL_get_int64(t, &v) && v > 0 ? static_cast<std::uint32_t>(v) : 0;
+}
+
+void collect_load_messages(std::vector<Message>& out) {
+  Frame frame;
+  term_t a = PL_new_term_refs(5);
+  term_t goal = driver_goal("load_message", {a, a + 1, a + 2, a + 3, a + 4});
+  Query q(goal, false);
+  while (true) {
+    auto s = q.next();
+    if (s != Query::Status::True && s != Query::Status::Last) break;
+    Message m;
+    m.error = text_of(a) == "error";
+    m.file = shown_path(text_of(a + 1));
+    m.line = get_uint(a + 2);
+    m.column = get_uint(a + 3);
+    m.text = text_of(a + 4);
+    out.push_back(std::move(m));
+    if (s == Query::Status::Last) break;
+  }
+}
+
+}  // namespace
+
+std::string format_message(const Message& m) {
+  std::string where = m.file;
+  if (!where.empty() && m.line > 0) where += fmt::format(":{}", m.line);
+  if (!where.empty() && m.line > 0 && m.column > 0) where += fmt::format(":{}", m.column);
+  return fmt::format("{}{}{}: {}", where, where.empty() ? "" : ": ", m.error ? "error" : "warning", m.text);
+}
+
+core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
+                                                     const tactical::Catalogue& catalogue,
+                                                     std::vector<Message>& messages) {
+  if (std::ifstream probe(path); !probe) {
+    return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
+  }
+  if (auto r = ensure_driver(); !r) return r.error();
+  std::unique_ptr<Mission> mission(new Mission());
+  mission->path_ = path;
+  mission->name_ = fs::path(path).stem().string();
+
+  Frame frame;
+  term_t module = PL_new_term_ref();
+  auto specs = parse_term(primitive_specs(catalogue));
+  if (!specs) return specs.error();
+  if (auto r = call_driver("open_mission", {module, specs.value()}); !r || !r.value()) {
+    return core::make_error(core::ErrorCode::Internal, "cannot make a module for the mission: " +
+                                                           (r ? std::string("failed") : r.error().message));
+  }
+  mission->module_ = text_of(module);
+
+  std::error_code ec;
+  fs::path absolute = fs::absolute(path, ec);
+  term_t file = new_atom(absolute.lexically_normal().string());
+  auto loaded = call_driver("load_mission", {new_atom(mission->module_), file});
+  collect_load_messages(messages);
+  if (!loaded) {
+    messages.push_back({true, path, 0, 0, loaded.error().message});
+  }
+
+  term_t problems = PL_new_term_ref();
+  auto checked = call_driver("check_mission", {new_atom(mission->module_), problems});
+  if (!checked || !checked.value()) {
+    messages.push_back({true, path, 0, 0,
+                        "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
+  } else {
+    term_t head = PL_new_term_ref();
+    term_t arg = PL_new_term_ref();
+    term_t tail = PL_copy_term_ref(problems);
+    while (PL_get_list(tail, head, tail)) {
+      Message m;
+      PL_get_arg(1, head, arg);
+      m.file = shown_path(text_of(arg));
+      if (m.file.empty()) m.file = path;
+      PL_get_arg(2, head, arg);
+      m.line = get_uint(arg);
+      PL_get_arg(3, head, arg);
+      m.text = text_of(arg);
+      messages.push_back(std::move(m));
+    }
+  }
+  std::size_t errors = 0;
+  for (const auto& m : messages) errors += m.error ? 1 : 0;
+  if (errors > 0) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("{}: {} error{}", path, errors, errors == 1 ? "" : "s"));
+  }
+  return mission;
+}
+
+Mission::~Mission() {
+  if (module_.empty()) return;
+  Frame frame;
+  (void)call_driver("close_mission", {new_atom(module_)});
+}
+
+MissionQuery::MissionQuery(const Mission& mission, Host& host, std::uint64_t inference_limit)
+    : mission_(mission), host_(host) {
+  frame_ = PL_open_foreign_frame();
+  term_t limit = PL_new_term_ref();
+  if (!PL_put_int64(limit, static_cast<int64_t>(inference_limit))) PL_clear_exception();
+  term_t goal = driver_goal("run_mission", {new_atom(mission_.module()), limit});
+  query_ = std::make_unique<Query>(goal, true);
+}
+
+MissionQuery::~MissionQuery() { close(); }
+
+Query::Status MissionQuery::next() {
+  if (!query_) return Query::Status::False;
+  g_host = &host_;
+  auto status = query_->next();
+  g_host = nullptr;
+  if (status == Query::Status::Exception) {
+    const std::string& e = query_->exception_text();
+    if (e == "strata_halt") {
+      halted_ = 0;
+    } else if (e.starts_with("strata_halt(")) {
+      halted_ = std::atoi(e.c_str() + 12);
+    } else if (e == "inference_limit_exceeded") {
+      limit_exceeded_ = true;
+    } else if (e.starts_with("error(resource_error(")) {
+      out_of_stack_ = true;
+    }
+  }
+  return status;
+}
+
+void MissionQuery::close() {
+  if (!query_) return;
+  query_.reset();  // cuts the query
+  PL_discard_foreign_frame(frame_);
+  (void)call_once("strata_driver:unlimited");
+}
+
+core::Result<RulesOutcome> mission_outcome(const Mission& mission) {
+  Frame frame;
+  term_t outcome = PL_new_term_ref();
+  auto r = call_driver("mission_outcome", {new_atom(mission.module()), outcome});
+  if (!r) return r.error();
+  return text_of(outcome) == "aborted" ? RulesOutcome::Aborted : RulesOutcome::Completed;
+}
+
+}  // namespace strata::prolog

@@ -1,0 +1,109 @@
+#pragma once
+// A PROLOG mission (paper §2.2, Figure 10; docs/language.md §7): rules
+// loaded into a module of their own, beside one predicate per vehicle
+// primitive of the catalogue, and checked before they run. The Prolog side
+// of this lives in driver.pl, compiled into the binary.
+//
+// One mission runs at a time per process (SWI-Prolog has one engine here):
+// while a MissionQuery is open, no other Prolog may run.
+//
+// Threads: the one that called prolog::initialise().
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "prolog/engine.h"
+#include "tactical/catalogue.h"
+#include "tactical/value.h"
+
+namespace strata::prolog {
+
+// An error or warning SWI-Prolog printed while loading, or a problem the
+// check found: where, and what.
+struct Message {
+  bool error = true;  // false: a warning
+  std::string file;   // "" when SWI gave no place
+  std::uint32_t line = 0;
+  std::uint32_t column = 0;  // 0 when unknown
+  std::string text;
+};
+// "file:line:col: error: text", as the CORAL checker prints its diagnostics.
+std::string format_message(const Message& message);
+
+// What the rules reach while they run. The executor implements it.
+class Host {
+ public:
+  virtual ~Host() = default;
+  // A primitive call (exec, ask, ood); the query yields right after.
+  virtual void primitive(const std::string& name, std::vector<tactical::Value> args) = 0;
+  // On resuming: the answer to unify with the rules' variable (1 or 0), or
+  // nullopt to raise strata_cancelled in the rules instead.
+  virtual std::optional<int> answer() = 0;
+  // A REPORT: not waited for.
+  virtual void report(const std::string& name, std::vector<tactical::Value> args) = 0;
+  // execute_phase(P) started, and ended: exit is complete, abort, done or failed.
+  virtual void phase_started(const std::string& phase) = 0;
+  virtual void phase_ended(const std::string& phase, const std::string& exit) = 0;
+};
+
+class Mission {
+ public:
+  // Loads the rules at path (and the files they load) with the primitives
+  // of catalogue, then checks them. Every message goes to messages.
+  // Errors: Io when path cannot be read; InvalidInput when loading printed
+  // an error or the check found a problem (the messages say where).
+  static core::Result<std::unique_ptr<Mission>> load(const std::string& path,
+                                                     const tactical::Catalogue& catalogue,
+                                                     std::vector<Message>& messages);
+  ~Mission();
+  Mission(const Mission&) = delete;
+  Mission& operator=(const Mission&) = delete;
+
+  const std::string& path() const { return path_; }
+  const std::string& name() const { return name_; }  // the file's stem: "tank"
+  const std::string& module() const { return module_; }
+
+ private:
+  Mission() = default;
+  std::string path_, name_, module_;
+};
+
+// mission/0 running: next() runs the rules until they call a primitive
+// (Yield: host.primitive() has the call; answer it with host.answer() on
+// the next next()), finish (True), fail (False) or raise (Exception).
+class MissionQuery {
+ public:
+  // inference_limit: inferences allowed between two primitive calls.
+  MissionQuery(const Mission& mission, Host& host, std::uint64_t inference_limit);
+  ~MissionQuery();
+  MissionQuery(const MissionQuery&) = delete;
+  MissionQuery& operator=(const MissionQuery&) = delete;
+
+  Query::Status next();
+  const std::string& exception_text() const { return query_->exception_text(); }
+  // The exception was strata_halt or strata_halt(Code): Code (0 for halt/0).
+  std::optional<int> halted() const { return halted_; }
+  bool inference_limit_exceeded() const { return limit_exceeded_; }
+  bool out_of_stack() const { return out_of_stack_; }
+  // Ends the query; next() may not be called after.
+  void close();
+
+ private:
+  const Mission& mission_;
+  Host& host_;
+  fid_t frame_ = 0;
+  std::unique_ptr<Query> query_;
+  std::optional<int> halted_;
+  bool limit_exceeded_ = false;
+  bool out_of_stack_ = false;
+};
+
+// After mission/0 succeeded or halted: aborted when the rules left
+// current_phase(mission_abort) (Figure 10's `done`), completed otherwise.
+enum class RulesOutcome { Completed, Aborted };
+core::Result<RulesOutcome> mission_outcome(const Mission& mission);
+
+}  // namespace strata::prolog

@@ -1,0 +1,289 @@
+#include "prolog/mission.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+namespace strata::prolog {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch folder of rule files for one test.
+class Rules {
+ public:
+  Rules() {
+    dir_ = fs::temp_directory_path() /
+           ("strata_prolog_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  ~Rules() { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+ private:
+  fs::path dir_;
+};
+
+// Answers every call with the next scripted answer and records what happened.
+class ScriptedHost final : public Host {
+ public:
+  std::vector<int> answers;
+  std::size_t next_answer = 0;
+  bool cancel = false;
+  std::vector<std::string> events;
+
+  void primitive(const std::string& name, std::vector<tactical::Value> args) override {
+    std::string e = "call " + name;
+    for (const auto& a : args) e += " " + tactical::to_string(a);
+    events.push_back(e);
+  }
+  std::optional<int> answer() override {
+    if (cancel) return std::nullopt;
+    return next_answer < answers.size() ? answers[next_answer++] : 1;
+  }
+  void report(const std::string& name, std::vector<tactical::Value> args) override {
+    events.push_back(name + " " + (args.empty() ? "" : tactical::to_string(args[0])));
+  }
+  void phase_started(const std::string& phase) override { events.push_back("phase " + phase); }
+  void phase_ended(const std::string& phase, const std::string& exit) override {
+    events.push_back("end " + phase + " " + exit);
+  }
+};
+
+class PrologMission : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { ASSERT_TRUE(initialise().ok()); }
+
+  std::unique_ptr<Mission> load_ok(const std::string& path) {
+    std::vector<Message> messages;
+    auto m = Mission::load(path, tactical::Catalogue::builtin(), messages);
+    for (const auto& msg : messages) ADD_FAILURE() << format_message(msg);
+    if (!m) ADD_FAILURE() << m.error().message;
+    return m ? std::move(m.value()) : nullptr;
+  }
+
+  // Runs the query to its end, counting yields (bounded).
+  static Query::Status run(MissionQuery& q, int max_yields = 1000) {
+    Query::Status s;
+    int yields = 0;
+    while ((s = q.next()) == Query::Status::Yield && ++yields < max_yields) {
+    }
+    return s;
+  }
+
+  Rules rules_;
+};
+
+TEST_F(PrologMission, CallsYieldAndAnswersAreUnifiedAsIntegers) {
+  auto m = load_ok(rules_.write("m.pl", R"(
+:- dynamic seen/1.
+mission :- exec_sleep(2, X), X == 1, ask_depth_reached(Y), Y == 0,
+           ood('shutdown_network', Z), integer(Z), report('all done'), assertz(seen(ok)).
+)"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  host.answers = {1, 0, 1};
+  MissionQuery q(*m, host, 100000);
+  EXPECT_EQ(Query::Status::Yield, q.next());
+  EXPECT_EQ(Query::Status::Yield, q.next());
+  EXPECT_EQ(Query::Status::Yield, q.next());
+  auto s = q.next();
+  EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
+  q.close();
+  EXPECT_EQ((std::vector<std::string>{"call sleep 2", "call depth_reached", "call shutdown_network",
+                                      "report all done"}),
+            host.events);
+  EXPECT_EQ(RulesOutcome::Completed, mission_outcome(*m).value());
+}
+
+TEST_F(PrologMission, Figure10StyleBoundVariableIsCheckedAfterTheCall) {
+  // exec_submerge(X) with X already 1: the call is still made; 0 then fails.
+  auto m = load_ok(rules_.write("m.pl", R"(
+mission :- exec_start_timer(X), ( exec_submerge(X) -> report(ok) ; report(refused) ).
+)"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  host.answers = {1, 0};
+  MissionQuery q(*m, host, 100000);
+  run(q);
+  EXPECT_EQ((std::vector<std::string>{"call start_timer", "call submerge", "report refused"}), host.events);
+}
+
+TEST_F(PrologMission, PhasesAreReportedWithTheirExit) {
+  auto m = load_ok(rules_.write("m.pl", R"(
+:- dynamic current_phase/1, complete/1, abort/1.
+current_phase(1).
+mission :- repeat, step, current_phase(mission_abort), !.
+step :- current_phase(P), execute_phase(P), !, next_phase(P), !.
+execute_phase(1) :- exec_start_timer(_), asserta(complete(1)).
+execute_phase(2) :- ask_time_out(X), X = 1, asserta(abort(2)).
+next_phase(1) :- retract(current_phase(1)), asserta(current_phase(2)).
+next_phase(2) :- retract(current_phase(2)), asserta(current_phase(mission_abort)).
+)"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 100000);
+  auto s = run(q);
+  ASSERT_NE(Query::Status::Exception, s) << q.exception_text();
+  q.close();
+  EXPECT_EQ((std::vector<std::string>{"phase 1", "call start_timer", "end 1 complete", "phase 2",
+                                      "call time_out", "end 2 abort"}),
+            host.events);
+  EXPECT_EQ(RulesOutcome::Aborted, mission_outcome(*m).value());
+}
+
+TEST_F(PrologMission, SyntaxErrorsHaveFileAndLine) {
+  std::vector<Message> messages;
+  auto m = Mission::load(rules_.write("bad.pl", "mission :- exec_submerge(X.\nok.\n"),
+                         tactical::Catalogue::builtin(), messages);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(core::ErrorCode::InvalidInput, m.error().code);
+  ASSERT_FALSE(messages.empty());
+  EXPECT_TRUE(messages[0].error);
+  EXPECT_NE(std::string::npos, messages[0].file.find("bad.pl")) << format_message(messages[0]);
+  EXPECT_EQ(1u, messages[0].line) << format_message(messages[0]);
+  EXPECT_GT(messages[0].column, 0u);
+}
+
+TEST_F(PrologMission, UnknownPrimitivesAreFoundWhenTheRulesLoad) {
+  std::vector<Message> messages;
+  auto m = Mission::load(rules_.write("m.pl", "mission :- start.\nstart :- exec_warp_drive(X), X = 1.\n"
+                                              "start :- exec_sleep(1), ask_nothing(_).\n"),
+                         tactical::Catalogue::builtin(), messages);
+  ASSERT_FALSE(m.ok());
+  std::string all;
+  for (const auto& msg : messages) all += format_message(msg) + "\n";
+  EXPECT_NE(std::string::npos, all.find("m.pl:2: error: exec_warp_drive/1: `warp_drive` is not an exec primitive"))
+      << all;
+  EXPECT_NE(std::string::npos, all.find("m.pl:3: error: exec_sleep/1: sleep takes 1 argument(s) here: use "
+                                        "exec_sleep/2"))
+      << all;
+  EXPECT_NE(std::string::npos, all.find("ask_nothing/1: `nothing` is not an ask primitive")) << all;
+}
+
+TEST_F(PrologMission, RulesWithoutMissionAreRefused) {
+  std::vector<Message> messages;
+  auto m = Mission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(),
+                         messages);
+  ASSERT_FALSE(m.ok());
+  ASSERT_EQ(1u, messages.size());
+  EXPECT_NE(std::string::npos, messages[0].text.find("no mission/0")) << messages[0].text;
+}
+
+TEST_F(PrologMission, AnUnreadableFileIsAnIoError) {
+  std::vector<Message> messages;
+  auto m = Mission::load("/nonexistent/strata/m.pl", tactical::Catalogue::builtin(), messages);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(core::ErrorCode::Io, m.error().code);
+}
+
+TEST_F(PrologMission, LoopsWithoutPrimitivesHitTheInferenceLimit) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), spin.\nspin :- repeat, fail.\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_TRUE(q.inference_limit_exceeded()) << q.exception_text();
+  q.close();
+  EXPECT_TRUE(call_once("between(1, 300000, _), fail ; true").value()) << "the limit is lifted after the run";
+}
+
+TEST_F(PrologMission, TheLimitCountsBetweenCallsNotInTotal) {
+  // 50 calls with 10k inferences of work each: 500k in all, under 100k per gap.
+  auto m = load_ok(rules_.write("m.pl", R"(
+mission :- between(1, 50, _), numlist(1, 3000, L), sum_list(L, _), exec_start_timer(_), fail.
+mission.
+)"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 100000);
+  auto s = run(q);
+  EXPECT_NE(Query::Status::Exception, s) << q.exception_text();
+  EXPECT_EQ(50u, host.events.size());
+}
+
+TEST_F(PrologMission, EndlessRecursionRunsOutOfStackOrInferences) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- deeper(0).\ndeeper(N) :- M is N + 1, deeper(M), true.\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 10'000'000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_TRUE(q.out_of_stack() || q.inference_limit_exceeded()) << q.exception_text().substr(0, 200);
+}
+
+TEST_F(PrologMission, HaltEndsTheRulesNotTheProcess) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), halt(2).\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 100000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  ASSERT_TRUE(q.halted());
+  EXPECT_EQ(2, *q.halted());
+}
+
+TEST_F(PrologMission, CancellingAYieldedQueryLeavesPrologUsable) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- repeat, exec_sleep(1, _), fail.\n"));
+  ASSERT_TRUE(m);
+  {
+    ScriptedHost host;
+    MissionQuery q(*m, host, 100000);
+    EXPECT_EQ(Query::Status::Yield, q.next());
+    EXPECT_EQ(Query::Status::Yield, q.next());
+    q.close();  // while the rules wait for an answer
+  }
+  {
+    ScriptedHost host;
+    host.cancel = true;
+    MissionQuery q(*m, host, 100000);
+    EXPECT_EQ(Query::Status::Yield, q.next());
+    EXPECT_EQ(Query::Status::Exception, q.next());
+    EXPECT_EQ("strata_cancelled", q.exception_text());
+  }
+  EXPECT_TRUE(call_once("true").value());
+}
+
+TEST_F(PrologMission, EachLoadStartsFromAFreshDatabase) {
+  std::string path = rules_.write("m.pl", R"(
+:- dynamic count/1.
+count(0).
+mission :- retract(count(N)), M is N + 1, assertz(count(M)), exec_sleep(M, _).
+)");
+  for (int i = 0; i < 3; ++i) {
+    auto m = load_ok(path);
+    ASSERT_TRUE(m);
+    ScriptedHost host;
+    MissionQuery q(*m, host, 100000);
+    run(q);
+    EXPECT_EQ(std::vector<std::string>{"call sleep 1"}, host.events) << "load " << i;
+  }
+}
+
+TEST_F(PrologMission, FilesLoadedByTheMissionComeFromItsFolder) {
+  rules_.write("phase2.pl", "execute_phase(2) :- exec_submerge(_).\n");
+  auto m = load_ok(rules_.write("m.pl", ":- multifile execute_phase/1.\n:- consult(phase2).\n"
+                                        "mission :- execute_phase(2).\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 100000);
+  run(q);
+  EXPECT_EQ((std::vector<std::string>{"phase 2", "call submerge", "end 2 done"}), host.events);
+}
+
+TEST_F(PrologMission, ABadArgumentRaisesInTheRules) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_sleep(_, _).\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 100000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_NE(std::string::npos, q.exception_text().find("instantiation_error")) << q.exception_text();
+  EXPECT_TRUE(host.events.empty());
+}
+
+}  // namespace
+}  // namespace strata::prolog
