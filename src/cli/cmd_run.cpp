@@ -17,7 +17,7 @@ Runner add_run_command(CLI::App& app) {
       "run",
       "Run a mission: check it, start the simulated vehicle on a free loopback port (unless "
       "--vehicle), and execute it through the Tactical level");
-  cmd->add_option("mission", o->mission, "The mission (.coral)")->required();
+  cmd->add_option("mission", o->mission, "The mission: a CORAL net (.coral) or PROLOG rules (.pl)")->required();
   cmd->add_option("--data", o->data, "Mission data file (default: the one the mission names)");
   cmd->add_option("--scenario", o->scenario,
                   "Vehicle scenario: NAME in the mission's scenarios/ folder, or a path (default: nominal)");
@@ -26,6 +26,11 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_option("--seed", o->seed,
                   "Choose among enabled transitions of equal priority at random, from this seed "
                   "(default: declaration order)");
+  cmd->add_option("--inference-limit", o->inference_limit,
+                  "PROLOG: inferences the rules may make between two primitive calls before the "
+                  "mission is stopped as an endless loop")
+      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
+      ->capture_default_str();
   cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
   cmd->add_option("--speed", o->speed,
                   "With --realtime: simulated seconds per wall second (with --vehicle: the speed "

@@ -23,6 +23,8 @@ Runner add_dump_command(CLI::App& app);
 Runner add_vehicle_command(CLI::App& app);
 // `strata run`.
 Runner add_run_command(CLI::App& app);
+// `strata compare`.
+Runner add_compare_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
 

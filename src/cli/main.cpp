@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   runners["check"] = add_check_command(app);
   runners["dump"] = add_dump_command(app);
   runners["run"] = add_run_command(app);
+  runners["compare"] = add_compare_command(app);
   runners["vehicle"] = add_vehicle_command(app);
   runners["primitives"] = add_primitives_command(app);
 

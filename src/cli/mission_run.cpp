@@ -14,8 +14,10 @@
 #include "cli/exit_codes.h"
 #include "coral/compiler.h"
 #include "core/diagnostic_printer.h"
+#include "prolog/mission.h"
 #include "strategic/coral_engine.h"
 #include "strategic/log_observer.h"
+#include "strategic/prolog_executor.h"
 #include "tactical/mission_data.h"
 #include "tactical/mission_log.h"
 #include "tactical/sha256.h"
@@ -36,6 +38,11 @@ constexpr const char* kVersion = "0.1.0";
 // Strategic level could not go on (its own abort path never ran).
 constexpr const char* kShutdownPrimitive = "shutdown_network";
 constexpr const char* kInterrupted = "interrupted by the operator";
+// Before it, when the link still works, the runner surfaces the vehicle.
+constexpr const char* kSurface = "surface";
+constexpr const char* kSurfaceReached = "surface_reached";
+constexpr const char* kSleep = "sleep";
+constexpr double kEmergencySurfaceS = 120.0;
 // Lockstep: wall seconds allowed per simulated second of a call (>= 100x real time).
 constexpr double kLockstepWallPerSim = 0.01;
 
@@ -46,7 +53,10 @@ std::string sha256_or_empty(const std::string& path) {
 
 struct LoadedMission {
   core::SourceManager sources;
-  std::optional<coral::Program> program;
+  std::optional<coral::Program> program;   // a .coral mission
+  std::unique_ptr<prolog::Mission> rules;  // a .pl mission
+  std::string name;                        // the mission net's name, or the rules' file stem
+  std::string data_file;                   // as the mission names it, resolved; "" none
 };
 
 // Compiles the mission; diagnostics (warnings too) go to err.
@@ -73,6 +83,25 @@ int load_coral(const std::string& path, const tactical::Catalogue& catalogue, Lo
                        sink.error_count() == 1 ? "" : "s");
     return unreadable_root ? kExitIo : kExitInvalid;
   }
+  const coral::CompiledNet& mission = loaded.program->nets[*loaded.program->mission];
+  loaded.name = mission.name;
+  loaded.data_file = mission.data_file;
+  return kExitOk;
+}
+
+// Loads and checks the rules; messages (warnings too) go to err.
+int load_prolog(const std::string& path, const tactical::Catalogue& catalogue, LoadedMission& loaded,
+                std::ostream& err) {
+  std::vector<prolog::Message> messages;
+  auto rules = prolog::Mission::load(path, catalogue, messages);
+  for (const auto& m : messages) err << prolog::format_message(m) << "\n";
+  if (!rules) {
+    err << "strata run: " << rules.error().message << "; not running\n";
+    return exit_code_for_input(rules.error());
+  }
+  loaded.rules = std::move(rules.value());
+  loaded.name = loaded.rules->name();
+  loaded.data_file = loaded.rules->data_file();
   return kExitOk;
 }
 
@@ -91,9 +120,9 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   };
 
   // ---- inputs ---------------------------------------------------------------
-  if (fs::path(o.mission).extension() != ".coral") {
-    err << fmt::format("strata run: '{}': a mission is a .coral file (PROLOG missions are not "
-                       "supported yet)\n",
+  const auto extension = fs::path(o.mission).extension();
+  if (extension != ".coral" && extension != ".pl") {
+    err << fmt::format("strata run: '{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)\n",
                        o.mission);
     return fail(kExitUsage);
   }
@@ -103,9 +132,11 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     return fail(exit_code_for_input(catalogue.error()));
   }
   LoadedMission loaded;
-  if (int code = load_coral(o.mission, catalogue.value(), loaded, err); code != kExitOk) return fail(code);
-  const coral::Program& program = *loaded.program;
-  const coral::CompiledNet& mission_net = program.nets[*program.mission];
+  if (int code = extension == ".pl" ? load_prolog(o.mission, catalogue.value(), loaded, err)
+                                    : load_coral(o.mission, catalogue.value(), loaded, err);
+      code != kExitOk) {
+    return fail(code);
+  }
 
   vehicle::VehicleParams params = vehicle::default_params();
   if (!o.params.empty()) {
@@ -117,7 +148,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     params = p.value();
   }
 
-  std::string data_path = !o.data.empty() ? o.data : mission_net.data_file;
+  std::string data_path = !o.data.empty() ? o.data : loaded.data_file;
   std::optional<tactical::MissionData> data;
   if (!data_path.empty()) {
     auto d = tactical::MissionData::load(data_path, tactical::DataLimits{params.tank_depth_m});
@@ -244,10 +275,21 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     link->send(protocol::make_telemetry(0, o.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
   }
 
+  if (o.trace) tactical.on_call([&report](const tactical::CallRecord& c) { report.trace.push_back(c); });
+
   strategic::TacticalTactics tactics(tactical);
-  strategic::EngineOptions engine_options;
-  engine_options.seed = o.seed;
-  strategic::CoralEngine engine(program, tactics, engine_options);
+  std::unique_ptr<strategic::Executor> executor;
+  if (loaded.program) {
+    strategic::EngineOptions engine_options;
+    engine_options.seed = o.seed;
+    executor = std::make_unique<strategic::CoralEngine>(*loaded.program, tactics, engine_options);
+  } else {
+    strategic::PrologOptions prolog_options;
+    prolog_options.inference_limit = o.inference_limit;
+    executor = std::make_unique<strategic::PrologExecutor>(*loaded.rules, tactics, catalogue.value(),
+                                                           prolog_options);
+  }
+  strategic::Executor& engine = *executor;
   engine.add_observer(console);
   std::optional<strategic::LogObserver> log_observer;
   if (log) {
@@ -293,6 +335,39 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
       finished = true;
     }
   };
+  // Figure 10's `done`, sent by the runner.
+  auto send_done = [&] {
+    report.emergency_shutdown = true;
+    tactical.call(kShutdownPrimitive, {}, [&](core::Result<tactical::CallOutcome> r) {
+      if (!r) {
+        emergency_error = r.error().message;
+        console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
+      }
+      wrap_up();
+    });
+  };
+  // Surfacing: exec surface, then ask surface_reached once per simulated
+  // second, for at most kEmergencySurfaceS; done follows in any case.
+  std::function<void(int)> poll_surface = [&](int seconds_left) {
+    tactical.call(kSurfaceReached, {}, [&, seconds_left](core::Result<tactical::CallOutcome> r) {
+      if (r && r.value().value) {
+        report.emergency_surfaced = true;
+        send_done();
+      } else if (!r || seconds_left <= 0) {
+        console.line(r ? fmt::format("the vehicle did not reach the surface in {:.0f} s", kEmergencySurfaceS)
+                       : fmt::format("ask {} failed: {}", kSurfaceReached, r.error().message));
+        send_done();
+      } else {
+        tactical.call(kSleep, {tactical::Value::of(1.0)}, [&, seconds_left](core::Result<tactical::CallOutcome> s) {
+          if (!s) {
+            send_done();
+            return;
+          }
+          poll_surface(seconds_left - 1);
+        });
+      }
+    });
+  };
   engine.start([&](const MissionResult& result) {
     report.result = result;
     if (result.outcome != Outcome::Failed || !link->connected() ||
@@ -300,22 +375,34 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
       wrap_up();
       return;
     }
-    report.emergency_shutdown = true;
-    console.line(fmt::format("the mission ended without its own abort path; sending ood {} as "
+    // On a lost link, surfacing is the vehicle's own watchdog's job.
+    const bool link_gone = result.call_error && (*result.call_error == core::ErrorCode::Timeout ||
+                                                 *result.call_error == core::ErrorCode::Closed);
+    const bool surface = !link_gone && catalogue.value().find(kSurface) &&
+                         catalogue.value().find(kSurfaceReached) && catalogue.value().find(kSleep);
+    std::string action = surface ? fmt::format("exec {}, ask {} until 1, ood {}", kSurface, kSurfaceReached,
+                                               kShutdownPrimitive)
+                                 : fmt::format("ood {}", kShutdownPrimitive);
+    console.line(fmt::format("the mission ended without its own abort path; strata run sends {}, as "
                              "Figure 10's done does",
-                             kShutdownPrimitive),
+                             action),
                  result.sim_time_s);
     if (log) {
-      log->write({{"event", "emergency"},
-                  {"action", fmt::format("ood {}", kShutdownPrimitive)},
-                  {"sim_time", tactical::log_time(result.sim_time_s)}});
+      log->write({{"event", "emergency"}, {"action", action}, {"sim_time", tactical::log_time(result.sim_time_s)}});
     }
-    tactical.call(kShutdownPrimitive, {}, [&](core::Result<tactical::CallOutcome> r) {
-      if (!r) {
-        emergency_error = r.error().message;
-        console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
+    if (!surface) {
+      send_done();
+      return;
+    }
+    report.emergency_surface = true;
+    tactical.call(kSurface, {}, [&](core::Result<tactical::CallOutcome> r) {
+      if (!r || !r.value().value) {
+        console.line(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
+                       : fmt::format("exec {} failed: {}", kSurface, r.error().message));
+        send_done();
+        return;
       }
-      wrap_up();
+      poll_surface(static_cast<int>(kEmergencySurfaceS));
     });
   });
   while (!finished && io.run_one() > 0) {
@@ -359,7 +446,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                     : link_gone                     ? "ABORTED: lost the link to the vehicle"
                     : r.reason == kInterrupted      ? "ABORTED: interrupted by the operator"
                                                     : "ABORTED: the Strategic level could not go on";
-  out << fmt::format("mission {}: {}{}\n", mission_net.name, how,
+  out << fmt::format("mission {}: {}{}\n", loaded.name, how,
                      r.exit.empty() ? "" : fmt::format(" (exit {})", r.exit));
   if (!r.reason.empty()) out << "  reason: " << r.reason << "\n";
   std::string phases;
@@ -376,6 +463,10 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                        report.vehicle_watchdog_tripped ? ", surfaced by its own watchdog" : "");
   }
   if (link_lost) out << "  link: lost (" << link_lost_why << ")\n";
+  if (report.emergency_surface) {
+    out << fmt::format("  after it: exec {} sent by strata run; {}\n", kSurface,
+                       report.emergency_surfaced ? "the vehicle reached the surface" : "not confirmed at the surface");
+  }
   if (report.emergency_shutdown) {
     out << fmt::format("  after it: ood {} sent by strata run{}\n", kShutdownPrimitive,
                        emergency_error.empty() ? "" : ", unanswered (" + emergency_error + ")");

@@ -14,16 +14,18 @@
 #include <vector>
 
 #include "strategic/executor.h"
+#include "tactical/tactical_level.h"
 
 namespace strata::cli {
 
 struct RunOptions {
-  std::string mission;        // a .coral file
+  std::string mission;        // a .coral (CORAL) or .pl (PROLOG) file
   std::string data;           // overrides the mission's data file
   std::string scenario;       // name (in the mission's scenarios/) or path; "" nominal
   std::string params;         // vehicle parameter file; "" built in
   std::string catalogue;      // primitive catalogue; "" built in
-  std::optional<std::uint64_t> seed;  // seeded choice among enabled transitions
+  std::optional<std::uint64_t> seed;  // CORAL: seeded choice among enabled transitions
+  std::uint64_t inference_limit = 10'000'000;  // PROLOG: inferences allowed between primitive calls
   bool realtime = false;      // the embedded vehicle on the wall clock
   double speed = 1.0;         // with realtime: simulated seconds per wall second
   std::string vehicle;        // HOST:PORT of a running vehicle; "" embedded
@@ -31,6 +33,7 @@ struct RunOptions {
   bool tty = false;           // a live status line instead of plain event lines
   bool handle_signals = false;  // SIGINT/SIGTERM cancel the mission (the CLI)
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
+  bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
   // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
   std::function<void(bool sent, std::string_view line)> wire_tap;
 };
@@ -44,9 +47,13 @@ struct RunReport {
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
   bool emergency_shutdown = false;  // the runner sent Figure 10's `done` itself
+  bool emergency_surface = false;   // ... and before it surfaced the vehicle (the link still worked)
+  bool emergency_surfaced = false;  // ... and the vehicle answered surface_reached 1
   // Embedded vehicle only: its state when the run was over.
   std::optional<double> final_depth_m;
   bool vehicle_watchdog_tripped = false;
+  // With RunOptions::trace: every primitive call, in the order they completed.
+  std::vector<tactical::CallRecord> trace;
 };
 
 // Runs the mission; console lines go to out, problems to err.

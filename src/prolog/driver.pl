@@ -17,6 +17,7 @@
             check_mission/2,         % +Module, -Problems
             run_mission/2,           % +Module, +InferenceLimit
             mission_outcome/2,       % +Module, -Outcome
+            mission_data/2,          % +Module, -File
             close_mission/1,         % +Module
             unlimited/0
           ]).
@@ -308,3 +309,14 @@ mission_outcome(Module, Outcome) :-
     ->  Outcome = aborted
     ;   Outcome = completed
     ).
+
+%!  mission_data(+Module, -File) is semidet.
+%
+%   The mission data file the rules name with a mission_data/1 fact (the
+%   CORAL mission's `data "..."`), as written: relative to the rules' folder.
+
+mission_data(Module, File) :-
+    current_predicate(Module:mission_data/1),
+    catch(Module:mission_data(File0), _, fail),
+    !,
+    text_to_string(File0, File).

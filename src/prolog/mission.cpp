@@ -274,6 +274,12 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
       messages.push_back(std::move(m));
     }
   }
+  term_t data = PL_new_term_ref();
+  if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
+    fs::path written = text_of(data);
+    mission->data_file_ =
+        (written.is_absolute() ? written : fs::path(path).parent_path() / written).lexically_normal().string();
+  }
   std::size_t errors = 0;
   for (const auto& m : messages) errors += m.error ? 1 : 0;
   if (errors > 0) {

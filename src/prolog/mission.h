@@ -65,10 +65,13 @@ class Mission {
   const std::string& path() const { return path_; }
   const std::string& name() const { return name_; }  // the file's stem: "tank"
   const std::string& module() const { return module_; }
+  // The mission data file named by a mission_data/1 fact, resolved against
+  // the mission's folder; "" when the rules name none.
+  const std::string& data_file() const { return data_file_; }
 
  private:
   Mission() = default;
-  std::string path_, name_, module_;
+  std::string path_, name_, module_, data_file_;
 };
 
 // mission/0 running: next() runs the rules until they call a primitive

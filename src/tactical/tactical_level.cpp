@@ -60,7 +60,11 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
 void TacticalLevel::finish(const CallRecord& record, CallHandler& done,
                            core::Result<CallOutcome> outcome) {
   --in_flight_;
-  if (on_call_) on_call_(record);
+  if (on_call_) {
+    CallRecord r = record;
+    r.sim_time_s = sim_time_s_;
+    on_call_(r);
+  }
   done(std::move(outcome));
 }
 

@@ -41,6 +41,7 @@ struct CallRecord {
   std::string message;  // "exec sleep 1"; for report, the text
   std::optional<bool> value;
   std::string error;
+  double sim_time_s = 0.0;  // the vehicle's time when the call completed
 };
 
 class TacticalLevel {

@@ -1,0 +1,40 @@
+#pragma once
+// Primitive-call traces of two runs, side by side (`strata compare`): the
+// paper's claim that the Strategic level can be swapped with no change
+// below it, checked call by call.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tactical/tactical_level.h"
+
+namespace strata::cli {
+
+// One call as compared: what was sent, what came back, and when.
+struct TraceRow {
+  std::string call;    // "exec sleep 1", "report \"text\""
+  std::string answer;  // "1", "0", or "error: ..."
+  double sim_time_s = 0.0;
+  bool operator==(const TraceRow&) const;  // sim time to the millisecond
+};
+
+TraceRow trace_row(const tactical::CallRecord& record);
+std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& records);
+
+// The index of the first row that differs (a missing row differs), or
+// nullopt when the traces are the same.
+std::optional<std::size_t> first_difference(const std::vector<TraceRow>& a, const std::vector<TraceRow>& b);
+
+struct SideBySideOptions {
+  std::string title_a, title_b;
+  // Rows shown around the first difference (or at the end when the traces
+  // are the same); nullopt: every row.
+  std::optional<std::size_t> context;
+};
+
+// The two traces as a table, the first difference marked with "<<<".
+std::string side_by_side(const std::vector<TraceRow>& a, const std::vector<TraceRow>& b,
+                         const SideBySideOptions& options);
+
+}  // namespace strata::cli

@@ -1,0 +1,186 @@
+#include "strategic/prolog_executor.h"
+
+#include <fmt/format.h>
+
+namespace strata::strategic {
+namespace {
+
+constexpr std::size_t kMaxExceptionText = 400;
+
+std::string shortened(std::string text) {
+  if (text.size() > kMaxExceptionText) text = text.substr(0, kMaxExceptionText) + " ...";
+  return text;
+}
+
+bool completes(const std::string& exit) { return exit == "complete" || exit == "done"; }
+
+}  // namespace
+
+PrologExecutor::PrologExecutor(const prolog::Mission& mission, Tactics& tactics,
+                               const tactical::Catalogue& catalogue, PrologOptions options)
+    : mission_(mission), tactics_(tactics), catalogue_(catalogue), options_(options),
+      self_(std::make_shared<PrologExecutor*>(this)) {}
+
+PrologExecutor::~PrologExecutor() {
+  *self_ = nullptr;
+  query_.reset();
+}
+
+void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
+  if (running_ || ended_) return;
+  on_end_ = std::move(on_end);
+  running_ = true;
+  PhaseStart event{0, 0, mission_.name(), "", 0, nullptr, now()};
+  for (Observer* o : observers_) o->phase_started(event);
+  query_ = std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this),
+                                                  options_.inference_limit);
+  resume();
+}
+
+void PrologExecutor::cancel(std::string reason) {
+  if (running_) fail(std::move(reason));
+}
+
+void PrologExecutor::resume() {
+  using Status = prolog::Query::Status;
+  Status status = query_->next();
+  answer_.reset();
+  switch (status) {
+    case Status::Yield: issue(); return;
+    case Status::True:
+    case Status::Last: rules_ended(); return;
+    case Status::False: fail("mission/0 failed: none of its rules succeeded"); return;
+    case Status::Exception: break;
+  }
+  if (query_->halted()) {
+    rules_ended();
+  } else if (query_->inference_limit_exceeded()) {
+    fail(fmt::format("the rules made {} inferences without calling a primitive: an endless loop? "
+                     "(the limit is --inference-limit)",
+                     options_.inference_limit));
+  } else if (query_->out_of_stack()) {
+    fail("the rules ran out of Prolog stack: endless recursion?");
+  } else {
+    fail("the rules raised an exception: " + shortened(query_->exception_text()));
+  }
+}
+
+void PrologExecutor::primitive(const std::string& name, std::vector<tactical::Value> args) {
+  pending_name_ = name;
+  pending_args_ = std::move(args);
+}
+
+void PrologExecutor::issue() {
+  const tactical::Primitive* p = catalogue_.find(pending_name_);
+  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
+  ActionId id = next_action_++;
+  in_flight_ = id;
+  ActionStart event{id, current_instance(), kind, pending_name_, "", now()};
+  for (Observer* o : observers_) o->action_started(event);
+  std::weak_ptr<PrologExecutor*> self = self_;
+  tactics_.call(pending_name_, std::move(pending_args_), [self, id](core::Result<tactical::CallOutcome> outcome) {
+    if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
+  });
+}
+
+void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
+  if (!running_ || id != in_flight_) {
+    Notice n{fmt::format("a reply for call {}, which the mission no longer waits for, was ignored", id), now()};
+    for (Observer* o : observers_) o->notice(n);
+    return;
+  }
+  in_flight_ = 0;
+  const tactical::Primitive* p = catalogue_.find(pending_name_);
+  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
+  if (!outcome) {
+    fail(fmt::format("{} {} failed: {}", kind, pending_name_, outcome.error().message), outcome.error().code);
+    return;
+  }
+  const tactical::CallOutcome& out = outcome.value();
+  std::string net = phases_.empty() ? mission_.name() : phases_.back().name;
+  ActionFinish f{id, current_instance(), net, pending_name_, out.value, "", out.sim_time_s};
+  for (Observer* o : observers_) o->action_finished(f);
+  if (!out.value && p && (p->kind == tactical::Kind::Exec || p->kind == tactical::Kind::Ood)) {
+    // As in CORAL: a command the vehicle did not carry out ends the mission.
+    fail(fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind, pending_name_,
+                     out.sim_time_s));
+    return;
+  }
+  answer_ = out.value ? 1 : 0;
+  resume();
+}
+
+void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
+  ActionStart event{next_action_++, current_instance(), "report", name, "", now()};
+  for (Observer* o : observers_) o->action_started(event);
+  tactics_.call(name, std::move(args), [](core::Result<tactical::CallOutcome>) {});
+}
+
+void PrologExecutor::phase_started(const std::string& phase) {
+  InstanceId parent = current_instance();
+  phases_.push_back({next_instance_++, phase});
+  PhaseStart event{phases_.back().instance, parent, phases_.back().name, "", phases_.size(), nullptr, now()};
+  for (Observer* o : observers_) o->phase_started(event);
+}
+
+void PrologExecutor::phase_ended(const std::string& phase, const std::string& exit) {
+  if (phases_.empty() || phases_.back().name != phase) {
+    Notice n{fmt::format("phase {} ended again: the rules backtracked into it (is a cut missing after "
+                         "execute_phase/1?)",
+                         phase),
+             now()};
+    for (Observer* o : observers_) o->notice(n);
+    return;
+  }
+  PhaseEnd event{phases_.back().instance, phases_.back().name, exit, completes(exit) ? 0u : 1u, false, now()};
+  for (Observer* o : observers_) o->phase_ended(event);
+  phases_.pop_back();
+}
+
+void PrologExecutor::rules_ended() {
+  std::optional<int> halted = query_->halted();
+  query_->close();
+  auto rules = prolog::mission_outcome(mission_);
+  if (!rules) {
+    fail("cannot tell how the rules ended: " + shortened(rules.error().message));
+    return;
+  }
+  bool aborted = rules.value() == prolog::RulesOutcome::Aborted || (halted && *halted != 0);
+  std::string reason;
+  if (rules.value() == prolog::RulesOutcome::Aborted) {
+    reason = "the rules ended with current_phase(mission_abort)";
+  } else if (aborted) {
+    reason = fmt::format("the rules called halt({})", *halted);
+  }
+  finish({aborted ? Outcome::Aborted : Outcome::Completed, aborted ? "mission_abort" : "", std::move(reason),
+          std::nullopt, now()});
+}
+
+void PrologExecutor::fail(std::string reason, std::optional<core::ErrorCode> code) {
+  finish({Outcome::Failed, "", std::move(reason), code, now()});
+}
+
+void PrologExecutor::finish(MissionResult result) {
+  if (!running_) return;
+  running_ = false;
+  ended_ = true;
+  if (query_) query_->close();
+  in_flight_ = 0;
+  // Phases still running end with the mission, innermost first.
+  while (!phases_.empty()) {
+    PhaseEnd end{phases_.back().instance, phases_.back().name, "", 0, true, result.sim_time_s};
+    for (Observer* o : observers_) o->phase_ended(end);
+    phases_.pop_back();
+  }
+  PhaseEnd mission{0, mission_.name(), result.exit, result.outcome == Outcome::Completed ? 0u : 1u,
+                   result.outcome == Outcome::Failed, result.sim_time_s};
+  for (Observer* o : observers_) o->phase_ended(mission);
+  for (Observer* o : observers_) o->mission_ended(result);
+  if (on_end_) {
+    auto on_end = std::move(on_end_);
+    on_end_ = nullptr;
+    on_end(result);
+  }
+}
+
+}  // namespace strata::strategic

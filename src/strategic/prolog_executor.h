@@ -1,0 +1,93 @@
+#pragma once
+// The PROLOG Strategic level (paper §2.2, Figure 10; design.md §2.5): runs a
+// mission's rules (prolog::Mission) through the same Tactics interface and
+// the same observers as the CORAL Engine. A primitive call yields the
+// rules back to the event loop; the vehicle's answer resumes them.
+//
+// How a mission ends (docs/language.md §7):
+//  - mission/0 succeeds, or the rules call halt/0: Completed, or Aborted
+//    when current_phase(mission_abort) holds (Figure 10's `done`); halt(N)
+//    with N != 0 is Aborted too.
+//  - Failed: mission/0 fails or raises; a primitive call fails; EXEC or OOD
+//    is answered 0 (as in CORAL); the rules run more than inference_limit
+//    inferences between two primitive calls (an endless loop) or out of
+//    stack (endless recursion); cancel().
+//
+// Threads: one; the thread that initialised SWI-Prolog, which runs the
+// event loop. One PROLOG mission runs at a time per process.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "prolog/mission.h"
+#include "strategic/executor.h"
+#include "strategic/tactics.h"
+
+namespace strata::strategic {
+
+struct PrologOptions {
+  // Inferences the rules may make between two primitive calls; a mission's
+  // rules make a few hundred. 10 M is about half a second of pure Prolog.
+  std::uint64_t inference_limit = 10'000'000;
+};
+
+class PrologExecutor final : public Executor, private prolog::Host {
+ public:
+  // mission, tactics and catalogue must outlive the executor.
+  PrologExecutor(const prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
+                 PrologOptions options = {});
+  ~PrologExecutor() override;
+  PrologExecutor(const PrologExecutor&) = delete;
+  PrologExecutor& operator=(const PrologExecutor&) = delete;
+
+  void add_observer(Observer& observer) override { observers_.push_back(&observer); }
+  void start(std::function<void(const MissionResult&)> on_end) override;
+  void cancel(std::string reason) override;
+  bool running() const override { return running_; }
+
+ private:
+  struct Phase {
+    InstanceId instance = 0;
+    std::string name;
+  };
+
+  // prolog::Host
+  void primitive(const std::string& name, std::vector<tactical::Value> args) override;
+  std::optional<int> answer() override { return answer_; }
+  void report(const std::string& name, std::vector<tactical::Value> args) override;
+  void phase_started(const std::string& phase) override;
+  void phase_ended(const std::string& phase, const std::string& exit) override;
+
+  void resume();  // runs the rules until they yield or end
+  void issue();   // sends the call the rules just made
+  void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
+  void rules_ended();
+  void fail(std::string reason, std::optional<core::ErrorCode> code = std::nullopt);
+  void finish(MissionResult result);
+  double now() const { return tactics_.sim_time_s(); }
+  InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
+
+  const prolog::Mission& mission_;
+  Tactics& tactics_;
+  const tactical::Catalogue& catalogue_;
+  PrologOptions options_;
+  std::vector<Observer*> observers_;
+  std::function<void(const MissionResult&)> on_end_;
+  std::unique_ptr<prolog::MissionQuery> query_;
+  std::shared_ptr<PrologExecutor*> self_;
+
+  bool running_ = false;
+  bool ended_ = false;
+  // The call the rules are waiting for.
+  std::string pending_name_;
+  std::vector<tactical::Value> pending_args_;
+  ActionId in_flight_ = 0;  // 0: none
+  ActionId next_action_ = 1;
+  std::optional<int> answer_;
+  std::vector<Phase> phases_;  // the execute_phase/1 calls running, outermost first
+  InstanceId next_instance_ = 1;
+};
+
+}  // namespace strata::strategic
