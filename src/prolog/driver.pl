@@ -23,6 +23,8 @@
           ]).
 :- use_module(library(lists)).
 :- use_module(library(apply)).
+:- use_module(library(aggregate)).
+:- use_module(library(readutil)).
 :- use_module(library(prolog_codewalk)).
 :- use_module(library(prolog_wrap)).
 
@@ -183,7 +185,7 @@ check_mission(Module, Problems) :-
     prolog_walk_code([ module(Module),
                        undefined(trace),
                        on_trace(strata_driver:undefined_call(Module)),
-                       source(false)
+                       source(true)
                      ]),
     findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
     sort(Walked, Sorted),
@@ -203,12 +205,25 @@ undefined_call(Module, Callee, _Caller, Location) :-
     ;   assertz(walk_problem(File, Line, Name/Arity, Text))
     ).
 
-location_file_line(clause_term_position(Ref, _), File, Line) :- !,
-    clause_file_line(Ref, File, Line).
+location_file_line(clause_term_position(Ref, Pos), File, Line) :- !,
+    clause_file_line(Ref, File, ClauseLine),
+    (   compound(Pos), arg(1, Pos, From), integer(From), File \== '',
+        catch(offset_line(File, From, GoalLine), _, fail)
+    ->  Line = GoalLine                 % the line of the call itself
+    ;   Line = ClauseLine
+    ).
 location_file_line(clause(Ref), File, Line) :- !,
     clause_file_line(Ref, File, Line).
 location_file_line(file(File, Line, _, _), File, Line) :- !.
 location_file_line(_, '', 0).
+
+offset_line(File, Offset, Line) :-
+    read_file_to_codes(File, Codes, []),
+    length(Prefix, Offset),
+    append(Prefix, _, Codes),
+    !,
+    aggregate_all(count, member(0'\n, Prefix), Newlines),
+    Line is Newlines + 1.
 
 clause_file_line(Ref, File, Line) :-
     (   clause_property(Ref, file(File)) -> true ; File = '' ),

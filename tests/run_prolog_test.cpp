@@ -1,0 +1,202 @@
+// `strata run` of the PROLOG tank mission (missions/tank/tank.pl) in every
+// shipped scenario, checked against the CORAL mission call by call (what
+// `strata compare` does); the paper's own Figure 10 in place of our phase 2;
+// and rules that loop, recurse or fail, which must end with the vehicle
+// surfaced. Helpers: support/tank_run.h.
+#include "support/tank_run.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cli/trace_compare.h"
+
+namespace strata::cli::run_testing {
+namespace {
+
+const std::string kRules = kTankDir + "/tank.pl";
+const std::string kFixtures = std::string(STRATA_SOURCE_DIR) + "/tests/run";
+// The paper's text (not part of the project: a user's clone has no ../shared).
+const std::string kPaper = std::string(STRATA_SOURCE_DIR) + "/../shared/seed/000_00d9d75137f20be2.txt";
+
+struct TracedRun {
+  RunReport report;
+  std::string out, err;
+  std::vector<TraceRow> rows;
+};
+
+TracedRun run_traced(const std::string& mission, const std::string& scenario,
+                     std::uint64_t inference_limit = RunOptions{}.inference_limit) {
+  RunOptions o;
+  o.mission = mission;
+  o.scenario = scenario;
+  o.trace = true;
+  o.inference_limit = inference_limit;
+  std::ostringstream out, err;
+  TracedRun run;
+  run.report = run_mission(o, out, err);
+  run.out = out.str();
+  run.err = err.str();
+  run.rows = trace_rows(run.report.trace);
+  return run;
+}
+
+std::string table(const TracedRun& a, const TracedRun& b) {
+  return side_by_side(a.rows, b.rows, {"CORAL", "PROLOG", std::size_t{5}});
+}
+
+struct Expected {
+  std::string scenario;
+  Outcome outcome;
+  std::vector<std::string> phases;
+};
+
+class TankRules : public ::testing::TestWithParam<Expected> {};
+
+TEST_P(TankRules, BehaveAsTheNetCallForCall) {
+  const Expected& e = GetParam();
+  TracedRun coral = run_traced(kMission, e.scenario);
+  TracedRun rules = run_traced(kRules, e.scenario);
+  ASSERT_TRUE(rules.report.result.has_value()) << rules.err;
+  EXPECT_EQ("", rules.err) << "our rules load without a warning";
+
+  EXPECT_FALSE(rules.rows.empty());
+  EXPECT_EQ(std::nullopt, first_difference(coral.rows, rules.rows)) << table(coral, rules);
+  EXPECT_EQ(coral.report.primitive_calls, rules.report.primitive_calls);
+  EXPECT_EQ(e.outcome, rules.report.result->outcome) << rules.out;
+  EXPECT_EQ(coral.report.result->outcome, rules.report.result->outcome);
+  EXPECT_EQ(coral.report.exit_code, rules.report.exit_code);
+  EXPECT_EQ(e.phases, rules.report.phases) << rules.out;
+  EXPECT_NEAR(coral.report.sim_time_s, rules.report.sim_time_s, 1e-9);
+  ASSERT_TRUE(rules.report.final_depth_m.has_value());
+  EXPECT_NEAR(*coral.report.final_depth_m, *rules.report.final_depth_m, 1e-9);
+  EXPECT_EQ(coral.report.emergency_shutdown, rules.report.emergency_shutdown);
+  EXPECT_EQ(coral.report.vehicle_watchdog_tripped, rules.report.vehicle_watchdog_tripped);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryScenario, TankRules,
+    ::testing::Values(
+        Expected{"nominal", Outcome::Completed, {"1 completed", "2 completed", "3 completed", "4 completed"}},
+        Expected{"weak_thrusters", Outcome::Aborted, {"1 completed", "2 aborted"}},
+        Expected{"leak_phase2", Outcome::Aborted, {"1 completed", "2 aborted"}},
+        Expected{"leak_phase3", Outcome::Aborted, {"1 completed", "2 completed", "3 aborted"}},
+        Expected{"link_loss", Outcome::Failed, {"1 completed", "2 cancelled"}}),
+    [](const ::testing::TestParamInfo<Expected>& p) { return p.param.scenario; });
+
+TEST(TankRules, TheLogRecordsTheRulesPhasesAndEnd) {
+  TempDir dir;
+  RunOptions o;
+  o.mission = kRules;
+  o.log = dir.file("rules.jsonl");
+  std::ostringstream out, err;
+  RunReport r = run_mission(o, out, err);
+  ASSERT_EQ(0, r.exit_code) << out.str() << err.str();
+  ParsedLog log = parse_log(read_file(o.log));
+  EXPECT_EQ((std::vector<std::string>{"1", "2", "3", "4"}), log.started);
+  ASSERT_TRUE(log.mission_end.has_value());
+  EXPECT_EQ("completed", log.at(log.mission_end)["outcome"]);
+  EXPECT_EQ(80u, log.calls.size());
+  EXPECT_NE(std::string::npos, out.str().find("mission tank: completed")) << out.str();
+}
+
+// Figure 10 of the paper, verbatim, as phase2.pl of a copy of the tank folder.
+std::string figure10() {
+  std::ifstream in(kPaper);
+  std::string line, text;
+  bool after_caption = false, inside = false;
+  while (std::getline(in, line)) {
+    if (!after_caption) {
+      after_caption = line.starts_with("Figure 9:");
+      continue;
+    }
+    if (line.starts_with("```")) {
+      if (inside) return text;
+      inside = true;
+      continue;
+    }
+    if (inside) text += line + "\n";
+  }
+  return "";
+}
+
+TEST(Figure10, RunsUnchangedAndBehavesAsOurPhase2InEveryScenario) {
+  if (!fs::exists(kPaper)) GTEST_SKIP() << "skipped: ../shared/seed not present (the paper's text is not in the project)";
+  const std::string fig10 = figure10();
+  ASSERT_NE(std::string::npos, fig10.find("execute_phase(2)")) << "Figure 10 not found after the Figure 9 caption";
+  ASSERT_NE(std::string::npos, fig10.find("done:- current_phase(mission_abort)"));
+
+  TempDir dir;
+  const fs::path copy = dir.file("tank");
+  fs::copy(kTankDir, copy, fs::copy_options::recursive);
+  std::ofstream(copy / "phase2.pl", std::ios::trunc) << fig10;
+  const std::string paper_rules = (copy / "tank.pl").string();
+
+  for (const std::string scenario : {"nominal", "weak_thrusters", "leak_phase2", "leak_phase3", "link_loss"}) {
+    SCOPED_TRACE(scenario);
+    TracedRun ours = run_traced(kRules, scenario);
+    TracedRun paper = run_traced(paper_rules, scenario);
+    ASSERT_TRUE(paper.report.result.has_value()) << paper.err;
+    EXPECT_NE(std::string::npos, paper.err.find("phase2.pl")) << "Figure 10's singleton X is warned about, with its file";
+    EXPECT_EQ(std::string::npos, paper.err.find("error")) << paper.err;
+    EXPECT_EQ(std::nullopt, first_difference(ours.rows, paper.rows))
+        << side_by_side(ours.rows, paper.rows, {"ours", "Figure 10", std::size_t{5}});
+    EXPECT_EQ(ours.report.result->outcome, paper.report.result->outcome);
+    EXPECT_EQ(ours.report.phases, paper.report.phases);
+    EXPECT_EQ(ours.report.exit_code, paper.report.exit_code);
+  }
+}
+
+// Rules that never call a primitive again: stopped by the inference limit,
+// then the runner surfaces the vehicle and shuts the network down.
+TEST(BadRules, AnEndlessLoopIsStoppedAndTheVehicleSurfaced) {
+  TracedRun r = run_traced(kFixtures + "/loop_at_depth.pl", "", 1'000'000);
+  ASSERT_TRUE(r.report.result.has_value()) << r.err;
+  EXPECT_EQ(Outcome::Failed, r.report.result->outcome);
+  EXPECT_EQ(1, r.report.exit_code);
+  EXPECT_NE(std::string::npos, r.report.result->reason.find("1000000 inferences without calling a primitive"))
+      << r.report.result->reason;
+  EXPECT_NE(std::string::npos, r.out.find("ABORTED: the Strategic level could not go on")) << r.out;
+  EXPECT_TRUE(r.report.emergency_surface);
+  EXPECT_TRUE(r.report.emergency_surfaced) << r.out;
+  EXPECT_TRUE(r.report.emergency_shutdown);
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m) << r.out;
+  // It was deep when the rules stopped: the surfacing is the runner's.
+  const std::string trace = side_by_side(r.rows, {}, {});
+  auto surface = std::find_if(r.rows.begin(), r.rows.end(), [](const TraceRow& row) { return row.call == "exec surface"; });
+  ASSERT_NE(r.rows.end(), surface) << trace;
+  EXPECT_EQ("exec sleep 8", (surface - 1)->call) << "surfaced after the dive, by the runner: " << trace;
+  ASSERT_GE(r.rows.size(), 3u);
+  EXPECT_EQ("ask surface_reached", r.rows[r.rows.size() - 2].call);
+  EXPECT_EQ("1", r.rows[r.rows.size() - 2].answer);
+  EXPECT_EQ("ood shutdown_network", r.rows.back().call);
+}
+
+TEST(BadRules, EndlessRecursionIsStoppedAndTheVehicleSurfaced) {
+  TracedRun r = run_traced(kFixtures + "/recurse_at_depth.pl", "");
+  ASSERT_TRUE(r.report.result.has_value()) << r.err;
+  EXPECT_EQ(Outcome::Failed, r.report.result->outcome);
+  const std::string& why = r.report.result->reason;
+  EXPECT_TRUE(why.find("out of Prolog stack") != std::string::npos || why.find("inferences") != std::string::npos)
+      << why;
+  EXPECT_TRUE(r.report.emergency_surfaced) << r.out;
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
+}
+
+TEST(BadRules, AnExceptionInTheRulesEndsTheMissionWithItsText) {
+  TracedRun r = run_traced(kFixtures + "/raises_at_depth.pl", "");
+  ASSERT_TRUE(r.report.result.has_value()) << r.err;
+  EXPECT_EQ(Outcome::Failed, r.report.result->outcome);
+  EXPECT_NE(std::string::npos, r.report.result->reason.find("evaluation_error(zero_divisor)"))
+      << r.report.result->reason;
+  EXPECT_TRUE(r.report.emergency_surfaced);
+}
+
+}  // namespace
+}  // namespace strata::cli::run_testing
