@@ -12,7 +12,10 @@ constexpr std::size_t kMaxCell = 46;
 
 std::string cell_text(const TraceRow& row) {
   std::string text = row.call + " -> " + row.answer;
-  if (text.size() > kMaxCell) text = text.substr(0, kMaxCell - 3) + "...";
+  if (text.size() > kMaxCell) {
+    text.resize(kMaxCell - 3);
+    text.append("...");
+  }
   return text;
 }
 
@@ -36,7 +39,7 @@ TraceRow trace_row(const tactical::CallRecord& r) {
     if (r.message.empty()) row.call = r.primitive;
     row.answer = "error: " + r.error;
   } else {
-    row.answer = r.value && *r.value ? "1" : "0";
+    row.answer.push_back(r.value && *r.value ? '1' : '0');
   }
   row.sim_time_s = r.sim_time_s;
   return row;

@@ -1,4 +1,4 @@
-/*  The PROLOG Strategic level's driver (design.md §2.5, docs/language.md §7).
+/*  The PROLOG Strategic level's driver (design.md §2.5, docs/prolog.md).
 
     Compiled into the strata binary and loaded once per process. It loads a
     mission's rules into a module of their own, defines the vehicle
@@ -31,7 +31,8 @@
 :- dynamic loading/1,            % Module: collecting load messages for it
            load_message/5,       % Kind, File, Line, Column, Text
            walk_problem/4,       % File, Line, Callee, Text
-           inference_budget/1.   % inferences allowed between primitive calls
+           inference_budget/1,   % inferences allowed between primitive calls
+           primitive_predicate/2. % Module, Name/Arity: defined from the catalogue
 
                  /*******************************
                  *   THE MISSION'S OWN MODULE   *
@@ -82,7 +83,8 @@ define_primitive(M, Name, Kind, N) :-
     ),
     functor(Head, F, A),
     M:assertz((Head :- Body)),
-    compile_predicates(M:[F/A]).
+    compile_predicates(M:[F/A]),
+    assertz(primitive_predicate(M, F/A)).
 
 ood_arity(Primitives, A) :-
     member(primitive(_, ood, Min, Max), Primitives),
@@ -98,7 +100,8 @@ define_ood(M, Primitives, A) :-
     findall(P, ( member(primitive(P, ood, Min, Max), Primitives),
                  between(Min, Max, N) ), Names),
     M:assertz((Head :- strata_driver:call_ood(Names, Name, Args, X))),
-    compile_predicates(M:[ood/A]).
+    compile_predicates(M:[ood/A]),
+    assertz(primitive_predicate(M, ood/A)).
 
 call_ood(Names, Name, Args, X) :-
     (   atom(Name), memberchk(Name, Names)
@@ -119,6 +122,7 @@ call_primitive(Name, Args, X) :-
 
 close_mission(Module) :-
     unlimited,
+    retractall(primitive_predicate(Module, _)),
     retractall(system:'$load_context_module'(_, Module, _)),
     catch('$destroy_module'(Module), _, true).
 
@@ -149,8 +153,37 @@ user:message_hook(Term, Kind, _Lines) :-
     (   Kind == error ; Kind == warning ),
     !,
     message_location(Term, File, Line, Column),
-    message_text(Term, Kind, Text),
-    assertz(load_message(Kind, File, Line, Column, Text)).
+    % The place is given apart: translate the message without it.
+    (   Term = error(Formal, file(_, _, _, _))
+    ->  message_text(error(Formal, _), Kind, Text0)
+    ;   message_text(Term, Kind, Text0)
+    ),
+    message_kind(Term, Kind, Recorded),
+    message_hint(Term, Hint),
+    string_concat(Text0, Hint, Text),
+    assertz(load_message(Recorded, File, Line, Column, Text)).
+
+% Loading a file that defines clauses another file already defined wipes
+% the first file's clauses (tank.pl and phase2.pl both add to
+% execute_phase/1): an error, not SWI's warning. So is redefining a
+% primitive or halt/0,1.
+message_kind(redefined_procedure(_, _), _, error) :- !.
+message_kind(_, Kind, Kind).
+
+message_hint(redefined_procedure(_, M:Name/Arity), Hint) :-
+    reserved(M, Name/Arity),
+    !,
+    format(string(Hint), ": ~w/~d is Strata's, the rules cannot redefine it", [Name, Arity]).
+message_hint(redefined_procedure(_, _:Name/Arity), Hint) :- !,
+    format(string(Hint), ": declare `:- multifile ~w/~d.` in the file that loads the \c
+                          others, before it loads them", [Name, Arity]).
+message_hint(_, "").
+
+% The predicates Strata defines in a mission's module.
+reserved(_, halt/0).
+reserved(_, halt/1).
+reserved(M, PI) :- primitive_predicate(M, PI).
+
 
 message_location(error(_, file(File, Line, LinePos, _)), File, Line, Column) :-
     !,
@@ -332,6 +365,5 @@ mission_outcome(Module, Outcome) :-
 
 mission_data(Module, File) :-
     current_predicate(Module:mission_data/1),
-    catch(Module:mission_data(File0), _, fail),
-    !,
-    text_to_string(File0, File).
+    catch(( Module:mission_data(File0), text_to_string(File0, File) ), _, fail),
+    !.

@@ -1,5 +1,6 @@
 #include "prolog/mission.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -195,7 +196,14 @@ std::uint32_t get_uint(term_t t) {
   return PL_get_int64(t, &v) && v > 0 ? static_cast<std::uint32_t>(v) : 0;
 }
 
-void collect_load_messages(std::vector<Message>& out) {
+// SWI names predicates with their module; the mission's own is noise.
+std::string without_module(std::string text, const std::string& module) {
+  const std::string prefix = module + ":";
+  for (std::size_t at; (at = text.find(prefix)) != std::string::npos;) text.erase(at, prefix.size());
+  return text;
+}
+
+void collect_load_messages(const std::string& module, std::vector<Message>& out) {
   Frame frame;
   term_t a = PL_new_term_refs(5);
   term_t goal = driver_goal("load_message", {a, a + 1, a + 2, a + 3, a + 4});
@@ -208,9 +216,35 @@ void collect_load_messages(std::vector<Message>& out) {
     m.file = shown_path(text_of(a + 1));
     m.line = get_uint(a + 2);
     m.column = get_uint(a + 3);
-    m.text = text_of(a + 4);
+    m.text = without_module(text_of(a + 4), module);
     out.push_back(std::move(m));
     if (s == Query::Status::Last) break;
+  }
+}
+
+// The driver's check: undefined calls (unknown primitives among them) and a
+// missing mission/0.
+void check_rules(const Mission& mission, std::vector<Message>& messages) {
+  term_t problems = PL_new_term_ref();
+  auto checked = call_driver("check_mission", {new_atom(mission.module()), problems});
+  if (!checked || !checked.value()) {
+    messages.push_back({true, mission.path(), 0, 0,
+                        "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
+  } else {
+    term_t head = PL_new_term_ref();
+    term_t arg = PL_new_term_ref();
+    term_t tail = PL_copy_term_ref(problems);
+    while (PL_get_list(tail, head, tail)) {
+      Message m;
+      PL_get_arg(1, head, arg);
+      m.file = shown_path(text_of(arg));
+      if (m.file.empty()) m.file = mission.path();
+      PL_get_arg(2, head, arg);
+      m.line = get_uint(arg);
+      PL_get_arg(3, head, arg);
+      m.text = text_of(arg);
+      messages.push_back(std::move(m));
+    }
   }
 }
 
@@ -248,32 +282,16 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   fs::path absolute = fs::absolute(path, ec);
   term_t file = new_atom(absolute.lexically_normal().string());
   auto loaded = call_driver("load_mission", {new_atom(mission->module_), file});
-  collect_load_messages(messages);
+  collect_load_messages(mission->module_, messages);
   if (!loaded) {
     messages.push_back({true, path, 0, 0, loaded.error().message});
   }
 
-  term_t problems = PL_new_term_ref();
-  auto checked = call_driver("check_mission", {new_atom(mission->module_), problems});
-  if (!checked || !checked.value()) {
-    messages.push_back({true, path, 0, 0,
-                        "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
-  } else {
-    term_t head = PL_new_term_ref();
-    term_t arg = PL_new_term_ref();
-    term_t tail = PL_copy_term_ref(problems);
-    while (PL_get_list(tail, head, tail)) {
-      Message m;
-      PL_get_arg(1, head, arg);
-      m.file = shown_path(text_of(arg));
-      if (m.file.empty()) m.file = path;
-      PL_get_arg(2, head, arg);
-      m.line = get_uint(arg);
-      PL_get_arg(3, head, arg);
-      m.text = text_of(arg);
-      messages.push_back(std::move(m));
-    }
-  }
+  // Rules that did not load whole are not checked: what is missing would
+  // only echo the load errors.
+  const bool load_errors =
+      !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
+  if (!load_errors) check_rules(*mission, messages);
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
     fs::path written = text_of(data);

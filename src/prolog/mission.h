@@ -1,5 +1,5 @@
 #pragma once
-// A PROLOG mission (paper §2.2, Figure 10; docs/language.md §7): rules
+// A PROLOG mission (paper §2.2, Figure 10; docs/prolog.md): rules
 // loaded into a module of their own, beside one predicate per vehicle
 // primitive of the catalogue, and checked before they run. The Prolog side
 // of this lives in driver.pl, compiled into the binary.

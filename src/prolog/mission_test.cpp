@@ -275,6 +275,19 @@ TEST_F(PrologMission, FilesLoadedByTheMissionComeFromItsFolder) {
   EXPECT_EQ((std::vector<std::string>{"phase 2", "call submerge", "end 2 done"}), host.events);
 }
 
+TEST_F(PrologMission, APredicateSplitAcrossFilesWithoutMultifileIsAnError) {
+  rules_.write("phase2.pl", "execute_phase(2) :- exec_submerge(_).\n");
+  std::vector<Message> messages;
+  auto m = Mission::load(rules_.write("m.pl", ":- consult(phase2).\nexecute_phase(1).\nmission.\n"),
+                         tactical::Catalogue::builtin(), messages);
+  ASSERT_FALSE(m.ok()) << "the second file would silently wipe the first one's clauses";
+  ASSERT_EQ(1u, messages.size());
+  EXPECT_EQ(2u, messages[0].line);
+  EXPECT_NE(std::string::npos, messages[0].text.find("declare `:- multifile execute_phase/1.`"))
+      << messages[0].text;
+  EXPECT_EQ(std::string::npos, messages[0].text.find("strata_mission_")) << "no internal module names";
+}
+
 TEST_F(PrologMission, ABadArgumentRaisesInTheRules) {
   auto m = load_ok(rules_.write("m.pl", "mission :- exec_sleep(_, _).\n"));
   ASSERT_TRUE(m);

@@ -4,7 +4,7 @@
 // the same observers as the CORAL Engine. A primitive call yields the
 // rules back to the event loop; the vehicle's answer resumes them.
 //
-// How a mission ends (docs/language.md §7):
+// How a mission ends (docs/prolog.md):
 //  - mission/0 succeeds, or the rules call halt/0: Completed, or Aborted
 //    when current_phase(mission_abort) holds (Figure 10's `done`); halt(N)
 //    with N != 0 is Aborted too.
