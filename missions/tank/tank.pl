@@ -7,7 +7,7 @@
 % The rules call the vehicle primitives of the catalogue (`strata
 % primitives`): exec_<name>(..., X), ask_<name>(X), ood('<name>', X),
 % report(Text); X is unified with the vehicle's answer, 1 or 0.
-% strata runs mission/0; see docs/language.md §7.
+% strata runs mission/0; see docs/prolog.md.
 
 % The mission's state, changed as phases end (Figure 10's asserta/retract).
 :- dynamic current_phase/1, complete/1, abort/1.
