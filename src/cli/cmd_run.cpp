@@ -47,6 +47,10 @@ Runner add_run_command(CLI::App& app) {
       std::cerr << "strata run: --speed needs --realtime (lockstep runs as fast as it can)\n";
       return static_cast<int>(kExitUsage);
     }
+    if (o->seed && o->mission.ends_with(".pl")) {
+      std::cerr << "strata run: note: --seed chooses among enabled CORAL transitions; PROLOG rules "
+                   "try their clauses in order, so it changes nothing here\n";
+    }
     RunOptions options = *o;
     options.tty = isatty(STDOUT_FILENO) == 1;
     options.handle_signals = true;
