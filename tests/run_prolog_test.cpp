@@ -55,6 +55,8 @@ struct Expected {
   std::vector<std::string> phases;
 };
 
+void PrintTo(const Expected& e, std::ostream* os) { *os << e.scenario; }
+
 class TankRules : public ::testing::TestWithParam<Expected> {};
 
 TEST_P(TankRules, BehaveAsTheNetCallForCall) {
