@@ -168,11 +168,13 @@ TEST(BadRules, AnEndlessLoopIsStoppedAndTheVehicleSurfaced) {
   EXPECT_TRUE(r.report.emergency_shutdown);
   ASSERT_TRUE(r.report.final_depth_m.has_value());
   EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m) << r.out;
-  // It was deep when the rules stopped: the surfacing is the runner's.
+  // It was under water when the rules stopped: the surfacing is the runner's.
   const std::string trace = side_by_side(r.rows, {}, {});
   auto surface = std::find_if(r.rows.begin(), r.rows.end(), [](const TraceRow& row) { return row.call == "exec surface"; });
   ASSERT_NE(r.rows.end(), surface) << trace;
-  EXPECT_EQ("exec sleep 8", (surface - 1)->call) << "surfaced after the dive, by the runner: " << trace;
+  ASSERT_NE(r.rows.begin(), surface);
+  EXPECT_EQ("ask surface_reached", (surface - 1)->call) << "asked first: " << trace;
+  EXPECT_EQ("0", (surface - 1)->answer) << "under water when the rules stopped: " << trace;
   ASSERT_GE(r.rows.size(), 3u);
   EXPECT_EQ("ask surface_reached", r.rows[r.rows.size() - 2].call);
   EXPECT_EQ("1", r.rows[r.rows.size() - 2].answer);

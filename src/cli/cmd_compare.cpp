@@ -105,6 +105,7 @@ Runner add_compare_command(CLI::App& app) {
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
   cmd->add_option("--inference-limit", o->inference_limit,
                   "PROLOG: inferences allowed between two primitive calls")
+      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
   cmd->add_option("--context", o->context,
                   "Show only this many calls around the first difference (default: every call)");

@@ -380,11 +380,15 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                                                  *result.call_error == core::ErrorCode::Closed);
     const bool surface = !link_gone && catalogue.value().find(kSurface) &&
                          catalogue.value().find(kSurfaceReached) && catalogue.value().find(kSleep);
-    std::string action = surface ? fmt::format("exec {}, ask {} until 1, ood {}", kSurface, kSurfaceReached,
-                                               kShutdownPrimitive)
+    std::string action = surface ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
+                                               kSurface, kShutdownPrimitive)
                                  : fmt::format("ood {}", kShutdownPrimitive);
+    if (signals) {
+      signals->clear();  // Ctrl-C now ends the process at once
+      signals->cancel();
+    }
     console.line(fmt::format("the mission ended without its own abort path; strata run sends {}, as "
-                             "Figure 10's done does",
+                             "Figure 10's done does (Ctrl-C stops at once)",
                              action),
                  result.sim_time_s);
     if (log) {
@@ -394,15 +398,26 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
       send_done();
       return;
     }
-    report.emergency_surface = true;
-    tactical.call(kSurface, {}, [&](core::Result<tactical::CallOutcome> r) {
-      if (!r || !r.value().value) {
-        console.line(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
-                       : fmt::format("exec {} failed: {}", kSurface, r.error().message));
+    // Already at the surface (or the vehicle will not say): done at once.
+    tactical.call(kSurfaceReached, {}, [&](core::Result<tactical::CallOutcome> at_surface) {
+      if (!at_surface || at_surface.value().value) {
+        if (!at_surface) {
+          console.line(fmt::format("ask {} failed: {}", kSurfaceReached, at_surface.error().message));
+        }
+        report.emergency_surfaced = at_surface.ok();
         send_done();
         return;
       }
-      poll_surface(static_cast<int>(kEmergencySurfaceS));
+      report.emergency_surface = true;
+      tactical.call(kSurface, {}, [&](core::Result<tactical::CallOutcome> r) {
+        if (!r || !r.value().value) {
+          console.line(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
+                         : fmt::format("exec {} failed: {}", kSurface, r.error().message));
+          send_done();
+          return;
+        }
+        poll_surface(static_cast<int>(kEmergencySurfaceS));
+      });
     });
   });
   while (!finished && io.run_one() > 0) {

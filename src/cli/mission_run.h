@@ -47,8 +47,8 @@ struct RunReport {
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
   bool emergency_shutdown = false;  // the runner sent Figure 10's `done` itself
-  bool emergency_surface = false;   // ... and before it surfaced the vehicle (the link still worked)
-  bool emergency_surfaced = false;  // ... and the vehicle answered surface_reached 1
+  bool emergency_surface = false;   // ... and before it commanded the surface (the link still worked)
+  bool emergency_surfaced = false;  // ... and the vehicle answered surface_reached 1 (then or before)
   // Embedded vehicle only: its state when the run was over.
   std::optional<double> final_depth_m;
   bool vehicle_watchdog_tripped = false;

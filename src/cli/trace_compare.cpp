@@ -13,7 +13,9 @@ constexpr std::size_t kMaxCell = 46;
 std::string cell_text(const TraceRow& row) {
   std::string text = row.call + " -> " + row.answer;
   if (text.size() > kMaxCell) {
-    text.resize(kMaxCell - 3);
+    std::size_t cut = kMaxCell - 3;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+    text.resize(cut);
     text.append("...");
   }
   return text;

@@ -18,6 +18,7 @@
             run_mission/2,           % +Module, +InferenceLimit
             mission_outcome/2,       % +Module, -Outcome
             mission_data/2,          % +Module, -File
+            stop_cause/1,            % -Exception: what stopped the rules
             close_mission/1,         % +Module
             unlimited/0
           ]).
@@ -25,6 +26,7 @@
 :- use_module(library(apply)).
 :- use_module(library(aggregate)).
 :- use_module(library(readutil)).
+:- use_module(library(solution_sequences)).
 :- use_module(library(prolog_codewalk)).
 :- use_module(library(prolog_wrap)).
 
@@ -32,7 +34,12 @@
            load_message/5,       % Kind, File, Line, Column, Text
            walk_problem/4,       % File, Line, Callee, Text
            inference_budget/1,   % inferences allowed between primitive calls
-           primitive_predicate/2. % Module, Name/Arity: defined from the catalogue
+           primitive_predicate/2, % Module, Name/Arity: defined from the catalogue
+           ood_names/3,          % Module, Arity, Names: the OOD primitives of ood/Arity
+           active/1,             % Module: loading or running (the hooks act)
+           stop_cause/1,         % the exception that stopped the rules
+           halt_requested/1,     % File:Line, when the rules called system:halt
+           uncatchable_stops/0.  % the host's: stops become '$aborted'
 
                  /*******************************
                  *   THE MISSION'S OWN MODULE   *
@@ -64,8 +71,50 @@ guard_halt(M) :-
     redefine_system_predicate(M:halt),
     M:assertz((halt :- throw(strata_halt))),
     redefine_system_predicate(M:halt(_)),
-    M:assertz((halt(Code) :- throw(strata_halt(Code)))),
+    M:assertz((halt(Code) :- must_be(integer, Code), throw(strata_halt(Code)))),
     compile_predicates(M:[halt/0, halt/1]).
+
+% system:halt/0,1 called by the rules (module-qualified, past the guard
+% above): cancelled while a mission is active, remembered, and turned into
+% strata_halt at the next primitive call or the end of the rules.
+:- at_halt(strata_driver:cancel_mission_halt).
+
+cancel_mission_halt :-
+    active(_),
+    !,
+    (   source_location(File, Line) -> true ; File = '', Line = 0 ),
+    (   halt_requested(_) -> true ; assertz(halt_requested(File:Line)) ),
+    cancel_halt('a mission cannot end the strata process').
+cancel_mission_halt.
+
+halt_check :-
+    (   halt_requested(_) -> throw(strata_halt) ; true ).
+
+% While a mission loads or runs, what must end it cannot be caught by the
+% rules (a catch-all around a loop would otherwise run for ever): the
+% exception becomes '$aborted', which a recovery goal cannot stop, and the
+% first cause is kept for the host (stop_cause/1). The host turns this on
+% (uncatchable_stops/0); plunit tests leave it off and see the exceptions.
+% SWI calls the hook only for queries not opened with PL_Q_NODEBUG.
+:- multifile user:prolog_exception_hook/4.
+:- dynamic user:prolog_exception_hook/4.
+user:prolog_exception_hook(E, '$aborted', _, _) :-
+    nonvar(E),
+    E \== '$aborted',
+    strata_driver:uncatchable_stops,
+    strata_driver:active(_),
+    strata_driver:stops_the_mission(E),
+    (   strata_driver:stop_cause(_) -> true ; assertz(strata_driver:stop_cause(E)) ).
+
+stops_the_mission(inference_limit_exceeded).
+stops_the_mission(strata_halt).
+stops_the_mission(strata_halt(_)).
+stops_the_mission(strata_cancelled).
+stops_the_mission(error(resource_error(_), _)).
+
+reset_stop :-
+    retractall(stop_cause(_)),
+    retractall(halt_requested(_)).
 
 define_primitive(_, primitive(_, ood, _, _)) :- !.
 define_primitive(M, primitive(Name, Kind, Min, Max)) :-
@@ -75,7 +124,7 @@ define_primitive(M, Name, Kind, N) :-
     length(Args, N),
     (   Kind == report
     ->  Head =.. [Name|Args],
-        Body = strata_driver:'$strata_report'(Name, Args)
+        Body = strata_driver:call_report(Name, Args)
     ;   atomic_list_concat([Kind, '_', Name], Functor),
         append(Args, [X], HeadArgs),
         Head =.. [Functor|HeadArgs],
@@ -101,19 +150,32 @@ define_ood(M, Primitives, A) :-
                  between(Min, Max, N) ), Names),
     M:assertz((Head :- strata_driver:call_ood(Names, Name, Args, X))),
     compile_predicates(M:[ood/A]),
-    assertz(primitive_predicate(M, ood/A)).
+    assertz(primitive_predicate(M, ood/A)),
+    assertz(ood_names(M, A, Names)).
 
 call_ood(Names, Name, Args, X) :-
-    (   atom(Name), memberchk(Name, Names)
+    must_be(atom, Name),
+    (   memberchk(Name, Names)
     ->  call_primitive(Name, Args, X)
     ;   length(Args, N),
         throw(error(existence_error(ood_primitive, Name/N), _))
     ).
 
 call_primitive(Name, Args, X) :-
+    halt_check,
     '$strata_call'(Name, Args, Answer),
     rearm,
     X = Answer.
+
+% A report is text: numbers and terms are written as print/1 would.
+call_report(Name, Args) :-
+    halt_check,
+    maplist(report_text, Args, Texts),
+    '$strata_report'(Name, Texts).
+
+report_text(A, A) :- atom(A), !.
+report_text(S, S) :- string(S), !.
+report_text(T, S) :- format(string(S), '~p', [T]).
 
 %!  close_mission(+Module) is det.
 %
@@ -123,6 +185,7 @@ call_primitive(Name, Args, X) :-
 close_mission(Module) :-
     unlimited,
     retractall(primitive_predicate(Module, _)),
+    retractall(ood_names(Module, _, _)),
     retractall(system:'$load_context_module'(_, Module, _)),
     catch('$destroy_module'(Module), _, true).
 
@@ -137,30 +200,78 @@ close_mission(Module) :-
 
 load_mission(Module, File) :-
     retractall(load_message(_, _, _, _, _)),
+    reset_stop,
+    load_budget(Budget),
     setup_call_cleanup(
-        asserta(loading(Module), Ref),
+        ( asserta(loading(Module), Ref), asserta(active(Module), Active),
+          unlimited, system:'$inference_limit'(Budget, _) ),
         catch(load_files(Module:File, [if(true)]), E, load_exception(E)),
-        erase(Ref)).
+        ( unlimited, erase(Active), erase(Ref) )),
+    (   halt_requested(F:L)
+    ->  assertz(load_message(error, F, L, 0, "the rules called halt while loading"))
+    ;   true
+    ),
+    forall(distinct(Loaded, ( Loaded = File
+                            ; source_file_property(Loaded, load_context(Module, _, _))
+                            )),
+           module_file_check(Loaded)).
 
+% A mission's files are plain rules: a module file would keep its clauses
+% out of the mission's module, where the primitives and the check are.
+module_file_check(File) :-
+    (   source_file_property(File, module(M))
+    ->  format(string(Text), "a module file (module ~w): a mission's files are plain rules, \c
+                              without :- module/2", [M]),
+        assertz(load_message(error, File, 1, 0, Text))
+    ;   true
+    ).
+
+% Directives get this many inferences in all: a directive that loops ends.
+load_budget(50000000).
+
+load_exception('$aborted') :-
+    stop_cause(Cause),
+    !,
+    load_exception(Cause).
+load_exception(E) :-
+    stops_the_mission(E),
+    !,
+    (   source_location(F, L) -> true ; F = '', L = 0 ),
+    stop_text(E, Text),
+    assertz(load_message(error, F, L, 0, Text)).
 load_exception(E) :-
     message_text(E, error, Text),
     (   source_location(F, L) -> true ; F = '', L = 0 ),
     assertz(load_message(error, F, L, 0, Text)).
+
+stop_text(inference_limit_exceeded, "a directive ran too long while loading (an endless loop?)") :- !.
+stop_text(strata_halt, "the rules called halt while loading") :- !.
+stop_text(strata_halt(_), "the rules called halt while loading") :- !.
+stop_text(error(resource_error(R), _), Text) :- !,
+    format(string(Text), "a directive ran out of ~w while loading (endless recursion?)", [R]).
+stop_text(E, Text) :-
+    format(string(Text), "loading stopped: ~q", [E]).
 
 :- multifile user:message_hook/3.
 user:message_hook(Term, Kind, _Lines) :-
     loading(_),
     (   Kind == error ; Kind == warning ),
     !,
+    unlimited,                  % a directive that hit the load budget
     message_location(Term, File, Line, Column),
-    % The place is given apart: translate the message without it.
-    (   Term = error(Formal, file(_, _, _, _))
-    ->  message_text(error(Formal, _), Kind, Text0)
-    ;   message_text(Term, Kind, Text0)
+    (   stops_the_mission(Term)
+    ->  stop_text(Term, Text),
+        Recorded = error
+    ;   % The place is given apart: translate the message without it.
+        (   Term = error(Formal, Context),
+            subsumes_term(file(_, _, _, _), Context)
+        ->  message_text(error(Formal, _), Kind, Text0)
+        ;   message_text(Term, Kind, Text0)
+        ),
+        message_kind(Term, Kind, Recorded),
+        message_hint(Term, Hint),
+        string_concat(Text0, Hint, Text)
     ),
-    message_kind(Term, Kind, Recorded),
-    message_hint(Term, Hint),
-    string_concat(Text0, Hint, Text),
     assertz(load_message(Recorded, File, Line, Column, Text)).
 
 % Loading a file that defines clauses another file already defined wipes
@@ -185,11 +296,19 @@ reserved(_, halt/1).
 reserved(M, PI) :- primitive_predicate(M, PI).
 
 
-message_location(error(_, file(File, Line, LinePos, _)), File, Line, Column) :-
+message_location(error(_, Context), File, Line, Column) :-
+    subsumes_term(file(_, _, _, _), Context),
+    Context = file(File, Line, LinePos, _),
+    integer(LinePos),
     !,
     Column is LinePos + 1.
 message_location(_, File, Line, 0) :-
     source_location(File, Line),
+    !.
+message_location(_, File, Line, 0) :-
+    prolog_load_context(file, File),
+    prolog_load_context(term_position, Pos),
+    stream_position_data(line_count, Pos, Line),
     !.
 message_location(_, '', 0, 0).
 
@@ -220,6 +339,13 @@ check_mission(Module, Problems) :-
                        on_trace(strata_driver:undefined_call(Module)),
                        source(true)
                      ]),
+    forall(ood_names(Module, Arity, _),
+           ( functor(Head, ood, Arity),
+             prolog_walk_code([ module(Module),
+                                trace_reference(Module:Head),
+                                on_trace(strata_driver:ood_call(Module)),
+                                source(true)
+                              ]) )),
     findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
     sort(Walked, Sorted),
     (   current_predicate(Module:mission/0)
@@ -227,6 +353,24 @@ check_mission(Module, Problems) :-
     ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
                    |Sorted]
     ).
+
+% ood('Name', ..., X) with a Name the catalogue has no OOD primitive for.
+ood_call(Module, Callee, _Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    functor(Goal, ood, Arity),
+    arg(1, Goal, Name),
+    atom(Name),
+    ood_names(Module, Arity, Names),
+    \+ memberchk(Name, Names),
+    !,
+    location_file_line(Location, File, Line),
+    format(string(Text), "ood('~w', ...): `~w` is not an ood primitive in the catalogue \c
+                          (`strata primitives` lists them)", [Name, Name]),
+    (   walk_problem(File, Line, ood(Name), _)
+    ->  true
+    ;   assertz(walk_problem(File, Line, ood(Name), Text))
+    ).
+ood_call(_, _, _, _).
 
 undefined_call(Module, Callee, _Caller, Location) :-
     strip_module(Callee, _, Goal),
@@ -301,11 +445,18 @@ known_arities(Module, Name, Arities) :-
 run_mission(Module, Limit) :-
     retractall(inference_budget(_)),
     assertz(inference_budget(Limit)),
+    reset_stop,
     wrap_phases(Module),
-    rearm,
-    Module:mission,
-    !,
-    unlimited.
+    (   setup_call_cleanup(
+            asserta(active(Module), Ref),
+            ( rearm, Module:mission, ! ),
+            erase(Ref))
+    ->  unlimited,
+        halt_check
+    ;   unlimited,
+        halt_check,             % a cancelled system:halt made mission/0 fail
+        fail
+    ).
 
 wrap_phases(Module) :-
     (   current_predicate(Module:execute_phase/1)
@@ -316,7 +467,7 @@ wrap_phases(Module) :-
 
 run_phase(Module, Phase, Wrapped) :-
     '$strata_phase'(start, Phase),
-    (   call(Wrapped)
+    (   catch(call(Wrapped), E, ( '$strata_phase'(end(failed), Phase), throw(E) ))
     *-> phase_exit(Module, Phase, Exit),
         '$strata_phase'(end(Exit), Phase)
     ;   '$strata_phase'(end(failed), Phase),

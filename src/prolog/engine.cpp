@@ -10,7 +10,7 @@ namespace {
 
 bool g_initialised = false;
 
-constexpr int kQueryFlags = PL_Q_NODEBUG | PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS;
+constexpr int kQueryFlags = PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS;
 
 // Rules must never end the host: halt/0,1 in module user throw instead, and
 // the executor turns strata_halt into the end of the mission.
@@ -34,6 +34,11 @@ core::Result<void> initialise(const EngineOptions& options) {
     return core::make_error(core::ErrorCode::Internal, "SWI-Prolog could not be initialised");
   }
   g_initialised = true;
+  // Queries that run the exception hook are not PL_Q_NODEBUG: an uncaught
+  // error must still never start the debugger.
+  if (auto r = call_once("set_prolog_flag(debug_on_error, false)"); !r || !r.value()) {
+    return core::make_error(core::ErrorCode::Internal, "could not turn off debug_on_error in SWI-Prolog");
+  }
   auto guard = call_once(kHaltGuard);
   if (!guard || !guard.value()) {
     return core::make_error(core::ErrorCode::Internal, "could not guard halt/0 in SWI-Prolog");
@@ -53,9 +58,10 @@ std::string term_text(term_t t) {
   return "<term>";
 }
 
-Query::Query(term_t goal, bool allow_yield) {
+Query::Query(term_t goal, bool allow_yield, bool exception_hook) {
   static predicate_t call1 = PL_predicate("call", 1, "user");
-  qid_ = PL_open_query(nullptr, kQueryFlags | (allow_yield ? PL_Q_ALLOW_YIELD : 0), call1, goal);
+  const int flags = kQueryFlags | (allow_yield ? PL_Q_ALLOW_YIELD : 0) | (exception_hook ? 0 : PL_Q_NODEBUG);
+  qid_ = PL_open_query(nullptr, flags, call1, goal);
   open_ = qid_ != 0;
 }
 

@@ -40,17 +40,19 @@ class Frame {
   fid_t fid_;
 };
 
-// An open query. Opened with PL_Q_NODEBUG | PL_Q_CATCH_EXCEPTION |
-// PL_Q_EXT_STATUS, plus PL_Q_ALLOW_YIELD when asked: a foreign predicate may
-// then yield and next() returns Status::Yield until resumed by another next().
-// Only one query is open at a time per nesting level (SWI's rule); the
-// destructor cuts it.
+// An open query. Opened with PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS, plus
+// PL_Q_ALLOW_YIELD when asked (a foreign predicate may then yield and next()
+// returns Status::Yield until resumed by another next()), plus PL_Q_NODEBUG
+// unless exception_hook: SWI calls user:prolog_exception_hook/4 only for
+// queries in debug mode (the debugger itself stays off: initialise() sets
+// debug_on_error to false). Only one query is open at a time per nesting
+// level (SWI's rule); the destructor cuts it.
 class Query {
  public:
   enum class Status { True, Last, False, Exception, Yield };
 
   // Calls user:call(Goal) for goal, a term in the caller's frame.
-  Query(term_t goal, bool allow_yield);
+  Query(term_t goal, bool allow_yield, bool exception_hook = false);
   ~Query();
   Query(const Query&) = delete;
   Query& operator=(const Query&) = delete;

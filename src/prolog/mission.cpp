@@ -160,6 +160,9 @@ core::Result<void> ensure_driver() {
                                 reinterpret_cast<pl_function_t>(pl_strata_report), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
                                 reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
+  if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
+    return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");
+  }
   loaded = true;
   return {};
 }
@@ -203,7 +206,7 @@ std::string without_module(std::string text, const std::string& module) {
   return text;
 }
 
-void collect_load_messages(const std::string& module, std::vector<Message>& out) {
+void collect_load_messages(const std::string& module, const std::string& root, std::vector<Message>& out) {
   Frame frame;
   term_t a = PL_new_term_refs(5);
   term_t goal = driver_goal("load_message", {a, a + 1, a + 2, a + 3, a + 4});
@@ -214,6 +217,7 @@ void collect_load_messages(const std::string& module, std::vector<Message>& out)
     Message m;
     m.error = text_of(a) == "error";
     m.file = shown_path(text_of(a + 1));
+    if (m.file.empty()) m.file = root;  // SWI gave no place: the mission's file
     m.line = get_uint(a + 2);
     m.column = get_uint(a + 3);
     m.text = without_module(text_of(a + 4), module);
@@ -260,7 +264,8 @@ std::string format_message(const Message& m) {
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
                                                      const tactical::Catalogue& catalogue,
                                                      std::vector<Message>& messages) {
-  if (std::ifstream probe(path); !probe) {
+  std::error_code ec;
+  if (std::ifstream probe(path); !probe || !fs::is_regular_file(path, ec)) {
     return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
   }
   if (auto r = ensure_driver(); !r) return r.error();
@@ -278,12 +283,12 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   }
   mission->module_ = text_of(module);
 
-  std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
   term_t file = new_atom(absolute.lexically_normal().string());
   auto loaded = call_driver("load_mission", {new_atom(mission->module_), file});
-  collect_load_messages(mission->module_, messages);
-  if (!loaded) {
+  collect_load_messages(mission->module_, path, messages);
+  // '$aborted': a stop while loading, already among the messages.
+  if (!loaded && loaded.error().message != "'$aborted'") {
     messages.push_back({true, path, 0, 0, loaded.error().message});
   }
 
@@ -319,7 +324,7 @@ MissionQuery::MissionQuery(const Mission& mission, Host& host, std::uint64_t inf
   term_t limit = PL_new_term_ref();
   if (!PL_put_int64(limit, static_cast<int64_t>(inference_limit))) PL_clear_exception();
   term_t goal = driver_goal("run_mission", {new_atom(mission_.module()), limit});
-  query_ = std::make_unique<Query>(goal, true);
+  query_ = std::make_unique<Query>(goal, /*allow_yield=*/true, /*exception_hook=*/true);
 }
 
 MissionQuery::~MissionQuery() { close(); }
@@ -329,17 +334,28 @@ Query::Status MissionQuery::next() {
   g_host = &host_;
   auto status = query_->next();
   g_host = nullptr;
-  if (status == Query::Status::Exception) {
-    const std::string& e = query_->exception_text();
-    if (e == "strata_halt") {
-      halted_ = 0;
-    } else if (e.starts_with("strata_halt(")) {
-      halted_ = std::atoi(e.c_str() + 12);
-    } else if (e == "inference_limit_exceeded") {
-      limit_exceeded_ = true;
-    } else if (e.starts_with("error(resource_error(")) {
-      out_of_stack_ = true;
-    }
+  if (status != Query::Status::Exception) return status;
+  exception_ = query_->exception_text();
+  if (exception_ == "'$aborted'") {
+    // The driver turned what must end the mission into '$aborted', so the
+    // rules could not catch it; it kept the cause.
+    close();
+    Frame frame;
+    term_t cause = PL_new_term_ref();
+    if (auto r = call_driver("stop_cause", {cause}); r && r.value()) exception_ = term_text(cause);
+  }
+  exception_ = without_module(exception_, mission_.module());
+  const std::string& e = exception_;
+  if (e == "strata_halt") {
+    halted_ = 0;
+  } else if (e.starts_with("strata_halt(")) {
+    halted_ = std::atoi(e.c_str() + 12);
+  } else if (e == "inference_limit_exceeded") {
+    limit_exceeded_ = true;
+  } else if (e.starts_with("error(resource_error(")) {
+    out_of_stack_ = true;
+  } else if (e.find("'I_YIELD'") != std::string::npos) {
+    cannot_suspend_ = true;
   }
   return status;
 }

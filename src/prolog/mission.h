@@ -86,11 +86,16 @@ class MissionQuery {
   MissionQuery& operator=(const MissionQuery&) = delete;
 
   Query::Status next();
-  const std::string& exception_text() const { return query_->exception_text(); }
+  // After Status::Exception: the exception's text (for a stop the rules
+  // could not catch, its cause), without the mission's module name.
+  const std::string& exception_text() const { return exception_; }
   // The exception was strata_halt or strata_halt(Code): Code (0 for halt/0).
   std::optional<int> halted() const { return halted_; }
   bool inference_limit_exceeded() const { return limit_exceeded_; }
   bool out_of_stack() const { return out_of_stack_; }
+  // A primitive was called where Prolog cannot suspend (a cleanup handler,
+  // with_output_to/2, format/2's ~@).
+  bool cannot_suspend() const { return cannot_suspend_; }
   // Ends the query; next() may not be called after.
   void close();
 
@@ -102,6 +107,8 @@ class MissionQuery {
   std::optional<int> halted_;
   bool limit_exceeded_ = false;
   bool out_of_stack_ = false;
+  bool cannot_suspend_ = false;
+  std::string exception_;
 };
 
 // After mission/0 succeeded or halted: aborted when the rules left

@@ -208,6 +208,55 @@ mission.
   EXPECT_EQ(50u, host.events.size());
 }
 
+TEST_F(PrologMission, ACatchAllCannotSwallowTheLimitOrHalt) {
+  // The "robust" idiom: each step in a catch-all, retried for ever.
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), repeat, catch(step, _, fail), fail.\n"
+                                        "step :- spin.\nspin :- spin.\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_TRUE(q.inference_limit_exceeded()) << q.exception_text();
+
+  auto h = load_ok(rules_.write("h.pl", "mission :- catch(halt(4), _, true), exec_submerge(_).\n"));
+  ASSERT_TRUE(h);
+  ScriptedHost host2;
+  MissionQuery q2(*h, host2, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q2));
+  ASSERT_TRUE(q2.halted()) << q2.exception_text();
+  EXPECT_EQ(4, *q2.halted());
+  EXPECT_TRUE(host2.events.empty()) << "nothing runs after halt";
+}
+
+TEST_F(PrologMission, SystemHaltEndsTheMissionNotTheProcess) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), system:halt(0), exec_submerge(_).\n"
+                                        "mission :- exec_surface(_).\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  ASSERT_TRUE(q.halted()) << q.exception_text();
+  EXPECT_EQ(std::vector<std::string>{"call start_timer"}, host.events) << "the next call ends it";
+}
+
+TEST_F(PrologMission, DirectivesThatLoopOrHaltOrLoadNothingAreLoadErrors) {
+  for (const auto& [text, expected] : std::vector<std::pair<std::string, std::string>>{
+           {":- repeat, fail.\nmission.\n", "a directive ran too long while loading"},
+           {":- halt.\nmission.\n", "the rules called halt while loading"},
+           {":- system:halt(0).\nmission.\n", "the rules called halt while loading"},
+           {":- consult(not_there).\nmission.\n", "not_there"}}) {
+    std::vector<Message> messages;
+    auto m = Mission::load(rules_.write("d.pl", text), tactical::Catalogue::builtin(), messages);
+    ASSERT_FALSE(m.ok()) << text;
+    std::string all;
+    for (const auto& msg : messages) all += format_message(msg) + "\n";
+    EXPECT_NE(std::string::npos, all.find(expected)) << text << all;
+    EXPECT_NE(std::string::npos, all.find("d.pl")) << "every message has a place: " << all;
+    EXPECT_EQ(std::string::npos, all.find("Unknown message")) << all;
+  }
+  EXPECT_TRUE(call_once("true").value()) << "the process lives on";
+}
+
 TEST_F(PrologMission, EndlessRecursionRunsOutOfStackOrInferences) {
   auto m = load_ok(rules_.write("m.pl", "mission :- deeper(0).\ndeeper(N) :- M is N + 1, deeper(M), true.\n"));
   ASSERT_TRUE(m);

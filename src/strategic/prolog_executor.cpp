@@ -8,7 +8,11 @@ namespace {
 constexpr std::size_t kMaxExceptionText = 400;
 
 std::string shortened(std::string text) {
-  if (text.size() > kMaxExceptionText) text = text.substr(0, kMaxExceptionText) + " ...";
+  if (text.size() <= kMaxExceptionText) return text;
+  std::size_t cut = kMaxExceptionText;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  text.resize(cut);
+  text.append(" ...");
   return text;
 }
 
@@ -60,6 +64,10 @@ void PrologExecutor::resume() {
                      options_.inference_limit));
   } else if (query_->out_of_stack()) {
     fail("the rules ran out of Prolog stack: endless recursion?");
+  } else if (query_->cannot_suspend()) {
+    fail("the rules called a primitive where Prolog cannot wait for the vehicle (inside a cleanup "
+         "handler, with_output_to/2 or format/2's ~@): " +
+         shortened(query_->exception_text()));
   } else {
     fail("the rules raised an exception: " + shortened(query_->exception_text()));
   }
