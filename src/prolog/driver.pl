@@ -106,6 +106,13 @@ user:prolog_exception_hook(E, '$aborted', _, _) :-
     strata_driver:stops_the_mission(E),
     (   strata_driver:stop_cause(_) -> true ; assertz(strata_driver:stop_cause(E)) ).
 
+% Our exceptions, as people read them (load messages, uncaught errors).
+:- multifile prolog:message//1.
+prolog:message(strata_error(Text)) --> [ '~w'-[Text] ].
+prolog:message(strata_halt) --> [ 'the rules called halt/0' ].
+prolog:message(strata_halt(Code)) --> [ 'the rules called halt(~q)'-[Code] ].
+prolog:message(strata_cancelled) --> [ 'the mission was cancelled' ].
+
 stops_the_mission(inference_limit_exceeded).
 stops_the_mission(strata_halt).
 stops_the_mission(strata_halt(_)).
