@@ -474,11 +474,20 @@ wrap_phases(Module) :-
 
 run_phase(Module, Phase, Wrapped) :-
     '$strata_phase'(start, Phase),
-    (   catch(call(Wrapped), E, ( '$strata_phase'(end(failed), Phase), throw(E) ))
+    (   catch(call(Wrapped), E, ( phase_raised(Phase, E), throw(E) ))
     *-> phase_exit(Module, Phase, Exit),
         '$strata_phase'(end(Exit), Phase)
     ;   '$strata_phase'(end(failed), Phase),
         fail
+    ).
+
+% An error leaving a phase ends it as failed (the rules may catch the error
+% and go on). What ends the mission ends the phase with it: the host closes
+% it as cancelled.
+phase_raised(Phase, E) :-
+    (   ( E == '$aborted' ; stops_the_mission(E) )
+    ->  true
+    ;   '$strata_phase'(end(failed), Phase)
     ).
 
 % Figure 10's phases say how they ended with complete(P) or abort(P).

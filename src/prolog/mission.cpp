@@ -318,8 +318,9 @@ Mission::~Mission() {
   (void)call_driver("close_mission", {new_atom(module_)});
 }
 
-MissionQuery::MissionQuery(const Mission& mission, Host& host, std::uint64_t inference_limit)
+MissionQuery::MissionQuery(Mission& mission, Host& host, std::uint64_t inference_limit)
     : mission_(mission), host_(host) {
+  mission_.started_ = true;
   frame_ = PL_open_foreign_frame();
   term_t limit = PL_new_term_ref();
   if (!PL_put_int64(limit, static_cast<int64_t>(inference_limit))) PL_clear_exception();

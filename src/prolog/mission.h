@@ -68,10 +68,15 @@ class Mission {
   // The mission data file named by a mission_data/1 fact, resolved against
   // the mission's folder; "" when the rules name none.
   const std::string& data_file() const { return data_file_; }
+  // A MissionQuery has run the rules: the facts they asserted stay, so a
+  // new run needs a new load.
+  bool started() const { return started_; }
 
  private:
+  friend class MissionQuery;
   Mission() = default;
   std::string path_, name_, module_, data_file_;
+  bool started_ = false;
 };
 
 // mission/0 running: next() runs the rules until they call a primitive
@@ -80,7 +85,7 @@ class Mission {
 class MissionQuery {
  public:
   // inference_limit: inferences allowed between two primitive calls.
-  MissionQuery(const Mission& mission, Host& host, std::uint64_t inference_limit);
+  MissionQuery(Mission& mission, Host& host, std::uint64_t inference_limit);
   ~MissionQuery();
   MissionQuery(const MissionQuery&) = delete;
   MissionQuery& operator=(const MissionQuery&) = delete;
@@ -100,7 +105,7 @@ class MissionQuery {
   void close();
 
  private:
-  const Mission& mission_;
+  Mission& mission_;
   Host& host_;
   fid_t frame_ = 0;
   std::unique_ptr<Query> query_;

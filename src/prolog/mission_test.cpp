@@ -228,6 +228,18 @@ TEST_F(PrologMission, ACatchAllCannotSwallowTheLimitOrHalt) {
   EXPECT_TRUE(host2.events.empty()) << "nothing runs after halt";
 }
 
+TEST_F(PrologMission, HaltInsideAPhaseDoesNotEndItAsFailed) {
+  auto m = load_ok(rules_.write("m.pl", "mission :- execute_phase(1).\n"
+                                        "execute_phase(1) :- exec_start_timer(_), halt.\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_TRUE(q.halted()) << q.exception_text();
+  EXPECT_EQ((std::vector<std::string>{"phase 1", "call start_timer"}), host.events)
+      << "the phase ends with the mission (the executor closes it as cancelled)";
+}
+
 TEST_F(PrologMission, SystemHaltEndsTheMissionNotTheProcess) {
   auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), system:halt(0), exec_submerge(_).\n"
                                         "mission :- exec_surface(_).\n"));

@@ -5,6 +5,9 @@
 namespace strata::strategic {
 namespace {
 
+// A PrologExecutor between start() and its end holds the Prolog engine.
+bool g_running = false;
+
 constexpr std::size_t kMaxExceptionText = 400;
 
 std::string shortened(std::string text) {
@@ -20,7 +23,7 @@ bool completes(const std::string& exit) { return exit == "complete" || exit == "
 
 }  // namespace
 
-PrologExecutor::PrologExecutor(const prolog::Mission& mission, Tactics& tactics,
+PrologExecutor::PrologExecutor(prolog::Mission& mission, Tactics& tactics,
                                const tactical::Catalogue& catalogue, PrologOptions options)
     : mission_(mission), tactics_(tactics), catalogue_(catalogue), options_(options),
       self_(std::make_shared<PrologExecutor*>(this)) {}
@@ -28,6 +31,7 @@ PrologExecutor::PrologExecutor(const prolog::Mission& mission, Tactics& tactics,
 PrologExecutor::~PrologExecutor() {
   *self_ = nullptr;
   query_.reset();
+  if (holds_engine_) g_running = false;
 }
 
 void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
@@ -36,6 +40,18 @@ void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
   running_ = true;
   PhaseStart event{0, 0, mission_.name(), "", 0, nullptr, now()};
   for (Observer* o : observers_) o->phase_started(event);
+  // SWI-Prolog runs one suspended query at a time here; and a mission's
+  // rules keep the facts they asserted, so they run once per load.
+  if (g_running) {
+    fail("another PROLOG mission is running in this process: one at a time");
+    return;
+  }
+  if (mission_.started()) {
+    fail("these rules have run already: load the mission again for another run");
+    return;
+  }
+  g_running = true;
+  holds_engine_ = true;
   query_ = std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this),
                                                   options_.inference_limit);
   resume();
@@ -173,6 +189,10 @@ void PrologExecutor::finish(MissionResult result) {
   running_ = false;
   ended_ = true;
   if (query_) query_->close();
+  if (holds_engine_) {
+    g_running = false;
+    holds_engine_ = false;
+  }
   in_flight_ = 0;
   // Phases still running end with the mission, innermost first.
   while (!phases_.empty()) {

@@ -14,7 +14,9 @@
 //    stack (endless recursion); cancel().
 //
 // Threads: one; the thread that initialised SWI-Prolog, which runs the
-// event loop. One PROLOG mission runs at a time per process.
+// event loop. One PROLOG mission runs at a time per process, and a loaded
+// prolog::Mission runs once: a second executor started meanwhile, or on
+// rules that have run, ends Failed at once and says why.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -36,7 +38,7 @@ struct PrologOptions {
 class PrologExecutor final : public Executor, private prolog::Host {
  public:
   // mission, tactics and catalogue must outlive the executor.
-  PrologExecutor(const prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
+  PrologExecutor(prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
                  PrologOptions options = {});
   ~PrologExecutor() override;
   PrologExecutor(const PrologExecutor&) = delete;
@@ -69,7 +71,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
   double now() const { return tactics_.sim_time_s(); }
   InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
 
-  const prolog::Mission& mission_;
+  prolog::Mission& mission_;
   Tactics& tactics_;
   const tactical::Catalogue& catalogue_;
   PrologOptions options_;
@@ -80,6 +82,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
 
   bool running_ = false;
   bool ended_ = false;
+  bool holds_engine_ = false;  // this executor's query is the process's one
   // The call the rules are waiting for.
   std::string pending_name_;
   std::vector<tactical::Value> pending_args_;

@@ -105,7 +105,7 @@ struct Recorder final : Observer {
 
 // One executor run on one mission, its fake Tactical level and its recorder.
 struct Session {
-  explicit Session(const prolog::Mission& mission, PrologOptions options = {})
+  explicit Session(prolog::Mission& mission, PrologOptions options = {})
       : executor(std::make_unique<PrologExecutor>(mission, tactics, tactical::Catalogue::builtin(), options)) {
     executor->add_observer(recorder);
   }
@@ -143,6 +143,10 @@ class PrologExecutorTest : public ::testing::Test {
   }
   ~PrologExecutorTest() override { fs::remove_all(dir_); }
 
+  static std::string read_file(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   std::string write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
@@ -337,8 +341,20 @@ TEST_F(PrologExecutorTest, DestroyedWithACallInFlightTheReplyDoesNothing) {
   EXPECT_EQ(0, r.recorder.ended);
   EXPECT_TRUE(r.recorder.notices.empty());
   EXPECT_FALSE(r.result);
-  // The abandoned query left Prolog usable: the same rules run again.
-  Session again(*m);
+  {
+    // These rules have run: a second executor on them ends at once.
+    Session rerun(*m);
+    rerun.start();
+    ASSERT_TRUE(rerun.ended_with(Outcome::Failed));
+    EXPECT_EQ("these rules have run already: load the mission again for another run", rerun.result->reason);
+    EXPECT_EQ("", rerun.tactics.names());
+  }
+  // The abandoned query left Prolog usable: the same file, loaded again
+  // (once the first load is gone), runs.
+  m.reset();
+  auto reloaded = load(path);
+  ASSERT_TRUE(reloaded);
+  Session again(*reloaded);
   again.start();
   again.tactics.answer(true);
   again.tactics.answer(true);
@@ -378,7 +394,9 @@ mission :- burn, exec_sleep(1, _), burn, exec_sleep(1, _), burn.
                {true, true}, PrologOptions{100000});
   ASSERT_TRUE(r && r->ended_with(Outcome::Completed)) << (r ? r->why() : "");
   // And past the limit in one stretch, the same burns fail.
-  Session tight(*missions_.back(), PrologOptions{20000});
+  auto again = load(write("busy_again.pl", read_file(missions_.back()->path())));
+  ASSERT_TRUE(again);
+  Session tight(*again, PrologOptions{20000});
   tight.start();
   ASSERT_TRUE(tight.ended_with(Outcome::Failed));
   EXPECT_NE(std::string::npos, tight.result->reason.find("20000 inferences")) << tight.result->reason;
@@ -402,6 +420,28 @@ execute_phase(inner) :- exec_submerge(_).
                      "end inner#3 cancelled", "end middle#2 cancelled", "end outer#1 cancelled",
                      "end nested#0 cancelled", "mission_ended failed", "on_end"}),
             r->recorder.events);
+}
+
+TEST_F(PrologExecutorTest, OneMissionAtATimePerProcess) {
+  auto first = load(write("first.pl", "mission :- exec_sleep(1, _).\n"));
+  auto second = load(write("second.pl", "mission :- exec_sleep(2, _).\n"));
+  ASSERT_TRUE(first && second);
+  Session a(*first);
+  a.start();
+  ASSERT_EQ(1u, a.tactics.pending.size()) << "a waits for the vehicle";
+  Session b(*second);
+  b.start();
+  ASSERT_TRUE(b.ended_with(Outcome::Failed));
+  EXPECT_EQ("another PROLOG mission is running in this process: one at a time", b.result->reason);
+  a.tactics.answer(true);
+  ASSERT_TRUE(a.ended_with(Outcome::Completed)) << a.why();
+  // Once a has ended, the engine is free again.
+  auto third = load(write("third.pl", "mission :- exec_sleep(3, _).\n"));
+  ASSERT_TRUE(third);
+  Session c(*third);
+  c.start();
+  c.tactics.answer(true);
+  EXPECT_TRUE(c.ended_with(Outcome::Completed)) << c.why();
 }
 
 TEST_F(PrologExecutorTest, EachRunStartsFromAFreshDatabase) {
