@@ -340,25 +340,51 @@ message_text(Term, _, Text) :-
 %   and a missing mission/0.
 
 check_mission(Module, Problems) :-
-    retractall(walk_problem(_, _, _, _)),
-    prolog_walk_code([ module(Module),
-                       undefined(trace),
-                       on_trace(strata_driver:undefined_call(Module)),
-                       source(true)
-                     ]),
-    forall(ood_names(Module, Arity, _),
-           ( functor(Head, ood, Arity),
-             prolog_walk_code([ module(Module),
-                                trace_reference(Module:Head),
-                                on_trace(strata_driver:ood_call(Module)),
-                                source(true)
-                              ]) )),
+    % A walk without the source is cheap; only when it finds a problem is
+    % the source read again, for the line of each call.
+    walk_mission(Module, false),
+    (   walk_problem(_, _, _, _)
+    ->  walk_mission(Module, true)
+    ;   true
+    ),
     findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
     sort(Walked, Sorted),
     (   current_predicate(Module:mission/0)
     ->  Problems = Sorted
     ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
                    |Sorted]
+    ).
+
+% One walk finds both the calls nobody defines and the ood/N calls (the
+% arity of the OOD primitives; each extra arity costs a walk of its own).
+walk_mission(Module, Source) :-
+    retractall(walk_problem(_, _, _, _)),
+    findall(Arity, ood_names(Module, Arity, _), Arities),
+    (   Arities = [First|Others]
+    ->  functor(Head, ood, First),
+        Trace = [trace_reference(Module:Head)]
+    ;   Others = [],
+        Trace = []
+    ),
+    prolog_walk_code([ module(Module),
+                       undefined(trace),
+                       on_trace(strata_driver:walked_call(Module)),
+                       source(Source)
+                     | Trace ]),
+    forall(member(Arity, Others),
+           ( functor(OtherHead, ood, Arity),
+             prolog_walk_code([ module(Module),
+                                trace_reference(Module:OtherHead),
+                                on_trace(strata_driver:ood_call(Module)),
+                                source(Source)
+                              ]) )).
+
+walked_call(Module, Callee, Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    (   functor(Goal, ood, Arity),
+        ood_names(Module, Arity, _)
+    ->  ood_call(Module, Callee, Caller, Location)
+    ;   undefined_call(Module, Callee, Caller, Location)
     ).
 
 % ood('Name', ..., X) with a Name the catalogue has no OOD primitive for.
