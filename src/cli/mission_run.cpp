@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/console.h"
+#include "cli/emergency.h"
 #include "cli/exit_codes.h"
 #include "coral/compiler.h"
 #include "core/diagnostic_printer.h"
@@ -34,15 +35,7 @@ using strategic::MissionResult;
 using strategic::Outcome;
 
 constexpr const char* kVersion = "0.1.0";
-// The primitive Figure 10's `done` calls: the runner sends it itself when the
-// Strategic level could not go on (its own abort path never ran).
-constexpr const char* kShutdownPrimitive = "shutdown_network";
 constexpr const char* kInterrupted = "interrupted by the operator";
-// Before it, when the link still works, the runner surfaces the vehicle.
-constexpr const char* kSurface = "surface";
-constexpr const char* kSurfaceReached = "surface_reached";
-constexpr const char* kSleep = "sleep";
-constexpr double kEmergencySurfaceS = 120.0;
 // Lockstep: wall seconds allowed per simulated second of a call (>= 100x real time).
 constexpr double kLockstepWallPerSim = 0.01;
 
@@ -319,7 +312,6 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // run its own abort path, then the link closes and an embedded vehicle is
   // left to settle (its watchdog may be surfacing it) before the loop ends.
   bool finished = false;
-  std::string emergency_error;
   auto wrap_up = [&] {
     if (signals) {
       signals->clear();  // from here on Ctrl-C ends the process at once
@@ -335,89 +327,32 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
       finished = true;
     }
   };
-  // Figure 10's `done`, sent by the runner.
-  auto send_done = [&] {
-    report.emergency_shutdown = true;
-    tactical.call(kShutdownPrimitive, {}, [&](core::Result<tactical::CallOutcome> r) {
-      if (!r) {
-        emergency_error = r.error().message;
-        console.line(fmt::format("ood {} failed: {}", kShutdownPrimitive, r.error().message));
-      }
-      wrap_up();
-    });
-  };
-  // Surfacing: exec surface, then ask surface_reached once per simulated
-  // second, for at most kEmergencySurfaceS; done follows in any case.
-  std::function<void(int)> poll_surface = [&](int seconds_left) {
-    tactical.call(kSurfaceReached, {}, [&, seconds_left](core::Result<tactical::CallOutcome> r) {
-      if (r && r.value().value) {
-        report.emergency_surfaced = true;
-        send_done();
-      } else if (!r || seconds_left <= 0) {
-        console.line(r ? fmt::format("the vehicle did not reach the surface in {:.0f} s", kEmergencySurfaceS)
-                       : fmt::format("ask {} failed: {}", kSurfaceReached, r.error().message));
-        send_done();
-      } else {
-        tactical.call(kSleep, {tactical::Value::of(1.0)}, [&, seconds_left](core::Result<tactical::CallOutcome> s) {
-          if (!s) {
-            send_done();
-            return;
-          }
-          poll_surface(seconds_left - 1);
-        });
-      }
-    });
-  };
+  Emergency emergency(tactical, catalogue.value(), [&](const std::string& text) { console.line(text); });
   engine.start([&](const MissionResult& result) {
     report.result = result;
-    if (result.outcome != Outcome::Failed || !link->connected() ||
-        !catalogue.value().find(kShutdownPrimitive)) {
+    if (result.outcome != Outcome::Failed || !link->connected() || !emergency.possible()) {
       wrap_up();
       return;
     }
-    // On a lost link, surfacing is the vehicle's own watchdog's job.
     const bool link_gone = result.call_error && (*result.call_error == core::ErrorCode::Timeout ||
                                                  *result.call_error == core::ErrorCode::Closed);
-    const bool surface = !link_gone && catalogue.value().find(kSurface) &&
-                         catalogue.value().find(kSurfaceReached) && catalogue.value().find(kSleep);
-    std::string action = surface ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
-                                               kSurface, kShutdownPrimitive)
-                                 : fmt::format("ood {}", kShutdownPrimitive);
+    const std::string plan = emergency.plan(link_gone);
     if (signals) {
       signals->clear();  // Ctrl-C now ends the process at once
       signals->cancel();
     }
     console.line(fmt::format("the mission ended without its own abort path; strata run sends {}, as "
                              "Figure 10's done does (Ctrl-C stops at once)",
-                             action),
+                             plan),
                  result.sim_time_s);
     if (log) {
-      log->write({{"event", "emergency"}, {"action", action}, {"sim_time", tactical::log_time(result.sim_time_s)}});
+      log->write({{"event", "emergency"}, {"action", plan}, {"sim_time", tactical::log_time(result.sim_time_s)}});
     }
-    if (!surface) {
-      send_done();
-      return;
-    }
-    // Already at the surface (or the vehicle will not say): done at once.
-    tactical.call(kSurfaceReached, {}, [&](core::Result<tactical::CallOutcome> at_surface) {
-      if (!at_surface || at_surface.value().value) {
-        if (!at_surface) {
-          console.line(fmt::format("ask {} failed: {}", kSurfaceReached, at_surface.error().message));
-        }
-        report.emergency_surfaced = at_surface.ok();
-        send_done();
-        return;
-      }
-      report.emergency_surface = true;
-      tactical.call(kSurface, {}, [&](core::Result<tactical::CallOutcome> r) {
-        if (!r || !r.value().value) {
-          console.line(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
-                         : fmt::format("exec {} failed: {}", kSurface, r.error().message));
-          send_done();
-          return;
-        }
-        poll_surface(static_cast<int>(kEmergencySurfaceS));
-      });
+    emergency.run(link_gone, [&] {
+      report.emergency_shutdown = emergency.shutdown_sent();
+      report.emergency_surface = emergency.surface_commanded();
+      report.emergency_surfaced = emergency.surfaced();
+      wrap_up();
     });
   });
   while (!finished && io.run_one() > 0) {
@@ -479,12 +414,12 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   }
   if (link_lost) out << "  link: lost (" << link_lost_why << ")\n";
   if (report.emergency_surface) {
-    out << fmt::format("  after it: exec {} sent by strata run; {}\n", kSurface,
+    out << fmt::format("  after it: exec surface sent by strata run; {}\n",
                        report.emergency_surfaced ? "the vehicle reached the surface" : "not confirmed at the surface");
   }
   if (report.emergency_shutdown) {
-    out << fmt::format("  after it: ood {} sent by strata run{}\n", kShutdownPrimitive,
-                       emergency_error.empty() ? "" : ", unanswered (" + emergency_error + ")");
+    out << fmt::format("  after it: ood shutdown_network sent by strata run{}\n",
+                       emergency.shutdown_error().empty() ? "" : ", unanswered (" + emergency.shutdown_error() + ")");
   }
   if (log) {
     if (auto s = log->status(); !s) {

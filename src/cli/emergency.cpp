@@ -1,0 +1,96 @@
+#include "cli/emergency.h"
+
+#include <fmt/format.h>
+
+namespace strata::cli {
+namespace {
+
+constexpr const char* kShutdown = "shutdown_network";
+constexpr const char* kSurface = "surface";
+constexpr const char* kSurfaceReached = "surface_reached";
+constexpr const char* kSleep = "sleep";
+constexpr int kSurfaceLimitS = 120;
+
+using Outcome = core::Result<tactical::CallOutcome>;
+
+}  // namespace
+
+Emergency::Emergency(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say)
+    : tactical_(tactical), catalogue_(catalogue), say_(std::move(say)) {}
+
+bool Emergency::possible() const { return catalogue_.find(kShutdown) != nullptr; }
+
+bool Emergency::can_surface(bool link_gone) const {
+  return !link_gone && catalogue_.find(kSurface) && catalogue_.find(kSurfaceReached) && catalogue_.find(kSleep);
+}
+
+std::string Emergency::plan(bool link_gone) const {
+  return can_surface(link_gone) ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
+                                              kSurface, kShutdown)
+                                : fmt::format("ood {}", kShutdown);
+}
+
+void Emergency::run(bool link_gone, std::function<void()> done) {
+  done_ = std::move(done);
+  if (!can_surface(link_gone)) {
+    send_done();
+    return;
+  }
+  // Already at the surface (or the vehicle will not say): done at once.
+  tactical_.call(kSurfaceReached, {}, [this](Outcome at_surface) {
+    if (!at_surface || at_surface.value().value) {
+      if (!at_surface) say_(fmt::format("ask {} failed: {}", kSurfaceReached, at_surface.error().message));
+      surfaced_ = at_surface.ok();
+      send_done();
+      return;
+    }
+    surface_commanded_ = true;
+    tactical_.call(kSurface, {}, [this](Outcome r) {
+      if (!r || !r.value().value) {
+        say_(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
+               : fmt::format("exec {} failed: {}", kSurface, r.error().message));
+        send_done();
+        return;
+      }
+      poll(kSurfaceLimitS);
+    });
+  });
+}
+
+void Emergency::poll(int seconds_left) {
+  tactical_.call(kSurfaceReached, {}, [this, seconds_left](Outcome r) {
+    if (r && r.value().value) {
+      surfaced_ = true;
+      send_done();
+    } else if (!r || seconds_left <= 0) {
+      say_(r ? fmt::format("the vehicle did not reach the surface in {} s", kSurfaceLimitS)
+             : fmt::format("ask {} failed: {}", kSurfaceReached, r.error().message));
+      send_done();
+    } else {
+      tactical_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](Outcome s) {
+        if (!s) {
+          send_done();
+          return;
+        }
+        poll(seconds_left - 1);
+      });
+    }
+  });
+}
+
+void Emergency::send_done() {
+  shutdown_sent_ = true;
+  tactical_.call(kShutdown, {}, [this](Outcome r) {
+    if (!r) {
+      shutdown_error_ = r.error().message;
+      say_(fmt::format("ood {} failed: {}", kShutdown, r.error().message));
+    }
+    if (done_) {
+      auto done = std::move(done_);
+      done_ = nullptr;
+      done();
+    }
+  });
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,55 @@
+#pragma once
+// What `strata run` does itself after a mission that *failed* (its own abort
+// path never ran) while the link still works: surface the vehicle if it is
+// under water, then send Figure 10's `done` (`ood shutdown_network`).
+// docs/prolog.md §3 and docs/architecture.md ("One run").
+//
+//   ask surface_reached; if 0: exec surface, then ask surface_reached once
+//   per simulated second (exec sleep 1 between) for at most 120 s;
+//   then ood shutdown_network, whatever happened before.
+//
+// On a lost link (the mission failed with Timeout or Closed) only the
+// shutdown is tried: surfacing is then the vehicle's own watchdog's job.
+//
+// Threads: one; the event loop's. The object must outlive the procedure.
+#include <functional>
+#include <string>
+
+#include "tactical/catalogue.h"
+#include "tactical/tactical_level.h"
+
+namespace strata::cli {
+
+class Emergency {
+ public:
+  using Say = std::function<void(const std::string&)>;
+  Emergency(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say);
+
+  // The catalogue has the shutdown primitive: there is something to do.
+  bool possible() const;
+  // What run() will send, for the console and the log.
+  std::string plan(bool link_gone) const;
+  // Runs the procedure; done is called once, from the event loop, at its end.
+  void run(bool link_gone, std::function<void()> done);
+
+  bool shutdown_sent() const { return shutdown_sent_; }
+  const std::string& shutdown_error() const { return shutdown_error_; }  // "" if answered
+  bool surface_commanded() const { return surface_commanded_; }
+  bool surfaced() const { return surfaced_; }  // surface_reached answered 1
+
+ private:
+  bool can_surface(bool link_gone) const;
+  void poll(int seconds_left);
+  void send_done();
+
+  tactical::TacticalLevel& tactical_;
+  const tactical::Catalogue& catalogue_;
+  Say say_;
+  std::function<void()> done_;
+  bool shutdown_sent_ = false;
+  bool surface_commanded_ = false;
+  bool surfaced_ = false;
+  std::string shutdown_error_;
+};
+
+}  // namespace strata::cli
