@@ -25,6 +25,8 @@
 :- use_module(library(apply)).
 
 :- prolog_load_context(directory, Dir),
+   directory_file_path(Dir, 'driver_check.pl', Check),
+   use_module(Check, []),
    directory_file_path(Dir, 'driver.pl', Driver),
    use_module(Driver).
 

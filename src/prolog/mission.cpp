@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "prolog/driver_check_text.h"
 #include "prolog/driver_text.h"
 
 namespace strata::prolog {
@@ -134,26 +135,38 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   return PL_domain_error("phase_event", event_t);
 }
 
-core::Result<void> ensure_driver() {
-  static bool loaded = false;
-  if (loaded) return {};
-  if (auto r = initialise(); !r) return r.error();
+// Loads one of the driver's modules from its text.
+core::Result<void> load_module_text(const char* module, std::string_view text) {
   Frame frame;
   auto goal = parse_term(
-      "open_string(Text, S), call_cleanup(load_files(strata_driver, [stream(S), silent(true)]), "
-      "close(S))");
+      "open_string(Text, S), call_cleanup(load_files(Module, [stream(S), silent(true), imports([])]), close(S))");
   if (!goal) return goal.error();
   term_t open = PL_new_term_ref();
-  term_t text = PL_new_term_ref();
-  if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text) ||
-      !PL_unify_chars(text, PL_STRING, kDriverText.size(), kDriverText.data())) {
+  term_t text_t = PL_new_term_ref();
+  term_t load = PL_new_term_ref();
+  term_t call_load = PL_new_term_ref();
+  term_t module_t = PL_new_term_ref();
+  if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text_t) ||
+      !PL_unify_chars(text_t, PL_STRING, text.size(), text.data()) || !PL_get_arg(2, goal.value(), load) ||
+      !PL_get_arg(1, load, call_load) || !PL_get_arg(1, call_load, module_t) ||
+      !PL_unify_atom_chars(module_t, module)) {
     return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
   }
   auto r = call_term(goal.value());
   if (!r || !r.value()) {
     return core::make_error(core::ErrorCode::Internal,
-                            "the PROLOG driver did not load: " + (r ? std::string("failed") : r.error().message));
+                            fmt::format("the PROLOG driver ({}) did not load: {}", module,
+                                        r ? std::string("failed") : r.error().message));
   }
+  return {};
+}
+
+core::Result<void> ensure_driver() {
+  static bool loaded = false;
+  if (loaded) return {};
+  if (auto r = initialise(); !r) return r.error();
+  if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
+  if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
   PL_register_foreign_in_module("strata_driver", "$strata_call", 3,
                                 reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
   PL_register_foreign_in_module("strata_driver", "$strata_report", 2,

@@ -1,0 +1,148 @@
+/*  The check of a PROLOG mission before it runs (docs/prolog.md §4), part
+    of the driver (driver.pl), compiled into the strata binary beside it.
+
+    Walks every clause of the mission's module (prolog_walk_code/1) for
+    calls to predicates nobody defines (a primitive the catalogue does not
+    have, a known primitive with the wrong arity, a misspelt helper) and
+    ood('Name', ...) calls whose Name is not an OOD primitive; each problem
+    with the file and the line of the call.
+*/
+:- module(strata_driver_check,
+          [ check_mission/2          % +Module, -Problems
+          ]).
+:- use_module(library(lists)).
+:- use_module(library(aggregate)).
+:- use_module(library(readutil)).
+:- use_module(library(prolog_codewalk)).
+
+:- dynamic walk_problem/4.           % File, Line, Callee, Text
+
+%!  check_mission(+Module, -Problems) is det.
+%
+%   Problems is a list of problem(File, Line, Text): calls to predicates
+%   nobody defines (a primitive the catalogue does not have among them),
+%   and a missing mission/0.
+
+check_mission(Module, Problems) :-
+    % A walk without the source is cheap; only when it finds a problem is
+    % the source read again, for the line of each call.
+    walk_mission(Module, false),
+    (   walk_problem(_, _, _, _)
+    ->  walk_mission(Module, true)
+    ;   true
+    ),
+    findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
+    sort(Walked, Sorted),
+    (   current_predicate(Module:mission/0)
+    ->  Problems = Sorted
+    ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
+                   |Sorted]
+    ).
+
+% One walk finds both the calls nobody defines and the ood/N calls (the
+% arity of the OOD primitives; each extra arity costs a walk of its own).
+walk_mission(Module, Source) :-
+    retractall(walk_problem(_, _, _, _)),
+    findall(Arity, strata_driver:ood_names(Module, Arity, _), Arities),
+    (   Arities = [First|Others]
+    ->  functor(Head, ood, First),
+        Trace = [trace_reference(Module:Head)]
+    ;   Others = [],
+        Trace = []
+    ),
+    prolog_walk_code([ module(Module),
+                       undefined(trace),
+                       on_trace(strata_driver_check:walked_call(Module)),
+                       source(Source)
+                     | Trace ]),
+    forall(member(Arity, Others),
+           ( functor(OtherHead, ood, Arity),
+             prolog_walk_code([ module(Module),
+                                trace_reference(Module:OtherHead),
+                                on_trace(strata_driver_check:ood_call(Module)),
+                                source(Source)
+                              ]) )).
+
+walked_call(Module, Callee, Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    (   functor(Goal, ood, Arity),
+        strata_driver:ood_names(Module, Arity, _)
+    ->  ood_call(Module, Callee, Caller, Location)
+    ;   undefined_call(Module, Callee, Caller, Location)
+    ).
+
+% ood('Name', ..., X) with a Name the catalogue has no OOD primitive for.
+ood_call(Module, Callee, _Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    functor(Goal, ood, Arity),
+    arg(1, Goal, Name),
+    atom(Name),
+    strata_driver:ood_names(Module, Arity, Names),
+    \+ memberchk(Name, Names),
+    !,
+    location_file_line(Location, File, Line),
+    format(string(Text), "ood('~w', ...): `~w` is not an ood primitive in the catalogue \c
+                          (`strata primitives` lists them)", [Name, Name]),
+    (   walk_problem(File, Line, ood(Name), _)
+    ->  true
+    ;   assertz(walk_problem(File, Line, ood(Name), Text))
+    ).
+ood_call(_, _, _, _).
+
+undefined_call(Module, Callee, _Caller, Location) :-
+    strip_module(Callee, _, Goal),
+    functor(Goal, Name, Arity),
+    location_file_line(Location, File, Line),
+    undefined_text(Module, Name, Arity, Text),
+    (   walk_problem(File, Line, Name/Arity, _)
+    ->  true
+    ;   assertz(walk_problem(File, Line, Name/Arity, Text))
+    ).
+
+location_file_line(clause_term_position(Ref, Pos), File, Line) :- !,
+    clause_file_line(Ref, File, ClauseLine),
+    (   compound(Pos), arg(1, Pos, From), integer(From), File \== '',
+        catch(offset_line(File, From, GoalLine), _, fail)
+    ->  Line = GoalLine                 % the line of the call itself
+    ;   Line = ClauseLine
+    ).
+location_file_line(clause(Ref), File, Line) :- !,
+    clause_file_line(Ref, File, Line).
+location_file_line(file(File, Line, _, _), File, Line) :- !.
+location_file_line(_, '', 0).
+
+offset_line(File, Offset, Line) :-
+    read_file_to_codes(File, Codes, []),
+    length(Prefix, Offset),
+    append(Prefix, _, Codes),
+    !,
+    aggregate_all(count, member(0'\n, Prefix), Newlines),
+    Line is Newlines + 1.
+
+clause_file_line(Ref, File, Line) :-
+    (   clause_property(Ref, file(File)) -> true ; File = '' ),
+    (   clause_property(Ref, line_count(Line)) -> true ; Line = 0 ).
+
+undefined_text(Module, Name, Arity, Text) :-
+    primitive_prefix(Name, Kind, Primitive),
+    !,
+    (   known_arities(Module, Name, Arities)
+    ->  format(string(Text), "~w/~d: ~w takes ~w argument(s) here: use ~w",
+               [Name, Arity, Primitive, Arity, Arities])
+    ;   format(string(Text), "~w/~d: `~w` is not an ~w primitive in the catalogue \c
+                              (`strata primitives` lists them)",
+               [Name, Arity, Primitive, Kind])
+    ).
+undefined_text(_, Name, Arity, Text) :-
+    format(string(Text), "~w/~d is called but not defined", [Name, Arity]).
+
+primitive_prefix(Name, exec, Primitive) :-
+    atom_concat(exec_, Primitive, Name), !.
+primitive_prefix(Name, ask, Primitive) :-
+    atom_concat(ask_, Primitive, Name), !.
+
+known_arities(Module, Name, Arities) :-
+    findall(Text, ( current_predicate(Module:Name/A),
+                    format(atom(Text), '~w/~d', [Name, A]) ), Arities0),
+    Arities0 \== [],
+    atomic_list_concat(Arities0, ' or ', Arities).
