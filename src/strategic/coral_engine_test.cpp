@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "coral/test_support.h"
+#include "strategic/fake_tactics.h"
 #include "strategic/log_observer.h"
 #include "tactical/catalogue.h"
 #include "tactical/tactical_level.h"
@@ -19,62 +20,19 @@ namespace {
 
 using coral::testing::compile_text;
 
-// A Tactical level the test answers by hand.
-struct FakeTactics final : Tactics {
-  struct Call {
-    std::string name;
-    std::vector<tactical::Value> args;
-    tactical::CallHandler done;
-  };
-  void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) override {
-    calls.push_back({std::string(name), std::move(args), std::move(done)});
-    pending.push_back(calls.size() - 1);
-  }
-  double sim_time_s() const override { return time_s; }
-
-  // Answers the oldest unanswered call (or the i-th call).
+// Answers the oldest unanswered call (or the i-th call).
+struct FakeTactics final : testing::FakeTacticsBase {
   void answer(bool value) {
     ASSERT_FALSE(pending.empty());
-    std::size_t i = pending.front();
-    pending.pop_front();
-    reply(i, tactical::CallOutcome{value, time_s});
+    reply(pending.front(), tactical::CallOutcome{value, time_s});
   }
-  void answer_call(std::size_t i, bool value) {
-    pending.erase(std::find(pending.begin(), pending.end(), i));
-    reply(i, tactical::CallOutcome{value, time_s});
-  }
-  void fail_oldest(core::Error error) {
-    std::size_t i = pending.front();
-    pending.pop_front();
-    auto h = std::move(calls[i].done);
-    h(std::move(error));
-  }
+  void answer_call(std::size_t i, bool value) { reply(i, tactical::CallOutcome{value, time_s}); }
+  void fail_oldest(core::Error error) { take(pending.front())(std::move(error)); }
   void reply(std::size_t i, tactical::CallOutcome outcome) {
-    auto h = std::move(calls[i].done);
+    auto h = take(i);
     time_s += 0.1;
     h(outcome);
   }
-  // "f1 f2(1) report(text)"
-  std::string names() const {
-    std::string out;
-    for (const Call& c : calls) {
-      if (!out.empty()) out += ' ';
-      out += c.name;
-      if (!c.args.empty()) {
-        out += '(';
-        for (std::size_t k = 0; k < c.args.size(); ++k) {
-          if (k > 0) out += ',';
-          out += tactical::to_string(c.args[k]);
-        }
-        out += ')';
-      }
-    }
-    return out;
-  }
-
-  std::vector<Call> calls;
-  std::deque<std::size_t> pending;
-  double time_s = 0.0;
 };
 
 // Records what observers are told, as short strings.

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "prolog/engine.h"
+#include "strategic/fake_tactics.h"
 #include "tactical/catalogue.h"
 
 namespace strata::strategic {
@@ -18,21 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 using Strings = std::vector<std::string>;
 
-// A Tactical level the test answers by hand: calls are queued, never
-// answered inside call().
-struct FakeTactics final : Tactics {
-  struct Call {
-    std::string name;
-    std::vector<tactical::Value> args;
-    tactical::CallHandler done;
-  };
-  void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) override {
-    calls.push_back({std::string(name), std::move(args), std::move(done)});
-    pending.push_back(calls.size() - 1);
-  }
-  double sim_time_s() const override { return time_s; }
-
-  // The call the rules wait for: the newest unanswered one that is not a REPORT.
+// Answers the call the rules wait for: the newest unanswered one that is
+// not a REPORT.
+struct FakeTactics final : testing::FakeTacticsBase {
   std::size_t waited_for() const {
     auto it = std::find_if(pending.rbegin(), pending.rend(), [&](std::size_t i) { return calls[i].name != "report"; });
     return it == pending.rend() ? calls.size() : *it;
@@ -54,25 +43,6 @@ struct FakeTactics final : Tactics {
       if (calls[i].name == "report") take(i)(tactical::CallOutcome{true, time_s});
     }
   }
-  tactical::CallHandler take(std::size_t i) {
-    pending.erase(std::find(pending.begin(), pending.end(), i));
-    return std::move(calls[i].done);
-  }
-  // "f1 f2(1) report(text)"
-  std::string names() const {
-    std::string out;
-    for (const Call& c : calls) {
-      if (!out.empty()) out += ' ';
-      out += c.name;
-      for (std::size_t k = 0; k < c.args.size(); ++k) out += (k == 0 ? "(" : ",") + tactical::to_string(c.args[k]);
-      if (!c.args.empty()) out += ')';
-    }
-    return out;
-  }
-
-  std::vector<Call> calls;
-  std::deque<std::size_t> pending;
-  double time_s = 0.0;
 };
 
 // Records what observers are told, in one sequence of short strings.
