@@ -25,6 +25,8 @@ Runner add_vehicle_command(CLI::App& app);
 Runner add_run_command(CLI::App& app);
 // `strata compare`.
 Runner add_compare_command(CLI::App& app);
+// `strata verify`.
+Runner add_verify_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
 

@@ -1,0 +1,74 @@
+// The reachability explorer (petri::explore) on nets with known state
+// spaces, full exploration, no reductions, one thread.
+//
+//   explore/referendum/N      Referendum-N: 3^N + 1 states (N = 15: 14,348,908)
+//   explore/philosophers/N    dining philosophers: 3^N states
+//   explore/pnml/MODEL        a net of ../shared/pnml (Kanban-PT-00005,
+//                             FMS-PT-00005, Referendum-PT-0015), when present
+//
+// Counters: states, edges, states_per_s (states over the wall time of one
+// exploration, liveness pass included), bytes_per_state (the packed
+// markings plus the hash table, as ExploreResult::memory_bytes, over the
+// states). Targets (issue 6): Referendum-PT-0015 >= 2 M states/s and
+// <= 24 bytes/state; Kanban-PT-00005 >= 1.5 M states/s; FMS-PT-00005 >=
+// 0.5 M states/s.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+
+#include "petri/explorer.h"
+#include "petri/net_families.h"
+#include "petri/pnml.h"
+
+namespace strata::petri {
+namespace {
+
+void report(benchmark::State& st, const ExploreResult& r, double seconds) {
+  st.counters["states"] = static_cast<double>(r.states);
+  st.counters["edges"] = static_cast<double>(r.edges);
+  st.counters["states_per_s"] = seconds > 0 ? static_cast<double>(r.states) / seconds : 0;
+  st.counters["bytes_per_state"] = r.states ? static_cast<double>(r.memory_bytes) / static_cast<double>(r.states) : 0;
+  if (!r.complete) st.SkipWithError(r.stopped_why.c_str());
+}
+
+void run(benchmark::State& st, const Net& net) {
+  ExploreResult r;
+  double seconds = 0;
+  for (auto _ : st) {
+    auto start = std::chrono::steady_clock::now();
+    r = explore(net);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    benchmark::DoNotOptimize(r.states);
+  }
+  report(st, r, seconds);
+}
+
+void bm_referendum(benchmark::State& st) { run(st, referendum(static_cast<unsigned>(st.range(0)))); }
+void bm_philosophers(benchmark::State& st) { run(st, dining_philosophers(static_cast<unsigned>(st.range(0)))); }
+
+void bm_pnml(benchmark::State& st, const std::string& model) {
+  const std::string path = std::string(STRATA_SOURCE_DIR) + "/../shared/pnml/" + model + "/model.pnml";
+  if (!std::filesystem::exists(path)) {
+    st.SkipWithError("../shared/pnml not present");
+    return;
+  }
+  auto net = read_pnml(path);
+  if (!net) {
+    st.SkipWithError(net.error().message.c_str());
+    return;
+  }
+  run(st, net.value().net);
+}
+
+BENCHMARK(bm_referendum)->Name("explore/referendum")->Arg(10)->Arg(15)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(bm_philosophers)->Name("explore/philosophers")->Arg(10)->Arg(13)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, kanban, std::string("Kanban-PT-00005"))->Name("explore/pnml/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, fms, std::string("FMS-PT-00005"))->Name("explore/pnml/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, referendum, std::string("Referendum-PT-0015"))->Name("explore/pnml/Referendum-PT-0015")->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace strata::petri
+
+BENCHMARK_MAIN();
