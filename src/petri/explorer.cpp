@@ -140,9 +140,10 @@ class Explorer {
   std::size_t memory() const { return arena_.capacity() * 8 + table_.capacity() * 4; }
 
   // Adds m if new. Returns false when a limit stops the exploration.
-  bool insert(const std::uint64_t* m) {
+  bool insert(const std::uint64_t* m) { return insert(m, hash(m)); }
+  bool insert(const std::uint64_t* m, std::uint64_t full_hash) {
     const std::size_t mask = table_.size() - 1;
-    std::size_t h = hash(m) & mask;
+    std::size_t h = full_hash & mask;
     for (;; h = (h + 1) & mask) {
       const std::uint32_t slot = table_[h];
       if (slot == 0) break;
@@ -182,13 +183,12 @@ class Explorer {
   void breadth_first() {
     const std::size_t places = net_.place_count();
     const std::size_t transitions = net_.transition_count();
-    std::vector<std::uint64_t> cur, next;
+    std::vector<std::uint64_t> cur;
     std::uint64_t next_progress = opt_.progress_every;
     for (std::uint64_t s = 0; s < count_ && r_.complete; ++s) {
     restart:
       cur.assign(arena_.begin() + static_cast<std::ptrdiff_t>(s * words_),
                  arena_.begin() + static_cast<std::ptrdiff_t>((s + 1) * words_));
-      next.resize(words_);
       std::uint64_t total = 0;
       for (PlaceId p = 0; p < places; ++p) {
         const std::uint64_t v = get(cur.data(), fields_[p]);
@@ -196,19 +196,26 @@ class Explorer {
         if (v > r_.place_bounds[p]) r_.place_bounds[p] = static_cast<Tokens>(v);
       }
       r_.max_tokens_per_marking = std::max(r_.max_tokens_per_marking, total);
+      // All successors first, their table slots prefetched; then the
+      // lookups, which then mostly hit the cache.
       std::uint64_t edges = 0;
+      succ_.resize(static_cast<std::size_t>(transitions) * words_);
+      hashes_.resize(transitions);
+      fired_.clear();
+      const std::size_t mask = table_.size() - 1;
       for (TransitionId t = 0; t < transitions; ++t) {
         bool enabled = true;
         for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1] && enabled; ++i) {
           enabled = get(cur.data(), in_[i].field) >= in_[i].weight;
         }
         if (!enabled) continue;
-        std::memcpy(next.data(), cur.data(), words_ * 8);
+        std::uint64_t* succ = &succ_[fired_.size() * words_];
+        std::memcpy(succ, cur.data(), words_ * 8);
         for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1]; ++i) {
-          set(next.data(), in_[i].field, get(next.data(), in_[i].field) - in_[i].weight);
+          set(succ, in_[i].field, get(succ, in_[i].field) - in_[i].weight);
         }
         for (std::uint32_t i = out_begin_[t]; i < out_begin_[t + 1]; ++i) {
-          const std::uint64_t v = get(next.data(), out_[i].field) + out_[i].weight;
+          const std::uint64_t v = get(succ, out_[i].field) + out_[i].weight;
           if (v > out_[i].field.mask) {
             if (!widen(out_[i].place, v)) {
               stop(fmt::format("place '{}' would hold more than {} tokens", net_.place_name(out_[i].place),
@@ -217,11 +224,22 @@ class Explorer {
             }
             goto restart;  // the layout changed: this state again, from the start
           }
-          set(next.data(), out_[i].field, v);
+          set(succ, out_[i].field, v);
         }
-        if (!insert(next.data())) return;
+        const std::uint64_t h = hash(succ);
+        hashes_[fired_.size()] = h;
+        __builtin_prefetch(&table_[h & mask]);
+        fired_.push_back(t);
+      }
+      for (std::size_t k = 0; k < fired_.size(); ++k) {
+        // The stored marking the slot points to, if any: prefetched too.
+        const std::uint32_t slot = table_[hashes_[k] & mask];
+        if (slot != 0) __builtin_prefetch(&arena_[static_cast<std::size_t>(slot - 1) * words_]);
+      }
+      for (std::size_t k = 0; k < fired_.size(); ++k) {
+        if (!insert(&succ_[k * words_], hashes_[k])) return;
         ++edges;
-        r_.transition_fired[t] = true;
+        r_.transition_fired[fired_[k]] = true;
       }
       r_.edges += edges;
       if (edges == 0 && !r_.deadlock) {
@@ -359,6 +377,9 @@ class Explorer {
   std::vector<std::uint32_t> in_begin_, out_begin_;
   std::vector<std::uint64_t> arena_;
   std::vector<std::uint32_t> table_;
+  // One state's successors, their hashes and transitions (breadth_first).
+  std::vector<std::uint64_t> succ_, hashes_;
+  std::vector<TransitionId> fired_;
   std::uint64_t count_ = 0;
 };
 
