@@ -311,12 +311,16 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // After the mission: Figure 10's `done` if the Strategic level could not
   // run its own abort path, then the link closes and an embedded vehicle is
   // left to settle (its watchdog may be surfacing it) before the loop ends.
-  bool finished = false;
-  auto wrap_up = [&] {
+  // From the mission's end on, Ctrl-C ends the process at once.
+  auto release_signals = [&] {
     if (signals) {
-      signals->clear();  // from here on Ctrl-C ends the process at once
+      signals->clear();
       signals->cancel();
     }
+  };
+  bool finished = false;
+  auto wrap_up = [&] {
+    release_signals();
     link->close();
     if (server) {
       server->when_settled([&] {
@@ -337,10 +341,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     const bool link_gone = result.call_error && (*result.call_error == core::ErrorCode::Timeout ||
                                                  *result.call_error == core::ErrorCode::Closed);
     const std::string plan = emergency.plan(link_gone);
-    if (signals) {
-      signals->clear();  // Ctrl-C now ends the process at once
-      signals->cancel();
-    }
+    release_signals();
     console.line(fmt::format("the mission ended without its own abort path; strata run sends {}, as "
                              "Figure 10's done does (Ctrl-C stops at once)",
                              plan),

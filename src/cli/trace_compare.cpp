@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "core/text.h"
+
 namespace strata::cli {
 namespace {
 
@@ -12,13 +14,7 @@ constexpr std::size_t kMaxCell = 46;
 
 std::string cell_text(const TraceRow& row) {
   std::string text = row.call + " -> " + row.answer;
-  if (text.size() > kMaxCell) {
-    std::size_t cut = kMaxCell - 3;
-    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
-    text.resize(cut);
-    text.append("...");
-  }
-  return text;
+  return text.size() > kMaxCell ? core::shorten(std::move(text), kMaxCell - 3, "...") : text;
 }
 
 std::string cell(const std::vector<TraceRow>& rows, std::size_t i, std::size_t width) {

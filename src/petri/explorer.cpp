@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -118,14 +119,18 @@ class Explorer {
     return h;
   }
 
-  std::uint32_t find(const std::uint64_t* m) const {
+  // Linear probing from full_hash: the index of m if stored (or kNone), and
+  // the slot where the probe stopped (m's, or the empty one for it).
+  std::pair<std::uint32_t, std::size_t> probe(const std::uint64_t* m, std::uint64_t full_hash) const {
     const std::size_t mask = table_.size() - 1;
-    for (std::size_t h = hash(m) & mask;; h = (h + 1) & mask) {
+    for (std::size_t h = full_hash & mask;; h = (h + 1) & mask) {
       const std::uint32_t slot = table_[h];
-      if (slot == 0) return kNone;
-      if (std::memcmp(&arena_[static_cast<std::size_t>(slot - 1) * words_], m, words_ * 8) == 0) return slot - 1;
+      if (slot == 0) return {kNone, h};
+      if (std::memcmp(&arena_[static_cast<std::size_t>(slot - 1) * words_], m, words_ * 8) == 0) return {slot - 1, h};
     }
   }
+
+  std::uint32_t find(const std::uint64_t* m) const { return probe(m, hash(m)).first; }
 
   void rehash(std::size_t size) {
     table_.assign(size, 0);
@@ -142,13 +147,8 @@ class Explorer {
   // Adds m if new. Returns false when a limit stops the exploration.
   bool insert(const std::uint64_t* m) { return insert(m, hash(m)); }
   bool insert(const std::uint64_t* m, std::uint64_t full_hash) {
-    const std::size_t mask = table_.size() - 1;
-    std::size_t h = full_hash & mask;
-    for (;; h = (h + 1) & mask) {
-      const std::uint32_t slot = table_[h];
-      if (slot == 0) break;
-      if (std::memcmp(&arena_[static_cast<std::size_t>(slot - 1) * words_], m, words_ * 8) == 0) return true;
-    }
+    const auto [found, h] = probe(m, full_hash);
+    if (found != kNone) return true;
     if (opt_.max_states && count_ >= opt_.max_states) return stop(fmt::format("stopped at {} states (the limit)", count_));
     if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
     const bool grow_table = (count_ + 1) * 4 > table_.size() * 3;

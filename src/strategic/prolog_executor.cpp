@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "core/text.h"
+
 namespace strata::strategic {
 namespace {
 
@@ -10,14 +12,7 @@ bool g_running = false;
 
 constexpr std::size_t kMaxExceptionText = 400;
 
-std::string shortened(std::string text) {
-  if (text.size() <= kMaxExceptionText) return text;
-  std::size_t cut = kMaxExceptionText;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
-  text.resize(cut);
-  text.append(" ...");
-  return text;
-}
+std::string shortened(std::string text) { return core::shorten(std::move(text), kMaxExceptionText, " ..."); }
 
 bool completes(const std::string& exit) { return exit == "complete" || exit == "done"; }
 

@@ -1,0 +1,12 @@
+#pragma once
+// Small text helpers shared by the console, the logs and the CLI.
+#include <string>
+#include <string_view>
+
+namespace strata::core {
+
+// text cut to at most max_bytes bytes (never inside a UTF-8 character),
+// followed by ellipsis when it was cut.
+std::string shorten(std::string text, std::size_t max_bytes, std::string_view ellipsis);
+
+}  // namespace strata::core
