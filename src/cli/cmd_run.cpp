@@ -15,7 +15,7 @@ Runner add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   auto* cmd = app.add_subcommand(
       "run",
-      "Run a mission: check it, start the simulated vehicle on a free loopback port (unless "
+      "Run a mission: check and verify it, start the simulated vehicle on a free loopback port (unless "
       "--vehicle), and execute it through the Tactical level");
   cmd->add_option("mission", o->mission, "The mission: a CORAL net (.coral) or PROLOG rules (.pl)")->required();
   cmd->add_option("--data", o->data, "Mission data file (default: the one the mission names)");
@@ -31,6 +31,9 @@ Runner add_run_command(CLI::App& app) {
                   "mission is stopped as an endless loop")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
+  cmd->add_flag("--unverified", o->unverified,
+                "CORAL: run the mission even if `strata verify` finds a property that fails (the failures "
+                "are printed and the mission log records them)");
   cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
   cmd->add_option("--speed", o->speed,
                   "With --realtime: simulated seconds per wall second (with --vehicle: the speed "

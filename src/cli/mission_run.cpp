@@ -11,10 +11,11 @@
 
 #include "cli/commands.h"
 #include "cli/console.h"
+#include "cli/coral_load.h"
 #include "cli/emergency.h"
 #include "cli/exit_codes.h"
 #include "coral/compiler.h"
-#include "core/diagnostic_printer.h"
+#include "coral/verify_report.h"
 #include "prolog/mission.h"
 #include "strategic/coral_engine.h"
 #include "strategic/log_observer.h"
@@ -55,27 +56,14 @@ struct LoadedMission {
 // Compiles the mission; diagnostics (warnings too) go to err.
 int load_coral(const std::string& path, const tactical::Catalogue& catalogue, LoadedMission& loaded,
                std::ostream& err) {
-  coral::DiskFileProvider disk;
-  core::DiagnosticSink sink;
-  loaded.program = coral::compile_file(path, disk, loaded.sources, sink, catalogue.check_options());
-  sink.sort();
-  bool unreadable_root = false;
-  for (const auto& d : sink.diagnostics()) {
-    core::print_diagnostic(err, loaded.sources, d);
-    if (d.kind == core::DiagnosticKind::FileUnreadable && d.span.file >= loaded.sources.size()) {
-      unreadable_root = true;
-    }
-  }
-  if (loaded.program && !loaded.program->mission) {
+  CoralLoad load = load_coral_file(path, catalogue, err, "strata run", "; not running");
+  if (!load.program) return load.exit_code;
+  if (!load.program->mission) {
     err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
-    loaded.program.reset();
     return kExitInvalid;
   }
-  if (!loaded.program) {
-    err << fmt::format("strata run: {}: {} error{}; not running\n", path, sink.error_count(),
-                       sink.error_count() == 1 ? "" : "s");
-    return unreadable_root ? kExitIo : kExitInvalid;
-  }
+  loaded.sources = std::move(load.sources);
+  loaded.program = std::move(load.program);
   const coral::CompiledNet& mission = loaded.program->nets[*loaded.program->mission];
   loaded.name = mission.name;
   loaded.data_file = mission.data_file;
@@ -96,6 +84,27 @@ int load_prolog(const std::string& path, const tactical::Catalogue& catalogue, L
   loaded.name = loaded.rules->name();
   loaded.data_file = loaded.rules->data_file();
   return kExitOk;
+}
+
+// What the log keeps of the verification: whether it passed, and each
+// property that did not hold, with its message.
+nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified) {
+  nlohmann::json failed = nlohmann::json::array();
+  std::uint64_t states = 0;
+  for (const auto& n : v.nets) {
+    states += n.states;
+    for (const auto& p : n.properties) {
+      if (p.status == coral::Property::Status::Holds) continue;
+      failed.push_back({{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)},
+                        {"message", p.message}});
+    }
+  }
+  nlohmann::json j{{"event", "verification"}, {"ok", v.ok()}, {"nets", v.nets.size()}, {"states", states}};
+  if (!v.ok()) {
+    j["failed"] = std::move(failed);
+    j["run_anyway"] = unverified;
+  }
+  return j;
 }
 
 std::string format_wall(double seconds) {
@@ -129,6 +138,22 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                                     : load_coral(o.mission, catalogue.value(), loaded, err);
       code != kExitOk) {
     return fail(code);
+  }
+
+  // CORAL: verify the nets before anything moves.
+  std::optional<coral::VerifyReport> verification;
+  if (loaded.program) {
+    verification = coral::verify_program(*loaded.program);
+    if (!verification->ok()) {
+      err << coral::verify_failures_text(*verification);
+      if (!o.unverified) {
+        err << fmt::format("strata run: {} fails verification; not running (`strata verify {}` shows every "
+                           "property; --unverified runs it anyway, and its log records that)\n",
+                           o.mission, o.mission);
+        return fail(kExitInvalid);
+      }
+      err << "strata run: warning: running a mission that fails verification (--unverified)\n";
+    }
   }
 
   vehicle::VehicleParams params = vehicle::default_params();
@@ -184,6 +209,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     }
     log = std::move(opened.value());
     if (o.seed) log->write({{"event", "choice"}, {"seed", *o.seed}});
+    if (verification) log->write(verification_record(*verification, o.unverified));
   }
 
   // ---- the vehicle ----------------------------------------------------------

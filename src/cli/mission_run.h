@@ -34,6 +34,9 @@ struct RunOptions {
   bool handle_signals = false;  // SIGINT/SIGTERM cancel the mission (the CLI)
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
   bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
+  // CORAL: a mission that fails verification (docs/verification.md) is not
+  // run unless this is set; then it runs and the log records the failures.
+  bool unverified = false;
   // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
   std::function<void(bool sent, std::string_view line)> wire_tap;
 };

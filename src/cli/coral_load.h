@@ -1,0 +1,24 @@
+#pragma once
+// Loading a CORAL mission for a command: compile the file with its imports
+// against the primitive catalogue, print every diagnostic (warnings too).
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "coral/program.h"
+#include "core/source.h"
+#include "tactical/catalogue.h"
+
+namespace strata::cli {
+
+struct CoralLoad {
+  core::SourceManager sources;
+  std::optional<coral::Program> program;  // unset when it does not compile
+  int exit_code = 0;                      // 65 invalid, 74 unreadable, else 0
+};
+
+// When it does not compile, a closing line: "COMMAND: PATH: 2 errorsSUFFIX".
+CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
+                          std::string_view command, std::string_view suffix = "");
+
+}  // namespace strata::cli

@@ -1,0 +1,98 @@
+#pragma once
+// Verification of a compiled mission before it runs (docs/verification.md):
+// for each net of the program, its analysis net (analysis.h) is explored
+// whole (petri/reach_graph.h) and these properties are decided:
+//
+//   bounded          no place can grow without limit
+//   one_safe         no reachable marking puts 2 tokens in a place
+//   no_dead          every mission transition can fire in some run
+//   no_deadlock      nothing stops outside the exits (nothing enabled,
+//                    nothing in flight, no exit marked)
+//   can_always_end   from every reachable marking an exit stays reachable
+//                    (for a mission net without exits: the end, nothing
+//                    enabled, stays reachable)
+//   exits_exclusive  no marking holds two different exits
+//
+// Each failed property carries the shortest firing sequence that shows it,
+// in the mission's own names. Place bounds, the exits reachable and the
+// P-invariants (minimal P-semiflows) of the analysis net come with it.
+//
+// Phases are verified before the nets that call them; a PHASE action's
+// outcomes are then only the exits its phase can reach.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coral/program.h"
+
+namespace strata::coral {
+
+struct VerifyOptions {
+  std::uint64_t max_states = 1'000'000;  // per net
+};
+
+// One step of a counterexample.
+struct TraceStep {
+  enum class Kind { Fire, Answer } kind = Kind::Fire;
+  std::string transition;            // the mission transition fired, or whose action answers
+  std::vector<std::string> actions;  // Fire: what it issues ("ASK depth_reached")
+  std::string action;                // Answer: the action answering
+  std::string answer;                // Answer: "1", "0", or the phase's exit
+  std::vector<std::string> marks;    // mission places it marks
+};
+
+struct Counterexample {
+  std::vector<TraceStep> steps;
+  std::string marking;                 // mission places at the end: "a:1 b:2", or "(empty)"
+  std::vector<std::string> in_flight;  // "ASK depth_reached (check_depth)"
+  std::optional<std::size_t> repeat_from;  // bounded: the steps from here on repeat for ever
+};
+
+struct Property {
+  enum class Status { Holds, Fails, Undecided };
+  std::string key;  // bounded, one_safe, ...
+  Status status = Status::Holds;
+  std::string message;  // for people: what holds, or what goes wrong
+  std::optional<Counterexample> counterexample;
+};
+
+struct PlaceBound {
+  std::string name;
+  std::uint64_t bound = 0;
+  bool in_flight = false;  // an in-flight place of the analysis net
+};
+
+struct Invariant {
+  std::vector<std::pair<std::string, std::uint64_t>> weights;  // place name, weight
+  std::uint64_t constant = 0;                                   // y.M0
+};
+
+struct NetVerification {
+  std::string name;
+  std::string kind;  // "phase" or "mission"
+  std::string file;
+  std::size_t places = 0, transitions = 0;          // of the mission's net
+  std::size_t in_flight_places = 0, outcomes = 0;   // added by the analysis
+  std::uint64_t states = 0, edges = 0;
+  bool complete = true;
+  std::string stopped_why;
+  std::vector<PlaceBound> bounds;     // every analysis place (unbounded: the most seen)
+  std::vector<std::string> exits;     // in order
+  std::vector<bool> exit_reachable;   // by exit index
+  std::vector<Property> properties;   // in the order listed above
+  std::vector<Invariant> invariants;
+  bool invariants_complete = true;
+  std::vector<std::string> uncovered;  // places no P-semiflow covers
+
+  bool ok() const;
+};
+
+struct VerifyReport {
+  std::vector<NetVerification> nets;  // phases before their callers
+  bool ok() const;
+};
+
+VerifyReport verify_program(const Program& program, const VerifyOptions& options = {});
+
+}  // namespace strata::coral

@@ -1,0 +1,277 @@
+#include "coral/verifier.h"
+
+#include <gtest/gtest.h>
+
+#include "coral/analysis.h"
+#include "coral/export.h"
+#include "coral/test_support.h"
+#include "coral/verify_report.h"
+#include "petri/dump.h"
+#include "petri/pnml.h"
+
+namespace strata::coral {
+namespace {
+
+using testing::compile_text;
+using Status = Property::Status;
+
+const Property& property(const NetVerification& n, std::string_view key) {
+  for (const auto& p : n.properties) {
+    if (p.key == key) return p;
+  }
+  throw std::runtime_error("no property " + std::string(key));
+}
+
+std::vector<std::string> steps(const Property& p) {
+  std::vector<std::string> out;
+  if (p.counterexample) {
+    for (const auto& s : p.counterexample->steps) out.push_back(step_text(s));
+  }
+  return out;
+}
+
+VerifyReport verify_text_mission(const std::string& text, const std::vector<std::pair<std::string, std::string>>& extra = {}) {
+  auto c = compile_text(text, extra);
+  if (!c->program) {
+    std::string all;
+    for (const auto& k : c->kinds()) all += k + "\n";
+    ADD_FAILURE() << "does not compile:\n" << all;
+    return {};
+  }
+  return verify_program(*c->program);
+}
+
+TEST(AnalysisNet, EachWaitingActionGetsAnInFlightPlaceAndItsOutcomes) {
+  auto c = compile_text(
+      "net n { place s = 1, a, b, r; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, depth_reached, a, b) } }\n"
+      "  transition go { wait { a } action { TACTIC(REPORT, \"hi\"), TACTIC(EXEC, sleep(1), r), TACTIC(EXEC, sleep(2), r) } }\n"
+      "  transition end { wait { r*2 } signal { e } }\n"
+      "  transition other { wait { b } signal { e } } }");
+  ASSERT_TRUE(c->program);
+  AnalysisNet an = build_analysis_net(*c->program, c->program->nets[0]);
+  EXPECT_EQ(
+      "place s = 1\nplace a = 0\nplace b = 0\nplace r = 0\nplace e = 0\n"
+      "place ask.depth_reached = 0\nplace go.sleep = 0\nplace go.sleep.2 = 0\n"
+      "transition ask: in{s} out{ask.depth_reached}\n"
+      "transition go: in{a} out{go.sleep, go.sleep.2}\n"
+      "transition end: in{r*2} out{e}\n"
+      "transition other: in{b} out{e}\n"
+      "transition ask.depth_reached.yes: in{ask.depth_reached} out{a}\n"
+      "transition ask.depth_reached.no: in{ask.depth_reached} out{b}\n"
+      "transition go.sleep.done: in{go.sleep} out{r}\n"
+      "transition go.sleep.2.done: in{go.sleep.2} out{r}\n",
+      petri::dump_net(an.net));
+}
+
+TEST(Verifier, ASequentialPhaseHoldsEveryProperty) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, a, b; exit done, failed;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, q, a, b) } }\n"
+      "  transition yes { wait { a } action { TACTIC(EXEC, sleep(1), done) } }\n"
+      "  transition no { wait { b } signal { failed } } }");
+  ASSERT_EQ(1u, r.nets.size());
+  const NetVerification& n = r.nets[0];
+  EXPECT_TRUE(r.ok()) << verify_text(r);
+  EXPECT_EQ(7u, n.states);  // s, in flight, a, b, sleeping, done, failed
+  EXPECT_EQ(std::vector<bool>({true, true}), n.exit_reachable);
+  ASSERT_EQ(1u, n.invariants.size());
+  EXPECT_EQ(1u, n.invariants[0].constant);
+  EXPECT_TRUE(n.uncovered.empty());
+}
+
+TEST(Verifier, ADeadlockShowsTheShortestSequenceInTheMissionsNames) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, ok, stuck; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, depth_reached, ok, stuck) } }\n"
+      "  transition fine { wait { ok } signal { e } } }");
+  const Property& p = property(r.nets[0], "no_deadlock");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ(std::vector<std::string>({"fire ask: ASK depth_reached", "ASK depth_reached (ask) answers 0 -> stuck"}),
+            steps(p));
+  EXPECT_EQ("stuck:1", p.counterexample->marking);
+  EXPECT_FALSE(r.ok());
+  // The same marking cannot end either.
+  EXPECT_EQ(Status::Fails, property(r.nets[0], "can_always_end").status);
+}
+
+TEST(Verifier, ATrapThatKeepsFiringIsNamedWithWhatCycles) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, ok, spin; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, q, ok, spin) } }\n"
+      "  transition fine { wait { ok } signal { e } }\n"
+      "  transition loop { wait { spin } action { TACTIC(EXEC, sleep(1), spin) } } }");
+  const NetVerification& n = r.nets[0];
+  EXPECT_EQ(Status::Holds, property(n, "no_deadlock").status);
+  const Property& p = property(n, "can_always_end");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ("trapped: from here an exit can no longer be reached; only EXEC sleep(1) answering 1, loop can still happen",
+            p.message);
+  EXPECT_EQ(std::vector<std::string>({"fire ask: ASK q", "ASK q (ask) answers 0 -> spin"}), steps(p));
+}
+
+TEST(Verifier, TwoExitsMarkedTogether) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1; exit complete, abort;\n"
+      "  transition both { wait { s } signal { complete, abort } } }");
+  const Property& p = property(r.nets[0], "exits_exclusive");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ("exits complete, abort are marked together (the engine takes the first declared)", p.message);
+  EXPECT_EQ(std::vector<std::string>({"fire both -> complete, abort"}), steps(p));
+}
+
+TEST(Verifier, AnUnboundedPlaceIsShownWithTheStepsThatRepeat) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, heap, ok; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, q, ok, s) } signal { heap } }\n"
+      "  transition fine { wait { ok } signal { e } } }");
+  const NetVerification& n = r.nets[0];
+  const Property& p = property(n, "bounded");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ("unbounded: heap can grow without limit; the steps from 1 on can repeat for ever", p.message);
+  EXPECT_EQ(std::vector<std::string>({"fire ask: ASK q -> heap", "ASK q (ask) answers 0 -> s"}), steps(p));
+  EXPECT_EQ(std::optional<std::size_t>(0), p.counterexample->repeat_from);
+  EXPECT_FALSE(n.complete);
+  // What needs the whole graph is not decided; what was seen still counts.
+  EXPECT_EQ(Status::Undecided, property(n, "can_always_end").status);
+  EXPECT_EQ(std::vector<std::string>({"heap"}), n.uncovered);
+}
+
+TEST(Verifier, TwoTokensInAPlaceBreakOneSafety) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, a; exit e;\n"
+      "  transition split { wait { s } signal { a*2 } }\n"
+      "  transition join { wait { a*2 } signal { e } } }");
+  const Property& p = property(r.nets[0], "one_safe");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ("a can hold 2 tokens", p.message);
+  EXPECT_EQ(std::vector<std::string>({"fire split -> a"}), steps(p));
+  EXPECT_EQ(Status::Holds, property(r.nets[0], "bounded").status);
+}
+
+TEST(Verifier, ADeadTransitionSaysWhichInputIsNeverMarked) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, never; exit e;\n"
+      "  transition go { wait { s } signal { e } }\n"
+      "  transition unused { wait { never } signal { e } } }");
+  const Property& p = property(r.nets[0], "no_dead");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ("never fires: unused (never is never marked)", p.message);
+  EXPECT_FALSE(p.counterexample.has_value());
+}
+
+TEST(Verifier, APhaseThatCannotAbortMakesTheCallersAbortBranchDead) {
+  VerifyReport r = verify_text_mission(
+      "net p { place s = 1; exit complete, abort;\n"
+      "  transition go { wait { s } action { TACTIC(EXEC, sleep(1), complete) } } }\n"
+      "mission m { place begin = 1, fine, bad; exit closed;\n"
+      "  transition run { wait { begin } action { PHASE(p, fine, bad) } }\n"
+      "  transition end { wait { fine } signal { closed } }\n"
+      "  transition recover { wait { bad } signal { closed } } }");
+  ASSERT_EQ(2u, r.nets.size());
+  EXPECT_EQ("p", r.nets[0].name);  // phases first
+  EXPECT_EQ(std::vector<bool>({true, false}), r.nets[0].exit_reachable);
+  // abort is never reached: not a failure of the phase.
+  EXPECT_TRUE(r.nets[0].ok()) << verify_text(r);
+  const Property& p = property(r.nets[1], "no_dead");
+  EXPECT_EQ("never fires: recover (bad is never marked)", p.message);
+  EXPECT_EQ(1u, r.nets[1].outcomes);  // run.p.complete only
+}
+
+TEST(Verifier, AMissionWithoutExitsEndsWhenNothingIsEnabled) {
+  VerifyReport r = verify_text_mission(
+      "mission m { place begin = 1, fine;\n"
+      "  transition go { wait { begin } action { TACTIC(OOD, shutdown_network, fine) } } }");
+  EXPECT_TRUE(r.ok()) << verify_text(r);
+  EXPECT_EQ("a mission net without exits ends when nothing is enabled and nothing is in flight",
+            property(r.nets[0], "no_deadlock").message);
+}
+
+TEST(Verifier, TheStateLimitLeavesWholeGraphPropertiesUndecided) {
+  auto c = compile_text(
+      "net n { place s = 1, a, b, c, d; exit e;\n"
+      "  transition t { wait { s } signal { a, b, c, d } }\n"
+      "  transition ta { wait { a } action { TACTIC(EXEC, sleep(1), e) } } }");
+  ASSERT_TRUE(c->program);
+  VerifyReport r = verify_program(*c->program, VerifyOptions{2});
+  EXPECT_FALSE(r.nets[0].complete);
+  EXPECT_EQ(Status::Undecided, property(r.nets[0], "can_always_end").status);
+  EXPECT_FALSE(r.ok());
+}
+
+TEST(VerifyReport, JsonHasTheCounterexampleStepsAndTheirText) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, ok, stuck; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, depth_reached, ok, stuck) } }\n"
+      "  transition fine { wait { ok } signal { e } } }");
+  auto j = verify_json(r);
+  EXPECT_FALSE(j["ok"].get<bool>());
+  const auto& net = j["nets"][0];
+  EXPECT_EQ("n", net["name"]);
+  EXPECT_EQ(5u, net["states"].get<std::uint64_t>());
+  const auto& deadlock = net["properties"][3];
+  EXPECT_EQ("no_deadlock", deadlock["key"]);
+  EXPECT_EQ("fails", deadlock["status"]);
+  const auto& step = deadlock["counterexample"]["steps"][1];
+  EXPECT_EQ("answer", step["kind"]);
+  EXPECT_EQ("ask", step["transition"]);
+  EXPECT_EQ("ASK depth_reached", step["action"]);
+  EXPECT_EQ("0", step["answer"]);
+  EXPECT_EQ(nlohmann::ordered_json::array({"stuck"}), step["marks"]);
+  EXPECT_EQ("stuck:1", deadlock["counterexample"]["marking"]);
+}
+
+std::optional<Program> tank() {
+  DiskFileProvider disk;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+  return compile_file(std::string(STRATA_SOURCE_DIR) + "/missions/tank/tank.coral", disk, sources, sink);
+}
+
+TEST(Verifier, TheTankMissionHoldsEveryPropertyPhasesFirst) {
+  auto program = tank();
+  ASSERT_TRUE(program);
+  VerifyReport r = verify_program(*program);
+  EXPECT_TRUE(r.ok()) << verify_text(r);
+  std::vector<std::string> order;
+  for (const auto& n : r.nets) order.push_back(n.name);
+  EXPECT_EQ(std::vector<std::string>({"initialize", "dive_from_surface", "submerge_to_depth", "return_to_surface", "tank"}),
+            order);
+  // Each phase is a state machine: one P-semiflow over all its places, 1.
+  for (const auto& n : r.nets) {
+    ASSERT_EQ(1u, n.invariants.size()) << n.name;
+    EXPECT_EQ(n.bounds.size(), n.invariants[0].weights.size()) << n.name;
+    EXPECT_EQ(1u, n.invariants[0].constant) << n.name;
+  }
+}
+
+TEST(Export, PnmlReadsBackAsTheAnalysisNet) {
+  auto program = tank();
+  ASSERT_TRUE(program);
+  for (const auto& n : program->nets) {
+    auto back = petri::parse_pnml(export_pnml(*program, n), n.name + ".pnml");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(petri::dump_net(build_analysis_net(*program, n).net), petri::dump_net(back.value().net)) << n.name;
+    EXPECT_EQ(n.name, back.value().id);
+  }
+}
+
+TEST(Export, DotShowsActionsInFlightPlacesAndAnswers) {
+  auto c = compile_text(
+      "net n { place s = 1, a, b; exit e;\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, depth_reached, a, b) } }\n"
+      "  transition yes { wait { a } signal { e } }\n"
+      "  transition no { wait { b*2 } action { TACTIC(REPORT, \"say \\\"no\\\"\") } signal { e } } }");
+  ASSERT_TRUE(c->program);
+  const std::string dot = export_dot(*c->program, c->program->nets[0]);
+  EXPECT_NE(std::string::npos, dot.find("p0 [shape=circle, label=\"s\\n●\"];")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("p3 [shape=doublecircle, label=\"e\"];")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("label=\"ask\\nASK depth_reached\"")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("label=\"no\\nREPORT \\\"say \\\\\\\"no\\\\\\\"\\\"\"")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("p4 [shape=circle, style=dashed, label=\"ASK depth_reached\\nin flight\"")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("label=\"answers 0\", tooltip=\"ask.depth_reached.no\"")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("p2 -> t2 [label=\"2\"];")) << dot;
+}
+
+}  // namespace
+}  // namespace strata::coral

@@ -1,0 +1,221 @@
+#include "coral/verify_report.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace strata::coral {
+namespace {
+
+constexpr std::size_t kInvariantsShown = 8;
+constexpr std::size_t kWidth = 100;
+
+std::string join(const std::vector<std::string>& items, std::string_view sep = ", ") {
+  std::string s;
+  for (const auto& i : items) s += (s.empty() ? "" : std::string(sep)) + i;
+  return s;
+}
+
+std::string counterexample_text(const Counterexample& cx, std::string_view indent) {
+  std::string out;
+  if (cx.steps.empty()) out += fmt::format("{}at the initial marking\n", indent);
+  for (std::size_t i = 0; i < cx.steps.size(); ++i) {
+    if (cx.repeat_from && *cx.repeat_from == i) out += fmt::format("{}   -- from here on the steps can repeat --\n", indent);
+    out += fmt::format("{}{:>3}. {}\n", indent, i + 1, step_text(cx.steps[i]));
+  }
+  out += fmt::format("{}marking: {}\n", indent, cx.marking);
+  if (!cx.in_flight.empty()) out += fmt::format("{}in flight: {}\n", indent, join(cx.in_flight));
+  return out;
+}
+
+// One property; its counterexample unless an earlier property of the same
+// net printed the same one (`shown` keeps those, by text).
+std::string property_line(const Property& p, std::vector<std::pair<std::string, std::string>>& shown) {
+  const char* tag = p.status == Property::Status::Holds ? "ok  " : p.status == Property::Status::Fails ? "FAIL" : "??  ";
+  std::string out = fmt::format("  {}  {:<16} {}\n", tag, p.key, p.message);
+  if (!p.counterexample) return out;
+  const Counterexample& cx = *p.counterexample;
+  std::string text = counterexample_text(cx, "        ");
+  for (const auto& [key, earlier] : shown) {
+    if (earlier == text) return out + fmt::format("        the same sequence as for {}\n", key);
+  }
+  shown.emplace_back(p.key, text);
+  if (!cx.steps.empty()) {
+    out += fmt::format("        shortest sequence ({} step{}):\n", cx.steps.size(), cx.steps.size() == 1 ? "" : "s");
+  }
+  return out + text;
+}
+
+std::string net_heading(const NetVerification& n) {
+  std::string out = fmt::format("{} {} ({}): {} places, {} transitions; analysis adds {} in-flight places, {} outcomes\n",
+                                n.kind, n.name, n.file, n.places, n.transitions, n.in_flight_places, n.outcomes);
+  out += fmt::format("  {} reachable markings, {} edges{}\n", n.states, n.edges,
+                     n.complete ? "" : fmt::format(" (stopped: {})", n.stopped_why));
+  return out;
+}
+
+std::string bounds_text(const NetVerification& n) {
+  std::vector<std::string> other, never;
+  for (const auto& b : n.bounds) {
+    if (b.bound == 0) never.push_back(b.name);
+    else if (b.bound != 1) other.push_back(fmt::format("{} {}", b.name, b.bound));
+  }
+  std::string out = other.empty() ? fmt::format("  place bounds: 1 for all {} places", n.bounds.size() - never.size())
+                                  : fmt::format("  place bounds: 1 except {}", join(other));
+  if (!never.empty()) out += fmt::format("; never marked: {}", join(never));
+  return out + "\n";
+}
+
+std::string invariants_text(const NetVerification& n) {
+  if (!n.invariants_complete) return "  P-invariants: too many minimal P-semiflows to list\n";
+  std::string out = fmt::format("  P-invariants: {} minimal P-semiflow{}{}\n", n.invariants.size(),
+                                n.invariants.size() == 1 ? "" : "s",
+                                n.uncovered.empty() ? ", covering every place"
+                                                    : fmt::format("; not covered: {}", join(n.uncovered)));
+  for (std::size_t i = 0; i < n.invariants.size() && i < kInvariantsShown; ++i) {
+    const Invariant& inv = n.invariants[i];
+    const bool all_ones = std::all_of(inv.weights.begin(), inv.weights.end(), [](const auto& w) { return w.second == 1; });
+    if (all_ones && inv.weights.size() == n.bounds.size()) {
+      out += fmt::format("    the tokens of all {} places add up to {}\n", inv.weights.size(), inv.constant);
+      continue;
+    }
+    // "a + 2*b + c = 1", wrapped.
+    std::string line = "   ";
+    for (std::size_t k = 0; k < inv.weights.size(); ++k) {
+      const auto& [place, w] = inv.weights[k];
+      std::string term = fmt::format(" {}{}", k == 0 ? "" : "+ ", w == 1 ? place : fmt::format("{}*{}", w, place));
+      if (line.size() + term.size() > kWidth && line.size() > 4) {
+        out += line + "\n";
+        line = "     ";
+      }
+      line += term;
+    }
+    out += fmt::format("{} = {}\n", line, inv.constant);
+  }
+  if (n.invariants.size() > kInvariantsShown) {
+    out += fmt::format("    ... and {} more (--format json lists them all)\n", n.invariants.size() - kInvariantsShown);
+  }
+  return out;
+}
+
+std::string summary(const VerifyReport& r) {
+  std::size_t failing = 0;
+  for (const auto& n : r.nets) failing += n.ok() ? 0 : 1;
+  if (failing == 0) return fmt::format("verified {} net{}: every property holds\n", r.nets.size(), r.nets.size() == 1 ? "" : "s");
+  return fmt::format("verified {} net{}: {} with a property that fails or is not decided\n", r.nets.size(),
+                     r.nets.size() == 1 ? "" : "s", failing);
+}
+
+}  // namespace
+
+std::string_view status_name(Property::Status status) {
+  switch (status) {
+    case Property::Status::Holds: return "holds";
+    case Property::Status::Fails: return "fails";
+    case Property::Status::Undecided: return "undecided";
+  }
+  return "?";
+}
+
+std::string step_text(const TraceStep& s) {
+  std::string marks = s.marks.empty() ? "" : fmt::format(" -> {}", join(s.marks));
+  if (s.kind == TraceStep::Kind::Fire) {
+    return fmt::format("fire {}{}{}", s.transition, s.actions.empty() ? "" : ": " + join(s.actions), marks);
+  }
+  return fmt::format("{} ({}) answers {}{}", s.action, s.transition, s.answer, marks);
+}
+
+std::string verify_text(const VerifyReport& report) {
+  std::string out;
+  for (const auto& n : report.nets) {
+    out += net_heading(n);
+    std::vector<std::pair<std::string, std::string>> shown;
+    for (const auto& p : n.properties) out += property_line(p, shown);
+    std::vector<std::string> exits;
+    for (std::size_t e = 0; e < n.exits.size(); ++e) {
+      exits.push_back(n.exit_reachable[e] ? n.exits[e] : n.exits[e] + " (never)");
+    }
+    if (!exits.empty()) out += fmt::format("  exits reached: {}\n", join(exits));
+    out += bounds_text(n);
+    out += invariants_text(n);
+    out += '\n';
+  }
+  return out + summary(report);
+}
+
+std::string verify_failures_text(const VerifyReport& report) {
+  std::string out;
+  for (const auto& n : report.nets) {
+    if (n.ok()) continue;
+    out += net_heading(n);
+    std::vector<std::pair<std::string, std::string>> shown;
+    for (const auto& p : n.properties) {
+      if (p.status != Property::Status::Holds) out += property_line(p, shown);
+    }
+  }
+  return out + summary(report);
+}
+
+nlohmann::ordered_json verify_json(const VerifyReport& report) {
+  nlohmann::ordered_json nets = nlohmann::ordered_json::array();
+  for (const auto& n : report.nets) {
+    nlohmann::ordered_json j;
+    j["name"] = n.name;
+    j["kind"] = n.kind;
+    j["file"] = n.file;
+    j["ok"] = n.ok();
+    j["places"] = n.places;
+    j["transitions"] = n.transitions;
+    j["in_flight_places"] = n.in_flight_places;
+    j["outcomes"] = n.outcomes;
+    j["states"] = n.states;
+    j["edges"] = n.edges;
+    j["complete"] = n.complete;
+    if (!n.complete) j["stopped"] = n.stopped_why;
+    j["properties"] = nlohmann::ordered_json::array();
+    for (const auto& p : n.properties) {
+      nlohmann::ordered_json pj{{"key", p.key}, {"status", status_name(p.status)}, {"message", p.message}};
+      if (p.counterexample) {
+        nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+        for (const auto& s : p.counterexample->steps) {
+          nlohmann::ordered_json sj{{"kind", s.kind == TraceStep::Kind::Fire ? "fire" : "answer"},
+                                    {"transition", s.transition}};
+          if (s.kind == TraceStep::Kind::Fire) {
+            sj["actions"] = s.actions;
+          } else {
+            sj["action"] = s.action;
+            sj["answer"] = s.answer;
+          }
+          sj["marks"] = s.marks;
+          sj["text"] = step_text(s);
+          steps.push_back(std::move(sj));
+        }
+        nlohmann::ordered_json cj{{"steps", steps}, {"marking", p.counterexample->marking},
+                                  {"in_flight", p.counterexample->in_flight}};
+        if (p.counterexample->repeat_from) cj["repeat_from"] = *p.counterexample->repeat_from;
+        pj["counterexample"] = std::move(cj);
+      }
+      j["properties"].push_back(std::move(pj));
+    }
+    j["exits"] = nlohmann::ordered_json::array();
+    for (std::size_t e = 0; e < n.exits.size(); ++e) {
+      j["exits"].push_back({{"place", n.exits[e]}, {"reachable", static_cast<bool>(n.exit_reachable[e])}});
+    }
+    j["bounds"] = nlohmann::ordered_json::array();
+    for (const auto& b : n.bounds) {
+      j["bounds"].push_back({{"place", b.name}, {"bound", b.bound}, {"in_flight", b.in_flight}});
+    }
+    j["invariants_complete"] = n.invariants_complete;
+    j["invariants"] = nlohmann::ordered_json::array();
+    for (const auto& inv : n.invariants) {
+      nlohmann::ordered_json w = nlohmann::ordered_json::object();
+      for (const auto& [place, weight] : inv.weights) w[place] = weight;
+      j["invariants"].push_back({{"weights", w}, {"constant", inv.constant}});
+    }
+    j["uncovered"] = n.uncovered;
+    nets.push_back(std::move(j));
+  }
+  return {{"ok", report.ok()}, {"nets", nets}};
+}
+
+}  // namespace strata::coral

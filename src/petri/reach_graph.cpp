@@ -1,0 +1,165 @@
+#include "petri/reach_graph.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace strata::petri {
+namespace {
+
+std::uint64_t hash_marking(std::span<const Tokens> m) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (Tokens t : m) {
+    h ^= t;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 32;
+  }
+  return h;
+}
+
+// Open addressing over state ids; the markings live in the graph.
+class StateIndex {
+ public:
+  explicit StateIndex(const std::vector<Tokens>& markings, std::size_t places)
+      : markings_(markings), places_(places), slots_(1024, kNoState) {}
+
+  // The state holding m, or kNoState; `slot` is where m would go.
+  StateId find(std::span<const Tokens> m, std::size_t& slot) const {
+    const std::size_t mask = slots_.size() - 1;
+    for (slot = hash_marking(m) & mask;; slot = (slot + 1) & mask) {
+      StateId s = slots_[slot];
+      if (s == kNoState) return kNoState;
+      if (std::equal(m.begin(), m.end(), markings_.begin() + static_cast<std::ptrdiff_t>(std::size_t{s} * places_))) {
+        return s;
+      }
+    }
+  }
+
+  void insert(StateId s, std::size_t slot, std::size_t count) {
+    slots_[slot] = s;
+    if (count * 2 > slots_.size()) grow();
+  }
+
+ private:
+  void grow() {
+    std::vector<StateId> old(slots_.size() * 2, kNoState);
+    old.swap(slots_);
+    const std::size_t mask = slots_.size() - 1;
+    for (StateId s : old) {
+      if (s == kNoState) continue;
+      std::span<const Tokens> m{markings_.data() + std::size_t{s} * places_, places_};
+      std::size_t slot = hash_marking(m) & mask;
+      while (slots_[slot] != kNoState) slot = (slot + 1) & mask;
+      slots_[slot] = s;
+    }
+  }
+
+  const std::vector<Tokens>& markings_;
+  std::size_t places_;
+  std::vector<StateId> slots_;
+};
+
+// Does m cover a (>= everywhere, > somewhere)?
+bool strictly_covers(std::span<const Tokens> m, std::span<const Tokens> a) {
+  bool greater = false;
+  for (std::size_t p = 0; p < m.size(); ++p) {
+    if (m[p] < a[p]) return false;
+    greater = greater || m[p] > a[p];
+  }
+  return greater;
+}
+
+}  // namespace
+
+std::span<const ReachEdge> ReachGraph::successors(StateId s) const {
+  if (s >= explored_) return {};
+  return {edges_.data() + edge_begin_[s], edges_.data() + edge_begin_[s + 1]};
+}
+
+bool ReachGraph::terminal(StateId s) const {
+  std::span<const Tokens> m = marking(s);
+  for (std::size_t p = 0; p < places_; ++p) {
+    if (m[p] > 0 && is_terminal_place_[p]) return true;
+  }
+  return false;
+}
+
+std::vector<TransitionId> ReachGraph::path_to(StateId s) const {
+  std::vector<TransitionId> path;
+  for (; parent_[s] != kNoState; s = parent_[s]) path.push_back(via_[s]);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+ReachGraph build_reach_graph(const Net& net, const ReachOptions& options) {
+  ReachGraph g;
+  const std::size_t places = net.place_count();
+  g.places_ = places;
+  g.is_terminal_place_.assign(places, false);
+  for (PlaceId p : options.terminal_places) g.is_terminal_place_.at(p) = true;
+
+  StateIndex index(g.markings_, places);
+  auto add = [&](std::span<const Tokens> m, StateId parent, TransitionId via) -> StateId {
+    std::size_t slot = 0;
+    if (StateId s = index.find(m, slot); s != kNoState) return s;
+    const auto s = static_cast<StateId>(g.parent_.size());
+    g.markings_.insert(g.markings_.end(), m.begin(), m.end());
+    g.parent_.push_back(parent);
+    g.via_.push_back(via);
+    index.insert(s, slot, g.parent_.size());
+    return s;
+  };
+  add(net.initial_marking(), kNoState, 0);
+  g.edge_begin_.push_back(0);
+
+  std::vector<Tokens> next(places);
+  for (StateId s = 0; s < g.parent_.size(); ++s) {
+    if (g.parent_.size() > options.max_states) {
+      g.complete_ = false;
+      g.stopped_why_ = fmt::format("more than {} reachable markings", options.max_states);
+      break;
+    }
+    if (!g.terminal(s)) {
+      for (TransitionId t = 0; t < net.transition_count(); ++t) {
+        std::span<const Tokens> m = g.marking(s);
+        bool enabled = true;
+        for (const Arc& a : net.inputs(t)) enabled = enabled && m[a.node] >= a.weight;
+        if (!enabled) continue;
+        std::copy(m.begin(), m.end(), next.begin());
+        bool overflow = false;
+        for (const Arc& a : net.inputs(t)) next[a.node] -= a.weight;
+        for (const Arc& a : net.outputs(t)) {
+          overflow = overflow || next[a.node] > kMaxTokens - a.weight;
+          if (!overflow) next[a.node] += a.weight;
+        }
+        if (overflow) {
+          g.stopped_why_ = fmt::format("firing {} would put more than {} tokens in a place",
+                                       net.transition_name(t), kMaxTokens);
+          break;
+        }
+        const std::size_t before = g.parent_.size();
+        StateId target = add(next, s, t);
+        g.edges_.push_back({t, target});
+        if (g.parent_.size() == before) continue;
+        // A new marking: does it cover one of its ancestors?
+        for (StateId a = s; a != kNoState; a = g.parent_[a]) {
+          if (strictly_covers(g.marking(target), g.marking(a))) {
+            g.unbounded_ = Unbounded{target, a};
+            break;
+          }
+        }
+        if (g.unbounded_) break;
+      }
+    }
+    g.edge_begin_.push_back(static_cast<std::uint32_t>(g.edges_.size()));
+    g.explored_ = s + 1;
+    if (g.unbounded_) g.stopped_why_ = "the net is unbounded";
+    if (!g.stopped_why_.empty()) {
+      g.complete_ = false;
+      break;
+    }
+  }
+  return g;
+}
+
+}  // namespace strata::petri

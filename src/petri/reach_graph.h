@@ -1,0 +1,87 @@
+#pragma once
+// The reachability graph of a small net kept whole: every marking, every
+// edge, and each state's breadth-first parent, so a property that fails can
+// be shown by the shortest firing sequence that reaches it. Meant for
+// mission nets (hundreds to a few hundred thousand markings); the explorer
+// (explorer.h) is the one for large nets, and keeps no edges.
+//
+// Semantics: plain P/T interleaving (every enabled transition may fire;
+// priorities are not applied), except that a marking with a token in a
+// terminal place has no successors: the CORAL Engine ends a phase as soon
+// as one of its exits is marked.
+//
+// Unboundedness: when a new marking covers one of its own ancestors (>= in
+// every place, > in some), the firing sequence between them can repeat for
+// ever (Karp and Miller), so the net is unbounded; the exploration stops
+// there, with the two states recorded.
+//
+// Threads: none; build_reach_graph is a pure function.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "petri/net.h"
+
+namespace strata::petri {
+
+using StateId = std::uint32_t;
+inline constexpr StateId kNoState = 0xffffffffu;
+
+struct ReachOptions {
+  std::vector<PlaceId> terminal_places;
+  // Stop (complete = false) after this many markings.
+  std::uint64_t max_states = 1'000'000;
+};
+
+struct ReachEdge {
+  TransitionId transition;
+  StateId target;
+};
+
+struct Unbounded {
+  StateId state;     // the covering marking (stored, its parent chain leads to it)
+  StateId ancestor;  // the marking it covers, on that chain
+};
+
+class ReachGraph {
+ public:
+  std::size_t state_count() const { return parent_.size(); }
+  std::size_t edge_count() const { return edges_.size(); }
+  std::span<const Tokens> marking(StateId s) const {
+    return {markings_.data() + std::size_t{s} * places_, places_};
+  }
+  // Successors of an explored state (none for a terminal or unexplored one).
+  std::span<const ReachEdge> successors(StateId s) const;
+  bool explored(StateId s) const { return s < explored_; }
+  bool terminal(StateId s) const;
+  // The breadth-first parent and the transition fired from it (kNoState at
+  // the initial marking, state 0).
+  StateId parent(StateId s) const { return parent_[s]; }
+  TransitionId via(StateId s) const { return via_[s]; }
+  // The shortest firing sequence from the initial marking to s.
+  std::vector<TransitionId> path_to(StateId s) const;
+
+  bool complete() const { return complete_; }
+  const std::string& stopped_why() const { return stopped_why_; }
+  const std::optional<Unbounded>& unbounded() const { return unbounded_; }
+
+ private:
+  friend ReachGraph build_reach_graph(const Net& net, const ReachOptions& options);
+  std::size_t places_ = 0;
+  std::vector<Tokens> markings_;  // state-major
+  std::vector<StateId> parent_;
+  std::vector<TransitionId> via_;
+  std::vector<std::uint32_t> edge_begin_;  // explored states + 1
+  std::vector<ReachEdge> edges_;
+  std::vector<bool> is_terminal_place_;
+  StateId explored_ = 0;
+  bool complete_ = true;
+  std::string stopped_why_;
+  std::optional<Unbounded> unbounded_;
+};
+
+ReachGraph build_reach_graph(const Net& net, const ReachOptions& options = {});
+
+}  // namespace strata::petri
