@@ -10,6 +10,7 @@
 #include "cli/coral_load.h"
 #include "cli/exit_codes.h"
 #include "coral/export.h"
+#include "coral/verifier.h"
 
 namespace strata::cli {
 namespace {
@@ -38,6 +39,10 @@ bool write_file(const fs::path& path, const std::string& text) {
 }
 
 int run_export(const Options& o) {
+  if (!o.mission.ends_with(".coral")) {
+    std::cerr << fmt::format("strata export: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets\n", o.mission);
+    return kExitUsage;
+  }
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata export: " << catalogue.error().message << "\n";
@@ -58,8 +63,11 @@ int run_export(const Options& o) {
   } else {
     for (const auto& n : program.nets) nets.push_back(&n);
   }
+  // The nets `strata verify` explores: a PHASE's outcomes are the exits its
+  // phase can reach.
+  const std::vector<coral::PhaseExits> exits = coral::reachable_phase_exits(coral::verify_program(program));
   auto text = [&](const coral::CompiledNet& n) {
-    return o.pnml ? coral::export_pnml(program, n) : coral::export_dot(program, n);
+    return o.pnml ? coral::export_pnml(program, n, exits) : coral::export_dot(program, n, exits);
   };
 
   if (nets.size() == 1) {

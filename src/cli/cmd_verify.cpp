@@ -113,6 +113,13 @@ int run_verify_pnml(const Options& o) {
 }
 
 int run_verify_mission(const Options& o) {
+  if (!o.mission.ends_with(".coral")) {
+    std::cerr << fmt::format(
+        "strata verify: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets (`strata run` checks them "
+        "at load, docs/prolog.md), and a PNML net needs --pnml\n",
+        o.mission);
+    return kExitUsage;
+  }
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata verify: " << catalogue.error().message << "\n";

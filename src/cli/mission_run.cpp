@@ -143,7 +143,9 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // CORAL: verify the nets before anything moves.
   std::optional<coral::VerifyReport> verification;
   if (loaded.program) {
-    verification = coral::verify_program(*loaded.program);
+    coral::VerifyOptions vo;
+    vo.mission_only = true;  // what this run can reach
+    verification = coral::verify_program(*loaded.program, vo);
     if (!verification->ok()) {
       err << coral::verify_failures_text(*verification);
       if (!o.unverified) {

@@ -32,7 +32,7 @@ std::string action_text(const ActionSpec& a) {
     std::string text;
     for (char c : a.text) {
       if (c == '"' || c == '\\') text += '\\';
-      text += c == '\n' ? std::string("\\n") : std::string(1, c);
+      text += c == '\n' ? std::string("\\n") : c == '\t' ? std::string("\\t") : std::string(1, c);
     }
     return fmt::format("REPORT \"{}\"", text);
   }
@@ -74,7 +74,7 @@ AnalysisNet build_analysis_net(const Program& program, const CompiledNet& cn,
     for (std::size_t i = 0; i < actions.size(); ++i) {
       const ActionSpec& a = actions[i];
       std::vector<std::string> suffixes = outcome_suffixes(program, a);
-      if (suffixes.empty()) continue;  // REPORT
+      if (a.kind != ActionSpec::Kind::Phase && suffixes.empty()) continue;  // REPORT
       // "read_setpoint.next_setpt_data", ".2" for the second of the same name.
       std::size_t same = 1;
       for (std::size_t j = 0; j < i; ++j) same += actions[j].target == a.target ? 1 : 0;

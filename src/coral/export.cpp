@@ -24,12 +24,12 @@ std::string quoted(std::string_view s) {
 
 }  // namespace
 
-std::string export_pnml(const Program& program, const CompiledNet& net) {
-  return petri::write_pnml(build_analysis_net(program, net).net, net.name);
+std::string export_pnml(const Program& program, const CompiledNet& net, const std::vector<PhaseExits>& phase_exits) {
+  return petri::write_pnml(build_analysis_net(program, net, phase_exits).net, net.name);
 }
 
-std::string export_dot(const Program& program, const CompiledNet& cn) {
-  const AnalysisNet an = build_analysis_net(program, cn);
+std::string export_dot(const Program& program, const CompiledNet& cn, const std::vector<PhaseExits>& phase_exits) {
+  const AnalysisNet an = build_analysis_net(program, cn, phase_exits);
   const petri::Net& net = an.net;
   std::vector<bool> is_exit(net.place_count(), false);
   for (petri::PlaceId e : cn.exits) is_exit[e] = true;

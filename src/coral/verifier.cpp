@@ -72,6 +72,7 @@ class NetVerifier {
     v.properties.push_back(no_dead());
     v.properties.push_back(no_deadlock());
     v.properties.push_back(can_always_end());
+    v.properties.push_back(no_busy_cycle());
     v.properties.push_back(exits_exclusive());
 
     petri::Semiflows flows = petri::p_semiflows(an_.net);
@@ -101,7 +102,7 @@ class NetVerifier {
         if (m[i] > a[i]) grows.push_back(place_label(static_cast<petri::PlaceId>(i)));
       }
       p.status = Status::Fails;
-      p.message = fmt::format("unbounded: {} can grow without limit; the steps from {} on can repeat for ever",
+      p.message = fmt::format("unbounded: {} can grow without limit; the steps from step {} on can repeat for ever",
                               join(grows), g_.path_to(u->ancestor).size() + 1);
       p.counterexample = trace_to(u->state);
       p.counterexample->repeat_from = g_.path_to(u->ancestor).size();
@@ -123,6 +124,11 @@ class NetVerifier {
         p.counterexample = trace_to(s);
         return p;
       }
+    }
+    if (g_.unbounded()) {
+      p.status = Status::Fails;
+      p.message = "an unbounded place holds 2 tokens and more (see bounded)";
+      return p;
     }
     if (!g_.complete()) return undecided(p);
     p.message = "no place holds more than 1 token";
@@ -149,7 +155,8 @@ class NetVerifier {
       dead.push_back(fmt::format("{}{}", cn_.net.transition_name(t), why));
     }
     if (dead.empty()) {
-      p.message = fmt::format("each of the {} transitions can fire", cn_.net.transition_count());
+      p.message = cn_.net.transition_count() == 1 ? "the one transition can fire"
+                                                   : fmt::format("each of the {} transitions can fire", cn_.net.transition_count());
       return p;
     }
     if (!g_.complete()) return undecided(p);
@@ -160,7 +167,7 @@ class NetVerifier {
 
   Property no_deadlock() const {
     Property p = named("no_deadlock");
-    if (cn_.exits.empty()) {
+    if (ends_when_dead()) {
       p.message = "a mission net without exits ends when nothing is enabled and nothing is in flight";
       return p;
     }
@@ -181,14 +188,13 @@ class NetVerifier {
   Property can_always_end() const {
     Property p = named("can_always_end");
     if (!g_.complete()) return undecided(p);
-    // Backwards from the ends: markings with an exit, or (no exits) dead ones.
     const std::size_t n = g_.state_count();
-    std::vector<std::vector<StateId>> preds(n);
+    // Backwards from the ends: markings with an exit, or, for a mission net
+    // without exits, dead ones. (A phase without exits has no end.)
     std::vector<bool> ends(n, false);
     std::deque<StateId> queue;
     for (StateId s = 0; s < n; ++s) {
-      for (const auto& e : g_.successors(s)) preds[e.target].push_back(s);
-      const bool end = cn_.exits.empty() ? g_.successors(s).empty() : g_.terminal(s);
+      const bool end = ends_when_dead() ? g_.successors(s).empty() : g_.terminal(s);
       if (end) {
         ends[s] = true;
         queue.push_back(s);
@@ -197,49 +203,90 @@ class NetVerifier {
     while (!queue.empty()) {
       StateId s = queue.front();
       queue.pop_front();
-      for (StateId q : preds[s]) {
-        if (!ends[q]) {
-          ends[q] = true;
-          queue.push_back(q);
+      for (const auto& e : predecessors(s)) {
+        if (!ends[e.target]) {
+          ends[e.target] = true;
+          queue.push_back(e.target);
         }
       }
     }
-    // The nearest marking that cannot end; a live trap before a deadlock.
-    std::optional<StateId> bad;
-    for (StateId s = 0; s < n; ++s) {
-      if (ends[s]) continue;
-      if (!bad || (g_.successors(*bad).empty() && !g_.successors(s).empty())) bad = s;
-      if (!g_.successors(*bad).empty()) break;
-    }
-    const std::string goal = cn_.exits.empty() ? "the end (nothing enabled)" : "an exit";
-    if (!bad) {
+    // The nearest marking (breadth-first order) that cannot end.
+    StateId bad = 0;
+    while (bad < n && ends[bad]) ++bad;
+    const std::string goal = ends_when_dead() ? "the end (nothing enabled)" : "an exit";
+    if (bad == n) {
       p.message = fmt::format("{} stays reachable from every marking", goal);
       return p;
     }
     p.status = Status::Fails;
-    if (g_.successors(*bad).empty()) {
+    if (cn_.exits.empty() && !ends_when_dead()) {
+      p.message = "a phase without exits can never end";
+    } else if (g_.successors(bad).empty()) {
       p.message = fmt::format("trapped: {} can no longer be reached (nothing can fire)", goal);
     } else {
-      // What keeps firing in the trap: every step reachable from it.
-      std::set<std::string> cycling;
-      std::vector<bool> seen(n, false);
-      std::vector<StateId> stack{*bad};
-      seen[*bad] = true;
-      while (!stack.empty()) {
-        StateId s = stack.back();
-        stack.pop_back();
-        for (const auto& e : g_.successors(s)) {
-          cycling.insert(step_label(e.transition));
-          if (!seen[e.target]) {
-            seen[e.target] = true;
-            stack.push_back(e.target);
-          }
-        }
-      }
       p.message = fmt::format("trapped: from here {} can no longer be reached; only {} can still happen", goal,
-                              join({cycling.begin(), cycling.end()}));
+                              join(labels(reachable_steps(bad))));
     }
-    p.counterexample = trace_to(*bad);
+    p.counterexample = trace_to(bad);
+    return p;
+  }
+
+  // A cycle of firings that issue nothing to wait for: the engine, which
+  // fires until nothing is enabled, may go round it for ever.
+  Property no_busy_cycle() const {
+    Property p = named("no_busy_cycle");
+    const std::size_t n = g_.state_count();
+    auto is_firing = [&](petri::TransitionId t) { return an_.steps[t].kind == AnalysisNet::Step::Kind::Transition; };
+    // Peel off markings from which every sequence of firings stops; what
+    // remains lies on, or leads into, a cycle of firings alone.
+    std::vector<std::uint32_t> firing_out(n, 0);
+    std::deque<StateId> queue;
+    for (StateId s = 0; s < n; ++s) {
+      for (const auto& e : g_.successors(s)) firing_out[s] += is_firing(e.transition) ? 1 : 0;
+      if (firing_out[s] == 0) queue.push_back(s);
+    }
+    while (!queue.empty()) {
+      StateId s = queue.front();
+      queue.pop_front();
+      for (const auto& e : predecessors(s)) {
+        if (is_firing(e.transition) && --firing_out[e.target] == 0) queue.push_back(e.target);
+      }
+    }
+    StateId start = 0;
+    while (start < n && firing_out[start] == 0) ++start;
+    if (start == n) {
+      if (!g_.complete()) return undecided(p);
+      p.message = "no cycle of firings goes round without waiting for the vehicle";
+      return p;
+    }
+    // A lasso: from the nearest such marking, follow firings that stay in
+    // what remains until a marking repeats.
+    std::vector<petri::TransitionId> path = g_.path_to(start);
+    std::vector<StateId> walk{start};
+    std::set<std::string> cycle;
+    std::size_t repeat_from = 0;
+    for (StateId at = start;;) {
+      for (const auto& e : g_.successors(at)) {
+        if (!is_firing(e.transition) || firing_out[e.target] == 0) continue;
+        path.push_back(e.transition);
+        at = e.target;
+        break;
+      }
+      auto seen = std::find(walk.begin(), walk.end(), at);
+      if (seen != walk.end()) {
+        repeat_from = g_.path_to(start).size() + static_cast<std::size_t>(seen - walk.begin());
+        break;
+      }
+      walk.push_back(at);
+    }
+    for (std::size_t i = repeat_from; i < path.size(); ++i) cycle.insert(step_label(path[i]));
+    p.status = Status::Fails;
+    p.message = fmt::format(
+        "busy cycle: {} can fire for ever without waiting for the vehicle, from step {} on (the engine stops such "
+        "a mission after its firing limit)",
+        join({cycle.begin(), cycle.end()}), repeat_from + 1);
+    p.counterexample = trace_along(path, walk.back());
+    p.counterexample->repeat_from = repeat_from;
     return p;
   }
 
@@ -272,6 +319,54 @@ class NetVerifier {
     return p;
   }
 
+  // A mission net without exits ends when nothing is enabled; a phase
+  // without exits never ends.
+  bool ends_when_dead() const { return cn_.exits.empty() && cn_.kind == ast::Net::Kind::Mission; }
+
+  // Edges into s, with `target` holding their source; built on first use.
+  std::span<const petri::ReachEdge> predecessors(StateId s) const {
+    if (pred_begin_.empty()) {
+      const std::size_t n = g_.state_count();
+      pred_begin_.assign(n + 1, 0);
+      for (StateId q = 0; q < n; ++q) {
+        for (const auto& e : g_.successors(q)) ++pred_begin_[e.target + 1];
+      }
+      for (std::size_t i = 0; i < n; ++i) pred_begin_[i + 1] += pred_begin_[i];
+      preds_.resize(pred_begin_[n]);
+      std::vector<std::size_t> at(pred_begin_.begin(), pred_begin_.end() - 1);
+      for (StateId q = 0; q < n; ++q) {
+        for (const auto& e : g_.successors(q)) preds_[at[e.target]++] = {e.transition, q};
+      }
+    }
+    return {preds_.data() + pred_begin_[s], preds_.data() + pred_begin_[s + 1]};
+  }
+
+  // Every step that can still happen from s.
+  std::set<petri::TransitionId> reachable_steps(StateId from) const {
+    std::set<petri::TransitionId> steps;
+    std::vector<bool> seen(g_.state_count(), false);
+    std::vector<StateId> stack{from};
+    seen[from] = true;
+    while (!stack.empty()) {
+      StateId s = stack.back();
+      stack.pop_back();
+      for (const auto& e : g_.successors(s)) {
+        steps.insert(e.transition);
+        if (!seen[e.target]) {
+          seen[e.target] = true;
+          stack.push_back(e.target);
+        }
+      }
+    }
+    return steps;
+  }
+
+  std::vector<std::string> labels(const std::set<petri::TransitionId>& steps) const {
+    std::set<std::string> names;
+    for (auto t : steps) names.insert(step_label(t));
+    return {names.begin(), names.end()};
+  }
+
   // ---- names ----------------------------------------------------------------
   std::uint64_t max_bound() const { return bounds_.empty() ? 0 : *std::max_element(bounds_.begin(), bounds_.end()); }
 
@@ -292,9 +387,12 @@ class NetVerifier {
     return fmt::format("{} answering {}", action_text(a), answer_text(program_, a, st.answer));
   }
 
-  Counterexample trace_to(StateId s) const {
+  Counterexample trace_to(StateId s) const { return trace_along(g_.path_to(s), s); }
+
+  // The steps of `path` from the initial marking, which end at state `s`.
+  Counterexample trace_along(const std::vector<petri::TransitionId>& path, StateId s) const {
     Counterexample cx;
-    for (petri::TransitionId t : g_.path_to(s)) {
+    for (petri::TransitionId t : path) {
       const auto& st = an_.steps[t];
       TraceStep step;
       step.transition = cn_.net.transition_name(st.transition);
@@ -333,11 +431,13 @@ class NetVerifier {
   AnalysisNet an_;
   petri::ReachGraph g_;
   std::vector<std::uint64_t> bounds_;
+  mutable std::vector<std::size_t> pred_begin_;
+  mutable std::vector<petri::ReachEdge> preds_;
 };
 
 // Nets in an order that puts every phase before the nets that call it (a
 // cycle of PHASE calls, which the checker reports, is cut where found).
-std::vector<std::size_t> callee_first(const Program& program) {
+std::vector<std::size_t> callee_first(const Program& program, bool mission_only) {
   std::vector<int> state(program.nets.size(), 0);  // 0 new, 1 on the path, 2 done
   std::vector<std::size_t> order;
   std::function<void(std::size_t)> visit = [&](std::size_t i) {
@@ -353,6 +453,10 @@ std::vector<std::size_t> callee_first(const Program& program) {
     state[i] = 2;
     order.push_back(i);
   };
+  if (mission_only && program.mission) {
+    visit(*program.mission);
+    return order;
+  }
   for (std::size_t i = 0; i < program.nets.size(); ++i) {
     if (state[i] == 0) visit(i);
   }
@@ -373,13 +477,21 @@ bool VerifyReport::ok() const {
 VerifyReport verify_program(const Program& program, const VerifyOptions& options) {
   VerifyReport report;
   std::vector<PhaseExits> known;
-  for (std::size_t i : callee_first(program)) {
+  for (std::size_t i : callee_first(program, options.mission_only)) {
     const CompiledNet& cn = program.nets[i];
     NetVerification v = NetVerifier(program, cn, known, options).run();
     if (v.complete) known.push_back({cn.name, v.exit_reachable});
     report.nets.push_back(std::move(v));
   }
   return report;
+}
+
+std::vector<PhaseExits> reachable_phase_exits(const VerifyReport& report) {
+  std::vector<PhaseExits> known;
+  for (const auto& n : report.nets) {
+    if (n.complete && n.kind == "phase") known.push_back({n.name, n.exit_reachable});
+  }
+  return known;
 }
 
 }  // namespace strata::coral

@@ -10,7 +10,9 @@
 //                    nothing in flight, no exit marked)
 //   can_always_end   from every reachable marking an exit stays reachable
 //                    (for a mission net without exits: the end, nothing
-//                    enabled, stays reachable)
+//                    enabled, stays reachable; a phase without exits fails)
+//   no_busy_cycle    no cycle of firings that issue nothing to wait for
+//                    (the engine could fire round it for ever)
 //   exits_exclusive  no marking holds two different exits
 //
 // Each failed property carries the shortest firing sequence that shows it,
@@ -24,12 +26,16 @@
 #include <string>
 #include <vector>
 
+#include "coral/analysis.h"
 #include "coral/program.h"
 
 namespace strata::coral {
 
 struct VerifyOptions {
   std::uint64_t max_states = 1'000'000;  // per net
+  // Only the mission net and the phases it calls, directly or not (what a
+  // run can reach); otherwise every net of the load.
+  bool mission_only = false;
 };
 
 // One step of a counterexample.
@@ -94,5 +100,9 @@ struct VerifyReport {
 };
 
 VerifyReport verify_program(const Program& program, const VerifyOptions& options = {});
+
+// The exits each fully explored phase of the report can reach, for
+// build_analysis_net (and export) to build the nets the report explored.
+std::vector<PhaseExits> reachable_phase_exits(const VerifyReport& report);
 
 }  // namespace strata::coral

@@ -1,5 +1,6 @@
 #include "coral/verifier.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "coral/analysis.h"
@@ -110,6 +111,17 @@ TEST(Verifier, ATrapThatKeepsFiringIsNamedWithWhatCycles) {
   EXPECT_EQ(std::vector<std::string>({"fire ask: ASK q", "ASK q (ask) answers 0 -> spin"}), steps(p));
 }
 
+TEST(Verifier, TheTrapShownIsTheNearest) {
+  VerifyReport r = verify_text_mission(
+      "net n { place s = 1, ok, spin, dead; exit e;\n"
+      "  transition dead_end { wait { s } signal { dead } }\n"
+      "  transition ask { wait { s } action { TACTIC(ASK, q, ok, spin) } }\n"
+      "  transition fine { wait { ok } signal { e } }\n"
+      "  transition loop { wait { spin } action { TACTIC(EXEC, sleep(1), spin) } } }");
+  const Property& p = property(r.nets[0], "can_always_end");
+  EXPECT_EQ(std::vector<std::string>({"fire dead_end -> dead"}), steps(p));
+}
+
 TEST(Verifier, TwoExitsMarkedTogether) {
   VerifyReport r = verify_text_mission(
       "net n { place s = 1; exit complete, abort;\n"
@@ -128,13 +140,90 @@ TEST(Verifier, AnUnboundedPlaceIsShownWithTheStepsThatRepeat) {
   const NetVerification& n = r.nets[0];
   const Property& p = property(n, "bounded");
   EXPECT_EQ(Status::Fails, p.status);
-  EXPECT_EQ("unbounded: heap can grow without limit; the steps from 1 on can repeat for ever", p.message);
+  EXPECT_EQ("unbounded: heap can grow without limit; the steps from step 1 on can repeat for ever", p.message);
   EXPECT_EQ(std::vector<std::string>({"fire ask: ASK q -> heap", "ASK q (ask) answers 0 -> s"}), steps(p));
   EXPECT_EQ(std::optional<std::size_t>(0), p.counterexample->repeat_from);
   EXPECT_FALSE(n.complete);
   // What needs the whole graph is not decided; what was seen still counts.
   EXPECT_EQ(Status::Undecided, property(n, "can_always_end").status);
   EXPECT_EQ(std::vector<std::string>({"heap"}), n.uncovered);
+  EXPECT_EQ(Status::Fails, property(n, "one_safe").status);
+}
+
+// Regression: a new marking with an exit marked was taken for a repeat.
+TEST(Verifier, AMarkingThatEndsAtAnExitIsNoSignOfUnboundedness) {
+  VerifyReport r = verify_text_mission(
+      "mission m { place a = 1; exit done;\n"
+      "  transition t { wait { a } signal { a, done } } }");
+  EXPECT_EQ(Status::Holds, property(r.nets[0], "bounded").status) << verify_text(r);
+  EXPECT_TRUE(r.nets[0].complete);
+}
+
+// Regression: a state left half-expanded by a token overflow was a deadlock.
+TEST(Verifier, ATokenOverflowLeavesPropertiesUndecidedNotFailed) {
+  VerifyReport r = verify_text_mission(
+      "mission m { place a = 4294967295, b = 4294967295; exit done;\n"
+      "  transition t { wait { a } signal { b } }\n"
+      "  transition fin { wait { b } signal { done } } }");
+  const NetVerification& n = r.nets[0];
+  EXPECT_FALSE(n.complete);
+  EXPECT_NE(std::string::npos, n.stopped_why.find("more than 4294967295 tokens")) << n.stopped_why;
+  EXPECT_EQ(Status::Undecided, property(n, "no_deadlock").status) << verify_text(r);
+}
+
+// Regression: every new marking walked its whole path back to the start.
+TEST(Verifier, ALongCountdownIsExploredInFull) {
+  VerifyReport r = verify_text_mission(
+      "mission m { place a = 20000, b; exit done;\n"
+      "  transition t { wait { a } signal { b } }\n"
+      "  transition fin { wait { b*20000 } signal { done } } }");
+  EXPECT_TRUE(r.nets[0].complete);
+  EXPECT_EQ(20002u, r.nets[0].states);
+  EXPECT_EQ(Status::Holds, property(r.nets[0], "bounded").status);
+}
+
+// Regression: 2^20 minimal P-semiflows took minutes to enumerate.
+TEST(Verifier, TooManySemiflowsAreCutShort) {
+  std::string text = "mission m { place a0 = 1";
+  for (int i = 0; i < 20; ++i) text += fmt::format(", b{0}, c{0}, a{1}", i, i + 1);
+  text += "; exit done;\n";
+  for (int i = 0; i < 20; ++i) {
+    text += fmt::format("  transition f{0} {{ wait {{ a{0} }} signal {{ b{0}, c{0} }} }}\n", i);
+    text += fmt::format("  transition j{0} {{ wait {{ b{0}, c{0} }} signal {{ a{1} }} }}\n", i, i + 1);
+  }
+  text += "  transition fin { wait { a20 } signal { done } } }";
+  VerifyReport r = verify_text_mission(text);
+  EXPECT_FALSE(r.nets[0].invariants_complete);
+  EXPECT_TRUE(r.ok()) << verify_text(r);
+}
+
+TEST(Verifier, ACycleOfFiringsWithoutActionsIsABusyCycle) {
+  VerifyReport r = verify_text_mission(
+      "mission m { place a = 1, b; exit done;\n"
+      "  transition t1 { wait { a } signal { b } }\n"
+      "  transition t2 { wait { b } signal { a } }\n"
+      "  transition t3 priority -1 { wait { a } signal { done } } }");
+  const Property& p = property(r.nets[0], "no_busy_cycle");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_EQ(
+      "busy cycle: t1, t2 can fire for ever without waiting for the vehicle, from step 1 on (the engine stops such a "
+      "mission after its firing limit)",
+      p.message);
+  EXPECT_EQ(std::vector<std::string>({"fire t1 -> b", "fire t2 -> a"}), steps(p));
+  EXPECT_EQ(std::optional<std::size_t>(0), p.counterexample->repeat_from);
+  // A loop that waits for the vehicle on every round is not busy.
+  VerifyReport polling = verify_text_mission(
+      "mission m { place a = 1, b; exit done;\n"
+      "  transition ask { wait { a } action { TACTIC(ASK, q, done, b) } }\n"
+      "  transition again { wait { b } signal { a } } }");
+  EXPECT_EQ(Status::Holds, property(polling.nets[0], "no_busy_cycle").status) << verify_text(polling);
+}
+
+TEST(Verifier, APhaseWithoutExitsCanNeverEnd) {
+  VerifyReport r = verify_text_mission("net forever { place a = 1, b; transition t { wait { a } signal { b } } }");
+  const NetVerification& n = r.nets[0];
+  EXPECT_EQ(Status::Fails, property(n, "no_deadlock").status);
+  EXPECT_EQ("a phase without exits can never end", property(n, "can_always_end").message);
 }
 
 TEST(Verifier, TwoTokensInAPlaceBreakOneSafety) {
@@ -176,6 +265,30 @@ TEST(Verifier, APhaseThatCannotAbortMakesTheCallersAbortBranchDead) {
   const Property& p = property(r.nets[1], "no_dead");
   EXPECT_EQ("never fires: recover (bad is never marked)", p.message);
   EXPECT_EQ(1u, r.nets[1].outcomes);  // run.p.complete only
+  // Export writes the same nets when told the phases' exits.
+  auto c = compile_text(
+      "net p { place s = 1; exit complete, abort;\n"
+      "  transition go { wait { s } action { TACTIC(EXEC, sleep(1), complete) } } }\n"
+      "mission m { place begin = 1, fine, bad; exit closed;\n"
+      "  transition run { wait { begin } action { PHASE(p, fine, bad) } }\n"
+      "  transition end { wait { fine } signal { closed } }\n"
+      "  transition recover { wait { bad } signal { closed } } }");
+  ASSERT_TRUE(c->program);
+  const std::string narrowed = export_pnml(*c->program, *c->program->find("m"), reachable_phase_exits(r));
+  EXPECT_NE(std::string::npos, narrowed.find("run.p.complete"));
+  EXPECT_EQ(std::string::npos, narrowed.find("run.p.abort"));
+  EXPECT_NE(std::string::npos, export_pnml(*c->program, *c->program->find("m")).find("run.p.abort"));
+}
+
+TEST(Verifier, TheMissionOnlyOptionLeavesUnusedPhasesOut) {
+  auto c = compile_text(
+      "net unused { place s = 1; exit e; transition t { wait { s } signal { s } } }\n"
+      "mission m { place begin = 1; exit closed; transition go { wait { begin } signal { closed } } }");
+  ASSERT_TRUE(c->program);
+  EXPECT_FALSE(verify_program(*c->program).ok());
+  VerifyReport r = verify_program(*c->program, VerifyOptions{1000, true});
+  ASSERT_EQ(1u, r.nets.size());
+  EXPECT_TRUE(r.ok());
 }
 
 TEST(Verifier, AMissionWithoutExitsEndsWhenNothingIsEnabled) {

@@ -46,11 +46,18 @@ std::string property_line(const Property& p, std::vector<std::pair<std::string, 
   return out + text;
 }
 
+// "1 place", "2 places".
+std::string count(std::uint64_t n, std::string_view one, std::string_view many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
 std::string net_heading(const NetVerification& n) {
-  std::string out = fmt::format("{} {} ({}): {} places, {} transitions; analysis adds {} in-flight places, {} outcomes\n",
-                                n.kind, n.name, n.file, n.places, n.transitions, n.in_flight_places, n.outcomes);
-  out += fmt::format("  {} reachable markings, {} edges{}\n", n.states, n.edges,
-                     n.complete ? "" : fmt::format(" (stopped: {})", n.stopped_why));
+  std::string out = fmt::format("{} {} ({}): {}, {}; analysis adds {}, {}\n", n.kind, n.name, n.file,
+                                count(n.places, "place", "places"), count(n.transitions, "transition", "transitions"),
+                                count(n.in_flight_places, "in-flight place", "in-flight places"),
+                                count(n.outcomes, "outcome", "outcomes"));
+  out += fmt::format("  {}, {}{}\n", count(n.states, "reachable marking", "reachable markings"),
+                     count(n.edges, "edge", "edges"), n.complete ? "" : fmt::format(" (stopped: {})", n.stopped_why));
   return out;
 }
 
@@ -60,18 +67,21 @@ std::string bounds_text(const NetVerification& n) {
     if (b.bound == 0) never.push_back(b.name);
     else if (b.bound != 1) other.push_back(fmt::format("{} {}", b.name, b.bound));
   }
-  std::string out = other.empty() ? fmt::format("  place bounds: 1 for all {} places", n.bounds.size() - never.size())
-                                  : fmt::format("  place bounds: 1 except {}", join(other));
-  if (!never.empty()) out += fmt::format("; never marked: {}", join(never));
+  std::string out = fmt::format("  place bounds{}: ", n.complete ? "" : " (so far)");
+  if (never.size() == n.bounds.size()) out += "no place is marked";
+  else if (other.empty()) out += never.empty() ? "1 for every place" : "1 for every place marked";
+  else out += fmt::format("1 except {}", join(other));
+  if (!never.empty() && never.size() != n.bounds.size()) out += fmt::format("; never marked: {}", join(never));
   return out + "\n";
 }
 
 std::string invariants_text(const NetVerification& n) {
   if (!n.invariants_complete) return "  P-invariants: too many minimal P-semiflows to list\n";
-  std::string out = fmt::format("  P-invariants: {} minimal P-semiflow{}{}\n", n.invariants.size(),
-                                n.invariants.size() == 1 ? "" : "s",
-                                n.uncovered.empty() ? ", covering every place"
-                                                    : fmt::format("; not covered: {}", join(n.uncovered)));
+  std::string cover = n.uncovered.empty()                     ? ", covering every place"
+                      : n.uncovered.size() == n.bounds.size() ? ""
+                                                              : fmt::format("; not covered: {}", join(n.uncovered));
+  std::string out = fmt::format("  P-invariants: {}{}\n",
+                                count(n.invariants.size(), "minimal P-semiflow", "minimal P-semiflows"), cover);
   for (std::size_t i = 0; i < n.invariants.size() && i < kInvariantsShown; ++i) {
     const Invariant& inv = n.invariants[i];
     const bool all_ones = std::all_of(inv.weights.begin(), inv.weights.end(), [](const auto& w) { return w.second == 1; });
@@ -133,9 +143,9 @@ std::string verify_text(const VerifyReport& report) {
     for (const auto& p : n.properties) out += property_line(p, shown);
     std::vector<std::string> exits;
     for (std::size_t e = 0; e < n.exits.size(); ++e) {
-      exits.push_back(n.exit_reachable[e] ? n.exits[e] : n.exits[e] + " (never)");
+      exits.push_back(n.exit_reachable[e] ? n.exits[e] : n.exits[e] + (n.complete ? " (never)" : " (not yet)"));
     }
-    if (!exits.empty()) out += fmt::format("  exits reached: {}\n", join(exits));
+    if (!exits.empty()) out += fmt::format("  exits reached{}: {}\n", n.complete ? "" : " (so far)", join(exits));
     out += bounds_text(n);
     out += invariants_text(n);
     out += '\n';
