@@ -46,7 +46,7 @@ bool combine(const Row& a, std::int64_t ka, const Row& b, std::int64_t kb, Row& 
 
 }  // namespace
 
-Semiflows p_semiflows(const Net& net, std::size_t max_rows) {
+Semiflows p_semiflows(const Net& net, std::size_t max_rows, std::uint64_t max_work) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
   Semiflows result;
@@ -60,6 +60,7 @@ Semiflows p_semiflows(const Net& net, std::size_t max_rows) {
     rows[p].y[p] = 1;
   }
 
+  std::uint64_t work = 0;  // entries touched, for max_work
   for (TransitionId t = 0; t < transitions && result.complete; ++t) {
     std::vector<Row> next;
     std::vector<const Row*> pos, neg;
@@ -70,7 +71,8 @@ Semiflows p_semiflows(const Net& net, std::size_t max_rows) {
     for (const Row* a : pos) {
       for (const Row* b : neg) {
         Row r;
-        if (!combine(*a, -b->c[t], *b, a->c[t], r) || next.size() >= max_rows) {
+        work += places + transitions + next.size() * places;
+        if (!combine(*a, -b->c[t], *b, a->c[t], r) || next.size() >= max_rows || work > max_work) {
           result.complete = false;
           break;
         }

@@ -7,8 +7,10 @@
 // A place in the support of a semiflow y is bounded by y.M0 / y(p) whatever
 // fires; a net covered by semiflows is structurally bounded.
 //
-// The number of minimal semiflows can grow exponentially with the net; the
-// computation stops (complete = false) past a row limit.
+// The number of minimal semiflows can grow exponentially with the net (a
+// chain of n fork/join pairs has 2^n); the computation stops (complete =
+// false) past max_rows rows or max_work matrix entries touched, a bound on
+// its time (about a second for the default).
 #include <cstdint>
 #include <vector>
 
@@ -28,7 +30,7 @@ struct Semiflows {
   std::vector<bool> covered;
 };
 
-Semiflows p_semiflows(const Net& net, std::size_t max_rows = 20000);
+Semiflows p_semiflows(const Net& net, std::size_t max_rows = 2000, std::uint64_t max_work = 200'000'000);
 
 // True when y.C = 0 for the weights (by PlaceId, missing = 0).
 bool is_p_invariant(const Net& net, const std::vector<std::pair<PlaceId, std::uint64_t>>& weights);

@@ -60,6 +60,11 @@ class StateIndex {
 };
 
 // Does m cover a (>= everywhere, > somewhere)?
+// How far back along its BFS path a new marking is compared: a bound on the
+// cost per state. An unbounded net whose repeating cycle is longer than
+// this is still stopped, by the state limit.
+constexpr unsigned kCoverDepth = 512;
+
 bool strictly_covers(std::span<const Tokens> m, std::span<const Tokens> a) {
   bool greater = false;
   for (std::size_t p = 0; p < m.size(); ++p) {
@@ -115,7 +120,6 @@ ReachGraph build_reach_graph(const Net& net, const ReachOptions& options) {
   std::vector<Tokens> next(places);
   for (StateId s = 0; s < g.parent_.size(); ++s) {
     if (g.parent_.size() > options.max_states) {
-      g.complete_ = false;
       g.stopped_why_ = fmt::format("more than {} reachable markings", options.max_states);
       break;
     }
@@ -140,25 +144,29 @@ ReachGraph build_reach_graph(const Net& net, const ReachOptions& options) {
         const std::size_t before = g.parent_.size();
         StateId target = add(next, s, t);
         g.edges_.push_back({t, target});
-        if (g.parent_.size() == before) continue;
-        // A new marking: does it cover one of its ancestors?
-        for (StateId a = s; a != kNoState; a = g.parent_[a]) {
+        if (g.parent_.size() == before || g.terminal(target)) continue;
+        // A new marking that can go on: does it cover one of its recent
+        // ancestors? (A terminal one cannot repeat anything.)
+        StateId a = s;
+        for (unsigned depth = 0; a != kNoState && depth < kCoverDepth; a = g.parent_[a], ++depth) {
           if (strictly_covers(g.marking(target), g.marking(a))) {
             g.unbounded_ = Unbounded{target, a};
+            g.stopped_why_ = "the net is unbounded";
             break;
           }
         }
         if (g.unbounded_) break;
       }
     }
-    g.edge_begin_.push_back(static_cast<std::uint32_t>(g.edges_.size()));
-    g.explored_ = s + 1;
-    if (g.unbounded_) g.stopped_why_ = "the net is unbounded";
     if (!g.stopped_why_.empty()) {
-      g.complete_ = false;
+      // s was not expanded in full: it stays unexplored.
+      g.edges_.resize(g.edge_begin_[s]);
       break;
     }
+    g.edge_begin_.push_back(g.edges_.size());
+    g.explored_ = s + 1;
   }
+  g.complete_ = g.stopped_why_.empty();
   return g;
 }
 

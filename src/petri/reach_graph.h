@@ -10,10 +10,15 @@
 // terminal place has no successors: the CORAL Engine ends a phase as soon
 // as one of its exits is marked.
 //
-// Unboundedness: when a new marking covers one of its own ancestors (>= in
-// every place, > in some), the firing sequence between them can repeat for
-// ever (Karp and Miller), so the net is unbounded; the exploration stops
-// there, with the two states recorded.
+// Unboundedness: when a new marking that is not terminal covers one of its
+// own ancestors (>= in every place, > in some), the firing sequence between
+// them can repeat for ever (Karp and Miller), so the net is unbounded; the
+// exploration stops there, with the two states recorded. Only the last 512
+// ancestors are compared (a bound on the cost per state); a longer cycle is
+// stopped by the state limit instead.
+//
+// A stopped exploration leaves the state it was expanding, and every later
+// one, unexplored: no successors, not to be taken for a deadlock.
 //
 // Threads: none; build_reach_graph is a pure function.
 #include <cstdint>
@@ -73,7 +78,7 @@ class ReachGraph {
   std::vector<Tokens> markings_;  // state-major
   std::vector<StateId> parent_;
   std::vector<TransitionId> via_;
-  std::vector<std::uint32_t> edge_begin_;  // explored states + 1
+  std::vector<std::size_t> edge_begin_;  // explored states + 1
   std::vector<ReachEdge> edges_;
   std::vector<bool> is_terminal_place_;
   StateId explored_ = 0;
