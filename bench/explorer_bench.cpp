@@ -6,10 +6,12 @@
 //   explore/pnml/MODEL        a net of ../shared/pnml (Kanban-PT-00005,
 //                             FMS-PT-00005, Referendum-PT-0015), when present
 //
+//   explore/pnml-nolive/MODEL the same with ExploreOptions::liveness = false
+//
 // Counters: states, edges, states_per_s (states over the wall time of one
-// exploration, liveness pass included), bytes_per_state (the packed
-// markings plus the hash table, as ExploreResult::memory_bytes, over the
-// states). Targets (issue 6): Referendum-PT-0015 >= 2 M states/s and
+// exploration, liveness pass included), bytes_per_state
+// (ExploreResult::memory_bytes: the hash table holding the packed markings
+// plus the breadth-first queue, over the states). Targets (issue 6): Referendum-PT-0015 >= 2 M states/s and
 // <= 24 bytes/state; Kanban-PT-00005 >= 1.5 M states/s; FMS-PT-00005 >=
 // 0.5 M states/s.
 #include <benchmark/benchmark.h>
@@ -33,12 +35,14 @@ void report(benchmark::State& st, const ExploreResult& r, double seconds) {
   if (!r.complete) st.SkipWithError(r.stopped_why.c_str());
 }
 
-void run(benchmark::State& st, const Net& net) {
+void run(benchmark::State& st, const Net& net, bool liveness = true) {
   ExploreResult r;
   double seconds = 0;
+  ExploreOptions options;
+  options.liveness = liveness;
   for (auto _ : st) {
     auto start = std::chrono::steady_clock::now();
-    r = explore(net);
+    r = explore(net, options);
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     benchmark::DoNotOptimize(r.states);
   }
@@ -48,7 +52,7 @@ void run(benchmark::State& st, const Net& net) {
 void bm_referendum(benchmark::State& st) { run(st, referendum(static_cast<unsigned>(st.range(0)))); }
 void bm_philosophers(benchmark::State& st) { run(st, dining_philosophers(static_cast<unsigned>(st.range(0)))); }
 
-void bm_pnml(benchmark::State& st, const std::string& model) {
+void bm_pnml(benchmark::State& st, const std::string& model, bool liveness) {
   const std::string path = std::string(STRATA_SOURCE_DIR) + "/../shared/pnml/" + model + "/model.pnml";
   if (!std::filesystem::exists(path)) {
     st.SkipWithError("../shared/pnml not present");
@@ -59,14 +63,17 @@ void bm_pnml(benchmark::State& st, const std::string& model) {
     st.SkipWithError(net.error().message.c_str());
     return;
   }
-  run(st, net.value().net);
+  run(st, net.value().net, liveness);
 }
 
 BENCHMARK(bm_referendum)->Name("explore/referendum")->Arg(10)->Arg(15)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bm_philosophers)->Name("explore/philosophers")->Arg(10)->Arg(13)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, kanban, std::string("Kanban-PT-00005"))->Name("explore/pnml/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, fms, std::string("FMS-PT-00005"))->Name("explore/pnml/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, referendum, std::string("Referendum-PT-0015"))->Name("explore/pnml/Referendum-PT-0015")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, kanban, std::string("Kanban-PT-00005"), true)->Name("explore/pnml/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, fms, std::string("FMS-PT-00005"), true)->Name("explore/pnml/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, referendum, std::string("Referendum-PT-0015"), true)->Name("explore/pnml/Referendum-PT-0015")->Unit(benchmark::kMillisecond)->Iterations(1);
+// The same without the liveness pass (ExploreOptions::liveness = false).
+BENCHMARK_CAPTURE(bm_pnml, kanban_nolive, std::string("Kanban-PT-00005"), false)->Name("explore/pnml-nolive/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, fms_nolive, std::string("FMS-PT-00005"), false)->Name("explore/pnml-nolive/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace strata::petri

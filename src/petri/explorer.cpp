@@ -3,388 +3,391 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
-#include <limits>
+#include <new>
 #include <utility>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include <fmt/format.h>
 
+#include "petri/explorer_internal.h"
+#include "petri/invariants.h"
+
 namespace strata::petri {
+namespace explorer_detail {
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-constexpr unsigned kMaxBits = 32;  // Tokens are 32-bit
+// P-semiflows (for the place bounds) only on nets up to this many cells of
+// the Farkas matrix, places * (places + transitions), and this many rows.
+constexpr std::size_t kMaxSemiflowCells = std::size_t{1} << 21;
+constexpr std::size_t kMaxSemiflowRows = 2000;
 
-// Where one place's tokens live in a packed marking.
-struct Field {
-  std::uint32_t word = 0;
-  std::uint32_t shift = 0;
-  std::uint64_t mask = 0;  // the field's width, at the low bits
-};
-
-// A place an arc touches, with the arc's weight.
-struct ArcField {
-  Field field;
-  std::uint64_t weight = 0;
-  PlaceId place = 0;
-};
-
-inline std::uint64_t get(const std::uint64_t* m, const Field& f) { return (m[f.word] >> f.shift) & f.mask; }
-inline void set(std::uint64_t* m, const Field& f, std::uint64_t v) {
-  m[f.word] = (m[f.word] & ~(f.mask << f.shift)) | (v << f.shift);
+// By place: y.M0 / y(p) over the P-semiflows y covering p (every reachable
+// marking has at most that many tokens in p), or kNoBound.
+std::vector<std::uint64_t> structural_bounds(const Net& net) {
+  const std::size_t places = net.place_count();
+  std::vector<std::uint64_t> bound(places, kNoBound);
+  if (places == 0 || places * (places + net.transition_count()) > kMaxSemiflowCells) return bound;
+  const Semiflows s = p_semiflows(net, kMaxSemiflowRows);
+  for (const Semiflow& f : s.flows) {
+    if (!is_p_invariant(net, f.weights)) continue;  // never expected; a wrong bound would corrupt markings
+    for (const auto& [p, w] : f.weights) {
+      if (w > 0) bound[p] = std::min(bound[p], f.constant / w);
+    }
+  }
+  return bound;
 }
-
-inline std::uint64_t mix(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-class Explorer {
- public:
-  Explorer(const Net& net, const ExploreOptions& options) : net_(net), opt_(options) {}
-
-  ExploreResult run() {
-    const std::size_t places = net_.place_count();
-    r_.place_bounds.assign(places, 0);
-    r_.transition_fired.assign(net_.transition_count(), false);
-    bits_.assign(places, 1);
-    for (PlaceId p = 0; p < places; ++p) {
-      bits_[p] = std::max(1u, static_cast<unsigned>(std::bit_width(net_.initial_marking()[p])));
-    }
-    relayout();
-    table_.assign(1u << 10, 0);
-    std::vector<std::uint64_t> initial(words_, 0);
-    for (PlaceId p = 0; p < places; ++p) set(initial.data(), fields_[p], net_.initial_marking()[p]);
-    insert(initial.data());
-    breadth_first();
-    r_.states = count_;
-    r_.one_safe = r_.max_tokens_in_place <= 1;
-    r_.quasi_live = std::all_of(r_.transition_fired.begin(), r_.transition_fired.end(), [](bool b) { return b; });
-    r_.memory_bytes = memory();
-    r_.words_per_state = words_;
-    decide_liveness();
-    return std::move(r_);
-  }
-
- private:
-  // ---- layout ---------------------------------------------------------------
-  void relayout() {
-    fields_.resize(bits_.size());
-    std::uint32_t word = 0, used = 0;
-    for (std::size_t p = 0; p < bits_.size(); ++p) {
-      if (used + bits_[p] > 64) {
-        ++word;
-        used = 0;
-      }
-      fields_[p] = {word, used, bits_[p] == 64 ? ~0ULL : (1ULL << bits_[p]) - 1};
-      used += bits_[p];
-    }
-    words_ = word + 1;
-    in_.clear();
-    out_.clear();
-    in_begin_.assign(1, 0);
-    out_begin_.assign(1, 0);
-    for (TransitionId t = 0; t < net_.transition_count(); ++t) {
-      for (const Arc& a : net_.inputs(t)) in_.push_back({fields_[a.node], a.weight, a.node});
-      for (const Arc& a : net_.outputs(t)) out_.push_back({fields_[a.node], a.weight, a.node});
-      in_begin_.push_back(static_cast<std::uint32_t>(in_.size()));
-      out_begin_.push_back(static_cast<std::uint32_t>(out_.size()));
-    }
-  }
-
-  // Place p needs room for `value` tokens: widen its field and re-pack every
-  // stored marking. False if it cannot (more than 32 bits).
-  bool widen(PlaceId p, std::uint64_t value) {
-    unsigned need = static_cast<unsigned>(std::bit_width(value));
-    if (need > kMaxBits) return false;
-    std::vector<Field> old_fields = fields_;
-    const std::uint32_t old_words = words_;
-    bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
-    relayout();
-    std::vector<std::uint64_t> packed(static_cast<std::size_t>(count_) * words_, 0);
-    for (std::uint64_t s = 0; s < count_; ++s) {
-      const std::uint64_t* from = &arena_[s * old_words];
-      std::uint64_t* to = &packed[s * words_];
-      for (std::size_t q = 0; q < fields_.size(); ++q) set(to, fields_[q], get(from, old_fields[q]));
-    }
-    arena_ = std::move(packed);
-    rehash(table_.size());
-    return true;
-  }
-
-  // ---- the set of markings ------------------------------------------------------
-  std::uint64_t hash(const std::uint64_t* m) const {
-    std::uint64_t h = 0x9E3779B97F4A7C15ULL;
-    for (std::uint32_t k = 0; k < words_; ++k) h = mix(h ^ m[k]);
-    return h;
-  }
-
-  // Linear probing from full_hash: the index of m if stored (or kNone), and
-  // the slot where the probe stopped (m's, or the empty one for it).
-  std::pair<std::uint32_t, std::size_t> probe(const std::uint64_t* m, std::uint64_t full_hash) const {
-    const std::size_t mask = table_.size() - 1;
-    for (std::size_t h = full_hash & mask;; h = (h + 1) & mask) {
-      const std::uint32_t slot = table_[h];
-      if (slot == 0) return {kNone, h};
-      if (std::memcmp(&arena_[static_cast<std::size_t>(slot - 1) * words_], m, words_ * 8) == 0) return {slot - 1, h};
-    }
-  }
-
-  std::uint32_t find(const std::uint64_t* m) const { return probe(m, hash(m)).first; }
-
-  void rehash(std::size_t size) {
-    table_.assign(size, 0);
-    const std::size_t mask = size - 1;
-    for (std::uint64_t s = 0; s < count_; ++s) {
-      std::size_t h = hash(&arena_[s * words_]) & mask;
-      while (table_[h] != 0) h = (h + 1) & mask;
-      table_[h] = static_cast<std::uint32_t>(s + 1);
-    }
-  }
-
-  std::size_t memory() const { return arena_.capacity() * 8 + table_.capacity() * 4; }
-
-  // Adds m if new. Returns false when a limit stops the exploration.
-  bool insert(const std::uint64_t* m) { return insert(m, hash(m)); }
-  bool insert(const std::uint64_t* m, std::uint64_t full_hash) {
-    const auto [found, h] = probe(m, full_hash);
-    if (found != kNone) return true;
-    if (opt_.max_states && count_ >= opt_.max_states) return stop(fmt::format("stopped at {} states (the limit)", count_));
-    if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
-    const bool grow_table = (count_ + 1) * 4 > table_.size() * 3;
-    if (opt_.max_memory_bytes) {
-      std::size_t arena_next = arena_.size() + words_ > arena_.capacity() ? std::max<std::size_t>(arena_.capacity() * 2, 1024)
-                                                                         : arena_.capacity();
-      std::size_t need = arena_next * 8 + (grow_table ? table_.size() * 8 : table_.size() * 4);
-      if (need > opt_.max_memory_bytes) {
-        return stop(fmt::format("stopped at {} states: the next step needs {} MB, over --max-memory", count_,
-                                need >> 20));
-      }
-    }
-    arena_.insert(arena_.end(), m, m + words_);
-    ++count_;
-    if (grow_table) {
-      rehash(table_.size() * 2);
-    } else {
-      table_[h] = static_cast<std::uint32_t>(count_);
-    }
-    return true;
-  }
-
-  bool stop(std::string why) {
-    if (r_.complete) {
-      r_.complete = false;
-      r_.stopped_why = std::move(why);
-    }
-    return false;
-  }
-
-  // ---- breadth first --------------------------------------------------------------
-  void breadth_first() {
-    const std::size_t places = net_.place_count();
-    const std::size_t transitions = net_.transition_count();
-    std::vector<std::uint64_t> cur;
-    std::uint64_t next_progress = opt_.progress_every;
-    for (std::uint64_t s = 0; s < count_ && r_.complete; ++s) {
-    restart:
-      cur.assign(arena_.begin() + static_cast<std::ptrdiff_t>(s * words_),
-                 arena_.begin() + static_cast<std::ptrdiff_t>((s + 1) * words_));
-      std::uint64_t total = 0;
-      for (PlaceId p = 0; p < places; ++p) {
-        const std::uint64_t v = get(cur.data(), fields_[p]);
-        total += v;
-        if (v > r_.place_bounds[p]) r_.place_bounds[p] = static_cast<Tokens>(v);
-      }
-      r_.max_tokens_per_marking = std::max(r_.max_tokens_per_marking, total);
-      // All successors first, their table slots prefetched; then the
-      // lookups, which then mostly hit the cache.
-      std::uint64_t edges = 0;
-      succ_.resize(static_cast<std::size_t>(transitions) * words_);
-      hashes_.resize(transitions);
-      fired_.clear();
-      const std::size_t mask = table_.size() - 1;
-      for (TransitionId t = 0; t < transitions; ++t) {
-        bool enabled = true;
-        for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1] && enabled; ++i) {
-          enabled = get(cur.data(), in_[i].field) >= in_[i].weight;
-        }
-        if (!enabled) continue;
-        std::uint64_t* succ = &succ_[fired_.size() * words_];
-        std::memcpy(succ, cur.data(), words_ * 8);
-        for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1]; ++i) {
-          set(succ, in_[i].field, get(succ, in_[i].field) - in_[i].weight);
-        }
-        for (std::uint32_t i = out_begin_[t]; i < out_begin_[t + 1]; ++i) {
-          const std::uint64_t v = get(succ, out_[i].field) + out_[i].weight;
-          if (v > out_[i].field.mask) {
-            if (!widen(out_[i].place, v)) {
-              stop(fmt::format("place '{}' would hold more than {} tokens", net_.place_name(out_[i].place),
-                               kMaxTokens));
-              return;
-            }
-            goto restart;  // the layout changed: this state again, from the start
-          }
-          set(succ, out_[i].field, v);
-        }
-        const std::uint64_t h = hash(succ);
-        hashes_[fired_.size()] = h;
-        __builtin_prefetch(&table_[h & mask]);
-        fired_.push_back(t);
-      }
-      for (std::size_t k = 0; k < fired_.size(); ++k) {
-        // The stored marking the slot points to, if any: prefetched too.
-        const std::uint32_t slot = table_[hashes_[k] & mask];
-        if (slot != 0) __builtin_prefetch(&arena_[static_cast<std::size_t>(slot - 1) * words_]);
-      }
-      for (std::size_t k = 0; k < fired_.size(); ++k) {
-        if (!insert(&succ_[k * words_], hashes_[k])) return;
-        ++edges;
-        r_.transition_fired[fired_[k]] = true;
-      }
-      r_.edges += edges;
-      if (edges == 0 && !r_.deadlock) {
-        r_.deadlock = true;
-        r_.first_deadlock = s;
-      }
-      if (opt_.progress && s + 1 >= next_progress) {
-        next_progress += opt_.progress_every;
-        if (!opt_.progress({count_, s + 1, r_.edges, memory()})) {
-          stop(fmt::format("interrupted after {} states", count_));
-          return;
-        }
-      }
-    }
-    for (PlaceId p = 0; p < places; ++p) r_.max_tokens_in_place = std::max(r_.max_tokens_in_place, r_.place_bounds[p]);
-  }
-
-  // ---- liveness ----------------------------------------------------------------------
-  bool enabled(const std::uint64_t* m, TransitionId t) const {
-    for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1]; ++i) {
-      if (get(m, in_[i].field) < in_[i].weight) return false;
-    }
-    return true;
-  }
-
-  // The successor of m by t (enabled, and it fits: the exploration saw it).
-  void fire(const std::uint64_t* m, TransitionId t, std::uint64_t* out) const {
-    std::memcpy(out, m, words_ * 8);
-    for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1]; ++i) {
-      set(out, in_[i].field, get(out, in_[i].field) - in_[i].weight);
-    }
-    for (std::uint32_t i = out_begin_[t]; i < out_begin_[t + 1]; ++i) {
-      set(out, out_[i].field, get(out, out_[i].field) + out_[i].weight);
-    }
-  }
-
-  // Live iff every transition is enabled somewhere in every bottom strongly
-  // connected component of the reachability graph.
-  void decide_liveness() {
-    const std::size_t transitions = net_.transition_count();
-    if (!r_.complete) return;
-    if (transitions == 0) {
-      r_.live = true;
-      return;
-    }
-    if (r_.deadlock || !r_.quasi_live) {
-      r_.live = false;
-      return;
-    }
-    if (!opt_.liveness) return;
-    const std::uint32_t n = static_cast<std::uint32_t>(count_);
-    std::vector<std::uint32_t> index(n, kNone), low(n, 0);
-    std::vector<bool> on_stack(n, false), leaves(n, false);
-    std::vector<std::uint32_t> stack;
-    struct Frame {
-      std::uint32_t v;
-      TransitionId t;
-    };
-    std::vector<Frame> calls;
-    std::vector<std::uint64_t> next(words_);
-    std::vector<bool> seen(transitions);
-    std::uint32_t counter = 0;
-    auto visit = [&](std::uint32_t v) {
-      index[v] = low[v] = counter++;
-      stack.push_back(v);
-      on_stack[v] = true;
-      calls.push_back({v, 0});
-    };
-    for (std::uint32_t root = 0; root < n; ++root) {
-      if (index[root] != kNone) continue;
-      visit(root);
-      while (!calls.empty()) {
-        Frame& f = calls.back();
-        const std::uint32_t v = f.v;
-        const std::uint64_t* m = &arena_[static_cast<std::size_t>(v) * words_];
-        bool descended = false;
-        while (f.t < transitions) {
-          const TransitionId t = f.t++;
-          if (!enabled(m, t)) continue;
-          fire(m, t, next.data());
-          const std::uint32_t w = find(next.data());
-          if (index[w] == kNone) {
-            visit(w);  // f is invalid from here
-            descended = true;
-            break;
-          }
-          if (on_stack[w]) {
-            low[v] = std::min(low[v], index[w]);
-          } else {
-            leaves[v] = true;  // an edge into a finished component
-          }
-        }
-        if (descended) continue;
-        calls.pop_back();
-        if (!calls.empty()) {
-          const std::uint32_t parent = calls.back().v;
-          low[parent] = std::min(low[parent], low[v]);
-          if (!on_stack[v] || low[v] == index[v]) leaves[parent] = true;  // v's component is finished
-        }
-        if (low[v] != index[v]) continue;
-        // v roots a component: pop it; bottom when no member leaves it.
-        bool bottom = true;
-        std::fill(seen.begin(), seen.end(), false);
-        std::size_t first = stack.size();
-        do {
-          --first;
-        } while (stack[first] != v);
-        for (std::size_t k = first; k < stack.size(); ++k) bottom = bottom && !leaves[stack[k]];
-        if (bottom) {
-          for (std::size_t k = first; k < stack.size(); ++k) {
-            const std::uint64_t* mk = &arena_[static_cast<std::size_t>(stack[k]) * words_];
-            for (TransitionId t = 0; t < transitions; ++t) {
-              if (!seen[t] && enabled(mk, t)) seen[t] = true;
-            }
-          }
-          if (!std::all_of(seen.begin(), seen.end(), [](bool b) { return b; })) {
-            r_.live = false;
-            return;
-          }
-        }
-        for (std::size_t k = first; k < stack.size(); ++k) on_stack[stack[k]] = false;
-        stack.resize(first);
-      }
-    }
-    r_.live = true;
-  }
-
-  const Net& net_;
-  ExploreOptions opt_;
-  ExploreResult r_;
-  std::vector<unsigned> bits_;
-  std::vector<Field> fields_;
-  std::uint32_t words_ = 1;
-  std::vector<ArcField> in_, out_;
-  std::vector<std::uint32_t> in_begin_, out_begin_;
-  std::vector<std::uint64_t> arena_;
-  std::vector<std::uint32_t> table_;
-  // One state's successors, their hashes and transitions (breadth_first).
-  std::vector<std::uint64_t> succ_, hashes_;
-  std::vector<TransitionId> fired_;
-  std::uint64_t count_ = 0;
-};
 
 }  // namespace
 
-ExploreResult explore(const Net& net, const ExploreOptions& options) { return Explorer(net, options).run(); }
+Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
+  if (bytes_ >= kHuge) {
+    p_ = static_cast<std::uint64_t*>(std::aligned_alloc(kHuge, bytes_));
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (p_) madvise(p_, bytes_, MADV_HUGEPAGE);
+#endif
+  } else {
+    p_ = static_cast<std::uint64_t*>(std::malloc(std::max<std::size_t>(bytes_, 8)));
+  }
+  if (!p_) throw std::bad_alloc();
+}
+
+ExploreResult Explorer::run() {
+  const std::size_t places = net_.place_count();
+  r_.place_bounds.assign(places, 0);
+  r_.transition_fired.assign(net_.transition_count(), false);
+  // Fields as wide as a P-semiflow bound when there is one (fixed: the
+  // place cannot overflow); else as the initial tokens, widened on
+  // overflow.
+  bound_ = structural_bounds(net_);
+  const std::vector<std::uint64_t>& bound = bound_;
+  bits_.assign(places, 1);
+  bounded_.assign(places, false);
+  for (PlaceId p = 0; p < places; ++p) {
+    const unsigned initial = static_cast<unsigned>(std::bit_width(net_.initial_marking()[p]));
+    if (bound[p] != kNoBound && std::bit_width(bound[p]) <= static_cast<int>(kMaxBits)) {
+      bounded_[p] = true;
+      bits_[p] = std::max(1u, static_cast<unsigned>(std::bit_width(bound[p])));
+    } else {
+      bits_[p] = std::max(1u, initial);
+    }
+  }
+  layout();
+  new_table(kInitialSlots);
+  queue_.assign(kInitialQueue * words_, 0);
+  queue_slots_ = kInitialQueue;
+  std::vector<std::uint64_t> initial = pack_initial();
+  insert<0>(initial.data(), hash<0>(initial.data()));
+  breadth_first();
+  r_.states = count_;
+  r_.one_safe = r_.max_tokens_in_place <= 1;
+  r_.quasi_live = std::all_of(r_.transition_fired.begin(), r_.transition_fired.end(), [](bool b) { return b; });
+  r_.memory_bytes = memory();
+  r_.words_per_state = words_;
+  decide_liveness();
+  return std::move(r_);
+}
+
+void Explorer::layout() {
+  const std::size_t places = bits_.size();
+  fields_.resize(places);
+  std::vector<unsigned> used;
+  for (std::size_t p = 0; p < places; ++p) {
+    std::size_t w = 0;
+    while (w < used.size() && used[w] + bits_[p] > (w == 0 ? 63u : 64u)) ++w;
+    if (w == used.size()) used.push_back(0);
+    fields_[p] = {static_cast<std::uint32_t>(w), used[w], (1ULL << bits_[p]) - 1};
+    used[w] += bits_[p];
+  }
+  words_ = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(used.size()));
+  seen_or_.assign(words_, 0);
+  digits_.clear();
+  track_.clear();
+  for (std::size_t p = 0; p < places; ++p) {
+    const Field& f = fields_[p];
+    for (std::uint32_t k = 0; k < bits_[p]; ++k) {
+      std::size_t d = 0;
+      while (d < digits_.size() && !(digits_[d].word == f.word && digits_[d].k == k)) ++d;
+      if (d == digits_.size()) digits_.push_back({f.word, k, 0});
+      digits_[d].mask |= 1ULL << (f.shift + k);
+    }
+    if (bits_[p] > 1 && r_.place_bounds[p] < bound_[p]) track_.push_back(static_cast<PlaceId>(p));
+  }
+  in_.clear();
+  touch_.clear();
+  checks_.clear();
+  deltas_.clear();
+  in_begin_.assign(1, 0);
+  touch_begin_.assign(1, 0);
+  check_begin_.assign(1, 0);
+  delta_begin_.assign(1, 0);
+  for (TransitionId t = 0; t < net_.transition_count(); ++t) {
+    const std::size_t first_touch = touch_.size();
+    auto touched = [&](PlaceId p) -> Touch& {
+      for (std::size_t k = first_touch; k < touch_.size(); ++k) {
+        if (touch_[k].place == p) return touch_[k];
+      }
+      touch_.push_back({fields_[p], 0, 0, p});
+      return touch_.back();
+    };
+    // Inputs of weight 1 on 1-bit fields of one word merge into one test:
+    // all the bits of a mask set (a field at shift 0, weight = mask).
+    const std::size_t first_in = in_.size();
+    for (const Arc& a : net_.inputs(t)) {
+      const Field& f = fields_[a.node];
+      touched(a.node).pre += a.weight;
+      if (bits_[a.node] != 1 || a.weight != 1) {
+        in_.push_back({f, a.weight, false});
+        continue;
+      }
+      std::size_t k = first_in;
+      while (k < in_.size() && !(in_[k].merged && in_[k].field.word == f.word)) ++k;
+      if (k == in_.size()) in_.push_back({{f.word, 0, 0}, 0, true});
+      in_[k].field.mask |= 1ULL << f.shift;
+      in_[k].weight = in_[k].field.mask;
+    }
+    for (const Arc& a : net_.outputs(t)) touched(a.node).post += a.weight;
+    const std::size_t first_delta = deltas_.size();
+    for (std::size_t k = first_touch; k < touch_.size(); ++k) {
+      const Touch& tc = touch_[k];
+      if (!bounded_[tc.place] && tc.post > tc.pre) checks_.push_back(tc);
+      std::size_t d = first_delta;
+      while (d < deltas_.size() && deltas_[d].word != tc.field.word) ++d;
+      if (d == deltas_.size()) deltas_.push_back({tc.field.word, 0, 0});
+      deltas_[d].sub += tc.pre << tc.field.shift;
+      deltas_[d].add += tc.post << tc.field.shift;
+    }
+    in_begin_.push_back(static_cast<std::uint32_t>(in_.size()));
+    touch_begin_.push_back(static_cast<std::uint32_t>(touch_.size()));
+    check_begin_.push_back(static_cast<std::uint32_t>(checks_.size()));
+    delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
+  }
+}
+
+void Explorer::fold_bounds() {
+  if (seen_or_.empty()) return;
+  for (PlaceId p = 0; p < fields_.size(); ++p) {
+    if (bits_[p] == 1 && get(seen_or_.data(), fields_[p]) != 0) r_.place_bounds[p] = std::max<Tokens>(r_.place_bounds[p], 1);
+  }
+}
+
+std::vector<std::uint64_t> Explorer::pack_initial() const {
+  std::vector<std::uint64_t> m(words_, 0);
+  for (PlaceId p = 0; p < net_.place_count(); ++p) set(m.data(), fields_[p], net_.initial_marking()[p]);
+  return m;
+}
+
+bool Explorer::widen(PlaceId p, std::uint64_t value) {
+  fold_bounds();  // seen_or_ is in the layout about to change
+  const unsigned need = static_cast<unsigned>(std::bit_width(value));
+  if (need > kMaxBits) {
+    return stop(fmt::format("place '{}' would hold more than {} tokens", net_.place_name(p), kMaxTokens));
+  }
+  const std::vector<Field> old_fields = fields_;
+  const std::uint32_t old_words = words_;
+  bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
+  layout();
+  if (words_ != old_words && !fits(Words::rounded(slots_ * words_ * 8) + queue_slots_ * words_ * 8)) {
+    return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
+  }
+  std::vector<std::uint64_t> m(words_);
+  auto repack = [&](const std::uint64_t* from) {
+    std::fill(m.begin(), m.end(), 0);
+    for (std::size_t q = 0; q < fields_.size(); ++q) set(m.data(), fields_[q], get(from, old_fields[q]));
+  };
+  Words old_table = std::move(table_);
+  new_table(slots_);
+  for (std::size_t i = 0; i < slots_; ++i) {
+    if (old_table[i * old_words] == kEmpty) continue;
+    repack(&old_table[i * old_words]);
+    place(m.data(), hash<0>(m.data()));
+  }
+  std::vector<std::uint64_t> old = std::move(queue_);
+  queue_.assign(queue_slots_ * words_, 0);
+  for (std::size_t k = 0; k < queue_size_; ++k) {
+    repack(&old[((queue_head_ + k) & (queue_slots_ - 1)) * old_words]);
+    std::memcpy(&queue_[k * words_], m.data(), words_ * 8);
+  }
+  queue_head_ = 0;
+  return true;
+}
+
+void Explorer::new_table(std::size_t slots) {
+  slots_ = slots;
+  shift_ = 64 - static_cast<unsigned>(std::countr_zero(slots));
+  table_ = Words(slots * words_);
+  for (std::size_t i = 0; i < table_.size(); ++i) table_[i] = i % words_ == 0 ? kEmpty : 0;
+}
+
+void Explorer::place(const std::uint64_t* m, std::uint64_t full_hash) {
+  const std::size_t mask = slots_ - 1;
+  std::size_t i = slot_of(full_hash);
+  while (table_[i * words_] != kEmpty) i = (i + 1) & mask;
+  std::memcpy(&table_[i * words_], m, words_ * 8);
+}
+
+template <unsigned W>
+bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
+  const std::uint32_t words = W ? W : words_;
+  const std::size_t mask = slots_ - 1;
+  std::size_t i = slot_of(full_hash);
+  for (;; i = (i + 1) & mask) {
+    const std::uint64_t* s = &table_[i * words];
+    if (s[0] == kEmpty) break;
+    if (equal<W>(s, m)) return true;
+  }
+  if (opt_.max_states && count_ >= opt_.max_states) return stop(fmt::format("stopped at {} states (the limit)", count_));
+  if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
+  if ((count_ + 1) * 4 > slots_ * 3) {
+    const std::size_t need = Words::rounded(table_.size() * 16) + queue_.size() * 8;
+    if (slots_ * 2 > std::size_t{1} << 31) return stop(fmt::format("stopped at {} states: the table's limit", count_));
+    if (!fits(need)) return full(need);
+    Words old = std::move(table_);
+    new_table(slots_ * 2);
+    for (std::size_t k = 0; k < old.size(); k += words) {
+      if (old[k] != kEmpty) place(&old[k], hash<W>(&old[k]));
+    }
+    i = slot_of(full_hash);
+    while (table_[i * words] != kEmpty) i = (i + 1) & (slots_ - 1);
+  }
+  if (queue_size_ == queue_slots_) {
+    const std::size_t need = table_.bytes() + queue_.size() * 16;
+    if (!fits(need)) return full(need);
+    std::vector<std::uint64_t> bigger(queue_.size() * 2);
+    const std::size_t first = queue_slots_ - queue_head_;  // entries before the wrap
+    std::memcpy(bigger.data(), &queue_[queue_head_ * words], first * words * 8);
+    std::memcpy(&bigger[first * words], queue_.data(), queue_head_ * words * 8);
+    queue_ = std::move(bigger);
+    queue_slots_ *= 2;
+    queue_head_ = 0;
+  }
+  std::memcpy(&table_[i * words], m, words * 8);
+  std::memcpy(&queue_[((queue_head_ + queue_size_) & (queue_slots_ - 1)) * words], m, words * 8);
+  ++queue_size_;
+  ++count_;
+  return true;
+}
+
+bool Explorer::full(std::size_t need) {
+  return stop(fmt::format("stopped at {} states: the next step needs {} MB, over --max-memory", count_,
+                          need >> 20));
+}
+
+bool Explorer::stop(std::string why) {
+  if (r_.complete) {
+    r_.complete = false;
+    r_.stopped_why = std::move(why);
+  }
+  return false;
+}
+
+void Explorer::breadth_first() {
+  for (;;) {
+    const bool relayout = words_ == 1 ? breadth_first<1>() : words_ == 2 ? breadth_first<2>() : breadth_first<0>();
+    if (!relayout) break;
+  }
+  fold_bounds();
+  for (PlaceId p = 0; p < net_.place_count(); ++p) {
+    r_.max_tokens_in_place = std::max(r_.max_tokens_in_place, r_.place_bounds[p]);
+  }
+}
+
+template <unsigned W>
+bool Explorer::expand(const std::uint64_t* m, Batch& b) {
+  const std::uint32_t words = W ? W : words_;
+  const std::size_t transitions = net_.transition_count();
+  std::uint64_t total = 0;
+  for (const Digit& d : digits_) total += popcount(m[d.word] & d.mask) << d.k;
+  r_.max_tokens_per_marking = std::max(r_.max_tokens_per_marking, total);
+  for (std::uint32_t k = 0; k < words; ++k) seen_or_[k] |= m[k];
+  for (std::size_t i = 0; i < track_.size(); ++i) {
+    const PlaceId p = track_[i];
+    const std::uint64_t v = get(m, fields_[p]);
+    if (v <= r_.place_bounds[p]) continue;
+    r_.place_bounds[p] = static_cast<Tokens>(v);
+    if (v >= bound_[p]) {  // no marking has more: stop looking
+      track_[i--] = track_.back();
+      track_.pop_back();
+    }
+  }
+  b.succ.resize(transitions * words + words);
+  b.hashes.resize(transitions);
+  b.fired.resize(transitions);
+  b.overflow = false;
+  std::size_t n = 0;
+  for (TransitionId t = 0; t < transitions; ++t) {
+    bool enabled = true;
+    for (std::uint32_t i = in_begin_[t]; i < in_begin_[t + 1] && enabled; ++i) {
+      enabled = get(m, in_[i].field) >= in_[i].weight;
+    }
+    if (!enabled) continue;
+    for (std::uint32_t i = check_begin_[t]; i < check_begin_[t + 1]; ++i) {
+      const Touch& c = checks_[i];
+      const std::uint64_t v = get(m, c.field) - c.pre + c.post;
+      if (v > c.field.mask) {
+        b.overflow = true;
+        b.overflow_place = c.place;
+        b.overflow_value = v;
+        return false;
+      }
+    }
+    std::uint64_t* succ = &b.succ[n * words];
+    for (std::uint32_t k = 0; k < words; ++k) succ[k] = m[k];
+    for (std::uint32_t d = delta_begin_[t]; d < delta_begin_[t + 1]; ++d) {
+      succ[deltas_[d].word] = succ[deltas_[d].word] - deltas_[d].sub + deltas_[d].add;
+    }
+    const std::uint64_t h = hash<W>(succ);
+    b.hashes[n] = h;
+    __builtin_prefetch(&table_[slot_of(h) * words]);
+    b.fired[n] = t;
+    ++n;
+  }
+  b.n = n;
+  return true;
+}
+
+template <unsigned W>
+bool Explorer::breadth_first() {
+  const std::uint32_t words = W ? W : words_;
+  Batch* now = &batches_[0];
+  Batch* next = &batches_[1];
+  if (queue_size_ == 0) return false;
+  if (!expand<W>(&queue_[queue_head_ * words], *now)) return widen(now->overflow_place, now->overflow_value);
+  for (;;) {
+    const bool ahead = queue_size_ >= 2;
+    if (ahead) expand<W>(&queue_[((queue_head_ + 1) & (queue_slots_ - 1)) * words], *next);
+    for (std::size_t k = 0; k < now->n; ++k) {
+      if (!insert<W>(&now->succ[k * words], now->hashes[k])) return false;
+    }
+    for (std::size_t k = 0; k < now->n; ++k) r_.transition_fired[now->fired[k]] = true;
+    r_.edges += now->n;
+    if (now->n == 0 && !r_.deadlock) {
+      r_.deadlock = true;
+      r_.first_deadlock = explored_;
+    }
+    queue_head_ = (queue_head_ + 1) & (queue_slots_ - 1);
+    --queue_size_;
+    ++explored_;
+    if (opt_.progress && explored_ >= next_progress_) {
+      next_progress_ += opt_.progress_every;
+      if (!opt_.progress({count_, explored_, r_.edges, memory()})) {
+        return stop(fmt::format("interrupted after {} states", count_));
+      }
+    }
+    if (queue_size_ == 0) return false;
+    if (ahead) {
+      std::swap(now, next);
+    } else {
+      expand<W>(&queue_[queue_head_ * words], *now);
+    }
+    if (now->overflow) return widen(now->overflow_place, now->overflow_value);
+  }
+}
+
+}  // namespace explorer_detail
+
+ExploreResult explore(const Net& net, const ExploreOptions& options) { return explorer_detail::Explorer(net, options).run(); }
 
 }  // namespace strata::petri

@@ -3,14 +3,27 @@
 // state and edge counts and the global properties the Model Checking
 // Contest reports (docs/verification.md).
 //
-// Storage: a marking is packed into 64-bit words, each place in a bit field
-// just wide enough for the most tokens seen there so far (a field that would
-// overflow widens, and every stored marking is re-packed); the markings lie
-// one after another in one array and a hash table of 32-bit indices finds
-// them. Nothing is allocated per state. Breadth-first: the array is the
-// queue. Liveness needs a second pass over the graph (Tarjan's strongly
-// connected components, successors recomputed, not stored), run only when
-// the answer is not already known (a deadlock, a dead transition).
+// Storage: a marking is packed into 64-bit words, each place in a bit field.
+// A place covered by a P-semiflow y (y >= 0, y.C = 0) gets a field wide
+// enough for its bound y.M0 / y(p) from the start and never overflows; any
+// other place starts as wide as its initial tokens, and a field that would
+// overflow widens (doubling) and every stored marking is re-packed. The
+// markings are kept in the slots of an open-addressing hash table (linear
+// probing, one cache miss per lookup; huge pages when the kernel allows);
+// a ring of copies of the markings not explored yet is the breadth-first
+// queue. Nothing is allocated per state. The successors of the next queued
+// state are computed and their slots prefetched before this state's
+// lookups.
+//
+// Liveness needs a second pass, run only when the answer is not already
+// known (a deadlock, a dead transition): a backward search from the initial
+// marking (predecessors m - Post(t) + Pre(t), looked up in the table); when
+// it reaches every state the graph is strongly connected and the net live.
+// Otherwise Tarjan's strongly connected components (successors recomputed,
+// not stored) decide: live iff every bottom component enables every
+// transition. The pass's own arrays (a bit per table slot and 4 bytes per
+// state for the backward search; about 10 bytes per slot for Tarjan) are
+// freed when it ends and not counted in memory_bytes.
 //
 // Threads: one.
 #include <cstdint>
@@ -27,12 +40,12 @@ struct ExploreProgress {
   std::uint64_t states = 0;      // found so far
   std::uint64_t explored = 0;    // whose successors are known
   std::uint64_t edges = 0;
-  std::size_t memory_bytes = 0;  // markings + hash table
+  std::size_t memory_bytes = 0;  // hash table (the markings) + queue
 };
 
 struct ExploreOptions {
-  // Stop (complete = false) once markings and hash table would need more.
-  // 0: no limit.
+  // Stop (complete = false) once the hash table (the markings) and the
+  // queue would need more. 0: no limit.
   std::size_t max_memory_bytes = 0;
   // Stop after this many states (0: no limit).
   std::uint64_t max_states = 0;
@@ -58,7 +71,7 @@ struct ExploreResult {
   std::vector<Tokens> place_bounds;         // by PlaceId: the most tokens seen there
   std::vector<bool> transition_fired;       // by TransitionId
   std::optional<std::uint64_t> first_deadlock;  // the state index (BFS order) of a deadlock
-  std::size_t memory_bytes = 0;             // markings + hash table at the end
+  std::size_t memory_bytes = 0;             // hash table (the markings) + queue, allocated, at the end
   std::size_t words_per_state = 0;          // 64-bit words one packed marking takes
 };
 

@@ -1,9 +1,14 @@
 #include "petri/explorer.h"
 
+#include <algorithm>
 #include <cstdint>
+#include <map>
 #include <string>
+#include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include "petri/net_families.h"
 
@@ -153,6 +158,213 @@ TEST(Explorer, LimitsStopWithAPartialResult) {
   EXPECT_FALSE(rp.complete);
   EXPECT_EQ(3, calls);
   EXPECT_NE(std::string::npos, rp.stopped_why.find("interrupted")) << rp.stopped_why;
+}
+
+TEST(Explorer, FieldsWidenWhenNoSemiflowBoundsThePlace) {
+  // `small` takes 1 token from budget (100) and puts 3 in buffer, `big`
+  // takes 2 and puts 1: no P-semiflow covers the places, so their fields
+  // start at the initial tokens' width and widen, several times, with many
+  // markings stored and queued. The states are (100 - i - 2j, 3i + j) for
+  // i + 2j <= 100, all distinct: 2601 of them.
+  NetBuilder b;
+  PlaceId budget = b.add_place("budget", 100);
+  PlaceId buffer = b.add_place("buffer");
+  TransitionId small = b.add_transition("small");
+  b.add_input(small, budget);
+  b.add_output(small, buffer, 3);
+  TransitionId big = b.add_transition("big");
+  b.add_input(big, budget, 2);
+  b.add_output(big, buffer, 1);
+  ExploreResult r = explore(std::move(b).build());
+  EXPECT_TRUE(r.complete);
+  EXPECT_EQ(2601u, r.states);
+  EXPECT_EQ(2550u + 2500u, r.edges) << "small where budget >= 1, big where budget >= 2";
+  EXPECT_EQ(300u, r.place_bounds[buffer]);
+  EXPECT_EQ(100u, r.place_bounds[budget]);
+  EXPECT_EQ(300u, r.max_tokens_per_marking);
+  EXPECT_TRUE(r.deadlock);
+  EXPECT_EQ(std::optional<bool>(false), r.live);
+}
+
+TEST(Explorer, LivenessWhenTheInitialMarkingIsNotReachedAgain) {
+  // Neither net comes back to its initial marking, so the backward search
+  // from it does not cover the graph and the bottom components decide.
+  // Not live: start fires once, then a and c swap a token for ever.
+  NetBuilder b;
+  PlaceId s = b.add_place("s", 1);
+  PlaceId a = b.add_place("a"), c = b.add_place("c");
+  auto arc = [](NetBuilder& nb, const char* name, PlaceId from, PlaceId to) {
+    TransitionId t = nb.add_transition(name);
+    nb.add_input(t, from);
+    nb.add_output(t, to);
+  };
+  arc(b, "start", s, a);
+  arc(b, "ac", a, c);
+  arc(b, "ca", c, a);
+  ExploreResult r = explore(std::move(b).build());
+  EXPECT_EQ(3u, r.states);
+  EXPECT_TRUE(r.quasi_live);
+  EXPECT_FALSE(r.deadlock);
+  EXPECT_EQ(std::optional<bool>(false), r.live);
+
+  // Live: (p, d) -t-> (q, d) -u-> (p, c) -t-> (q, c) -x-> (q, d): the last
+  // three form the only bottom component, where t, u and x all fire; the
+  // initial (p, d) is never marked again.
+  NetBuilder l;
+  PlaceId p = l.add_place("p", 1), q = l.add_place("q"), cc = l.add_place("c"), d = l.add_place("d", 1);
+  TransitionId t = l.add_transition("t");
+  l.add_input(t, p);
+  l.add_output(t, q);
+  TransitionId u = l.add_transition("u");
+  l.add_input(u, q);
+  l.add_input(u, d);
+  l.add_output(u, p);
+  l.add_output(u, cc);
+  TransitionId x = l.add_transition("x");
+  l.add_input(x, q);
+  l.add_input(x, cc);
+  l.add_output(x, q);
+  l.add_output(x, d);
+  ExploreResult rl = explore(std::move(l).build());
+  EXPECT_EQ(4u, rl.states);
+  EXPECT_TRUE(rl.quasi_live);
+  EXPECT_FALSE(rl.deadlock);
+  EXPECT_EQ(std::optional<bool>(true), rl.live);
+}
+
+// ---- against a plain reference: a std::map of markings, breadth first ------
+
+struct Reference {
+  std::vector<Marking> states;  // breadth-first order
+  std::vector<std::vector<std::uint32_t>> succ;
+  std::uint64_t edges = 0;
+  std::vector<Tokens> bounds;
+  std::uint64_t max_total = 0;
+  std::optional<std::uint64_t> first_deadlock;
+  std::vector<bool> fired;
+  bool complete = true;
+};
+
+Reference reference(const Net& net, std::size_t limit) {
+  Reference r;
+  std::map<Marking, std::uint32_t> index;
+  r.bounds.assign(net.place_count(), 0);
+  r.fired.assign(net.transition_count(), false);
+  r.states.push_back(net.initial_marking());
+  index[net.initial_marking()] = 0;
+  for (std::size_t s = 0; s < r.states.size(); ++s) {
+    const Marking m = r.states[s];
+    std::uint64_t total = 0;
+    for (PlaceId p = 0; p < m.size(); ++p) {
+      r.bounds[p] = std::max(r.bounds[p], m[p]);
+      total += m[p];
+    }
+    r.max_total = std::max(r.max_total, total);
+    r.succ.emplace_back();
+    for (TransitionId t = 0; t < net.transition_count(); ++t) {
+      bool enabled = true;
+      for (const Arc& a : net.inputs(t)) enabled = enabled && m[a.node] >= a.weight;
+      if (!enabled) continue;
+      Marking next = m;
+      for (const Arc& a : net.inputs(t)) next[a.node] -= a.weight;
+      for (const Arc& a : net.outputs(t)) next[a.node] += a.weight;
+      auto [it, added] = index.emplace(next, static_cast<std::uint32_t>(r.states.size()));
+      if (added) {
+        if (r.states.size() >= limit) {
+          r.complete = false;
+          return r;
+        }
+        r.states.push_back(next);
+      }
+      r.succ.back().push_back(it->second);
+      r.fired[t] = true;
+      ++r.edges;
+    }
+    if (r.succ.back().empty() && !r.first_deadlock) r.first_deadlock = s;
+  }
+  return r;
+}
+
+// Live: from every state, every transition is enabled in some state it
+// reaches.
+bool reference_live(const Net& net, const Reference& r) {
+  for (std::size_t s = 0; s < r.states.size(); ++s) {
+    std::vector<bool> seen(r.states.size(), false), enabled(net.transition_count(), false);
+    std::vector<std::uint32_t> todo{static_cast<std::uint32_t>(s)};
+    seen[s] = true;
+    while (!todo.empty()) {
+      const std::uint32_t v = todo.back();
+      todo.pop_back();
+      for (TransitionId t = 0; t < net.transition_count(); ++t) {
+        bool e = true;
+        for (const Arc& a : net.inputs(t)) e = e && r.states[v][a.node] >= a.weight;
+        enabled[t] = enabled[t] || e;
+      }
+      for (std::uint32_t w : r.succ[v]) {
+        if (!seen[w]) {
+          seen[w] = true;
+          todo.push_back(w);
+        }
+      }
+    }
+    if (!std::all_of(enabled.begin(), enabled.end(), [](bool b) { return b; })) return false;
+  }
+  return true;
+}
+
+RC_GTEST_PROP(ExplorerProperty, AgreesWithAPlainBreadthFirstSearch, ()) {
+  const auto places = *rc::gen::inRange<std::size_t>(1, 7);
+  const auto transitions = *rc::gen::inRange<std::size_t>(1, 7);
+  NetBuilder b;
+  for (std::size_t p = 0; p < places; ++p) b.add_place(fmt::format("p{}", p), *rc::gen::inRange<Tokens>(0, 4));
+  // Half the nets move tokens around (as many in as out, weight 1 when
+  // `conservative`): bounded, often live; the others mostly grow or die.
+  const bool conservative = *rc::gen::arbitrary<bool>();
+  for (std::size_t t = 0; t < transitions; ++t) {
+    TransitionId id = b.add_transition(fmt::format("t{}", t));
+    if (conservative) {
+      const auto arcs = *rc::gen::inRange<std::size_t>(1, 3);
+      for (std::size_t a = 0; a < arcs; ++a) {
+        b.add_input(id, static_cast<PlaceId>(*rc::gen::inRange<std::size_t>(0, places)));
+        b.add_output(id, static_cast<PlaceId>(*rc::gen::inRange<std::size_t>(0, places)));
+      }
+      continue;
+    }
+    const auto arcs = *rc::gen::inRange<std::size_t>(1, 5);
+    for (std::size_t a = 0; a < arcs; ++a) {
+      const auto p = static_cast<PlaceId>(*rc::gen::inRange<std::size_t>(0, places));
+      const auto w = *rc::gen::inRange<std::uint32_t>(1, 4);
+      if (*rc::gen::arbitrary<bool>()) {
+        b.add_input(id, p, w);
+      } else {
+        b.add_output(id, p, w);
+      }
+    }
+  }
+  const Net net = std::move(b).build();
+  constexpr std::size_t kLimit = 300;
+  const Reference ref = reference(net, kLimit);
+  ExploreOptions o;
+  o.max_states = kLimit;
+  const ExploreResult r = explore(net, o);
+  RC_ASSERT(r.complete == ref.complete);
+  if (!ref.complete) {
+    RC_TAG("over the limit");
+    RC_ASSERT(r.states == kLimit);
+    return;
+  }
+  RC_ASSERT(r.states == ref.states.size());
+  RC_ASSERT(r.edges == ref.edges);
+  RC_ASSERT(r.place_bounds == ref.bounds);
+  RC_ASSERT(r.max_tokens_per_marking == ref.max_total);
+  RC_ASSERT(r.max_tokens_in_place == *std::max_element(ref.bounds.begin(), ref.bounds.end()));
+  RC_ASSERT(r.deadlock == ref.first_deadlock.has_value());
+  RC_ASSERT(r.first_deadlock == ref.first_deadlock);
+  RC_ASSERT(r.transition_fired == ref.fired);
+  RC_ASSERT(r.live.has_value());
+  const bool live = reference_live(net, ref);
+  RC_TAG(live ? "live" : "not live");
+  RC_ASSERT(*r.live == live);
 }
 
 }  // namespace
