@@ -19,8 +19,14 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
   }
 
   petri::NetBuilder b;
-  for (const auto& p : src.places) b.add_place(p.name.text, p.initial);
-  for (const auto& t : src.transitions) b.add_transition(t.name.text, t.priority);
+  for (const auto& p : src.places) {
+    b.add_place(p.name.text, p.initial);
+    out.place_spans.push_back(p.name.span);
+  }
+  for (const auto& t : src.transitions) {
+    b.add_transition(t.name.text, t.priority);
+    out.transition_spans.push_back(t.span);
+  }
   // After a clean check every name is declared once, so at() cannot throw.
   std::unordered_map<std::string, petri::PlaceId> ids;
   for (petri::PlaceId i = 0; i < src.places.size(); ++i) ids.emplace(src.places[i].name.text, i);

@@ -34,6 +34,8 @@ struct CompiledNet {
   std::string data_as_written;  // the path as the mission wrote it
   std::string source_file;  // the file that declares the net
   core::SourceSpan span;
+  std::vector<core::SourceSpan> place_spans;       // by PlaceId: the name where declared
+  std::vector<core::SourceSpan> transition_spans;  // by TransitionId: the `transition NAME` head
 };
 
 struct Program {

@@ -1,0 +1,77 @@
+#include "studio/event_hub.h"
+
+#include <gtest/gtest.h>
+
+namespace strata::studio {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(EventHub, ANewStreamStartsWithTheSnapshotThenGetsEventsInOrder) {
+  EventHub hub;
+  hub.publish("run_start", {{"run", 1}, {"mission", "tank.coral"}, {"nets", nlohmann::json::array()}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "tank"}, {"marking", {{"begin", 1}}}});
+  auto sub = hub.subscribe();
+  hub.publish("fired", {{"instance", 0}, {"marking", {{"a", 1}}}});
+  hub.publish("report", {{"t", 1.5}, {"text", "hello"}});
+  auto text = sub->next(100ms);
+  ASSERT_TRUE(text.has_value());
+  const auto snap = text->find("event: snapshot\n");
+  const auto fired = text->find("event: fired\n");
+  const auto report = text->find("event: report\n");
+  EXPECT_EQ(0u, snap);
+  EXPECT_LT(snap, fired);
+  EXPECT_LT(fired, report);
+  EXPECT_NE(std::string::npos, text->find("\"marking\":{\"begin\":1}")) << *text;
+}
+
+TEST(EventHub, TheSnapshotFollowsTheRun) {
+  EventHub hub;
+  hub.publish("run_start", {{"run", 2}, {"mission", "m.coral"}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"begin", 1}}}});
+  hub.publish("phase_start", {{"instance", 1}, {"net", "p"}, {"marking", {{"start", 1}}}});
+  hub.publish("fired", {{"instance", 1}, {"marking", {{"go", 1}}}, {"enabled", {"t"}}});
+  hub.publish("action_start", {{"id", 7}, {"instance", 1}, {"primitive", "sleep"}});
+  hub.publish("telemetry", {{"t", 0.5}, {"depth", 0.1}, {"setpoint", 1.0}});
+  hub.publish("phase_end", {{"instance", 1}});
+  auto s = hub.snapshot();
+  EXPECT_EQ(2, s["run"]);
+  ASSERT_EQ(1u, s["instances"].size());
+  EXPECT_EQ("m", s["instances"][0]["net"]);
+  EXPECT_EQ(1u, s["in_flight"].size());
+  EXPECT_EQ(nlohmann::json::array({0.5, 0.1, 1.0}), s["telemetry"][0]);
+  hub.publish("action_finish", {{"id", 7}, {"instance", 1}});
+  hub.publish("run_end", {{"outcome", "completed"}});
+  s = hub.snapshot();
+  EXPECT_TRUE(s["in_flight"].empty());
+  EXPECT_EQ("completed", s["ended"]["outcome"]);
+}
+
+TEST(EventHub, ASlowReaderLosesOldFiringsNotTheRest) {
+  EventHub hub(4);
+  auto sub = hub.subscribe();  // the snapshot is queued
+  hub.publish("fired", {{"index", 1}});
+  hub.publish("report", {{"text", "keep"}});
+  hub.publish("fired", {{"index", 2}});
+  hub.publish("fired", {{"index", 3}});  // full: the oldest firing goes
+  auto text = sub->next(10ms);
+  ASSERT_TRUE(text.has_value());
+  EXPECT_EQ(std::string::npos, text->find("\"index\":1"));
+  EXPECT_NE(std::string::npos, text->find("keep"));
+  EXPECT_NE(std::string::npos, text->find("\"index\":3"));
+}
+
+TEST(EventHub, NothingNewIsAnEmptyChunkAndClosingEndsTheStream) {
+  EventHub hub;
+  auto sub = hub.subscribe();
+  ASSERT_TRUE(sub->next(10ms).has_value());  // the snapshot
+  EXPECT_EQ("", sub->next(10ms).value());
+  hub.close();
+  EXPECT_FALSE(sub->next(10ms).has_value());
+  EXPECT_EQ(1u, hub.subscribers());
+  sub.reset();
+  EXPECT_EQ(0u, hub.subscribers());
+}
+
+}  // namespace
+}  // namespace strata::studio

@@ -1,0 +1,77 @@
+#include "studio/replay.h"
+
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace strata::studio {
+namespace {
+
+void add(nlohmann::json& marking, const nlohmann::json& delta, int sign) {
+  if (!delta.is_object()) return;
+  for (const auto& [place, n] : delta.items()) {
+    const std::int64_t now = marking.value(place, std::int64_t{0}) + sign * n.get<std::int64_t>();
+    if (now > 0) {
+      marking[place] = now;
+    } else {
+      marking.erase(place);
+    }
+  }
+}
+
+}  // namespace
+
+core::Result<nlohmann::json> replay_from_log(const std::string& text) {
+  nlohmann::json events = nlohmann::json::array();
+  std::map<std::uint64_t, nlohmann::json> markings;
+  std::string mission;
+  std::istringstream in(text);
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    nlohmann::json e = nlohmann::json::parse(line, nullptr, false);
+    if (e.is_discarded() || !e.is_object()) {
+      return core::Error{core::ErrorCode::InvalidInput, fmt::format("line {} of the log is not a JSON event", n)};
+    }
+    const std::string kind = e.value("event", "");
+    const double t = e.value("sim_time", 0.0);
+    const std::uint64_t instance = e.value("instance", std::uint64_t{0});
+    auto emit = [&](const char* name, nlohmann::json data) {
+      data["t"] = t;
+      events.push_back({{"event", name}, {"data", std::move(data)}});
+    };
+    if (kind == "run") {
+      mission = e.value("mission", "");
+    } else if (kind == "phase_start") {
+      markings[instance] = e.value("marking", nlohmann::json::object());
+      emit("phase_start", {{"instance", instance}, {"parent", e.value("parent", 0)}, {"net", e.value("net", "")},
+                           {"caller", e.value("caller", "")}, {"depth", e.value("depth", 0)}, {"marking", markings[instance]}});
+    } else if (kind == "fire") {
+      nlohmann::json& m = markings[instance];
+      if (!m.is_object()) m = nlohmann::json::object();
+      add(m, e.value("consumed", nlohmann::json::object()), -1);
+      add(m, e.value("produced", nlohmann::json::object()), +1);
+      emit("fired", {{"instance", instance}, {"net", e.value("net", "")}, {"transition", e.value("transition", "")},
+                     {"marking", m}, {"index", e.value("n", 0)}});
+    } else if (kind == "mark") {
+      nlohmann::json& m = markings[instance];
+      if (!m.is_object()) m = nlohmann::json::object();
+      add(m, nlohmann::json{{e.value("place", ""), 1}}, +1);
+      emit("action_finish", {{"instance", instance}, {"primitive", e.value("by", "")}, {"marks", e.value("place", "")},
+                             {"marking", m}});
+    } else if (kind == "phase_end") {
+      markings.erase(instance);
+      emit("phase_end", {{"instance", instance}, {"net", e.value("net", "")}, {"exit", e.value("exit", "")}});
+    } else if (kind == "telemetry") {
+      emit("telemetry", {{"depth", e.value("depth_m", 0.0)}, {"setpoint", e.contains("setpoint_m") ? e["setpoint_m"] : nlohmann::json(nullptr)}});
+    } else if (kind == "report") {
+      emit("report", {{"text", e.value("text", "")}});
+    } else if (kind == "mission_end") {
+      emit("run_end", {{"outcome", e.value("outcome", "")}, {"exit", e.value("exit", "")}, {"reason", e.value("reason", "")}});
+    }
+  }
+  return nlohmann::json{{"mission", mission}, {"events", events}};
+}
+
+}  // namespace strata::studio

@@ -1,0 +1,76 @@
+#pragma once
+// `strata studio`'s HTTP server (docs/studio.md): the page, the JSON API and
+// the Server-Sent Events stream of a run, on 127.0.0.1 by default.
+//
+// Runs are started by a callback (the CLI owns how a mission runs); the run
+// tells the EventHub what happens, and the hub feeds every open stream.
+//
+// Threads: start() returns once the socket is bound and listening on a
+// thread of its own; requests are served by a pool of `threads` workers
+// (each open event stream holds one). stop() ends every stream, stops the
+// listener and joins it; it is safe to call twice, and from the destructor.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/result.h"
+#include "studio/event_hub.h"
+#include "studio/sandbox.h"
+#include "tactical/catalogue.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace strata::studio {
+
+struct RunRequest {
+  std::filesystem::path mission;  // resolved, inside the root
+  std::string relative;           // as the page named it
+  std::string scenario;           // "" nominal
+  double speed = 10.0;            // simulated seconds per wall second
+};
+
+struct StudioOptions {
+  std::filesystem::path root = ".";
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 0;            // 0: any free port
+  std::filesystem::path web_root;    // "": the page compiled into strata
+  const tactical::Catalogue* catalogue = nullptr;  // null: the built-in one
+  std::size_t max_body_bytes = 4u << 20;
+  int threads = 48;
+  std::chrono::milliseconds heartbeat{1000};
+  // POST /api/run: start the run (on another thread) or say why not
+  // (InvalidInput: 400; Overflow: 409, a run is going).
+  std::function<core::Result<void>(const RunRequest&)> start_run;
+  // POST /api/run/stop.
+  std::function<void()> stop_run;
+};
+
+class StudioServer {
+ public:
+  StudioServer(StudioOptions options, EventHub& hub);
+  ~StudioServer();
+  StudioServer(const StudioServer&) = delete;
+  StudioServer& operator=(const StudioServer&) = delete;
+
+  // Binds and starts listening; the port chosen.
+  core::Result<std::uint16_t> start();
+  void stop();
+  std::uint16_t port() const { return port_; }
+
+ private:
+  void routes();
+
+  StudioOptions options_;
+  EventHub& hub_;
+  Sandbox sandbox_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread listener_;
+  std::uint16_t port_ = 0;
+};
+
+}  // namespace strata::studio

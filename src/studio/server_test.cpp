@@ -1,0 +1,250 @@
+// The studio server over loopback: the JSON API, the folder it may not
+// leave, bounded bodies, and event streams that neither wedge nor block it.
+#include "studio/server.h"
+
+#include <stdlib.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+namespace strata::studio {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+class StudioServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (fs::path(::testing::TempDir()) / "strata_studio_XXXXXX").string();
+    ASSERT_NE(nullptr, mkdtemp(pattern.data()));
+    base_ = pattern;
+    fs::create_directories(base_ / "root");
+    fs::copy(fs::path(STRATA_SOURCE_DIR) / "missions/tank", base_ / "root/tank", fs::copy_options::recursive);
+    std::ofstream(base_ / "secret.coral") << "net secret {}";
+    StudioOptions o;
+    o.root = base_ / "root";
+    o.heartbeat = 100ms;
+    o.start_run = [this](const RunRequest& r) -> core::Result<void> {
+      runs_.push_back(r);
+      return core::Result<void>();
+    };
+    server_ = std::make_unique<StudioServer>(o, hub_);
+    auto port = server_->start();
+    ASSERT_TRUE(port.ok()) << port.error().message;
+    port_ = port.value();
+  }
+  void TearDown() override {
+    server_.reset();
+    fs::remove_all(base_);
+  }
+  httplib::Client client() {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_read_timeout(5, 0);
+    c.set_connection_timeout(5, 0);
+    return c;
+  }
+
+  fs::path base_;
+  EventHub hub_;
+  std::unique_ptr<StudioServer> server_;
+  std::uint16_t port_ = 0;
+  std::vector<RunRequest> runs_;
+};
+
+TEST_F(StudioServerTest, ListsTheMissionsAndServesTheirModel) {
+  auto c = client();
+  auto files = c.Get("/api/files");
+  ASSERT_TRUE(files);
+  EXPECT_EQ(200, files->status);
+  json j = json::parse(files->body);
+  EXPECT_NE(j["files"].end(), std::find(j["files"].begin(), j["files"].end(), "tank/tank.coral")) << j.dump();
+
+  auto mission = c.Get("/api/mission?path=tank/tank.coral");
+  ASSERT_TRUE(mission);
+  ASSERT_EQ(200, mission->status) << mission->body;
+  json m = json::parse(mission->body);
+  ASSERT_EQ(5u, m["nets"].size());
+  const json& tank = m["nets"][0];  // the root file's nets come first
+  EXPECT_EQ("tank", tank["name"]);
+  EXPECT_EQ("mission", tank["kind"]);
+  EXPECT_TRUE(tank["editable"].get<bool>());
+  EXPECT_EQ("initialize", m["nets"][1]["name"]);
+  EXPECT_FALSE(m["nets"][1]["editable"].get<bool>());  // an import
+  EXPECT_EQ("tank/initialize.coral", m["nets"][1]["file"]);
+  EXPECT_EQ("PHASE initialize", tank["transitions"][0]["actions"][0]["label"]);
+  EXPECT_EQ(json::array({"initialized", "aborted"}), tank["transitions"][0]["actions"][0]["outcomes"]);
+  EXPECT_EQ(12, tank["places"][0]["line"]);  // `place begin = 1;`
+  EXPECT_TRUE(m["diagnostics"].empty());
+}
+
+TEST_F(StudioServerTest, ChecksUnsavedTextAndPointsAtTheLine) {
+  auto c = client();
+  json body = {{"path", "tank/tank.coral"}, {"text", "mission m { place a = 1;\n transition t { wait { b } } }"}};
+  auto r = c.Post("/api/check", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  json m = json::parse(r->body);
+  EXPECT_TRUE(m["nets"].empty());
+  ASSERT_FALSE(m["diagnostics"].empty());
+  EXPECT_EQ("UndefinedPlace", m["diagnostics"][0]["kind"]) << m["diagnostics"].dump();
+  EXPECT_EQ("tank/tank.coral", m["diagnostics"][0]["file"]);
+}
+
+TEST_F(StudioServerTest, RefusesPathsThatLeaveTheFolder) {
+  fs::create_symlink(base_ / "secret.coral", base_ / "root/link.coral");
+  auto c = client();
+  for (const char* path : {"/api/mission?path=../secret.coral", "/api/mission?path=%2e%2e%2fsecret.coral",
+                           "/api/mission?path=tank%2f..%2f..%2fsecret.coral", "/api/mission?path=/etc/passwd",
+                           "/api/mission?path=link.coral"}) {
+    auto r = c.Get(path);
+    ASSERT_TRUE(r) << path;
+    EXPECT_EQ(403, r->status) << path << ": " << r->body;
+  }
+  auto put = c.Put("/api/file?path=..%2fescape.coral", "net x {}", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(403, put->status);
+  EXPECT_FALSE(fs::exists(base_ / "escape.coral"));
+  auto other = c.Put("/api/file?path=tank/setpoints.toml", "x", "text/plain");
+  ASSERT_TRUE(other);
+  EXPECT_EQ(403, other->status);
+}
+
+TEST_F(StudioServerTest, SavesTextAndLayoutInsideTheFolder) {
+  auto c = client();
+  auto put = c.Put("/api/file?path=tank/new.coral", "net fresh { place a = 1; exit e; }\n", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(200, put->status) << put->body;
+  std::ifstream in(base_ / "root/tank/new.coral");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ("net fresh { place a = 1; exit e; }\n", text);
+  auto layout = c.Put("/api/layout?path=tank/new.coral", R"({"fresh": {"a": {"x": 1, "y": 2}}})", "application/json");
+  ASSERT_TRUE(layout);
+  EXPECT_EQ(200, layout->status);
+  auto m = c.Get("/api/mission?path=tank/new.coral");
+  ASSERT_TRUE(m);
+  EXPECT_EQ(1, json::parse(m->body)["layout"]["fresh"]["a"]["x"]);
+}
+
+TEST_F(StudioServerTest, BodiesAreBounded) {
+  auto c = client();
+  std::string big(5u << 20, 'x');
+  auto r = c.Put("/api/file?path=tank/big.coral", big, "text/plain");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(413, r->status);
+  EXPECT_FALSE(fs::exists(base_ / "root/tank/big.coral"));
+}
+
+TEST_F(StudioServerTest, VerifiesAndListsPrimitives) {
+  auto c = client();
+  auto v = c.Post("/api/verify", R"({"path": "tank/tank.coral"})", "application/json");
+  ASSERT_TRUE(v);
+  ASSERT_EQ(200, v->status) << v->body;
+  EXPECT_TRUE(json::parse(v->body)["ok"].get<bool>());
+  auto p = c.Get("/api/primitives");
+  ASSERT_TRUE(p);
+  json prims = json::parse(p->body)["primitives"];
+  auto sleep = std::find_if(prims.begin(), prims.end(), [](const json& x) { return x["name"] == "sleep"; });
+  ASSERT_NE(prims.end(), sleep);
+  EXPECT_EQ("exec", (*sleep)["kind"]);
+  EXPECT_EQ("s", (*sleep)["args"][0]["unit"]);
+}
+
+TEST_F(StudioServerTest, RunRequestsGoToTheRunner) {
+  auto c = client();
+  auto r = c.Post("/api/run", R"({"path": "tank/tank.coral", "scenario": "leak_phase2", "speed": 20})", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(202, r->status) << r->body;
+  ASSERT_EQ(1u, runs_.size());
+  EXPECT_EQ("leak_phase2", runs_[0].scenario);
+  EXPECT_EQ(20.0, runs_[0].speed);
+  auto bad = c.Post("/api/run", R"({"path": "tank/tank.coral", "speed": 0})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(400, bad->status);
+}
+
+// Reads one event stream on its own thread until told to stop.
+struct StreamReader {
+  explicit StreamReader(std::uint16_t port, std::atomic<bool>& stop) {
+    thread = std::thread([this, port, &stop] {
+      httplib::Client c("127.0.0.1", port);
+      c.set_read_timeout(10, 0);
+      c.Get("/api/events", [&](const char* data, std::size_t n) {
+        std::lock_guard lock(mutex);
+        text.append(data, n);
+        return !stop.load();
+      });
+    });
+  }
+  ~StreamReader() {
+    if (thread.joinable()) thread.join();
+  }
+  std::string seen() {
+    std::lock_guard lock(mutex);
+    return text;
+  }
+  std::thread thread;
+  std::mutex mutex;
+  std::string text;
+};
+
+bool wait_for(const std::function<bool()>& done, std::chrono::milliseconds bound = 5000ms) {
+  for (auto end = std::chrono::steady_clock::now() + bound; std::chrono::steady_clock::now() < end;) {
+    if (done()) return true;
+    std::this_thread::sleep_for(10ms);
+  }
+  return done();
+}
+
+TEST_F(StudioServerTest, AStreamGetsTheSnapshotThenEvents) {
+  std::atomic<bool> stop{false};
+  StreamReader reader(port_, stop);
+  ASSERT_TRUE(wait_for([&] { return reader.seen().find("event: snapshot") != std::string::npos; })) << reader.seen();
+  hub_.publish("report", {{"t", 1.0}, {"text", "hello there"}});
+  EXPECT_TRUE(wait_for([&] { return reader.seen().find("hello there") != std::string::npos; })) << reader.seen();
+  EXPECT_TRUE(wait_for([&] { return reader.seen().find(": ping") != std::string::npos; }));
+  stop = true;
+}
+
+TEST_F(StudioServerTest, AClientLeavingMidStreamDoesNotWedgeTheServer) {
+  {
+    std::atomic<bool> stop{false};
+    StreamReader reader(port_, stop);
+    ASSERT_TRUE(wait_for([&] { return hub_.subscribers() == 1; }));
+    stop = true;
+    hub_.publish("report", {{"text", "wake the reader"}});
+  }
+  // The server notices on its next write (a heartbeat at the latest).
+  EXPECT_TRUE(wait_for([&] { return hub_.subscribers() == 0; })) << hub_.subscribers();
+  auto r = client().Get("/api/files");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(200, r->status);
+}
+
+TEST_F(StudioServerTest, TwentyOpenStreamsDoNotBlockOtherRequestsAndStopReturns) {
+  std::atomic<bool> stop{false};
+  std::vector<std::unique_ptr<StreamReader>> readers;
+  for (int i = 0; i < 20; ++i) readers.push_back(std::make_unique<StreamReader>(port_, stop));
+  ASSERT_TRUE(wait_for([&] { return hub_.subscribers() == 20; })) << hub_.subscribers();
+  for (int i = 0; i < 5; ++i) {
+    auto r = client().Get("/api/primitives");
+    ASSERT_TRUE(r) << "request " << i << " got no answer with 20 streams open";
+    EXPECT_EQ(200, r->status);
+  }
+  hub_.publish("report", {{"text", "to all"}});
+  for (auto& r : readers) {
+    EXPECT_TRUE(wait_for([&] { return r->seen().find("to all") != std::string::npos; }));
+  }
+  // stop() with the streams still open: it ends them and returns.
+  server_->stop();
+  for (auto& r : readers) r->thread.join();
+  EXPECT_EQ(0u, hub_.subscribers());
+}
+
+}  // namespace
+}  // namespace strata::studio
