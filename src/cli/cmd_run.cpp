@@ -8,11 +8,17 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
+#include "cli/studio_serve.h"
 
 namespace strata::cli {
 
 Runner add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
+  struct Studio {
+    bool enabled = false;
+    std::uint16_t port = 0;
+  };
+  auto studio = std::make_shared<Studio>();
   auto* cmd = app.add_subcommand(
       "run",
       "Run a mission: check and verify it, start the simulated vehicle on a free loopback port (unless "
@@ -34,6 +40,10 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_flag("--unverified", o->unverified,
                 "CORAL: run the mission even if `strata verify` finds a property that fails (the failures "
                 "are printed and the mission log records them)");
+  cmd->add_flag("--studio", studio->enabled,
+                "Watch the run in the browser: serve the studio on the mission's folder (its address is the first "
+                "line) and run on the wall clock at --speed");
+  cmd->add_option("--studio-port", studio->port, "With --studio: the port (0: a free one)")->capture_default_str();
   cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
   cmd->add_option("--speed", o->speed,
                   "With --realtime: simulated seconds per wall second (with --vehicle: the speed "
@@ -45,8 +55,8 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  return [o, cmd] {
-    if (cmd->count("--speed") > 0 && !o->realtime && o->vehicle.empty()) {
+  return [o, cmd, studio] {
+    if (cmd->count("--speed") > 0 && !o->realtime && !studio->enabled && o->vehicle.empty()) {
       std::cerr << "strata run: --speed needs --realtime (lockstep runs as fast as it can)\n";
       return static_cast<int>(kExitUsage);
     }
@@ -57,6 +67,14 @@ Runner add_run_command(CLI::App& app) {
     RunOptions options = *o;
     options.tty = isatty(STDOUT_FILENO) == 1;
     options.handle_signals = true;
+    if (studio->enabled) {
+      if (!o->mission.ends_with(".coral")) {
+        std::cerr << "strata run: --studio shows CORAL missions (.coral)\n";
+        return static_cast<int>(kExitUsage);
+      }
+      options.tty = false;  // the page shows the status; the console keeps plain lines
+      return serve_studio_run(options, "127.0.0.1", studio->port, std::cout, std::cerr).exit_code;
+    }
     return run_mission(options, std::cout, std::cerr).exit_code;
   };
 }

@@ -27,6 +27,8 @@ Runner add_run_command(CLI::App& app);
 Runner add_compare_command(CLI::App& app);
 // `strata verify`.
 Runner add_verify_command(CLI::App& app);
+// `strata studio`.
+Runner add_studio_command(CLI::App& app);
 // `strata export`.
 Runner add_export_command(CLI::App& app);
 // `strata primitives`.

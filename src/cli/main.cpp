@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   runners["compare"] = add_compare_command(app);
   runners["verify"] = add_verify_command(app);
   runners["export"] = add_export_command(app);
+  runners["studio"] = add_studio_command(app);
   runners["vehicle"] = add_vehicle_command(app);
   runners["primitives"] = add_primitives_command(app);
 

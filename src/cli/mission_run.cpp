@@ -113,6 +113,28 @@ std::string format_wall(double seconds) {
 
 }  // namespace
 
+void RunControl::cancel(const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  if (cancel_) cancel_(reason);
+}
+
+// Attaches a run's cancel to a RunControl for as long as it lives.
+struct RunControlAttachment {
+  RunControlAttachment(RunControl* c, std::function<void(const std::string&)> cancel) : control(c) {
+    if (!control) return;
+    std::lock_guard lock(control->mutex_);
+    control->cancel_ = std::move(cancel);
+  }
+  ~RunControlAttachment() {
+    if (!control) return;
+    std::lock_guard lock(control->mutex_);
+    control->cancel_ = nullptr;
+  }
+  RunControlAttachment(const RunControlAttachment&) = delete;
+  RunControlAttachment& operator=(const RunControlAttachment&) = delete;
+  RunControl* control;
+};
+
 RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err) {
   RunReport report;
   auto wall_start = std::chrono::steady_clock::now();
@@ -289,8 +311,14 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // can; allow for at least 100x real time (a 1 h sleep may take 36 s of
   // wall time on a slow machine) on top of the link's own timeout.
   tactical.set_wall_seconds_per_sim_second(lockstep ? kLockstepWallPerSim : 1.0 / o.speed);
-  tactical.on_report([&](const std::string& text, double t) { console.report(text, t); });
-  tactical.on_telemetry([&](const protocol::Telemetry& t) { console.telemetry(t); });
+  tactical.on_report([&](const std::string& text, double t) {
+    console.report(text, t);
+    if (o.on_report) o.on_report(text, t);
+  });
+  tactical.on_telemetry([&](const protocol::Telemetry& t) {
+    console.telemetry(t);
+    if (o.on_telemetry) o.on_telemetry(t);
+  });
   tactical.on_vehicle_event([&](const protocol::Event& e) { console.vehicle_event(e.text, e.sim_time_s); });
   if (o.telemetry_hz > 0) {
     link->send(protocol::make_telemetry(0, o.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
@@ -317,6 +345,11 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
     log_observer.emplace(*log);
     engine.add_observer(*log_observer);
   }
+  for (strategic::Observer* extra : o.observers) engine.add_observer(*extra);
+  // Declared after the engine, so it detaches before the engine goes.
+  RunControlAttachment control(o.control.get(), [&](const std::string& why) {
+    asio::post(io, [&engine, why] { engine.cancel(why); });
+  });
 
   bool link_lost = false;
   std::string link_lost_why;

@@ -7,6 +7,8 @@
 // Kept apart from the command line so tests run whole missions in-process.
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -17,6 +19,18 @@
 #include "tactical/tactical_level.h"
 
 namespace strata::cli {
+
+// Lets another thread stop a run (the studio's Stop button). cancel() is
+// thread-safe, and does nothing when no run is attached.
+class RunControl {
+ public:
+  void cancel(const std::string& reason);
+
+ private:
+  friend struct RunControlAttachment;
+  std::mutex mutex_;
+  std::function<void(const std::string&)> cancel_;
+};
 
 struct RunOptions {
   std::string mission;        // a .coral (CORAL) or .pl (PROLOG) file
@@ -37,6 +51,12 @@ struct RunOptions {
   // CORAL: a mission that fails verification (docs/verification.md) is not
   // run unless this is set; then it runs and the log records the failures.
   bool unverified = false;
+  // Observers beside the console and the log (the studio), told after them.
+  std::vector<strategic::Observer*> observers;
+  // Telemetry and REPORTs as they arrive (the studio).
+  std::function<void(const protocol::Telemetry&)> on_telemetry;
+  std::function<void(const std::string& text, double sim_time_s)> on_report;
+  std::shared_ptr<RunControl> control;  // set: the run can be stopped from another thread
   // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
   std::function<void(bool sent, std::string_view line)> wire_tap;
 };

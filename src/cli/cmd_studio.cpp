@@ -1,0 +1,144 @@
+// `strata studio [DIR]`: the graphical editor and live view, in the browser
+// (docs/studio.md). `strata run MISSION --studio` uses serve_studio_run().
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "cli/studio_runner.h"
+#include "cli/studio_serve.h"
+#include "studio/assets.h"
+#include "studio/server.h"
+
+namespace strata::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Options {
+  std::string dir = ".";
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 0;
+  std::string web_root;
+  std::string catalogue;
+};
+
+// SIGINT and SIGTERM blocked in this thread and every thread it starts
+// after, so that wait_for_signal() alone receives them.
+sigset_t block_stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+int run_studio(const Options& o) {
+  std::error_code ec;
+  if (!fs::is_directory(o.dir, ec)) {
+    std::cerr << fmt::format("strata studio: '{}' is not a folder\n", o.dir);
+    return kExitIo;
+  }
+  if (!o.web_root.empty() && !fs::exists(fs::path(o.web_root) / "index.html", ec)) {
+    std::cerr << fmt::format("strata studio: --web-root '{}' has no index.html (build it: cd web && npm run build)\n",
+                             o.web_root);
+    return kExitIo;
+  }
+  auto catalogue = load_catalogue_option(o.catalogue);
+  if (!catalogue) {
+    std::cerr << "strata studio: " << catalogue.error().message << "\n";
+    return exit_code_for_input(catalogue.error());
+  }
+  const sigset_t stop_signals = block_stop_signals();
+  studio::EventHub hub;
+  studio::Sandbox sandbox(o.dir);
+  StudioRunner runner(hub, sandbox, catalogue.value());
+  studio::StudioOptions so;
+  so.root = o.dir;
+  so.host = o.host;
+  so.port = o.port;
+  so.web_root = o.web_root;
+  so.catalogue = &catalogue.value();
+  so.start_run = [&runner](const studio::RunRequest& r) { return runner.start(r); };
+  so.stop_run = [&runner] { runner.stop(); };
+  studio::StudioServer server(so, hub);
+  auto port = server.start();
+  if (!port) {
+    std::cerr << "strata studio: " << port.error().message << "\n";
+    return kExitIo;
+  }
+  std::cout << fmt::format("http://{}:{}", o.host, port.value()) << std::endl;
+  std::cerr << fmt::format("strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
+                           o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
+  int signal = 0;
+  sigwait(&stop_signals, &signal);
+  std::cerr << "strata studio: stopping\n";
+  runner.stop();
+  server.stop();
+  return kExitOk;
+}
+
+}  // namespace
+
+RunReport serve_studio_run(RunOptions options, const std::string& host, std::uint16_t port, std::ostream& out,
+                           std::ostream& err) {
+  RunReport failed;
+  failed.exit_code = kExitIo;
+  const fs::path mission = fs::absolute(options.mission);
+  auto catalogue = load_catalogue_option(options.catalogue);
+  if (!catalogue) {
+    err << "strata run: " << catalogue.error().message << "\n";
+    failed.exit_code = exit_code_for_input(catalogue.error());
+    return failed;
+  }
+  studio::EventHub hub;
+  studio::Sandbox sandbox(mission.parent_path());
+  StudioRunner runner(hub, sandbox, catalogue.value());
+  studio::StudioOptions so;
+  so.root = mission.parent_path();
+  so.host = host;
+  so.port = port;
+  so.catalogue = &catalogue.value();
+  studio::StudioServer server(so, hub);
+  auto bound = server.start();
+  if (!bound) {
+    err << "strata run: --studio: " << bound.error().message << "\n";
+    return failed;
+  }
+  out << fmt::format("http://{}:{}", host, bound.value()) << std::endl;
+  studio::RunRequest request{mission, mission.filename().string(), options.scenario, options.speed};
+  RunReport report = runner.run_here(request, options, out, err);
+  if (isatty(STDIN_FILENO) == 1 && isatty(STDOUT_FILENO) == 1) {
+    const sigset_t stop_signals = block_stop_signals();
+    out << fmt::format("the run is over; still serving http://{}:{} (Ctrl-C to quit)", host, bound.value())
+        << std::endl;
+    int signal = 0;
+    sigwait(&stop_signals, &signal);
+  }
+  server.stop();
+  return report;
+}
+
+Runner add_studio_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("studio",
+                                 "Serve the graphical mission editor and the live view of runs in the browser "
+                                 "(prints http://127.0.0.1:PORT first)");
+  cmd->add_option("dir", o->dir, "The folder whose missions it may read and write (default: the current one)");
+  cmd->add_option("--port", o->port, "Port to listen on (0: a free one)")->capture_default_str();
+  cmd->add_option("--host", o->host, "Address to listen on")->capture_default_str();
+  cmd->add_option("--web-root", o->web_root, "Serve the page from this folder (web/dist) instead of the built-in one");
+  cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
+  cmd->footer("docs/studio.md has the page's API. Exit 0 after Ctrl-C; 74 when it cannot listen or read DIR.");
+  return [o] { return run_studio(*o); };
+}
+
+}  // namespace strata::cli
