@@ -64,7 +64,8 @@ struct Transition {
   std::vector<ArcRef> waits;
   std::vector<Action> actions;
   std::vector<ArcRef> signals;
-  core::SourceSpan span;  // the `transition NAME` head
+  core::SourceSpan span;    // the `transition NAME` head
+  core::SourceSpan extent;  // from `transition` to its closing '}' (or as far as it was parsed)
 };
 
 struct PlaceDecl {
@@ -72,6 +73,7 @@ struct PlaceDecl {
   std::uint32_t initial = 0;
   bool is_exit = false;
   core::SourceSpan initial_span;  // the `= N`, if written
+  core::SourceSpan statement;     // the whole `place a, b = 1;` it is declared in
 };
 
 struct Net {
@@ -83,6 +85,7 @@ struct Net {
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)
   std::vector<Transition> transitions;
   core::SourceSpan span;  // the `net NAME` / `mission NAME` head
+  std::optional<std::uint32_t> body_end;  // offset of the closing '}', when there is one
 };
 
 struct Import {

@@ -223,19 +223,22 @@ class Parser {
                                  net.kind == ast::Net::Kind::Mission ? "mission" : "net",
                                  net.name.text, describe(tok_)));
     } else {
+      net.body_end = tok_.span.offset;
       advance();
     }
     file_.nets.push_back(std::move(net));
   }
 
   void parse_places(ast::Net& net, bool is_exit) {
+    const Token head = prev_;  // `place` or `exit`
+    const std::size_t first = net.places.size();
     do {
       auto n = name(is_exit ? "an exit place name" : "a place name");
       if (!n) {
         recover(TK::Semicolon);
         return;
       }
-      ast::PlaceDecl decl{*n, 0, is_exit, {}};
+      ast::PlaceDecl decl{*n, 0, is_exit, {}, {}};
       if (match(TK::Equals)) {
         decl.initial = integer(0, std::numeric_limits<std::uint32_t>::max(),
                                DiagnosticKind::BadWeight, "an initial mark", &decl.initial_span);
@@ -246,6 +249,7 @@ class Parser {
     if (!expect(TK::Semicolon, is_exit ? "after the exit places" : "after the places")) {
       recover(TK::Semicolon);
     }
+    for (std::size_t i = first; i < net.places.size(); ++i) net.places[i].statement = join(head.span, prev_.span);
   }
 
   void parse_data(ast::Net& net) {
@@ -271,6 +275,7 @@ class Parser {
     if (match(TK::KwPriority)) t.priority = priority();
     if (!expect(TK::LBrace, "to open the transition body")) {
       recover(TK::RBrace);
+      t.extent = join(head.span, prev_.span);
       net.transitions.push_back(std::move(t));
       return;
     }
@@ -298,6 +303,7 @@ class Parser {
       } else {
         error_here("expected 'wait', 'action', 'signal' or '}' in the transition body");
         if (recover(TK::RBrace, true)) {  // consumed the transition's own '}'
+          t.extent = join(head.span, prev_.span);
           net.transitions.push_back(std::move(t));
           return;
         }
@@ -306,6 +312,7 @@ class Parser {
     if (!expect(TK::RBrace, fmt::format("to close transition '{}'", t.name.text))) {
       recover(TK::RBrace, true);
     }
+    t.extent = join(head.span, prev_.span);
     net.transitions.push_back(std::move(t));
   }
 

@@ -1,12 +1,16 @@
 #include "studio/mission_model.h"
 
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
 #include "coral/analysis.h"
 #include "coral/compiler.h"
+#include "coral/lexer.h"
 #include "core/diagnostic_printer.h"
+
+#include <fmt/format.h>
 
 namespace strata::studio {
 namespace {
@@ -119,6 +123,75 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
   out.model = {{"path", relative}, {"text", source}, {"layout", layout}, {"diagnostics", diagnostics},
                {"nets", out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array()}};
   return out;
+}
+
+namespace {
+
+// One action of set_actions as CORAL text.
+core::Result<std::string> action_text_of(const nlohmann::json& a) {
+  auto names = [&](const char* key) {
+    std::string out;
+    for (const auto& n : a.value(key, nlohmann::json::array())) out += ", " + n.get<std::string>();
+    return out;
+  };
+  const std::string kind = a.value("kind", "");
+  const std::string target = a.value("target", "");
+  if (kind == "PHASE") return fmt::format("PHASE({}{})", target, names("outcomes"));
+  if (kind != "TACTIC") return core::Error{core::ErrorCode::InvalidInput, "an action's kind is TACTIC or PHASE"};
+  const std::string type = a.value("type", "");
+  if (type == "REPORT") return fmt::format("TACTIC(REPORT, {})", coral::escape(a.value("text", "")));
+  if (type != "EXEC" && type != "ASK" && type != "OOD") {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not a TACTIC type", type)};
+  }
+  std::string call = target;
+  const auto args = a.value("args", nlohmann::json::array());
+  if (!args.empty()) {
+    call += "(";
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string arg = args[i].is_string() ? args[i].get<std::string>() : args[i].dump();
+      call += (i ? ", " : "") + arg;
+    }
+    call += ")";
+  }
+  return fmt::format("TACTIC({}, {}{})", type, call, names("outcomes"));
+}
+
+}  // namespace
+
+core::Result<coral::Edit> edit_from_json(const nlohmann::json& j) {
+  using Op = coral::Edit::Op;
+  static const std::map<std::string, Op, std::less<>> ops = {
+      {"add_place", Op::AddPlace},           {"delete_place", Op::DeletePlace},
+      {"rename_place", Op::RenamePlace},     {"set_initial", Op::SetInitial},
+      {"add_transition", Op::AddTransition}, {"delete_transition", Op::DeleteTransition},
+      {"rename_transition", Op::RenameTransition}, {"add_arc", Op::AddArc},
+      {"delete_arc", Op::DeleteArc},         {"set_weight", Op::SetWeight},
+      {"set_actions", Op::SetActions}};
+  if (!j.is_object()) return core::Error{core::ErrorCode::InvalidInput, "op is not an object"};
+  auto it = ops.find(j.value("op", ""));
+  if (it == ops.end()) return core::Error{core::ErrorCode::InvalidInput, fmt::format("unknown op '{}'", j.value("op", ""))};
+  try {
+    coral::Edit e;
+    e.op = it->second;
+    e.net = j.value("net", "");
+    e.name = it->second == Op::SetActions ? j.value("transition", "") : j.value("name", "");
+    e.to = j.value("to", "");
+    e.from = j.value("from", "");
+    const std::int64_t value = j.value(e.op == Op::AddPlace || e.op == Op::SetInitial ? "initial" : "weight",
+                                       std::int64_t{e.op == Op::AddArc ? 1 : 0});
+    if (value < 0 || value > std::int64_t{0xffffffff}) {
+      return core::Error{core::ErrorCode::InvalidInput, "a weight or marking is a whole number from 0 to 4294967295"};
+    }
+    e.value = static_cast<std::uint32_t>(value);
+    for (const auto& a : j.value("actions", nlohmann::json::array())) {
+      auto text = action_text_of(a);
+      if (!text) return text.error();
+      e.actions.push_back(text.value());
+    }
+    return e;
+  } catch (const nlohmann::json::exception& ex) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("op: {}", ex.what())};
+  }
 }
 
 nlohmann::json primitives_json(const tactical::Catalogue& catalogue) {

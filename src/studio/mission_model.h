@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "coral/edit.h"
 #include "coral/program.h"
 #include "studio/sandbox.h"
 #include "tactical/catalogue.h"
@@ -28,6 +29,10 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
 // sandbox, `editable` for nets declared in `relative`.
 nlohmann::json nets_json(const coral::Program& program, const core::SourceManager& sources, const Sandbox& sandbox,
                          const std::string& relative);
+
+// An op of POST /api/edit (docs/studio.md) as a coral::Edit; the actions of
+// set_actions become CORAL text. InvalidInput says what is wrong with it.
+core::Result<coral::Edit> edit_from_json(const nlohmann::json& op);
 
 // The catalogue for GET /api/primitives.
 nlohmann::json primitives_json(const tactical::Catalogue& catalogue);

@@ -133,6 +133,19 @@ void StudioServer::routes() {
     send_json(res, compile_mission(sandbox_, path, body->value("text", ""), catalogue).model);
   });
 
+  s.Post("/api/edit", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
+    auto body = json_body(req, res);
+    if (!body) return;
+    const std::string path = body->value("path", "");
+    auto real = sandbox_.resolve(path, true);
+    if (!real) return send_path_error(res, real.error());
+    auto edit = edit_from_json(body->value("op", json()));
+    if (!edit) return send_error(res, 400, edit.error().message);
+    auto text = coral::apply_edit(body->value("text", ""), edit.value());
+    if (!text) return send_error(res, 400, text.error().message);
+    send_json(res, compile_mission(sandbox_, path, text.value(), catalogue).model);
+  });
+
   s.Post("/api/verify", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
     auto body = json_body(req, res);
     if (!body) return;

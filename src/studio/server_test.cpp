@@ -131,6 +131,39 @@ TEST_F(StudioServerTest, SavesTextAndLayoutInsideTheFolder) {
   EXPECT_EQ(1, json::parse(m->body)["layout"]["fresh"]["a"]["x"]);
 }
 
+TEST_F(StudioServerTest, EditsComeBackAsTheNewTextAndItsModel) {
+  auto c = client();
+  auto mission = c.Get("/api/mission?path=tank/tank.coral");
+  ASSERT_TRUE(mission);
+  const std::string text = json::parse(mission->body)["text"];
+  json body = {{"path", "tank/tank.coral"}, {"text", text},
+               {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "spare"}, {"initial", 0}}}};
+  auto r = c.Post("/api/edit", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(200, r->status) << r->body;
+  json m = json::parse(r->body);
+  EXPECT_NE(std::string::npos, m["text"].get<std::string>().find("place spare;"));
+  // The new place is unused: the checker says so, on its line.
+  bool warned = false;
+  for (const auto& d : m["diagnostics"]) warned = warned || d["kind"] == "UnusedPlace";
+  EXPECT_TRUE(warned) << m["diagnostics"].dump();
+  body = {{"path", "tank/tank.coral"}, {"text", m["text"]},
+          {"op", {{"op", "set_actions"}, {"net", "tank"}, {"transition", "shutdown"},
+                  {"actions", {{{"kind", "TACTIC"}, {"type", "EXEC"}, {"target", "sleep"}, {"args", {"2"}}, {"outcomes", {"spare"}}},
+                               {{"kind", "TACTIC"}, {"type", "REPORT"}, {"text", "say \"bye\""}}}}}}};
+  r = c.Post("/api/edit", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(200, r->status) << r->body;
+  EXPECT_NE(std::string::npos, json::parse(r->body)["text"].get<std::string>().find(
+                                   "action { TACTIC(EXEC, sleep(2), spare),\n             TACTIC(REPORT, \"say \\\"bye\\\"\") }"))
+      << json::parse(r->body)["text"].get<std::string>();
+  body["op"] = {{"op", "add_arc"}, {"net", "tank"}, {"from", "begin"}, {"to", "finished"}};
+  r = c.Post("/api/edit", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(400, r->status);
+  EXPECT_NE(std::string::npos, r->body.find("joins a place and a transition"));
+}
+
 TEST_F(StudioServerTest, BodiesAreBounded) {
   auto c = client();
   std::string big(5u << 20, 'x');
