@@ -1,0 +1,42 @@
+// The studio's JSON API (docs/studio.md). Every call returns parsed JSON or
+// throws an Error whose message is the server's {"error"} text.
+
+async function call(method, url, body, type) {
+  const init = { method, headers: {} };
+  if (body !== undefined) {
+    if (type === 'text') {
+      init.headers['Content-Type'] = 'text/plain; charset=utf-8';
+      init.body = body;
+    } else {
+      init.headers['Content-Type'] = 'application/json';
+      init.body = JSON.stringify(body);
+    }
+  }
+  const res = await fetch(url, init);
+  let data = null;
+  const raw = await res.text();
+  try { data = raw ? JSON.parse(raw) : null; } catch { data = null; }
+  if (!res.ok) {
+    const msg = (data && data.error) || raw || res.statusText;
+    const err = new Error(`${res.status}: ${msg}`);
+    err.status = res.status;
+    throw err;
+  }
+  return data;
+}
+
+const q = (p) => encodeURIComponent(p);
+
+export const api = {
+  files: () => call('GET', '/api/files'),
+  mission: (path) => call('GET', `/api/mission?path=${q(path)}`),
+  check: (path, text) => call('POST', '/api/check', { path, text }),
+  saveFile: (path, text) => call('PUT', `/api/file?path=${q(path)}`, text, 'text'),
+  saveLayout: (path, layout) => call('PUT', `/api/layout?path=${q(path)}`, layout),
+  primitives: () => call('GET', '/api/primitives'),
+  verify: (path, text) => call('POST', '/api/verify', text === undefined ? { path } : { path, text }),
+  run: (path, scenario, speed) => call('POST', '/api/run', { path, scenario, speed }),
+  stop: () => call('POST', '/api/run/stop', {}),
+  replay: (path) => call('GET', `/api/replay?path=${q(path)}`),
+  edit: (path, text, op) => call('POST', '/api/edit', { path, text, op }),
+};

@@ -1,0 +1,175 @@
+// Drawing one net with cytoscape: places as circles with their tokens, exits
+// as double circles, transitions as bars with their actions below, arcs
+// labelled with their weight when it is not 1, the places a TACTIC or PHASE
+// marks later as dashed arrows.
+import cytoscape from 'cytoscape';
+import dagre from 'cytoscape-dagre';
+import edgehandles from 'cytoscape-edgehandles';
+
+cytoscape.use(dagre);
+cytoscape.use(edgehandles);
+
+export const placeId = (name) => `p:${name}`;
+export const transId = (name) => `t:${name}`;
+
+const tokenSvgCache = new Map();
+// The tokens of a place, drawn inside its circle: dots up to 4, else a number.
+function tokenSvg(n) {
+  if (tokenSvgCache.has(n)) return tokenSvgCache.get(n);
+  let body = '';
+  const dot = (x, y) => `<circle cx="${x}" cy="${y}" r="5" fill="#111"/>`;
+  if (n <= 0) body = '';
+  else if (n === 1) body = dot(20, 20);
+  else if (n === 2) body = dot(13, 20) + dot(27, 20);
+  else if (n === 3) body = dot(20, 12) + dot(13, 26) + dot(27, 26);
+  else if (n === 4) body = dot(13, 13) + dot(27, 13) + dot(13, 27) + dot(27, 27);
+  else body = `<text x="20" y="26" font-size="17" font-family="sans-serif" font-weight="bold" text-anchor="middle" fill="#111">${n}</text>`;
+  const svg = `<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40" viewBox="0 0 40 40">${body}</svg>`;
+  const uri = 'data:image/svg+xml;utf8,' + encodeURIComponent(svg);
+  tokenSvgCache.set(n, uri);
+  return uri;
+}
+
+export const style = [
+  { selector: 'node', style: { 'font-size': 11, 'text-wrap': 'wrap', 'text-max-width': 220 } },
+  { selector: 'node.place', style: {
+    shape: 'ellipse', width: 40, height: 40, 'background-color': '#fff', 'border-width': 2, 'border-color': '#333',
+    label: 'data(name)', 'text-valign': 'bottom', 'text-margin-y': 3,
+    'background-image': (ele) => tokenSvg(ele.data('tokens') || 0),
+    'background-fit': 'contain', 'background-clip': 'none',
+  } },
+  { selector: 'node.place.exit', style: { 'border-style': 'double', 'border-width': 6, 'border-color': '#1d5fa8', color: '#1d5fa8' } },
+  { selector: 'node.transition', style: {
+    shape: 'rectangle', width: 46, height: 12, 'background-color': '#333', 'border-width': 0,
+    label: 'data(label)', 'text-valign': 'center', 'text-halign': 'right', 'text-margin-x': 5, 'text-justification': 'left',
+    'text-background-color': '#fff', 'text-background-opacity': 0.8, 'text-background-padding': 1,
+  } },
+  { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a', width: 56, height: 14 } },
+  { selector: 'node.transition.inflight', style: { 'background-color': '#e8a317', 'border-width': 3, 'border-color': '#b57b00' } },
+  { selector: 'node.transition.fired', style: { 'underlay-color': '#2e9d3a', 'underlay-opacity': 0.35, 'underlay-padding': 6 } },
+  { selector: 'node.transition.cex', style: { 'background-color': '#c2185b', 'underlay-color': '#c2185b', 'underlay-opacity': 0.3, 'underlay-padding': 8 } },
+  { selector: 'node.place.marked', style: { 'background-color': '#fff6d5' } },
+  { selector: 'node.diag', style: { 'border-width': 3, 'border-color': '#d00', 'border-style': 'solid', 'underlay-color': '#d00', 'underlay-opacity': 0.25, 'underlay-padding': 5 } },
+  { selector: 'node.diag.warning', style: { 'border-color': '#e08a00', 'underlay-color': '#e08a00' } },
+  { selector: 'node.transition.diag', style: { 'background-color': '#d00' } },
+  { selector: 'node:selected', style: { 'overlay-color': '#1d5fa8', 'overlay-opacity': 0.25, 'overlay-padding': 6 } },
+  { selector: 'edge', style: {
+    width: 1.6, 'line-color': '#555', 'target-arrow-color': '#555', 'target-arrow-shape': 'triangle',
+    'curve-style': 'bezier', 'arrow-scale': 1.1, 'font-size': 12, 'font-weight': 'bold',
+    'text-background-color': '#fff', 'text-background-opacity': 1, 'text-background-padding': 2, color: '#a00',
+  } },
+  { selector: 'edge[label]', style: { label: 'data(label)' } },
+  { selector: 'edge.outcome', style: { 'line-style': 'dashed', 'line-color': '#8a8a8a', 'target-arrow-color': '#8a8a8a', width: 1.2 } },
+  { selector: 'edge:selected', style: { 'line-color': '#1d5fa8', 'target-arrow-color': '#1d5fa8', width: 3 } },
+  { selector: 'edge.noev', style: { events: 'no' } },
+  { selector: '.eh-handle', style: { 'background-color': '#1d5fa8', width: 12, height: 12, shape: 'ellipse', 'overlay-opacity': 0, 'border-width': 8, 'border-opacity': 0 } },
+  { selector: '.eh-hover', style: { 'background-color': '#1d5fa8' } },
+  { selector: '.eh-source', style: { 'border-width': 3, 'border-color': '#1d5fa8' } },
+  { selector: '.eh-target', style: { 'border-width': 3, 'border-color': '#1d5fa8' } },
+  { selector: '.eh-preview, .eh-ghost-edge', style: { 'background-color': '#1d5fa8', 'line-color': '#1d5fa8', 'target-arrow-color': '#1d5fa8', 'source-arrow-color': '#1d5fa8' } },
+  { selector: '.eh-ghost-edge.eh-preview-active', style: { opacity: 0 } },
+];
+
+export function createCy(container) {
+  return cytoscape({
+    container, style, elements: [], wheelSensitivity: 0.3, minZoom: 0.1, maxZoom: 4,
+    boxSelectionEnabled: false, selectionType: 'single',
+  });
+}
+
+// The transition's label: its name, its priority when not 0, then one line per action.
+export function transitionLabel(t) {
+  const head = t.priority ? `${t.name} [${t.priority}]` : t.name;
+  return [head, ...(t.actions || []).map((a) => a.label || `${a.kind === 'PHASE' ? 'PHASE' : a.type} ${a.target}`)].join('\n');
+}
+
+// Cytoscape elements of net (a mission-model net). tokens: place -> n, or null for the initial marking.
+export function netElements(net, tokens) {
+  const els = [];
+  const places = new Map();
+  for (const p of net.places || []) places.set(p.name, p);
+  for (const x of net.exits || []) if (!places.has(x)) places.set(x, { name: x, initial: 0, exit: true, line: null });
+  for (const p of places.values()) {
+    const isExit = p.exit || (net.exits || []).includes(p.name);
+    const n = tokens ? (tokens[p.name] || 0) : (p.initial || 0);
+    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit, line: p.line },
+      classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') });
+  }
+  for (const t of net.transitions || []) {
+    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0, line: t.line },
+      classes: 'transition' });
+    for (const a of t.inputs || []) {
+      els.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),
+        from: a.place, to: t.name, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: 'arc wait' });
+    }
+    for (const a of t.outputs || []) {
+      els.push({ group: 'edges', data: { id: `a:${transId(t.name)}>${placeId(a.place)}`, kind: 'arc', source: transId(t.name), target: placeId(a.place),
+        from: t.name, to: a.place, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: 'arc signal' });
+    }
+    const seen = new Set();
+    (t.actions || []).forEach((act, i) => {
+      for (const o of act.outcomes || []) {
+        const key = `${i}:${o}`;
+        if (seen.has(key) || !places.has(o)) continue;
+        seen.add(key);
+        els.push({ group: 'edges', data: { id: `o:${transId(t.name)}>${placeId(o)}:${i}`, kind: 'outcome', source: transId(t.name), target: placeId(o),
+          from: t.name, to: o, label: '' }, classes: 'outcome' });
+      }
+    });
+  }
+  // Drop edges to nodes that do not exist (a model of a broken text).
+  const ids = new Set(els.filter((e) => e.group === 'nodes').map((e) => e.data.id));
+  return els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
+}
+
+export function dagreLayout(cy, eles, fit = true) {
+  return (eles || cy.elements()).layout({
+    name: 'dagre', rankDir: 'TB', nodeSep: 60, rankSep: 45, edgeSep: 15, animate: false, fit, padding: 30,
+  });
+}
+
+// Diagnostics placed on elements: a diagnostic of file F at line L goes to the
+// element of a net of F whose line is the last one at or before L (a place
+// named in the message is preferred among several on that line).
+function sameFile(a, b) {
+  if (!a || !b) return false;
+  const na = String(a).replace(/\\/g, '/').replace(/^\.\//, '');
+  const nb = String(b).replace(/\\/g, '/').replace(/^\.\//, '');
+  return na === nb || na.endsWith('/' + nb) || nb.endsWith('/' + na);
+}
+
+export function diagnosticsByElement(model, net) {
+  const out = new Map(); // element id -> [diag]
+  if (!model || !net) return out;
+  const candidates = [];
+  for (const p of net.places || []) if (p.line) candidates.push({ id: placeId(p.name), name: p.name, line: p.line });
+  for (const t of net.transitions || []) if (t.line) candidates.push({ id: transId(t.name), name: t.name, line: t.line });
+  candidates.sort((a, b) => a.line - b.line);
+  if (!candidates.length) return out;
+  // The net's own extent: from its first element to the next net of the same file.
+  const first = candidates[0].line;
+  const sameFileNets = (model.nets || []).filter((n) => n !== net && sameFile(n.file, net.file));
+  let end = Infinity;
+  for (const n of sameFileNets) {
+    const lines = [...(n.places || []), ...(n.transitions || [])].map((e) => e.line || 0).filter((l) => l > 0);
+    const nfirst = Math.min(...lines);
+    if (nfirst > first && nfirst < end) end = nfirst - 1;
+  }
+  for (const d of model.diagnostics || []) {
+    if (!sameFile(d.file, net.file) && !(d.file == null && sameFile(model.path, net.file))) continue;
+    if (d.line < first - 1 || d.line > end) continue;
+    let best = null;
+    for (const c of candidates) if (c.line <= d.line) best = c.line;
+    if (best == null) best = first;
+    let hits = candidates.filter((c) => c.line === best);
+    if (hits.length > 1) {
+      const named = hits.filter((c) => (d.message || '').includes(`'${c.name}'`));
+      if (named.length) hits = named;
+    }
+    for (const h of hits) {
+      if (!out.has(h.id)) out.set(h.id, []);
+      out.get(h.id).push(d);
+    }
+  }
+  return out;
+}
