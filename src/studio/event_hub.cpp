@@ -1,6 +1,7 @@
 #include "studio/event_hub.h"
 
 #include <algorithm>
+#include <thread>
 
 namespace strata::studio {
 
@@ -8,22 +9,32 @@ std::string sse_text(const std::string& name, const nlohmann::json& data) {
   return "event: " + name + "\ndata: " + data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n\n";
 }
 
-void EventHub::publish(const std::string& name, const nlohmann::json& data) {
-  std::string text = sse_text(name, data);
+struct EventHub::Event {
+  std::string name;
+  nlohmann::json data;
+  std::once_flag once;
+  std::string text;
+  const std::string& sse() {
+    std::call_once(once, [this] { text = sse_text(name, data); });
+    return text;
+  }
+};
+
+void EventHub::publish(const std::string& name, nlohmann::json data) {
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
     fold(name, data);
-    for (Subscription* s : subs_) {
-      if (s->queue_.size() >= max_queue_) {
-        // Drop the oldest firing: a later one carries a newer marking.
-        auto it = std::find_if(s->queue_.begin(), s->queue_.end(), [](const auto& e) { return e.first == "fired"; });
-        if (it == s->queue_.end()) it = s->queue_.begin();
-        s->queue_.erase(it);
-        ++s->dropped_;
-      }
-      s->queue_.emplace_back(name, text);
+    if (subs_.empty()) return;  // nobody to tell: the snapshot is enough
+    auto event = std::make_shared<Event>();
+    event->name = name;
+    event->data = std::move(data);
+    log_.push_back(std::move(event));
+    if (log_.size() > max_log_) {
+      log_.pop_front();
+      ++first_seq_;
     }
+    if (waiting_ == 0) return;  // every reader is busy or settling: it will look
   }
   wake_.notify_all();
 }
@@ -61,6 +72,10 @@ void EventHub::fold(const std::string& name, const nlohmann::json& d) {
 
 nlohmann::json EventHub::snapshot() const {
   std::lock_guard lock(mutex_);
+  return snapshot_locked();
+}
+
+nlohmann::json EventHub::snapshot_locked() const {
   nlohmann::json instances = nlohmann::json::array(), flights = nlohmann::json::array();
   for (const auto& [k, v] : instances_) instances.push_back(v);
   for (const auto& [k, v] : in_flight_) flights.push_back(v);
@@ -81,9 +96,9 @@ nlohmann::json EventHub::snapshot() const {
 std::shared_ptr<EventHub::Subscription> EventHub::subscribe() {
   auto s = std::make_shared<Subscription>();
   s->hub_ = this;
-  nlohmann::json snap = snapshot();
   std::lock_guard lock(mutex_);
-  s->queue_.emplace_back("snapshot", sse_text("snapshot", snap));
+  s->pending_ = sse_text("snapshot", snapshot_locked());
+  s->next_seq_ = first_seq_ + log_.size();
   subs_.push_back(s.get());
   return s;
 }
@@ -91,6 +106,10 @@ std::shared_ptr<EventHub::Subscription> EventHub::subscribe() {
 void EventHub::unsubscribe(Subscription* s) {
   std::lock_guard lock(mutex_);
   std::erase(subs_, s);
+  if (subs_.empty()) {
+    first_seq_ += log_.size();
+    log_.clear();
+  }
 }
 
 void EventHub::close() {
@@ -111,14 +130,42 @@ std::size_t EventHub::subscribers() const {
   return subs_.size();
 }
 
-std::optional<std::string> EventHub::Subscription::next(std::chrono::milliseconds wait) {
-  std::unique_lock lock(hub_->mutex_);
-  hub_->wake_.wait_for(lock, wait, [&] { return !queue_.empty() || hub_->closed_; });
-  if (queue_.empty() && hub_->closed_) return std::nullopt;
+std::optional<std::string> EventHub::Subscription::next(std::chrono::milliseconds wait,
+                                                       std::chrono::milliseconds settle) {
+  std::vector<std::shared_ptr<Event>> events;
   std::string out;
-  for (auto& [name, text] : queue_) out += text;
-  queue_.clear();
+  {
+    std::unique_lock lock(hub_->mutex_);
+    auto end = [&] { return hub_->first_seq_ + hub_->log_.size(); };
+    ++hub_->waiting_;
+    const bool news =
+        hub_->wake_.wait_for(lock, wait, [&] { return !pending_.empty() || next_seq_ < end() || hub_->closed_; });
+    --hub_->waiting_;
+    if (news && settle.count() > 0 && pending_.empty() && !hub_->closed_) {
+      // Let the burst finish, asleep: publish() wakes only the readers
+      // waiting for a first event, so a burst costs each reader one wake-up.
+      lock.unlock();
+      std::this_thread::sleep_for(settle);
+      lock.lock();
+    }
+    if (pending_.empty() && next_seq_ >= end() && hub_->closed_) return std::nullopt;
+    out = std::move(pending_);
+    pending_.clear();
+    if (next_seq_ < hub_->first_seq_) {
+      // Fell behind what the log keeps: start again from a snapshot.
+      out += sse_text("snapshot", hub_->snapshot_locked());
+      next_seq_ = end();
+    }
+    for (; next_seq_ < end(); ++next_seq_) events.push_back(hub_->log_[next_seq_ - hub_->first_seq_]);
+  }
+  // Serialised here, on the reader's thread, once per event for all readers.
+  for (const auto& e : events) out += e->sse();
   return out;
+}
+
+std::uint64_t EventHub::Subscription::behind() const {
+  std::lock_guard lock(hub_->mutex_);
+  return hub_->first_seq_ + hub_->log_.size() - next_seq_ + (pending_.empty() ? 0 : 1);
 }
 
 EventHub::Subscription::~Subscription() {

@@ -47,18 +47,34 @@ TEST(EventHub, TheSnapshotFollowsTheRun) {
   EXPECT_EQ("completed", s["ended"]["outcome"]);
 }
 
-TEST(EventHub, ASlowReaderLosesOldFiringsNotTheRest) {
+TEST(EventHub, AReaderThatFallsBehindStartsAgainFromASnapshot) {
   EventHub hub(4);
-  auto sub = hub.subscribe();  // the snapshot is queued
-  hub.publish("fired", {{"index", 1}});
-  hub.publish("report", {{"text", "keep"}});
-  hub.publish("fired", {{"index", 2}});
-  hub.publish("fired", {{"index", 3}});  // full: the oldest firing goes
+  auto sub = hub.subscribe();
+  hub.publish("run_start", {{"run", 1}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"a", 1}}}});
+  for (int i = 1; i <= 6; ++i) hub.publish("fired", {{"instance", 0}, {"index", i}, {"marking", {{"a", i}}}});
+  EXPECT_EQ(9u, sub->behind());  // its first snapshot and 8 events
   auto text = sub->next(10ms);
   ASSERT_TRUE(text.has_value());
+  // The first snapshot, then (the log keeps 4) a fresh one with the marking
+  // of the last firing, and nothing older than what the log still had.
+  EXPECT_EQ(0u, text->find("event: snapshot"));
+  const auto second = text->find("event: snapshot", 1);
+  ASSERT_NE(std::string::npos, second) << *text;
+  EXPECT_NE(std::string::npos, text->find("\"marking\":{\"a\":6}", second));
   EXPECT_EQ(std::string::npos, text->find("\"index\":1"));
-  EXPECT_NE(std::string::npos, text->find("keep"));
-  EXPECT_NE(std::string::npos, text->find("\"index\":3"));
+  EXPECT_EQ(0u, sub->behind());
+}
+
+TEST(EventHub, NobodyListeningKeepsOnlyTheSnapshot) {
+  EventHub hub(4);
+  for (int i = 0; i < 100; ++i) hub.publish("report", {{"text", "r"}});
+  EXPECT_EQ(100u, hub.snapshot()["reports"].size());
+  auto sub = hub.subscribe();
+  auto text = sub->next(10ms);
+  ASSERT_TRUE(text.has_value());
+  EXPECT_EQ(0u, text->find("event: snapshot"));
+  EXPECT_EQ(std::string::npos, text->find("event: report"));
 }
 
 TEST(EventHub, NothingNewIsAnEmptyChunkAndClosingEndsTheStream) {
