@@ -93,6 +93,11 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
   RunReport failed;
   failed.exit_code = kExitIo;
   const fs::path mission = fs::absolute(options.mission);
+  std::error_code ec;
+  if (!fs::is_regular_file(mission, ec)) {
+    err << fmt::format("strata run: cannot open '{}'\n", options.mission);
+    return failed;
+  }
   auto catalogue = load_catalogue_option(options.catalogue);
   if (!catalogue) {
     err << "strata run: " << catalogue.error().message << "\n";

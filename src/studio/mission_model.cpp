@@ -50,14 +50,6 @@ nlohmann::json action_json(const coral::CompiledNet& cn, const coral::ActionSpec
           {"text", a.text}, {"outcomes", outcomes}, {"label", coral::action_text(a)}};
 }
 
-std::optional<std::string> read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace
 
 nlohmann::json nets_json(const coral::Program& program, const core::SourceManager& sources, const Sandbox& sandbox,
@@ -101,7 +93,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
   const std::string path = (sandbox.root() / relative).string();
   std::string source = text.value_or("");
   if (!text) {
-    if (auto read = read_text(path)) source = *read;
+    if (auto read = read_whole_file(path)) source = *read;
   }
   OverlayProvider files(path, source);
   core::SourceManager sources;
@@ -116,7 +108,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
     }
   }
   nlohmann::json layout = nullptr;
-  if (auto l = read_text(path + ".layout.json")) {
+  if (auto l = read_whole_file(path + ".layout.json")) {
     layout = nlohmann::json::parse(*l, nullptr, false);
     if (layout.is_discarded()) layout = nullptr;
   }

@@ -1,6 +1,8 @@
 #include "studio/sandbox.h"
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -75,6 +77,14 @@ std::vector<std::string> Sandbox::list(const std::vector<std::string>& extension
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+std::optional<std::string> read_whole_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 }  // namespace strata::studio

@@ -7,6 +7,7 @@
 //
 // Threads: immutable after construction; resolve() is safe from any thread.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -35,5 +36,8 @@ class Sandbox {
   bool inside(const std::filesystem::path& real) const;
   std::filesystem::path root_;  // canonical
 };
+
+// The whole file, or nullopt when it cannot be read.
+std::optional<std::string> read_whole_file(const std::filesystem::path& path);
 
 }  // namespace strata::studio

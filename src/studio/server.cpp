@@ -32,14 +32,6 @@ void send_path_error(httplib::Response& res, const core::Error& e) {
   send_error(res, e.code == core::ErrorCode::Io ? 404 : 403, e.message);
 }
 
-std::optional<std::string> read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 bool write_file(const fs::path& p, const std::string& text) {
   // Write beside, then rename: a reader never sees half a file.
   const fs::path tmp = p.string() + ".strata-tmp";
@@ -188,7 +180,7 @@ void StudioServer::routes() {
     const std::string path = req.get_param_value("path");
     auto real = sandbox_.resolve(path);
     if (!real) return send_path_error(res, real.error());
-    auto text = read_file(real.value());
+    auto text = read_whole_file(real.value());
     if (!text) return send_error(res, 404, fmt::format("cannot read '{}'", path));
     auto replay = replay_from_log(*text);
     if (!replay) return send_error(res, 422, fmt::format("{}: {}", path, replay.error().message));
@@ -248,7 +240,7 @@ void StudioServer::routes() {
       Sandbox web(options_.web_root);
       auto real = web.resolve(path);
       if (!real) return send_error(res, 404, real.error().message);
-      auto text = read_file(real.value());
+      auto text = read_whole_file(real.value());
       if (!text) return send_error(res, 404, "not found");
       return res.set_content(*text, mime_of(path));
     }
