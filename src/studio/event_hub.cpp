@@ -11,24 +11,45 @@ std::string sse_text(const std::string& name, const nlohmann::json& data) {
 
 struct EventHub::Event {
   std::string name;
+  std::function<nlohmann::json()> make;  // unset when data was given
+  std::once_flag built, serialised;
   nlohmann::json data;
-  std::once_flag once;
   std::string text;
+
+  const nlohmann::json& json() {
+    std::call_once(built, [this] {
+      if (make) data = make();
+      make = nullptr;
+    });
+    return data;
+  }
   const std::string& sse() {
-    std::call_once(once, [this] { text = sse_text(name, data); });
+    std::call_once(serialised, [this] { text = sse_text(name, json()); });
     return text;
   }
 };
 
 void EventHub::publish(const std::string& name, nlohmann::json data) {
+  Keys keys{data.value("instance", std::uint64_t{0}), data.value("id", std::uint64_t{0})};
+  auto event = std::make_shared<Event>();
+  event->name = name;
+  event->data = std::move(data);
+  add(std::move(event), keys);
+}
+
+void EventHub::publish_lazy(const std::string& name, Keys keys, std::function<nlohmann::json()> make) {
+  auto event = std::make_shared<Event>();
+  event->name = name;
+  event->make = std::move(make);
+  add(std::move(event), keys);
+}
+
+void EventHub::add(EventPtr event, Keys keys) {
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
-    fold(name, data);
+    fold(event, keys);
     if (subs_.empty()) return;  // nobody to tell: the snapshot is enough
-    auto event = std::make_shared<Event>();
-    event->name = name;
-    event->data = std::move(data);
     log_.push_back(std::move(event));
     if (log_.size() > max_log_) {
       log_.pop_front();
@@ -39,33 +60,34 @@ void EventHub::publish(const std::string& name, nlohmann::json data) {
   wake_.notify_all();
 }
 
-void EventHub::fold(const std::string& name, const nlohmann::json& d) {
-  auto id = [&](const char* key) { return d.value(key, std::uint64_t{0}); };
+void EventHub::fold(const EventPtr& e, Keys keys) {
+  const std::string& name = e->name;
   if (name == "run_start") {
-    run_ = d;
+    run_ = e;
     instances_.clear();
     in_flight_.clear();
-    telemetry_ = nlohmann::json::array();
-    reports_ = nlohmann::json::array();
+    telemetry_.clear();
+    reports_.clear();
     ended_ = nullptr;
   } else if (name == "phase_start") {
-    instances_[id("instance")] = {{"instance", d.value("instance", 0)}, {"net", d.value("net", "")},
-                                  {"parent", d.value("parent", 0)}, {"marking", d.value("marking", nlohmann::json::object())}};
+    instances_[keys.instance] = {e, e, nullptr};
   } else if (name == "fired" || name == "action_finish") {
-    auto it = instances_.find(id("instance"));
-    if (it != instances_.end() && d.contains("marking")) it->second["marking"] = d["marking"];
-    if (name == "fired" && it != instances_.end()) it->second["enabled"] = d.value("enabled", nlohmann::json::array());
-    if (name == "action_finish") in_flight_.erase(id("id"));
+    auto it = instances_.find(keys.instance);
+    if (it != instances_.end()) {
+      it->second.latest = e;
+      if (name == "fired") it->second.fired = e;
+    }
+    if (name == "action_finish") in_flight_.erase(keys.id);
   } else if (name == "action_start") {
-    in_flight_[id("id")] = d;
+    in_flight_[keys.id] = e;
   } else if (name == "phase_end") {
-    instances_.erase(id("instance"));
+    instances_.erase(keys.instance);
   } else if (name == "telemetry") {
-    telemetry_.push_back({d.value("t", 0.0), d.value("depth", 0.0), d.contains("setpoint") ? d["setpoint"] : nlohmann::json(nullptr)});
+    telemetry_.push_back(e);
   } else if (name == "report") {
-    reports_.push_back(d);
+    reports_.push_back(e);
   } else if (name == "run_end") {
-    ended_ = d;
+    ended_ = e;
     in_flight_.clear();
   }
 }
@@ -76,21 +98,34 @@ nlohmann::json EventHub::snapshot() const {
 }
 
 nlohmann::json EventHub::snapshot_locked() const {
-  nlohmann::json instances = nlohmann::json::array(), flights = nlohmann::json::array();
-  for (const auto& [k, v] : instances_) instances.push_back(v);
-  for (const auto& [k, v] : in_flight_) flights.push_back(v);
-  auto field = [&](const char* key, nlohmann::json otherwise) {
-    return run_.is_object() && run_.contains(key) ? run_[key] : otherwise;
+  const nlohmann::json none = nullptr;
+  auto field = [&](const EventPtr& e, const char* key, const nlohmann::json& otherwise) -> nlohmann::json {
+    if (!e) return otherwise;
+    const nlohmann::json& d = e->json();
+    return d.is_object() && d.contains(key) ? d[key] : otherwise;
   };
-  nlohmann::json s = {{"run", field("run", nullptr)},
-                      {"mission", field("mission", nullptr)},
-                      {"nets", field("nets", nlohmann::json::array())},
-                      {"instances", instances},
-                      {"in_flight", flights},
-                      {"telemetry", telemetry_},
-                      {"reports", reports_},
-                      {"ended", ended_}};
-  return s;
+  nlohmann::json instances = nlohmann::json::array(), flights = nlohmann::json::array();
+  for (const auto& [id, inst] : instances_) {
+    instances.push_back({{"instance", id},
+                         {"net", field(inst.start, "net", "")},
+                         {"parent", field(inst.start, "parent", 0)},
+                         {"marking", field(inst.latest, "marking", nlohmann::json::object())},
+                         {"enabled", field(inst.fired, "enabled", nlohmann::json::array())}});
+  }
+  for (const auto& [id, e] : in_flight_) flights.push_back(e->json());
+  nlohmann::json telemetry = nlohmann::json::array(), reports = nlohmann::json::array();
+  for (const auto& e : telemetry_) {
+    telemetry.push_back({field(e, "t", 0.0), field(e, "depth", 0.0), field(e, "setpoint", none)});
+  }
+  for (const auto& e : reports_) reports.push_back(e->json());
+  return {{"run", field(run_, "run", none)},
+          {"mission", field(run_, "mission", none)},
+          {"nets", field(run_, "nets", nlohmann::json::array())},
+          {"instances", instances},
+          {"in_flight", flights},
+          {"telemetry", telemetry},
+          {"reports", reports},
+          {"ended", ended_ ? ended_->json() : none}};
 }
 
 std::shared_ptr<EventHub::Subscription> EventHub::subscribe() {
@@ -137,16 +172,21 @@ std::optional<std::string> EventHub::Subscription::next(std::chrono::millisecond
   {
     std::unique_lock lock(hub_->mutex_);
     auto end = [&] { return hub_->first_seq_ + hub_->log_.size(); };
-    ++hub_->waiting_;
-    const bool news =
-        hub_->wake_.wait_for(lock, wait, [&] { return !pending_.empty() || next_seq_ < end() || hub_->closed_; });
-    --hub_->waiting_;
-    if (news && settle.count() > 0 && pending_.empty() && !hub_->closed_) {
-      // Let the burst finish, asleep: publish() wakes only the readers
-      // waiting for a first event, so a burst costs each reader one wake-up.
-      lock.unlock();
-      std::this_thread::sleep_for(settle);
-      lock.lock();
+    auto news = [&] { return !pending_.empty() || next_seq_ < end() || hub_->closed_; };
+    if (settle.count() == 0) {
+      ++hub_->waiting_;
+      hub_->wake_.wait_for(lock, wait, news);
+      --hub_->waiting_;
+    } else {
+      // Polling, every `settle`: publish() never wakes this reader, so a
+      // burst of events costs the publishing thread no context switches,
+      // and arrives here whole.
+      const auto until = std::chrono::steady_clock::now() + wait;
+      while (!news() && std::chrono::steady_clock::now() < until) {
+        lock.unlock();
+        std::this_thread::sleep_for(settle);
+        lock.lock();
+      }
     }
     if (pending_.empty() && next_seq_ >= end() && hub_->closed_) return std::nullopt;
     out = std::move(pending_);

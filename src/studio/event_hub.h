@@ -18,6 +18,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -41,6 +42,16 @@ class EventHub {
   // append; run_end records the outcome.
   void publish(const std::string& name, nlohmann::json data);
 
+  // The same with the data built only when a reader or the snapshot first
+  // needs it (once, on that thread): the publishing thread pays for a
+  // closure, not for JSON. `instance` and `id` are the data's keys of the
+  // same names, which the snapshot needs without building it.
+  struct Keys {
+    std::uint64_t instance = 0;
+    std::uint64_t id = 0;
+  };
+  void publish_lazy(const std::string& name, Keys keys, std::function<nlohmann::json()> make);
+
   // A new stream: its first event is the snapshot.
   std::shared_ptr<Subscription> subscribe();
   // Wakes every subscriber so its stream can end (server stopping).
@@ -54,9 +65,9 @@ class EventHub {
    public:
     // Waits up to `wait` for events; returns them as SSE text ("event: ...\n
     // data: ...\n\n" each), "" when none came, nullopt when the hub closed.
-    // With `settle`, once the first event is there it waits that much more
-    // before taking what has come: a burst (a lockstep run publishes
-    // hundreds of events in a few ms) is then read in one go, after it.
+    // With `settle`, it looks every `settle` instead of being woken by
+    // publish(): a burst (a lockstep run publishes hundreds of events in a
+    // few ms) costs the run no wake-ups and is read in one go, after it.
     std::optional<std::string> next(std::chrono::milliseconds wait,
                                     std::chrono::milliseconds settle = std::chrono::milliseconds(0));
     // Events published and not yet taken by next().
@@ -72,8 +83,15 @@ class EventHub {
 
  private:
   struct Event;
+  using EventPtr = std::shared_ptr<Event>;
+  struct Instance {
+    EventPtr start;   // phase_start: net, parent
+    EventPtr latest;  // the last event with this instance's marking
+    EventPtr fired;   // the last firing: the enabled transitions
+  };
   nlohmann::json snapshot_locked() const;
-  void fold(const std::string& name, const nlohmann::json& data);
+  void add(EventPtr event, Keys keys);
+  void fold(const EventPtr& event, Keys keys);
   void unsubscribe(Subscription* s);
 
   const std::size_t max_log_;
@@ -84,13 +102,13 @@ class EventHub {
   bool closed_ = false;
   std::deque<std::shared_ptr<Event>> log_;  // only while someone subscribes
   std::uint64_t first_seq_ = 0;             // the sequence number of log_.front()
-  // The snapshot.
-  nlohmann::json run_ = nullptr;  // run_start's data
-  std::map<std::uint64_t, nlohmann::json> instances_;
-  std::map<std::uint64_t, nlohmann::json> in_flight_;
-  nlohmann::json telemetry_ = nlohmann::json::array();
-  nlohmann::json reports_ = nlohmann::json::array();
-  nlohmann::json ended_ = nullptr;
+  // The snapshot, as the events it is made of.
+  EventPtr run_;
+  std::map<std::uint64_t, Instance> instances_;
+  std::map<std::uint64_t, EventPtr> in_flight_;
+  std::vector<EventPtr> telemetry_;
+  std::vector<EventPtr> reports_;
+  EventPtr ended_;
 };
 
 // "event: NAME\ndata: JSON\n\n".

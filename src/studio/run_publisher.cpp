@@ -4,8 +4,18 @@
 
 namespace strata::studio {
 
-nlohmann::json marking_json(const petri::State& state) {
-  nlohmann::json m = nlohmann::json::object();
+using nlohmann::json;
+
+json marking_json(const RunPublisher::Names& names, const petri::Marking& marking) {
+  json m = json::object();
+  for (std::size_t p = 0; p < marking.size() && p < names.places.size(); ++p) {
+    if (marking[p] > 0) m[names.places[p]] = marking[p];
+  }
+  return m;
+}
+
+json marking_json(const petri::State& state) {
+  json m = json::object();
   const petri::Net& net = state.net();
   for (petri::PlaceId p = 0; p < net.place_count(); ++p) {
     if (state.marking()[p] > 0) m[std::string(net.place_name(p))] = state.marking()[p];
@@ -14,42 +24,88 @@ nlohmann::json marking_json(const petri::State& state) {
 }
 
 void RunPublisher::phase_started(const strategic::PhaseStart& e) {
-  nlohmann::json marking = e.state ? marking_json(*e.state) : nlohmann::json::object();
-  markings_[e.instance] = marking;
-  nets_[e.instance] = std::string(e.name);
-  hub_.publish("phase_start", {{"instance", e.instance}, {"parent", e.parent}, {"net", e.name}, {"caller", e.caller},
-                               {"depth", e.depth}, {"marking", marking}, {"t", e.sim_time_s}});
+  auto names = std::make_shared<Names>();
+  Running& r = running_[e.instance];
+  if (e.state) {
+    const petri::Net& net = e.state->net();
+    for (petri::PlaceId p = 0; p < net.place_count(); ++p) names->places.emplace_back(net.place_name(p));
+    for (petri::TransitionId t = 0; t < net.transition_count(); ++t) names->transitions.emplace_back(net.transition_name(t));
+    r.marking = e.state->marking();
+  }
+  r.names = names;
+  hub_.publish_lazy("phase_start", {e.instance, 0},
+                    [names, marking = r.marking, instance = e.instance, parent = e.parent, net = std::string(e.name),
+                     caller = std::string(e.caller), depth = e.depth, t = e.sim_time_s] {
+                      return json{{"instance", instance}, {"parent", parent}, {"net", net}, {"caller", caller},
+                                  {"depth", depth}, {"marking", marking_json(*names, marking)}, {"t", t}};
+                    });
 }
 
 void RunPublisher::phase_ended(const strategic::PhaseEnd& e) {
-  markings_.erase(e.instance);
-  nets_.erase(e.instance);
-  hub_.publish("phase_end", {{"instance", e.instance}, {"net", e.name}, {"exit", e.exit}, {"cancelled", e.cancelled},
-                             {"t", e.sim_time_s}});
+  running_.erase(e.instance);
+  hub_.publish_lazy("phase_end", {e.instance, 0},
+                    [instance = e.instance, net = std::string(e.name), exit = std::string(e.exit),
+                     cancelled = e.cancelled, t = e.sim_time_s] {
+                      return json{{"instance", instance}, {"net", net}, {"exit", exit}, {"cancelled", cancelled}, {"t", t}};
+                    });
 }
 
 void RunPublisher::fired(const strategic::Firing& e) {
-  nlohmann::json marking = e.state ? marking_json(*e.state) : nlohmann::json::object();
-  nlohmann::json enabled = nlohmann::json::array();
+  Running& r = running_[e.instance];
+  std::vector<petri::TransitionId> enabled;
   if (e.state) {
-    for (petri::TransitionId t : e.state->enabled().sorted()) enabled.push_back(e.state->net().transition_name(t));
+    r.marking = e.state->marking();
+    enabled = e.state->enabled().sorted();
   }
-  markings_[e.instance] = marking;
-  hub_.publish("fired", {{"instance", e.instance}, {"net", e.net}, {"transition", e.transition_name},
-                         {"marking", marking}, {"enabled", enabled}, {"index", e.index}, {"t", e.sim_time_s}});
+  hub_.publish_lazy("fired", {e.instance, 0},
+                    [names = r.names, marking = r.marking, enabled = std::move(enabled), instance = e.instance,
+                     net = std::string(e.net), transition = std::string(e.transition_name), index = e.index,
+                     t = e.sim_time_s] {
+                      json on = json::array();
+                      for (auto id : enabled) {
+                        if (names && id < names->transitions.size()) on.push_back(names->transitions[id]);
+                      }
+                      return json{{"instance", instance},
+                                  {"net", net},
+                                  {"transition", transition},
+                                  {"marking", names ? marking_json(*names, marking) : json::object()},
+                                  {"enabled", on},
+                                  {"index", index},
+                                  {"t", t}};
+                    });
 }
 
 void RunPublisher::action_started(const strategic::ActionStart& e) {
-  hub_.publish("action_start", {{"id", e.id}, {"instance", e.instance}, {"transition", e.transition}, {"kind", e.kind},
-                                {"primitive", e.primitive}, {"t", e.sim_time_s}});
+  hub_.publish_lazy("action_start", {e.instance, e.id},
+                    [id = e.id, instance = e.instance, transition = std::string(e.transition),
+                     kind = std::string(e.kind), primitive = std::string(e.primitive), t = e.sim_time_s] {
+                      return json{{"id", id}, {"instance", instance}, {"transition", transition}, {"kind", kind},
+                                  {"primitive", primitive}, {"t", t}};
+                    });
 }
 
 void RunPublisher::action_finished(const strategic::ActionFinish& e) {
-  nlohmann::json& marking = markings_[e.instance];
-  if (!marking.is_object()) marking = nlohmann::json::object();
-  if (!e.marks.empty()) marking[std::string(e.marks)] = marking.value(std::string(e.marks), 0) + 1;
-  hub_.publish("action_finish", {{"id", e.id}, {"instance", e.instance}, {"primitive", e.primitive}, {"value", e.value},
-                                 {"marks", e.marks}, {"marking", marking}, {"t", e.sim_time_s}});
+  Running& r = running_[e.instance];
+  if (!e.marks.empty() && r.names) {
+    for (std::size_t p = 0; p < r.names->places.size() && p < r.marking.size(); ++p) {
+      if (r.names->places[p] == e.marks) {
+        ++r.marking[p];
+        break;
+      }
+    }
+  }
+  hub_.publish_lazy("action_finish", {e.instance, e.id},
+                    [names = r.names, marking = r.marking, id = e.id, instance = e.instance,
+                     primitive = std::string(e.primitive), value = e.value, marks = std::string(e.marks),
+                     t = e.sim_time_s] {
+                      return json{{"id", id},
+                                  {"instance", instance},
+                                  {"primitive", primitive},
+                                  {"value", value},
+                                  {"marks", marks},
+                                  {"marking", names ? marking_json(*names, marking) : json::object()},
+                                  {"t", t}};
+                    });
 }
 
 void RunPublisher::mission_ended(const strategic::MissionResult& r) {
@@ -58,9 +114,13 @@ void RunPublisher::mission_ended(const strategic::MissionResult& r) {
 }
 
 void RunPublisher::telemetry(double t, double depth_m, std::optional<double> setpoint_m) {
-  hub_.publish("telemetry", {{"t", t}, {"depth", depth_m}, {"setpoint", setpoint_m ? nlohmann::json(*setpoint_m) : nlohmann::json(nullptr)}});
+  hub_.publish_lazy("telemetry", {}, [t, depth_m, setpoint_m] {
+    return json{{"t", t}, {"depth", depth_m}, {"setpoint", setpoint_m ? json(*setpoint_m) : json(nullptr)}};
+  });
 }
 
-void RunPublisher::report(double t, const std::string& text) { hub_.publish("report", {{"t", t}, {"text", text}}); }
+void RunPublisher::report(double t, const std::string& text) {
+  hub_.publish_lazy("report", {}, [t, text] { return json{{"t", t}, {"text", text}}; });
+}
 
 }  // namespace strata::studio

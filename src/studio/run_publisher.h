@@ -4,12 +4,20 @@
 // enabled transitions), actions in flight, the end. Telemetry and reports
 // come from the Tactical level, through telemetry() and report().
 //
+// Cost to the run: each event captures what it needs (a marking is a copy of
+// the net's token vector, names are shared per instance) and its JSON is
+// built later, by whoever reads it first (EventHub::publish_lazy).
+//
 // Threads: called on the run's event-loop thread; the hub is thread-safe.
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "petri/net.h"
 #include "strategic/executor.h"
 #include "studio/event_hub.h"
 
@@ -29,15 +37,22 @@ class RunPublisher final : public strategic::Observer {
   void telemetry(double t, double depth_m, std::optional<double> setpoint_m);
   void report(double t, const std::string& text);
 
+  // The names of one net's places and transitions, kept past the run.
+  struct Names {
+    std::vector<std::string> places, transitions;
+  };
+
  private:
+  struct Running {
+    std::shared_ptr<const Names> names;
+    petri::Marking marking;  // as last told
+  };
   EventHub& hub_;
-  // The marking of each running instance, by place name, for action_finish
-  // (which carries only the place a reply marked).
-  std::map<strategic::InstanceId, nlohmann::json> markings_;
-  std::map<strategic::InstanceId, std::string> nets_;
+  std::map<strategic::InstanceId, Running> running_;
 };
 
 // Only the places holding tokens: {"start": 1}.
 nlohmann::json marking_json(const petri::State& state);
+nlohmann::json marking_json(const RunPublisher::Names& names, const petri::Marking& marking);
 
 }  // namespace strata::studio

@@ -212,15 +212,10 @@ void StudioServer::routes() {
     auto sub = hub_.subscribe();
     const auto heartbeat = options_.heartbeat;
     const auto batch = options_.batch;
-    auto last_write = std::make_shared<std::chrono::steady_clock::time_point>();
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
-    res.set_chunked_content_provider("text/event-stream", [sub, heartbeat, batch, last_write](std::size_t,
-                                                                                             httplib::DataSink& sink) {
-      const auto due = *last_write + batch;
-      if (std::chrono::steady_clock::now() < due) std::this_thread::sleep_until(due);
+    res.set_chunked_content_provider("text/event-stream", [sub, heartbeat, batch](std::size_t, httplib::DataSink& sink) {
       std::optional<std::string> chunk = sub->next(heartbeat, batch);
-      *last_write = std::chrono::steady_clock::now();
       if (!chunk) {
         sink.done();  // the server is stopping
         return true;

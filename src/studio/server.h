@@ -43,9 +43,9 @@ struct StudioOptions {
   std::size_t max_body_bytes = 4u << 20;
   int threads = 48;
   std::chrono::milliseconds heartbeat{1000};
-  // An event stream writes at most this often, all that came meanwhile in
-  // one write: 25 writes a second is plenty for a page, and 20 pages cost
-  // a run little.
+  // An event stream looks for news this often and writes all that came in
+  // one go: 25 writes a second is plenty for a page, and 20 pages cost a
+  // run little.
   std::chrono::milliseconds batch{40};
   // POST /api/run: start the run (on another thread) or say why not
   // (InvalidInput: 400; Overflow: 409, a run is going).
