@@ -181,8 +181,24 @@ std::optional<std::string> EventHub::Subscription::next(std::chrono::millisecond
       // Polling, every `settle`: publish() never wakes this reader, so a
       // burst of events costs the publishing thread no context switches,
       // and arrives here whole.
-      const auto until = std::chrono::steady_clock::now() + wait;
-      while (!news() && std::chrono::steady_clock::now() < until) {
+      // Once news is there it waits for a quiet look (nothing new since the
+      // last one), or at most 5 looks: a lockstep run is read after it ends,
+      // a run on the wall clock at least 5 times a second.
+      const auto start = std::chrono::steady_clock::now();
+      std::optional<std::chrono::steady_clock::time_point> first_news;
+      std::uint64_t seen_end = end();
+      while (!hub_->closed_ && pending_.empty()) {
+        const auto now = std::chrono::steady_clock::now();
+        if (next_seq_ < end()) {
+          if (!first_news) {
+            first_news = now;
+          } else if (end() == seen_end || now - *first_news >= 5 * settle) {
+            break;
+          }
+        } else if (now - start >= wait) {
+          break;
+        }
+        seen_end = end();
         lock.unlock();
         std::this_thread::sleep_for(settle);
         lock.lock();

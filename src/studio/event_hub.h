@@ -66,8 +66,10 @@ class EventHub {
     // Waits up to `wait` for events; returns them as SSE text ("event: ...\n
     // data: ...\n\n" each), "" when none came, nullopt when the hub closed.
     // With `settle`, it looks every `settle` instead of being woken by
-    // publish(): a burst (a lockstep run publishes hundreds of events in a
-    // few ms) costs the run no wake-ups and is read in one go, after it.
+    // publish(), and once there is news it waits for a look with nothing
+    // new (or 5 looks at most): a burst (a lockstep run publishes hundreds
+    // of events in a few ms) costs the run no wake-ups and is read in one
+    // go, after it.
     std::optional<std::string> next(std::chrono::milliseconds wait,
                                     std::chrono::milliseconds settle = std::chrono::milliseconds(0));
     // Events published and not yet taken by next().
