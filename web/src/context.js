@@ -42,7 +42,6 @@ export const state = {
   pendingPos: null, // where the next new node goes (a click on the canvas)
 };
 
-
 export const cy = createCy($('#cy'));
 export function canConnect(s, t) {
   if (!editable()) return false;
@@ -53,7 +52,7 @@ export function canConnect(s, t) {
   return cy.edges(`.arc[source = "${s.id()}"][target = "${t.id()}"]`).empty();
 }
 
-// Snapping finds the target while dragging; ehcomplete below keeps the arc
+// Snapping finds the target while dragging; ehcomplete (editor.js) keeps the arc
 // only when the pointer was released on that node, never on a neighbour
 // that happens to be a valid target.
 export const eh = cy.edgehandles({
@@ -62,7 +61,6 @@ export const eh = cy.edgehandles({
   hoverDelay: 50, snap: true, snapThreshold: 30, snapFrequency: 15, noEdgeEventsInDraw: true, disableBrowserGestures: true,
 });
 export const chart = new DepthChart($('#chart'));
-// The canvas follows its box (panels open and close around it).
 
 // ---------------------------------------------------------------- helpers
 export function msg(text, isError = false) {

@@ -8,6 +8,7 @@ import { loadFiles, openFile, showNet } from './view.js';
 import { setMode, applyOp, save } from './editor.js';
 import { setView, renderRunPanels, connect } from './live.js';
 
+// The canvas follows its box (panels open and close around it).
 new ResizeObserver(() => cy.resize()).observe($('#cy'));
 
 window.__cy = cy;
