@@ -1,22 +1,35 @@
 // The studio's cost to a run (issue 7): the nominal tank mission through
-// strata::cli::run_mission in lockstep, with the studio's RunPublisher
-// telling an EventHub, and 0 or 20 pages (HTTP clients on loopback) reading
-// the event stream of a running `StudioServer`.
+// strata::cli::run_mission in lockstep, with and without the studio.
 //
-//   studio/lockstep/viewers:0    no studio at all (the baseline)
-//   studio/lockstep/viewers:-1   the publisher and the hub, nobody reading
-//   studio/lockstep/viewers:20   20 event streams open and read
+// A single run is about 4 ms on the 2-core VM and run-to-run noise is about
+// ±15%, more than the effect we are after, so the setups are measured in
+// pairs, interleaved: each iteration runs the mission once with no studio
+// (the baseline) and once with the studio's RunPublisher telling an
+// EventHub that N pages (HTTP clients on loopback) are reading through a
+// running `StudioServer`. The two runs of a pair see the same machine
+// state, so drift cancels; the order within a pair alternates.
 //
-// Counter ms_per_run: wall time of one whole run. Between two runs the
-// timer stops for 150 ms so the streams deliver what the run published (a
-// run is a few ms; its pages read it in the next tens of ms): each run is
-// measured as a run with 20 pages watching, not as the tail of the last
-// one's delivery. Target: 20 viewers slow a lockstep run by less than 10%
-// against the baseline.
+//   studio/paired/viewers:0    publisher and hub, nobody reading
+//   studio/paired/viewers:20   a server and 20 event streams open and read
+//
+// For the studio run of a pair the server starts and the pages connect
+// (timer paused), and they close after it, so the baseline run has no
+// server, no reader threads and no publisher.
+//
+// Counters (medians over the iterations, wall time of one whole run):
+//   base_ms     run without the studio
+//   studio_ms   run with the studio
+//   overhead_%  median of the per-pair ratio studio/base, minus 1
+// Between two runs the timer stops for 100 ms so the streams deliver what
+// the run published (pages read it in the next tens of ms): each run is
+// measured as a run with pages watching, not as the tail of the last
+// one's delivery. Target: 20 viewers slow a lockstep run by less than 10%.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -31,66 +44,124 @@ namespace {
 
 const std::string kMission = std::string(STRATA_SOURCE_DIR) + "/missions/tank/tank.coral";
 
-void bm_run(benchmark::State& st) {
-  const int viewers = static_cast<int>(st.range(0));
-  studio::EventHub hub;
-  studio::RunPublisher publisher(hub);
-  std::unique_ptr<studio::StudioServer> server;
-  std::atomic<bool> stop{false};
-  std::atomic<std::uint64_t> bytes{0};
-  std::vector<std::thread> readers;
-  if (viewers > 0) {
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+// One lockstep run; returns its wall time in ms, or a negative value on failure.
+double timed_run(studio::RunPublisher* publisher, std::string& error) {
+  RunOptions o;
+  o.mission = kMission;
+  if (publisher) {
+    o.observers.push_back(publisher);
+    o.on_telemetry = [publisher](const protocol::Telemetry& t) { publisher->telemetry(t.sim_time_s, t.depth_m.value_or(0), t.setpoint_m); };
+    o.on_report = [publisher](const std::string& text, double t) { publisher->report(t, text); };
+  }
+  std::ostringstream out, err;
+  auto start = std::chrono::steady_clock::now();
+  RunReport r = run_mission(o, out, err);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (r.exit_code != 0) {
+    error = err.str();
+    return -1;
+  }
+  return ms;
+}
+
+// N pages reading the event stream of a running StudioServer: opened
+// before a studio run and closed after it, so the baseline run beside it
+// has no server, no reader threads and no publisher at all.
+class Viewers {
+ public:
+  Viewers(studio::EventHub& hub, int n) : hub_(hub) {
+    if (n <= 0) return;
     studio::StudioOptions so;
     so.root = std::string(STRATA_SOURCE_DIR) + "/missions";
-    server = std::make_unique<studio::StudioServer>(so, hub);
-    auto port = server->start();
+    server_ = std::make_unique<studio::StudioServer>(so, hub);
+    auto port = server_->start();
     if (!port) {
-      st.SkipWithError(port.error().message.c_str());
+      error = port.error().message;
       return;
     }
-    for (int i = 0; i < viewers; ++i) {
-      readers.emplace_back([&, p = port.value()] {
+    for (int i = 0; i < n; ++i) {
+      readers_.emplace_back([this, p = port.value()] {
         httplib::Client c("127.0.0.1", p);
-        c.Get("/api/events", [&](const char*, std::size_t n) {
-          bytes += n;
-          return !stop.load();
+        c.Get("/api/events", [this](const char*, std::size_t k) {
+          bytes += k;
+          return !stop_.load();
         });
       });
     }
-    while (hub.subscribers() < static_cast<std::size_t>(viewers)) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  double total_ms = 0;
-  std::uint64_t runs = 0;
-  for (auto _ : st) {
-    RunOptions o;
-    o.mission = kMission;
-    if (viewers != 0) {
-      o.observers.push_back(&publisher);
-      o.on_telemetry = [&](const protocol::Telemetry& t) { publisher.telemetry(t.sim_time_s, t.depth_m.value_or(0), t.setpoint_m); };
-      o.on_report = [&](const std::string& text, double t) { publisher.report(t, text); };
+    for (int k = 0; k < 400 && hub.subscribers() < static_cast<std::size_t>(n); ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    std::ostringstream out, err;
-    auto start = std::chrono::steady_clock::now();
-    RunReport r = run_mission(o, out, err);
-    total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    ++runs;
-    if (r.exit_code != 0) {
-      st.SkipWithError(err.str().c_str());
+    if (hub.subscribers() < static_cast<std::size_t>(n)) error = "the viewers did not connect within 2 s";
+  }
+  ~Viewers() {
+    stop_ = true;
+    hub_.publish("report", {{"text", "wake the readers"}});
+    if (server_) server_->stop();
+    for (auto& t : readers_) t.join();
+  }
+  std::string error;
+  static inline std::atomic<std::uint64_t> bytes{0};
+
+ private:
+  studio::EventHub& hub_;
+  std::unique_ptr<studio::StudioServer> server_;
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> readers_;
+};
+
+void bm_paired(benchmark::State& st) {
+  const int viewers = static_cast<int>(st.range(0));
+  Viewers::bytes = 0;
+  std::vector<double> base, with, ratio;
+  bool studio_first = false;
+  std::string error;
+  for (auto _ : st) {
+    double b = 0, s = 0;
+    for (int k = 0; k < 2 && error.empty(); ++k) {
+      const bool use_studio = (k == 0) == studio_first;
+      if (!use_studio) {
+        b = timed_run(nullptr, error);
+      } else {
+        st.PauseTiming();
+        studio::EventHub hub;
+        studio::RunPublisher publisher(hub);
+        std::optional<Viewers> pages(std::in_place, hub, viewers);
+        error = pages->error;
+        st.ResumeTiming();
+        if (error.empty()) s = timed_run(&publisher, error);
+        st.PauseTiming();
+        // Let the pages read what the run published before they close.
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        pages.reset();
+        st.ResumeTiming();
+      }
+      st.PauseTiming();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      st.ResumeTiming();
+    }
+    if (!error.empty()) {
+      st.SkipWithError(error.c_str());
       break;
     }
-    st.PauseTiming();
-    std::this_thread::sleep_for(std::chrono::milliseconds(150));
-    st.ResumeTiming();
+    studio_first = !studio_first;
+    base.push_back(b);
+    with.push_back(s);
+    ratio.push_back(s / b);
   }
-  st.counters["ms_per_run"] = runs ? total_ms / static_cast<double>(runs) : 0;
-  st.counters["stream_MB"] = static_cast<double>(bytes.load()) / 1e6;
-  stop = true;
-  hub.publish("report", {{"text", "wake the readers"}});
-  if (server) server->stop();
-  for (auto& t : readers) t.join();
+  st.counters["base_ms"] = median(base);
+  st.counters["studio_ms"] = median(with);
+  st.counters["overhead_%"] = (median(ratio) - 1) * 100;
+  st.counters["stream_MB"] = static_cast<double>(Viewers::bytes.load()) / 1e6;
 }
 
-BENCHMARK(bm_run)->Name("studio/lockstep")->ArgName("viewers")->Arg(0)->Arg(-1)->Arg(20)->Unit(benchmark::kMillisecond)->Iterations(40);
+BENCHMARK(bm_paired)->Name("studio/paired")->ArgName("viewers")->Arg(0)->Arg(20)->Unit(benchmark::kMillisecond)->Iterations(60);
 
 }  // namespace
 }  // namespace strata::cli

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <thread>
+#include <utility>
 
 namespace strata::studio {
 
@@ -52,6 +53,7 @@ void EventHub::add(EventPtr event, Keys keys) {
     if (subs_.empty()) return;  // nobody to tell: the snapshot is enough
     log_.push_back(std::move(event));
     if (log_.size() > max_log_) {
+      let_go(std::move(log_.front()));
       log_.pop_front();
       ++first_seq_;
     }
@@ -60,34 +62,62 @@ void EventHub::add(EventPtr event, Keys keys) {
   wake_.notify_all();
 }
 
+void EventHub::let_go(EventPtr e) {
+  if (subs_.empty() || !e) return;  // nothing was built for a reader: free it here
+  if (unused_.size() >= max_log_) unused_.clear();
+  unused_.push_back(std::move(e));
+}
+
 void EventHub::fold(const EventPtr& e, Keys keys) {
   const std::string& name = e->name;
   if (name == "run_start") {
-    run_ = e;
+    let_go(std::exchange(run_, e));
+    for (auto& [id, inst] : instances_) {
+      let_go(std::move(inst.start));
+      let_go(std::move(inst.latest));
+      let_go(std::move(inst.fired));
+    }
     instances_.clear();
+    for (auto& [id, f] : in_flight_) let_go(std::move(f));
     in_flight_.clear();
+    for (auto& t : telemetry_) let_go(std::move(t));
     telemetry_.clear();
+    for (auto& r : reports_) let_go(std::move(r));
     reports_.clear();
-    ended_ = nullptr;
+    let_go(std::exchange(ended_, nullptr));
   } else if (name == "phase_start") {
-    instances_[keys.instance] = {e, e, nullptr};
+    Instance& inst = instances_[keys.instance];
+    let_go(std::exchange(inst.start, e));
+    let_go(std::exchange(inst.latest, e));
+    let_go(std::exchange(inst.fired, nullptr));
   } else if (name == "fired" || name == "action_finish") {
     auto it = instances_.find(keys.instance);
     if (it != instances_.end()) {
-      it->second.latest = e;
-      if (name == "fired") it->second.fired = e;
+      let_go(std::exchange(it->second.latest, e));
+      if (name == "fired") let_go(std::exchange(it->second.fired, e));
     }
-    if (name == "action_finish") in_flight_.erase(keys.id);
+    if (name == "action_finish") {
+      if (auto f = in_flight_.find(keys.id); f != in_flight_.end()) {
+        let_go(std::move(f->second));
+        in_flight_.erase(f);
+      }
+    }
   } else if (name == "action_start") {
-    in_flight_[keys.id] = e;
+    let_go(std::exchange(in_flight_[keys.id], e));
   } else if (name == "phase_end") {
-    instances_.erase(keys.instance);
+    if (auto it = instances_.find(keys.instance); it != instances_.end()) {
+      let_go(std::move(it->second.start));
+      let_go(std::move(it->second.latest));
+      let_go(std::move(it->second.fired));
+      instances_.erase(it);
+    }
   } else if (name == "telemetry") {
     telemetry_.push_back(e);
   } else if (name == "report") {
     reports_.push_back(e);
   } else if (name == "run_end") {
-    ended_ = e;
+    let_go(std::exchange(ended_, e));
+    for (auto& [id, f] : in_flight_) let_go(std::move(f));
     in_flight_.clear();
   }
 }
@@ -144,6 +174,7 @@ void EventHub::unsubscribe(Subscription* s) {
   if (subs_.empty()) {
     first_seq_ += log_.size();
     log_.clear();
+    unused_.clear();
   }
 }
 
@@ -165,9 +196,14 @@ std::size_t EventHub::subscribers() const {
   return subs_.size();
 }
 
+std::size_t EventHub::kept() const {
+  std::lock_guard lock(mutex_);
+  return log_.size() + unused_.size();
+}
+
 std::optional<std::string> EventHub::Subscription::next(std::chrono::milliseconds wait,
                                                        std::chrono::milliseconds settle) {
-  std::vector<std::shared_ptr<Event>> events;
+  std::vector<std::shared_ptr<Event>> events, done;
   std::string out;
   {
     std::unique_lock lock(hub_->mutex_);
@@ -213,6 +249,16 @@ std::optional<std::string> EventHub::Subscription::next(std::chrono::millisecond
       next_seq_ = end();
     }
     for (; next_seq_ < end(); ++next_seq_) events.push_back(hub_->log_[next_seq_ - hub_->first_seq_]);
+    // What every reader has taken leaves the log here, and is freed on this
+    // thread with what the publisher let go of, outside the lock.
+    std::uint64_t taken = end();
+    for (const Subscription* s : hub_->subs_) taken = std::min(taken, s->next_seq_);
+    for (; hub_->first_seq_ < taken; ++hub_->first_seq_) {
+      done.push_back(std::move(hub_->log_.front()));
+      hub_->log_.pop_front();
+    }
+    done.insert(done.end(), std::make_move_iterator(hub_->unused_.begin()), std::make_move_iterator(hub_->unused_.end()));
+    hub_->unused_.clear();
   }
   // Serialised here, on the reader's thread, once per event for all readers.
   for (const auto& e : events) out += e->sse();

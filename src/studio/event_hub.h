@@ -60,6 +60,9 @@ class EventHub {
 
   nlohmann::json snapshot() const;
   std::size_t subscribers() const;
+  // Events kept for readers: those some subscriber has not taken yet, and
+  // those the publisher let go of that no reader has freed yet.
+  std::size_t kept() const;
 
   class Subscription {
    public:
@@ -104,6 +107,11 @@ class EventHub {
   bool closed_ = false;
   std::deque<std::shared_ptr<Event>> log_;  // only while someone subscribes
   std::uint64_t first_seq_ = 0;             // the sequence number of log_.front()
+  // Events the publisher let go of while someone subscribes: readers free
+  // them (with the JSON and text they built), so the publishing thread
+  // does not. Bounded by max_log_; past that the publisher frees them.
+  std::vector<EventPtr> unused_;
+  void let_go(EventPtr e);
   // The snapshot, as the events it is made of.
   EventPtr run_;
   std::map<std::uint64_t, Instance> instances_;

@@ -47,6 +47,37 @@ TEST(EventHub, TheSnapshotFollowsTheRun) {
   EXPECT_EQ("completed", s["ended"]["outcome"]);
 }
 
+TEST(EventHub, WhatEveryReaderHasTakenIsFreedByTheReaders) {
+  EventHub hub;
+  auto a = hub.subscribe();
+  auto b = hub.subscribe();
+  hub.publish("run_start", {{"run", 1}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"a", 1}}}});
+  for (int i = 1; i <= 5; ++i) hub.publish("fired", {{"instance", 0}, {"index", i}, {"marking", {{"a", i}}}});
+  // 7 in the log, and the references the snapshot let go of as it moved on.
+  EXPECT_GT(hub.kept(), 7u);
+  ASSERT_TRUE(a->next(10ms).has_value());
+  EXPECT_EQ(7u, hub.kept());  // b has not read the log yet
+  auto text = b->next(10ms);
+  ASSERT_TRUE(text.has_value());
+  EXPECT_NE(std::string::npos, text->find("\"index\":5")) << *text;
+  EXPECT_EQ(0u, hub.kept());
+  // The snapshot still has the latest marking.
+  EXPECT_EQ(5, hub.snapshot()["instances"][0]["marking"]["a"]);
+}
+
+TEST(EventHub, WithNobodyReadingNothingIsKept) {
+  EventHub hub;
+  hub.publish("run_start", {{"run", 1}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"a", 1}}}});
+  for (int i = 1; i <= 5; ++i) hub.publish("fired", {{"instance", 0}, {"index", i}});
+  EXPECT_EQ(0u, hub.kept());
+  auto a = hub.subscribe();
+  a.reset();
+  hub.publish("fired", {{"instance", 0}, {"index", 6}});
+  EXPECT_EQ(0u, hub.kept());
+}
+
 TEST(EventHub, AReaderThatFallsBehindStartsAgainFromASnapshot) {
   EventHub hub(4);
   auto sub = hub.subscribe();
