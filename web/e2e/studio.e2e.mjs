@@ -126,6 +126,9 @@ async function main() {
   dir = fs.mkdtempSync(path.join(os.tmpdir(), 'strata-e2e-'));
   fs.cpSync(path.join(repo, 'missions'), path.join(dir, 'missions'), { recursive: true });
   const TANK = 'missions/tank/tank.coral';
+  // A phase that fails verification, for the counterexample player.
+  const STUCK = 'stuck_phase.coral';
+  fs.copyFileSync(path.join(repo, 'tests', 'verify', 'stuck_phase.coral'), path.join(dir, STUCK));
   const tankFile = path.join(dir, TANK);
 
   // A finished run's log, for replay (lockstep, a fraction of a second).
@@ -302,11 +305,43 @@ async function main() {
       await waitFor(page, 's.markings.tank && s.markings.tank.closed === 1', 5000, 'closed at the end of the replay');
       await page.locator('#replay-slider').fill('3');
       await waitFor(page, '!(s.markings.tank && s.markings.tank.closed)', 5000, 'closed empty early in the replay');
+      // Previous and next step from firing to firing.
+      await page.locator('#replay-slider').fill('0');
+      await page.locator('#replay-next').click();
+      const first = await studio(page, 's.replay.pos');
+      assert(first > 0 && (await studio(page, `s.replayKinds[${first - 1}]`)) === 'fired', `next stopped at ${first}, not after a firing`);
+      await page.locator('#replay-next').click();
+      const second = await studio(page, 's.replay.pos');
+      assert(second > first && (await studio(page, `s.replayKinds[${second - 1}]`)) === 'fired', `second next at ${second}`);
+      await page.locator('#replay-prev').click();
+      assert((await studio(page, 's.replay.pos')) === first, 'previous did not come back to the first firing');
       await page.locator('#replay-slider').fill(String(n));
       await page.screenshot({ path: path.join(OUT, 'studio-replay.png') });
-      return `${n} events`;
+      return `${n} events, firings at ${first} and ${second}`;
     });
   }
+
+  await check('a counterexample plays on its net', async () => {
+    await page.locator('#btn-refresh').click();
+    await page.locator(`#file-list li[data-path="${STUCK}"]`).click({ timeout: 8000 });
+    await waitFor(page, `s.path === '${STUCK}' && cy.getElementById('p:not_reached').nonempty()`, 10000, 'stuck_phase open');
+    await page.locator('#btn-verify').click();
+    await waitFor(page, 's.verify && s.verify.nets && s.verify.nets.some((n) => n.name === "stuck_phase")', 20000, 'verification of stuck_phase');
+    const play = page.locator('#verify-body li.prop[data-key="no_deadlock"] button.play-cex');
+    await play.click();
+    await waitFor(page, "s.view === 'cex' && s.cex && s.cex.i === 0", 5000, 'the player at its start');
+    const steps = await studio(page, 's.cex.length');
+    assert(steps === 6, `${steps} steps, the verifier's shortest sequence has 6`);
+    await waitFor(page, "cy.getElementById('p:start').data('tokens') === 1", 5000, 'start marked at step 0');
+    for (let i = 0; i < steps; i++) await page.locator('#cex-next').click();
+    await waitFor(page, "s.cex.i === 6 && cy.getElementById('p:not_reached').data('tokens') === 1 && !cy.getElementById('p:start').data('tokens')", 5000, 'not_reached marked at the end');
+    await page.locator('#cex-prev').click();
+    await waitFor(page, "s.cex.i === 5 && !cy.getElementById('p:not_reached').data('tokens')", 5000, 'one step back');
+    const text = await page.locator('#cex-text').textContent();
+    assert(/check_depth/.test(text), `step 5 reads "${text}"`);
+    await page.locator('#cex-close').click();
+    return `${steps} steps; step 5: ${text}`;
+  });
 
   await check('no uncaught error in the page', async () => {
     assert(pageErrors.length === 0, pageErrors.join('; '));

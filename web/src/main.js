@@ -33,6 +33,7 @@ window.__studio = {
   get view() { return state.view; },
   get mode() { return state.mode; },
   get replay() { return state.replay && { path: state.replay.path, pos: state.replay.pos, length: state.replay.events.length }; },
+  get replayKinds() { return state.replay && state.replay.events.map((e) => e[0]); },
   get verify() { return state.verify; },
   get cex() { return state.cex && { net: state.cex.net, i: state.cex.i, length: state.cex.steps.length }; },
   get primitives() { return state.primitives; },
