@@ -68,6 +68,29 @@ std::optional<json> json_body(const httplib::Request& req, httplib::Response& re
 
 }  // namespace
 
+json sonar_status(const std::filesystem::path& dir) {
+  json out = {{"dir", !dir.empty()}, {"latest", nullptr}, {"frame", nullptr}};
+  if (dir.empty()) return out;
+  std::error_code ec;
+  const fs::path png = dir / "latest.png";
+  const auto size = fs::file_size(png, ec);
+  if (!ec) {
+    const auto mtime = fs::last_write_time(png, ec);
+    const auto ms = ec ? 0 : std::chrono::duration_cast<std::chrono::milliseconds>(mtime.time_since_epoch()).count();
+    out["latest"] = {{"bytes", size}, {"mtime_ms", ms}};
+  }
+  // The last whole line of sonar.jsonl: the newest frame's summary.
+  if (auto text = read_whole_file(dir / "sonar.jsonl")) {
+    std::string_view t = *text;
+    while (!t.empty() && t.back() != '\n') t.remove_suffix(1);  // a line being written
+    if (!t.empty()) t.remove_suffix(1);
+    const auto at = t.rfind('\n');
+    json line = json::parse(at == std::string_view::npos ? t : t.substr(at + 1), nullptr, false);
+    if (!line.is_discarded()) out["frame"] = std::move(line);
+  }
+  return out;
+}
+
 StudioServer::StudioServer(StudioOptions options, EventHub& hub)
     : options_(std::move(options)), hub_(hub), sandbox_(options_.root), server_(std::make_unique<httplib::Server>()) {
   if (!options_.catalogue) options_.catalogue = &tactical::Catalogue::builtin();
@@ -224,6 +247,17 @@ void StudioServer::routes() {
       const std::string text = chunk->empty() ? std::string(": ping\n\n") : *chunk;
       return sink.write(text.data(), text.size());
     });
+  });
+
+  // The newest sonar scan, when a run's Sonar Manager writes one.
+  s.Get("/api/sonar", [this](const httplib::Request&, httplib::Response& res) {
+    send_json(res, sonar_status(options_.sonar_dir));
+  });
+  s.Get("/api/sonar/latest.png", [this](const httplib::Request&, httplib::Response& res) {
+    auto bytes = options_.sonar_dir.empty() ? std::nullopt : read_whole_file(options_.sonar_dir / "latest.png");
+    if (!bytes) return send_error(res, 404, "no sonar scan yet");
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(*bytes, "image/png");
   });
 
   // The page: from --web-root, or compiled in.

@@ -52,7 +52,15 @@ struct StudioOptions {
   std::function<core::Result<void>(const RunRequest&)> start_run;
   // POST /api/run/stop.
   std::function<void()> stop_run;
+  // Where the Sonar Manager of a run writes its scans (latest.png and
+  // sonar.jsonl): GET /api/sonar says what is there, and
+  // GET /api/sonar/latest.png serves the newest scan. "": no sonar.
+  std::filesystem::path sonar_dir;
 };
+
+// What GET /api/sonar answers: {"dir": bool, "latest": {"bytes", "mtime_ms"}
+// or null, "frame": the last line of sonar.jsonl or null}.
+nlohmann::json sonar_status(const std::filesystem::path& dir);
 
 class StudioServer {
  public:

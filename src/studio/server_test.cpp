@@ -30,6 +30,7 @@ class StudioServerTest : public ::testing::Test {
     std::ofstream(base_ / "secret.coral") << "net secret {}";
     StudioOptions o;
     o.root = base_ / "root";
+    o.sonar_dir = base_ / "sonar";
     o.heartbeat = 100ms;
     o.start_run = [this](const RunRequest& r) -> core::Result<void> {
       runs_.push_back(r);
@@ -57,6 +58,36 @@ class StudioServerTest : public ::testing::Test {
   std::uint16_t port_ = 0;
   std::vector<RunRequest> runs_;
 };
+
+TEST_F(StudioServerTest, ServesTheNewestSonarScanOnceThereIsOne) {
+  auto c = client();
+  auto none = c.Get("/api/sonar");
+  ASSERT_TRUE(none);
+  json j = json::parse(none->body);
+  EXPECT_TRUE(j["dir"].get<bool>());
+  EXPECT_TRUE(j["latest"].is_null());
+  EXPECT_EQ(404, c.Get("/api/sonar/latest.png")->status);
+
+  fs::create_directories(base_ / "sonar");
+  const std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + "not really an image";
+  std::ofstream(base_ / "sonar/latest.png", std::ios::binary) << png;
+  // Two whole frame lines and one being written: the last whole one counts.
+  std::ofstream(base_ / "sonar/sonar.jsonl") << "{\"frame\":1}\n{\"frame\":2,\"target\":null}\n{\"frame\":3,";
+  auto some = c.Get("/api/sonar");
+  j = json::parse(some->body);
+  EXPECT_EQ(png.size(), j["latest"]["bytes"].get<std::size_t>());
+  EXPECT_EQ(2, j["frame"]["frame"]);
+  auto image = c.Get("/api/sonar/latest.png");
+  EXPECT_EQ(200, image->status);
+  EXPECT_EQ("image/png", image->get_header_value("Content-Type"));
+  EXPECT_EQ(png, image->body);
+}
+
+TEST(SonarStatus, NoFolderMeansNoSonar) {
+  const json j = sonar_status({});
+  EXPECT_FALSE(j["dir"].get<bool>());
+  EXPECT_TRUE(j["latest"].is_null());
+}
 
 TEST_F(StudioServerTest, ListsTheMissionsAndServesTheirModel) {
   auto c = client();
