@@ -31,6 +31,8 @@ Runner add_verify_command(CLI::App& app);
 Runner add_studio_command(CLI::App& app);
 // `strata export`.
 Runner add_export_command(CLI::App& app);
+// `strata plot`.
+Runner add_plot_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
 

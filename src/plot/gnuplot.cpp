@@ -1,0 +1,321 @@
+#include "plot/gnuplot.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+
+extern char** environ;
+
+namespace strata::plot {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kDepthColour = "#0044aa";
+constexpr const char* kFilteredColour = "#33bbee";
+constexpr const char* kSetpointColour = "#ee7733";
+constexpr const char* kHeadingColour = "#009988";
+constexpr const char* kAbortColour = "#cc0000";
+constexpr const char* kBandColours[] = {"#4477aa", "#228833"};
+constexpr const char* kFailedBandColour = "#ee6677";
+constexpr const char* kNestedBandColour = "#555555";
+constexpr double kNestedStrip = 0.03;  // graph height of one nesting level's strip
+
+// A gnuplot single-quoted string: nothing is special inside but the quote,
+// written twice.
+std::string gp_string(std::string_view text) {
+  std::string out = "'";
+  for (char c : text) {
+    out += c;
+    if (c == '\'') out += '\'';
+  }
+  return out + "'";
+}
+
+// Numbers in the script: enough digits for a microsecond in a day.
+std::string num(double v) { return fmt::format("{:.12g}", v); }
+
+core::Result<void> write_series(const fs::path& file, const Series& s, bool break_at_wrap) {
+  std::ofstream out(file, std::ios::binary);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    // A blank line lifts the pen: a heading crossing north is no sweep
+    // across the whole panel.
+    if (break_at_wrap && i > 0 && std::abs(s.value[i] - s.value[i - 1]) > 180.0) out << "\n";
+    out << fmt::format("{} {}\n", s.time_s[i], s.value[i]);
+  }
+  out.close();
+  if (!out) return core::make_error(core::ErrorCode::Io, fmt::format("cannot write '{}'", file.string()));
+  return {};
+}
+
+bool completed(const PhaseBand& b) { return b.ended && b.result == "completed"; }
+
+// The rectangles of the depth-1 bands (every panel), and with `nested` the
+// strips of deeper phases (the depth panel only).
+void bands(std::string& s, const MissionPlot& plot, bool nested) {
+  std::size_t shade = 0;
+  for (const PhaseBand& b : plot.phases) {
+    if (b.depth == 1) {
+      const char* colour = completed(b) ? kBandColours[shade++ % 2] : kFailedBandColour;
+      s += fmt::format("set object rect from first {}, graph 0 to first {}, graph 1 fc rgb '{}' "
+                       "fs solid 0.15 noborder behind\n",
+                       num(b.start_s), num(b.end_s), colour);
+    } else if (nested) {
+      const double top = 1.0 - kNestedStrip * (b.depth - 2);
+      s += fmt::format("set object rect from first {}, graph {} to first {}, graph {} fc rgb '{}' "
+                       "fs solid 0.45 noborder behind\n",
+                       num(b.start_s), num(top - kNestedStrip * 0.8), num(b.end_s), num(top), kNestedBandColour);
+    }
+  }
+}
+
+// Abort lines (every panel) and, with `labels`, their text in rows from the
+// bottom, on the side of the line nearer the middle of the run.
+void aborts(std::string& s, const MissionPlot& plot, bool labels) {
+  const double middle = (plot.first_s + plot.last_s) / 2;
+  std::size_t row = 0;
+  for (const AbortMark& m : plot.aborts) {
+    s += fmt::format("set arrow from first {0}, graph 0 to first {0}, graph 1 nohead lc rgb '{1}' {2} front\n",
+                     num(m.time_s), kAbortColour, m.mission ? "dt 1 lw 2.5" : "dt 2 lw 1.5");
+    if (!labels) continue;
+    const bool right_half = m.time_s > middle;
+    s += fmt::format("set label {} at first {}, graph {} {} offset {},0 tc rgb '{}' front\n", gp_string(m.label),
+                     num(m.time_s), num(0.04 + 0.06 * static_cast<double>(row++)), right_half ? "right" : "left",
+                     right_half ? "-0.6" : "0.6", kAbortColour);
+  }
+}
+
+// The names of the depth-1 phases above the depth panel, where they hide no
+// data, in two rows taken in turn so that a short phase's name does not run
+// into the next one's.
+void phase_labels(std::string& s, const MissionPlot& plot) {
+  std::size_t row = 0;
+  for (const PhaseBand& b : plot.phases) {
+    if (b.depth != 1) continue;
+    s += fmt::format("set label {} at first {}, graph 1 left offset 0.4,{} front\n", gp_string(b.net),
+                     num(b.start_s), row++ % 2 == 0 ? "0.6" : "1.7");
+  }
+}
+
+std::pair<double, double> depth_range(const MissionPlot& plot) {
+  double lo = 0.0;  // the surface is always shown
+  double hi = 0.0;
+  for (const Series* s : {&plot.depth_m, &plot.filtered_depth_m, &plot.setpoint_m}) {
+    for (double v : s->value) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  const double pad = std::max(0.05 * (hi - lo), 0.05);
+  return {lo - pad, hi + pad};
+}
+
+}  // namespace
+
+std::optional<Format> format_for(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".svg") return Format::Svg;
+  if (ext == ".png") return Format::Png;
+  return std::nullopt;
+}
+
+core::Result<void> write_data(const MissionPlot& plot, const fs::path& folder) {
+  const std::pair<const char*, const Series*> files[] = {{"depth.dat", &plot.depth_m},
+                                                         {"filtered_depth.dat", &plot.filtered_depth_m},
+                                                         {"setpoint.dat", &plot.setpoint_m},
+                                                         {"heading.dat", &plot.heading_deg}};
+  for (const auto& [name, series] : files) {
+    if (series->empty()) continue;
+    auto written = write_series(folder / name, *series, series == &plot.heading_deg);
+    if (!written) return written;
+  }
+  return {};
+}
+
+std::string gnuplot_script(const MissionPlot& plot, Format format, const fs::path& data_folder,
+                           const fs::path& output) {
+  const bool heading = !plot.heading_deg.empty();
+  const int height = heading ? 800 : 600;
+  std::string s = "# Written by `strata plot`; run it again with `gnuplot plot.gp`.\n";
+  s += "set encoding utf8\n";
+  if (format == Format::Svg) {
+    s += fmt::format("set terminal svg size 1100,{} noenhanced font 'sans,11' background rgb 'white'\n", height);
+  } else {
+    s += fmt::format("set terminal png size 1100,{} noenhanced background rgb 'white'\n", height);
+  }
+  s += fmt::format("set output {}\n", gp_string(output.string()));
+  s += fmt::format("set multiplot title {}\n", gp_string(plot.title()));
+  // Both panels share their left and right edges, so their time axes line up.
+  s += "set lmargin at screen 0.08\nset rmargin at screen 0.80\n";
+  s += "set key outside right top\nset grid back lc rgb '#dddddd'\n";
+  // A little room after the end, so that a mark there is not the border.
+  const double span = plot.last_s > plot.first_s ? plot.last_s - plot.first_s : 1.0;
+  s += fmt::format("set xrange [{}:{}]\n", num(plot.first_s), num(plot.first_s + span * 1.02));
+
+  const auto [shallow, deep] = depth_range(plot);
+  s += "\n# Depth, positive down.\n";
+  s += heading ? "set origin 0,0.36\nset size 1,0.60\n" : "set origin 0,0\nset size 1,0.94\n";
+  s += fmt::format("set yrange [{}:{}]\n", num(deep), num(shallow));
+  s += "set tmargin 3.5\n";  // room for the phase names
+  s += "set ylabel 'depth (m)'\n";
+  s += heading ? "set xlabel\nset format x ''\n" : "set xlabel 'simulated time (s)'\n";
+  bands(s, plot, true);
+  phase_labels(s, plot);
+  aborts(s, plot, true);
+  const fs::path depth = data_folder / "depth.dat";
+  s += fmt::format("plot {} using 1:2 with lines lw 2 lc rgb '{}' title 'depth'", gp_string(depth.string()),
+                   kDepthColour);
+  if (!plot.filtered_depth_m.empty()) {
+    s += fmt::format(", \\\n     {} using 1:2 with lines lw 1 lc rgb '{}' title 'filtered depth'",
+                     gp_string((data_folder / "filtered_depth.dat").string()), kFilteredColour);
+  }
+  if (!plot.setpoint_m.empty()) {
+    s += fmt::format(", \\\n     {} using 1:2 with steps lw 1.5 dt 2 lc rgb '{}' title 'setpoint'",
+                     gp_string((data_folder / "setpoint.dat").string()), kSetpointColour);
+  }
+  s += "\n";
+
+  if (heading) {
+    const bool signed_heading = *std::min_element(plot.heading_deg.value.begin(), plot.heading_deg.value.end()) < 0;
+    s += "\n# Heading, on the same time axis.\n";
+    s += "unset object\nunset label\nunset arrow\n";
+    s += "set origin 0,0\nset size 1,0.38\nset tmargin 1\n";
+    s += signed_heading ? "set yrange [-180:180]\n" : "set yrange [0:360]\n";
+    s += signed_heading ? "set ytics -180,90,180\n" : "set ytics 0,90,360\n";
+    s += "set ylabel 'heading (deg)'\nset xlabel 'simulated time (s)'\nset format x\n";
+    bands(s, plot, false);
+    aborts(s, plot, false);
+    s += fmt::format("plot {} using 1:2 with lines lw 1.5 lc rgb '{}' title 'heading'\n",
+                     gp_string((data_folder / "heading.dat").string()), kHeadingColour);
+  }
+  s += "unset multiplot\n";
+  return s;
+}
+
+std::optional<fs::path> find_on_path(std::string_view name) {
+  const char* path = std::getenv("PATH");
+  if (!path) return std::nullopt;
+  std::istringstream folders(path);
+  std::string folder;
+  while (std::getline(folders, folder, ':')) {
+    if (folder.empty()) folder = ".";
+    fs::path candidate = fs::path(folder) / name;
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+  return s;
+}
+
+// Runs `gnuplot script` with stdin and stdout on /dev/null and stderr into
+// `stderr_file`; waits at most `bound`, then kills it by its pid.
+Rendered run_gnuplot(const fs::path& gnuplot, const fs::path& script, const fs::path& stderr_file,
+                     std::chrono::milliseconds bound) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::string program = gnuplot.string();
+  std::string script_path = script.string();
+  char* argv[] = {program.data(), script_path.data(), nullptr};
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) {
+    return {RenderStatus::GnuplotFailed, fmt::format("cannot start {}: {}", program, std::strerror(spawned)), {}, {}};
+  }
+  const auto deadline = std::chrono::steady_clock::now() + bound;
+  int status = 0;
+  for (;;) {
+    const pid_t done = waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) {
+      return {RenderStatus::GnuplotFailed, fmt::format("waiting for gnuplot: {}", std::strerror(errno)), {}, {}};
+    }
+    if (std::chrono::steady_clock::now() >= deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return {RenderStatus::GnuplotFailed,
+              fmt::format("gnuplot was still running after {} ms and was stopped", bound.count()), {}, {}};
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::string err = read_text(stderr_file);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {RenderStatus::Ok, {}, std::move(err), {}};
+  std::string why = WIFEXITED(status) ? fmt::format("gnuplot exited with status {}", WEXITSTATUS(status))
+                                      : fmt::format("gnuplot was killed by signal {}", WTERMSIG(status));
+  return {RenderStatus::GnuplotFailed, err.empty() ? why : fmt::format("{}:\n{}", why, err), {}, {}};
+}
+
+Rendered render_in(const MissionPlot& plot, const RenderOptions& o, const fs::path& folder) {
+  auto written = write_data(plot, folder);
+  if (!written) return {RenderStatus::Io, written.error().message, {}, {}};
+  const fs::path picture = folder / (o.format == Format::Svg ? "plot.svg" : "plot.png");
+  const fs::path script = folder / "plot.gp";
+  {
+    std::ofstream out(script, std::ios::binary);
+    out << gnuplot_script(plot, o.format, folder, picture);
+    out.close();
+    if (!out) return {RenderStatus::Io, fmt::format("cannot write '{}'", script.string()), {}, {}};
+  }
+  auto gnuplot = find_on_path("gnuplot");
+  if (!gnuplot) return {RenderStatus::GnuplotMissing, "gnuplot not found: install gnuplot-nox", {}, {}};
+  Rendered r = run_gnuplot(*gnuplot, script, folder / "gnuplot.stderr", o.bound);
+  if (!r.ok()) return r;
+  std::error_code ec;
+  if (fs::file_size(picture, ec) == 0 || ec) {
+    return {RenderStatus::GnuplotFailed, fmt::format("gnuplot exited without drawing {}", picture.string()),
+            {}, {}};
+  }
+  // gnuplot draws inside the folder, so a failed run never leaves half a
+  // picture where the user asked for one.
+  fs::copy_file(picture, o.output, fs::copy_options::overwrite_existing, ec);
+  if (ec) return {RenderStatus::Io, fmt::format("cannot write '{}': {}", o.output.string(), ec.message()), {}, {}};
+  return r;
+}
+
+}  // namespace
+
+Rendered render(const MissionPlot& plot, const RenderOptions& options) {
+  std::string pattern = (fs::temp_directory_path() / "strata-plot-XXXXXX").string();
+  if (!mkdtemp(pattern.data())) {
+    return {RenderStatus::Io, fmt::format("cannot make a temporary folder: {}", std::strerror(errno)), {}, {}};
+  }
+  const fs::path folder = pattern;
+  Rendered r = render_in(plot, options, folder);
+  if (options.keep_folder) {
+    r.kept_folder = folder;
+  } else {
+    std::error_code ec;
+    fs::remove_all(folder, ec);
+  }
+  return r;
+}
+
+}  // namespace strata::plot
