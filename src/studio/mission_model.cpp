@@ -1,5 +1,7 @@
 #include "studio/mission_model.h"
 
+#include <algorithm>
+
 #include <filesystem>
 #include <map>
 #include <fstream>
@@ -112,8 +114,16 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
     layout = nlohmann::json::parse(*l, nullptr, false);
     if (layout.is_discarded()) layout = nullptr;
   }
+  // The scenarios a run of it may name: scenarios/*.toml beside the mission.
+  std::vector<std::string> scenarios;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(path).parent_path() / "scenarios", ec)) {
+    if (e.is_regular_file(ec) && e.path().extension() == ".toml") scenarios.push_back(e.path().stem().string());
+  }
+  std::sort(scenarios.begin(), scenarios.end());
   out.model = {{"path", relative}, {"text", source}, {"layout", layout}, {"diagnostics", diagnostics},
-               {"nets", out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array()}};
+               {"nets", out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array()},
+               {"scenarios", scenarios}};
   return out;
 }
 

@@ -39,4 +39,5 @@ export const api = {
   stop: () => call('POST', '/api/run/stop', {}),
   replay: (path) => call('GET', `/api/replay?path=${q(path)}`),
   edit: (path, text, op) => call('POST', '/api/edit', { path, text, op }),
+  sonar: () => call('GET', '/api/sonar'),
 };

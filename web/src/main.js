@@ -7,6 +7,7 @@ import { $, state, cy, msg, setDirty } from './context.js';
 import { loadFiles, openFile, showNet } from './view.js';
 import { setMode, applyOp, save } from './editor.js';
 import { setView, renderRunPanels, connect } from './live.js';
+import { startSonar } from './sonar.js';
 
 // The canvas follows its box (panels open and close around it).
 new ResizeObserver(() => cy.resize()).observe($('#cy'));
@@ -39,6 +40,8 @@ window.__studio = {
   get primitives() { return state.primitives; },
   get sse() { return state.sse; },
   get lastError() { return state.lastError; },
+  get sonar() { return state.sonar; },
+  get scenarios() { return [...document.querySelectorAll('#run-scenario option')].map((o) => o.value); },
   get busy() { return state.busy; },
   get positions() { return state.positions; },
   openFile: (p) => openFile(p),
@@ -55,6 +58,7 @@ async function init() {
   setView('edit');
   setDirty(false);
   connect();
+  startSonar();
   await loadFiles();
   try {
     const p = await api.primitives();

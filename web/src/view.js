@@ -39,6 +39,7 @@ export async function openFile(path, { keepView = false } = {}) {
     setModel(model, { fresh: true });
     setDirty(false);
     $('#path-label').textContent = path;
+    fillScenarios(model.scenarios);
     $('#btn-verify').disabled = false;
     $('#btn-run').disabled = false;
     $('#verify-box').hidden = true;
@@ -48,6 +49,16 @@ export async function openFile(path, { keepView = false } = {}) {
   } catch (e) {
     msg(`open ${path}: ${e.message}`, true);
   } finally { state.busy--; }
+}
+
+// The scenarios beside the mission, nominal first (the built-in one when
+// the folder has none of that name).
+function fillScenarios(names) {
+  const select = $('#run-scenario');
+  const keep = select.value;
+  const list = ['nominal', ...(names || []).filter((n) => n !== 'nominal')];
+  select.replaceChildren(...list.map((n) => el('option', {}, n)));
+  select.value = list.includes(keep) ? keep : 'nominal';
 }
 
 // Layout of the model (net -> node name -> {x, y}) into positions by node id.
