@@ -246,8 +246,8 @@ std::string encode(const VehicleMessage& message) {
   return std::visit(
       Overloaded{
           [](const Welcome& m) {
-            return fmt::format("ok {} {} {} {}\n", m.id, bare_or_quoted(m.vehicle_name), m.version,
-                               clock_name(m.clock));
+            return fmt::format("ok {} {} {} {}{}\n", m.id, bare_or_quoted(m.vehicle_name), m.version,
+                               clock_name(m.clock), m.sonar_port ? fmt::format(" sonar={}", *m.sonar_port) : "");
           },
           [](const Ok& m) { return fmt::format("ok {}\n", m.id); },
           [](const Done& m) {
@@ -327,8 +327,8 @@ namespace {
 
 DecodeResult<VehicleMessage> decode_ok(Fields f, RequestId id) {
   if (f.size() == 2) return VehicleMessage{Ok{id}};
-  if (f.size() != 5) {
-    return wrong_arity("ok", id, "ID, or ID VEHICLE_NAME PROTOCOL_VERSION CLOCK", f.size());
+  if (f.size() < 5) {
+    return wrong_arity("ok", id, "ID, or ID VEHICLE_NAME PROTOCOL_VERSION CLOCK [KEY=VALUE...]", f.size());
   }
   Welcome w;
   w.id = id;
@@ -345,6 +345,21 @@ DecodeResult<VehicleMessage> decode_ok(Fields f, RequestId id) {
   } else {
     return fail(ErrorCode::BadArgument, id,
                 fmt::format("clock '{}' is neither lockstep nor wall", f[4].text));
+  }
+  for (std::size_t i = 5; i < f.size(); ++i) {
+    const std::string_view field = f[i].text;
+    const auto eq = field.find('=');
+    if (f[i].quoted || eq == std::string_view::npos || eq == 0) {
+      return fail(ErrorCode::BadArgument, id, fmt::format("'{}' after the clock is not KEY=VALUE", field));
+    }
+    if (field.substr(0, eq) != "sonar") continue;  // a later version's: ignored
+    const std::string value(field.substr(eq + 1));
+    char* end = nullptr;
+    const unsigned long port = std::strtoul(value.c_str(), &end, 10);
+    if (value.empty() || *end != '\0' || port == 0 || port > 65535) {
+      return fail(ErrorCode::BadArgument, id, fmt::format("sonar port '{}' is not a port (1 to 65535)", value));
+    }
+    w.sonar_port = static_cast<std::uint16_t>(port);
   }
   return VehicleMessage{std::move(w)};
 }

@@ -90,6 +90,14 @@ TEST(Codec, DecodesVehicleMessages) {
             decode_vehicle_message("ok 1 phoenix 1 wall").value());
   EXPECT_EQ(VehicleMessage(Err{0, ErrorCode::Busy, "another client"}),
             decode_vehicle_message("err 0 busy \"another client\"\r\n").value());
+  // The sonar socket's port after the clock; other KEY=VALUE fields ignored.
+  Welcome with_sonar{1, "phoenix", 1, ClockMode::Lockstep, 40123};
+  EXPECT_EQ("ok 1 phoenix 1 lockstep sonar=40123\n", encode(with_sonar));
+  EXPECT_EQ(VehicleMessage(with_sonar), decode_vehicle_message("ok 1 phoenix 1 lockstep sonar=40123").value());
+  EXPECT_EQ(VehicleMessage(with_sonar), decode_vehicle_message("ok 1 phoenix 1 lockstep future=x sonar=40123").value());
+  EXPECT_EQ(ErrorCode::BadArgument, decode_vehicle_message("ok 1 phoenix 1 lockstep sonar=0").error().code);
+  EXPECT_EQ(ErrorCode::BadArgument, decode_vehicle_message("ok 1 phoenix 1 lockstep sonar=70000").error().code);
+  EXPECT_EQ(ErrorCode::BadArgument, decode_vehicle_message("ok 1 phoenix 1 lockstep junk").error().code);
   EXPECT_EQ(VehicleMessage(Event{2.0, "leak"}), decode_vehicle_message("event 2 leak").value());
   EXPECT_EQ(std::optional<RequestId>(4), reply_id(decode_vehicle_message("done 4 1 0.0").value()));
   EXPECT_EQ(std::nullopt, reply_id(decode_vehicle_message("hb 1").value()));

@@ -102,12 +102,15 @@ std::string_view clock_name(ClockMode clock);
 
 // Vehicle -> client. Replies carry the id of their request.
 
-// `ok ID VEHICLE_NAME VERSION CLOCK`: the reply to hello.
+// `ok ID VEHICLE_NAME VERSION CLOCK [sonar=PORT] [KEY=VALUE...]`: the reply
+// to hello. sonar= is the vehicle's sonar socket (docs/protocol.md §10);
+// other KEY=VALUE fields are for later versions and are ignored.
 struct Welcome {
   RequestId id = 1;
   std::string vehicle_name;
   int version = kProtocolVersion;
   ClockMode clock = ClockMode::Lockstep;
+  std::optional<std::uint16_t> sonar_port;
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
 // `ok ID`: the reply to telemetry and bye.
