@@ -58,6 +58,30 @@ TEST(Params, DefaultsAreTheDesignEstimates) {
   EXPECT_GT(p.max_total_thrust_n(), p.buoyancy_n);
 }
 
+TEST(Params, YawAndSonarDefaultsAreTheDesignEstimates) {
+  const VehicleParams p = default_params();
+  EXPECT_DOUBLE_EQ(126.0, p.total_yaw_inertia_kgm2());
+  EXPECT_DOUBLE_EQ(10.8, p.max_yaw_moment_nm());  // 2 x 9 N x 0.6 m
+  // The heading law's switching gain is within what the thrusters give.
+  EXPECT_LT(p.hdg_gain_nm, p.max_yaw_moment_nm());
+  EXPECT_DOUBLE_EQ(0.05, p.sonar_range_m / p.sonar_bins);  // 5 cm bins
+  EXPECT_DOUBLE_EQ(0.05, p.sonar_ping_period_s);
+  EXPECT_LT(p.sonar_noise, p.sonar_detect_threshold);
+}
+
+TEST(Params, TheNewTablesAreRequiredAndRangeChecked) {
+  EXPECT_EQ("p.toml: missing key 'yaw.lever_arm_m'", error_of(edited("lever_arm_m = 0.6", "")));
+  EXPECT_EQ("p.toml: missing key 'sonar.bins'", error_of(edited("bins = 200", "")));
+  EXPECT_EQ("p.toml: missing key 'tank.width_y_m'", error_of(edited("width_y_m = 8.0", "")));
+  const int line = line_of("bins = 200");
+  EXPECT_EQ(0u, error_of(edited("bins = 200", "bins = 5000"))
+                    .find("p.toml:" + std::to_string(line) +
+                          ":8: 'sonar.bins' = 5000 is out of range"));
+  EXPECT_NE(std::string::npos,
+            error_of(edited("heading_tolerance_deg = 3.0", "heading_tolerance_deg = 0"))
+                .find("'detection.heading_tolerance_deg' = 0 is out of range"));
+}
+
 TEST(Params, SyntaxErrorCarriesLineAndColumn) {
   const std::string e = error_of("[hull]\nmass_kg = = 3\n");
   EXPECT_EQ(0u, e.find("p.toml:2:")) << e;

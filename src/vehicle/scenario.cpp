@@ -1,6 +1,8 @@
 #include "vehicle/scenario.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <initializer_list>
 
 #include <fmt/format.h>
@@ -141,11 +143,77 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
   return f;
 }
 
+// The table under `name` (nullptr if absent); an error if it is not a table or
+// has a key outside `keys`.
+core::Result<const toml::table*> optional_table(std::string_view path, const toml::table& root,
+                                                std::string_view name,
+                                                std::initializer_list<std::string_view> keys) {
+  const toml::node* node = root.get(name);
+  if (node == nullptr) return static_cast<const toml::table*>(nullptr);
+  const toml::table* t = node->as_table();
+  if (t == nullptr) {
+    return detail::error_at(path, node->source(), fmt::format("'{}' must be a table", name));
+  }
+  for (auto&& [key, value] : *t) {
+    if (std::find(keys.begin(), keys.end(), key.str()) == keys.end()) {
+      return detail::error_at(path, key.source(),
+                              fmt::format("unknown key '{}' in [{}]", key.str(), name));
+    }
+  }
+  return t;
+}
+
+// [vehicle]: every key optional.
+core::Result<void> parse_vehicle(std::string_view path, const toml::table& root, Scenario& s) {
+  auto t = optional_table(path, root, "vehicle", {"x_m", "y_m", "heading_deg"});
+  if (!t) return t.error();
+  if (t.value() == nullptr) return {};
+  const toml::table& v = *t.value();
+  for (auto [key, out] : {std::pair{"x_m", &s.vehicle_x_m}, std::pair{"y_m", &s.vehicle_y_m}}) {
+    if (const toml::node* n = v.get(key)) {
+      auto x = non_negative(path, *n, fmt::format("vehicle.{}", key), true);
+      if (!x) return x.error();
+      *out = x.value();
+    }
+  }
+  if (const toml::node* n = v.get("heading_deg")) {
+    auto h = non_negative(path, *n, "vehicle.heading_deg", true);
+    if (!h) return h.error();
+    if (h.value() >= 360.0) {
+      return detail::error_at(path, n->source(), "'vehicle.heading_deg' must be in [0, 360)");
+    }
+    s.vehicle_heading_deg = h.value();
+  }
+  return {};
+}
+
+// [target]: every key required.
+core::Result<void> parse_target(std::string_view path, const toml::table& root, Scenario& s) {
+  auto t = optional_table(path, root, "target", {"x_m", "y_m", "radius_m"});
+  if (!t) return t.error();
+  if (t.value() == nullptr) return {};
+  const toml::table& v = *t.value();
+  Target target;
+  for (auto [key, out] : {std::pair{"x_m", &target.x_m}, std::pair{"y_m", &target.y_m},
+                          std::pair{"radius_m", &target.radius_m}}) {
+    const toml::node* n = v.get(key);
+    if (n == nullptr) {
+      return detail::error_at(path, v.source(), fmt::format("target without '{}'", key));
+    }
+    const bool radius = std::string_view(key) == "radius_m";
+    auto x = non_negative(path, *n, fmt::format("target.{}", key), !radius);
+    if (!x) return x.error();
+    *out = x.value();
+  }
+  s.target = target;
+  return {};
+}
+
 core::Result<Scenario> from_table(std::string_view path, const toml::table& root) {
   Scenario s;
   for (auto&& [key, node] : root) {
     const std::string_view k = key.str();
-    if (k != "seed" && k != "description" && k != "fault") {
+    if (k != "seed" && k != "description" && k != "fault" && k != "vehicle" && k != "target") {
       return detail::error_at(path, key.source(), fmt::format("unknown key '{}'", k));
     }
   }
@@ -175,6 +243,8 @@ core::Result<Scenario> from_table(std::string_view path, const toml::table& root
       s.faults.push_back(f.value());
     }
   }
+  if (auto r = parse_vehicle(path, root, s); !r) return r.error();
+  if (auto r = parse_target(path, root, s); !r) return r.error();
   return s;
 }
 

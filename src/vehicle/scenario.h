@@ -20,8 +20,19 @@
 //   at_s = 3.0
 //   duration_s = 4.0               # ... for duration_s, or
 //   forever = true                 # ... until the end of the run (exactly one of the two)
+//   [vehicle]                      # optional, and each key in it
+//   x_m = 6.0                      # where the vehicle hovers in the tank's plan, m, >= 0
+//   y_m = 4.0                      # (unset: the tank's centre)
+//   heading_deg = 0.0              # its compass heading at t = 0, [0, 360); default 0
+//   [target]                       # optional: an object for the sonar to find,
+//   x_m = 6.0                      # a vertical cylinder standing on the tank's floor:
+//   y_m = 7.0                      # its axis, m, and
+//   radius_m = 0.3                 # its radius, m, > 0 (all three keys required)
 //
-// Unknown keys, unknown kinds, missing or out-of-range fields are errors with
+// Positions are in the tank's plan (params.h: the box [0, tank_length_x_m] x
+// [0, tank_width_y_m]); the file cannot know the tank's size, so the
+// Simulation checks that the vehicle is inside (it moves it in, with an
+// event, if not). Unknown keys, unknown kinds, missing or out-of-range fields are errors with
 // "path:line:col: message". The simulation applies weak_thrusters, leak and
 // sensor_dropout itself; link_loss is only exposed (Scenario::link_lost,
 // Simulation::link_lost) for the protocol server to act on.
@@ -48,13 +59,31 @@ struct Fault {
   bool operator==(const Fault&) const = default;
 };
 
+// A vertical cylinder in the tank, for the sonar: axis at (x_m, y_m).
+struct Target {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double radius_m = 0.0;
+
+  bool operator==(const Target&) const = default;
+};
+
 struct Scenario {
   std::uint64_t seed = 1;
   std::string description;
   std::vector<Fault> faults;  // in file order
+  std::optional<double> vehicle_x_m;  // unset: the tank's centre
+  std::optional<double> vehicle_y_m;
+  double vehicle_heading_deg = 0.0;   // compass, [0, 360)
+  std::optional<Target> target;
 
   // No faults.
-  static Scenario nominal(std::uint64_t seed = 1) { return Scenario{seed, "nominal", {}}; }
+  static Scenario nominal(std::uint64_t seed = 1) {
+    Scenario s;
+    s.seed = seed;
+    s.description = "nominal";
+    return s;
+  }
 
   // Is the link lost at time t_s (some link_loss fault with at_s <= t_s < end)?
   bool link_lost(double t_s) const;

@@ -142,6 +142,45 @@ TEST(Scenario, MissingFieldsAreErrors) {
                 .find("link_loss fault needs 'duration_s' or 'forever = true'"));
 }
 
+TEST(Scenario, VehiclePoseAndTargetAreOptional) {
+  const Scenario plain = shipped("nominal.toml");
+  EXPECT_FALSE(plain.vehicle_x_m.has_value());
+  EXPECT_FALSE(plain.vehicle_y_m.has_value());
+  EXPECT_EQ(0.0, plain.vehicle_heading_deg);
+  EXPECT_FALSE(plain.target.has_value());
+
+  auto s = parse_scenario("seed = 2\n[vehicle]\nx_m = 3\ny_m = 2.5\nheading_deg = 270\n"
+                          "[target]\nx_m = 9.0\ny_m = 6\nradius_m = 0.25\n",
+                          "s.toml");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(3.0, s.value().vehicle_x_m);
+  EXPECT_EQ(2.5, s.value().vehicle_y_m);
+  EXPECT_EQ(270.0, s.value().vehicle_heading_deg);
+  EXPECT_EQ((Target{9.0, 6.0, 0.25}), s.value().target);
+
+  auto heading_only = parse_scenario("seed = 2\n[vehicle]\nheading_deg = 45\n", "s.toml");
+  ASSERT_TRUE(heading_only.ok()) << heading_only.error().message;
+  EXPECT_FALSE(heading_only.value().vehicle_x_m.has_value());
+  EXPECT_EQ(45.0, heading_only.value().vehicle_heading_deg);
+}
+
+TEST(Scenario, VehicleAndTargetErrorsCarryLineAndColumn) {
+  EXPECT_EQ("s.toml:3:1: unknown key 'z_m' in [vehicle]",
+            error_of("seed = 1\n[vehicle]\nz_m = 1\n"));
+  EXPECT_EQ("s.toml:3:15: 'vehicle.heading_deg' must be in [0, 360)",
+            error_of("seed = 1\n[vehicle]\nheading_deg = 360\n"));
+  EXPECT_EQ("s.toml:3:7: 'vehicle.x_m' must be >= 0", error_of("seed = 1\n[vehicle]\nx_m = -1\n"));
+  EXPECT_EQ("s.toml:3:7: 'vehicle.y_m' must be a number",
+            error_of("seed = 1\n[vehicle]\ny_m = \"centre\"\n"));
+  EXPECT_EQ("s.toml:2:11: 'vehicle' must be a table", error_of("seed = 1\nvehicle = 3\n"));
+  EXPECT_EQ("s.toml:5:12: 'target.radius_m' must be > 0",
+            error_of("seed = 1\n[target]\nx_m = 1\ny_m = 1\nradius_m = 0\n"));
+  EXPECT_EQ(0u, error_of("seed = 1\n[target]\nx_m = 1\ny_m = 1\n")
+                    .find("s.toml:2:1: target without 'radius_m'"));
+  EXPECT_EQ("s.toml:3:1: unknown key 'r' in [target]",
+            error_of("seed = 1\n[target]\nr = 1\n"));
+}
+
 TEST(Scenario, SyntaxErrorCarriesLineAndColumn) {
   EXPECT_EQ(0u, error_of("seed = 1\n[[fault]\n").find("s.toml:2:"));
 }

@@ -33,9 +33,28 @@ Simulation::Simulation(VehicleParams params, Scenario scenario)
       scenario_(std::move(scenario)),
       cell_(params_.depth_noise_m, scenario_.seed),
       filter_(params_.filter_alpha, params_.filter_beta, params_.cycle_s),
+      sonar_(params_, scenario_.seed, scenario_.target),
       fault_applied_(scenario_.faults.size(), false) {
+  place_vehicle();
   apply_faults();
   sense();
+}
+
+void Simulation::place_vehicle() {
+  const double want_x = scenario_.vehicle_x_m.value_or(params_.tank_length_x_m / 2.0);
+  const double want_y = scenario_.vehicle_y_m.value_or(params_.tank_width_y_m / 2.0);
+  x_m_ = std::clamp(want_x, 0.0, params_.tank_length_x_m);
+  y_m_ = std::clamp(want_y, 0.0, params_.tank_width_y_m);
+  if (x_m_ != want_x || y_m_ != want_y) {
+    event(fmt::format("scenario: vehicle at ({}, {}) m is outside the {} x {} m tank: placed at "
+                      "({}, {}) m",
+                      want_x, want_y, params_.tank_length_x_m, params_.tank_width_y_m, x_m_, y_m_));
+  }
+  yaw_.heading_deg = wrap_heading_deg(scenario_.vehicle_heading_deg);
+  if (const auto& t = scenario_.target;
+      t && std::hypot(x_m_ - t->x_m, y_m_ - t->y_m) <= t->radius_m) {
+    event("scenario: the vehicle is inside the target: the sonar cannot see it");
+  }
 }
 
 core::Result<void> Simulation::require_network() const {
@@ -52,6 +71,8 @@ core::Result<void> Simulation::start_network() {
 core::Result<void> Simulation::shutdown_network() {
   network_up_ = false;
   mode_ = ControlMode::Idle;
+  heading_target_deg_.reset();
+  sonar_.stop();
   return {};
 }
 
@@ -101,9 +122,32 @@ core::Result<void> Simulation::surface() {
   return {};
 }
 
+core::Result<void> Simulation::set_heading(double heading_deg) {
+  if (auto r = require_network(); !r) return r;
+  if (!std::isfinite(heading_deg) || heading_deg < 0.0 || heading_deg > 360.0) {
+    return refused(fmt::format("heading {} deg outside 0 to 360 deg", heading_deg));
+  }
+  if (watchdog_tripped_) return refused("watchdog tripped: surfacing until the network restarts");
+  heading_target_deg_ = wrap_heading_deg(heading_deg);
+  return {};
+}
+
+core::Result<void> Simulation::start_sonar() {
+  if (auto r = require_network(); !r) return r;
+  sonar_.start();
+  return {};
+}
+
+core::Result<void> Simulation::stop_sonar() {
+  if (auto r = require_network(); !r) return r;
+  sonar_.stop();
+  return {};
+}
+
 void Simulation::watchdog_trip(std::string_view reason) {
   active_setpoint_m_ = 0.0;
   mode_ = ControlMode::Surface;
+  heading_target_deg_.reset();
   if (watchdog_tripped_) return;
   watchdog_tripped_ = true;
   event(fmt::format("watchdog: {}: surfacing", reason));
@@ -113,6 +157,13 @@ bool Simulation::depth_reached() const {
   if (mode_ != ControlMode::Depth || !active_setpoint_m_ || !filter_.ready()) return false;
   return std::abs(filter_.depth_m() - *active_setpoint_m_) < params_.depth_tolerance_m &&
          std::abs(filter_.rate_mps()) < params_.settle_rate_mps;
+}
+
+bool Simulation::heading_reached() const {
+  if (!heading_target_deg_) return false;
+  return std::abs(heading_error_deg(yaw_.heading_deg, *heading_target_deg_)) <
+             params_.heading_tolerance_deg &&
+         std::abs(yaw_.rate_dps) < params_.heading_settle_dps;
 }
 
 bool Simulation::time_out() const {
@@ -150,6 +201,7 @@ void Simulation::step() {
                      (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
   const double limit = params_.max_total_thrust_n() * faults_.thrust_health;
   const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, heave_);
+  advance_yaw_and_sonar();
   ++cycle_;
   if (contact.bottom && !at_bottom_) {
     event(fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
@@ -157,6 +209,24 @@ void Simulation::step() {
   at_bottom_ = contact.bottom;
   apply_faults();
   sense();
+}
+
+// The yaw dynamics sub-step by sub-step, so the sonar pings at sub-step
+// resolution with the heading of its moment. (Heave has run for the whole
+// cycle already; the sonar does not depend on depth.)
+void Simulation::advance_yaw_and_sonar() {
+  moment_cmd_nm_ =
+      heading_target_deg_
+          ? heading_moment(params_, yaw_.heading_deg, yaw_.rate_dps, *heading_target_deg_)
+          : 0.0;
+  const double limit = params_.max_yaw_moment_nm() * faults_.thrust_health;
+  const double h = params_.cycle_s / params_.substeps;
+  for (int i = 1; i <= params_.substeps; ++i) {
+    advance_yaw(params_, moment_cmd_nm_, limit, h, yaw_);
+    const double t = (static_cast<double>(cycle_) + static_cast<double>(i) / params_.substeps) *
+                     params_.cycle_s;
+    sonar_.substep(t, pose());
+  }
 }
 
 std::uint64_t Simulation::advance(double seconds) {
@@ -235,6 +305,12 @@ Telemetry Simulation::telemetry() const {
   t.thrust_n = heave_.thrust_n;
   t.thrust_cmd_n = thrust_cmd_n_;
   if (mode_ != ControlMode::Idle) t.setpoint_m = active_setpoint_m_;
+  t.heading_deg = yaw_.heading_deg;
+  t.yaw_rate_dps = yaw_.rate_dps;
+  t.yaw_moment_nm = yaw_.moment_nm;
+  t.yaw_moment_cmd_nm = moment_cmd_nm_;
+  t.heading_setpoint_deg = heading_target_deg_;
+  t.sonar_on = sonar_.on();
   t.filter_on = filter_.on();
   t.mode = mode_;
   t.network_up = network_up_;

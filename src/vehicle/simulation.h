@@ -1,7 +1,8 @@
 #pragma once
 // The Execution level of the NPS Phoenix in a test tank, simulated: heave
-// dynamics, depth cell, depth filter, depth and surface laws, mission timer,
-// scenario faults. One method per Execution-level function the wire protocol
+// dynamics, depth cell, depth filter, depth and surface laws, yaw dynamics
+// and the heading law, the scanning sonar and its target detector, mission
+// timer, scenario faults. One method per Execution-level function the wire protocol
 // calls, plus step() to advance one cycle.
 //
 // Pure and deterministic: no I/O, no threads, no clocks. Time moves only in
@@ -31,7 +32,21 @@
 // - watchdog_trip(): autonomous surface (surface law) and an event; until
 //   start_network() is called again, submerge() is refused.
 // - Faults take effect in the step that reaches their at_s: a leak at 2.0 s
-//   makes system_problem() true from time_s() == 2.0.
+//   makes system_problem() true from time_s() == 2.0. weak_thrusters limits
+//   the transverse thrusters too.
+// - Pose: the vehicle hovers at the scenario's (x, y) (default: the tank's
+//   centre; a position outside the tank is moved to its edge, with an
+//   event) and starts at the scenario's heading. It does not surge or sway.
+// - Heading (yaw.h): set_heading() engages the heading law toward its
+//   heading; the depth law runs independently. With no heading commanded the
+//   transverse thrusters are off. shutdown_network() and watchdog_trip()
+//   disengage it; set_heading() is refused after a watchdog trip, like
+//   submerge(). heading_reached(): the heading law is engaged and |error| <
+//   heading_tolerance_deg and |yaw rate| < heading_settle_dps.
+// - Sonar (sonar.h): start_sonar()/stop_sonar() need the network;
+//   shutdown_network() stops it. Pings come at sub-step resolution during
+//   step() and wait in a bounded buffer for take_pings(). target_detected()
+//   is false while the sonar is off.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -44,6 +59,8 @@
 #include "vehicle/heave.h"
 #include "vehicle/params.h"
 #include "vehicle/scenario.h"
+#include "vehicle/sonar.h"
+#include "vehicle/yaw.h"
 
 namespace strata::vehicle {
 
@@ -81,6 +98,12 @@ struct Telemetry {
   double thrust_n = 0.0;                    // actual total thrust
   double thrust_cmd_n = 0.0;                // commanded total thrust
   std::optional<double> setpoint_m;         // the depth the controller drives to (0 when surfacing)
+  double heading_deg = 0.0;                 // true compass heading, [0, 360)
+  double yaw_rate_dps = 0.0;                // true yaw rate, clockwise positive
+  double yaw_moment_nm = 0.0;               // actual moment of the transverse thrusters
+  double yaw_moment_cmd_nm = 0.0;           // commanded moment
+  std::optional<double> heading_setpoint_deg;  // the heading law's target (none: idle)
+  bool sonar_on = false;
   bool filter_on = false;
   ControlMode mode = ControlMode::Idle;
   bool network_up = false;
@@ -105,6 +128,10 @@ class Simulation {
   core::Result<void> submerge();
   core::Result<void> start_timer();
   core::Result<void> surface();
+  // Engages the heading law toward heading_deg (compass, [0, 360]; 360 is 0).
+  core::Result<void> set_heading(double heading_deg);
+  core::Result<void> start_sonar();
+  core::Result<void> stop_sonar();
   // Autonomous surface with an event "watchdog: <reason>: surfacing". The
   // protocol server calls it after watchdog_s of link silence. Repeated trips
   // record nothing new.
@@ -116,6 +143,9 @@ class Simulation {
   bool time_out() const;
   bool surface_reached() const;
   bool system_problem() const { return faults_.leak; }
+  bool heading_reached() const;
+  bool sonar_on() const { return sonar_.on(); }
+  bool target_detected() const { return sonar_.target_detected(); }
   bool network_up() const { return network_up_; }
   bool watchdog_tripped() const { return watchdog_tripped_; }
   // Link loss, for the protocol server (the simulation itself ignores it).
@@ -135,10 +165,16 @@ class Simulation {
   // and clears the list.
   const std::vector<Event>& events() const { return events_; }
   std::vector<Event> take_events();
+  // The sonar's pings since the last call, oldest first (sonar.h); seq
+  // counts every ping made, so a gap is a ping dropped from a full buffer.
+  std::vector<protocol::SonarPing> take_pings() { return sonar_.take_pings(); }
+  std::uint64_t pings_dropped() const { return sonar_.dropped(); }
 
   const VehicleParams& params() const { return params_; }
   const Scenario& scenario() const { return scenario_; }
   const HeaveState& heave() const { return heave_; }
+  const YawState& yaw() const { return yaw_; }
+  Pose pose() const { return {x_m_, y_m_, yaw_.heading_deg}; }
 
  private:
   struct Setpoint {
@@ -154,6 +190,8 @@ class Simulation {
   std::optional<double> depth_estimate() const;
   double control() const;
   double expected_accel_mps2() const;
+  void place_vehicle();
+  void advance_yaw_and_sonar();
   void apply_faults();
   void sense();
   void event(std::string text);
@@ -163,6 +201,10 @@ class Simulation {
   DepthCell cell_;
   DepthFilter filter_;
   HeaveState heave_;
+  YawState yaw_;
+  Sonar sonar_;
+  double x_m_ = 0.0;
+  double y_m_ = 0.0;
   std::uint64_t cycle_ = 0;
 
   ControlMode mode_ = ControlMode::Idle;
@@ -174,6 +216,8 @@ class Simulation {
   std::optional<double> reading_m_;
   double thrust_cmd_n_ = 0.0;
   double thrust_model_n_ = 0.0;
+  std::optional<double> heading_target_deg_;
+  double moment_cmd_nm_ = 0.0;
 
   FaultState faults_;
   std::vector<bool> fault_applied_;
