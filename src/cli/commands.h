@@ -35,6 +35,8 @@ Runner add_export_command(CLI::App& app);
 Runner add_plot_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
+// `strata sonar`.
+Runner add_sonar_command(CLI::App& app);
 
 // "PORT" or "ADDRESS:PORT" (ADDRESS defaults to 127.0.0.1).
 core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::string& text);

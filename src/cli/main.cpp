@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   runners["studio"] = add_studio_command(app);
   runners["vehicle"] = add_vehicle_command(app);
   runners["primitives"] = add_primitives_command(app);
+  runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
 
   try {
