@@ -10,8 +10,6 @@
 #include <stop_token>
 #include <thread>
 
-#include <fmt/format.h>
-
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "sonar/manager.h"
