@@ -65,6 +65,7 @@ TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
   for (const auto& p : Catalogue::builtin().all()) {
     std::vector<Value> args;
     if (p.name == "sleep") args.push_back(Value::of(1.0));
+    if (p.name == "heading") args.push_back(Value::of(90.0));
     if (p.name == "report") args.push_back(Value::of("hello"));
     if (p.name == "shutdown_network") continue;  // last, below
     auto r = call(io, t, p.name, args);

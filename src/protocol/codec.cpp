@@ -24,12 +24,13 @@ struct KnownKey {
   std::string_view key;
   std::optional<double> Telemetry::*field;
 };
-constexpr std::array<KnownKey, 5> kKnownKeys{{
+constexpr std::array<KnownKey, 6> kKnownKeys{{
     {"depth", &Telemetry::depth_m},
     {"fdepth", &Telemetry::filtered_depth_m},
     {"rate", &Telemetry::rate_mps},
     {"thrust", &Telemetry::thrust_n},
     {"setpoint", &Telemetry::setpoint_m},
+    {"heading", &Telemetry::heading_deg},
 }};
 
 const KnownKey* find_known_key(std::string_view key) {

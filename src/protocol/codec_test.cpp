@@ -53,6 +53,10 @@ TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
   t.thrust_n = -3.25;
   t.extras = {{"mode", "diving"}, {"depth", "9"}, {"bad key", "1"}, {"x", "a b"}};
   EXPECT_EQ("tlm 12.5 depth=1.02 rate=0.05 thrust=-3.25 mode=diving\n", encode(t));
+  t.setpoint_m = 0.6;
+  t.heading_deg = 273.25;  // after setpoint, before the extras
+  t.extras = {{"heading", "9"}};
+  EXPECT_EQ("tlm 12.5 depth=1.02 rate=0.05 thrust=-3.25 setpoint=0.6 heading=273.25\n", encode(t));
 }
 
 TEST(Codec, DecodesRequests) {
@@ -84,6 +88,12 @@ TEST(Codec, DecodesVehicleMessages) {
   EXPECT_EQ(-3.2, t.thrust_n);
   EXPECT_EQ(1.5, t.setpoint_m);
   EXPECT_EQ((std::map<std::string, std::string>{{"leak", "0"}, {"mode", "diving"}}), t.extras);
+  EXPECT_FALSE(t.heading_deg.has_value());
+  auto h = decode_vehicle_message("tlm 3 heading=359.5 depth=0.5");
+  ASSERT_TRUE(h.ok()) << h.error().message;
+  EXPECT_EQ(359.5, std::get<Telemetry>(h.value()).heading_deg);
+  EXPECT_EQ(0.5, std::get<Telemetry>(h.value()).depth_m);
+  EXPECT_TRUE(std::get<Telemetry>(h.value()).extras.empty());
 
   EXPECT_EQ(VehicleMessage{Telemetry{}}, decode_vehicle_message("tlm 0").value());
   EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall}),
@@ -218,6 +228,7 @@ TEST(Codec, RejectsMalformedVehicleMessages) {
       {"tlm 1 depth=x", ErrorCode::BadArgument, 0},
       {"tlm 1 depth=nan", ErrorCode::BadArgument, 0},
       {"tlm 1 depth=1 depth=2", ErrorCode::BadArgument, 0},
+      {"tlm 1 heading=north", ErrorCode::BadArgument, 0},
       {"tlm 1 mode=a mode=b", ErrorCode::BadArgument, 0},
       {"tlm 1 =3", ErrorCode::BadArgument, 0},
       {"tlm 1 9x=3", ErrorCode::BadArgument, 0},
@@ -366,10 +377,12 @@ rc::Gen<VehicleMessage> vehicle_messages() {
           gen::oneOf(ids(), gen::just<RequestId>(0)), codes, texts(200))),
       as_message(gen::apply(
           [](double t, std::optional<double> a, std::optional<double> b, std::optional<double> c,
-             std::optional<double> d, std::optional<double> e,
-             std::map<std::string, std::string> x) { return Telemetry{t, a, b, c, d, e, std::move(x)}; },
+             std::optional<double> d, std::optional<double> e, std::optional<double> h,
+             std::map<std::string, std::string> x) {
+            return Telemetry{t, a, b, c, d, e, h, std::move(x)};
+          },
           times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(),
-          extras())),
+          maybe_times(), extras())),
       as_message(gen::map(times(), [](double t) { return Heartbeat{t}; })),
       as_message(gen::apply([](double t, std::string s) { return Event{t, std::move(s)}; }, times(),
                             texts(200))));

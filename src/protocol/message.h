@@ -147,7 +147,7 @@ struct Err {
   std::string message;
   friend bool operator==(const Err&, const Err&) = default;
 };
-// `tlm SIM_TIME_S depth=M fdepth=M rate=MPS thrust=N setpoint=M [key=value...]`.
+// `tlm SIM_TIME_S depth=M fdepth=M rate=MPS thrust=N setpoint=M heading=DEG [key=value...]`.
 // A known key the vehicle has no value for yet is left out of the line (fdepth
 // and rate before the depth filter runs, setpoint before one is set). Keys this
 // version does not know are kept in `extras` with their raw value text.
@@ -158,6 +158,7 @@ struct Telemetry {
   std::optional<double> rate_mps;          // rate= : the filter's depth rate, m/s, down positive
   std::optional<double> thrust_n;          // thrust= : total vertical thrust, N, down positive
   std::optional<double> setpoint_m;        // setpoint= : the depth law's set point
+  std::optional<double> heading_deg;       // heading= : compass heading of the bow, degrees
   std::map<std::string, std::string> extras;
   friend bool operator==(const Telemetry&, const Telemetry&) = default;
 };

@@ -71,7 +71,17 @@ TEST(Catalogue, BuiltinParsesAndHasEveryFigure10Primitive) {
       EXPECT_GT(p->timeout_s, 0) << name;
     }
   }
-  EXPECT_EQ(figure10.size(), c.all().size());
+  // Figure 10's and the five of the heading and the sonar (issue 8).
+  for (const char* name : {"heading", "start_sonar", "stop_sonar"}) {
+    ASSERT_TRUE(c.find(name)) << name;
+    EXPECT_EQ(Kind::Exec, c.find(name)->kind) << name;
+  }
+  for (const char* name : {"heading_reached", "target_detected"}) {
+    ASSERT_TRUE(c.find(name)) << name;
+    EXPECT_EQ(Kind::Ask, c.find(name)->kind) << name;
+  }
+  EXPECT_EQ(figure10.size() + 5, c.all().size());
+  EXPECT_EQ("exec heading {degrees}", c.find("heading")->message);
   EXPECT_EQ(nullptr, c.find("exec_submerge"));  // CORAL names carry no prefix
 
   const Primitive& sleep = *c.find("sleep");
@@ -169,7 +179,7 @@ TEST(Catalogue, CheckOptionsOutliveTheCatalogue) {
   EXPECT_EQ(1u, sig->min_args);
   EXPECT_EQ(1u, sig->max_args);
   EXPECT_FALSE(options.primitive("nope"));
-  EXPECT_EQ(14u, options.primitive_names.size());
+  EXPECT_EQ(19u, options.primitive_names.size());
 }
 
 TEST(Catalogue, SyntaxErrorsCarryLineAndColumn) {
@@ -280,22 +290,22 @@ TEST(CataloguePrint, TableListsEveryPrimitiveWithUnits) {
   EXPECT_NE(std::string::npos, table.find("2 s + seconds"));
   EXPECT_NE(std::string::npos, table.find("text (string)"));
   EXPECT_NE(std::string::npos, table.find("ood('start_network', X)"));
-  EXPECT_NE(std::string::npos, table.find("14 primitives from <builtin>/config/primitives.toml"));
-  // A header, 14 rows, a blank line and the source line.
-  EXPECT_EQ(17, std::count(table.begin(), table.end(), '\n'));
+  EXPECT_NE(std::string::npos, table.find("19 primitives from <builtin>/config/primitives.toml"));
+  // A header, 19 rows, a blank line and the source line.
+  EXPECT_EQ(22, std::count(table.begin(), table.end(), '\n'));
 }
 
 TEST(CataloguePrint, Json) {
   auto j = catalogue_json(Catalogue::builtin());
-  ASSERT_EQ(14u, j["primitives"].size());
+  ASSERT_EQ(19u, j["primitives"].size());
   const auto& sleep = j["primitives"][4];
   EXPECT_EQ(
       R"({"name":"sleep","kind":"exec","args":[{"name":"seconds","type":"number","unit":"s","min":0.1,)"
       R"("max":3600.0}],"timeout_s":2.0,"timeout_plus_arg":"seconds","prolog":"exec_sleep/2",)"
       R"("doc":"Let the vehicle run for the given time, then reply","message":"exec sleep {seconds}"})",
       sleep.dump());
-  EXPECT_EQ("report", j["primitives"][13]["kind"]);
-  EXPECT_FALSE(j["primitives"][13].contains("message"));
+  EXPECT_EQ("report", j["primitives"][18]["kind"]);
+  EXPECT_FALSE(j["primitives"][18].contains("message"));
 }
 
 }  // namespace

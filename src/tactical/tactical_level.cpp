@@ -43,6 +43,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
       put("rate_mps", t.rate_mps);
       put("thrust_n", t.thrust_n);
       put("setpoint_m", t.setpoint_m);
+      put("heading_deg", t.heading_deg);
       log_->telemetry(t.sim_time_s, fields);
     }
     if (on_telemetry_) on_telemetry_(t);

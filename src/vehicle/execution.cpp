@@ -17,11 +17,18 @@ const std::vector<FunctionSpec>& function_table() {
       {Verb::Exec, "start_timer", {}, "start the mission timer with the loaded setpoint's timeout"},
       {Verb::Exec, "sleep", {{"duration", "s"}}, "let the given time pass, then reply"},
       {Verb::Exec, "surface", {}, "drive to the surface"},
+      {Verb::Exec, "heading", {{"heading", "deg"}},
+       "engage the heading law toward a compass heading (0 to 360), the short way round"},
+      {Verb::Exec, "start_sonar", {}, "start the scanning sonar (pings to the sonar socket)"},
+      {Verb::Exec, "stop_sonar", {}, "stop the scanning sonar"},
       {Verb::Ask, "depth_filter_off", {}, "is the depth filter off?"},
       {Verb::Ask, "depth_reached", {}, "is the vehicle settled at the setpoint?"},
       {Verb::Ask, "time_out", {}, "has the mission timer run out?"},
       {Verb::Ask, "system_problem", {}, "is a system problem (leak) active?"},
       {Verb::Ask, "surface_reached", {}, "is the vehicle at the surface?"},
+      {Verb::Ask, "heading_reached", {}, "is the vehicle settled on the commanded heading?"},
+      {Verb::Ask, "target_detected", {},
+       "does the sonar's last sweep show an object short of the walls?"},
       {Verb::Ood, "start_network", {}, "open the vehicle network; commands are refused before"},
       {Verb::Ood, "shutdown_network", {}, "stop the thrusters and close the vehicle network"},
   };
@@ -94,6 +101,9 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "submerge") return from(sim.submerge());
   if (f == "start_timer") return from(sim.start_timer());
   if (f == "surface") return from(sim.surface());
+  if (f == "heading") return from(sim.set_heading(numbers[0]));
+  if (f == "start_sonar") return from(sim.start_sonar());
+  if (f == "stop_sonar") return from(sim.stop_sonar());
   if (f == "sleep") {
     if (numbers[0] < 0 || numbers[0] > 3600) {
       return refuse(protocol::ErrorCode::BadArgument, "'sleep' takes 0 to 3600 s");
@@ -107,6 +117,8 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "time_out") return answer(sim.time_out());
   if (f == "system_problem") return answer(sim.system_problem());
   if (f == "surface_reached") return answer(sim.surface_reached());
+  if (f == "heading_reached") return answer(sim.heading_reached());
+  if (f == "target_detected") return answer(sim.target_detected());
   if (f == "start_network") return from(sim.start_network());
   if (f == "shutdown_network") return from(sim.shutdown_network());
   return refuse(protocol::ErrorCode::UnknownFunction, "function table and dispatch disagree: " + f);

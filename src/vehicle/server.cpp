@@ -290,6 +290,7 @@ void VehicleServer::after_step() {
     m.rate_mps = round_to(t.rate_mps, 1e-4);
     m.thrust_n = round_to(t.thrust_n, 1e-2);
     m.setpoint_m = t.setpoint_m;
+    m.heading_deg = std::fmod(*round_to(t.heading_deg, 1e-2), 360.0);  // 359.996 -> 0, not 360
     m.extras["true_depth"] = fmt::format("{:.4f}", t.depth_m);
     m.extras["mode"] = std::string(to_string(t.mode));
     send(m);
