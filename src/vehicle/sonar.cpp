@@ -114,7 +114,7 @@ void Sonar::substep(double time_s, const Pose& pose) {
   countdown_ = substeps_per_ping_;
   protocol::SonarPing ping = make_ping(time_s, bearing_deg(), pose);
   window_.push_back(shows_target(ping));
-  while (window_.size() > static_cast<std::size_t>(sweep_pings())) window_.pop_front();
+  while (window_.size() > static_cast<std::size_t>(period_pings())) window_.pop_front();
   if (buffer_.size() >= static_cast<std::size_t>(p_.sonar_buffer_pings)) {
     buffer_.pop_front();
     ++dropped_;

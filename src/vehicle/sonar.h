@@ -36,12 +36,16 @@
 // sonar_detect_threshold lies wholly at least sonar_detect_margin_m short of
 // the nearest wall met by any of the beam's rays (the vehicle knows the tank
 // and its own pose, taken from the ping); target_detected() is true while
-// at least sonar_detect_min_pings of the last full sweep's pings (2K + 1)
-// show one. The window is emptied by start().
+// at least sonar_detect_min_pings of the pings of the last scan period (the
+// head's way there and back, 4K pings) show one. One way (2K + 1 pings) is
+// not enough: a bearing near the end of the sector is passed twice in quick
+// succession and then not again for most of a period, so a window of one
+// way can hold neither pass. The window is emptied by start().
 //
 // Pings wait in a buffer of sonar_buffer_pings until take_pings(); when it is
 // full the oldest is dropped and counted (its seq is then missing).
 // Not thread-safe; deterministic.
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -95,8 +99,10 @@ class Sonar {
   bool target_detected() const;
   // The head's bearing from the bow for the next ping, deg.
   double bearing_deg() const { return step_ * step_deg_; }
-  // Pings in a full sweep: the detector's window.
+  // Pings in a full sweep, one way.
   int sweep_pings() const { return 2 * max_step_ + 1; }
+  // Pings in a scan period, there and back: the detector's window.
+  int period_pings() const { return std::max(1, 4 * max_step_); }
 
   // The ping at this bearing and pose (draws its noise; no other effect).
   protocol::SonarPing make_ping(double time_s, double bearing_deg, const Pose& pose);
@@ -119,7 +125,7 @@ class Sonar {
   std::uint32_t next_seq_ = 0;
   std::uint64_t dropped_ = 0;
   std::deque<protocol::SonarPing> buffer_;
-  std::deque<bool> window_;  // detector: the last sweep_pings() pings
+  std::deque<bool> window_;  // detector: the last period_pings() pings
 };
 
 }  // namespace strata::vehicle

@@ -234,6 +234,20 @@ TEST(SonarDetector, FindsATargetOffTheBowAndLosesItWhenTurnedAway) {
   }
 }
 
+// A bearing near the end of the sector is passed twice in quick succession,
+// then not for most of a scan period: once seen, the target stays detected
+// for as long as the vehicle keeps looking (a window of one way flickered).
+TEST(SonarDetector, ATargetNearTheEndOfTheSectorStaysDetected) {
+  const double a = 35.0 * std::numbers::pi / 180.0;
+  const Target t{6.0 + 3.6 * std::sin(a), 2.0 + 3.6 * std::cos(a), 0.3};
+  Simulation sim = pinging(placed(6.0, 2.0, 0.0, t));
+  sim.advance(6.7);  // a scan period, there and back
+  for (int i = 0; i < 300; ++i) {
+    sim.step();
+    ASSERT_TRUE(sim.target_detected()) << sim.time_s();
+  }
+}
+
 TEST(SonarDetector, NothingIsDetectedInAnEmptyTank) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     Simulation sim = pinging(placed(6.0, 2.0, 0.0, std::nullopt, seed));
