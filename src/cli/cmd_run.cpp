@@ -26,7 +26,8 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_option("mission", o->mission, "The mission: a CORAL net (.coral) or PROLOG rules (.pl)")->required();
   cmd->add_option("--data", o->data, "Mission data file (default: the one the mission names)");
   cmd->add_option("--scenario", o->scenario,
-                  "Vehicle scenario: NAME in the mission's scenarios/ folder, or a path (default: nominal)");
+                  "Vehicle scenario: NAME in the mission's scenarios/ folder, or a path (default: the mission's "
+                  "scenarios/nominal.toml if it has one, else no faults)");
   cmd->add_option("--params", o->params, "Vehicle parameter file (default: built in, as config/phoenix.toml)");
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
   cmd->add_option("--seed", o->seed,
@@ -52,6 +53,9 @@ Runner add_run_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--vehicle", o->vehicle, "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");
   cmd->add_option("--log", o->log, "Write the mission log (JSON Lines) to this file");
+  cmd->add_option("--sonar", o->sonar_dir,
+                  "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
+                  "it writes the scans (PNG) and sonar.jsonl into this folder");
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();

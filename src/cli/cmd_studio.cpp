@@ -28,6 +28,8 @@ struct Options {
   std::uint16_t port = 0;
   std::string web_root;
   std::string catalogue;
+  std::string sonar;
+  bool no_sonar = false;
 };
 
 // SIGINT and SIGTERM blocked in this thread and every thread it starts
@@ -69,6 +71,13 @@ int run_studio(const Options& o) {
   so.catalogue = &catalogue.value();
   so.start_run = [&runner](const studio::RunRequest& r) { return runner.start(r); };
   so.stop_run = [&runner] { runner.stop(); };
+  // Runs started from the page get a Sonar Manager writing here; the page
+  // shows its newest scan.
+  if (!o.no_sonar) {
+    so.sonar_dir = o.sonar.empty() ? fs::temp_directory_path() / fmt::format("strata-studio-{}-sonar", ::getpid())
+                                   : fs::path(o.sonar);
+    runner.set_sonar_dir(so.sonar_dir.string());
+  }
   studio::StudioServer server(so, hub);
   auto port = server.start();
   if (!port) {
@@ -83,6 +92,7 @@ int run_studio(const Options& o) {
   std::cerr << "strata studio: stopping\n";
   runner.stop();
   server.stop();
+  if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
   return kExitOk;
 }
 
@@ -112,6 +122,7 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
   so.host = host;
   so.port = port;
   so.catalogue = &catalogue.value();
+  so.sonar_dir = options.sonar_dir;
   studio::StudioServer server(so, hub);
   auto bound = server.start();
   if (!bound) {
@@ -142,6 +153,10 @@ Runner add_studio_command(CLI::App& app) {
   cmd->add_option("--host", o->host, "Address to listen on")->capture_default_str();
   cmd->add_option("--web-root", o->web_root, "Serve the page from this folder (web/dist) instead of the built-in one");
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
+  cmd->add_option("--sonar", o->sonar,
+                  "Where the Sonar Manager of a run started from the page writes its scans (default: a folder in "
+                  "the system's temporary folder)");
+  cmd->add_flag("--no-sonar", o->no_sonar, "Runs started from the page get no Sonar Manager");
   cmd->footer("docs/studio.md has the page's API. Exit 0 after Ctrl-C; 74 when it cannot listen or read DIR.");
   return [o] { return run_studio(*o); };
 }

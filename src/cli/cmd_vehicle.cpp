@@ -114,8 +114,16 @@ core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::stri
 core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
                                                      const std::string& mission) {
   namespace fs = std::filesystem;
-  if (scenario.empty()) return vehicle::Scenario::nominal();
   std::error_code ec;
+  if (scenario.empty()) {
+    // The mission's own nominal scenario (where its target is, say), else
+    // the built-in one: no faults, seed 1.
+    if (!mission.empty()) {
+      fs::path nominal = fs::path(mission).parent_path() / "scenarios" / "nominal.toml";
+      if (fs::is_regular_file(nominal, ec)) return vehicle::load_scenario(nominal.string());
+    }
+    return vehicle::Scenario::nominal();
+  }
   if (fs::is_regular_file(scenario, ec)) return vehicle::load_scenario(scenario);
   if (!mission.empty()) {
     fs::path beside = fs::path(mission).parent_path() / "scenarios" / (scenario + ".toml");

@@ -1,5 +1,7 @@
 #include "cli/mission_run.h"
 
+#include "cli/sonar_child.h"
+
 #include <chrono>
 #include <cstdlib>
 #include <csignal>
@@ -303,6 +305,20 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                                                   o.scenario.empty() ? "nominal" : o.scenario)
                                     : ""));
 
+  // ---- the Sonar Manager ---------------------------------------------------------
+  std::optional<SonarChild> sonar;
+  if (!o.sonar_dir.empty()) {
+    auto started = start_sonar_manager(o.sonar_dir, link_options.host, welcome->value().sonar_port, io,
+                                       server ? server->sonar() : nullptr);
+    if (!started) {
+      err << "strata run: --sonar: " << started.error().message << "\n";
+      return fail(exit_code_for_input(started.error()));
+    }
+    sonar.emplace(std::move(started).value());
+    console.line(fmt::format("sonar manager: pid {}, scans in {}", sonar->pid(), o.sonar_dir));
+    if (log) log->write({{"event", "sonar_manager"}, {"dir", o.sonar_dir}});
+  }
+
   // ---- the Tactical and Strategic levels --------------------------------------
   tactical::TacticalLevel tactical(io, catalogue.value(), link, cursor ? &*cursor : nullptr,
                                    log ? &*log : nullptr);
@@ -423,6 +439,13 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   // the objects they point at go.
   io.restart();
   io.poll();
+  if (sonar) {
+    // The vehicle's last pings and its end frame reach the manager, then it
+    // writes its last scan and ends.
+    drain_sonar(io, server ? server->sonar() : nullptr);
+    report.sonar_exit = sonar->wait(std::chrono::seconds(20));
+    if (!report.sonar_exit) report.sonar_exit = sonar->stop(std::chrono::seconds(2));
+  }
 
   // ---- the summary --------------------------------------------------------------
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -475,6 +498,7 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
                        report.vehicle_watchdog_tripped ? ", surfaced by its own watchdog" : "");
   }
   if (link_lost) out << "  link: lost (" << link_lost_why << ")\n";
+  if (sonar) out << "  sonar: " << sonar_summary(o.sonar_dir, report.sonar_exit) << "\n";
   if (report.emergency_surface) {
     out << fmt::format("  after it: exec surface sent by strata run; {}\n",
                        report.emergency_surfaced ? "the vehicle reached the surface" : "not confirmed at the surface");

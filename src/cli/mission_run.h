@@ -44,6 +44,9 @@ struct RunOptions {
   double speed = 1.0;         // with realtime: simulated seconds per wall second
   std::string vehicle;        // HOST:PORT of a running vehicle; "" embedded
   std::string log;            // mission log path; "" none
+  // Start the Sonar Manager (`strata sonar`, a separate process) on the
+  // vehicle's sonar socket, writing its scans here; "" none.
+  std::string sonar_dir;
   bool tty = false;           // a live status line instead of plain event lines
   bool handle_signals = false;  // SIGINT/SIGTERM cancel the mission (the CLI)
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
@@ -75,6 +78,9 @@ struct RunReport {
   // Embedded vehicle only: its state when the run was over.
   std::optional<double> final_depth_m;
   bool vehicle_watchdog_tripped = false;
+  // With RunOptions::sonar_dir: the Sonar Manager's exit status (nullopt if
+  // it was not started or did not end).
+  std::optional<int> sonar_exit;
   // With RunOptions::trace: every primitive call, in the order they completed.
   std::vector<tactical::CallRecord> trace;
 };

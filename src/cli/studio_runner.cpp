@@ -24,6 +24,7 @@ core::Result<void> StudioRunner::start(const studio::RunRequest& request) {
   thread_ = std::thread([this, request] {
     RunOptions o;
     o.handle_signals = false;
+    o.sonar_dir = sonar_dir_;
     std::ostringstream out, err;
     run_here(request, o, out, err);
     running_ = false;

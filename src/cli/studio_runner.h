@@ -28,6 +28,8 @@ class StudioRunner {
   core::Result<void> start(const studio::RunRequest& request);
   void stop();
   bool running() const { return running_; }
+  // Runs started by start() get a Sonar Manager writing here ("" none).
+  void set_sonar_dir(std::string dir) { sonar_dir_ = std::move(dir); }
 
   // The same run on the calling thread (`strata run --studio`); returns its report.
   RunReport run_here(const studio::RunRequest& request, RunOptions options, std::ostream& out, std::ostream& err);
@@ -41,6 +43,7 @@ class StudioRunner {
   std::atomic<bool> running_{false};
   std::uint64_t runs_ = 0;
   std::shared_ptr<RunControl> control_ = std::make_shared<RunControl>();
+  std::string sonar_dir_;
 };
 
 }  // namespace strata::cli

@@ -119,6 +119,13 @@ core::Result<void> VehicleServer::start() {
                                                              options_.address, options_.port, ec.message()));
   }
   port_ = acceptor_.local_endpoint().port();
+  if (options_.sonar) {
+    sonar_ = std::make_unique<SonarServer>(io_, SonarServerOptions{options_.address, options_.sonar_port});
+    if (auto r = sonar_->start(); !r) {
+      acceptor_.close(ec);
+      return r;
+    }
+  }
   accept();
   if (options_.clock == protocol::ClockMode::Wall) tick();
   return {};
@@ -133,6 +140,7 @@ void VehicleServer::stop() {
   silence_timer_.cancel();
   if (controller_) controller_->close();
   controller_.reset();
+  if (sonar_) sonar_->end(sim_.time_s(), "the vehicle is stopping");
   settled();
 }
 
@@ -196,7 +204,9 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
   using protocol::Verb;
   if (r.verb == Verb::Hello) {
     hello_done_ = true;
-    send(protocol::Welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock});
+    protocol::Welcome welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock};
+    if (sonar_) welcome.sonar_port = sonar_->port();
+    send(welcome);
     return;
   }
   if (!hello_done_) {
@@ -276,6 +286,7 @@ void VehicleServer::step_one() {
 
 void VehicleServer::after_step() {
   flush_events();
+  flush_pings();
   if (telemetry_rate_hz_ > 0 && sim_.time_s() + 1e-9 >= next_telemetry_s_) {
     auto t = sim_.telemetry();
     protocol::Telemetry m;
@@ -296,6 +307,24 @@ void VehicleServer::after_step() {
     send(m);
     next_telemetry_s_ += 1.0 / telemetry_rate_hz_;
     if (next_telemetry_s_ < sim_.time_s()) next_telemetry_s_ = sim_.time_s() + 1.0 / telemetry_rate_hz_;
+  }
+}
+
+// Pings go to the sonar socket as soon as a step has made them; the sonar
+// starting or stopping is told there and, with the port, on the control link.
+void VehicleServer::flush_pings() {
+  auto pings = sim_.take_pings();
+  if (!sonar_) return;
+  const bool on = sim_.sonar_on();
+  const bool changed = on != sonar_was_on_;
+  sonar_was_on_ = on;
+  if (changed && on) sonar_->status(sim_.time_s(), true);
+  for (const auto& p : pings) sonar_->ping(p);
+  if (changed) {
+    if (!on) sonar_->status(sim_.time_s(), false);
+    const std::string text = on ? fmt::format("sonar on: pings on port {}", sonar_->port()) : std::string("sonar off");
+    log(fmt::format("{:.1f} s: {}", sim_.time_s(), text));
+    send(protocol::Event{wire_time(sim_.time_s()), text});
   }
 }
 

@@ -36,6 +36,7 @@
 #include "protocol/framer.h"
 #include "protocol/message.h"
 #include "vehicle/simulation.h"
+#include "vehicle/sonar_server.h"
 
 namespace strata::vehicle {
 
@@ -51,6 +52,9 @@ struct ServerOptions {
   bool trace = false;
   // Lockstep, after a watchdog trip: simulated seconds to run on alone.
   double autonomous_run_s = 120.0;
+  // The sonar socket (docs/protocol.md §10), on the same address.
+  bool sonar = true;
+  std::uint16_t sonar_port = 0;  // 0: a free port, see VehicleServer::sonar_port()
 };
 
 class VehicleServer {
@@ -62,6 +66,9 @@ class VehicleServer {
   core::Result<void> start();
   void stop();
   std::uint16_t port() const { return port_; }
+  // 0 without a sonar socket.
+  std::uint16_t sonar_port() const { return sonar_ ? sonar_->port() : 0; }
+  const SonarServer* sonar() const { return sonar_.get(); }
   std::size_t clients_refused() const { return refused_; }
   // Calls f (on the io_context) once the vehicle is not running on its own:
   // at once, unless a lockstep watchdog trip has it surfacing by itself, in
@@ -80,6 +87,7 @@ class VehicleServer {
   void step_one();
   void after_step();
   void flush_events();
+  void flush_pings();
   void reply_later(protocol::RequestId id, double until_s);
   void arm_silence_watchdog();
   void trip(const std::string& reason);
@@ -96,6 +104,8 @@ class VehicleServer {
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
   std::shared_ptr<Connection> controller_;
+  std::unique_ptr<SonarServer> sonar_;
+  bool sonar_was_on_ = false;
   std::uint16_t port_ = 0;
   std::size_t refused_ = 0;
   bool stopped_ = false;

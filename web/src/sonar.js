@@ -8,9 +8,9 @@ state.sonar = { frames: 0, mtime: null, frame: null, error: null };
 
 function describe(f) {
   if (!f) return '';
-  if (f.event === 'end') return `end: ${f.pings ?? '?'} pings, ${f.lost ?? f.gaps ?? 0} lost`;
+  if (f.event === 'end') return `end: ${f.frames ?? '?'} frames, ${f.pings ?? '?'} pings, ${(f.lost_pings ?? 0) + (f.queue_drops ?? 0)} lost`;
   const t = typeof f.t === 'number' ? f.t.toFixed(1) : (typeof f.time_s === 'number' ? f.time_s.toFixed(1) : '?');
-  const target = f.target ? `target at ${Number(f.target.range ?? f.target.range_m ?? 0).toFixed(1)} m` : 'no target';
+  const target = f.target ? `target ${Number(f.target.range_m ?? 0).toFixed(1)} m away` : 'no target';
   const walls = Array.isArray(f.walls) ? `${f.walls.length} walls` : '';
   return `frame ${f.frame ?? '?'} at ${t} s · ${walls} · ${target}`;
 }
