@@ -204,8 +204,8 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
   using protocol::Verb;
   if (r.verb == Verb::Hello) {
     hello_done_ = true;
-    protocol::Welcome welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock};
-    if (sonar_) welcome.sonar_port = sonar_->port();
+    protocol::Welcome welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock,
+                              sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt};
     send(welcome);
     return;
   }
