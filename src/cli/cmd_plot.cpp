@@ -19,7 +19,6 @@ namespace fs = std::filesystem;
 
 // sysexits' EX_UNAVAILABLE: a program strata needs is not installed. Only
 // `strata plot` needs another program, so it is not among the common codes.
-constexpr int kExitUnavailable = 69;
 
 struct Options {
   std::string log;

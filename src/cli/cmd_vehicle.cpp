@@ -75,6 +75,9 @@ int run_vehicle(const VehicleOptions& o) {
                            o.realtime ? fmt::format(", speed {}", o.speed) : "",
                            scenario.value().description, scenario.value().seed)
             << std::endl;
+  std::cerr << fmt::format("vehicle: sonar socket on {}:{} (`strata sonar --vehicle {}:{} --out DIR` reads it)",
+                           so.address, server.sonar_port(), so.address, server.sonar_port())
+            << std::endl;
   asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const asio::error_code& e, int) {
     if (e) return;

@@ -9,6 +9,7 @@ enum ExitCode : int {
   kExitAbort = 1,       // the mission ended in abort; `compare`: traces differ
   kExitUsage = 64,      // bad command line
   kExitInvalid = 65,    // invalid mission or input data
+  kExitUnavailable = 69,  // a service is missing or went away: gnuplot; the vehicle's sonar stream
   kExitInternal = 70,   // a bug: an invariant broke
   kExitIo = 74,         // a file or the vehicle could not be reached
 };
