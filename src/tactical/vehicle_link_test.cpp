@@ -328,5 +328,27 @@ TEST(VehicleServer, WallClockRunsOnItsOwnAndAnswersSleepLater) {
   (void)heartbeats;
 }
 
+// A client waiting for its `sleep` is not silent: on the wall clock the
+// watchdog counts silence from the reply, as in lockstep.
+TEST(VehicleServer, OnTheWallClockASleepLongerThanTheWatchdogDoesNotTripIt) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Wall);  // speed 20
+  auto link = rig.connect();
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  const double sleep_s = 2.0 * rig.sim.params().watchdog_s;
+  auto r = rig.call(*link, protocol::make_exec(0, "sleep", {protocol::Value::real(sleep_s)}), 5000ms);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_FALSE(rig.sim.watchdog_tripped()) << ::testing::PrintToString(rig.vehicle_log);
+  // Silent after the reply: it trips, watchdog_s after it.
+  const double replied = std::get<protocol::Done>(r.value()).sim_time_s;
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 5000ms));
+  bool said = false;
+  for (const auto& line : rig.vehicle_log) {
+    if (line.find("link silent") == std::string::npos) continue;
+    said = true;
+    EXPECT_NEAR(replied + rig.sim.params().watchdog_s, std::strtod(line.c_str(), nullptr), 0.15) << line;
+  }
+  EXPECT_TRUE(said) << ::testing::PrintToString(rig.vehicle_log);
+}
+
 }  // namespace
 }  // namespace strata::tactical

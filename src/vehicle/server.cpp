@@ -425,12 +425,16 @@ void VehicleServer::tick() {
     while (!deferred_.empty() && sim_.time_s() + 1e-9 >= deferred_.front().until_s) {
       send(protocol::Done{deferred_.front().id, true, wire_time(sim_.time_s())});
       deferred_.pop_front();
+      // As in lockstep, silence counts from the reply: a client waiting for
+      // its `sleep 5` is not silent (unless the link is cut: nothing went).
+      if (!sim_.link_lost()) last_rx_s_ = std::max(last_rx_s_, sim_.time_s());
     }
     if (sim_.time_s() + 1e-9 >= next_heartbeat_s_) {
       send(protocol::Heartbeat{wire_time(sim_.time_s())});
       next_heartbeat_s_ += 1.0;
     }
-    if (controller_ && !controller_->closed() &&
+    const bool client_waits = !deferred_.empty() && !sim_.link_lost();
+    if (controller_ && !controller_->closed() && !client_waits &&
         sim_.time_s() - last_rx_s_ >= sim_.params().watchdog_s) {
       trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
     }

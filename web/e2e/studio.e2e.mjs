@@ -343,6 +343,26 @@ async function main() {
     return `${steps} steps; step 5: ${text}`;
   });
 
+  await check('a sonar search run shows the newest scan beside the net', async () => {
+    const SEARCH = 'missions/sonar_search/sonar_search.coral';
+    await page.locator(`#file-list li[data-path="${SEARCH}"]`).click({ timeout: 8000 });
+    await waitFor(page, `s.path === '${SEARCH}' && s.scenarios.includes('target_absent')`, 10000, 'sonar_search open with its scenarios');
+    await page.locator('#run-scenario').selectOption('nominal');
+    await page.locator('#run-speed').fill('40');
+    await page.locator('#btn-run').click();
+    await waitFor(page, 's.sonar.frames > 0', 30000, 'a first scan on the page');
+    await waitFor(page, "s.runStatus !== 'running' && s.runEnded", 30000, 'run_end');
+    const r = await page.evaluate(() => {
+      const img = document.querySelector('#sonar-img');
+      return { ended: window.__studio.runEnded, frames: window.__studio.sonar.frames, shown: !document.querySelector('#sonar-box').hidden,
+               w: img.naturalWidth, info: document.querySelector('#sonar-info').textContent };
+    });
+    assert(r.ended.outcome === 'completed', `run ended ${JSON.stringify(r.ended)}`);
+    assert(r.shown && r.w > 0, `the scan is not shown (width ${r.w})`);
+    await page.screenshot({ path: path.join(OUT, 'studio-sonar.png') });
+    return `${r.frames} scans seen, ${r.info}`;
+  });
+
   await check('no uncaught error in the page', async () => {
     assert(pageErrors.length === 0, pageErrors.join('; '));
   });
