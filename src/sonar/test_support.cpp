@@ -1,6 +1,9 @@
 // TEST-ONLY (see test_support.h).
 #include "sonar/test_support.h"
 
+#include <cstdlib>
+#include <vector>
+
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -183,10 +186,25 @@ std::uint16_t closed_port() {
   return ntohs(address.sin_port);
 }
 
+namespace {
+// The folders fresh_dir() made, removed when the test process ends (kept
+// with STRATA_KEEP_TEST_OUTPUT set, to look at the scans).
+struct MadeDirs {
+  std::vector<std::filesystem::path> dirs;
+  ~MadeDirs() {
+    if (std::getenv("STRATA_KEEP_TEST_OUTPUT")) return;
+    std::error_code ec;
+    for (const auto& d : dirs) std::filesystem::remove_all(d, ec);
+  }
+};
+MadeDirs made_dirs;
+}  // namespace
+
 std::filesystem::path fresh_dir(std::string_view name) {
   auto dir = std::filesystem::temp_directory_path() / ("strata_sonar_" + std::to_string(::getpid()) + "_" + std::string(name));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  made_dirs.dirs.push_back(dir);
   return dir;
 }
 
