@@ -1,9 +1,9 @@
 % The sonar search (issue 8) as PROLOG rules, in the style of the paper's
 % Figure 10: the same four phases as sonar_search.coral, making the same
 % primitive calls in the same order, so `strata compare sonar_search.coral
-% sonar_search.pl` agrees in every scenario. Phase 2 is the tank mission's
-% (../tank/phase2.pl); phases 1 and 4 are the tank mission's too, written
-% again here because tank.pl holds them beside its own mission loop.
+% sonar_search.pl` agrees in every scenario. The phase loop and phases 1, 2
+% and 4 are the tank mission's (../tank/phases.pl and ../tank/phase2.pl);
+% this file holds phase 3, the search.
 %
 % The rules call the vehicle primitives of the catalogue (`strata
 % primitives`): exec_<name>(..., X), ask_<name>(X), ood('<name>', X),
@@ -16,55 +16,9 @@
 mission_data('setpoints.toml').
 
 :- consult('../tank/phase2').
+:- consult('../tank/phases').
 
 current_phase(1).
-
-mission :-
-    repeat,
-        step,
-        mission_over,
-    !,
-    finish.
-
-step :-
-    current_phase(P),
-    execute_phase(P), !,
-    next_phase(P), !.
-
-mission_over :- current_phase(mission_complete).
-mission_over :- current_phase(mission_abort).
-
-finish :-
-    current_phase(mission_abort),
-    report('mission aborted: shutting down the vehicle network'),
-    done.
-finish :-
-    done.
-
-done :-
-    current_phase(mission_complete),
-    ood('shutdown_network', _).
-
-% Phase 1: open the link; go on only if the vehicle reports no system problem.
-execute_phase(1) :-
-    ood('start_network', X), X = 1,
-    phase_completed(1).
-
-phase_completed(1) :-
-    ask_system_problem(X), X = 1,
-    report('phase 1: system problem at start-up'),
-    asserta(abort(1)).
-phase_completed(1) :-
-    asserta(complete(1)).
-
-next_phase(1) :-
-    complete(1),
-    retract(current_phase(1)),
-    asserta(current_phase(2)).
-next_phase(1) :-
-    abort(1),
-    retract(current_phase(1)),
-    asserta(current_phase(mission_abort)).
 
 % Phase 3: the search. Read its setpoint (the time limit), start the timer
 % and the sonar, then look at each heading in turn (0, 45, ... 315, and
@@ -149,30 +103,4 @@ next_phase(3) :-
 next_phase(3) :-
     abort(3),
     retract(current_phase(3)),
-    asserta(current_phase(mission_abort)).
-
-% Phase 4: return to the surface within the last setpoint's time limit.
-execute_phase(4) :-
-    exec_next_setpt_data(X),
-    exec_surface(X), X = 1,
-    exec_start_timer(X),
-    repeat,
-    phase_completed(4).
-
-phase_completed(4) :-
-    exec_sleep(1, X),
-    ask_surface_reached(X), X = 1,
-    asserta(complete(4)).
-phase_completed(4) :-
-    ask_time_out(X), X = 1,
-    report('phase 4: surface not reached in time'),
-    asserta(abort(4)).
-
-next_phase(4) :-
-    complete(4),
-    retract(current_phase(4)),
-    asserta(current_phase(mission_complete)).
-next_phase(4) :-
-    abort(4),
-    retract(current_phase(4)),
     asserta(current_phase(mission_abort)).

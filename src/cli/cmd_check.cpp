@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "coral/compiler.h"
+#include "prolog/mission.h"
 #include "core/diagnostic_printer.h"
 
 namespace strata::cli {
@@ -75,7 +76,37 @@ int run_check(const Options& o) {
   Report report;
   nlohmann::json files = nlohmann::json::array();
   std::vector<std::string> summaries;
+  std::size_t rule_errors = 0, rule_warnings = 0;
+  bool rules_unreadable = false;
   for (const auto& file : o.files) {
+    if (file.ends_with(".pl")) {
+      // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
+      std::vector<prolog::Message> messages;
+      auto rules = prolog::Mission::load(file, catalogue.value(), messages);
+      std::size_t errors = 0, warnings = 0;
+      nlohmann::json diagnostics = nlohmann::json::array();
+      for (const auto& m : messages) {
+        (m.error ? errors : warnings) += 1;
+        if (o.format != "json") std::cerr << prolog::format_message(m) << "\n";
+        diagnostics.push_back({{"file", m.file}, {"line", m.line}, {"column", m.column},
+                               {"severity", m.error ? "error" : "warning"}, {"message", m.text}});
+      }
+      if (!rules && errors == 0) {  // the messages say why, when there are any
+        errors = 1;
+        if (o.format != "json") std::cerr << file << ": " << rules.error().message << "\n";
+        diagnostics.push_back({{"file", file}, {"severity", "error"}, {"message", rules.error().message}});
+      }
+      if (!rules) {
+        if (rules.error().code == core::ErrorCode::Io) rules_unreadable = true;
+      }
+      rule_errors += errors;
+      rule_warnings += warnings;
+      files.push_back(nlohmann::json{{"file", file}, {"language", "prolog"}, {"ok", rules.ok()}, {"errors", errors},
+                                     {"warnings", warnings}, {"diagnostics", diagnostics}});
+      summaries.push_back(rules ? fmt::format("{}: ok (PROLOG rules, mission {})", file, rules.value()->name())
+                                : fmt::format("{}: {}", file, plural(errors, "error")));
+      continue;
+    }
     core::SourceManager sources;
     core::DiagnosticSink sink;
     auto program = coral::compile_file(file, disk, sources, sink, options);
@@ -95,16 +126,18 @@ int run_check(const Options& o) {
   }
   if (o.format == "json") {
     nlohmann::json out = {{"diagnostics", report.json()}, {"files", files},
-                          {"errors", report.errors()}, {"warnings", report.warnings()}};
+                          {"errors", report.errors() + rule_errors}, {"warnings", report.warnings() + rule_warnings}};
     std::cout << core::dump_json(out) << "\n";
   } else {
     std::cerr << report.text();
     for (const auto& s : summaries) std::cout << s << "\n";
-    if (report.errors() + report.warnings() > 0) {
-      std::cout << plural(report.errors(), "error") << ", " << plural(report.warnings(), "warning")
-                << "\n";
+    if (report.errors() + report.warnings() + rule_errors + rule_warnings > 0) {
+      std::cout << plural(report.errors() + rule_errors, "error") << ", "
+                << plural(report.warnings() + rule_warnings, "warning") << "\n";
     }
   }
+  if (rules_unreadable && !report.unreadable_root()) return kExitIo;
+  if (rule_errors > 0 && report.errors() == 0) return kExitInvalid;
   return exit_code_for(report);
 }
 
@@ -145,8 +178,10 @@ int run_dump(const Options& o) {
 
 Runner add_check_command(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  auto* cmd = app.add_subcommand("check", "Check CORAL mission files and report diagnostics");
-  cmd->add_option("files", o->files, "Mission files (.coral); each is checked with its imports")
+  auto* cmd = app.add_subcommand("check", "Check mission files (CORAL nets, PROLOG rules) and report diagnostics");
+  cmd->add_option("files", o->files,
+                  "Mission files: .coral (each checked with its imports) or .pl (loaded and checked as strata run "
+                  "does)")
       ->required();
   cmd->add_option("--format", o->format, "Output format: text (for people) or json (for tools)")
       ->check(CLI::IsMember({"text", "json"}))
