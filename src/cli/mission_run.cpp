@@ -1,7 +1,5 @@
 #include "cli/mission_run.h"
 
-#include "cli/sonar_child.h"
-
 #include <chrono>
 #include <cstdlib>
 #include <csignal>
@@ -16,6 +14,7 @@
 #include "cli/coral_load.h"
 #include "cli/emergency.h"
 #include "cli/exit_codes.h"
+#include "cli/sonar_child.h"
 #include "coral/compiler.h"
 #include "coral/verify_report.h"
 #include "prolog/mission.h"
@@ -441,9 +440,11 @@ RunReport run_mission(const RunOptions& o, std::ostream& out, std::ostream& err)
   io.poll();
   if (sonar) {
     // The vehicle's last pings and its end frame reach the manager, then it
-    // writes its last scan and ends.
+    // writes its last scan and ends. A vehicle of its own (--vehicle) sends
+    // no end frame when our run ends: the manager is stopped after a moment
+    // and writes what it has.
     drain_sonar(io, server ? server->sonar() : nullptr);
-    report.sonar_exit = sonar->wait(std::chrono::seconds(20));
+    report.sonar_exit = sonar->wait(server ? std::chrono::seconds(20) : std::chrono::seconds(2));
     if (!report.sonar_exit) report.sonar_exit = sonar->stop(std::chrono::seconds(2));
   }
 

@@ -126,9 +126,10 @@ void drain_sonar(asio::io_context& io, const vehicle::SonarServer* sonar) {
 }
 
 std::string sonar_summary(const std::string& dir, std::optional<int> exit_status) {
-  std::string what = exit_status ? (*exit_status == 0 ? std::string("the manager ended normally")
-                                                      : "the manager exited " + std::to_string(*exit_status))
-                                 : std::string("the manager did not end");
+  std::string what = !exit_status          ? std::string("the manager did not end")
+                     : *exit_status == 0   ? std::string("the manager ended normally")
+                     : *exit_status == 143 ? std::string("the manager was stopped after the run (exit 143)")
+                                           : "the manager exited " + std::to_string(*exit_status);
   // Its last line is the end summary; the frame before it, the last scan.
   std::ifstream in(std::filesystem::path(dir) / "sonar.jsonl");
   std::string line;
