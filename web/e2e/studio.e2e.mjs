@@ -121,6 +121,19 @@ async function nodePoint(page, id) {
   return { x: box.x + p.x, y: box.y + p.y };
 }
 
+// The node's point once the canvas has settled (a layout animating or the
+// canvas resizing moves it): two reads 100 ms apart that agree, 4 s at most.
+async function stablePoint(page, id) {
+  let p = await nodePoint(page, id);
+  for (let i = 0; i < 40; i++) {
+    await page.waitForTimeout(100);
+    const q = await nodePoint(page, id);
+    if (Math.abs(q.x - p.x) < 0.5 && Math.abs(q.y - p.y) < 0.5) return q;
+    p = q;
+  }
+  return p;
+}
+
 // ---------------------------------------------------------------- the tests
 async function main() {
   dir = fs.mkdtempSync(path.join(os.tmpdir(), 'strata-e2e-'));
@@ -206,14 +219,14 @@ async function main() {
   await check('draw an arc shutdown -> logbook with edgehandles (place-place refused)', async () => {
     await page.locator('button.mode[data-mode="arc"]').click();
     // Refused: place to place.
-    let a = await nodePoint(page, 'p:logbook'), b = await nodePoint(page, 'p:begin');
+    let a = await stablePoint(page, 'p:logbook'), b = await stablePoint(page, 'p:begin');
     await page.mouse.move(a.x, a.y); await page.mouse.down();
     await page.mouse.move((a.x + b.x) / 2, (a.y + b.y) / 2, { steps: 5 }); await page.mouse.move(b.x, b.y, { steps: 5 });
     await page.mouse.up();
     await page.waitForTimeout(300);
     assert(await studio(page, "window.__cy.edges('[source = \"p:logbook\"]').empty() && !/wait\\s*\\{[^}]*\\blogbook\\b/.test(s.text)"), 'the refused drag drew an arc from logbook');
     // Accepted: transition to place.
-    a = await nodePoint(page, 't:shutdown'); b = await nodePoint(page, 'p:logbook');
+    a = await stablePoint(page, 't:shutdown'); b = await stablePoint(page, 'p:logbook');
     await page.mouse.move(a.x, a.y); await page.mouse.down();
     await page.mouse.move((a.x + b.x) / 2, (a.y + b.y) / 2, { steps: 8 }); await page.mouse.move(b.x, b.y, { steps: 8 });
     await page.mouse.up();
