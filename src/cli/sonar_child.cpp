@@ -9,11 +9,12 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "sonar/output.h"
 
 extern char** environ;
 
@@ -130,15 +131,10 @@ std::string sonar_summary(const std::string& dir, std::optional<int> exit_status
                      : *exit_status == 0   ? std::string("the manager ended normally")
                      : *exit_status == 143 ? std::string("the manager was stopped after the run (exit 143)")
                                            : "the manager exited " + std::to_string(*exit_status);
-  // Its last line is the end summary; the frame before it, the last scan.
-  std::ifstream in(std::filesystem::path(dir) / "sonar.jsonl");
-  std::string line;
-  nlohmann::json end, frame;
-  while (std::getline(in, line)) {
-    auto j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.is_object()) continue;
-    (j.value("event", "") == "end" ? end : frame) = std::move(j);
-  }
+  // The end summary, and the newest frame: the last scan.
+  const sonar::LastLines last = sonar::read_last_lines(dir);
+  const nlohmann::json end = nlohmann::json::parse(last.end, nullptr, false);
+  const nlohmann::json frame = nlohmann::json::parse(last.frame, nullptr, false);
   if (end.is_object()) {
     what += fmt::format(", {} frames, {} pings, {} lost", end.value("frames", 0), end.value("pings", 0),
                         end.value("lost_pings", 0) + end.value("queue_drops", 0));

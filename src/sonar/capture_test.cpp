@@ -17,15 +17,8 @@ using testing::PingSynth;
 using testing::SynthConfig;
 using testing::TestConnection;
 using testing::TestServer;
+using testing::options_for;
 
-ManagerOptions options_for(std::uint16_t port, const std::string& dir_name) {
-  ManagerOptions o;
-  o.capture.port = port;
-  o.capture.connect_timeout_s = 5.0;
-  o.out_dir = testing::fresh_dir(dir_name);
-  o.log = [](const std::string&) {};
-  return o;
-}
 
 protocol::SonarStatus status(bool on) { return {0.0, on, 0, 0}; }
 

@@ -21,15 +21,8 @@ using testing::PingSynth;
 using testing::SynthConfig;
 using testing::TestConnection;
 using testing::TestServer;
+using testing::options_for;
 
-ManagerOptions options_for(std::uint16_t port, const std::string& dir_name) {
-  ManagerOptions o;
-  o.capture.port = port;
-  o.capture.connect_timeout_s = 5.0;
-  o.out_dir = testing::fresh_dir(dir_name);
-  o.log = [](const std::string&) {};
-  return o;
-}
 
 std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
   std::vector<nlohmann::json> lines;
@@ -184,6 +177,25 @@ TEST(Manager, AFolderThatCannotBeMadeExits74WithoutConnecting) {
   EXPECT_EQ(Outcome::OutputFailed, s.outcome);
   EXPECT_EQ(74, s.exit_code);
   EXPECT_NE(std::string::npos, s.message.find("cannot create the folder")) << s.message;
+}
+
+TEST(Output, ReadLastLinesReadsOnlyTheTailAndWholeLines) {
+  const auto dir = testing::fresh_dir("last_lines");
+  {
+    std::ofstream out(dir / "sonar.jsonl");
+    for (int i = 1; i <= 2000; ++i) out << "{\"event\":\"frame\",\"frame\":" << i << ",\"pad\":\"" << std::string(40, 'x') << "\"}\n";
+  }
+  LastLines last = read_last_lines(dir, 4096);  // the file is about 100 KB
+  EXPECT_NE(std::string::npos, last.frame.find("\"frame\":2000,")) << last.frame;
+  EXPECT_EQ("", last.end);
+  {
+    std::ofstream out(dir / "sonar.jsonl", std::ios::app);
+    out << "{\"event\":\"end\",\"frames\":2000}\n{\"event\":\"frame\",\"fra";  // a line being written
+  }
+  last = read_last_lines(dir, 4096);
+  EXPECT_EQ("{\"event\":\"end\",\"frames\":2000}", last.end);
+  EXPECT_NE(std::string::npos, last.frame.find("\"frame\":2000,"));
+  EXPECT_EQ("", read_last_lines(dir / "none").frame);
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 #include "sonar/output.h"
 
+#include <fstream>
+#include <string_view>
+
 #include <cerrno>
 #include <cstring>
 
@@ -44,6 +47,42 @@ core::Result<void> OutputDir::append_line(const std::string& json) {
                                                              (dir_ / "sonar.jsonl").string(), std::strerror(errno)));
   }
   return {};
+}
+
+LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_bytes) {
+  LastLines out;
+  std::ifstream in(dir / "sonar.jsonl", std::ios::binary);
+  if (!in) return out;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  const std::streamoff from = size > static_cast<std::streamoff>(tail_bytes) ? size - static_cast<std::streamoff>(tail_bytes) : 0;
+  in.seekg(from);
+  std::string text(static_cast<std::size_t>(size - from), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  // Whole lines only: after the first newline when the tail starts mid-file,
+  // up to the last newline.
+  std::size_t begin = 0;
+  if (from > 0) {
+    begin = text.find('\n');
+    if (begin == std::string::npos) return out;
+    ++begin;
+  }
+  const std::size_t end = text.rfind('\n');
+  if (end == std::string::npos || end < begin) return out;
+  std::string_view lines(text.data() + begin, end - begin);
+  while (!lines.empty()) {
+    const std::size_t nl = lines.find('\n');
+    const std::string_view line = lines.substr(0, nl);
+    if (line.find("\"event\":\"end\"") != std::string_view::npos) {
+      out.end = std::string(line);
+    } else if (line.find("\"event\":\"frame\"") != std::string_view::npos) {
+      out.frame = std::string(line);
+    }
+    if (nl == std::string_view::npos) break;
+    lines.remove_prefix(nl + 1);
+  }
+  return out;
 }
 
 }  // namespace strata::sonar

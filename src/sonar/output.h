@@ -39,4 +39,14 @@ class OutputDir {
 
 std::string scan_file_name(std::uint64_t frame);
 
+// What a reader of DIR/sonar.jsonl wants: the newest frame line and the end
+// summary, as JSON text ("" when there is none). Only the file's last
+// `tail_bytes` are read, so a long run costs a viewer polling it nothing
+// more; a line still being written is ignored.
+struct LastLines {
+  std::string frame;
+  std::string end;
+};
+LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_bytes = 64 * 1024);
+
 }  // namespace strata::sonar

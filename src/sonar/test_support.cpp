@@ -208,4 +208,13 @@ std::filesystem::path fresh_dir(std::string_view name) {
   return dir;
 }
 
+ManagerOptions options_for(std::uint16_t port, const std::string& dir_name) {
+  ManagerOptions o;
+  o.capture.port = port;
+  o.capture.connect_timeout_s = 5.0;
+  o.out_dir = fresh_dir(dir_name);
+  o.log = [](const std::string&) {};
+  return o;
+}
+
 }  // namespace strata::sonar::testing

@@ -141,4 +141,8 @@ std::uint16_t closed_port();
 // An empty folder of the test's own under the temporary folder.
 std::filesystem::path fresh_dir(std::string_view name);
 
+// Manager options for a test: the loopback port, a 5 s connect timeout, a
+// fresh folder named `dir_name`, log lines dropped.
+ManagerOptions options_for(std::uint16_t port, const std::string& dir_name);
+
 }  // namespace strata::sonar::testing

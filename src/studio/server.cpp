@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include "coral/verify_report.h"
+#include "sonar/output.h"
 #include "studio/assets.h"
 #include "studio/mission_model.h"
 #include "studio/replay.h"
@@ -79,15 +80,11 @@ json sonar_status(const std::filesystem::path& dir) {
     const auto ms = ec ? 0 : std::chrono::duration_cast<std::chrono::milliseconds>(mtime.time_since_epoch()).count();
     out["latest"] = {{"bytes", size}, {"mtime_ms", ms}};
   }
-  // The last whole line of sonar.jsonl: the newest frame's summary.
-  if (auto text = read_whole_file(dir / "sonar.jsonl")) {
-    std::string_view t = *text;
-    while (!t.empty() && t.back() != '\n') t.remove_suffix(1);  // a line being written
-    if (!t.empty()) t.remove_suffix(1);
-    const auto at = t.rfind('\n');
-    json line = json::parse(at == std::string_view::npos ? t : t.substr(at + 1), nullptr, false);
-    if (!line.is_discarded()) out["frame"] = std::move(line);
-  }
+  // The newest line of sonar.jsonl: the end summary once there is one, else
+  // the newest frame's.
+  const sonar::LastLines last = sonar::read_last_lines(dir);
+  json line = json::parse(last.end.empty() ? last.frame : last.end, nullptr, false);
+  if (!line.is_discarded()) out["frame"] = std::move(line);
   return out;
 }
 

@@ -72,7 +72,8 @@ TEST_F(StudioServerTest, ServesTheNewestSonarScanOnceThereIsOne) {
   const std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + "not really an image";
   std::ofstream(base_ / "sonar/latest.png", std::ios::binary) << png;
   // Two whole frame lines and one being written: the last whole one counts.
-  std::ofstream(base_ / "sonar/sonar.jsonl") << "{\"frame\":1}\n{\"frame\":2,\"target\":null}\n{\"frame\":3,";
+  std::ofstream(base_ / "sonar/sonar.jsonl")
+      << "{\"event\":\"frame\",\"frame\":1}\n{\"event\":\"frame\",\"frame\":2,\"target\":null}\n{\"event\":\"frame\",\"frame\":3,";
   auto some = c.Get("/api/sonar");
   j = json::parse(some->body);
   EXPECT_EQ(png.size(), j["latest"]["bytes"].get<std::size_t>());
