@@ -23,9 +23,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kPollMs = 100;  // how soon stop() is noticed
 
+// Nobody listening yet (the vehicle is starting): try again. A reset while
+// connecting is not retried: the vehicle answered and dropped us (its data
+// may be lost with the reset), and another attempt could land in a listen
+// queue that nobody reads.
 bool worth_retrying(int error) {
-  return error == ECONNREFUSED || error == ETIMEDOUT || error == ECONNRESET || error == ECONNABORTED ||
-         error == ENETUNREACH || error == EHOSTUNREACH || error == EAGAIN;
+  return error == ECONNREFUSED || error == ETIMEDOUT || error == ENETUNREACH || error == EHOSTUNREACH ||
+         error == EAGAIN;
 }
 
 // One non-blocking connection attempt of at most `bound_ms`: 0 or an errno.
@@ -60,6 +64,9 @@ core::Result<int> connect_with_retry(const CaptureOptions& o, const std::atomic<
     const int error = try_connect(fd, address, static_cast<int>(std::clamp<long long>(left_ms, 1, 1000)));
     if (error == 0) return fd;
     ::close(fd);
+    if (error == ECONNRESET || error == ECONNABORTED) {
+      return core::make_error(core::ErrorCode::Io, "the vehicle reset the connection as it was made");
+    }
     std::string why = error == ETIMEDOUT ? "no answer" : std::strerror(error);
     if (!why.empty()) why[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(why[0])));
     if (!worth_retrying(error) || Clock::now() >= deadline) {
@@ -131,7 +138,9 @@ void Capture::run() {
   auto fd = connect_with_retry(options_, stop_);
   if (!fd) {
     const bool stopped = fd.error().code == core::ErrorCode::Closed;
-    queue_.push({StreamClosed{false, stopped, fd.error().message}});
+    // Reset as it was made: the vehicle was there and went away.
+    const bool reached = fd.error().code == core::ErrorCode::Io;
+    queue_.push({StreamClosed{reached, stopped, fd.error().message}});
     return;
   }
   // A large receive buffer absorbs bursts while this thread is descheduled.
@@ -149,8 +158,17 @@ void Capture::read_stream(int fd) {
     queue_.push({StreamClosed{true, stopped, std::move(why)}, seq_gaps_.load(), lost_pings_.load()});
   };
   bool ended = false;
+  // The vehicle sends a status frame as soon as a reader connects; a peer
+  // that says nothing for the connect timeout is not a sonar stream, and
+  // waiting on it would never end.
+  const auto quiet_limit = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                              std::chrono::duration<double>(std::max(options_.connect_timeout_s, 1.0)));
   while (!ended) {
     if (stop_.load()) return closed(true, "stopped");
+    if (decoder.frames() == 0 && Clock::now() >= quiet_limit) {
+      return closed(false, fmt::format("connected, but nothing came from the vehicle within {:g} s (not a sonar socket?)",
+                                       std::max(options_.connect_timeout_s, 1.0)));
+    }
     pollfd p{fd, POLLIN, 0};
     const int ready = ::poll(&p, 1, kPollMs);
     if (ready < 0 && errno != EINTR) return closed(false, fmt::format("poll: {}", std::strerror(errno)));

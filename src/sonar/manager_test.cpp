@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <chrono>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -75,6 +76,19 @@ TEST(Manager, VehicleResettingTheConnectionHasGoneAwayToo) {
   const ManagerSummary s = run_sonar_manager(options_for(server.port(), "reset"));
   EXPECT_EQ(Outcome::VehicleGone, s.outcome) << s.message;
   EXPECT_EQ(69, s.exit_code);
+}
+
+// A peer that accepts and says nothing (not a vehicle's sonar socket, or a
+// listen queue nobody reads) is given up after the connect timeout, not
+// waited on for ever.
+TEST(Manager, APeerThatNeverSpeaksIsGivenUp) {
+  TestServer server([](TestConnection&) { std::this_thread::sleep_for(std::chrono::milliseconds(3000)); });
+  ManagerOptions o = options_for(server.port(), "silent_peer");
+  o.capture.connect_timeout_s = 1.0;
+  const ManagerSummary s = run_sonar_manager(o);
+  EXPECT_EQ(Outcome::VehicleGone, s.outcome) << s.message;
+  EXPECT_EQ(69, s.exit_code);
+  EXPECT_NE(std::string::npos, s.message.find("nothing came from the vehicle")) << s.message;
 }
 
 TEST(Manager, SonarThatNeverStartsIsToldSoAndExits0) {

@@ -7,11 +7,25 @@ import { setModel, rememberPositions, renderNet } from './view.js';
 
 // ---------------------------------------------------------------- editing
 
-let pointer = null;  // where the last drag was, in model coordinates
-cy.on('tapdrag', (ev) => { pointer = ev.position; });
+// Where the pointer was released, in the page's coordinates. Taken from
+// the pointer events themselves, in the capture phase, so it is there before
+// edgehandles ends the drag on mouseup: Cytoscape's last 'tapdrag' may be an
+// earlier point of the drag when the page is busy.
+let released = null;
+window.addEventListener('pointerdown', () => { released = null; }, true);
+window.addEventListener('pointerup', (e) => { released = { x: e.clientX, y: e.clientY }; }, true);
+
+// The release point in the canvas's model coordinates.
+function releasePoint() {
+  if (!released) return null;
+  const rect = cy.container().getBoundingClientRect();
+  const pan = cy.pan(), zoom = cy.zoom();
+  return { x: (released.x - rect.left - pan.x) / zoom, y: (released.y - rect.top - pan.y) / zoom };
+}
 
 cy.on('ehcomplete', (ev, source, target, added) => {
   added.remove();
+  const pointer = releasePoint();
   const box = target.boundingBox({ includeLabels: false });
   const slack = 6;
   if (!pointer || pointer.x < box.x1 - slack || pointer.x > box.x2 + slack || pointer.y < box.y1 - slack || pointer.y > box.y2 + slack) {
