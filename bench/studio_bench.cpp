@@ -55,14 +55,11 @@ double median(std::vector<double> v) {
 double timed_run(studio::RunPublisher* publisher, std::string& error) {
   RunOptions o;
   o.mission = kMission;
-  if (publisher) {
-    o.observers.push_back(publisher);
-    o.on_telemetry = [publisher](const protocol::Telemetry& t) { publisher->telemetry(t.sim_time_s, t.depth_m.value_or(0), t.setpoint_m); };
-    o.on_report = [publisher](const std::string& text, double t) { publisher->report(t, text); };
-  }
+  ConsoleOptions console;
+  if (publisher) console.observers.push_back(publisher);
   std::ostringstream out, err;
   auto start = std::chrono::steady_clock::now();
-  RunReport r = run_mission(o, out, err);
+  RunReport r = run_mission(o, out, err, console);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (r.exit_code != 0) {
     error = err.str();

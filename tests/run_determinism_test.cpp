@@ -97,6 +97,12 @@ TEST(RunAgainstVehicleProcess, NominalMissionCompletes) {
   EXPECT_EQ("start_network", r.log.calls.front().primitive);
   EXPECT_TRUE(r.log.calls.back().is("shutdown_network", 1));
   EXPECT_NE(std::string::npos, r.out.find("vehicle phoenix-sim at " + address)) << r.out;
+  // Its final state is its last telemetry, in the summary and the log.
+  ASSERT_TRUE(r.report.last_telemetry.has_value());
+  EXPECT_NE(std::string::npos, r.out.find("(its last telemetry)")) << r.out;
+  ASSERT_TRUE(r.log.vehicle_final.has_value());
+  EXPECT_EQ("telemetry", r.log.at(r.log.vehicle_final)["from"]);
+  EXPECT_LT(r.log.at(r.log.vehicle_final)["depth_m"].get<double>(), 0.3);
 
   // Stopped by its pid (SIGTERM): a clean exit.
   int status = vehicle.stop();

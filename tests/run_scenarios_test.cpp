@@ -56,7 +56,10 @@ void expect_consistent(const MissionRun& r, const std::string& scenario) {
   EXPECT_EQ(result.outcome == Outcome::Completed ? 0 : 1, r.report.exit_code);
 
   ASSERT_TRUE(log.vehicle_final.has_value());
-  EXPECT_EQ(log.lines.size() - 1, *log.vehicle_final) << "vehicle_final is the last line";
+  EXPECT_EQ(log.lines.size() - 1, *log.mission_end) << "mission_end is the last line: the run wrote it after its safe end";
+  EXPECT_EQ(*log.mission_end - 1, *log.vehicle_final) << "vehicle_final comes just before it";
+  EXPECT_EQ(r.report.exit_code, end["exit_code"]);
+  EXPECT_NEAR(result.sim_time_s, end["mission_sim_time"].get<double>(), kEps);
   const json& final_line = log.at(log.vehicle_final);
   ASSERT_TRUE(r.report.final_depth_m.has_value());
   EXPECT_NEAR(*r.report.final_depth_m, final_line["depth_m"].get<double>(), kEps);
@@ -308,7 +311,7 @@ TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
   EXPECT_TRUE(r.report.emergency_shutdown);
   ASSERT_TRUE(log.emergency.has_value());
   EXPECT_EQ("ood shutdown_network", log.at(log.emergency)["action"]);
-  EXPECT_GT(*log.emergency, *log.mission_end);
+  EXPECT_LT(*log.emergency, *log.mission_end) << "the safe end runs before the log is closed";
   const Call& shutdown = log.calls.back();
   EXPECT_EQ("shutdown_network", shutdown.primitive);
   EXPECT_GT(shutdown.request_line, *log.emergency);

@@ -1,7 +1,7 @@
 // Runs from the studio: StudioRunner on the tank mission, on the wall clock
 // at high speed, told through the EventHub; one at a time; stopped on
 // request.
-#include "cli/studio_runner.h"
+#include "studio/studio_runner.h"
 
 #include <thread>
 
@@ -23,7 +23,7 @@ bool wait_for(const std::function<bool()>& done, std::chrono::seconds bound) {
 TEST(StudioRun, ATankRunReachesTheEndAndTheSnapshotHasIt) {
   studio::EventHub hub;
   studio::Sandbox sandbox(kTankDir);
-  StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
+  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
   auto sub = hub.subscribe();
   ASSERT_TRUE(runner.start({fs::path(kMission), "tank.coral", "", 200.0}).ok());
   auto again = runner.start({fs::path(kMission), "tank.coral", "", 200.0});
@@ -47,7 +47,7 @@ TEST(StudioRun, ATankRunReachesTheEndAndTheSnapshotHasIt) {
 TEST(StudioRun, StopEndsTheRunAsFailed) {
   studio::EventHub hub;
   studio::Sandbox sandbox(kTankDir);
-  StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
+  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
   ASSERT_TRUE(runner.start({fs::path(kMission), "tank.coral", "", 1.0}).ok());
   ASSERT_TRUE(wait_for([&] { return hub.snapshot()["instances"].size() >= 2; }, 30s));
   runner.stop();
@@ -60,7 +60,7 @@ TEST(StudioRun, StopEndsTheRunAsFailed) {
 TEST(StudioRun, AMissionThatFailsVerificationEndsWithTheReason) {
   studio::EventHub hub;
   studio::Sandbox sandbox(std::string(STRATA_SOURCE_DIR) + "/tests/verify");
-  StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
+  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
   ASSERT_TRUE(runner.start({fs::path(STRATA_SOURCE_DIR) / "tests/verify/dead_branch.coral", "dead_branch.coral", "", 10.0}).ok());
   ASSERT_TRUE(wait_for([&] { return !hub.snapshot()["ended"].is_null(); }, 30s));
   EXPECT_NE(std::string::npos, hub.snapshot()["ended"]["reason"].get<std::string>().find("fails verification"));

@@ -46,7 +46,6 @@ int run_compare(const Options& o) {
     run.catalogue = o.catalogue;
     run.inference_limit = o.inference_limit;
     run.trace = true;
-    run.handle_signals = false;
     std::ostringstream out, err;
     reports[i] = run_mission(run, out, err);
     if (!reports[i].result) {

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
-#include "cli/coral_load.h"
+#include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "coral/export.h"
 #include "coral/verifier.h"
@@ -48,7 +48,7 @@ int run_export(const Options& o) {
     std::cerr << "strata export: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  CoralLoad load = load_coral_file(o.mission, catalogue.value(), std::cerr, "strata export");
+  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value(), std::cerr, "strata export");
   if (!load.program) return load.exit_code;
   const coral::Program& program = *load.program;
 

@@ -32,11 +32,6 @@ int run_primitives(const PrimitivesOptions& o) {
 
 }  // namespace
 
-core::Result<tactical::Catalogue> load_catalogue_option(const std::string& path) {
-  if (path.empty()) return tactical::Catalogue::builtin();
-  return tactical::Catalogue::load(path);
-}
-
 Runner add_primitives_command(CLI::App& app) {
   auto o = std::make_shared<PrimitivesOptions>();
   auto* cmd = app.add_subcommand("primitives", "Print the vehicle primitives a mission may call");

@@ -56,6 +56,10 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
                   "it writes the scans (PNG) and sonar.jsonl into this folder");
+  cmd->add_option("--max-sim-time", o->max_sim_time_s,
+                  "Lockstep: end the run (an abort: the vehicle is surfaced) after this many simulated seconds")
+      ->check(CLI::Range(1.0, 1e9))
+      ->capture_default_str();
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
@@ -69,17 +73,17 @@ Runner add_run_command(CLI::App& app) {
                    "try their clauses in order, so it changes nothing here\n";
     }
     RunOptions options = *o;
-    options.tty = isatty(STDOUT_FILENO) == 1;
-    options.handle_signals = true;
+    ConsoleOptions console;
+    console.tty = isatty(STDOUT_FILENO) == 1;
+    console.handle_signals = true;
     if (studio->enabled) {
       if (!o->mission.ends_with(".coral")) {
         std::cerr << "strata run: --studio shows CORAL missions (.coral)\n";
         return static_cast<int>(kExitUsage);
       }
-      options.tty = false;  // the page shows the status; the console keeps plain lines
       return serve_studio_run(options, "127.0.0.1", studio->port, std::cout, std::cerr).exit_code;
     }
-    return run_mission(options, std::cout, std::cerr).exit_code;
+    return run_mission(options, std::cout, std::cerr, console).exit_code;
   };
 }
 

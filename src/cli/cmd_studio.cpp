@@ -12,10 +12,12 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
-#include "cli/studio_runner.h"
+#include "cli/console.h"
+#include "cli/signal_watcher.h"
 #include "cli/studio_serve.h"
 #include "studio/assets.h"
 #include "studio/server.h"
+#include "studio/studio_runner.h"
 
 namespace strata::cli {
 namespace {
@@ -32,13 +34,15 @@ struct Options {
   bool no_sonar = false;
 };
 
-// SIGINT and SIGTERM blocked in this thread and every thread it starts
-// after, so that wait_for_signal() alone receives them.
+// SIGINT, SIGTERM and SIGHUP blocked in this thread and every thread it
+// starts after, so that sigwait() alone receives them (a closed terminal
+// stops the studio as Ctrl-C does: a run going ends through its safe end).
 sigset_t block_stop_signals() {
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGINT);
   sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   return set;
 }
@@ -62,21 +66,17 @@ int run_studio(const Options& o) {
   const sigset_t stop_signals = block_stop_signals();
   studio::EventHub hub;
   studio::Sandbox sandbox(o.dir);
-  StudioRunner runner(hub, sandbox, catalogue.value());
   studio::StudioOptions so;
   so.root = o.dir;
   so.host = o.host;
   so.port = o.port;
   so.web_root = o.web_root;
   so.catalogue = &catalogue.value();
-  so.start_run = [&runner](const studio::RunRequest& r) { return runner.start(r); };
-  so.stop_run = [&runner] { runner.stop(); };
   // Runs started from the page get a Sonar Manager writing here; the page
   // shows its newest scan.
   if (!o.no_sonar) {
     so.sonar_dir = o.sonar.empty() ? fs::temp_directory_path() / fmt::format("strata-studio-{}-sonar", ::getpid())
                                    : fs::path(o.sonar);
-    runner.set_sonar_dir(so.sonar_dir.string());
   }
   studio::StudioServer server(so, hub);
   auto port = server.start();
@@ -90,8 +90,7 @@ int run_studio(const Options& o) {
   int signal = 0;
   sigwait(&stop_signals, &signal);
   std::cerr << "strata studio: stopping\n";
-  runner.stop();
-  server.stop();
+  server.stop();  // a run going ends through its safe end first
   if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
   return kExitOk;
 }
@@ -116,8 +115,9 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
   }
   studio::EventHub hub;
   studio::Sandbox sandbox(mission.parent_path());
-  StudioRunner runner(hub, sandbox, catalogue.value());
+  studio::StudioRunner runner(hub, sandbox, catalogue.value());
   studio::StudioOptions so;
+  so.runs = &runner;
   so.root = mission.parent_path();
   so.host = host;
   so.port = port;
@@ -131,7 +131,16 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
   }
   out << fmt::format("http://{}:{}", host, bound.value()) << std::endl;
   studio::RunRequest request{mission, mission.filename().string(), options.scenario, options.speed};
-  RunReport report = runner.run_here(request, options, out, err);
+  Console console(out, /*tty=*/false);  // the page shows the status; the console keeps plain lines
+  RunReport report;
+  {
+    SignalWatcher signals([&runner](int signal) {
+      const std::string name = signal_name(signal);
+      runner.stop(name, "interrupted by " + name, kExitSignalBase + signal);
+    });
+    report = runner.run_here(request, options, {&console}, err);
+  }
+  out << run::summary_text(report);
   if (isatty(STDIN_FILENO) == 1 && isatty(STDOUT_FILENO) == 1) {
     const sigset_t stop_signals = block_stop_signals();
     out << fmt::format("the run is over; still serving http://{}:{} (Ctrl-C to quit)", host, bound.value())

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "cli/coral_load.h"
+#include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "coral/verify_report.h"
 #include "petri/explorer.h"
@@ -125,7 +125,7 @@ int run_verify_mission(const Options& o) {
     std::cerr << "strata verify: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  CoralLoad load = load_coral_file(o.mission, catalogue.value(), std::cerr, "strata verify");
+  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value(), std::cerr, "strata verify");
   if (!load.program) return load.exit_code;
   coral::VerifyOptions vo;
   vo.max_states = o.max_states;

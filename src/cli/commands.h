@@ -8,9 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/result.h"
-#include "tactical/catalogue.h"
-#include "vehicle/scenario.h"
+#include "run/inputs.h"
 
 namespace strata::cli {
 
@@ -38,12 +36,9 @@ Runner add_primitives_command(CLI::App& app);
 // `strata sonar`.
 Runner add_sonar_command(CLI::App& app);
 
-// "PORT" or "ADDRESS:PORT" (ADDRESS defaults to 127.0.0.1).
-core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::string& text);
-// --catalogue: the built-in catalogue when empty, else the file.
-core::Result<tactical::Catalogue> load_catalogue_option(const std::string& path);
-// --scenario: nominal when empty; a path; or NAME in the mission's scenarios/.
-core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
-                                                     const std::string& mission);
+// Shared with the run library (run/inputs.h).
+using run::load_catalogue_option;
+using run::load_scenario_option;
+using run::parse_listen;
 
 }  // namespace strata::cli

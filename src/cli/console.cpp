@@ -59,7 +59,6 @@ void Console::phase_ended(const strategic::PhaseEnd& e) {
   }
   if (depth == 0) return;  // the mission itself: the summary says how it ended
   std::string result = e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted";
-  if (depth == 1) phases_.push_back(fmt::format("{} {}", e.name, result));
   print(fmt::format("{}phase {} {}{}", std::string(2 * (depth - 1), ' '), e.name, result,
                     e.cancelled ? "" : fmt::format(" (exit {})", e.exit)),
         e.sim_time_s);
@@ -98,7 +97,7 @@ void Console::vehicle_event(const std::string& text, double sim_time_s) {
   print("vehicle: " + text, sim_time_s);
 }
 
-void Console::line(const std::string& text, std::optional<double> sim_time_s) { print(text, sim_time_s); }
+void Console::note(const std::string& text, std::optional<double> sim_time_s) { print(text, sim_time_s); }
 
 void Console::clear_status() {
   if (status_shown_) {

@@ -1,6 +1,7 @@
 #pragma once
-// The operator's console during `strata run`: an observer of the Strategic
-// level plus the Tactical level's reports, telemetry and vehicle events.
+// The operator's console during `strata run`: an observer of the run (the
+// Strategic level's events, the Tactical level's reports, telemetry and
+// vehicle events, the run's own notes).
 // Event lines ("[  12.3 s] phase dive_from_surface completed") always; on a
 // TTY also a live status line (phase, depth, setpoint, sim time, the action
 // in flight), redrawn in place at most once per 0.1 s of simulated time so a
@@ -12,11 +13,11 @@
 #include <vector>
 
 #include "protocol/message.h"
-#include "strategic/executor.h"
+#include "run/observer.h"
 
 namespace strata::cli {
 
-class Console final : public strategic::Observer {
+class Console final : public run::RunObserver {
  public:
   Console(std::ostream& out, bool tty) : out_(out), tty_(tty) {}
 
@@ -27,16 +28,14 @@ class Console final : public strategic::Observer {
   void notice(const strategic::Notice& e) override;
   void mission_ended(const strategic::MissionResult& e) override;
 
-  void report(const std::string& text, double sim_time_s);
-  void telemetry(const protocol::Telemetry& t);
-  void vehicle_event(const std::string& text, double sim_time_s);
+  void report(const std::string& text, double sim_time_s) override;
+  void telemetry(const protocol::Telemetry& t) override;
+  void vehicle_event(const std::string& text, double sim_time_s) override;
   // Any other event line ("vehicle: 6.1 s: watchdog ...").
-  void line(const std::string& text, std::optional<double> sim_time_s = std::nullopt);
+  void note(const std::string& text, std::optional<double> sim_time_s) override;
   // Erases the status line (before the summary).
+  void run_ended(const run::RunReport&) override { clear_status(); }
   void clear_status();
-
-  // Phases that ended, in order: "initialize completed".
-  const std::vector<std::string>& phases() const { return phases_; }
 
  private:
   void print(const std::string& text, std::optional<double> sim_time_s);
@@ -56,7 +55,6 @@ class Console final : public strategic::Observer {
   std::optional<double> depth_m_;
   std::optional<double> setpoint_m_;
   std::string action_;
-  std::vector<std::string> phases_;
 };
 
 }  // namespace strata::cli

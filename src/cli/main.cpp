@@ -9,6 +9,7 @@
 #include "cli/exit_codes.h"
 
 int main(int argc, char** argv) {
+  using namespace strata;
   using namespace strata::cli;
   CLI::App app{
       "Strata: strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)",

@@ -320,7 +320,6 @@ TEST(CoralEngine, LogObserverWritesFiringsMarksAndPhases) {
 {"event":"mark","instance":0,"net":"m","place":"after","by":"p","sim_time":0.1}
 {"event":"fire","n":3,"instance":0,"net":"m","transition":"fin","consumed":{"after":1},"produced":{"done":1},"sim_time":0.1}
 {"event":"phase_end","instance":0,"net":"m","exit":"done","result":"completed","sim_time":0.1}
-{"event":"mission_end","outcome":"completed","exit":"done","reason":"","sim_time":0.1}
 )",
       body);
 }

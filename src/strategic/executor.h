@@ -133,6 +133,10 @@ class Executor {
   // with reason. Replies still in flight are ignored when they come.
   virtual void cancel(std::string reason) = 0;
   virtual bool running() const = 0;
+  // From any thread but the loop's: makes an executor that holds the loop
+  // (PROLOG rules computing) give it back soon, so that a cancel() posted to
+  // the loop runs. Never blocks. The CORAL Engine never holds the loop.
+  virtual void interrupt(const std::string& /*reason*/) {}
 };
 
 }  // namespace strata::strategic

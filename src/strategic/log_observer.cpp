@@ -83,14 +83,4 @@ void LogObserver::notice(const Notice& e) {
   log_.write(line);
 }
 
-void LogObserver::mission_ended(const MissionResult& e) {
-  Json line;
-  line["event"] = "mission_end";
-  line["outcome"] = to_string(e.outcome);
-  line["exit"] = e.exit;
-  line["reason"] = e.reason;
-  line["sim_time"] = t(e.sim_time_s);
-  log_.write(line);
-}
-
 }  // namespace strata::strategic

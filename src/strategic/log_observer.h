@@ -7,7 +7,8 @@
 //   {"event":"phase_end","instance","net","exit","result","sim_time"} (result: completed |
 //                                                                  aborted | cancelled)
 //   {"event":"notice","text","sim_time"}
-//   {"event":"mission_end","outcome","exit","reason","sim_time"}
+// The run writes the last lines itself, after its safe end (run/session.h):
+//   {"event":"mission_end","outcome","exit","reason",["stopped_by"],["safe_end"],"exit_code","sim_time"}
 // consumed/produced/marking are objects {place: tokens} in declaration order.
 // Together with the header these replay a run's markings exactly.
 #include "strategic/executor.h"
@@ -25,7 +26,6 @@ class LogObserver final : public Observer {
   void fired(const Firing& e) override;
   void action_finished(const ActionFinish& e) override;
   void notice(const Notice& e) override;
-  void mission_ended(const MissionResult& e) override;
 
  private:
   tactical::MissionLog& log_;

@@ -108,18 +108,28 @@ void RunPublisher::action_finished(const strategic::ActionFinish& e) {
                     });
 }
 
-void RunPublisher::mission_ended(const strategic::MissionResult& r) {
-  hub_.publish("run_end", {{"outcome", strategic::to_string(r.outcome)}, {"exit", r.exit}, {"reason", r.reason},
+// After the safe end, with the run's own word on how it ended. A run that
+// never started is told by the StudioRunner, with what went wrong.
+void RunPublisher::run_ended(const run::RunReport& report) {
+  if (!report.result) return;
+  const strategic::MissionResult& r = *report.result;
+  hub_.publish("run_end", {{"outcome", strategic::to_string(r.outcome)},
+                           {"exit", r.exit},
+                           {"reason", r.reason},
+                           {"stopped_by", report.stopped_by},
                            {"t", r.sim_time_s}});
 }
 
-void RunPublisher::telemetry(double t, double depth_m, std::optional<double> setpoint_m) {
+void RunPublisher::telemetry(const protocol::Telemetry& sample) {
+  const double t = sample.sim_time_s;
+  const double depth_m = sample.depth_m.value_or(0.0);
+  const std::optional<double> setpoint_m = sample.setpoint_m;
   hub_.publish_lazy("telemetry", {}, [t, depth_m, setpoint_m] {
     return json{{"t", t}, {"depth", depth_m}, {"setpoint", setpoint_m ? json(*setpoint_m) : json(nullptr)}};
   });
 }
 
-void RunPublisher::report(double t, const std::string& text) {
+void RunPublisher::report(const std::string& text, double t) {
   hub_.publish_lazy("report", {}, [t, text] { return json{{"t", t}, {"text", text}}; });
 }
 

@@ -1,8 +1,8 @@
 #pragma once
-// A strategic::Observer that tells the EventHub what a run does, in the
-// events of docs/studio.md: phases, firings (with the marking after, and the
-// enabled transitions), actions in flight, the end. Telemetry and reports
-// come from the Tactical level, through telemetry() and report().
+// A run::RunObserver that tells the EventHub what a run does, in the events
+// of docs/studio.md: phases, firings (with the marking after, and the
+// enabled transitions), actions in flight, telemetry, reports, and the run's
+// end once its safe end is over.
 //
 // Cost to the run: each event captures what it needs (a marking is a copy of
 // the net's token vector, names are shared per instance) and its JSON is
@@ -18,12 +18,13 @@
 #include <nlohmann/json.hpp>
 
 #include "petri/net.h"
+#include "run/observer.h"
 #include "strategic/executor.h"
 #include "studio/event_hub.h"
 
 namespace strata::studio {
 
-class RunPublisher final : public strategic::Observer {
+class RunPublisher final : public run::RunObserver {
  public:
   explicit RunPublisher(EventHub& hub) : hub_(hub) {}
 
@@ -32,10 +33,9 @@ class RunPublisher final : public strategic::Observer {
   void fired(const strategic::Firing& e) override;
   void action_started(const strategic::ActionStart& e) override;
   void action_finished(const strategic::ActionFinish& e) override;
-  void mission_ended(const strategic::MissionResult& r) override;
-
-  void telemetry(double t, double depth_m, std::optional<double> setpoint_m);
-  void report(double t, const std::string& text);
+  void telemetry(const protocol::Telemetry& t) override;
+  void report(const std::string& text, double sim_time_s) override;
+  void run_ended(const run::RunReport& report) override;
 
   // The names of one net's places and transitions, kept past the run.
   struct Names {

@@ -12,6 +12,7 @@
 #include "studio/assets.h"
 #include "studio/mission_model.h"
 #include "studio/replay.h"
+#include "studio/studio_runner.h"
 
 namespace strata::studio {
 namespace {
@@ -91,6 +92,12 @@ json sonar_status(const std::filesystem::path& dir) {
 StudioServer::StudioServer(StudioOptions options, EventHub& hub)
     : options_(std::move(options)), hub_(hub), sandbox_(options_.root), server_(std::make_unique<httplib::Server>()) {
   if (!options_.catalogue) options_.catalogue = &tactical::Catalogue::builtin();
+  runs_ = options_.runs;
+  if (!runs_) {
+    own_runner_ = std::make_unique<StudioRunner>(hub_, sandbox_, *options_.catalogue);
+    own_runner_->set_sonar_dir(options_.sonar_dir.string());
+    runs_ = own_runner_.get();
+  }
   const int threads = options_.threads;
   // Debian's library fixes its own pool at 8 threads; an open event stream
   // holds one, so a few tabs would starve every other request.
@@ -115,6 +122,7 @@ core::Result<std::uint16_t> StudioServer::start() {
 }
 
 void StudioServer::stop() {
+  if (own_runner_) own_runner_->stop();  // a run going ends through its safe end
   hub_.close();  // every event stream ends
   if (server_) server_->stop();
   if (listener_.joinable()) listener_.join();
@@ -210,13 +218,12 @@ void StudioServer::routes() {
   s.Post("/api/run", [this](const httplib::Request& req, httplib::Response& res) {
     auto body = json_body(req, res);
     if (!body) return;
-    if (!options_.start_run) return send_error(res, 501, "this studio does not run missions");
     const std::string path = body->value("path", "");
     auto real = sandbox_.resolve(path);
     if (!real) return send_path_error(res, real.error());
     RunRequest run{real.value(), path, body->value("scenario", ""), body->value("speed", 10.0)};
     if (!(run.speed >= 0.01 && run.speed <= 1000.0)) return send_error(res, 400, "speed must be between 0.01 and 1000");
-    auto started = options_.start_run(run);
+    auto started = runs_->start(run);
     if (!started) {
       return send_error(res, started.error().code == core::ErrorCode::Overflow ? 409 : 400, started.error().message);
     }
@@ -224,7 +231,7 @@ void StudioServer::routes() {
   });
 
   s.Post("/api/run/stop", [this](const httplib::Request&, httplib::Response& res) {
-    if (options_.stop_run) options_.stop_run();
+    runs_->stop();
     send_json(res, {{"ok", true}});
   });
 

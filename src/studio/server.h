@@ -2,8 +2,10 @@
 // `strata studio`'s HTTP server (docs/studio.md): the page, the JSON API and
 // the Server-Sent Events stream of a run, on 127.0.0.1 by default.
 //
-// Runs are started by a callback (the CLI owns how a mission runs); the run
-// tells the EventHub what happens, and the hub feeds every open stream.
+// Runs started from the page go through a RunLauncher: by default the
+// studio's own StudioRunner (the run library on a thread of its own); tests
+// may give another. The run tells the EventHub what happens, and the hub
+// feeds every open stream.
 //
 // Threads: start() returns once the socket is bound and listening on a
 // thread of its own; requests are served by a pool of `threads` workers
@@ -34,6 +36,19 @@ struct RunRequest {
   double speed = 10.0;            // simulated seconds per wall second
 };
 
+// Starts and stops the runs the page asks for. Threads: any (HTTP workers).
+class RunLauncher {
+ public:
+  virtual ~RunLauncher() = default;
+  // Starts the run (on another thread) or says why not (InvalidInput: 400;
+  // Overflow: 409, a run is going).
+  virtual core::Result<void> start(const RunRequest& request) = 0;
+  // Ends the run going, if any, through its safe end.
+  virtual void stop() = 0;
+};
+
+class StudioRunner;
+
 struct StudioOptions {
   std::filesystem::path root = ".";
   std::string host = "127.0.0.1";
@@ -47,11 +62,9 @@ struct StudioOptions {
   // one go: 25 writes a second is plenty for a page, and 20 pages cost a
   // run little.
   std::chrono::milliseconds batch{40};
-  // POST /api/run: start the run (on another thread) or say why not
-  // (InvalidInput: 400; Overflow: 409, a run is going).
-  std::function<core::Result<void>(const RunRequest&)> start_run;
-  // POST /api/run/stop.
-  std::function<void()> stop_run;
+  // POST /api/run and /api/run/stop go here; null: the studio's own
+  // StudioRunner (which must then outlive nothing: the server owns it).
+  RunLauncher* runs = nullptr;
   // Where the Sonar Manager of a run writes its scans (latest.png and
   // sonar.jsonl): GET /api/sonar says what is there, and
   // GET /api/sonar/latest.png serves the newest scan. "": no sonar.
@@ -80,6 +93,8 @@ class StudioServer {
   StudioOptions options_;
   EventHub& hub_;
   Sandbox sandbox_;
+  std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
+  RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread listener_;
   std::uint16_t port_ = 0;

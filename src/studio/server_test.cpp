@@ -32,10 +32,7 @@ class StudioServerTest : public ::testing::Test {
     o.root = base_ / "root";
     o.sonar_dir = base_ / "sonar";
     o.heartbeat = 100ms;
-    o.start_run = [this](const RunRequest& r) -> core::Result<void> {
-      runs_.push_back(r);
-      return core::Result<void>();
-    };
+    o.runs = &launcher_;
     server_ = std::make_unique<StudioServer>(o, hub_);
     auto port = server_->start();
     ASSERT_TRUE(port.ok()) << port.error().message;
@@ -56,7 +53,18 @@ class StudioServerTest : public ::testing::Test {
   EventHub hub_;
   std::unique_ptr<StudioServer> server_;
   std::uint16_t port_ = 0;
-  std::vector<RunRequest> runs_;
+  // Records the runs asked for instead of running them.
+  struct Launcher final : RunLauncher {
+    core::Result<void> start(const RunRequest& r) override {
+      runs.push_back(r);
+      return core::Result<void>();
+    }
+    void stop() override { ++stops; }
+    std::vector<RunRequest> runs;
+    int stops = 0;
+  };
+  Launcher launcher_;
+  std::vector<RunRequest>& runs_ = launcher_.runs;
 };
 
 TEST_F(StudioServerTest, ServesTheNewestSonarScanOnceThereIsOne) {

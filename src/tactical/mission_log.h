@@ -25,8 +25,8 @@
 
 namespace strata::tactical {
 
-// Where the log takes its wall_* values from (not core::WallClock, which is
-// a run clock). Tests give fixed ones.
+// Where the log takes its wall_* values from (the system clocks, or fixed ones
+// in tests).
 struct WallTimeSource {
   std::function<std::chrono::system_clock::time_point()> now;        // wall_time
   std::function<std::chrono::steady_clock::time_point()> monotonic;  // wall_latency_us

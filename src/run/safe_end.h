@@ -1,15 +1,16 @@
 #pragma once
-// What `strata run` does itself after a mission that *failed* (its own abort
-// path never ran) while the link still works: surface the vehicle if it is
-// under water, then send Figure 10's `done` (`ood shutdown_network`).
-// docs/prolog.md §3 and docs/architecture.md ("One run").
+// The vehicle's part of a run's one safe end (docs/architecture.md, "One
+// run, one safe end"): after a mission that did not complete and did not
+// run its own abort path to `done`, while the link still works, surface the
+// vehicle if it is under water, then send Figure 10's `done` (`ood
+// shutdown_network`):
 //
 //   ask surface_reached; if 0: exec surface, then ask surface_reached once
 //   per simulated second (exec sleep 1 between) for at most 120 s;
 //   then ood shutdown_network, whatever happened before.
 //
-// On a lost link (the mission failed with Timeout or Closed) only the
-// shutdown is tried: surfacing is then the vehicle's own watchdog's job.
+// On a lost link only the shutdown is tried: surfacing is then the vehicle's
+// own watchdog's job. abandon() (a second Ctrl-C) ends the procedure at once.
 //
 // Threads: one; the event loop's. The object must outlive the procedure.
 #include <functional>
@@ -18,19 +19,23 @@
 #include "tactical/catalogue.h"
 #include "tactical/tactical_level.h"
 
-namespace strata::cli {
+namespace strata::run {
 
-class Emergency {
+class SafeEnd {
  public:
   using Say = std::function<void(const std::string&)>;
-  Emergency(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say);
+  SafeEnd(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say);
 
   // The catalogue has the shutdown primitive: there is something to do.
   bool possible() const;
   // What run() will send, for the console and the log.
   std::string plan(bool link_gone) const;
-  // Runs the procedure; done is called once, from the event loop, at its end.
+  // Runs the procedure; done is called once, from the event loop, at its end
+  // (or at abandon()).
   void run(bool link_gone, std::function<void()> done);
+  // Stops waiting for the vehicle: done is called now (replies that come
+  // later are ignored). Does nothing when the procedure is not running.
+  void abandon();
 
   bool shutdown_sent() const { return shutdown_sent_; }
   const std::string& shutdown_error() const { return shutdown_error_; }  // "" if answered
@@ -41,6 +46,7 @@ class Emergency {
   bool can_surface(bool link_gone) const;
   void poll(int seconds_left);
   void send_done();
+  void finish();
 
   tactical::TacticalLevel& tactical_;
   const tactical::Catalogue& catalogue_;
@@ -52,4 +58,4 @@ class Emergency {
   std::string shutdown_error_;
 };
 
-}  // namespace strata::cli
+}  // namespace strata::run

@@ -1,12 +1,12 @@
-#include "cli/coral_load.h"
+#include "run/coral_load.h"
 
 #include <fmt/format.h>
 
-#include "cli/exit_codes.h"
+#include "core/exit_codes.h"
 #include "coral/compiler.h"
 #include "core/diagnostic_printer.h"
 
-namespace strata::cli {
+namespace strata::run {
 
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
                           std::string_view command, std::string_view suffix) {
@@ -30,4 +30,4 @@ CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& ca
   return load;
 }
 
-}  // namespace strata::cli
+}  // namespace strata::run

@@ -1,4 +1,4 @@
-#include "cli/sonar_child.h"
+#include "run/sonar_child.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -18,7 +18,7 @@
 
 extern char** environ;
 
-namespace strata::cli {
+namespace strata::run {
 
 std::string self_executable() {
   char buf[4096];
@@ -89,9 +89,9 @@ int SonarChild::stop(std::chrono::milliseconds grace) {
   return wait(std::chrono::milliseconds(5000)).value_or(-1);
 }
 
-}  // namespace strata::cli
+}  // namespace strata::run
 
-namespace strata::cli {
+namespace strata::run {
 
 core::Result<SonarChild> start_sonar_manager(const std::string& dir, const std::string& host,
                                              std::optional<std::uint16_t> port, asio::io_context& io,
@@ -146,4 +146,4 @@ std::string sonar_summary(const std::string& dir, std::optional<int> exit_status
   return what + "; scans in " + dir;
 }
 
-}  // namespace strata::cli
+}  // namespace strata::run

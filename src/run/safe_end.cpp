@@ -1,8 +1,8 @@
-#include "cli/emergency.h"
+#include "run/safe_end.h"
 
 #include <fmt/format.h>
 
-namespace strata::cli {
+namespace strata::run {
 namespace {
 
 constexpr const char* kShutdown = "shutdown_network";
@@ -15,22 +15,22 @@ using Outcome = core::Result<tactical::CallOutcome>;
 
 }  // namespace
 
-Emergency::Emergency(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say)
+SafeEnd::SafeEnd(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say)
     : tactical_(tactical), catalogue_(catalogue), say_(std::move(say)) {}
 
-bool Emergency::possible() const { return catalogue_.find(kShutdown) != nullptr; }
+bool SafeEnd::possible() const { return catalogue_.find(kShutdown) != nullptr; }
 
-bool Emergency::can_surface(bool link_gone) const {
+bool SafeEnd::can_surface(bool link_gone) const {
   return !link_gone && catalogue_.find(kSurface) && catalogue_.find(kSurfaceReached) && catalogue_.find(kSleep);
 }
 
-std::string Emergency::plan(bool link_gone) const {
+std::string SafeEnd::plan(bool link_gone) const {
   return can_surface(link_gone) ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
                                               kSurface, kShutdown)
                                 : fmt::format("ood {}", kShutdown);
 }
 
-void Emergency::run(bool link_gone, std::function<void()> done) {
+void SafeEnd::run(bool link_gone, std::function<void()> done) {
   done_ = std::move(done);
   if (!can_surface(link_gone)) {
     send_done();
@@ -38,6 +38,7 @@ void Emergency::run(bool link_gone, std::function<void()> done) {
   }
   // Already at the surface (or the vehicle will not say): done at once.
   tactical_.call(kSurfaceReached, {}, [this](Outcome at_surface) {
+    if (!done_) return;  // abandoned
     if (!at_surface || at_surface.value().value) {
       if (!at_surface) say_(fmt::format("ask {} failed: {}", kSurfaceReached, at_surface.error().message));
       surfaced_ = at_surface.ok();
@@ -46,6 +47,7 @@ void Emergency::run(bool link_gone, std::function<void()> done) {
     }
     surface_commanded_ = true;
     tactical_.call(kSurface, {}, [this](Outcome r) {
+      if (!done_) return;
       if (!r || !r.value().value) {
         say_(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
                : fmt::format("exec {} failed: {}", kSurface, r.error().message));
@@ -57,8 +59,9 @@ void Emergency::run(bool link_gone, std::function<void()> done) {
   });
 }
 
-void Emergency::poll(int seconds_left) {
+void SafeEnd::poll(int seconds_left) {
   tactical_.call(kSurfaceReached, {}, [this, seconds_left](Outcome r) {
+    if (!done_) return;
     if (r && r.value().value) {
       surfaced_ = true;
       send_done();
@@ -68,6 +71,7 @@ void Emergency::poll(int seconds_left) {
       send_done();
     } else {
       tactical_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](Outcome s) {
+        if (!done_) return;
         if (!s) {
           send_done();
           return;
@@ -78,19 +82,28 @@ void Emergency::poll(int seconds_left) {
   });
 }
 
-void Emergency::send_done() {
+void SafeEnd::send_done() {
   shutdown_sent_ = true;
   tactical_.call(kShutdown, {}, [this](Outcome r) {
+    if (!done_) return;
     if (!r) {
       shutdown_error_ = r.error().message;
       say_(fmt::format("ood {} failed: {}", kShutdown, r.error().message));
     }
-    if (done_) {
-      auto done = std::move(done_);
-      done_ = nullptr;
-      done();
-    }
+    finish();
   });
 }
 
-}  // namespace strata::cli
+void SafeEnd::abandon() {
+  if (done_) say_("the safe end was cut short: the vehicle's last answers are not waited for");
+  finish();
+}
+
+void SafeEnd::finish() {
+  if (!done_) return;
+  auto done = std::move(done_);
+  done_ = nullptr;
+  done();
+}
+
+}  // namespace strata::run

@@ -1,11 +1,11 @@
-#include "cli/studio_runner.h"
+#include "studio/studio_runner.h"
 
 #include <sstream>
 
 #include "studio/mission_model.h"
 #include "studio/run_publisher.h"
 
-namespace strata::cli {
+namespace strata::studio {
 
 StudioRunner::~StudioRunner() {
   stop();
@@ -13,7 +13,7 @@ StudioRunner::~StudioRunner() {
   if (thread_.joinable()) thread_.join();
 }
 
-core::Result<void> StudioRunner::start(const studio::RunRequest& request) {
+core::Result<void> StudioRunner::start(const RunRequest& request) {
   if (request.mission.extension() != ".coral") {
     return core::Error{core::ErrorCode::InvalidInput, "the studio runs CORAL missions (.coral)"};
   }
@@ -22,23 +22,25 @@ core::Result<void> StudioRunner::start(const studio::RunRequest& request) {
   if (thread_.joinable()) thread_.join();
   running_ = true;
   thread_ = std::thread([this, request] {
-    RunOptions o;
-    o.handle_signals = false;
+    run::RunOptions o;
     o.sonar_dir = sonar_dir_;
-    std::ostringstream out, err;
-    run_here(request, o, out, err);
+    std::ostringstream err;
+    run_here(request, o, {}, err);
     running_ = false;
   });
   return core::Result<void>();
 }
 
-void StudioRunner::stop() { control_->cancel("stopped from the studio"); }
+void StudioRunner::stop(const std::string& who, const std::string& reason, int exit_code) {
+  std::lock_guard lock(mutex_);
+  if (session_) session_->stop(who, reason, exit_code);
+}
 
-RunReport StudioRunner::run_here(const studio::RunRequest& request, RunOptions o, std::ostream& out,
-                                 std::ostream& err) {
-  studio::RunPublisher publisher(hub_);
+run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions o,
+                                      const std::vector<run::RunObserver*>& observers, std::ostream& err) {
+  RunPublisher publisher(hub_);
   const std::uint64_t run = ++runs_;
-  auto model = studio::compile_mission(sandbox_, request.relative, std::nullopt, catalogue_);
+  auto model = compile_mission(sandbox_, request.relative, std::nullopt, catalogue_);
   hub_.publish("run_start", {{"run", run},
                              {"mission", request.relative},
                              {"scenario", request.scenario.empty() ? "nominal" : request.scenario},
@@ -50,16 +52,21 @@ RunReport StudioRunner::run_here(const studio::RunRequest& request, RunOptions o
     o.realtime = true;  // watching live is on the wall clock
     o.speed = request.speed;
   }
-  o.observers.push_back(&publisher);
-  o.on_telemetry = [&publisher](const protocol::Telemetry& t) {
-    publisher.telemetry(t.sim_time_s, t.depth_m.value_or(0.0), t.setpoint_m);
-  };
-  o.on_report = [&publisher](const std::string& text, double t) { publisher.report(t, text); };
-  o.control = control_;
+  run::RunSession session(o);
+  for (run::RunObserver* obs : observers) session.add_observer(*obs);
+  session.add_observer(publisher);
+  {
+    std::lock_guard lock(mutex_);
+    session_ = &session;
+  }
   // Problems before the mission starts (it fails verification, say) reach
   // the page as the run's end, with what strata run would print.
   std::ostringstream problems;
-  RunReport report = run_mission(o, out, problems);
+  run::RunReport report = session.run(problems);
+  {
+    std::lock_guard lock(mutex_);
+    session_ = nullptr;
+  }
   err << problems.str();
   if (!report.result) {
     hub_.publish("run_end", {{"outcome", "failed"}, {"exit", ""}, {"reason", problems.str()}, {"t", 0.0}});
@@ -67,4 +74,4 @@ RunReport StudioRunner::run_here(const studio::RunRequest& request, RunOptions o
   return report;
 }
 
-}  // namespace strata::cli
+}  // namespace strata::studio

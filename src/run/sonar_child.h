@@ -15,7 +15,7 @@
 #include "core/result.h"
 #include "vehicle/sonar_server.h"
 
-namespace strata::cli {
+namespace strata::run {
 
 class SonarChild {
  public:
@@ -59,4 +59,4 @@ void drain_sonar(asio::io_context& io, const vehicle::SonarServer* sonar);
 // sonar.jsonl says.
 std::string sonar_summary(const std::string& dir, std::optional<int> exit_status);
 
-}  // namespace strata::cli
+}  // namespace strata::run

@@ -9,7 +9,7 @@
 #include "core/source.h"
 #include "tactical/catalogue.h"
 
-namespace strata::cli {
+namespace strata::run {
 
 struct CoralLoad {
   core::SourceManager sources;
@@ -21,4 +21,4 @@ struct CoralLoad {
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
                           std::string_view command, std::string_view suffix = "");
 
-}  // namespace strata::cli
+}  // namespace strata::run

@@ -1,0 +1,166 @@
+#include "run/loaded_mission.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "core/exit_codes.h"
+#include "coral/verify_report.h"
+#include "run/coral_load.h"
+#include "run/inputs.h"
+#include "tactical/sha256.h"
+
+namespace strata::run {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kVersion = "0.1.0";
+
+std::string sha256_or_empty(const std::string& path) {
+  auto r = tactical::sha256_file(path);
+  return r ? r.value() : std::string();
+}
+
+// Compiles the mission; diagnostics (warnings too) go to err.
+int load_coral(const std::string& path, LoadedMission& loaded, std::ostream& err) {
+  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running");
+  if (!load.program) return load.exit_code;
+  if (!load.program->mission) {
+    err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
+    return kExitInvalid;
+  }
+  loaded.sources = std::move(load.sources);
+  loaded.program = std::move(load.program);
+  const coral::CompiledNet& mission = loaded.program->nets[*loaded.program->mission];
+  loaded.name = mission.name;
+  loaded.data_path = mission.data_file;
+  return kExitOk;
+}
+
+// Loads and checks the rules; messages (warnings too) go to err.
+int load_prolog(const std::string& path, LoadedMission& loaded, std::ostream& err) {
+  std::vector<prolog::Message> messages;
+  auto rules = prolog::Mission::load(path, loaded.catalogue, messages);
+  for (const auto& m : messages) err << prolog::format_message(m) << "\n";
+  if (!rules) {
+    err << "strata run: " << rules.error().message << "; not running\n";
+    return exit_code_for_input(rules.error());
+  }
+  loaded.rules = std::move(rules.value());
+  loaded.name = loaded.rules->name();
+  loaded.data_path = loaded.rules->data_file();
+  return kExitOk;
+}
+
+// CORAL: the nets are verified before anything moves.
+int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  coral::VerifyOptions vo;
+  vo.mission_only = true;  // what this run can reach
+  loaded.verification = coral::verify_program(*loaded.program, vo);
+  if (loaded.verification->ok()) return kExitOk;
+  err << coral::verify_failures_text(*loaded.verification);
+  if (!o.unverified) {
+    err << fmt::format("strata run: {} fails verification; not running (`strata verify {}` shows every "
+                       "property; --unverified runs it anyway, and its log records that)\n",
+                       o.mission, o.mission);
+    return kExitInvalid;
+  }
+  err << "strata run: warning: running a mission that fails verification (--unverified)\n";
+  return kExitOk;
+}
+
+int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  loaded.params = vehicle::default_params();
+  if (!o.params.empty()) {
+    auto p = vehicle::load_params(o.params);
+    if (!p) {
+      err << "strata run: " << p.error().message << "\n";
+      return exit_code_for_input(p.error());
+    }
+    loaded.params = p.value();
+  }
+  auto scenario = load_scenario_option(o.scenario, o.mission);
+  if (!scenario) {
+    err << "strata run: " << scenario.error().message << "\n";
+    return exit_code_for_input(scenario.error());
+  }
+  loaded.scenario = std::move(scenario.value());
+  if (!o.vehicle.empty() && (!o.scenario.empty() || !o.params.empty() || o.realtime)) {
+    err << "strata run: --scenario, --params and --realtime set up the embedded vehicle; with "
+           "--vehicle they belong to that vehicle's own command line\n";
+    return kExitUsage;
+  }
+  return kExitOk;
+}
+
+int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  if (!o.data.empty()) loaded.data_path = o.data;
+  if (loaded.data_path.empty()) return kExitOk;
+  auto d = tactical::MissionData::load(loaded.data_path, tactical::DataLimits{loaded.params.tank_depth_m});
+  if (!d) {
+    err << "strata run: " << d.error().message << "\n";
+    return exit_code_for_input(d.error());
+  }
+  loaded.data = std::move(d.value());
+  loaded.cursor.emplace(*loaded.data);
+  return kExitOk;
+}
+
+}  // namespace
+
+int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  const auto extension = fs::path(o.mission).extension();
+  if (extension != ".coral" && extension != ".pl") {
+    err << fmt::format("strata run: '{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)\n", o.mission);
+    return kExitUsage;
+  }
+  auto catalogue = load_catalogue_option(o.catalogue);
+  if (!catalogue) {
+    err << "strata run: " << catalogue.error().message << "\n";
+    return exit_code_for_input(catalogue.error());
+  }
+  loaded.catalogue = std::move(catalogue.value());
+  int code = extension == ".pl" ? load_prolog(o.mission, loaded, err) : load_coral(o.mission, loaded, err);
+  if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
+  if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
+  if (code == kExitOk) code = load_data(o, loaded, err);
+  return code;
+}
+
+std::string scenario_name(const RunOptions& o) { return o.scenario.empty() ? "nominal" : o.scenario; }
+
+tactical::RunInfo run_info(const RunOptions& o, const LoadedMission& loaded) {
+  const bool embedded = o.vehicle.empty();
+  tactical::RunInfo info;
+  info.version = kVersion;
+  info.mission = o.mission;
+  info.mission_sha256 = sha256_or_empty(o.mission);
+  info.data = loaded.data_path;
+  if (!loaded.data_path.empty()) info.data_sha256 = sha256_or_empty(loaded.data_path);
+  info.scenario = embedded ? scenario_name(o) : "external";
+  info.seed = embedded ? loaded.scenario.seed : 0;
+  info.clock = o.realtime ? "wall" : "lockstep";
+  return info;
+}
+
+nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified) {
+  nlohmann::json failed = nlohmann::json::array();
+  std::uint64_t states = 0;
+  for (const auto& n : v.nets) {
+    states += n.states;
+    for (const auto& p : n.properties) {
+      if (p.status == coral::Property::Status::Holds) continue;
+      failed.push_back({{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)},
+                        {"message", p.message}});
+    }
+  }
+  nlohmann::json j{{"event", "verification"}, {"ok", v.ok()}, {"nets", v.nets.size()}, {"states", states}};
+  if (!v.ok()) {
+    j["failed"] = std::move(failed);
+    j["run_anyway"] = unverified;
+  }
+  return j;
+}
+
+}  // namespace strata::run

@@ -1,0 +1,55 @@
+#pragma once
+// A run's inputs, loaded and checked before anything moves: the catalogue,
+// the mission (CORAL compiled and verified, or PROLOG rules loaded and
+// checked), the vehicle's parameters and scenario, the mission data.
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "coral/program.h"
+#include "coral/verifier.h"
+#include "core/source.h"
+#include "prolog/mission.h"
+#include "run/options.h"
+#include "tactical/catalogue.h"
+#include "tactical/mission_data.h"
+#include "tactical/mission_log.h"
+#include "vehicle/params.h"
+#include "vehicle/scenario.h"
+
+namespace strata::run {
+
+struct LoadedMission {
+  LoadedMission() = default;
+  LoadedMission(const LoadedMission&) = delete;  // the cursor points into data
+  LoadedMission& operator=(const LoadedMission&) = delete;
+
+  tactical::Catalogue catalogue;
+  core::SourceManager sources;
+  std::optional<coral::Program> program;   // a .coral mission
+  std::unique_ptr<prolog::Mission> rules;  // a .pl mission
+  std::string name;                        // the mission net's name, or the rules' file stem
+  std::string data_path;                   // the data file used; "" none
+  std::optional<tactical::MissionData> data;
+  std::optional<tactical::DataCursor> cursor;
+  vehicle::VehicleParams params;
+  vehicle::Scenario scenario;
+  std::optional<coral::VerifyReport> verification;  // CORAL
+};
+
+// Loads everything the options name into `loaded`; diagnostics and problems
+// go to err. Returns 0, or the exit code (64 usage, 65 invalid, 74 unreadable).
+int load_mission(const RunOptions& options, LoadedMission& loaded, std::ostream& err);
+
+// The scenario's name as the log and the console give it ("nominal" for none).
+std::string scenario_name(const RunOptions& options);
+// The mission log's header: which inputs made this run.
+tactical::RunInfo run_info(const RunOptions& options, const LoadedMission& loaded);
+// What the log keeps of the verification: whether it passed, and each
+// property that did not hold, with its message.
+nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified);
+
+}  // namespace strata::run

@@ -1,0 +1,41 @@
+#pragma once
+// What one run is given: its inputs, the vehicle to run against, and its
+// limits. Plain data; the CLI fills it from flags, the studio from a request.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace strata::run {
+
+struct RunOptions {
+  std::string mission;    // a .coral (CORAL) or .pl (PROLOG) file
+  std::string data;       // overrides the mission's data file
+  std::string scenario;   // name (in the mission's scenarios/) or path; "" nominal
+  std::string params;     // vehicle parameter file; "" built in
+  std::string catalogue;  // primitive catalogue; "" built in
+  std::optional<std::uint64_t> seed;           // CORAL: seeded choice among enabled transitions
+  std::uint64_t inference_limit = 10'000'000;  // PROLOG: inferences allowed between primitive calls
+  bool realtime = false;  // the embedded vehicle on the wall clock
+  double speed = 1.0;     // with realtime: simulated seconds per wall second
+  std::string vehicle;    // HOST:PORT of a running vehicle; "" embedded
+  std::string log;        // mission log path; "" none
+  // Start the Sonar Manager (`strata sonar`, a separate process) on the
+  // vehicle's sonar socket, writing its scans here; "" none.
+  std::string sonar_dir;
+  double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
+  bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
+  // CORAL: a mission that fails verification (docs/verification.md) is not
+  // run unless this is set; then it runs and the log records the failures.
+  bool unverified = false;
+  // Lockstep: simulated seconds after which the run is ended (an abort, by
+  // the safe end) whatever the mission is doing. A day by default: a tank or
+  // harbour mission takes minutes; a loop of sleep(1) would otherwise run,
+  // and log, until the disk is full.
+  double max_sim_time_s = 86'400.0;
+  // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
+  std::function<void(bool sent, std::string_view line)> wire_tap;
+};
+
+}  // namespace strata::run

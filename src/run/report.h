@@ -1,0 +1,63 @@
+#pragma once
+// What a run did, for the summary, the studio and tests.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "protocol/message.h"
+#include "strategic/executor.h"
+#include "tactical/tactical_level.h"
+
+namespace strata::run {
+
+struct RunReport {
+  int exit_code = 0;  // core/exit_codes.h: 0 only for a completed mission
+  std::string mission_name;
+  std::optional<strategic::MissionResult> result;  // unset if the mission never started
+  // What ended the run when it was not the mission itself: "SIGINT",
+  // "SIGTERM", "SIGHUP", "studio", "limit"; "" otherwise.
+  std::string stopped_by;
+  bool link_lost = false;
+  std::string link_lost_why;
+  // The vehicle's own words when it refused a call or answered an exec 0
+  // ("exec submerge failed: ..."), the last such; "" none.
+  std::string vehicle_reason;
+  std::vector<std::string> phases;  // "initialize completed", depth-1 phases in the order they ended
+  std::uint64_t primitive_calls = 0;
+  double sim_time_s = 0.0;
+  double wall_time_s = 0.0;
+  bool lockstep = true;
+  // The safe end (safe_end.h): what the run did itself after the mission.
+  bool emergency_shutdown = false;  // it sent Figure 10's `done` (ood shutdown_network)
+  std::string shutdown_error;       // ... unanswered: why ("" answered)
+  bool emergency_surface = false;   // ... and before it commanded the surface (the link still worked)
+  bool emergency_surfaced = false;  // ... and the vehicle answered surface_reached 1 (then or before)
+  bool hurried = false;             // a second stop request cut the safe end short
+  // Embedded vehicle only: its state when the run was over.
+  std::optional<double> final_depth_m;
+  std::optional<double> final_time_s;
+  bool vehicle_watchdog_tripped = false;
+  // The last telemetry heard (every vehicle: with --vehicle the only word on
+  // its final state).
+  std::optional<protocol::Telemetry> last_telemetry;
+  // With a sonar folder: the Sonar Manager's exit status (nullopt if it was
+  // not started or did not end), and one line on what it saw.
+  std::optional<int> sonar_exit;
+  std::string sonar_summary;
+  std::string log_path;  // "" none
+  std::uint64_t log_lines = 0;
+  // With RunOptions::trace: every primitive call, in the order they completed.
+  std::vector<tactical::CallRecord> trace;
+};
+
+// "completed", "aborted", "failed", "interrupted by SIGINT", ...: how the
+// run ended in a few words, for the summary's first line.
+std::string ending_text(const RunReport& report);
+
+// The summary people read after a run (the CLI prints it): the ending, the
+// reason, phases, times, the vehicle's final state, what the safe end did,
+// the log.
+std::string summary_text(const RunReport& report);
+
+}  // namespace strata::run

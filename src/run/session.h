@@ -1,0 +1,74 @@
+#pragma once
+// One run as a library object (design.md §2.6b): load the inputs (mission,
+// data, scenario, catalogue, parameters), open the vehicle (embedded in
+// lockstep, embedded on the wall clock, or a remote one), start the
+// Strategic executor, drive it, and end it — always through one path:
+//
+//   interrupt the executor; surface the vehicle unless the mission completed
+//   or ran its own abort path to `done`, or the link is gone (SafeEnd); send
+//   `done`; let an embedded vehicle settle; write `vehicle_final` and
+//   `mission_end` (outcome, reason, what ended it, the exit code) and flush
+//   the log; tell the observers run_ended().
+//
+// Whatever ends the run takes that path: the mission completing, an EXEC
+// answered 0, a lost link, a stall, runaway or crashing rules, halt, stop()
+// (a signal, the studio's Stop), the simulated-time limit, an internal error.
+//
+// The CLI and the studio both build a RunSession; `strata compare` runs two.
+//
+// Threads: run() on one thread, which becomes the run's event loop (and, for
+// PROLOG rules, SWI-Prolog's thread). stop() from any thread, at any time.
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "run/observer.h"
+#include "run/options.h"
+#include "run/report.h"
+
+namespace strata::run {
+
+class RunSession {
+ public:
+  explicit RunSession(RunOptions options);
+  ~RunSession();
+  RunSession(const RunSession&) = delete;
+  RunSession& operator=(const RunSession&) = delete;
+
+  // Observers are told in the order added; each must outlive run().
+  void add_observer(RunObserver& observer);
+
+  // Runs the mission to its end on the calling thread and returns what
+  // happened. Problems before the mission starts (a bad mission, a file not
+  // there, a vehicle not reachable) go to err and leave report.result unset.
+  // Call once.
+  RunReport run(std::ostream& err);
+
+  // Ends the run through the safe end. `who` names the cause for the report
+  // and the log ("SIGINT", "studio"), `reason` says it to people, exit_code
+  // is the run's exit code. A second call cuts the safe end short: replies
+  // are no longer waited for, but the log is still closed. Thread-safe,
+  // never blocks; before run() it stops the run as soon as it starts, after
+  // run() it does nothing.
+  void stop(const std::string& who, const std::string& reason, int exit_code);
+
+ private:
+  class Run;
+  friend class Run;
+  struct StopRequest {
+    std::string who, reason;
+    int exit_code = 0;
+  };
+
+  RunOptions options_;
+  std::vector<RunObserver*> observers_;
+  std::mutex mutex_;  // guards the three below
+  std::optional<StopRequest> stop_;
+  int stop_requests_ = 0;
+  Run* active_ = nullptr;  // set while run() drives the mission
+};
+
+}  // namespace strata::run

@@ -1,0 +1,63 @@
+#pragma once
+// Runs for the studio: one mission at a time on a thread of its own, on the
+// wall clock, through the run library (run::RunSession), told to the page
+// through the EventHub (run_start, then the RunPublisher's events, then
+// run_end).
+//
+// Threads: start() and stop() from any thread (the HTTP workers); the run
+// itself on its own thread, joined by the next start() or the destructor.
+// run_here() runs on the calling thread (`strata run --studio`).
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <ostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "run/observer.h"
+#include "run/options.h"
+#include "run/report.h"
+#include "run/session.h"
+#include "studio/event_hub.h"
+#include "studio/sandbox.h"
+#include "studio/server.h"
+#include "tactical/catalogue.h"
+
+namespace strata::studio {
+
+class StudioRunner final : public RunLauncher {
+ public:
+  StudioRunner(EventHub& hub, const Sandbox& sandbox, const tactical::Catalogue& catalogue)
+      : hub_(hub), sandbox_(sandbox), catalogue_(catalogue) {}
+  ~StudioRunner() override;
+
+  // Overflow when a run is going; InvalidInput for what the studio cannot run.
+  core::Result<void> start(const RunRequest& request) override;
+  // The page's Stop: the run ends through its safe end ("stopped from the studio").
+  void stop() override { stop("studio", "stopped from the studio", 1); }
+  // Any other cause (a signal): as run::RunSession::stop(). No run: nothing.
+  void stop(const std::string& who, const std::string& reason, int exit_code);
+  bool running() const { return running_; }
+  // Runs started by start() get a Sonar Manager writing here ("" none).
+  void set_sonar_dir(std::string dir) { sonar_dir_ = std::move(dir); }
+
+  // The same run on the calling thread, with more observers (the console);
+  // options says everything but the mission and scenario, which come from
+  // the request. Returns its report.
+  run::RunReport run_here(const RunRequest& request, run::RunOptions options,
+                          const std::vector<run::RunObserver*>& observers, std::ostream& err);
+
+ private:
+  EventHub& hub_;
+  const Sandbox& sandbox_;
+  const tactical::Catalogue& catalogue_;
+  std::mutex mutex_;  // guards thread_ and session_
+  std::thread thread_;
+  run::RunSession* session_ = nullptr;  // the run going, if any
+  std::atomic<bool> running_{false};
+  std::uint64_t runs_ = 0;
+  std::string sonar_dir_;
+};
+
+}  // namespace strata::studio
