@@ -146,7 +146,12 @@ core::Result<void> read_event(const json& e, const Place& at, MissionPlot& plot,
       std::string label = fmt::format("mission {}", plot.outcome.empty() ? "ended" : plot.outcome);
       if (!plot.exit.empty()) label += fmt::format(" (exit {})", plot.exit);
       if (!plot.reason.empty()) label += fmt::format(": {}", plot.reason);
-      plot.aborts.push_back({t.value(), std::move(label), true});
+      // The mark goes where the mission ended, before the run's safe end
+      // (mission_sim_time; older logs have only sim_time).
+      const double at_s = e.contains("mission_sim_time") && e["mission_sim_time"].is_number()
+                              ? e["mission_sim_time"].get<double>()
+                              : t.value();
+      plot.aborts.push_back({at_s, std::move(label), true});
     }
   }
   return {};
