@@ -1,0 +1,143 @@
+#pragma once
+// Inside run::RunSession (not for other components): the objects of one
+// run and its stages, split over session.cpp (driving and the safe end) and
+// session_start.cpp (the stages before the mission starts).
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <asio.hpp>
+#include <fmt/format.h>
+
+#include "run/loaded_mission.h"
+#include "run/safe_end.h"
+#include "run/session.h"
+#include "run/sonar_child.h"
+#include "strategic/log_observer.h"
+#include "strategic/tactics.h"
+#include "tactical/mission_log.h"
+#include "tactical/tactical_level.h"
+#include "tactical/vehicle_link.h"
+#include "vehicle/server.h"
+
+namespace strata::run {
+namespace detail {
+
+// Lockstep: wall seconds allowed per simulated second of a call (>= 100x real time).
+constexpr double kLockstepWallPerSim = 0.01;
+constexpr const char* kShutdown = "shutdown_network";
+
+// Records the depth-1 phases as they end, for the summary.
+class PhaseRecorder final : public strategic::Observer {
+ public:
+  explicit PhaseRecorder(std::vector<std::string>& phases) : phases_(phases) {}
+  void phase_started(const strategic::PhaseStart& e) override { depth_[e.instance] = e.depth; }
+  void phase_ended(const strategic::PhaseEnd& e) override {
+    auto it = depth_.find(e.instance);
+    if (it == depth_.end()) return;
+    if (it->second == 1) {
+      phases_.push_back(fmt::format("{} {}", e.name, e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted"));
+    }
+    depth_.erase(it);
+  }
+
+ private:
+  std::vector<std::string>& phases_;
+  std::map<strategic::InstanceId, std::size_t> depth_;
+};
+
+inline bool link_error(const strategic::MissionResult& r) {
+  return r.call_error && (*r.call_error == core::ErrorCode::Timeout || *r.call_error == core::ErrorCode::Closed);
+}
+
+}  // namespace detail
+
+// The objects of one run, alive inside RunSession::run(). Each stage is a
+// member function; those before the mission return an exit code (0: go on).
+class RunSession::Run {
+ public:
+  Run(RunSession& session, std::ostream& err)
+      : session_(session), o_(session.options_), err_(err), wall_start_(std::chrono::steady_clock::now()) {}
+
+  RunReport execute();
+
+  // On the loop: a stop request arrived (RunSession::stop()).
+  void on_stop();
+  // Any thread, under the session's mutex: wake an executor that holds the loop.
+  void interrupt(const std::string& reason) {
+    if (executor_) executor_->interrupt(reason);
+  }
+  asio::io_context& io() { return io_; }
+
+ private:
+  int fail(int code) {
+    report_.exit_code = code;
+    return code;
+  }
+  // Mission, catalogue, parameters, scenario, data: loaded and checked.
+  int load_inputs();
+  // The mission log created, with its header and the verification.
+  int open_log();
+  // The embedded vehicle started on a free port, or --vehicle parsed.
+  int open_vehicle();
+  // The link connected and hello answered; the vehicle's clock known.
+  int connect();
+  // The Sonar Manager started and connected, when a folder is given.
+  int start_sonar();
+  // The Tactical level, the executor and their observers, wired.
+  void build_levels();
+  // The loop run until the mission and its safe end are over.
+  void drive();
+  // The executor's end: on to the safe end, or straight to wrap_up().
+  void mission_ended(const strategic::MissionResult& result);
+  // Whether the vehicle still needs surfacing and `done` from the run.
+  bool needs_safe_end(const strategic::MissionResult& result) const;
+  // The link closed and the embedded vehicle settled: the loop may end.
+  void wrap_up();
+  // The Sonar Manager waited for (or stopped) and summarised.
+  void close_sonar();
+  // Times, the final vehicle state and the exit code into the report.
+  void finish_report();
+  // vehicle_final and mission_end written, the log closed.
+  void write_end_of_log();
+  // A stop decided on the loop itself (a limit), as RunSession::stop().
+  void stop_here(const std::string& who, const std::string& reason, int exit_code);
+  // The simulated-time limit checked (lockstep only).
+  void check_limits();
+  void note(const std::string& text, std::optional<double> t = std::nullopt) {
+    for (RunObserver* o : session_.observers_) o->note(text, t);
+  }
+
+  RunSession& session_;
+  const RunOptions& o_;
+  std::ostream& err_;
+  std::chrono::steady_clock::time_point wall_start_;
+  RunReport report_;
+
+  LoadedMission loaded_;
+  std::optional<tactical::MissionLog> log_;
+  asio::io_context io_;
+  std::vector<std::string> vehicle_log_;
+  std::optional<vehicle::Simulation> sim_;
+  std::unique_ptr<vehicle::VehicleServer> server_;
+  tactical::LinkOptions link_options_;
+  std::optional<std::uint16_t> sonar_port_;  // as hello announced it
+  std::shared_ptr<tactical::VehicleLink> link_;
+  std::optional<SonarChild> sonar_;
+  std::optional<tactical::TacticalLevel> tactical_;
+  std::optional<strategic::TacticalTactics> tactics_;
+  std::unique_ptr<strategic::Executor> executor_;
+  std::optional<strategic::LogObserver> log_observer_;
+  std::optional<detail::PhaseRecorder> phase_recorder_;
+  std::optional<SafeEnd> safe_end_;
+  bool mission_sent_done_ = false;
+  bool safe_end_running_ = false;
+  bool finished_ = false;
+  std::optional<std::string> internal_error_;
+};
+
+}  // namespace strata::run

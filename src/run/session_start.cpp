@@ -1,0 +1,168 @@
+#include "run/session_run.h"
+
+#include <fmt/format.h>
+
+#include "core/exit_codes.h"
+#include "run/inputs.h"
+#include "strategic/coral_engine.h"
+#include "strategic/prolog_executor.h"
+
+namespace strata::run {
+
+using namespace detail;
+
+int RunSession::Run::load_inputs() {
+  if (auto r = load_mission(o_, loaded_, err_); r != kExitOk) return fail(r);
+  report_.mission_name = loaded_.name;
+  return kExitOk;
+}
+
+int RunSession::Run::open_log() {
+  if (o_.log.empty()) return kExitOk;
+  auto opened = tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
+  if (!opened) {
+    err_ << "strata run: cannot write the mission log: " << opened.error().message << "\n";
+    return fail(kExitIo);
+  }
+  log_ = std::move(opened.value());
+  report_.log_path = log_->path();
+  if (o_.seed) log_->write({{"event", "choice"}, {"seed", *o_.seed}});
+  if (loaded_.verification) log_->write(verification_record(*loaded_.verification, o_.unverified));
+  return kExitOk;
+}
+
+int RunSession::Run::open_vehicle() {
+  if (!o_.vehicle.empty()) {
+    auto endpoint = parse_listen(o_.vehicle);
+    if (!endpoint) {
+      err_ << "strata run: --vehicle: " << endpoint.error().message << "\n";
+      return fail(kExitUsage);
+    }
+    link_options_.host = endpoint.value().first;
+    link_options_.port = endpoint.value().second;
+    if (link_options_.port == 0) {
+      err_ << "strata run: --vehicle needs a port (HOST:PORT)\n";
+      return fail(kExitUsage);
+    }
+    return kExitOk;
+  }
+  sim_.emplace(loaded_.params, loaded_.scenario);
+  vehicle::ServerOptions so;
+  so.clock = o_.realtime ? protocol::ClockMode::Wall : protocol::ClockMode::Lockstep;
+  so.speed = o_.speed;
+  // The embedded vehicle's own log ("6.0 s: watchdog: ..."). What it says
+  // while the link works also reaches us as protocol events, so these are
+  // kept and shown only for the time after we last heard from it.
+  so.log = [this](const std::string& line) { vehicle_log_.push_back(line); };
+  server_ = std::make_unique<vehicle::VehicleServer>(io_, *sim_, so);
+  if (auto r = server_->start(); !r) {
+    err_ << "strata run: cannot start the simulated vehicle: " << r.error().message << "\n";
+    return fail(kExitIo);
+  }
+  link_options_.port = server_->port();
+  // In lockstep the vehicle answers within microseconds: a second of
+  // silence is a lost link, not a slow vehicle.
+  if (!o_.realtime) link_options_.reply_timeout = std::chrono::milliseconds(1000);
+  return kExitOk;
+}
+
+int RunSession::Run::connect() {
+  link_options_.tap = o_.wire_tap;
+  link_ = tactical::VehicleLink::create(io_, link_options_);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link_->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
+  while (!welcome && io_.run_one() > 0) {
+  }
+  if (!welcome || !welcome->ok()) {
+    err_ << "strata run: "
+         << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello")) << "\n";
+    return fail(kExitIo);
+  }
+  const protocol::Welcome& w = welcome->value();
+  report_.lockstep = w.clock == protocol::ClockMode::Lockstep;
+  sonar_port_ = w.sonar_port;
+  if (log_) {
+    // The vehicle's own word on its clock (the header says what was asked).
+    // No address: the port is chosen at random and the log must not vary.
+    log_->write({{"event", "vehicle"},
+                 {"name", w.vehicle_name},
+                 {"clock", report_.lockstep ? "lockstep" : "wall"},
+                 {"embedded", o_.vehicle.empty()}});
+  }
+  note(fmt::format("vehicle {} at {}:{} ({}{})", w.vehicle_name, link_options_.host, link_options_.port,
+                   report_.lockstep ? "lockstep" : "wall clock",
+                   o_.vehicle.empty() ? fmt::format(", embedded, scenario {}", scenario_name(o_)) : ""));
+  return kExitOk;
+}
+
+int RunSession::Run::start_sonar() {
+  if (o_.sonar_dir.empty()) return kExitOk;
+  auto started = start_sonar_manager(o_.sonar_dir, link_options_.host, sonar_port_, io_,
+                                     server_ ? server_->sonar() : nullptr);
+  if (!started) {
+    err_ << "strata run: --sonar: " << started.error().message << "\n";
+    return fail(exit_code_for_input(started.error()));
+  }
+  sonar_.emplace(std::move(started).value());
+  note(fmt::format("sonar manager: pid {}, scans in {}", sonar_->pid(), o_.sonar_dir));
+  if (log_) log_->write({{"event", "sonar_manager"}, {"dir", o_.sonar_dir}});
+  return kExitOk;
+}
+
+void RunSession::Run::build_levels() {
+  tactical_.emplace(io_, loaded_.catalogue, link_, loaded_.cursor ? &*loaded_.cursor : nullptr,
+                    log_ ? &*log_ : nullptr);
+  // Wall clock: a call may take its simulated time divided by the speed.
+  // Lockstep: the vehicle computes a call's simulated time as fast as it
+  // can; allow for at least 100x real time (a 1 h sleep may take 36 s of
+  // wall time on a slow machine) on top of the link's own timeout.
+  tactical_->set_wall_seconds_per_sim_second(report_.lockstep ? kLockstepWallPerSim : 1.0 / o_.speed);
+  tactical_->on_report([this](const std::string& text, double t) {
+    for (RunObserver* obs : session_.observers_) obs->report(text, t);
+  });
+  tactical_->on_telemetry([this](const protocol::Telemetry& t) {
+    report_.last_telemetry = t;
+    for (RunObserver* obs : session_.observers_) obs->telemetry(t);
+    check_limits();
+  });
+  tactical_->on_vehicle_event([this](const protocol::Event& e) {
+    // "exec submerge failed: ...": the vehicle's reason for an answer of 0.
+    if (e.text.find(" failed: ") != std::string::npos) report_.vehicle_reason = e.text;
+    for (RunObserver* obs : session_.observers_) obs->vehicle_event(e.text, e.sim_time_s);
+  });
+  tactical_->on_call([this](const tactical::CallRecord& c) {
+    if (o_.trace) report_.trace.push_back(c);
+    if (c.primitive == kShutdown && c.value == true && !safe_end_running_) mission_sent_done_ = true;
+    if (c.error.starts_with("vehicle error ")) report_.vehicle_reason = c.error;
+    check_limits();
+  });
+  if (o_.telemetry_hz > 0) {
+    link_->send(protocol::make_telemetry(0, o_.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
+  }
+  tactics_.emplace(*tactical_);
+  if (loaded_.program) {
+    strategic::EngineOptions engine_options;
+    engine_options.seed = o_.seed;
+    executor_ = std::make_unique<strategic::CoralEngine>(*loaded_.program, *tactics_, engine_options);
+  } else {
+    strategic::PrologOptions prolog_options;
+    prolog_options.inference_limit = o_.inference_limit;
+    executor_ = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue,
+                                                            prolog_options);
+  }
+  if (log_) {
+    log_observer_.emplace(*log_);
+    executor_->add_observer(*log_observer_);
+  }
+  phase_recorder_.emplace(report_.phases);
+  executor_->add_observer(*phase_recorder_);
+  for (RunObserver* obs : session_.observers_) executor_->add_observer(*obs);
+  safe_end_.emplace(*tactical_, loaded_.catalogue, [this](const std::string& text) { note(text); });
+  link_->on_lost([this](const core::Error& e) {
+    report_.link_lost = true;
+    report_.link_lost_why = e.message;
+    if (executor_->running()) executor_->cancel(fmt::format("lost the link to the vehicle: {}", e.message));
+  });
+}
+
+}  // namespace strata::run
