@@ -182,18 +182,10 @@ TEST(RunEnd, SigtermDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
 }
 
 MissionRun run_file(const std::string& mission, double max_sim_time_s = RunOptions{}.max_sim_time_s) {
-  TempDir dir;
   RunOptions o;
   o.mission = mission;
   o.max_sim_time_s = max_sim_time_s;
-  o.log = dir.file("mission.jsonl");
-  std::ostringstream out, err;
-  MissionRun run;
-  run.report = run_mission(o, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  run.log = parse_log(read_file(o.log));
-  return run;
+  return run_logged(std::move(o));
 }
 
 TEST(RunEnd, HaltAtDepthIsAnAbortThatSurfaces) {

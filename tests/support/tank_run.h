@@ -197,14 +197,9 @@ struct MissionRun {
   std::string log_path;
 };
 
-inline MissionRun run_tank(const std::string& scenario, std::optional<std::uint64_t> seed = std::nullopt,
-             const std::string& vehicle = "") {
+// Runs a mission with a mission log in a temp folder, and parses the log.
+inline MissionRun run_logged(RunOptions o) {
   TempDir dir;
-  RunOptions o;
-  o.mission = kMission;
-  o.scenario = scenario;
-  o.seed = seed;
-  o.vehicle = vehicle;
   o.log = dir.file("mission.jsonl");
   std::ostringstream out, err;
   MissionRun run;
@@ -214,6 +209,16 @@ inline MissionRun run_tank(const std::string& scenario, std::optional<std::uint6
   run.log_path = o.log;
   run.log = parse_log(read_file(o.log));
   return run;
+}
+
+inline MissionRun run_tank(const std::string& scenario, std::optional<std::uint64_t> seed = std::nullopt,
+             const std::string& vehicle = "") {
+  RunOptions o;
+  o.mission = kMission;
+  o.scenario = scenario;
+  o.seed = seed;
+  o.vehicle = vehicle;
+  return run_logged(std::move(o));
 }
 
 // Each scenario once per process, shared by the tests that only read it
