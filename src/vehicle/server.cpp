@@ -401,7 +401,7 @@ void VehicleServer::after_step() {
 }
 
 // Pings go to the sonar socket as soon as a step has made them; the sonar
-// starting or stopping is told there and, with the port, on the control link.
+// starting or stopping is told there and on the control link.
 void VehicleServer::flush_pings() {
   auto pings = sim_.take_pings();
   if (!sonar_) return;
@@ -412,8 +412,12 @@ void VehicleServer::flush_pings() {
   for (const auto& p : pings) sonar_->ping(p);
   if (changed) {
     if (!on) sonar_->status(sim_.time_s(), false);
-    const std::string text = on ? fmt::format("sonar on: pings on port {}", sonar_->port()) : std::string("sonar off");
-    log(fmt::format("{:.1f} s: {}", sim_.time_s(), text));
+    // The event reaches the mission log: no port in it (it is random, and a
+    // run must log the same bytes every time; hello's reply carries it). The
+    // operator's console is told where the pings go.
+    const std::string text = on ? "sonar on" : "sonar off";
+    log(on ? fmt::format("{:.1f} s: sonar on: pings on port {}", sim_.time_s(), sonar_->port())
+           : fmt::format("{:.1f} s: sonar off", sim_.time_s()));
     send(protocol::Event{wire_time(sim_.time_s()), text});
   }
 }
