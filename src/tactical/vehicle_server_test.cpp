@@ -84,6 +84,25 @@ TEST(VehicleServer, OnTheWallClockAdvanceIsAnsweredAtOnce) {
   EXPECT_TRUE(c.wait_for(rig.io, "ok 2"));
 }
 
+// Regression (found by LockstepMission.LockstepAndTheWallClockAgree): on the
+// wall clock the sleeps waited in arrival order, so a `sleep 2` sent after a
+// `sleep 5` was answered with it, at 5 s.
+TEST(VehicleServer, OnTheWallClockAShortSleepIsNotHeldBehindALongerOne) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Wall);  // speed 20
+  LineClient c(rig.io, rig.server->port());
+  c.say("hello 1 hand 2");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 1 "));
+  c.say("exec 2 sleep 1");
+  c.say("exec 3 sleep 0.5");
+  ASSERT_TRUE(c.wait_for(rig.io, "done 2"));
+  const auto done = c.starting("done");
+  ASSERT_EQ(2u, done.size());
+  ASSERT_TRUE(done[0].starts_with("done 3 1 ")) << done[0];
+  const double short_s = std::stod(done[0].substr(9));
+  const double long_s = std::stod(done[1].substr(9));
+  EXPECT_NEAR(0.5, long_s - short_s, 0.1 + 1e-9) << done[0] << " / " << done[1];
+}
+
 TEST(VehicleServer, HelloWithAnUnsupportedVersionIsRefusedNamingTheVersionsSpoken) {
   Rig rig;
   LineClient c(rig.io, rig.server->port());

@@ -543,9 +543,17 @@ void VehicleServer::tick() {
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     step_one();
-    while (!deferred_.empty() && sim_.time_s() + 1e-9 >= deferred_.front().until_s) {
-      send(protocol::Done{deferred_.front().id, true, wire_time(sim_.time_s())});
-      deferred_.pop_front();
+    // Every sleep whose time has come, whatever was sent before it: a
+    // `sleep 2` sent after a `sleep 5` must not wait for it. In id order.
+    std::vector<Deferred> due;
+    std::erase_if(deferred_, [&](const Deferred& d) {
+      if (sim_.time_s() + 1e-9 < d.until_s) return false;
+      due.push_back(d);
+      return true;
+    });
+    std::sort(due.begin(), due.end(), [](const Deferred& a, const Deferred& b) { return a.id < b.id; });
+    for (const auto& d : due) {
+      send(protocol::Done{d.id, true, wire_time(sim_.time_s())});
       // As in lockstep, silence counts from the reply: a client waiting for
       // its `sleep 5` is not silent (unless the link is cut: nothing went).
       if (!sim_.link_lost()) last_rx_s_ = std::max(last_rx_s_, sim_.time_s());

@@ -155,7 +155,7 @@ class VehicleServer {
     protocol::RequestId id;
     double until_s;
   };
-  std::deque<Deferred> deferred_;  // wall clock: sleeps waiting for their time
+  std::vector<Deferred> deferred_;  // wall clock: sleeps waiting for their time
   // Lockstep: requests taken (their effect done) and waiting for their cycle.
   struct Waiting {
     protocol::Request request;
