@@ -352,9 +352,9 @@ void VehicleServer::advance(std::optional<protocol::RequestId> advance_id) {
 
 void VehicleServer::reply_due() {
   std::vector<Waiting> due;
-  std::erase_if(waiting_, [&](Waiting& w) {
+  std::erase_if(waiting_, [&](const Waiting& w) {
     if (w.due_cycle > sim_.cycle()) return false;
-    due.push_back(std::move(w));
+    due.push_back(w);
     return true;
   });
   std::sort(due.begin(), due.end(), [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
