@@ -142,5 +142,43 @@ TEST(VehicleProcess, GarbageToTheVehicleGetsErrorLinesAndTheLinkLives) {
   EXPECT_NE(std::string::npos, got.find("pong 8 0")) << got;  // still serving
 }
 
+// Regression (issue 15): a client that connected and never said hello held
+// `strata vehicle` for ever; every controller after it was refused as busy.
+TEST(VehicleProcess, AClientThatNeverSaysHelloIsDroppedAndTheNextIsServed) {
+  VehicleProcess v({"--hello-timeout", "0.5"});
+  asio::io_context io;
+  testing::LineClient silent(io, v.port);
+  std::optional<core::Result<protocol::Welcome>> refused_welcome;
+  auto refused = connect(io, v.port, refused_welcome);
+  ASSERT_TRUE(refused_welcome.has_value());
+  ASSERT_FALSE(refused_welcome->ok());
+  EXPECT_NE(std::string::npos, refused_welcome->error().message.find("busy")) << refused_welcome->error().message;
+  ASSERT_TRUE(run_until(io, [&] {
+    silent.poll();
+    return silent.closed;
+  }, 10s));
+  ASSERT_EQ(1u, silent.lines.size());
+  EXPECT_EQ("err 0 not_ready \"no hello within 0.5 s: closing this connection\"", silent.lines[0]);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  auto served = connect(io, v.port, welcome);
+  ASSERT_TRUE(welcome && welcome->ok()) << (welcome ? welcome->error().message : "");
+  EXPECT_EQ(protocol::kProtocolVersion, welcome->value().version);
+  TacticalLevel t(io, Catalogue::builtin(), served, nullptr, nullptr);
+  EXPECT_TRUE(call(io, t, "depth_filter_off").ok());
+}
+
+TEST(VehicleProcess, HelloWithAnUnsupportedVersionIsRefusedNamingTheVersionsSpoken) {
+  VehicleProcess v;
+  asio::io_context io;
+  testing::LineClient c(io, v.port);
+  c.say("hello 1 hand 99");
+  ASSERT_TRUE(c.wait_for(io, "err 1", 10s));
+  EXPECT_EQ("err 1 bad_argument \"protocol version 99 is not spoken here; this vehicle speaks 1 and 2\"",
+            c.lines[0]);
+  c.say("hello 2 hand 2");
+  ASSERT_TRUE(c.wait_for(io, "ok 2", 10s));
+  EXPECT_TRUE(c.lines[1].starts_with("ok 2 phoenix-sim 2 lockstep")) << c.lines[1];
+}
+
 }  // namespace
 }  // namespace strata::tactical

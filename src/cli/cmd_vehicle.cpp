@@ -24,6 +24,7 @@ struct VehicleOptions {
   std::optional<std::uint64_t> seed;
   bool realtime = false;
   double speed = 1.0;
+  double hello_timeout_s = vehicle::ServerOptions{}.hello_timeout_s;
   bool interface = false;
   bool trace = false;
 };
@@ -61,6 +62,7 @@ int run_vehicle(const VehicleOptions& o) {
   so.port = endpoint.value().second;
   so.clock = o.realtime ? protocol::ClockMode::Wall : protocol::ClockMode::Lockstep;
   so.speed = o.speed;
+  so.hello_timeout_s = o.hello_timeout_s;
   so.trace = o.trace;
   so.log = [](const std::string& line) { std::cerr << "vehicle: " << line << std::endl; };
   vehicle::VehicleServer server(io, sim, so);
@@ -104,6 +106,11 @@ Runner add_vehicle_command(CLI::App& app) {
   cmd->add_flag("--realtime", o->realtime, "Run on the wall clock (default: lockstep virtual time)");
   cmd->add_option("--speed", o->speed, "With --realtime: simulated seconds per wall second")
       ->check(CLI::Range(0.01, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--hello-timeout", o->hello_timeout_s,
+                  "Wall seconds a client has to say hello after connecting; then it is sent an error and "
+                  "dropped, so that it cannot hold the vehicle (0: wait for ever)")
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
   cmd->add_flag("--interface", o->interface, "Print every message the vehicle accepts and emits, and exit");
   cmd->add_flag("--trace", o->trace, "Log every line received and sent");

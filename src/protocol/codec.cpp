@@ -237,6 +237,7 @@ std::string encode(const Request& r) {
       break;
     case Verb::Ping:
     case Verb::Bye:
+    case Verb::Advance:
       break;
   }
   out += '\n';
@@ -276,8 +277,8 @@ DecodeResult<Request> decode_request(std::string_view line) {
   const std::vector<Field>& fields = split_result.value();
   Fields f(fields);
 
-  static constexpr std::array<Verb, 7> kVerbs{Verb::Hello,     Verb::Exec, Verb::Ask, Verb::Ood,
-                                              Verb::Telemetry, Verb::Ping, Verb::Bye};
+  static constexpr std::array<Verb, 8> kVerbs{Verb::Hello,     Verb::Exec, Verb::Ask, Verb::Ood,
+                                              Verb::Telemetry, Verb::Ping, Verb::Bye, Verb::Advance};
   std::optional<Verb> verb;
   for (Verb v : kVerbs) {
     if (!f[0].quoted && f[0].text == verb_name(v)) verb = v;
@@ -320,6 +321,9 @@ DecodeResult<Request> decode_request(std::string_view line) {
     case Verb::Bye:
       if (f.size() != 2) return wrong_arity("bye", id, "ID only", f.size());
       return make_bye(id);
+    case Verb::Advance:
+      if (f.size() != 2) return wrong_arity("advance", id, "ID only", f.size());
+      return make_advance(id);
   }
   return fail(ErrorCode::UnknownVerb, id, "unknown verb");
 }

@@ -23,7 +23,7 @@ namespace gen = rc::gen;
 // ---- examples ---------------------------------------------------------------
 
 TEST(Codec, EncodesRequestsAsTheTableSays) {
-  EXPECT_EQ("hello 1 strata 1\n", encode(make_hello(1, "strata")));
+  EXPECT_EQ("hello 1 strata 2\n", encode(make_hello(1, "strata")));  // the newest version
   EXPECT_EQ("exec 7 sleep 1\n", encode(make_exec(7, "sleep", {Value::integer(1)})));
   EXPECT_EQ("exec 8 setpoint 0.6 30\n",
             encode(make_exec(8, "setpoint", {Value::real(0.6), Value::integer(30)})));
@@ -34,6 +34,15 @@ TEST(Codec, EncodesRequestsAsTheTableSays) {
   EXPECT_EQ("telemetry 12 2.0\n", encode(make_telemetry(12, 2.0)));
   EXPECT_EQ("ping 13\n", encode(make_ping(13)));
   EXPECT_EQ("bye 14\n", encode(make_bye(14)));
+  EXPECT_EQ("advance 15\n", encode(make_advance(15)));
+}
+
+TEST(Codec, SpeaksVersionsOneAndTwo) {
+  EXPECT_FALSE(speaks_version(0));
+  EXPECT_TRUE(speaks_version(1));
+  EXPECT_TRUE(speaks_version(2));
+  EXPECT_FALSE(speaks_version(3));
+  EXPECT_EQ("1 and 2", spoken_versions());
 }
 
 TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
@@ -74,6 +83,7 @@ TEST(Codec, DecodesRequests) {
   EXPECT_EQ(hello, decode_request("hello 1 strata-tactical 2").value());
   EXPECT_EQ(make_telemetry(4, 0.0), decode_request("telemetry 4 0").value());
   EXPECT_EQ(make_telemetry(4, 100.0), decode_request("telemetry 4 100").value());
+  EXPECT_EQ(make_advance(6), decode_request("advance 6").value());
 }
 
 TEST(Codec, DecodesVehicleMessages) {
@@ -177,6 +187,8 @@ TEST(Codec, RejectsMalformedRequestsWithTheCodeToAnswer) {
       {"ood 8", ErrorCode::BadArgument, 8},
       {"ping 9 extra", ErrorCode::BadArgument, 9},
       {"bye 9 now", ErrorCode::BadArgument, 9},
+      {"advance 9 1", ErrorCode::BadArgument, 9},
+      {"advance", ErrorCode::BadLine, 0},
       {"hello 1 strata", ErrorCode::BadArgument, 1},
       {"hello 1 strata 1 x", ErrorCode::BadArgument, 1},
       {"hello 1 strata 0", ErrorCode::BadArgument, 1},
@@ -338,7 +350,7 @@ rc::Gen<Request> requests() {
                  gen::oneOf(gen::element(0.0, 1.0, 2.5, kMaxTelemetryRateHz),
                             gen::map(gen::inRange(0, 1 << 20),
                                      [](int i) { return kMaxTelemetryRateHz * i / (1 << 20); }))),
-      gen::map(ids(), make_ping), gen::map(ids(), make_bye));
+      gen::map(ids(), make_ping), gen::map(ids(), make_bye), gen::map(ids(), make_advance));
 }
 
 rc::Gen<std::optional<double>> maybe_times() {

@@ -53,6 +53,7 @@ std::string_view verb_name(Verb verb) {
     case Verb::Telemetry: return "telemetry";
     case Verb::Ping: return "ping";
     case Verb::Bye: return "bye";
+    case Verb::Advance: return "advance";
   }
   return "?";
 }
@@ -110,6 +111,24 @@ Request make_bye(RequestId id) {
   r.verb = Verb::Bye;
   r.id = id;
   return r;
+}
+
+Request make_advance(RequestId id) {
+  Request r;
+  r.verb = Verb::Advance;
+  r.id = id;
+  return r;
+}
+
+bool speaks_version(int version) { return version >= kOldestProtocolVersion && version <= kProtocolVersion; }
+
+std::string spoken_versions() {
+  std::string out;
+  for (int v = kOldestProtocolVersion; v <= kProtocolVersion; ++v) {
+    if (!out.empty()) out += v == kProtocolVersion ? " and " : ", ";
+    out += std::to_string(v);
+  }
+  return out;
 }
 
 std::optional<RequestId> reply_id(const VehicleMessage& message) {

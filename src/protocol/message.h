@@ -1,7 +1,8 @@
 #pragma once
-// The wire messages of protocol version 1 as plain values: requests from the
-// tactical client to the vehicle, and every line the vehicle sends back.
-// codec.h turns them into lines and back; docs/protocol.md is the table.
+// The wire messages of the protocol (versions 1 and 2) as plain values:
+// requests from the tactical client to the vehicle, and every line the
+// vehicle sends back. codec.h turns them into lines and back;
+// docs/protocol.md is the table.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -14,7 +15,16 @@
 
 namespace strata::protocol {
 
-inline constexpr int kProtocolVersion = 1;
+// The newest version, what a client says in hello unless told otherwise.
+// Version 2 adds `advance` (docs/protocol.md §8): in lockstep, time moves
+// only on it, so requests in flight together share simulated time. Version 1
+// is version 2 without `advance`: in lockstep each request moves time itself.
+inline constexpr int kProtocolVersion = 2;
+// The oldest version this code still speaks (both ends).
+inline constexpr int kOldestProtocolVersion = 1;
+// Whether this code speaks `version`; "1 and 2" for messages.
+bool speaks_version(int version);
+std::string spoken_versions();
 // One line, its "\n" (or "\r\n") included.
 inline constexpr std::size_t kMaxLineBytes = 1024;
 // Fields on one line, the verb included.
@@ -69,7 +79,7 @@ class Value {
   std::variant<std::int64_t, double, std::string> v_;
 };
 
-enum class Verb { Hello, Exec, Ask, Ood, Telemetry, Ping, Bye };
+enum class Verb { Hello, Exec, Ask, Ood, Telemetry, Ping, Bye, Advance };
 std::string_view verb_name(Verb verb);
 
 // Client -> vehicle. Which fields matter depends on the verb:
@@ -78,6 +88,8 @@ std::string_view verb_name(Verb verb);
 //   Ask:            name = predicate, args
 //   Telemetry:      rate_hz (0 stops)
 //   Ping, Bye:      id only
+//   Advance:        id only (protocol 2: the client has issued everything for
+//                   the current simulated instant; the vehicle may move time)
 struct Request {
   Verb verb = Verb::Ping;
   RequestId id = 1;
@@ -96,6 +108,7 @@ Request make_ood(RequestId id, std::string function, std::vector<Value> args = {
 Request make_telemetry(RequestId id, double rate_hz);
 Request make_ping(RequestId id);
 Request make_bye(RequestId id);
+Request make_advance(RequestId id);
 
 enum class ClockMode { Lockstep, Wall };
 std::string_view clock_name(ClockMode clock);
@@ -103,8 +116,10 @@ std::string_view clock_name(ClockMode clock);
 // Vehicle -> client. Replies carry the id of their request.
 
 // `ok ID VEHICLE_NAME VERSION CLOCK [sonar=PORT] [KEY=VALUE...]`: the reply
-// to hello. sonar= is the vehicle's sonar socket (docs/protocol.md §10);
-// other KEY=VALUE fields are for later versions and are ignored.
+// to hello. VERSION is the session's: the version the hello asked for (a
+// version-1 vehicle says 1 whatever it was asked). sonar= is the vehicle's
+// sonar socket (docs/protocol.md §10); other KEY=VALUE fields are for later
+// versions and are ignored.
 struct Welcome {
   RequestId id = 1;
   std::string vehicle_name;
@@ -113,7 +128,7 @@ struct Welcome {
   std::optional<std::uint16_t> sonar_port;
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
-// `ok ID`: the reply to telemetry and bye.
+// `ok ID`: the reply to telemetry, bye and advance.
 struct Ok {
   RequestId id = 1;
   friend bool operator==(const Ok&, const Ok&) = default;

@@ -75,11 +75,15 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   CallRecord record;
   record.primitive = std::string(name);
   // Every outcome is delivered from the event loop, never inside call().
-  auto fail_later = [this](CallRecord rec, CallHandler h, core::Error e) {
+  // The link must not tell a lockstep vehicle to advance while an outcome is
+  // queued here: the caller may answer it with more calls for this instant.
+  auto hold = [this] { return link_ ? link_->hold() : VehicleLink::Hold(); };
+  auto fail_later = [this, &hold](CallRecord rec, CallHandler h, core::Error e) {
     rec.error = e.message;
     if (log_) log_->error(fmt::format("{}: {}", rec.primitive, e.message), sim_time_s_);
-    asio::post(io_, [this, rec = std::move(rec), h = std::move(h), e = std::move(e)]() mutable {
+    asio::post(io_, [this, rec = std::move(rec), h = std::move(h), e = std::move(e), held = hold()]() mutable {
       finish(rec, h, e);
+      held.release();
     });
   };
 
@@ -108,8 +112,9 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     if (log_) log_->report(text, sim_time_s_);
     if (on_report_) on_report_(text, sim_time_s_);
     record.value = true;
-    asio::post(io_, [this, record, done = std::move(done), t = sim_time_s_]() mutable {
+    asio::post(io_, [this, record, done = std::move(done), t = sim_time_s_, held = hold()]() mutable {
       finish(record, done, CallOutcome{true, t});
+      held.release();
     });
     return;
   }

@@ -9,6 +9,10 @@
 // Both Strategic levels (the CORAL Engine and the PROLOG executor) call this
 // one interface, so they issue the same primitive calls.
 //
+// Outcomes it delivers itself (REPORT's, local errors) are posted to the
+// io_context under a VehicleLink::Hold, so a lockstep link does not advance
+// the vehicle before the caller has answered them.
+//
 // Threads: one; call on the io_context's thread. Handlers run there.
 #include <cstdint>
 #include <functional>

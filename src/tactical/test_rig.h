@@ -2,8 +2,12 @@
 // Test support: a vehicle server and its simulation on one io_context, and a
 // way to run the loop until something happened (bounded, so a broken test
 // fails instead of hanging).
+#include <array>
 #include <chrono>
+#include <functional>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include <asio.hpp>
 #include <gtest/gtest.h>
@@ -31,14 +35,17 @@ bool run_until(asio::io_context& io, Pred done, std::chrono::milliseconds bound 
 }
 
 struct Rig {
+  // configure, if set, sees the server's options last (hello timeout, ...).
   explicit Rig(vehicle::Scenario scenario = vehicle::Scenario::nominal(),
                protocol::ClockMode clock = protocol::ClockMode::Lockstep,
-               vehicle::VehicleParams params = vehicle::default_params())
+               vehicle::VehicleParams params = vehicle::default_params(),
+               const std::function<void(vehicle::ServerOptions&)>& configure = nullptr)
       : sim(params, std::move(scenario)) {
     vehicle::ServerOptions so;
     so.clock = clock;
     so.speed = 20.0;
     so.log = [this](const std::string& line) { vehicle_log.push_back(line); };
+    if (configure) configure(so);
     server = std::make_unique<vehicle::VehicleServer>(io, sim, so);
     EXPECT_TRUE(server->start().ok());
   }
@@ -78,6 +85,64 @@ struct Rig {
   vehicle::Simulation sim;
   std::unique_ptr<vehicle::VehicleServer> server;
   std::vector<std::string> vehicle_log;
+};
+
+// A client that speaks the protocol by hand, one line at a time, as a person
+// at a terminal would (docs/protocol.md §9). It reads without blocking, so
+// the vehicle can run on the same io_context between its reads.
+struct LineClient {
+  LineClient(asio::io_context& io, std::uint16_t port) : socket(io) {
+    socket.connect({asio::ip::make_address("127.0.0.1"), port});
+    socket.set_option(asio::ip::tcp::no_delay(true));
+  }
+
+  void say(const std::string& line) { asio::write(socket, asio::buffer(line + "\n")); }
+
+  // Takes in whatever has arrived; sets closed at the end of the stream.
+  void poll() {
+    if (closed) return;
+    socket.non_blocking(true);
+    std::array<char, 4096> buf{};
+    for (;;) {
+      asio::error_code ec;
+      std::size_t n = socket.read_some(asio::buffer(buf), ec);
+      if (ec == asio::error::would_block) break;
+      if (ec) {
+        closed = true;
+        break;
+      }
+      partial.append(buf.data(), n);
+      for (auto nl = partial.find('\n'); nl != std::string::npos; nl = partial.find('\n')) {
+        lines.push_back(partial.substr(0, nl));
+        partial.erase(0, nl + 1);
+      }
+    }
+    socket.non_blocking(false);
+  }
+
+  // The lines received so far that start with prefix.
+  std::vector<std::string> starting(const std::string& prefix) const {
+    std::vector<std::string> out;
+    for (const auto& l : lines) {
+      if (l.rfind(prefix, 0) == 0) out.push_back(l);
+    }
+    return out;
+  }
+  bool has(const std::string& prefix) const { return !starting(prefix).empty(); }
+
+  // Runs io until a line starting with prefix has arrived (bounded).
+  bool wait_for(asio::io_context& io, const std::string& prefix,
+                std::chrono::milliseconds bound = 5000ms) {
+    return run_until(io, [&] {
+      poll();
+      return has(prefix);
+    }, bound);
+  }
+
+  asio::ip::tcp::socket socket;
+  std::vector<std::string> lines;  // without their newline
+  std::string partial;
+  bool closed = false;
 };
 
 }  // namespace strata::tactical::testing

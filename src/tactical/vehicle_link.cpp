@@ -22,7 +22,29 @@ std::shared_ptr<VehicleLink> VehicleLink::create(asio::io_context& io, LinkOptio
 }
 
 VehicleLink::VehicleLink(asio::io_context& io, LinkOptions options)
-    : io_(io), options_(std::move(options)), socket_(io), connect_timer_(io) {}
+    : io_(io), options_(std::move(options)), socket_(io), connect_timer_(io), advance_timer_(io) {}
+
+VehicleLink::Hold& VehicleLink::Hold::operator=(Hold&& other) noexcept {
+  if (this != &other) {
+    release();
+    link_ = std::move(other.link_);
+    other.link_.reset();
+  }
+  return *this;
+}
+
+void VehicleLink::Hold::release() {
+  auto link = link_.lock();
+  link_.reset();
+  if (!link) return;
+  --link->holds_;
+  link->note_activity();
+}
+
+VehicleLink::Hold VehicleLink::hold() {
+  ++holds_;
+  return Hold(weak_from_this());
+}
 
 VehicleLink::~VehicleLink() {
   asio::error_code ignored;
@@ -73,7 +95,9 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     start_read();
     // This handler is kept in pending_, inside the link: it must not hold
     // `self`, or the link would own itself.
-    send(protocol::make_hello(0, options_.client_name),
+    protocol::Request hello = protocol::make_hello(0, options_.client_name);
+    hello.version = options_.protocol_version;
+    send(std::move(hello),
          [this, finished, done](core::Result<protocol::VehicleMessage> r) {
            if (*finished) return;
            *finished = true;
@@ -89,12 +113,17 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
              return;
            }
            if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
-             if (w->version != protocol::kProtocolVersion) {
+             // The session's version: the one asked for, or an older one
+             // we speak (a version-1 vehicle says 1 whatever it is asked).
+             if (!protocol::speaks_version(w->version) || w->version > options_.protocol_version) {
                refuse(make_error(ErrorCode::Protocol,
-                                 fmt::format("vehicle speaks protocol {}, we speak {}", w->version,
-                                             protocol::kProtocolVersion)));
+                                 fmt::format("vehicle speaks protocol {}, we asked for {} (we speak {})",
+                                             w->version, options_.protocol_version,
+                                             protocol::spoken_versions())));
                return;
              }
+             session_version_ = w->version;
+             barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
              done(*w);
              return;
            }
@@ -118,8 +147,11 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   Pending p;
   p.handler = std::move(handler);
   p.what = what;
+  p.timed = request.verb == protocol::Verb::Exec || request.verb == protocol::Verb::Ask ||
+            request.verb == protocol::Verb::Ood;
   p.timer = std::make_unique<asio::steady_timer>(io_);
   auto wait = timeout.value_or(options_.reply_timeout);
+  p.wait = wait;
   p.timer->expires_after(wait);
   auto id = request.id;
   auto self = shared_from_this();
@@ -131,6 +163,7 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   });
   pending_.emplace(id, std::move(p));
   write(protocol::encode(request));
+  note_activity();
   return id;
 }
 
@@ -141,6 +174,66 @@ void VehicleLink::complete(protocol::RequestId id, core::Result<protocol::Vehicl
   it->second.timer->cancel();
   pending_.erase(it);
   handler(std::move(result));
+  note_activity();
+}
+
+void VehicleLink::deliver(protocol::RequestId id, core::Result<protocol::VehicleMessage> result) {
+  auto it = pending_.find(id);
+  if (it == pending_.end()) return;
+  if (barrier_ && it->second.timed) {
+    // The rest of this instant's replies may still be on the way; handing
+    // this one over now would let the calls it causes race them.
+    held_.emplace_back(id, std::move(result));
+    if (!advance_id_) note_activity();  // an err that came before any advance: one fetches it
+    return;
+  }
+  complete(id, std::move(result));
+}
+
+// A check posted after each thing that may issue calls; only the newest acts,
+// so an advance goes once the handlers that issued calls, and everything
+// posted before the check, have run.
+void VehicleLink::note_activity() {
+  if (!barrier_) return;
+  const std::uint64_t generation = ++activity_;
+  asio::post(io_, [weak = weak_from_this(), generation] {
+    if (auto self = weak.lock()) self->maybe_advance(generation);
+  });
+}
+
+void VehicleLink::maybe_advance(std::uint64_t generation) {
+  if (generation != activity_ || !barrier_ || !connected_ || holds_ > 0 || advance_id_) return;
+  bool timed = false;
+  std::chrono::milliseconds wait{0};
+  for (const auto& [id, p] : pending_) {
+    if (!p.timed) continue;
+    timed = true;
+    wait = std::max(wait, p.wait);
+  }
+  if (!timed) return;  // nothing waits for simulated time
+  const protocol::RequestId id = next_id_++;
+  advance_id_ = id;
+  ++advances_sent_;
+  // The vehicle answers an advance once a request is due: no later than the
+  // longest of the requests' own timeouts. Those report a silent vehicle
+  // (their timers started first); this one only lets the link go on, so it
+  // says nothing (a wall-clock race must not reach the mission log).
+  auto self = shared_from_this();
+  advance_timer_.expires_after(wait);
+  advance_timer_.async_wait([this, self, id](const asio::error_code& e) {
+    if (e || advance_id_ != id) return;
+    finish_advance();
+  });
+  write(protocol::encode(protocol::make_advance(id)));
+}
+
+void VehicleLink::finish_advance() {
+  advance_id_.reset();
+  advance_timer_.cancel();
+  auto held = std::move(held_);
+  held_.clear();
+  for (auto& [id, result] : held) complete(id, std::move(result));
+  note_activity();
 }
 
 void VehicleLink::write(std::string line) {
@@ -203,9 +296,11 @@ void VehicleLink::handle_line(const protocol::Frame& frame) {
     // A malformed reply to a request in flight ends that request now,
     // rather than at its timeout.
     auto id = decoded.error().id;
-    if (id != 0 && pending_.count(id)) {
-      complete(id, make_error(ErrorCode::Protocol,
-                              fmt::format("malformed reply from the vehicle: {}", decoded.error().message)));
+    if (id != 0 && advance_id_ == id) {
+      finish_advance();
+    } else if (id != 0 && pending_.count(id)) {
+      deliver(id, make_error(ErrorCode::Protocol,
+                             fmt::format("malformed reply from the vehicle: {}", decoded.error().message)));
     }
     return;
   }
@@ -229,23 +324,36 @@ void VehicleLink::handle_line(const protocol::Frame& frame) {
       }
       return;
     }
+    if (advance_id_ == err->id) {
+      if (on_garbage_) on_garbage_(fmt::format("vehicle refused advance: {}", text));
+      finish_advance();
+      return;
+    }
     auto it = pending_.find(err->id);
     if (it != pending_.end()) {
       text = fmt::format("vehicle refused `{}` (request {}): {}: {}", it->second.what, err->id,
                          protocol::code_name(err->code), err->message);
     }
-    complete(err->id, make_error(ErrorCode::Protocol, text));
+    deliver(err->id, make_error(ErrorCode::Protocol, text));
     return;
   }
   auto id = protocol::reply_id(msg);
+  if (id && advance_id_ == *id) {
+    finish_advance();  // the end of the instant
+    return;
+  }
   if (!id || !pending_.count(*id)) {
     if (on_garbage_) on_garbage_(fmt::format("a reply for no request in flight: {}", frame.line));
     return;
   }
-  complete(*id, std::move(msg));
+  deliver(*id, std::move(msg));
 }
 
 void VehicleLink::fail_all(const core::Error& error) {
+  // Replies held for an advance that will not end are lost with the rest.
+  held_.clear();
+  advance_id_.reset();
+  advance_timer_.cancel();
   auto pending = std::move(pending_);
   pending_.clear();
   for (auto& [id, p] : pending) {
@@ -254,9 +362,15 @@ void VehicleLink::fail_all(const core::Error& error) {
   }
 }
 
+void VehicleLink::end_session() {
+  connected_ = false;
+  barrier_ = false;
+  session_version_ = 0;
+}
+
 void VehicleLink::lost(const std::string& why) {
   if (!connected_) return;
-  connected_ = false;
+  end_session();
   asio::error_code ignored;
   socket_.close(ignored);
   write_queue_.clear();
@@ -286,7 +400,7 @@ void VehicleLink::try_reconnect(const std::string& why) {
 }
 
 void VehicleLink::abandon(const core::Error& error) {
-  connected_ = false;
+  end_session();
   reconnects_left_ = 0;
   asio::error_code ignored;
   socket_.close(ignored);
@@ -296,7 +410,7 @@ void VehicleLink::abandon(const core::Error& error) {
 
 void VehicleLink::close() {
   closing_ = true;
-  connected_ = false;
+  end_session();
   connect_timer_.cancel();
   asio::error_code ignored;
   socket_.close(ignored);

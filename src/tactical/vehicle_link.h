@@ -1,9 +1,25 @@
 #pragma once
 // The Tactical level's end of the link to the Execution level: one TCP
 // connection, non-blocking on an Asio io_context (one thread), speaking
-// protocol v1. Several requests may be in flight; each has its own reply
-// timeout (wall time: in lockstep the vehicle answers in microseconds, so a
-// silent vehicle is a lost link, not a slow one).
+// protocol 2 (or 1, if asked). Several requests may be in flight; each has
+// its own reply timeout (wall time: in lockstep the vehicle answers in
+// microseconds, so a silent vehicle is a lost link, not a slow one).
+//
+// Lockstep barrier (the welcome says lockstep and version 2): the vehicle
+// moves simulated time only on `advance` (docs/protocol.md §8), and the link
+// sends it by itself once the caller is quiescent: exec/ask/ood requests are
+// in flight, no advance is outstanding, no Hold is alive, and nothing has
+// happened on the link since the check was posted to the io_context (so it
+// runs after the handlers that issued calls, and after the work they posted
+// before it). Replies to exec/ask/ood are handed to their handlers together,
+// in arrival order, when the advance's `ok` arrives (the vehicle's end of
+// that instant), never one by one as TCP happens to split the bytes. So the
+// calls made in response to one instant's replies all go before the next
+// advance, and a run stays a pure function of its inputs. Callers see one
+// call in flight at a time behave exactly as in protocol 1.
+//   Whoever posts work to the io_context that may issue calls through this
+// link (TacticalLevel posts REPORT's completion, and local errors) must take
+// a Hold before posting and let it go once that work has run.
 //
 // Threads: every method must be called on the io_context's thread, and every
 // handler runs there.
@@ -39,6 +55,10 @@ struct LinkOptions {
   // when it dropped fail; they are never sent twice.
   int reconnect_attempts = 2;
   std::chrono::milliseconds reconnect_delay{200};
+  // The protocol version said in hello: 2 (the newest), or 1 for version 1's
+  // lockstep, where each request moves the vehicle's time by itself and
+  // requests in flight together are served one after the other.
+  int protocol_version = protocol::kProtocolVersion;
   // Sees every line as it is sent (sent = true, when its write starts) and
   // as it arrives (before it is handled), without the newline. For traces
   // and for measuring the link; must be quick and must not call the link.
@@ -52,6 +72,25 @@ using ReplyHandler = std::function<void(core::Result<protocol::VehicleMessage>)>
 
 class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
  public:
+  // While a Hold is alive the link sends no advance. Move-only; letting it go
+  // (release() or destruction) posts a new quiescence check. A Hold may
+  // outlive its link (it then does nothing).
+  class Hold {
+   public:
+    Hold() = default;
+    Hold(Hold&& other) noexcept : link_(std::move(other.link_)) { other.link_.reset(); }
+    Hold& operator=(Hold&& other) noexcept;
+    Hold(const Hold&) = delete;
+    Hold& operator=(const Hold&) = delete;
+    ~Hold() { release(); }
+    void release();
+
+   private:
+    friend class VehicleLink;
+    explicit Hold(std::weak_ptr<VehicleLink> link) : link_(std::move(link)) {}
+    std::weak_ptr<VehicleLink> link_;
+  };
+
   static std::shared_ptr<VehicleLink> create(asio::io_context& io, LinkOptions options);
   ~VehicleLink();
 
@@ -71,7 +110,16 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   // Lines from the vehicle that could not be decoded (logged by the caller).
   void on_garbage(std::function<void(const std::string&)> f) { on_garbage_ = std::move(f); }
 
+  // Keeps the link from sending an advance until the Hold is let go.
+  Hold hold();
+
   bool connected() const { return connected_; }
+  // The session's protocol version (the welcome's), 0 before one.
+  int session_version() const { return session_version_; }
+  // Whether the link sends `advance` (lockstep, protocol 2).
+  bool lockstep_barrier() const { return barrier_; }
+  // How many advances this link has sent, for tests and traces.
+  std::uint64_t advances_sent() const { return advances_sent_; }
   std::chrono::milliseconds default_timeout() const { return options_.reply_timeout; }
   std::size_t in_flight() const { return pending_.size(); }
   // Closes the socket; pending requests fail with Closed.
@@ -84,6 +132,8 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
     ReplyHandler handler;
     std::unique_ptr<asio::steady_timer> timer;
     std::string what;  // "exec submerge" for messages
+    bool timed = false;  // exec/ask/ood: needs simulated time, so an advance
+    std::chrono::milliseconds wait{0};
   };
 
   void start_connect(std::function<void(core::Result<protocol::Welcome>)> done);
@@ -97,7 +147,16 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   // Ends this connection for good (no reconnect): pending requests fail.
   void abandon(const core::Error& error);
   void complete(protocol::RequestId id, core::Result<protocol::VehicleMessage> result);
-
+  // A reply (or error) from the vehicle for request id: to its handler now,
+  // or, for exec/ask/ood under the barrier, when the advance ends.
+  void deliver(protocol::RequestId id, core::Result<protocol::VehicleMessage> result);
+  // Something happened that may let (or need) an advance go: posts a check.
+  void note_activity();
+  void maybe_advance(std::uint64_t generation);
+  // The outstanding advance is over (its ok, an error, or its timeout): the
+  // replies held for it go to their handlers.
+  void finish_advance();
+  void end_session();
   asio::io_context& io_;
   LinkOptions options_;
   asio::ip::tcp::socket socket_;
@@ -111,6 +170,14 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   int reconnects_left_ = 0;
   protocol::RequestId next_id_ = 1;
   std::map<protocol::RequestId, Pending> pending_;
+  int session_version_ = 0;
+  bool barrier_ = false;
+  std::optional<protocol::RequestId> advance_id_;
+  asio::steady_timer advance_timer_;
+  std::deque<std::pair<protocol::RequestId, core::Result<protocol::VehicleMessage>>> held_;
+  std::size_t holds_ = 0;
+  std::uint64_t activity_ = 0;  // generation of the newest quiescence check
+  std::uint64_t advances_sent_ = 0;
   std::function<void(const protocol::Telemetry&)> on_telemetry_;
   std::function<void(const protocol::Event&)> on_event_;
   std::function<void(const core::Error&)> on_lost_;

@@ -42,29 +42,56 @@ TEST(VehicleLink, EveryRequestCostsOneCycleInLockstep) {
   EXPECT_NEAR(2.2, std::get<protocol::Pong>(pong.value()).sim_time_s, 1e-9);  // ping is free
 }
 
-TEST(VehicleLink, SeveralRequestsInFlightEachGetTheirOwnReply) {
-  Rig rig;
-  auto link = rig.connect();
+// Sends ood, sleep 1, ask and ping at once; returns (id, what) in reply order.
+std::vector<std::pair<protocol::RequestId, std::string>> four_at_once(
+    Rig& rig, VehicleLink& link, std::vector<protocol::RequestId>& ids) {
   std::vector<std::pair<protocol::RequestId, std::string>> replies;
-  std::vector<protocol::RequestId> ids;
   auto record = [&](std::string what) {
     return [&replies, what](core::Result<VehicleMessage> m) {
       ASSERT_TRUE(m.ok()) << m.error().message;
       replies.emplace_back(*protocol::reply_id(m.value()), what);
     };
   };
-  ids.push_back(link->send(protocol::make_ood(0, "start_network"), record("ood")));
-  ids.push_back(link->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(1)}), record("sleep")));
-  ids.push_back(link->send(protocol::make_ask(0, "depth_filter_off"), record("ask")));
-  ids.push_back(link->send(protocol::make_ping(0), record("ping")));
-  EXPECT_EQ(4u, link->in_flight());
-  ASSERT_TRUE(run_until(rig.io, [&] { return replies.size() == 4; }));
-  // Lockstep serves them in arrival order; each reply matched its request.
+  ids.push_back(link.send(protocol::make_ood(0, "start_network"), record("ood")));
+  ids.push_back(link.send(protocol::make_exec(0, "sleep", {protocol::Value::integer(1)}), record("sleep")));
+  ids.push_back(link.send(protocol::make_ask(0, "depth_filter_off"), record("ask")));
+  ids.push_back(link.send(protocol::make_ping(0), record("ping")));
+  EXPECT_EQ(4u, link.in_flight());
+  EXPECT_TRUE(run_until(rig.io, [&] { return replies.size() == 4; }));
+  EXPECT_EQ(0u, link.in_flight());
+  return replies;
+}
+
+TEST(VehicleLink, SeveralRequestsInFlightShareSimulatedTimeInLockstep) {
+  Rig rig;
+  auto link = rig.connect();
+  EXPECT_TRUE(link->lockstep_barrier());
+  std::vector<protocol::RequestId> ids;
+  auto replies = four_at_once(rig, *link, ids);
+  // ping is free and answered at once; ood and ask cost the same first
+  // cycle (answered in id order); the sleep ends 1 s after it was sent.
+  EXPECT_EQ((std::vector<std::pair<protocol::RequestId, std::string>>{
+                {ids[3], "ping"}, {ids[0], "ood"}, {ids[2], "ask"}, {ids[1], "sleep"}}),
+            replies);
+  EXPECT_NEAR(1.0, rig.sim.time_s(), 1e-9);
+}
+
+// Protocol 1, as a client that never sends advance: each request moves time
+// itself, in arrival order.
+TEST(VehicleLink, ProtocolOneServesRequestsOneAfterTheOther) {
+  Rig rig;
+  LinkOptions o;
+  o.protocol_version = 1;
+  auto link = rig.connect(o);
+  EXPECT_EQ(1, link->session_version());
+  EXPECT_FALSE(link->lockstep_barrier());
+  std::vector<protocol::RequestId> ids;
+  auto replies = four_at_once(rig, *link, ids);
   EXPECT_EQ((std::vector<std::pair<protocol::RequestId, std::string>>{
                 {ids[0], "ood"}, {ids[1], "sleep"}, {ids[2], "ask"}, {ids[3], "ping"}}),
             replies);
   EXPECT_NEAR(1.2, rig.sim.time_s(), 1e-9);  // 0.1 + 1.0 + 0.1; ping is free
-  EXPECT_EQ(0u, link->in_flight());
+  EXPECT_EQ(0u, link->advances_sent());
 }
 
 TEST(VehicleLink, UnknownFunctionAndBadArgumentsAreRefusedWithReasons) {

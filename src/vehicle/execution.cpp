@@ -126,15 +126,17 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
 
 std::string interface_text() {
   std::string out =
-      "strata vehicle: protocol v1, one message per line (docs/protocol.md)\n\n"
+      "strata vehicle: protocol versions 1 and 2, one message per line (docs/protocol.md)\n\n"
       "accepts (client -> vehicle):\n"
-      "  hello ID CLIENT_NAME VERSION   -> ok ID VEHICLE_NAME VERSION CLOCK\n"
+      "  hello ID CLIENT_NAME VERSION   -> ok ID VEHICLE_NAME VERSION CLOCK [sonar=PORT]\n"
       "  exec ID FUNCTION [ARG...]      -> done ID 0|1\n"
       "  ask ID PREDICATE [ARG...]      -> answer ID 0|1\n"
       "  ood ID FUNCTION [ARG...]       -> done ID 0|1\n"
       "  telemetry ID RATE_HZ           -> ok ID, then tlm lines at RATE_HZ of sim time (0 stops)\n"
       "  ping ID                        -> pong ID SIM_TIME_S\n"
-      "  bye ID                         -> ok ID, then the vehicle closes the link\n\n"
+      "  bye ID                         -> ok ID, then the vehicle closes the link\n"
+      "  advance ID                     -> (version 2, lockstep) time moves until a request is due;\n"
+      "                                    its replies, then ok ID\n\n"
       "emits (vehicle -> client):\n"
       "  ok, done, answer, pong         replies, carrying the request's id\n"
       "  err ID CODE \"MESSAGE\"          a request that could not be taken (ID 0: unreadable)\n"

@@ -1,5 +1,6 @@
 #include "vehicle/server.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -97,7 +98,7 @@ class VehicleServer::Connection : public std::enable_shared_from_this<Connection
 
 VehicleServer::VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options)
     : io_(io), sim_(sim), options_(std::move(options)), acceptor_(io), tick_timer_(io),
-      silence_timer_(io) {}
+      silence_timer_(io), hello_timer_(io) {}
 
 VehicleServer::~VehicleServer() { stop(); }
 
@@ -138,6 +139,8 @@ void VehicleServer::stop() {
   acceptor_.close(ignored);
   tick_timer_.cancel();
   silence_timer_.cancel();
+  hello_timer_.cancel();
+  waiting_.clear();
   if (controller_) controller_->close();
   controller_.reset();
   if (sonar_) sonar_->end(sim_.time_s(), "the vehicle is stopping");
@@ -160,12 +163,15 @@ void VehicleServer::accept() {
       } else {
         controller_ = c;
         hello_done_ = false;
+        session_version_ = 0;
         deferred_.clear();  // replies owed to a previous client are not this one's
+        waiting_.clear();
         telemetry_rate_hz_ = 0.0;
         last_rx_s_ = sim_.time_s();
         log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
         c->start_reading();
         arm_silence_watchdog();
+        arm_hello_timeout(c);
       }
     }
     accept();
@@ -203,10 +209,7 @@ void VehicleServer::on_line(Connection& c, const protocol::Frame& frame) {
 void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
   using protocol::Verb;
   if (r.verb == Verb::Hello) {
-    hello_done_ = true;
-    protocol::Welcome welcome{r.id, options_.vehicle_name, protocol::kProtocolVersion, options_.clock,
-                              sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt};
-    send(welcome);
+    on_hello(r);
     return;
   }
   if (!hello_done_) {
@@ -227,14 +230,66 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
       send(protocol::Ok{r.id});
       c.close_after_writes();
       return;
+    case Verb::Advance:
+      if (session_version_ < 2) {
+        send(protocol::Err{r.id, ErrorCode::UnknownVerb,
+                           fmt::format("'advance' is protocol 2; this session speaks {} (say hello ID NAME 2)",
+                                       session_version_)});
+        return;
+      }
+      // On the wall clock time moves by itself: nothing to do.
+      if (options_.clock == protocol::ClockMode::Wall) {
+        send(protocol::Ok{r.id});
+        return;
+      }
+      advance(r.id);
+      return;
     default:
-      break;
+      on_call(r);
+      return;
   }
+}
+
+void VehicleServer::on_hello(const protocol::Request& r) {
+  if (!protocol::speaks_version(r.version)) {
+    log(fmt::format("refused hello from '{}': protocol version {}", r.name, r.version));
+    send(protocol::Err{r.id, ErrorCode::BadArgument,
+                       fmt::format("protocol version {} is not spoken here; this vehicle speaks {}", r.version,
+                                   protocol::spoken_versions())});
+    return;
+  }
+  hello_done_ = true;
+  session_version_ = r.version;
+  hello_timer_.cancel();
+  // The session speaks the version asked for: a version-1 client keeps
+  // version 1's lockstep, where each request moves time itself.
+  protocol::Welcome welcome{r.id, options_.vehicle_name, r.version, options_.clock,
+                            sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt};
+  send(welcome);
+}
+
+bool VehicleServer::in_flight(protocol::RequestId id) const {
+  for (const auto& w : waiting_) {
+    if (w.request.id == id) return true;
+  }
+  for (const auto& d : deferred_) {
+    if (d.id == id) return true;
+  }
+  return false;
+}
+
+// exec, ask and ood.
+void VehicleServer::on_call(const protocol::Request& r) {
+  using protocol::Verb;
   if (running_alone_) {
     // The watchdog has the vehicle; stepping for a client too would make the
     // run depend on how the two interleave.
     send(protocol::Err{r.id, ErrorCode::NotReady,
                        "the watchdog tripped: the vehicle is surfacing on its own"});
+    return;
+  }
+  if (in_flight(r.id)) {
+    send(protocol::Err{r.id, ErrorCode::DuplicateId, fmt::format("request {} is already in flight", r.id)});
     return;
   }
   Outcome out = execute(sim_, r);
@@ -248,35 +303,70 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
     log(fmt::format("{:.1f} s: {}", sim_.time_s(), text));
     send(protocol::Event{wire_time(sim_.time_s()), text});
   }
-  auto reply = [&]() -> protocol::VehicleMessage {
-    double t = wire_time(sim_.time_s());
-    if (r.verb == Verb::Ask) return protocol::Answer{r.id, out.value, t};
-    return protocol::Done{r.id, out.value, t};
-  };
   if (options_.clock == protocol::ClockMode::Lockstep) {
     // A request costs at least one cycle; sleep costs its duration.
-    auto cycles = std::max<std::uint64_t>(
+    const auto cycles = std::max<std::uint64_t>(
         1, static_cast<std::uint64_t>(std::llround(out.sleep_s / sim_.params().cycle_s)));
-    for (std::uint64_t i = 0; i < cycles && !sim_.link_lost(); ++i) step_one();
-    if (r.verb == Verb::Ask) {
-      // The answer is the state after the cycle the question cost.
-      out = execute(sim_, r);
-    }
-    send(reply());
-    arm_silence_watchdog();  // silence counts from the reply, not from the request
-    if (sim_.link_lost() && !running_alone_) {
-      // Nobody can ask the simulation to move now: it runs on alone, and
-      // the watchdog trips after watchdog_s of silence.
-      log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
-      run_alone(sim_.time_s() + sim_.params().watchdog_s);
-    }
+    waiting_.push_back(Waiting{r, out.value, sim_.cycle() + cycles});
+    // Protocol 1 has no advance: the request moves time itself, alone.
+    if (session_version_ < 2) advance(std::nullopt);
     return;
   }
   if (out.sleep_s > 0) {
     reply_later(r.id, sim_.time_s() + out.sleep_s);
     return;
   }
-  send(reply());
+  double t = wire_time(sim_.time_s());
+  if (r.verb == Verb::Ask) {
+    send(protocol::Answer{r.id, out.value, t});
+  } else {
+    send(protocol::Done{r.id, out.value, t});
+  }
+}
+
+// Lockstep: steps every waiting request together until one is due, answers
+// all that are due, then the advance itself. With nothing waiting, time does
+// not move.
+void VehicleServer::advance(std::optional<protocol::RequestId> advance_id) {
+  if (!waiting_.empty()) {
+    std::uint64_t next_due = waiting_.front().due_cycle;
+    for (const auto& w : waiting_) next_due = std::min(next_due, w.due_cycle);
+    while (sim_.cycle() < next_due && !sim_.link_lost()) step_one();
+  }
+  if (sim_.link_lost()) {
+    // The replies would be lost with the link. Nobody can ask the simulation
+    // to move now: it runs on alone, and the watchdog trips after
+    // watchdog_s of silence (run_alone trips it in simulated time).
+    waiting_.clear();
+    silence_timer_.cancel();
+    if (!running_alone_) {
+      log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
+      run_alone(sim_.time_s() + sim_.params().watchdog_s);
+    }
+    return;
+  }
+  reply_due();
+  if (advance_id) send(protocol::Ok{*advance_id});
+  arm_silence_watchdog();  // silence counts from the reply, not from the request
+}
+
+void VehicleServer::reply_due() {
+  std::vector<Waiting> due;
+  std::erase_if(waiting_, [&](const Waiting& w) {
+    if (w.due_cycle > sim_.cycle()) return false;
+    due.push_back(w);
+    return true;
+  });
+  std::sort(due.begin(), due.end(), [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
+  const double t = wire_time(sim_.time_s());
+  for (const auto& w : due) {
+    if (w.request.verb == protocol::Verb::Ask) {
+      // The answer is the state after the cycle the question cost.
+      send(protocol::Answer{w.request.id, execute(sim_, w.request).value, t});
+    } else {
+      send(protocol::Done{w.request.id, w.value, t});
+    }
+  }
 }
 
 void VehicleServer::step_one() {
@@ -311,7 +401,7 @@ void VehicleServer::after_step() {
 }
 
 // Pings go to the sonar socket as soon as a step has made them; the sonar
-// starting or stopping is told there and, with the port, on the control link.
+// starting or stopping is told there and on the control link.
 void VehicleServer::flush_pings() {
   auto pings = sim_.take_pings();
   if (!sonar_) return;
@@ -322,8 +412,12 @@ void VehicleServer::flush_pings() {
   for (const auto& p : pings) sonar_->ping(p);
   if (changed) {
     if (!on) sonar_->status(sim_.time_s(), false);
-    const std::string text = on ? fmt::format("sonar on: pings on port {}", sonar_->port()) : std::string("sonar off");
-    log(fmt::format("{:.1f} s: {}", sim_.time_s(), text));
+    // The event reaches the mission log: no port in it (it is random, and a
+    // run must log the same bytes every time; hello's reply carries it). The
+    // operator's console is told where the pings go.
+    const std::string text = on ? "sonar on" : "sonar off";
+    log(on ? fmt::format("{:.1f} s: sonar on: pings on port {}", sim_.time_s(), sonar_->port())
+           : fmt::format("{:.1f} s: sonar off", sim_.time_s()));
     send(protocol::Event{wire_time(sim_.time_s()), text});
   }
 }
@@ -337,6 +431,24 @@ void VehicleServer::flush_events() {
 
 void VehicleServer::reply_later(protocol::RequestId id, double until_s) {
   deferred_.push_back({id, until_s});
+}
+
+// A client that connects and says nothing must not hold the vehicle: every
+// client after it would be refused as busy for ever.
+void VehicleServer::arm_hello_timeout(const std::shared_ptr<Connection>& c) {
+  if (options_.hello_timeout_s <= 0) return;
+  hello_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(std::min(options_.hello_timeout_s, 86400.0))));
+  hello_timer_.async_wait([this, weak = std::weak_ptr<Connection>(c)](const asio::error_code& e) {
+    auto conn = weak.lock();
+    if (e || stopped_ || hello_done_ || !conn || conn != controller_ || conn->closed()) return;
+    const std::string why = fmt::format("no hello within {} s: closing this connection", options_.hello_timeout_s);
+    log(fmt::format("{:.1f} s: {}; the next client will be served", sim_.time_s(), why));
+    conn->write(protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::NotReady, why}}));
+    conn->close_after_writes();
+    controller_.reset();
+    silence_timer_.cancel();
+  });
 }
 
 void VehicleServer::arm_silence_watchdog() {
@@ -354,8 +466,10 @@ void VehicleServer::on_closed(Connection& c) {
   if (&c != controller_.get()) return;
   log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
   silence_timer_.cancel();
+  hello_timer_.cancel();
   controller_.reset();
   deferred_.clear();
+  waiting_.clear();  // nobody to answer
   if (sim_.network_up()) trip("link dropped");
 }
 
@@ -363,6 +477,13 @@ void VehicleServer::trip(const std::string& reason) {
   if (sim_.watchdog_tripped()) return;
   sim_.watchdog_trip(reason);
   flush_events();
+  // Requests waiting for their cycle will not get it: the vehicle is on its own.
+  std::sort(waiting_.begin(), waiting_.end(),
+            [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
+  for (const auto& w : waiting_) {
+    send(protocol::Err{w.request.id, ErrorCode::NotReady, "the watchdog tripped: the vehicle is surfacing on its own"});
+  }
+  waiting_.clear();
   if (options_.clock == protocol::ClockMode::Lockstep) run_alone(std::nullopt);
 }
 
@@ -422,9 +543,17 @@ void VehicleServer::tick() {
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     step_one();
-    while (!deferred_.empty() && sim_.time_s() + 1e-9 >= deferred_.front().until_s) {
-      send(protocol::Done{deferred_.front().id, true, wire_time(sim_.time_s())});
-      deferred_.pop_front();
+    // Every sleep whose time has come, whatever was sent before it: a
+    // `sleep 2` sent after a `sleep 5` must not wait for it. In id order.
+    std::vector<Deferred> due;
+    std::erase_if(deferred_, [&](const Deferred& d) {
+      if (sim_.time_s() + 1e-9 < d.until_s) return false;
+      due.push_back(d);
+      return true;
+    });
+    std::sort(due.begin(), due.end(), [](const Deferred& a, const Deferred& b) { return a.id < b.id; });
+    for (const auto& d : due) {
+      send(protocol::Done{d.id, true, wire_time(sim_.time_s())});
       // As in lockstep, silence counts from the reply: a client waiting for
       // its `sleep 5` is not silent (unless the link is cut: nothing went).
       if (!sim_.link_lost()) last_rx_s_ = std::max(last_rx_s_, sim_.time_s());

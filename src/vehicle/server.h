@@ -1,20 +1,41 @@
 #pragma once
 // `strata vehicle`: the Execution level behind a TCP socket, speaking
-// protocol v1 to one controlling client at a time.
+// protocol 1 or 2 (the client's hello chooses) to one controlling client at
+// a time.
 //
 // Clocks (design.md §2.4):
-//  - Lockstep: simulated time moves only when a request asks it to. Every
-//    exec/ask/ood costs one cycle (0.1 s) before it is answered; `sleep N`
-//    costs N seconds (at least one cycle). Replies therefore follow requests
-//    in arrival order, and a run is a pure function of its inputs.
+//  - Lockstep: simulated time moves only when the client lets it. Every
+//    exec/ask/ood costs at least one cycle (0.1 s) before it is answered;
+//    `sleep N` costs N seconds. A request's effect happens when it arrives;
+//    its reply comes at the end of the cycle it is due (an ask answers with
+//    the state then).
+//      Protocol 2: requests wait until the client sends `advance` (it has
+//      issued everything for the current instant). Then the vehicle steps
+//      cycle by cycle, every waiting request together, until at least one is
+//      due; it answers every request due at that cycle, in id order, then
+//      `ok` to the advance, and waits for the next one. Requests in flight at
+//      the same time share simulated time, as on the wall clock.
+//      Protocol 1: each request advances time itself when it arrives, so
+//      requests are served one after the other in arrival order.
+//    Either way a run is a pure function of the lines received.
 //  - Wall: the simulation steps on a timer at cycle_s / speed wall seconds;
-//    requests are answered at once, `sleep N` after N simulated seconds.
+//    requests are answered at once, `sleep N` after N simulated seconds;
+//    `advance` is answered at once and changes nothing.
 //
 // Watchdog: when the controlling link drops, or stays silent for watchdog_s
-// (simulated seconds on the wall clock; wall seconds in lockstep, where the
-// simulation does not move while the client is silent), the vehicle surfaces
-// by itself and says why in an event. In lockstep it then runs on its own
-// until it is at the surface.
+// (simulated seconds on the wall clock; wall seconds in lockstep, counted
+// from the last line received or reply sent), the vehicle surfaces by itself
+// and says why in an event; requests still waiting for their cycle are
+// answered `err ID not_ready`. In lockstep it then runs on its own until it
+// is at the surface. A protocol-2 client that holds requests without sending
+// `advance` is silent: nothing moves until it speaks.
+//
+// Hello: a controller that has not said a hello this vehicle accepts within
+// hello_timeout_s (wall seconds from its connection) is sent
+// `err 0 not_ready` saying why and closed, so the next client can be served.
+// A hello naming a version this vehicle does not speak is answered
+// `err ID bad_argument` naming the versions it speaks; the client stays
+// connected without a session and may say hello again (within the timeout).
 //
 // A scenario's link_loss makes the link silent: from its time on, the
 // vehicle neither reads nor answers the controller (lines are dropped, as a
@@ -52,6 +73,10 @@ struct ServerOptions {
   bool trace = false;
   // Lockstep, after a watchdog trip: simulated seconds to run on alone.
   double autonomous_run_s = 120.0;
+  // Wall seconds a new controller has to say hello before it is dropped
+  // (so that a client that connects and says nothing cannot hold the
+  // vehicle); <= 0: no limit.
+  double hello_timeout_s = 5.0;
   // The sonar socket (docs/protocol.md §10), on the same address.
   bool sonar = true;
   std::uint16_t sonar_port = 0;  // 0: a free port, see VehicleServer::sonar_port()
@@ -81,6 +106,12 @@ class VehicleServer {
 
   void accept();
   void on_request(Connection& c, const protocol::Request& r);
+  void on_hello(const protocol::Request& r);
+  void on_call(const protocol::Request& r);
+  void advance(std::optional<protocol::RequestId> advance_id);
+  void reply_due();
+  bool in_flight(protocol::RequestId id) const;
+  void arm_hello_timeout(const std::shared_ptr<Connection>& c);
   void on_line(Connection& c, const protocol::Frame& frame);
   void on_closed(Connection& c);
   void send(const protocol::VehicleMessage& m);
@@ -103,6 +134,7 @@ class VehicleServer {
   asio::ip::tcp::acceptor acceptor_;
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
+  asio::steady_timer hello_timer_;
   std::shared_ptr<Connection> controller_;
   std::unique_ptr<SonarServer> sonar_;
   bool sonar_was_on_ = false;
@@ -110,6 +142,7 @@ class VehicleServer {
   std::size_t refused_ = 0;
   bool stopped_ = false;
   bool hello_done_ = false;
+  int session_version_ = 0;  // the controller's protocol version, once it said hello
   bool running_alone_ = false;
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;
@@ -122,7 +155,14 @@ class VehicleServer {
     protocol::RequestId id;
     double until_s;
   };
-  std::deque<Deferred> deferred_;  // wall clock: sleeps waiting for their time
+  std::vector<Deferred> deferred_;  // wall clock: sleeps waiting for their time
+  // Lockstep: requests taken (their effect done) and waiting for their cycle.
+  struct Waiting {
+    protocol::Request request;
+    bool value = false;           // exec/ood: whether it executed
+    std::uint64_t due_cycle = 0;  // answered at the end of this cycle
+  };
+  std::vector<Waiting> waiting_;
 };
 
 }  // namespace strata::vehicle
