@@ -172,6 +172,10 @@ void RunSession::Run::wrap_up() {
     finished_ = true;
     return;
   }
+  // The vehicle hears of it now, not when it next reads the socket: if the
+  // mission left it under water with its network up, its watchdog surfaces
+  // it before the run ends.
+  server_->controller_gone();
   server_->when_settled([this] {
     server_->stop();
     finished_ = true;

@@ -462,6 +462,13 @@ void VehicleServer::arm_silence_watchdog() {
   });
 }
 
+void VehicleServer::controller_gone() {
+  if (!controller_) return;
+  auto c = controller_;
+  c->close();
+  on_closed(*c);
+}
+
 void VehicleServer::on_closed(Connection& c) {
   if (&c != controller_.get()) return;
   log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));

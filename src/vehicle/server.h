@@ -95,6 +95,12 @@ class VehicleServer {
   std::uint16_t sonar_port() const { return sonar_ ? sonar_->port() : 0; }
   const SonarServer* sonar() const { return sonar_.get(); }
   std::size_t clients_refused() const { return refused_; }
+  // The controller is gone, told by the one who knows first (an embedded
+  // vehicle's own run, which closed its end of the link): as when the
+  // server reads the end of the link, at the same simulated time, but now,
+  // so that when_settled() waits for the watchdog's surfacing it causes.
+  // Nothing when there is no controller.
+  void controller_gone();
   // Calls f (on the io_context) once the vehicle is not running on its own:
   // at once, unless a lockstep watchdog trip has it surfacing by itself, in
   // which case when that is over (or the server stops).
