@@ -73,8 +73,25 @@ guard_halt(M) :-
     compile_predicates(M:[halt/0, halt/1]).
 
 % system:halt/0,1 called by the rules (module-qualified, past the guard
-% above): cancelled while a mission is active, remembered, and turned into
-% strata_halt at the next primitive call or the end of the rules.
+% above) while a mission is active: wrapped to throw the same, at once.
+% Letting SWI-Prolog start to halt and cancelling it in an at_halt hook
+% (below) is only the fallback: a cancelled halt leaves the engine's trace
+% suspension one off, after which SWI no longer calls
+% user:prolog_exception_hook/4 for the host's queries (so the rules could
+% catch what must stop them: the inference limit), and after
+% ten cancelled halts SWI halts anyway.
+:- wrap_predicate(system:halt, strata_halt, Halt,
+                  (   strata_driver:active(_) -> throw(strata_halt) ; Halt )).
+:- wrap_predicate(system:halt(Code), strata_halt, Halt,
+                  (   strata_driver:active(_)
+                  ->  must_be(integer, Code),
+                      throw(strata_halt(Code))
+                  ;   Halt
+                  )).
+
+% What reaches SWI's halt all the same while a mission is active is
+% cancelled, remembered, and turned into strata_halt at the next primitive
+% call or the end of the rules.
 :- at_halt(strata_driver:cancel_mission_halt).
 
 cancel_mission_halt :-

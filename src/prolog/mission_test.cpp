@@ -1,5 +1,7 @@
 #include "prolog/mission.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -357,6 +359,57 @@ TEST_F(PrologMission, ABadArgumentRaisesInTheRules) {
   EXPECT_EQ(Query::Status::Exception, run(q));
   EXPECT_NE(std::string::npos, q.exception_text().find("instantiation_error")) << q.exception_text();
   EXPECT_TRUE(host.events.empty());
+}
+
+// Set while a test calls halt in rules many times: SWI-Prolog ending the
+// process then (with status 0, which ctest would count as a pass) is a failure.
+bool g_halting_in_rules = false;
+
+TEST_F(PrologMission, SystemHaltInEarlierRulesLeavesStopsUncatchableAndTheProcessAlive) {
+  // Regression: system:halt/0,1 went through SWI-Prolog's halt, cancelled
+  // in an at_halt hook. A cancelled halt left SWI's trace suspension one
+  // off, and from then on it no longer called the exception hook for the
+  // rules' queries: a catch-all swallowed the inference limit. And SWI
+  // ends the process anyway after ten cancelled halts.
+  auto halting = [this](int i) {
+    auto h = load_ok(rules_.write("h.pl", "mission :- exec_start_timer(_), catch(system:halt(0), _, true), "
+                                          "exec_submerge(_).\n"));
+    ASSERT_TRUE(h);
+    ScriptedHost host;
+    MissionQuery q(*h, host, 100000);
+    EXPECT_EQ(Query::Status::Exception, run(q)) << "halt " << i;
+    ASSERT_TRUE(q.halted()) << "halt " << i << ": " << q.exception_text();
+    EXPECT_EQ(std::vector<std::string>{"call start_timer"}, host.events) << "halt " << i;
+  };
+  halting(0);
+  std::vector<Message> messages;
+  auto d = Mission::load(rules_.write("d.pl", ":- system:halt(0).\nmission.\n"), tactical::Catalogue::builtin(),
+                         messages);
+  ASSERT_FALSE(d.ok());
+
+  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), ( between(1, 3, _), catch(burn, _, true), "
+                                        "fail ; report(swallowed) ).\n"
+                                        "burn :- between(1, 1000000, _), fail ; true.\n"));
+  ASSERT_TRUE(m);
+  ScriptedHost host;
+  MissionQuery q(*m, host, 200000);
+  EXPECT_EQ(Query::Status::Exception, run(q));
+  EXPECT_TRUE(q.inference_limit_exceeded()) << q.exception_text();
+  EXPECT_EQ(std::vector<std::string>{"call start_timer"}, host.events) << "the catch-all swallowed the limit";
+
+  static bool guard_installed = false;
+  if (!guard_installed) {
+    guard_installed = true;
+    std::atexit([] {
+      if (g_halting_in_rules) {
+        std::fputs("SWI-Prolog ended the process: the rules' halt reached it\n", stderr);
+        std::_Exit(1);
+      }
+    });
+  }
+  g_halting_in_rules = true;
+  for (int i = 1; i <= 11; ++i) halting(i);
+  g_halting_in_rules = false;
 }
 
 }  // namespace
