@@ -78,7 +78,7 @@ guard_halt(M) :-
 % (below) is only the fallback: a cancelled halt leaves the engine's trace
 % suspension one off, after which SWI no longer calls
 % user:prolog_exception_hook/4 for the host's queries (so the rules could
-% catch what must stop them: the inference limit), and after
+% catch what must stop them: the inference limit, the interrupt), and after
 % ten cancelled halts SWI halts anyway.
 :- wrap_predicate(system:halt, strata_halt, Halt,
                   (   strata_driver:active(_) -> throw(strata_halt) ; Halt )).
@@ -127,11 +127,13 @@ prolog:message(strata_error(Text)) --> [ '~w'-[Text] ].
 prolog:message(strata_halt) --> [ 'the rules called halt/0' ].
 prolog:message(strata_halt(Code)) --> [ 'the rules called halt(~q)'-[Code] ].
 prolog:message(strata_cancelled) --> [ 'the mission was cancelled' ].
+prolog:message(strata_interrupted) --> [ 'the mission was interrupted' ].
 
 stops_the_mission(inference_limit_exceeded).
 stops_the_mission(strata_halt).
 stops_the_mission(strata_halt(_)).
 stops_the_mission(strata_cancelled).
+stops_the_mission(strata_interrupted).   % the host's interrupt (prolog/interrupt.h)
 stops_the_mission(error(resource_error(_), _)).
 
 reset_stop :-
