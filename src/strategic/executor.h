@@ -141,7 +141,8 @@ class Executor {
   // do. One whose work can hold it (PROLOG rules computing, or in sleep/1)
   // stops that work and ends the mission itself, Outcome::Failed with
   // reason, from the loop; the posted cancel then finds it ended. Ignored
-  // when the executor is not running.
+  // when the executor is not running. The caller keeps the executor alive
+  // across the call (as RunControl does for the posted cancel).
   virtual void interrupt(std::string reason) { (void)reason; }
   virtual bool running() const = 0;
 };
