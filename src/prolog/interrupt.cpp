@@ -40,7 +40,9 @@ void raise_interrupted(int) {
   if (!g_armed.exchange(false)) return;
   g_delivered = true;
   term_t ex = PL_new_term_ref();
-  if (!PL_put_atom_chars(ex, "strata_interrupted") || !PL_raise_exception(ex)) return;
+  // SWI throws it when the handler returns (PL_raise_exception() returns
+  // FALSE by design).
+  if (ex && PL_put_atom_chars(ex, "strata_interrupted")) (void)PL_raise_exception(ex);
 }
 
 void set_knocking(bool on) {
