@@ -73,8 +73,25 @@ guard_halt(M) :-
     compile_predicates(M:[halt/0, halt/1]).
 
 % system:halt/0,1 called by the rules (module-qualified, past the guard
-% above): cancelled while a mission is active, remembered, and turned into
-% strata_halt at the next primitive call or the end of the rules.
+% above) while a mission is active: wrapped to throw the same, at once.
+% Letting SWI-Prolog start to halt and cancelling it in an at_halt hook
+% (below) is only the fallback: a cancelled halt leaves the engine's trace
+% suspension one off, after which SWI no longer calls
+% user:prolog_exception_hook/4 for the host's queries (so the rules could
+% catch what must stop them: the inference limit, the interrupt), and after
+% ten cancelled halts SWI halts anyway.
+:- wrap_predicate(system:halt, strata_halt, Halt,
+                  (   strata_driver:active(_) -> throw(strata_halt) ; Halt )).
+:- wrap_predicate(system:halt(Code), strata_halt, Halt,
+                  (   strata_driver:active(_)
+                  ->  must_be(integer, Code),
+                      throw(strata_halt(Code))
+                  ;   Halt
+                  )).
+
+% What reaches SWI's halt all the same while a mission is active is
+% cancelled, remembered, and turned into strata_halt at the next primitive
+% call or the end of the rules.
 :- at_halt(strata_driver:cancel_mission_halt).
 
 cancel_mission_halt :-
@@ -110,11 +127,13 @@ prolog:message(strata_error(Text)) --> [ '~w'-[Text] ].
 prolog:message(strata_halt) --> [ 'the rules called halt/0' ].
 prolog:message(strata_halt(Code)) --> [ 'the rules called halt(~q)'-[Code] ].
 prolog:message(strata_cancelled) --> [ 'the mission was cancelled' ].
+prolog:message(strata_interrupted) --> [ 'the mission was interrupted' ].
 
 stops_the_mission(inference_limit_exceeded).
 stops_the_mission(strata_halt).
 stops_the_mission(strata_halt(_)).
 stops_the_mission(strata_cancelled).
+stops_the_mission(strata_interrupted).   % the host's interrupt (prolog/interrupt.h)
 stops_the_mission(error(resource_error(_), _)).
 
 reset_stop :-

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "prolog/interrupt.h"
+
 namespace strata::prolog {
 namespace {
 
@@ -43,7 +45,7 @@ core::Result<void> initialise(const EngineOptions& options) {
   if (!guard || !guard.value()) {
     return core::make_error(core::ErrorCode::Internal, "could not guard halt/0 in SWI-Prolog");
   }
-  return {};
+  return install_interrupt();
 }
 
 bool initialised() { return g_initialised; }

@@ -3,7 +3,8 @@
 // PROLOG Strategic level. SWI-Prolog has one engine per process here:
 // initialise() starts it once (no signal handlers, a stack limit, no
 // debugger, halt/0 and halt/1 made to throw strata_halt instead of ending
-// the host), and every other call must come from the thread that did.
+// the host, the interrupt of prolog/interrupt.h installed), and every other
+// call must come from the thread that did (except prolog::interrupt()).
 //
 // Errors: a Prolog exception becomes a core::Error whose message keeps the
 // exception term's text.

@@ -8,6 +8,7 @@
 
 #include "prolog/driver_check_text.h"
 #include "prolog/driver_text.h"
+#include "prolog/interrupt.h"
 
 namespace strata::prolog {
 namespace {
@@ -346,7 +347,13 @@ MissionQuery::~MissionQuery() { close(); }
 Query::Status MissionQuery::next() {
   if (!query_) return Query::Status::False;
   g_host = &host_;
-  auto status = query_->next();
+  Query::Status status;
+  bool interrupted = false;
+  {
+    InterruptScope scope(&host_);
+    status = query_->next();
+    interrupted = scope.interrupted();
+  }
   g_host = nullptr;
   if (status != Query::Status::Exception) return status;
   exception_ = query_->exception_text();
@@ -370,6 +377,8 @@ Query::Status MissionQuery::next() {
     out_of_stack_ = true;
   } else if (e.find("'I_YIELD'") != std::string::npos) {
     cannot_suspend_ = true;
+  } else if (e == "strata_interrupted" || (interrupted && e == "'$aborted'")) {
+    interrupted_ = true;
   }
   return status;
 }
@@ -380,6 +389,8 @@ void MissionQuery::close() {
   PL_discard_foreign_frame(frame_);
   (void)call_once("strata_driver:unlimited");
 }
+
+bool interrupt_rules(const Host& host) { return interrupt(&host); }
 
 core::Result<RulesOutcome> mission_outcome(const Mission& mission) {
   Frame frame;

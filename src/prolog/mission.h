@@ -101,6 +101,8 @@ class MissionQuery {
   // A primitive was called where Prolog cannot suspend (a cleanup handler,
   // with_output_to/2, format/2's ~@).
   bool cannot_suspend() const { return cannot_suspend_; }
+  // interrupt_rules() stopped the rules (the exception is strata_interrupted).
+  bool interrupted() const { return interrupted_; }
   // Ends the query; next() may not be called after.
   void close();
 
@@ -113,8 +115,17 @@ class MissionQuery {
   bool limit_exceeded_ = false;
   bool out_of_stack_ = false;
   bool cannot_suspend_ = false;
+  bool interrupted_ = false;
   std::string exception_;
 };
+
+// From any thread (prolog/interrupt.h): stops the rules of the MissionQuery
+// whose host is host while its next() runs them; next() then returns
+// Status::Exception with interrupted() set, soon (at the rules' next call,
+// or as sleep/1 returns), whatever the rules catch. Returns false and does
+// nothing when they do not run (they wait for an answer, or no query of
+// host is open): the next next() runs them as usual.
+bool interrupt_rules(const Host& host);
 
 // After mission/0 succeeded or halted: aborted when the rules left
 // current_phase(mission_abort) (Figure 10's `done`), completed otherwise.

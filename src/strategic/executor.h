@@ -1,11 +1,11 @@
 #pragma once
 // The Strategic level as the rest of Strata sees it: an executor that runs
 // one mission through the Tactics interface and tells observers what it did.
-// The CORAL Engine implements it; the PROLOG executor will too. The console,
+// The CORAL Engine implements it; the PROLOG executor too. The console,
 // the mission log and the studio are observers: the executor knows none of
 // them, and an observer must not call back into the executor.
 //
-// Threads: one; everything runs on the event loop's thread.
+// Threads: one, the event loop's, for everything but Executor::interrupt().
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -132,6 +132,18 @@ class Executor {
   // Ends a running mission now (the operator's interrupt): Outcome::Failed
   // with reason. Replies still in flight are ignored when they come.
   virtual void cancel(std::string reason) = 0;
+  // The operator's interrupt, from outside the event loop: hands the loop
+  // back soon (well under 100 ms) so that a cancel(reason) the caller posts
+  // to the loop can run. Thread-safe: meant for a thread other than the
+  // loop's (one that sigwait()s for SIGINT, an HTTP worker); never blocks;
+  // not async-signal-safe (call it from a thread, not a signal handler).
+  // An executor that never holds the loop (the CORAL Engine) has nothing to
+  // do. One whose work can hold it (PROLOG rules computing, or in sleep/1)
+  // stops that work and ends the mission itself, Outcome::Failed with
+  // reason, from the loop; the posted cancel then finds it ended. Ignored
+  // when the executor is not running. The caller keeps the executor alive
+  // across the call (as RunControl does for the posted cancel).
+  virtual void interrupt(std::string reason) { (void)reason; }
   virtual bool running() const = 0;
   // From any thread but the loop's: makes an executor that holds the loop
   // (PROLOG rules computing) give it back soon, so that a cancel() posted to

@@ -47,6 +47,10 @@ void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
   }
   g_running = true;
   holds_engine_ = true;
+  {
+    std::lock_guard lock(interrupt_mutex_);
+    interruptible_ = true;
+  }
   query_ = std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this),
                                                   options_.inference_limit);
   resume();
@@ -56,10 +60,33 @@ void PrologExecutor::cancel(std::string reason) {
   if (running_) fail(std::move(reason));
 }
 
+void PrologExecutor::interrupt(std::string reason) {
+  {
+    std::lock_guard lock(interrupt_mutex_);
+    if (!interruptible_) return;
+    if (!interrupt_reason_) interrupt_reason_ = std::move(reason);
+  }
+  // Outside the lock: the loop's thread takes it to end the mission, and
+  // raising never waits for the query anyway. False when the rules do not
+  // run (they wait for the vehicle, or the mission has just ended).
+  prolog::interrupt_rules(static_cast<const prolog::Host&>(*this));
+}
+
+std::optional<std::string> PrologExecutor::interrupt_reason() const {
+  std::lock_guard lock(interrupt_mutex_);
+  return interrupt_reason_;
+}
+
 void PrologExecutor::resume() {
   using Status = prolog::Query::Status;
   Status status = query_->next();
   answer_.reset();
+  // Whatever the rules did meanwhile (stopped by the interrupt, or yielded
+  // or ended just before it reached them), the operator asked to stop.
+  if (auto why = interrupt_reason()) {
+    fail(std::move(*why));
+    return;
+  }
   switch (status) {
     case Status::Yield: issue(); return;
     case Status::True:
@@ -67,8 +94,15 @@ void PrologExecutor::resume() {
     case Status::False: fail("mission/0 failed: none of its rules succeeded"); return;
     case Status::Exception: break;
   }
-  if (query_->halted()) {
-    rules_ended();
+  if (auto code = query_->halted()) {
+    // An abort whenever it comes: the rules gave up, and the vehicle is
+    // wherever they left it (the run's end path surfaces it).
+    finish({Outcome::Aborted, "mission_abort",
+            query_->exception_text() == "strata_halt" ? std::string("the rules called halt")
+                                                      : fmt::format("the rules called halt({})", *code),
+            std::nullopt, now()});
+  } else if (query_->interrupted()) {
+    fail("the rules were interrupted");  // not reached: interrupt() set a reason first
   } else if (query_->inference_limit_exceeded()) {
     fail(fmt::format("the rules made {} inferences without calling a primitive: an endless loop? "
                      "(the limit is --inference-limit)",
@@ -109,6 +143,11 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
     return;
   }
   in_flight_ = 0;
+  // Interrupted while the rules waited: the reply is ignored, as after cancel().
+  if (auto why = interrupt_reason()) {
+    fail(std::move(*why));
+    return;
+  }
   const tactical::Primitive* p = catalogue_.find(pending_name_);
   std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
   if (!outcome) {
@@ -157,22 +196,18 @@ void PrologExecutor::phase_ended(const std::string& phase, const std::string& ex
 }
 
 void PrologExecutor::rules_ended() {
-  std::optional<int> halted = query_->halted();
   query_->close();
   auto rules = prolog::mission_outcome(mission_);
   if (!rules) {
     fail("cannot tell how the rules ended: " + shortened(rules.error().message));
     return;
   }
-  bool aborted = rules.value() == prolog::RulesOutcome::Aborted || (halted && *halted != 0);
-  std::string reason;
   if (rules.value() == prolog::RulesOutcome::Aborted) {
-    reason = "the rules ended with current_phase(mission_abort)";
-  } else if (aborted) {
-    reason = fmt::format("the rules called halt({})", *halted);
+    finish({Outcome::Aborted, "mission_abort", "the rules ended with current_phase(mission_abort)", std::nullopt,
+            now()});
+  } else {
+    finish({Outcome::Completed, "", "", std::nullopt, now()});
   }
-  finish({aborted ? Outcome::Aborted : Outcome::Completed, aborted ? "mission_abort" : "", std::move(reason),
-          std::nullopt, now()});
 }
 
 void PrologExecutor::fail(std::string reason, std::optional<core::ErrorCode> code) {
@@ -183,6 +218,10 @@ void PrologExecutor::finish(MissionResult result) {
   if (!running_) return;
   running_ = false;
   ended_ = true;
+  {
+    std::lock_guard lock(interrupt_mutex_);
+    interruptible_ = false;
+  }
   if (query_) query_->close();
   if (holds_engine_) {
     g_running = false;

@@ -4,21 +4,24 @@
 // the same observers as the CORAL Engine. A primitive call yields the
 // rules back to the event loop; the vehicle's answer resumes them.
 //
-// How a mission ends (docs/prolog.md):
-//  - mission/0 succeeds, or the rules call halt/0: Completed, or Aborted
-//    when current_phase(mission_abort) holds (Figure 10's `done`); halt(N)
-//    with N != 0 is Aborted too.
+// How a mission ends (docs/prolog.md §3):
+//  - mission/0 succeeds: Completed, or Aborted when
+//    current_phase(mission_abort) holds (Figure 10's `done`).
+//  - the rules call halt/0 or halt/1, at any moment: Aborted ("the rules
+//    called halt", "... halt(N)"); the run's end path surfaces the vehicle.
 //  - Failed: mission/0 fails or raises; a primitive call fails; EXEC or OOD
 //    is answered 0 (as in CORAL); the rules run more than inference_limit
 //    inferences between two primitive calls (an endless loop) or out of
-//    stack (endless recursion); cancel().
+//    stack (endless recursion); cancel(); interrupt().
 //
-// Threads: one; the thread that initialised SWI-Prolog, which runs the
-// event loop. One PROLOG mission runs at a time per process, and a loaded
-// prolog::Mission runs once: a second executor started meanwhile, or on
-// rules that have run, ends Failed at once and says why.
+// Threads: the thread that initialised SWI-Prolog, which runs the event
+// loop, for everything but interrupt() (any thread). One PROLOG mission
+// runs at a time per process, and a loaded prolog::Mission runs once: a
+// second executor started meanwhile, or on rules that have run, ends
+// Failed at once and says why.
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +50,13 @@ class PrologExecutor final : public Executor, private prolog::Host {
   void add_observer(Observer& observer) override { observers_.push_back(&observer); }
   void start(std::function<void(const MissionResult&)> on_end) override;
   void cancel(std::string reason) override;
+  // Any thread. Rules that run (computing, in sleep/1, in a loop, inside a
+  // catch-all) stop within milliseconds (prolog::interrupt_rules()) and the
+  // mission ends Failed with reason, from the loop. Rules that wait for the
+  // vehicle are not disturbed: the caller's posted cancel ends the mission,
+  // or the reply does if it comes first. From the interrupt on the rules
+  // never run again.
+  void interrupt(std::string reason) override;
   bool running() const override { return running_; }
 
  private:
@@ -67,6 +77,8 @@ class PrologExecutor final : public Executor, private prolog::Host {
   void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
   void rules_ended();
   void fail(std::string reason, std::optional<core::ErrorCode> code = std::nullopt);
+  // The reason interrupt() gave, once it was called on the running executor.
+  std::optional<std::string> interrupt_reason() const;
   void finish(MissionResult result);
   double now() const { return tactics_.sim_time_s(); }
   InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
@@ -82,6 +94,10 @@ class PrologExecutor final : public Executor, private prolog::Host {
 
   bool running_ = false;
   bool ended_ = false;
+  // Shared with interrupt()'s thread.
+  mutable std::mutex interrupt_mutex_;
+  bool interruptible_ = false;  // between start() and the end
+  std::optional<std::string> interrupt_reason_;
   bool holds_engine_ = false;  // this executor's query is the process's one
   // The call the rules are waiting for.
   std::string pending_name_;
