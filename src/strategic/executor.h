@@ -142,13 +142,9 @@ class Executor {
   // stops that work and ends the mission itself, Outcome::Failed with
   // reason, from the loop; the posted cancel then finds it ended. Ignored
   // when the executor is not running. The caller keeps the executor alive
-  // across the call (as RunControl does for the posted cancel).
+  // across the call (run::RunSession holds its lock around it).
   virtual void interrupt(std::string reason) { (void)reason; }
   virtual bool running() const = 0;
-  // From any thread but the loop's: makes an executor that holds the loop
-  // (PROLOG rules computing) give it back soon, so that a cancel() posted to
-  // the loop runs. Never blocks. The CORAL Engine never holds the loop.
-  virtual void interrupt(const std::string& /*reason*/) {}
 };
 
 }  // namespace strata::strategic
