@@ -31,19 +31,24 @@ SignalWatcher::SignalWatcher(std::function<void(int)> handler) : handler_(std::m
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   ::signal(SIGPIPE, SIG_IGN);
   thread_ = std::thread([this, set] {
-    // A short wait, so that the destructor is heard without a signal of our own.
+    // A bounded wait: quit_ is seen even if the wake-up below were lost.
     const timespec tick{0, 100'000'000};
     while (!quit_) {
       siginfo_t info;
       const int signal = sigtimedwait(&set, &info, &tick);
-      if (signal > 0) handler_(signal);
+      if (signal > 0 && !quit_) handler_(signal);
     }
   });
 }
 
 SignalWatcher::~SignalWatcher() {
   quit_ = true;
-  if (thread_.joinable()) thread_.join();
+  // Wakes it now rather than at its next tick: SIGTERM sent to the watcher
+  // thread alone, which takes it and sees quit_.
+  if (thread_.joinable()) {
+    pthread_kill(thread_.native_handle(), SIGTERM);
+    thread_.join();
+  }
 }
 
 std::string signal_name(int signal) {
