@@ -181,6 +181,12 @@ TEST(RunEnd, SigtermDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
                   "SIGTERM", 143);
 }
 
+TEST(RunEnd, SighupDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
+  expect_safe_end(run_and_signal({kTests + "loop_at_depth.pl", "--inference-limit", "1000000000000"}, kRulesDived,
+                                 {SIGHUP}, 300ms),
+                  "SIGHUP", 129);
+}
+
 MissionRun run_file(const std::string& mission, double max_sim_time_s = RunOptions{}.max_sim_time_s) {
   RunOptions o;
   o.mission = mission;
