@@ -140,15 +140,20 @@ void RunSession::Run::build_levels() {
     link_->send(protocol::make_telemetry(0, o_.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
   }
   tactics_.emplace(*tactical_);
+  std::unique_ptr<strategic::Executor> executor;
   if (loaded_.program) {
     strategic::EngineOptions engine_options;
     engine_options.seed = o_.seed;
-    executor_ = std::make_unique<strategic::CoralEngine>(*loaded_.program, *tactics_, engine_options);
+    executor = std::make_unique<strategic::CoralEngine>(*loaded_.program, *tactics_, engine_options);
   } else {
     strategic::PrologOptions prolog_options;
     prolog_options.inference_limit = o_.inference_limit;
-    executor_ = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue,
-                                                            prolog_options);
+    executor = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue,
+                                                           prolog_options);
+  }
+  {
+    std::lock_guard lock(session_.mutex_);  // stop() reads executor_ from another thread
+    executor_ = std::move(executor);
   }
   if (log_) {
     log_observer_.emplace(*log_);
