@@ -34,18 +34,14 @@ void send_path_error(httplib::Response& res, const core::Error& e) {
   send_error(res, e.code == core::ErrorCode::Io ? 404 : 403, e.message);
 }
 
-bool write_file(const fs::path& p, const std::string& text) {
-  // Write beside, then rename: a reader never sees half a file.
-  const fs::path tmp = p.string() + ".strata-tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out.flush()) return false;
+// The status of a failed Sandbox::write() or read().
+int status_of(const core::Error& e) {
+  switch (e.code) {
+    case core::ErrorCode::InvalidInput: return 403;
+    case core::ErrorCode::Io: return 404;
+    case core::ErrorCode::Overflow: return 413;
+    default: return 500;
   }
-  std::error_code ec;
-  fs::rename(tmp, p, ec);
-  if (ec) fs::remove(tmp, ec);
-  return !ec;
 }
 
 const char* mime_of(const std::string& path) {
@@ -183,9 +179,9 @@ void StudioServer::routes() {
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
     if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
-    auto real = sandbox_.resolve(path, true);
-    if (!real) return send_path_error(res, real.error());
-    if (!write_file(real.value(), req.body)) return send_error(res, 500, fmt::format("cannot write '{}'", path));
+    std::lock_guard lock(write_mutex_);
+    auto written = sandbox_.write(path, req.body);
+    if (!written) return send_error(res, status_of(written.error()), written.error().message);
     send_json(res, {{"ok", true}});
   });
 
@@ -194,9 +190,9 @@ void StudioServer::routes() {
     if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': a layout belongs to a .coral file", path));
     auto body = json_body(req, res);
     if (!body) return;
-    auto real = sandbox_.resolve(path + ".layout.json", true);
-    if (!real) return send_path_error(res, real.error());
-    if (!write_file(real.value(), body->dump(1) + "\n")) return send_error(res, 500, "cannot write the layout");
+    std::lock_guard lock(write_mutex_);
+    auto written = sandbox_.write(path + ".layout.json", body->dump(1) + "\n");
+    if (!written) return send_error(res, status_of(written.error()), written.error().message);
     send_json(res, {{"ok", true}});
   });
 

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -93,6 +94,9 @@ class StudioServer {
   StudioOptions options_;
   EventHub& hub_;
   Sandbox sandbox_;
+  // Every write of the API (text, layout) holds it: a check of the file's
+  // version and the write that follows are one step for other requests.
+  std::mutex write_mutex_;
   std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
   RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;

@@ -171,6 +171,36 @@ TEST_F(StudioServerTest, SavesTextAndLayoutInsideTheFolder) {
   EXPECT_EQ(1, json::parse(m->body)["layout"]["fresh"]["a"]["x"]);
 }
 
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Issue 17: `ln -s ../../outside/victim missions/tank/initialize.coral.strata-tmp`,
+// then saving initialize.coral, overwrote the victim.
+TEST_F(StudioServerTest, SaveDoesNotWriteThroughLinksPlantedInTheFolder) {
+  fs::create_directories(base_ / "outside");
+  std::ofstream(base_ / "outside/victim") << "precious";
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/initialize.coral.strata-tmp");
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/linked.coral");
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/tank.coral.layout.json");
+  auto c = client();
+  auto put = c.Put("/api/file?path=tank/initialize.coral", "net fresh { place a = 1; exit e; }\n", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(200, put->status) << put->body;
+  EXPECT_EQ("net fresh { place a = 1; exit e; }\n", slurp(base_ / "root/tank/initialize.coral"));
+  EXPECT_FALSE(fs::is_symlink(base_ / "root/tank/initialize.coral"));
+  // A target that is itself a link out: refused, not followed.
+  put = c.Put("/api/file?path=tank/linked.coral", "net x {}", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(403, put->status) << put->body;
+  auto layout = c.Put("/api/layout?path=tank/tank.coral", R"({"tank": {}})", "application/json");
+  ASSERT_TRUE(layout);
+  EXPECT_EQ(403, layout->status) << layout->body;
+  EXPECT_EQ("application/json", layout->get_header_value("Content-Type"));
+  EXPECT_EQ("precious", slurp(base_ / "outside/victim"));
+}
+
 TEST_F(StudioServerTest, EditsComeBackAsTheNewTextAndItsModel) {
   auto c = client();
   auto mission = c.Get("/api/mission?path=tank/tank.coral");
