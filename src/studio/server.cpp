@@ -347,6 +347,8 @@ void StudioServer::routes() {
       run.scenario_file = file.value();
     } else if (!nominal || file.error().code != core::ErrorCode::Io) {
       return send_error(res, 400, file.error().message);
+    } else {
+      run.scenario.clear();  // the built-in nominal: no file to look for
     }
     // The run reads the mission again, with its imports and data file: none
     // may leave the folder.

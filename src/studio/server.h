@@ -38,7 +38,10 @@ struct RunRequest {
   std::string relative;           // as the page named it
   std::string scenario;           // the name asked for; "" nominal
   double speed = 10.0;            // simulated seconds per wall second
-  std::filesystem::path scenario_file;  // the scenario's file, checked inside the root; "" the built-in nominal
+  // Set by the server: the scenario's file, checked inside the root; when
+  // empty the run takes `scenario` as strata run does (`strata run
+  // --studio`, whose scenario comes from its own command line).
+  std::filesystem::path scenario_file = {};
 };
 
 // Starts and stops the runs the page asks for. Threads: any (HTTP workers).
