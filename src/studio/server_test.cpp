@@ -315,6 +315,21 @@ TEST_F(StudioServerTest, ImportsOutsideTheFolderAreRefusedWithoutReadingThem) {
   EXPECT_TRUE(runs_.empty());
 }
 
+TEST_F(StudioServerTest, AMissionWhoseDataFileIsOutsideIsNotRun) {
+  std::ofstream(base_ / "outside.toml") << "secret = 1\n";
+  fs::create_symlink("../../outside.toml", base_ / "root/tank/linked.toml");
+  auto c = client();
+  for (const char* data : {"../../outside.toml", "/etc/passwd", "linked.toml"}) {
+    std::ofstream(base_ / "root/tank/data.coral")
+        << "mission m { data \"" << data << "\"; place s = 1; exit e;\ntransition t { wait { s } signal { e } } }\n";
+    auto r = c.Post("/api/run", R"({"path": "tank/data.coral"})", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(403, r->status) << data << ": " << r->body;
+    EXPECT_NE(std::string::npos, r->body.find("data file is outside")) << r->body;
+  }
+  EXPECT_TRUE(runs_.empty());
+}
+
 TEST_F(StudioServerTest, LayoutsAndLogsAreReadOnlyInsideTheFolder) {
   std::ofstream(base_ / "outside.json") << R"({"tank": {"secret": {"x": 1, "y": 2}}})";
   std::ofstream(base_ / "outside.jsonl") << "{\"event\": \"secret\"}\n";
