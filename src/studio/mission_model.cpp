@@ -30,9 +30,13 @@ class SandboxProvider final : public coral::FileProvider {
  public:
   SandboxProvider(const Sandbox& sandbox, std::string path, std::optional<std::string> text)
       : sandbox_(sandbox), path_(std::move(path)), text_(std::move(text)) {}
-  std::string canonical(const std::string& path) const override { return disk_.canonical(path); }
+  // A path that leaves the folder lexically is not looked at, not even to
+  // resolve its links.
+  std::string canonical(const std::string& path) const override {
+    return sandbox_.lexically_inside(path) ? disk_.canonical(path) : fs::path(path).lexically_normal().string();
+  }
   core::Result<std::string> read(const std::string& path) const override {
-    if (text_ && disk_.canonical(path) == disk_.canonical(path_)) return *text_;
+    if (text_ && canonical(path) == canonical(path_)) return *text_;
     auto r = sandbox_.read_path(path, coral::kMaxSourceSize);
     if (r) return r;
     // The loader's kinds: InvalidInput is a file too large, anything else a

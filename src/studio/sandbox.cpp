@@ -96,6 +96,12 @@ core::Result<std::string> Sandbox::read(std::string_view rel, std::size_t max_by
   return read_real(real.value(), rel, max_bytes);
 }
 
+bool Sandbox::lexically_inside(const fs::path& path) const {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+  return !ec && inside(absolute);
+}
+
 core::Result<std::string> Sandbox::read_path(const fs::path& path, std::size_t max_bytes) const {
   const std::string shown = path.string();
   auto outside = [&] {
@@ -103,12 +109,11 @@ core::Result<std::string> Sandbox::read_path(const fs::path& path, std::size_t m
                        fmt::format("'{}' is outside the studio's folder; not read", shown)};
   };
   if (shown.find('\0') != std::string::npos) return outside();
-  std::error_code ec;
   // Lexically first: a path that leaves the folder is never opened, nor
   // even looked at (whether it exists is none of the page's business).
-  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
-  if (ec || !inside(absolute)) return outside();
-  const fs::path real = fs::canonical(absolute, ec);
+  if (!lexically_inside(path)) return outside();
+  std::error_code ec;
+  const fs::path real = fs::canonical(fs::absolute(path, ec).lexically_normal(), ec);
   if (ec) return core::Error{core::ErrorCode::Io, fmt::format("'{}': no such file", shown)};
   if (!inside(real)) return outside();
   return read_real(real, shown, max_bytes);

@@ -51,6 +51,9 @@ class Sandbox {
   // resolves inside (the file it points to is replaced). InvalidInput (403)
   // for every way out; Internal (500) when the disk refuses.
   core::Result<void> write(std::string_view relative, std::string_view bytes) const;
+  // Whether `path` (absolute, or relative to the process) names a place
+  // inside the root before any link is resolved: nothing is looked at.
+  bool lexically_inside(const std::filesystem::path& path) const;
   // `path` (inside the root) as a relative path with '/' separators.
   std::string relative(const std::filesystem::path& path) const;
   // Every regular file under the root with one of these extensions, as
