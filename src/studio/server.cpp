@@ -225,14 +225,19 @@ void StudioServer::routes() {
     return httplib::Server::HandlerResponse::Handled;
   }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    // A field of the wrong type in a JSON body is the client's mistake.
     std::string what = "internal error";
+    int status = 500;
     try {
       if (ep) std::rethrow_exception(ep);
+    } catch (const nlohmann::json::exception& e) {
+      status = 400;
+      what = fmt::format("the body: {}", e.what());
     } catch (const std::exception& e) {
       what = e.what();
     } catch (...) {
     }
-    send_error(res, 500, what);
+    send_error(res, status, what);
   });
 
   s.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {

@@ -426,6 +426,11 @@ TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
     EXPECT_EQ(202, r->status) << origin << ": " << r->body;
   }
   EXPECT_EQ(2u, runs_.size());
+  // A field of the wrong type: 400, as JSON.
+  auto typed = bare.Post("/api/check", {{"Origin", origin()}}, R"({"path": 5})", "application/json");
+  ASSERT_TRUE(typed);
+  EXPECT_EQ(400, typed->status);
+  EXPECT_TRUE(json::parse(typed->body, nullptr, false).contains("error")) << typed->body;
   // The library's own errors are JSON too.
   auto nothing = bare.Delete("/api/files", {{"Origin", origin()}});
   ASSERT_TRUE(nothing);
