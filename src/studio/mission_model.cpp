@@ -1,6 +1,7 @@
 #include "studio/mission_model.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include <filesystem>
 #include <map>
@@ -11,6 +12,7 @@
 #include "coral/compiler.h"
 #include "coral/lexer.h"
 #include "core/diagnostic_printer.h"
+#include "tactical/sha256.h"
 
 #include <fmt/format.h>
 
@@ -19,19 +21,41 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The disk, except one file whose text is given.
-class OverlayProvider final : public coral::FileProvider {
+// The studio's folder, and nothing else: every file of a load (the
+// mission, its imports) is read through the sandbox, so an import that
+// leaves the folder (an absolute path, `..`, a link out) is a diagnostic at
+// that import and its file is never opened. One file may stand for an
+// unsaved text.
+class SandboxProvider final : public coral::FileProvider {
  public:
-  OverlayProvider(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
-  std::string canonical(const std::string& path) const override { return disk_.canonical(path); }
-  core::Result<std::string> read(const std::string& path) const override {
-    if (disk_.canonical(path) == disk_.canonical(path_)) return text_;
-    return disk_.read(path);
+  SandboxProvider(const Sandbox& sandbox, std::string path, std::optional<std::string> text)
+      : sandbox_(sandbox), path_(std::move(path)), text_(std::move(text)) {}
+  // A path that leaves the folder lexically is not looked at, not even to
+  // resolve its links.
+  std::string canonical(const std::string& path) const override {
+    return sandbox_.lexically_inside(path) ? disk_.canonical(path) : fs::path(path).lexically_normal().string();
   }
+  core::Result<std::string> read(const std::string& path) const override {
+    if (text_ && canonical(path) == canonical(path_)) return *text_;
+    auto r = sandbox_.read_path(path, coral::kMaxSourceSize);
+    if (r) return r;
+    // The loader's kinds: InvalidInput is a file too large, anything else a
+    // file it cannot read (an escape among them).
+    if (r.error().code == core::ErrorCode::InvalidInput) {
+      escaped_ = true;
+      return core::Error{core::ErrorCode::Io, r.error().message};
+    }
+    if (r.error().code == core::ErrorCode::Overflow) return core::Error{core::ErrorCode::InvalidInput, r.error().message};
+    return r;
+  }
+  bool escaped() const { return escaped_; }
 
  private:
-  coral::DiskFileProvider disk_;
-  std::string path_, text_;
+  const Sandbox& sandbox_;
+  coral::DiskFileProvider disk_;  // for canonical() only: it never reads here
+  std::string path_;
+  std::optional<std::string> text_;
+  mutable bool escaped_ = false;  // one load, one thread
 };
 
 nlohmann::json arcs_json(const petri::Net& net, std::span<const petri::Arc> arcs) {
@@ -93,14 +117,19 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
                                 const std::optional<std::string>& text, const tactical::Catalogue& catalogue) {
   CompiledMission out;
   const std::string path = (sandbox.root() / relative).string();
-  std::string source = text.value_or("");
-  if (!text) {
-    if (auto read = read_whole_file(path)) source = *read;
+  std::optional<std::string> source = text;
+  if (!source) {
+    // Read once: the text shown, compiled and versioned are the same bytes.
+    if (auto read = sandbox.read(relative, coral::kMaxSourceSize)) {
+      source = std::move(read).value();
+      out.etag = etag_of(*source);
+    }
   }
-  OverlayProvider files(path, source);
+  SandboxProvider files(sandbox, path, source);
   core::SourceManager sources;
   core::DiagnosticSink sink;
   out.program = coral::compile_file(path, files, sources, sink, catalogue.check_options());
+  out.escaped = files.escaped();
   sink.sort();
   nlohmann::json diagnostics = core::diagnostics_to_json(sources, sink.diagnostics());
   // Paths in diagnostics relative to the studio's folder, as everywhere else.
@@ -110,21 +139,75 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
     }
   }
   nlohmann::json layout = nullptr;
-  if (auto l = read_whole_file(path + ".layout.json")) {
-    layout = nlohmann::json::parse(*l, nullptr, false);
+  nlohmann::json layout_etag = nullptr;
+  if (auto l = sandbox.read(relative + ".layout.json")) {
+    layout = nlohmann::json::parse(l.value(), nullptr, false);
     if (layout.is_discarded()) layout = nullptr;
+    layout_etag = etag_of(l.value());
   }
-  // The scenarios a run of it may name: scenarios/*.toml beside the mission.
-  std::vector<std::string> scenarios;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(fs::path(path).parent_path() / "scenarios", ec)) {
-    if (e.is_regular_file(ec) && e.path().extension() == ".toml") scenarios.push_back(e.path().stem().string());
-  }
-  std::sort(scenarios.begin(), scenarios.end());
-  out.model = {{"path", relative}, {"text", source}, {"layout", layout}, {"diagnostics", diagnostics},
+  out.model = {{"path", relative}, {"text", source.value_or("")}, {"layout", layout}, {"diagnostics", diagnostics},
                {"nets", out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array()},
-               {"scenarios", scenarios}};
+               {"scenarios", scenario_names(sandbox, relative)}};
+  if (!out.etag.empty()) out.model["etag"] = out.etag;
+  out.model["layout_etag"] = layout_etag;
   return out;
+}
+
+std::string etag_of(std::string_view bytes) {
+  return fmt::format("\"{}\"", tactical::sha256_hex(bytes).substr(0, 32));
+}
+
+bool plain_scenario_name(std::string_view name) {
+  if (name.empty() || name.size() > 64) return false;
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
+}
+
+namespace {
+
+// The mission's scenarios/ folder, relative to the root (it need not exist).
+std::string scenarios_folder(const std::string& mission) {
+  const std::string dir = fs::path(mission).parent_path().generic_string();
+  return dir.empty() ? "scenarios" : dir + "/scenarios";
+}
+
+}  // namespace
+
+std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::string& mission) {
+  std::vector<std::string> names;
+  auto folder = sandbox.resolve(scenarios_folder(mission));
+  if (!folder) return names;  // none, or a link out: none listed
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder.value(), ec)) {
+    const fs::path& p = e.path();
+    if (p.extension() != ".toml" || !plain_scenario_name(p.stem().string())) continue;
+    if (scenario_file(sandbox, mission, p.stem().string())) names.push_back(p.stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+core::Result<std::filesystem::path> scenario_file(const Sandbox& sandbox, const std::string& mission,
+                                                  const std::string& name) {
+  if (!plain_scenario_name(name)) {
+    return core::Error{core::ErrorCode::InvalidInput,
+                       fmt::format("'{}' is not a scenario name (letters, digits, '_' and '-', from the mission's "
+                                   "scenarios/ folder)", name)};
+  }
+  const std::string rel = scenarios_folder(mission) + "/" + name + ".toml";
+  auto real = sandbox.resolve(rel);
+  if (!real) {
+    if (real.error().code == core::ErrorCode::Io) {
+      return core::Error{core::ErrorCode::Io, fmt::format("no scenario '{}': there is no {}", name, rel)};
+    }
+    return core::Error{core::ErrorCode::InvalidInput,
+                       fmt::format("scenario '{}': {} is outside the studio's folder", name, rel)};
+  }
+  std::error_code ec;
+  if (!fs::is_regular_file(real.value(), ec)) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("scenario '{}': {} is not a file", name, rel)};
+  }
+  return real;
 }
 
 namespace {

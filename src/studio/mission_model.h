@@ -3,7 +3,10 @@
 // check` does, as JSON for the page (nets with their places, transitions,
 // arcs and actions, each with its line; diagnostics).
 #include <optional>
+#include <filesystem>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -17,11 +20,29 @@ namespace strata::studio {
 struct CompiledMission {
   nlohmann::json model;                   // the mission model
   std::optional<coral::Program> program;  // when it compiles
+  std::string etag;                       // of the file as read from disk ("" when text was given or unreadable)
+  bool escaped = false;                   // an import left the folder (refused, not read)
 };
+
+// The version of a file's bytes, as an HTTP entity tag (quotes included).
+std::string etag_of(std::string_view bytes);
+
+// A scenario is a name: letters, digits, '_' and '-' (never a path).
+bool plain_scenario_name(std::string_view name);
+// The scenarios of `mission` (relative): scenarios/NAME.toml beside it,
+// inside the root, as names, sorted.
+std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::string& mission);
+// The file of scenario `name` of `mission`: InvalidInput for a name that is
+// not plain or a file outside the root, Io when there is none.
+core::Result<std::filesystem::path> scenario_file(const Sandbox& sandbox, const std::string& mission,
+                                                  const std::string& name);
 
 // Compiles `relative` (inside the sandbox) with its imports; `text`, when
 // given, stands for that file's contents (an unsaved edit). The model's
-// `text` is the text compiled, `layout` the layout file beside it (or null).
+// `text` is the text compiled, `layout` the layout file beside it (or null),
+// `etag` and `layout_etag` their versions on disk. Every file is read
+// through the sandbox: an import outside the folder is a diagnostic at the
+// import, and is not read.
 CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relative,
                                 const std::optional<std::string>& text, const tactical::Catalogue& catalogue);
 

@@ -1,7 +1,15 @@
 #include "studio/sandbox.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -52,6 +60,159 @@ core::Result<fs::path> Sandbox::resolve(std::string_view rel, bool for_write) co
   if (ec) return core::Error{core::ErrorCode::Io, fmt::format("'{}': no such file", rel)};
   if (!inside(real)) return refuse("leaves the studio's folder");
   return real;
+}
+
+namespace {
+
+// Closes a descriptor on every way out.
+struct Fd {
+  int fd = -1;
+  explicit Fd(int f) : fd(f) {}
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+};
+
+// Where an open descriptor really is: the name may have been swapped for a
+// link between the check and the open; the descriptor cannot be.
+std::optional<fs::path> where_open(int fd) {
+  std::error_code ec;
+  fs::path p = fs::read_symlink(fmt::format("/proc/self/fd/{}", fd), ec);
+  if (ec) return std::nullopt;
+  return p;
+}
+
+core::Error disk_error(std::string_view what, std::string_view rel) {
+  return core::Error{core::ErrorCode::Internal, fmt::format("cannot {} '{}': {}", what, rel, std::strerror(errno))};
+}
+
+}  // namespace
+
+core::Result<std::string> Sandbox::read(std::string_view rel, std::size_t max_bytes) const {
+  auto real = resolve(rel);
+  if (!real) return real.error();
+  return read_real(real.value(), rel, max_bytes);
+}
+
+bool Sandbox::lexically_inside(const fs::path& path) const {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+  return !ec && inside(absolute);
+}
+
+core::Result<std::string> Sandbox::read_path(const fs::path& path, std::size_t max_bytes) const {
+  const std::string shown = path.string();
+  auto outside = [&] {
+    return core::Error{core::ErrorCode::InvalidInput,
+                       fmt::format("'{}' is outside the studio's folder; not read", shown)};
+  };
+  if (shown.find('\0') != std::string::npos) return outside();
+  // Lexically first: a path that leaves the folder is never opened, nor
+  // even looked at (whether it exists is none of the page's business).
+  if (!lexically_inside(path)) return outside();
+  std::error_code ec;
+  const fs::path real = fs::canonical(fs::absolute(path, ec).lexically_normal(), ec);
+  if (ec) return core::Error{core::ErrorCode::Io, fmt::format("'{}': no such file", shown)};
+  if (!inside(real)) return outside();
+  return read_real(real, shown, max_bytes);
+}
+
+core::Result<std::string> Sandbox::read_real(const fs::path& real, std::string_view shown, std::size_t max_bytes) const {
+  // O_NONBLOCK: a FIFO planted under the name must not hang the worker.
+  Fd f(::open(real.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK));
+  if (f.fd < 0) {
+    if (errno == ELOOP) {
+      return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' became a link; not read", shown)};
+    }
+    return core::Error{core::ErrorCode::Io, fmt::format("cannot open '{}': {}", shown, std::strerror(errno))};
+  }
+  struct stat st {};
+  if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not a regular file; not read", shown)};
+  }
+  if (auto at = where_open(f.fd); at && !inside(*at)) {
+    return core::Error{core::ErrorCode::InvalidInput,
+                       fmt::format("'{}' is outside the studio's folder; not read", shown)};
+  }
+  std::string out;
+  char chunk[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(f.fd, chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return core::Error{core::ErrorCode::Io, fmt::format("cannot read '{}': {}", shown, std::strerror(errno))};
+    if (n == 0) break;
+    out.append(chunk, static_cast<std::size_t>(n));
+    if (out.size() > max_bytes) {
+      return core::Error{core::ErrorCode::Overflow, fmt::format("'{}' is over {} bytes", shown, max_bytes)};
+    }
+  }
+  return out;
+}
+
+core::Result<void> Sandbox::write(std::string_view rel, std::string_view bytes) const {
+  auto resolved = resolve(rel, true);
+  if (!resolved) return resolved.error();
+  const fs::path target = resolved.value();  // a link inside: the file it points to
+  const std::string name = target.filename().string();
+  auto refuse = [&](std::string_view why) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}': {}", rel, why)};
+  };
+  // Everything below is relative to the folder's descriptor, itself checked
+  // once open: a folder swapped for a link after resolve() is noticed.
+  Fd dir(::open(target.parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
+  if (dir.fd < 0) return refuse("its folder cannot be opened");
+  if (auto at = where_open(dir.fd); !at || !inside(*at)) return refuse("leaves the studio's folder");
+  // The target, when there: a regular file (a link here now means it was
+  // swapped after resolve(); a folder or a device is not a mission).
+  auto check_target = [&](struct stat& st) -> std::optional<core::Error> {
+    if (::fstatat(dir.fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) {
+      if (errno == ENOENT) return std::nullopt;
+      return disk_error("look at", rel);
+    }
+    if (!S_ISREG(st.st_mode)) return refuse("is not a regular file; not written");
+    return std::nullopt;
+  };
+  struct stat before {};
+  if (auto e = check_target(before)) return *e;
+  const bool existed = before.st_mode != 0;
+
+  // A fresh name each time: a link (or anything) planted at a temporary
+  // name makes O_EXCL fail, and the next name is tried.
+  static std::atomic<std::uint64_t> counter{0};
+  thread_local std::mt19937_64 random{std::random_device{}()};
+  std::string tmp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+    tmp = fmt::format("{}.strata-tmp-{}-{}-{:x}", name, ::getpid(), counter++, random() & 0xffffffffu);
+    fd = ::openat(dir.fd, tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) return disk_error("create a temporary file for", rel);
+  }
+  if (fd < 0) return disk_error("create a temporary file for", rel);
+  Fd out(fd);
+  auto fail = [&](std::string_view what) {
+    core::Error e = disk_error(what, rel);
+    ::unlinkat(dir.fd, tmp.c_str(), 0);
+    return e;
+  };
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(out.fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return fail("write");
+    done += static_cast<std::size_t>(n);
+  }
+  // The file keeps its permissions (a script stays executable, say).
+  if (existed && ::fchmod(out.fd, before.st_mode & 07777) != 0) return fail("set the permissions of");
+  if (::fsync(out.fd) != 0) return fail("sync");
+  struct stat now {};
+  if (auto e = check_target(now)) {
+    ::unlinkat(dir.fd, tmp.c_str(), 0);
+    return *e;
+  }
+  if (::renameat(dir.fd, tmp.c_str(), dir.fd, name.c_str()) != 0) return fail("rename over");
+  ::fsync(dir.fd);  // the rename itself survives a crash
+  return core::Result<void>();
 }
 
 std::string Sandbox::relative(const fs::path& path) const { return path.lexically_relative(root_).generic_string(); }

@@ -1,5 +1,7 @@
 #include "studio/server.h"
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -34,18 +36,14 @@ void send_path_error(httplib::Response& res, const core::Error& e) {
   send_error(res, e.code == core::ErrorCode::Io ? 404 : 403, e.message);
 }
 
-bool write_file(const fs::path& p, const std::string& text) {
-  // Write beside, then rename: a reader never sees half a file.
-  const fs::path tmp = p.string() + ".strata-tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out.flush()) return false;
+// The status of a failed Sandbox::write() or read().
+int status_of(const core::Error& e) {
+  switch (e.code) {
+    case core::ErrorCode::InvalidInput: return 403;
+    case core::ErrorCode::Io: return 404;
+    case core::ErrorCode::Overflow: return 413;
+    default: return 500;
   }
-  std::error_code ec;
-  fs::rename(tmp, p, ec);
-  if (ec) fs::remove(tmp, ec);
-  return !ec;
 }
 
 const char* mime_of(const std::string& path) {
@@ -66,6 +64,39 @@ std::optional<json> json_body(const httplib::Request& req, httplib::Response& re
     return std::nullopt;
   }
   return j;
+}
+
+// A string field of the body, or nullopt (and a 400 sent) when it is there
+// but not a string.
+std::optional<std::string> string_field(const json& body, const char* key, httplib::Response& res) {
+  if (!body.contains(key) || body[key].is_null()) return std::string();
+  if (!body[key].is_string()) {
+    send_error(res, 400, fmt::format("'{}' must be a string", key));
+    return std::nullopt;
+  }
+  return body[key].get<std::string>();
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Whether an If-Match header names `etag` (a list, weak tags compared by
+// their value, `*` for any current version).
+bool if_match(const std::string& header, const std::string& etag) {
+  std::size_t at = 0;
+  while (at <= header.size()) {
+    std::size_t comma = header.find(',', at);
+    if (comma == std::string::npos) comma = header.size();
+    std::string tag = header.substr(at, comma - at);
+    const auto first = tag.find_first_not_of(" \t"), last = tag.find_last_not_of(" \t");
+    tag = first == std::string::npos ? "" : tag.substr(first, last - first + 1);
+    if (tag.starts_with("W/")) tag = tag.substr(2);
+    if (tag == "*" || tag == etag) return true;
+    at = comma + 1;
+  }
+  return false;
 }
 
 }  // namespace
@@ -117,6 +148,13 @@ core::Result<std::uint16_t> StudioServer::start() {
                                                                                           : std::to_string(options_.port))};
   }
   port_ = static_cast<std::uint16_t>(port);
+  // The addresses a request may name (Host) and come from (Origin): the one
+  // printed first, then the loopback forms a browser may be given.
+  own_hosts_ = {lower(fmt::format("{}:{}", options_.host, port_))};
+  for (const char* h : {"127.0.0.1", "localhost"}) {
+    const std::string form = fmt::format("{}:{}", h, port_);
+    if (form != own_hosts_.front()) own_hosts_.push_back(form);
+  }
   listener_ = std::thread([this] { server_->listen_after_bind(); });
   return port_;
 }
@@ -128,9 +166,79 @@ void StudioServer::stop() {
   if (listener_.joinable()) listener_.join();
 }
 
+bool StudioServer::own_host(const std::string& host) const {
+  return std::find(own_hosts_.begin(), own_hosts_.end(), lower(host)) != own_hosts_.end();
+}
+
+std::optional<std::string> StudioServer::refuse_write(const std::string& relative, const httplib::Request& req,
+                                                      int& status) const {
+  auto current = sandbox_.read(relative);
+  if (!current && current.error().code != core::ErrorCode::Io) {
+    status = status_of(current.error());
+    return current.error().message;
+  }
+  const bool exists = current.ok();
+  if (!req.has_header("If-Match")) {
+    if (!exists) return std::nullopt;  // a new file
+    status = 428;
+    return fmt::format("'{}' exists: saving over it needs If-Match with the ETag it was read with", relative);
+  }
+  if (exists && if_match(req.get_header_value("If-Match"), etag_of(current.value()))) return std::nullopt;
+  status = 412;
+  return exists ? fmt::format("'{}' changed since it was read (another tab or another program saved it); "
+                              "reload it, then make your change again", relative)
+                : fmt::format("'{}' is no longer there (it was deleted or moved since it was read)", relative);
+}
+
 void StudioServer::routes() {
   httplib::Server& s = *server_;
   const tactical::Catalogue& catalogue = *options_.catalogue;
+
+  // Before any route: the request must be for this studio (Host: against
+  // DNS rebinding) and, when it changes anything, come from its own page
+  // (Origin: any page the operator visits may POST here, even text/plain
+  // without a preflight). GET needs no Origin: a browser does not send one
+  // for a same-origin GET, and a GET changes nothing.
+  s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    const std::string host = req.get_header_value("Host");
+    if (!own_host(host)) {
+      send_error(res, 403, fmt::format("Host '{}' is not this studio's address (http://{})", host, own_hosts_.front()));
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.method != "GET" && req.method != "HEAD") {
+      const std::string origin = req.get_header_value("Origin");
+      if (!origin.starts_with("http://") || !own_host(origin.substr(7))) {
+        send_error(res, 403,
+                   origin.empty() ? fmt::format("a {} needs an Origin header: this studio's own, http://{}", req.method,
+                                                own_hosts_.front())
+                                  : fmt::format("Origin '{}' is not this studio (http://{})", origin, own_hosts_.front()));
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  // The library's own errors (no route, a body too large, a bad request)
+  // as JSON too.
+  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    send_error(res, res.status, res.status == 413 ? "the request body is too large" : fmt::format("HTTP {}", res.status));
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    // A field of the wrong type in a JSON body is the client's mistake.
+    std::string what = "internal error";
+    int status = 500;
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const nlohmann::json::exception& e) {
+      status = 400;
+      what = fmt::format("the body: {}", e.what());
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    send_error(res, status, what);
+  });
 
   s.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {
     send_json(res, {{"root", sandbox_.root().string()},
@@ -142,7 +250,9 @@ void StudioServer::routes() {
     const std::string path = req.get_param_value("path");
     auto real = sandbox_.resolve(path);
     if (!real) return send_path_error(res, real.error());
-    send_json(res, compile_mission(sandbox_, path, std::nullopt, catalogue).model);
+    CompiledMission m = compile_mission(sandbox_, path, std::nullopt, catalogue);
+    if (!m.etag.empty()) res.set_header("ETag", m.etag);
+    send_json(res, m.model);
   });
 
   s.Post("/api/check", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
@@ -183,10 +293,14 @@ void StudioServer::routes() {
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
     if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
-    auto real = sandbox_.resolve(path, true);
-    if (!real) return send_path_error(res, real.error());
-    if (!write_file(real.value(), req.body)) return send_error(res, 500, fmt::format("cannot write '{}'", path));
-    send_json(res, {{"ok", true}});
+    std::lock_guard lock(write_mutex_);
+    int status = 0;
+    if (auto refused = refuse_write(path, req, status)) return send_error(res, status, *refused);
+    auto written = sandbox_.write(path, req.body);
+    if (!written) return send_error(res, status_of(written.error()), written.error().message);
+    const std::string etag = etag_of(req.body);
+    res.set_header("ETag", etag);
+    send_json(res, {{"ok", true}, {"etag", etag}});
   });
 
   s.Put("/api/layout", [this](const httplib::Request& req, httplib::Response& res) {
@@ -194,10 +308,15 @@ void StudioServer::routes() {
     if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': a layout belongs to a .coral file", path));
     auto body = json_body(req, res);
     if (!body) return;
-    auto real = sandbox_.resolve(path + ".layout.json", true);
-    if (!real) return send_path_error(res, real.error());
-    if (!write_file(real.value(), body->dump(1) + "\n")) return send_error(res, 500, "cannot write the layout");
-    send_json(res, {{"ok", true}});
+    std::lock_guard lock(write_mutex_);
+    const std::string layout = path + ".layout.json", bytes = body->dump(1) + "\n";
+    int status = 0;
+    if (auto refused = refuse_write(layout, req, status)) return send_error(res, status, *refused);
+    auto written = sandbox_.write(layout, bytes);
+    if (!written) return send_error(res, status_of(written.error()), written.error().message);
+    const std::string etag = etag_of(bytes);
+    res.set_header("ETag", etag);
+    send_json(res, {{"ok", true}, {"etag", etag}});
   });
 
   s.Get("/api/primitives", [&catalogue](const httplib::Request&, httplib::Response& res) {
@@ -206,23 +325,54 @@ void StudioServer::routes() {
 
   s.Get("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
-    auto real = sandbox_.resolve(path);
-    if (!real) return send_path_error(res, real.error());
-    auto text = read_whole_file(real.value());
-    if (!text) return send_error(res, 404, fmt::format("cannot read '{}'", path));
-    auto replay = replay_from_log(*text);
+    auto text = sandbox_.read(path);
+    if (!text) return send_error(res, status_of(text.error()), text.error().message);
+    auto replay = replay_from_log(text.value());
     if (!replay) return send_error(res, 422, fmt::format("{}: {}", path, replay.error().message));
     send_json(res, replay.value());
   });
 
-  s.Post("/api/run", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/run", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
     auto body = json_body(req, res);
     if (!body) return;
-    const std::string path = body->value("path", "");
-    auto real = sandbox_.resolve(path);
+    auto path = string_field(*body, "path", res);
+    auto scenario = string_field(*body, "scenario", res);
+    if (!path || !scenario) return;
+    auto real = sandbox_.resolve(*path);
     if (!real) return send_path_error(res, real.error());
-    RunRequest run{real.value(), path, body->value("scenario", ""), body->value("speed", 10.0)};
+    if (!body->value("speed", json(10.0)).is_number()) return send_error(res, 400, "speed must be a number");
+    RunRequest run{real.value(), *path, *scenario, body->value("speed", 10.0), {}};
     if (!(run.speed >= 0.01 && run.speed <= 1000.0)) return send_error(res, 400, "speed must be between 0.01 and 1000");
+    // A scenario is a name from the mission's scenarios/, never a path;
+    // nominal (or none) is the mission's nominal.toml when it has one, else
+    // the built-in one.
+    const bool nominal = run.scenario.empty() || run.scenario == "nominal";
+    auto file = scenario_file(sandbox_, *path, nominal ? "nominal" : run.scenario);
+    if (file) {
+      run.scenario_file = file.value();
+    } else if (!nominal || file.error().code != core::ErrorCode::Io) {
+      return send_error(res, 400, file.error().message);
+    } else {
+      run.scenario.clear();  // the built-in nominal: no file to look for
+    }
+    // The run reads the mission again, with its imports and data file: none
+    // may leave the folder.
+    CompiledMission m = compile_mission(sandbox_, *path, std::nullopt, catalogue);
+    if (m.escaped) {
+      return send_error(res, 403, fmt::format("'{}' imports a file outside the studio's folder; not running", *path));
+    }
+    if (m.program && m.program->mission) {
+      const std::string& data = m.program->nets[*m.program->mission].data_file;
+      const fs::path rel = fs::path(data).lexically_relative(sandbox_.root());
+      auto escapes = [&] {
+        if (rel.empty() || *rel.begin() == "..") return true;
+        auto found = sandbox_.resolve(rel.generic_string());
+        return !found && found.error().code == core::ErrorCode::InvalidInput;  // missing: the run says so
+      };
+      if (!data.empty() && escapes()) {
+        return send_error(res, 403, fmt::format("'{}': its data file is outside the studio's folder; not running", *path));
+      }
+    }
     auto started = runs_->start(run);
     if (!started) {
       return send_error(res, started.error().code == core::ErrorCode::Overflow ? 409 : 400, started.error().message);

@@ -15,6 +15,9 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <vector>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -25,6 +28,7 @@
 
 namespace httplib {
 class Server;
+struct Request;
 }
 
 namespace strata::studio {
@@ -32,8 +36,12 @@ namespace strata::studio {
 struct RunRequest {
   std::filesystem::path mission;  // resolved, inside the root
   std::string relative;           // as the page named it
-  std::string scenario;           // "" nominal
+  std::string scenario;           // the name asked for; "" nominal
   double speed = 10.0;            // simulated seconds per wall second
+  // Set by the server: the scenario's file, checked inside the root; when
+  // empty the run takes `scenario` as strata run does (`strata run
+  // --studio`, whose scenario comes from its own command line).
+  std::filesystem::path scenario_file = {};
 };
 
 // Starts and stops the runs the page asks for. Threads: any (HTTP workers).
@@ -89,15 +97,24 @@ class StudioServer {
 
  private:
   void routes();
+  // Whether `host` (HOST:PORT) is one of this studio's own addresses.
+  bool own_host(const std::string& host) const;
+  // Why writing `relative` with this request's If-Match is refused (status
+  // 412, 428, or the sandbox's), or nullopt to go ahead. Under write_mutex_.
+  std::optional<std::string> refuse_write(const std::string& relative, const httplib::Request& req, int& status) const;
 
   StudioOptions options_;
   EventHub& hub_;
   Sandbox sandbox_;
+  // Every write of the API (text, layout) holds it: a check of the file's
+  // version and the write that follows are one step for other requests.
+  std::mutex write_mutex_;
   std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
   RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread listener_;
   std::uint16_t port_ = 0;
+  std::vector<std::string> own_hosts_;  // set by start(), before the first request
 };
 
 }  // namespace strata::studio

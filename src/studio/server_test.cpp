@@ -46,7 +46,15 @@ class StudioServerTest : public ::testing::Test {
     httplib::Client c("127.0.0.1", port_);
     c.set_read_timeout(5, 0);
     c.set_connection_timeout(5, 0);
+    // As the page: its writes carry the studio's own origin.
+    c.set_default_headers({{"Origin", origin()}});
     return c;
+  }
+  std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  // The ETag of a file as GET /api/mission gives it.
+  std::string etag_of(const std::string& path) {
+    auto r = client().Get(("/api/mission?path=" + path).c_str());
+    return r ? r->get_header_value("ETag") : std::string();
   }
 
   fs::path base_;
@@ -171,6 +179,37 @@ TEST_F(StudioServerTest, SavesTextAndLayoutInsideTheFolder) {
   EXPECT_EQ(1, json::parse(m->body)["layout"]["fresh"]["a"]["x"]);
 }
 
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Issue 17: `ln -s ../../outside/victim missions/tank/initialize.coral.strata-tmp`,
+// then saving initialize.coral, overwrote the victim.
+TEST_F(StudioServerTest, SaveDoesNotWriteThroughLinksPlantedInTheFolder) {
+  fs::create_directories(base_ / "outside");
+  std::ofstream(base_ / "outside/victim") << "precious";
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/initialize.coral.strata-tmp");
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/linked.coral");
+  fs::create_symlink("../../outside/victim", base_ / "root/tank/tank.coral.layout.json");
+  auto c = client();
+  httplib::Headers match = {{"If-Match", etag_of("tank/initialize.coral")}};
+  auto put = c.Put("/api/file?path=tank/initialize.coral", match, "net fresh { place a = 1; exit e; }\n", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(200, put->status) << put->body;
+  EXPECT_EQ("net fresh { place a = 1; exit e; }\n", slurp(base_ / "root/tank/initialize.coral"));
+  EXPECT_FALSE(fs::is_symlink(base_ / "root/tank/initialize.coral"));
+  // A target that is itself a link out: refused, not followed.
+  put = c.Put("/api/file?path=tank/linked.coral", "net x {}", "text/plain");
+  ASSERT_TRUE(put);
+  EXPECT_EQ(403, put->status) << put->body;
+  auto layout = c.Put("/api/layout?path=tank/tank.coral", R"({"tank": {}})", "application/json");
+  ASSERT_TRUE(layout);
+  EXPECT_EQ(403, layout->status) << layout->body;
+  EXPECT_EQ("application/json", layout->get_header_value("Content-Type"));
+  EXPECT_EQ("precious", slurp(base_ / "outside/victim"));
+}
+
 TEST_F(StudioServerTest, EditsComeBackAsTheNewTextAndItsModel) {
   auto c = client();
   auto mission = c.Get("/api/mission?path=tank/tank.coral");
@@ -239,6 +278,211 @@ TEST_F(StudioServerTest, RunRequestsGoToTheRunner) {
   auto bad = c.Post("/api/run", R"({"path": "tank/tank.coral", "speed": 0})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(400, bad->status);
+}
+
+// Issue 17: an import by absolute path quoted /etc/passwd's tokens in the
+// diagnostics, and a .coral outside the folder came back whole.
+TEST_F(StudioServerTest, ImportsOutsideTheFolderAreRefusedWithoutReadingThem) {
+  std::ofstream(base_ / "outside.coral") << "phase leaked { place secret_place = 1; exit done; }\n";
+  fs::create_symlink("../outside.coral", base_ / "root/linked.coral");
+  auto c = client();
+  for (const std::string& import : std::vector<std::string>{"/etc/passwd", "../../outside.coral", "../linked.coral",
+                                   (base_ / "outside.coral").string()}) {
+    json body = {{"path", "tank/tank.coral"}, {"text", "import \"" + import + "\";\nmission m { place a = 1; exit e; }\n"}};
+    auto r = c.Post("/api/check", body.dump(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(200, r->status) << r->body;
+    EXPECT_EQ(std::string::npos, r->body.find("root:")) << import;  // nothing of /etc/passwd
+    EXPECT_EQ(std::string::npos, r->body.find("secret_place")) << import;
+    EXPECT_EQ(std::string::npos, r->body.find("leaked")) << import;
+    json m = json::parse(r->body);
+    ASSERT_FALSE(m["diagnostics"].empty()) << import;
+    EXPECT_NE(std::string::npos, m["diagnostics"][0]["message"].get<std::string>().find("outside the studio's folder"))
+        << m["diagnostics"].dump();
+    EXPECT_EQ(1, m["diagnostics"][0]["line"]) << m["diagnostics"].dump();  // at the import
+    EXPECT_EQ("tank/tank.coral", m["diagnostics"][0]["file"]);
+  }
+  // An import inside still works.
+  json body = {{"path", "tank/tank.coral"}, {"text", "import \"initialize.coral\";\nmission m { place a = 1; exit e; }\n"}};
+  auto r = c.Post("/api/check", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_NE(std::string::npos, r->body.find("\"initialize\""));
+  // A mission that imports outside is not run either.
+  std::ofstream(base_ / "root/tank/escape.coral") << "import \"../../outside.coral\";\nmission m { place a = 1; exit e; }\n";
+  auto run = c.Post("/api/run", R"({"path": "tank/escape.coral"})", "application/json");
+  ASSERT_TRUE(run);
+  EXPECT_EQ(403, run->status) << run->body;
+  EXPECT_TRUE(runs_.empty());
+}
+
+TEST_F(StudioServerTest, AMissionWhoseDataFileIsOutsideIsNotRun) {
+  std::ofstream(base_ / "outside.toml") << "secret = 1\n";
+  fs::create_symlink("../../outside.toml", base_ / "root/tank/linked.toml");
+  auto c = client();
+  for (const char* data : {"../../outside.toml", "/etc/passwd", "linked.toml"}) {
+    std::ofstream(base_ / "root/tank/data.coral")
+        << "mission m { data \"" << data << "\"; place s = 1; exit e;\ntransition t { wait { s } signal { e } } }\n";
+    auto r = c.Post("/api/run", R"({"path": "tank/data.coral"})", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(403, r->status) << data << ": " << r->body;
+    EXPECT_NE(std::string::npos, r->body.find("data file is outside")) << r->body;
+  }
+  EXPECT_TRUE(runs_.empty());
+}
+
+TEST_F(StudioServerTest, LayoutsAndLogsAreReadOnlyInsideTheFolder) {
+  std::ofstream(base_ / "outside.json") << R"({"tank": {"secret": {"x": 1, "y": 2}}})";
+  std::ofstream(base_ / "outside.jsonl") << "{\"event\": \"secret\"}\n";
+  fs::create_symlink("../../outside.json", base_ / "root/tank/tank.coral.layout.json");
+  fs::create_symlink("../outside.jsonl", base_ / "root/run.jsonl");
+  auto c = client();
+  auto m = c.Get("/api/mission?path=tank/tank.coral");
+  ASSERT_TRUE(m);
+  EXPECT_TRUE(json::parse(m->body)["layout"].is_null());
+  auto replay = c.Get("/api/replay?path=run.jsonl");
+  ASSERT_TRUE(replay);
+  EXPECT_EQ(403, replay->status);
+  EXPECT_EQ(std::string::npos, replay->body.find("secret"));
+}
+
+// Issue 17: a scenario of ../../../../etc/passwd leaked that file's parse error.
+TEST_F(StudioServerTest, AScenarioIsANameFromTheMissionsFolder) {
+  fs::create_directories(base_ / "outside");
+  std::ofstream(base_ / "outside/evil.toml") << "seed = 1\n";
+  fs::create_symlink("../../../outside/evil.toml", base_ / "root/tank/scenarios/evil.toml");
+  auto c = client();
+  for (const char* bad : {"../../../../etc/passwd", "/etc/passwd", "scenarios/leak_phase2", "leak_phase2.toml",
+                          "evil", "none_such", "a b"}) {
+    json body = {{"path", "tank/tank.coral"}, {"scenario", bad}};
+    auto r = c.Post("/api/run", body.dump(), "application/json");
+    ASSERT_TRUE(r) << bad;
+    EXPECT_EQ(400, r->status) << bad << ": " << r->body;
+    EXPECT_EQ(std::string::npos, r->body.find("root:")) << bad;
+    EXPECT_TRUE(json::parse(r->body).contains("error")) << r->body;
+  }
+  EXPECT_TRUE(runs_.empty());
+  auto m = json::parse(c.Get("/api/mission?path=tank/tank.coral")->body);
+  EXPECT_EQ(m["scenarios"].end(), std::find(m["scenarios"].begin(), m["scenarios"].end(), "evil")) << m["scenarios"];
+  // A name from the folder runs with its file; nominal, or none, also runs
+  // where the mission has no scenarios/ at all.
+  auto ok = c.Post("/api/run", R"({"path": "tank/tank.coral", "scenario": "leak_phase2"})", "application/json");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(202, ok->status) << ok->body;
+  ASSERT_EQ(1u, runs_.size());
+  EXPECT_EQ(fs::canonical(base_ / "root/tank/scenarios/leak_phase2.toml"), runs_[0].scenario_file);
+  fs::create_directories(base_ / "root/bare");
+  fs::copy(base_ / "root/tank", base_ / "root/bare", fs::copy_options::recursive);
+  fs::remove_all(base_ / "root/bare/scenarios");
+  for (const char* body : {R"({"path": "bare/tank.coral", "scenario": "nominal"})", R"({"path": "bare/tank.coral"})"}) {
+    auto r = c.Post("/api/run", body, "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(202, r->status) << r->body;
+    EXPECT_TRUE(runs_.back().scenario_file.empty());
+  }
+}
+
+// Issue 17: any web page could start a run (a cross-origin text/plain POST
+// needs no preflight), and DNS rebinding reached the API.
+TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
+  httplib::Client bare("127.0.0.1", port_);
+  bare.set_read_timeout(5, 0);
+  // GET with a good Host and no Origin: the page and the API.
+  for (const char* path : {"/api/files", "/api/primitives"}) {
+    auto r = bare.Get(path);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(200, r->status) << path;
+  }
+  // A rebound name: refused, GET too.
+  auto rebound = bare.Get("/api/files", {{"Host", "evil.example:" + std::to_string(port_)}});
+  ASSERT_TRUE(rebound);
+  EXPECT_EQ(403, rebound->status);
+  EXPECT_TRUE(json::parse(rebound->body).contains("error"));
+  auto other_port = bare.Get("/api/files", {{"Host", "127.0.0.1:1"}});
+  ASSERT_TRUE(other_port);
+  EXPECT_EQ(403, other_port->status);
+  auto local = bare.Get("/api/files", {{"Host", "localhost:" + std::to_string(port_)}});
+  ASSERT_TRUE(local);
+  EXPECT_EQ(200, local->status);
+  // A write with no Origin, or another: refused, and nothing happens.
+  const std::string run = R"({"path": "tank/tank.coral"})";
+  auto none = bare.Post("/api/run", run, "text/plain");
+  ASSERT_TRUE(none);
+  EXPECT_EQ(403, none->status);
+  for (const std::string& origin : std::vector<std::string>{"http://evil.example", "null", "http://127.0.0.1:1", "https://127.0.0.1:" + std::to_string(port_),
+                                   "http://evil.example:" + std::to_string(port_)}) {
+    auto r = bare.Post("/api/run", {{"Origin", origin}}, run, "text/plain");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(403, r->status) << origin;
+    auto put = bare.Put("/api/file?path=tank/new.coral", {{"Origin", origin}}, "net x {}", "text/plain");
+    ASSERT_TRUE(put);
+    EXPECT_EQ(403, put->status) << origin;
+  }
+  EXPECT_TRUE(runs_.empty());
+  EXPECT_FALSE(fs::exists(base_ / "root/tank/new.coral"));
+  // Its own origin, in both forms.
+  for (const std::string& origin : std::vector<std::string>{origin(), "http://localhost:" + std::to_string(port_)}) {
+    auto r = bare.Post("/api/run", {{"Origin", origin}}, run, "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(202, r->status) << origin << ": " << r->body;
+  }
+  EXPECT_EQ(2u, runs_.size());
+  // A field of the wrong type: 400, as JSON.
+  auto typed = bare.Post("/api/check", {{"Origin", origin()}}, R"({"path": 5})", "application/json");
+  ASSERT_TRUE(typed);
+  EXPECT_EQ(400, typed->status);
+  EXPECT_TRUE(json::parse(typed->body, nullptr, false).contains("error")) << typed->body;
+  // The library's own errors are JSON too.
+  auto nothing = bare.Delete("/api/files", {{"Origin", origin()}});
+  ASSERT_TRUE(nothing);
+  EXPECT_EQ(404, nothing->status);
+  EXPECT_TRUE(json::parse(nothing->body, nullptr, false).contains("error")) << nothing->body;
+}
+
+// Issue 17: two tabs on one mission; the second save silently dropped the
+// first tab's change.
+TEST_F(StudioServerTest, ASaveWithAStaleETagIsRefused) {
+  auto c = client();
+  const std::string tag = etag_of("tank/initialize.coral");
+  ASSERT_FALSE(tag.empty());
+  auto model = json::parse(c.Get("/api/mission?path=tank/initialize.coral")->body);
+  EXPECT_EQ(tag, model["etag"]);
+  // Tab one saves: a new tag.
+  auto first = c.Put("/api/file?path=tank/initialize.coral", {{"If-Match", tag}}, "// tab one\n", "text/plain");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(200, first->status) << first->body;
+  const std::string next = first->get_header_value("ETag");
+  EXPECT_NE(tag, next);
+  EXPECT_EQ(next, json::parse(first->body)["etag"]);
+  EXPECT_EQ(next, etag_of("tank/initialize.coral"));
+  // Tab two, read before: refused, and tab one's change stays.
+  auto second = c.Put("/api/file?path=tank/initialize.coral", {{"If-Match", tag}}, "// tab two\n", "text/plain");
+  ASSERT_TRUE(second);
+  EXPECT_EQ(412, second->status);
+  EXPECT_NE(std::string::npos, json::parse(second->body)["error"].get<std::string>().find("changed since it was read"));
+  EXPECT_EQ("// tab one\n", slurp(base_ / "root/tank/initialize.coral"));
+  // A change on disk is a change too.
+  std::ofstream(base_ / "root/tank/initialize.coral") << "// an editor\n";
+  auto third = c.Put("/api/file?path=tank/initialize.coral", {{"If-Match", next}}, "// tab one again\n", "text/plain");
+  ASSERT_TRUE(third);
+  EXPECT_EQ(412, third->status);
+  // Saving over an existing file without If-Match: 428; a new file needs none.
+  auto blind = c.Put("/api/file?path=tank/initialize.coral", "x", "text/plain");
+  ASSERT_TRUE(blind);
+  EXPECT_EQ(428, blind->status);
+  EXPECT_EQ("// an editor\n", slurp(base_ / "root/tank/initialize.coral"));
+  // The layout has its own version, the same way.
+  auto l1 = c.Put("/api/layout?path=tank/initialize.coral", R"({"a": {}})", "application/json");
+  ASSERT_TRUE(l1);
+  ASSERT_EQ(200, l1->status) << l1->body;
+  model = json::parse(c.Get("/api/mission?path=tank/initialize.coral")->body);
+  EXPECT_EQ(l1->get_header_value("ETag"), model["layout_etag"]);
+  auto l2 = c.Put("/api/layout?path=tank/initialize.coral", {{"If-Match", "\"stale\""}}, R"({"b": {}})", "application/json");
+  ASSERT_TRUE(l2);
+  EXPECT_EQ(412, l2->status);
+  auto l3 = c.Put("/api/layout?path=tank/initialize.coral", {{"If-Match", model["layout_etag"].get<std::string>()}},
+                  R"({"b": {}})", "application/json");
+  ASSERT_TRUE(l3);
+  EXPECT_EQ(200, l3->status) << l3->body;
 }
 
 // Reads one event stream on its own thread until told to stop.

@@ -47,7 +47,9 @@ run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions
                              {"speed", request.speed},
                              {"nets", model.model["nets"]}});
   o.mission = request.mission.string();
-  o.scenario = request.scenario;
+  // From the page: the file the server checked inside the root, never the
+  // name as a path.
+  o.scenario = request.scenario_file.empty() ? request.scenario : request.scenario_file.string();
   if (o.vehicle.empty()) {
     o.realtime = true;  // watching live is on the wall clock
     o.speed = request.speed;

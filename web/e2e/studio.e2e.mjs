@@ -143,6 +143,10 @@ async function main() {
   const STUCK = 'stuck_phase.coral';
   fs.copyFileSync(path.join(repo, 'tests', 'verify', 'stuck_phase.coral'), path.join(dir, STUCK));
   const tankFile = path.join(dir, TANK);
+  // A phase file two tabs edit at once (issue 17: the second save dropped
+  // the first's change).
+  const TABS = 'missions/tank/two_tabs.coral';
+  fs.copyFileSync(path.join(dir, 'missions/tank/initialize.coral'), path.join(dir, TABS));
 
   // A finished run's log, for replay (lockstep, a fraction of a second).
   let haveLog = false;
@@ -274,6 +278,35 @@ async function main() {
     assert(Math.abs(after.x - before.x) < 1 && Math.abs(after.y - before.y) < 1, `logbook moved: ${JSON.stringify(before)} -> ${JSON.stringify(after)}`);
     assert(!(await studio(page, 's.dirty')), 'dirty after reload');
     return `logbook at (${after.x.toFixed(0)}, ${after.y.toFixed(0)})`;
+  });
+
+  await check('two tabs save one file: the stale one gets 412, says so, and offers Reload', async () => {
+    const tabs = [];
+    for (let i = 0; i < 2; i++) {
+      const tab = await context.newPage();
+      tab.setDefaultTimeout(10000);
+      tab.on('dialog', (d) => d.accept());
+      await tab.goto(url, { timeout: 15000 });
+      await tab.locator(`#file-list li[data-path="${TABS}"]`).click({ timeout: 10000 });
+      await waitFor(tab, `s.path === '${TABS}' && s.net === 'initialize' && s.busy === 0`, 10000, `tab ${i + 1} open`);
+      tabs.push(tab);
+    }
+    try {
+      const [one, two] = tabs;
+      assert(await one.evaluate(() => window.__studio.applyOp({ op: 'add_place', net: 'initialize', name: 'from_tab_one' })), 'tab one: edit refused');
+      assert(await one.evaluate(() => window.__studio.save()), `tab one: save failed: ${await studio(one, 's.lastError')}`);
+      assert(await two.evaluate(() => window.__studio.applyOp({ op: 'add_place', net: 'initialize', name: 'from_tab_two' })), 'tab two: edit refused');
+      assert(!(await two.evaluate(() => window.__studio.save())), 'tab two: the stale save went through');
+      const text = fs.readFileSync(path.join(dir, TABS), 'utf8');
+      assert(/from_tab_one/.test(text) && !/from_tab_two/.test(text), 'the file does not hold tab one\'s change alone');
+      const shown = await two.locator('#edit-msg').textContent();
+      assert(/changed since you opened it/.test(shown), `tab two says: ${shown}`);
+      await two.locator('#btn-reload').click();
+      await waitFor(two, "!s.dirty && s.busy === 0 && /from_tab_one/.test(s.text)", 10000, 'tab two reloaded');
+      return 'tab two refused with 412, then reloaded tab one\'s version';
+    } finally {
+      for (const tab of tabs) await tab.close();
+    }
   });
 
   await check('verify lists the properties', async () => {

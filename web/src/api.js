@@ -1,8 +1,10 @@
 // The studio's JSON API (docs/studio.md). Every call returns parsed JSON or
-// throws an Error whose message is the server's {"error"} text.
+// throws an Error whose message is the server's {"error"} text and whose
+// status is the HTTP status (403: refused, 412: the file changed since it
+// was read). The browser sends the page's Origin with every write itself.
 
-async function call(method, url, body, type) {
-  const init = { method, headers: {} };
+async function call(method, url, body, type, headers = {}) {
+  const init = { method, headers: { ...headers } };
   if (body !== undefined) {
     if (type === 'text') {
       init.headers['Content-Type'] = 'text/plain; charset=utf-8';
@@ -31,8 +33,10 @@ export const api = {
   files: () => call('GET', '/api/files'),
   mission: (path) => call('GET', `/api/mission?path=${q(path)}`),
   check: (path, text) => call('POST', '/api/check', { path, text }),
-  saveFile: (path, text) => call('PUT', `/api/file?path=${q(path)}`, text, 'text'),
-  saveLayout: (path, layout) => call('PUT', `/api/layout?path=${q(path)}`, layout),
+  // etag: the version the page read (the model's etag / layout_etag), sent
+  // as If-Match; null for a file that did not exist.
+  saveFile: (path, text, etag) => call('PUT', `/api/file?path=${q(path)}`, text, 'text', etag ? { 'If-Match': etag } : {}),
+  saveLayout: (path, layout, etag) => call('PUT', `/api/layout?path=${q(path)}`, layout, 'json', etag ? { 'If-Match': etag } : {}),
   primitives: () => call('GET', '/api/primitives'),
   verify: (path, text) => call('POST', '/api/verify', text === undefined ? { path } : { path, text }),
   run: (path, scenario, speed) => call('POST', '/api/run', { path, scenario, speed }),

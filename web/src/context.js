@@ -23,6 +23,8 @@ export const state = {
   path: null,          // the open .coral file
   model: null,         // its mission model
   text: null,          // the current text (source of truth)
+  etag: null,          // the version of the file read (If-Match on save)
+  layoutEtag: null,    // the same for its layout file
   dirty: false,
   netName: null,       // the net on the canvas
   positions: {},       // net -> node id -> {x, y}

@@ -3,7 +3,7 @@
 import { api } from './api.js';
 import { placeId, transId } from './graph.js';
 import { $, el, state, cy, eh, msg, setDirty, currentNet, displayNets, editable, uniqueName } from './context.js';
-import { setModel, rememberPositions, renderNet } from './view.js';
+import { setModel, rememberPositions, renderNet, openFile } from './view.js';
 
 // ---------------------------------------------------------------- editing
 
@@ -345,13 +345,22 @@ export async function save() {
   if (!state.path || state.text == null) return false;
   state.busy++;
   try {
-    await api.saveFile(state.path, state.text);
-    await api.saveLayout(state.path, layoutByName());
+    // Each save names the version it was made from: a file saved since (by
+    // another tab, or on disk) is refused with 412 instead of overwritten.
+    state.etag = (await api.saveFile(state.path, state.text, state.etag)).etag;
+    state.layoutEtag = (await api.saveLayout(state.path, layoutByName(), state.layoutEtag)).etag;
     setDirty(false);
     msg(`saved ${state.path}`);
     return true;
   } catch (e) {
-    msg(`save: ${e.message}`, true);
+    if (e.status === 412) {
+      const path = state.path;
+      msg(`not saved: ${path} changed since you opened it (another tab or program saved it). ` +
+          'Reload it to see that version (your edits here are dropped), or copy them first. ', true);
+      $('#edit-msg').append(el('button', { id: 'btn-reload', onclick: () => { setDirty(false); openFile(path); } }, 'Reload'));
+    } else {
+      msg(`save: ${e.message}`, true);
+    }
     return false;
   } finally { state.busy--; }
 }

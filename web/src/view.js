@@ -37,6 +37,8 @@ export async function openFile(path, { keepView = false } = {}) {
     state.cex = null;
     if (!keepView && state.view === 'cex') state.view = 'edit';
     setModel(model, { fresh: true });
+    state.etag = model.etag || null;              // sent back as If-Match on save
+    state.layoutEtag = model.layout_etag || null;
     setDirty(false);
     $('#path-label').textContent = path;
     fillScenarios(model.scenarios);
