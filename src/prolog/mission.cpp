@@ -258,7 +258,16 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
       m.file = shown_path(text_of(arg));
       if (m.file.empty()) m.file = mission.path();
       PL_get_arg(2, head, arg);
-      m.line = get_uint(arg);
+      // Line, or Line:Column for a call the sandbox refused.
+      term_t line = PL_new_term_ref();
+      term_t column = PL_new_term_ref();
+      if (PL_is_functor(arg, PL_new_functor(PL_new_atom(":"), 2)) && PL_get_arg(1, arg, line) &&
+          PL_get_arg(2, arg, column)) {
+        m.line = get_uint(line);
+        m.column = get_uint(column);
+      } else {
+        m.line = get_uint(arg);
+      }
       PL_get_arg(3, head, arg);
       m.text = text_of(arg);
       messages.push_back(std::move(m));
