@@ -14,6 +14,7 @@
 :- module(strata_driver,
           [ open_mission/2,          % -Module, +PrimitiveSpecs
             load_mission/2,          % +Module, +File
+            load_mission/3,          % +Module, +File, +InferenceBudget
             check_mission/2,         % +Module, -Problems
             run_mission/2,           % +Module, +InferenceLimit
             mission_outcome/2,       % +Module, -Outcome
@@ -40,7 +41,8 @@
            stop_cause/1,         % the exception that stopped the rules
            halt_requested/1,     % File:Line, when the rules called system:halt
            uncatchable_stops/0,  % the host's: stops become '$aborted'
-           mission_root/2.       % Module, Folder: the folder of the mission's file
+           mission_root/2,       % Module, Folder: the folder of the mission's file
+           stop_place/2.         % File, Line: where a stop while loading happened
 
                  /*******************************
                  *   THE MISSION'S OWN MODULE   *
@@ -92,6 +94,28 @@ guard_halt(M) :-
                   ;   Halt
                   )).
 
+% Loading runs inside SWI-Prolog's sig_atomic/1 (init.pl, '$mt_load_file'/4):
+% no signal, so no interrupt and no wall-clock limit, reaches a directive
+% until the load is over. Directives get an inference budget (a loop ends);
+% sleep/1, the one predicate the sandbox allows that waits without
+% inferences, is refused while a mission loads, at the directive's place.
+% The rules' clauses may call it when they run (interrupts reach it then).
+:- wrap_predicate(system:sleep(_), strata_load_sleep, Sleep,
+                  (   strata_driver:loading(_)
+                  ->  strata_driver:note_stop_place,
+                      strata_driver:refuse(sleep/1, "sleep/1 while the rules load: directives run \c
+                                            at check time, and cannot wait", [])
+                  ;   Sleep
+                  )).
+
+% The place of a stop while loading: the load is unwound past the
+% directive before load_exception/1 sees the stop.
+note_stop_place :-
+    (   stop_place(_, _) -> true
+    ;   source_location(F, L) -> assertz(stop_place(F, L))
+    ;   true
+    ).
+
 % What reaches SWI's halt all the same while a mission is active is
 % cancelled, remembered, and turned into strata_halt at the next primitive
 % call or the end of the rules.
@@ -122,6 +146,7 @@ user:prolog_exception_hook(E, '$aborted', _, _) :-
     strata_driver:uncatchable_stops,
     strata_driver:active(_),
     strata_driver:stops_the_mission(E),
+    (   strata_driver:loading(_) -> strata_driver:note_stop_place ; true ),
     (   strata_driver:stop_cause(_) -> true ; assertz(strata_driver:stop_cause(E)) ).
 
 % Our exceptions, as people read them (load messages, uncaught errors).
@@ -139,8 +164,10 @@ stops_the_mission(strata_halt(_)).
 stops_the_mission(strata_cancelled).
 stops_the_mission(strata_interrupted).   % the host's interrupt (prolog/interrupt.h)
 stops_the_mission(error(resource_error(_), _)).
+stops_the_mission(error(strata_refused(sleep/1, _), _)).  % a directive cannot catch it and wait on
 
 reset_stop :-
+    retractall(stop_place(_, _)),
     retractall(stop_cause(_)),
     retractall(halt_requested(_)).
 
@@ -227,9 +254,17 @@ close_mission(Module) :-
 %   kept (not printed) as load_message/5 facts, with their file and line.
 
 load_mission(Module, File) :-
+    load_budget(Budget),
+    load_mission(Module, File, Budget).
+
+%!  load_mission(+Module, +File, +InferenceBudget) is det.
+%
+%   As load_mission/2, the directives getting InferenceBudget inferences in
+%   all (the host's --load-inference-limit).
+
+load_mission(Module, File, Budget) :-
     retractall(load_message(_, _, _, _, _)),
     reset_stop,
-    load_budget(Budget),
     retractall(mission_root(Module, _)),
     file_directory_name(File, Root),
     assertz(mission_root(Module, Root)),
@@ -270,9 +305,21 @@ load_exception('$aborted') :-
     !,
     load_exception(Cause).
 load_exception(E) :-
+    refusal(E, Culprit, Text),
+    !,
+    (   source_location(F0, L0) -> true
+    ;   stop_place(F0, L0) -> true
+    ;   F0 = '', L0 = 0
+    ),
+    culprit_place(F0, L0, 0, Culprit, F, L, C),
+    assertz(load_message(error, F, L, C, Text)).
+load_exception(E) :-
     stops_the_mission(E),
     !,
-    (   source_location(F, L) -> true ; F = '', L = 0 ),
+    (   source_location(F, L) -> true
+    ;   stop_place(F, L) -> true
+    ;   F = '', L = 0
+    ),
     stop_text(E, Text),
     assertz(load_message(error, F, L, 0, Text)).
 load_exception(E) :-
@@ -282,6 +329,8 @@ load_exception(E) :-
 
 stop_text(inference_limit_exceeded, "a directive ran too long while loading (an endless loop?)") :- !.
 stop_text(strata_halt, "the rules called halt while loading") :- !.
+stop_text(strata_interrupted, "loading took longer than its time limit: \c
+                               a directive that waits or loops?") :- !.
 stop_text(strata_halt(_), "the rules called halt while loading") :- !.
 stop_text(error(resource_error(R), _), Text) :- !,
     format(string(Text), "a directive ran out of ~w while loading (endless recursion?)", [R]).

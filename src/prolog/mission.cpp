@@ -1,8 +1,11 @@
 #include "prolog/mission.h"
 
 #include <algorithm>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -275,6 +278,48 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
   }
 }
 
+// A wall-clock limit on the Prolog that runs on this thread while it lives:
+// past it, a watchdog thread interrupts it (prolog/interrupt.h: also out of
+// sleep/1), again every 50 ms, since a directive's catch/3 could swallow one
+// raise when the query runs without the driver's exception hook.
+class TimeLimit {
+ public:
+  explicit TimeLimit(std::chrono::milliseconds limit) : scope_(this) {
+    watchdog_ = std::thread([this, limit] {
+      std::unique_lock lock(mutex_);
+      if (done_cv_.wait_for(lock, limit, [this] { return done_; })) return;
+      expired_ = true;
+      while (!done_) {
+        interrupt(this);
+        done_cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return done_; });
+      }
+    });
+  }
+  ~TimeLimit() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    done_cv_.notify_all();
+    watchdog_.join();
+  }
+  TimeLimit(const TimeLimit&) = delete;
+  TimeLimit& operator=(const TimeLimit&) = delete;
+
+  bool expired() {
+    std::lock_guard lock(mutex_);
+    return expired_;
+  }
+
+ private:
+  InterruptScope scope_;
+  std::mutex mutex_;
+  std::condition_variable done_cv_;
+  bool done_ = false;
+  bool expired_ = false;
+  std::thread watchdog_;
+};
+
 }  // namespace
 
 std::string format_message(const Message& m) {
@@ -286,7 +331,8 @@ std::string format_message(const Message& m) {
 
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
                                                      const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages) {
+                                                     std::vector<Message>& messages,
+                                                     const LoadLimits& limits) {
   std::error_code ec;
   if (std::ifstream probe(path); !probe || !fs::is_regular_file(path, ec)) {
     return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
@@ -308,7 +354,23 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
 
   fs::path absolute = fs::absolute(path, ec);
   term_t file = new_atom(absolute.lexically_normal().string());
-  auto loaded = call_driver("load_mission", {new_atom(mission->module_), file});
+  term_t budget = PL_new_term_ref();
+  if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
+  TimeLimit time_limit(limits.time);
+  // With the driver's exception hook: what must stop the load (the time
+  // limit, the inference budget) cannot be caught by a directive.
+  core::Result<bool> loaded = false;
+  {
+    Query q(driver_goal("load_mission", {new_atom(mission->module_), file, budget}), false,
+            /*exception_hook=*/true);
+    switch (q.next()) {
+      case Query::Status::True:
+      case Query::Status::Last: loaded = true; break;
+      case Query::Status::False: loaded = false; break;
+      default: loaded = core::make_error(core::ErrorCode::InvalidInput, q.exception_text()); break;
+    }
+  }
+  (void)call_once("strata_driver:unlimited");
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
   if (!loaded && loaded.error().message != "'$aborted'") {
@@ -320,6 +382,12 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   const bool load_errors =
       !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
   if (!load_errors) check_rules(*mission, messages);
+  if (time_limit.expired() &&
+      std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {
+    messages.push_back({true, path, 0, 0,
+                        fmt::format("loading and checking took longer than their time limit ({} ms)",
+                                    limits.time.count())});
+  }
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
     fs::path written = text_of(data);
