@@ -552,6 +552,15 @@ sandbox:safe_primitive(system:writeq(_)).
 sandbox:safe_primitive(system:print(_)).
 sandbox:safe_primitive(system:nl).
 
+% format/3 to the console streams (library(sandbox) allows format/3 only
+% into text: atom(A), string(S), ...). Its ~@ and ~p calls are checked as
+% library(sandbox) checks format/2's.
+:- multifile sandbox:safe_meta/2.
+sandbox:safe_meta(system:format(Out, Format, Args), Calls) :-
+    atom(Out),
+    memberchk(Out, [user_output, user_error]),
+    sandbox:format_calls(Format, Args, Calls).
+
 %   Directives: library(sandbox) asks safe_directive/1 first. It succeeds
 %   for a directive Strata allows, throws error(strata_refused(Culprit, Text), _) for
 %   one it refuses, and fails to leave the rest to library(sandbox).
