@@ -272,11 +272,14 @@ load_mission(Module, File, Budget) :-
     % prolog:sandbox_allowed_directive/1 (library(sandbox), extended below)
     % before it runs it, and calls no term or goal expansion hook; files the
     % rules load are loaded sandboxed too.
-    setup_call_cleanup(
-        ( asserta(loading(Module), Ref), asserta(active(Module), Active),
-          unlimited, system:'$inference_limit'(Budget, _) ),
-        catch(load_files(Module:File, [if(true), sandboxed(true)]), E, load_exception(E)),
-        ( unlimited, erase(Active), erase(Ref) )),
+    (   scan_problem(File, Line, Column, Text)
+    ->  assertz(load_message(error, File, Line, Column, Text))
+    ;   setup_call_cleanup(
+            ( asserta(loading(Module), Ref), asserta(active(Module), Active),
+              unlimited, system:'$inference_limit'(Budget, _) ),
+            catch(load_files(Module:File, [if(true), sandboxed(true)]), E, load_exception(E)),
+            ( unlimited, erase(Active), erase(Ref) ))
+    ),
     (   halt_requested(F:L)
     ->  assertz(load_message(error, F, L, 0, "the rules called halt while loading"))
     ;   true
@@ -299,6 +302,14 @@ module_file_check(File) :-
 
 % Directives get this many inferences in all: a directive that loops ends.
 load_budget(50000000).
+
+% What SWI-Prolog's reader must not see (a term nested too deep, a line too
+% long: mission.cpp, scan_rules_text()), found by the host before a file is
+% read. Without the host (plunit), nothing is found.
+scan_problem(File, Line, Column, Text) :-
+    current_predicate(strata_driver:'$strata_scan'/2),
+    '$strata_scan'(File, problem(Line, Column, Text)).
+
 
 load_exception('$aborted') :-
     stop_cause(Cause),
@@ -628,7 +639,11 @@ consult_directive(M, Spec) :-
     (   prolog_load_context(directory, Dir) -> true ; mission_root(M, Dir) ),
     (   absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
                                         access(read), file_errors(fail) ])
-    ->  (   file_name_extension(_, pl, Abs),
+    ->  (   scan_problem(Abs, Line, Column, Why)
+        ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
+        ;   true
+        ),
+        (   file_name_extension(_, pl, Abs),
             mission_root(M, Root),
             file_directory_name(Root, Parent),
             (   sub_atom(Abs, 0, _, _, Root) ; sub_atom(Abs, 0, _, _, Parent) ),

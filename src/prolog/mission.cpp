@@ -1,6 +1,8 @@
 #include "prolog/mission.h"
 
 #include <algorithm>
+#include <cctype>
+#include <iterator>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -139,6 +141,87 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   return PL_domain_error("phase_event", event_t);
 }
 
+// What SWI-Prolog's reader cannot take without a risk to the process. It
+// parses nested brackets by C recursion, and its guard against running out
+// of C stack works only when it handles signals (SIGSEGV on an alternate
+// stack), which the engine does not (--no-signals, engine.h): about 20,000
+// nested levels crash the process. Very long lines make the reader and the
+// compiler slow (a 1 MB integer, 300,000 chained operators) inside the
+// load, where no time limit reaches (SWI loads in sig_atomic/1).
+constexpr std::size_t kMaxNesting = 1000;
+constexpr std::size_t kMaxLine = 100'000;
+
+// Scans Prolog text for bracket nesting and line length, skipping quoted
+// text and comments. Returns "" when it is fine, or "Line:Column:text".
+std::string scan_rules_text(std::string_view text) {
+  std::size_t line = 1, column = 0, depth = 0, line_start = 0;
+  auto place = [&](std::size_t at, const std::string& what) {
+    return fmt::format("{}:{}:{}", line, at - line_start + 1, what);
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = i + 1;
+      continue;
+    }
+    if (i - line_start >= kMaxLine) {
+      return fmt::format("{}:1:a line longer than {} characters: rules are not read past it", line, kMaxLine);
+    }
+    (void)column;
+    if (c == '%') {  // a comment to the end of the line
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i) {
+        if (text[i] == '\n') {
+          ++line;
+          line_start = i + 1;
+        }
+      }
+      ++i;
+    } else if (c == '0' && i + 1 < text.size() && text[i + 1] == '\'' &&
+               (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1])))) {
+      i += 2;  // 0'c: a character code
+      if (i < text.size() && text[i] == '\\') ++i;
+    } else if (c == '\'' || c == '"' || c == '`') {
+      for (++i; i < text.size() && text[i] != c; ++i) {
+        if (text[i] == '\\') ++i;
+        else if (text[i] == '\n') {
+          ++line;
+          line_start = i + 1;
+        }
+      }
+    } else if (c == '(' || c == '[' || c == '{') {
+      if (++depth > kMaxNesting) {
+        return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it",
+                                    kMaxNesting));
+      }
+    } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return "";
+}
+
+// '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
+// Text) for what the reader must not see (scan_rules_text()). A file that
+// cannot be read is ok here: loading it says so.
+foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
+  char* file = nullptr;
+  if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return PL_unify_atom_chars(problem_t, "ok");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string found = scan_rules_text(text);
+  if (found.empty()) return PL_unify_atom_chars(problem_t, "ok");
+  const auto c1 = found.find(':');
+  const auto c2 = found.find(':', c1 + 1);
+  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64,
+                       std::stoll(found.substr(0, c1)), PL_INT64,
+                       std::stoll(found.substr(c1 + 1, c2 - c1 - 1)), PL_UTF8_STRING,
+                       found.substr(c2 + 1).c_str());
+}
+
 // Loads one of the driver's modules from its text.
 core::Result<void> load_module_text(const char* module, std::string_view text) {
   Frame frame;
@@ -175,6 +258,8 @@ core::Result<void> ensure_driver() {
                                 reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
   PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
                                 reinterpret_cast<pl_function_t>(pl_strata_report), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
                                 reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
   if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
