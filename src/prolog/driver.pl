@@ -677,7 +677,7 @@ refusal(error(permission_error(Action, Type, (:- D)), _), Name, Text) :-
     (   callable(G) -> functor(G, Name, Arity) ; Name = D, Arity = 0 ),
     refused_text(Name/Arity, Text).
 refusal(error(instantiation_error, sandbox(_, _)), call, Text) :-
-    Text = "a directive calls a goal the sandbox cannot see (a variable): a mission's calls must be written out".
+    Text = "a call the sandbox cannot see through (the goal is a variable, as in call(G)): a mission's calls must be written out".
 
 % shell/1 is refused as shell/2, which it calls: name the one the rules
 % wrote, the outermost system or library predicate among the parents.
