@@ -353,7 +353,11 @@ user:message_hook(Term, Kind, _Lines) :-
     loading(_),
     (   Kind == error ; Kind == warning ),
     !,
-    unlimited,                  % a directive that hit the load budget
+    % A directive that hit the load budget: the rest runs without it. Any
+    % other message (a warning about the file's encoding, a singleton)
+    % leaves the budget armed: lifting it there let `:- loop.` run for ever
+    % after a warning (found by fuzz/prolog_fuzz.cpp).
+    (   stops_the_mission(Term) -> unlimited ; true ),
     message_location(Term, File0, Line0, Column0),
     (   refusal(Term, Culprit, Text)
     ->  Recorded = error,

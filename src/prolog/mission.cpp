@@ -441,7 +441,6 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   term_t file = new_atom(absolute.lexically_normal().string());
   term_t budget = PL_new_term_ref();
   if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
-  TimeLimit time_limit(limits.time);
   // With the driver's exception hook: what must stop the load (the time
   // limit, the inference budget) cannot be caught by a directive.
   core::Result<bool> loaded = false;
@@ -466,6 +465,12 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   // only echo the load errors.
   const bool load_errors =
       !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
+  // The wall-clock limit is armed for the check only: SWI loads inside
+  // sig_atomic/1, where an interrupt cannot act, and a raise left pending
+  // there kept SWI from raising the inference limit (a directive `:- loop.`
+  // then ran for ever: found by fuzz/prolog_fuzz.cpp). The load is bounded
+  // by its inference budget and by sleep/1 being refused in directives.
+  TimeLimit time_limit(limits.time);
   if (!load_errors) check_rules(*mission, messages);
   if (time_limit.expired() &&
       std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {

@@ -54,7 +54,7 @@ class Host {
 // either, the load ends with a located error. Standard input is never read
 // (the sandbox refuses read/1 and the like).
 struct LoadLimits {
-  std::chrono::milliseconds time{5000};          // wall clock, load and check together
+  std::chrono::milliseconds time{5000};          // wall clock of the check (the load runs in SWI's sig_atomic/1)
   std::uint64_t inferences = 50'000'000;         // all directives together
 };
 
