@@ -14,6 +14,7 @@
 :- use_module(library(aggregate)).
 :- use_module(library(readutil)).
 :- use_module(library(prolog_codewalk)).
+:- use_module(library(sandbox)).
 
 :- dynamic walk_problem/4.           % File, Line, Callee, Text
 
@@ -21,7 +22,9 @@
 %
 %   Problems is a list of problem(File, Line, Text): calls to predicates
 %   nobody defines (a primitive the catalogue does not have among them),
-%   and a missing mission/0.
+%   calls the sandbox refuses (sandbox_problems/2), and a missing
+%   mission/0. The line of a refused call carries its column too, as
+%   problem(File, Line:Column, Text).
 
 check_mission(Module, Problems) :-
     % A walk without the source is cheap; only when it finds a problem is
@@ -32,7 +35,9 @@ check_mission(Module, Problems) :-
     ;   true
     ),
     findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
-    sort(Walked, Sorted),
+    sandbox_problems(Module, Refused),
+    append(Walked, Refused, All),
+    sort(All, Sorted),
     (   current_predicate(Module:mission/0)
     ->  Problems = Sorted
     ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
@@ -146,3 +151,55 @@ known_arities(Module, Name, Arities) :-
                     format(atom(Text), '~w/~d', [Name, A]) ), Arities0),
     Arities0 \== [],
     atomic_list_concat(Arities0, ' or ', Arities).
+
+
+%!  sandbox_problems(+Module, -Problems) is det.
+%
+%   Every clause of the mission's own predicates must pass
+%   library(sandbox)'s safe_goal/1 (with the driver's extensions,
+%   driver.pl): a clause whose body can reach a predicate outside the
+%   sandbox is a problem(File, Line:Column, Text) at the call. A call
+%   reached through a helper of the rules is reported at the helper's own
+%   clause; calls nobody defines are the walk's to report.
+
+sandbox_problems(Module, Problems) :-
+    findall(Problem, sandbox_problem(Module, Problem), Problems0),
+    sort(Problems0, Problems).
+
+sandbox_problem(Module, problem(File, Line:Column, Text)) :-
+    current_predicate(Module:Name/Arity),
+    functor(Head, Name, Arity),
+    \+ predicate_property(Module:Head, imported_from(_)),
+    \+ strata_driver:reserved(Module, Name/Arity),
+    clause(Module:Head, Body, Ref),
+    catch(safe_goal(Module:Body), E, true),
+    nonvar(E),
+    \+ E = error(existence_error(procedure, _), _),
+    \+ reached_through_helper(Module, E),
+    (   strata_driver:refusal(E, Culprit, Text)
+    ->  true
+    ;   Culprit = none,
+        message_to_codes(E, Text)
+    ),
+    clause_file_line(Ref, File0, Line0),
+    (   File0 \== '' -> File = File0 ; File = '' ),
+    strata_driver:culprit_place(File0, Line0, 0, Culprit, _, Line, Column).
+
+% The refused goal was reached through another of the rules' predicates:
+% that predicate's clause is reported itself.
+reached_through_helper(Module, error(_, sandbox(_, Parents))) :-
+    is_list(Parents),
+    member(P, Parents),
+    nonvar(P),
+    strip_module(P, PM, PG),
+    PM == Module,
+    callable(PG),
+    \+ predicate_property(Module:PG, imported_from(_)),
+    \+ predicate_property(Module:PG, built_in),
+    !.
+
+message_to_codes(E, Text) :-
+    catch(message_to_codes_(E, Text), _, format(string(Text), "~q", [E])).
+message_to_codes_(E, Text) :-
+    message_to_string(E, Text0),
+    normalize_space(string(Text), Text0).

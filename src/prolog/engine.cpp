@@ -1,5 +1,6 @@
 #include "prolog/engine.h"
 
+#include <csignal>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,27 @@ core::Result<void> initialise(const EngineOptions& options) {
   std::string stack = "--stack-limit=" + options.stack_limit;
   // SWI keeps argv; these strings live as long as the process.
   static std::vector<std::string> args;
-  args = {"strata", "--no-signals", "--no-packs", "--no-tty", "-q", stack};
+  // Not --no-signals: SWI-Prolog's guard against running out of C stack
+  // (a term nested 100,000 deep, written or read) is its SIGSEGV handler on
+  // an alternate stack, which --no-signals leaves out: without it such a
+  // term crashes the process. SWI's handlers for every other signal are
+  // undone right after PL_initialise(): the host owns SIGINT, SIGTERM,
+  // SIGHUP and the rest (the run's signal watcher), as under --no-signals.
+  args = {"strata", "--no-packs", "--no-tty", "-q", stack};
   static std::vector<char*> argv;
   argv.clear();
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  struct sigaction before[NSIG];
+  for (int sig = 1; sig < NSIG; ++sig) (void)sigaction(sig, nullptr, &before[sig]);
   if (!PL_initialise(static_cast<int>(args.size()), argv.data())) {
     return core::make_error(core::ErrorCode::Internal, "SWI-Prolog could not be initialised");
+  }
+  for (int sig = 1; sig < NSIG; ++sig) {
+    // SIGSEGV and SIGBUS: the C-stack guard. SIGUSR2: SWI's alert signal,
+    // which prolog/interrupt.h knocks with (installed under --no-signals too).
+    if (sig == SIGSEGV || sig == SIGBUS || sig == SIGUSR2 || sig == SIGKILL || sig == SIGSTOP) continue;
+    (void)sigaction(sig, &before[sig], nullptr);
   }
   g_initialised = true;
   // Queries that run the exception hook are not PL_Q_NODEBUG: an uncaught

@@ -1,8 +1,13 @@
 #include "prolog/mission.h"
 
 #include <algorithm>
+#include <cctype>
+#include <iterator>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -136,6 +141,87 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   return PL_domain_error("phase_event", event_t);
 }
 
+// What SWI-Prolog's reader cannot take without a risk to the process. It
+// parses nested brackets by C recursion, and its guard against running out
+// of C stack works only when it handles signals (SIGSEGV on an alternate
+// stack), which the engine does not (--no-signals, engine.h): about 20,000
+// nested levels crash the process. Very long lines make the reader and the
+// compiler slow (a 1 MB integer, 300,000 chained operators) inside the
+// load, where no time limit reaches (SWI loads in sig_atomic/1).
+constexpr std::size_t kMaxNesting = 1000;
+constexpr std::size_t kMaxLine = 100'000;
+
+// Scans Prolog text for bracket nesting and line length, skipping quoted
+// text and comments. Returns "" when it is fine, or "Line:Column:text".
+std::string scan_rules_text(std::string_view text) {
+  std::size_t line = 1, column = 0, depth = 0, line_start = 0;
+  auto place = [&](std::size_t at, const std::string& what) {
+    return fmt::format("{}:{}:{}", line, at - line_start + 1, what);
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = i + 1;
+      continue;
+    }
+    if (i - line_start >= kMaxLine) {
+      return fmt::format("{}:1:a line longer than {} characters: rules are not read past it", line, kMaxLine);
+    }
+    (void)column;
+    if (c == '%') {  // a comment to the end of the line
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i) {
+        if (text[i] == '\n') {
+          ++line;
+          line_start = i + 1;
+        }
+      }
+      ++i;
+    } else if (c == '0' && i + 1 < text.size() && text[i + 1] == '\'' &&
+               (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1])))) {
+      i += 2;  // 0'c: a character code
+      if (i < text.size() && text[i] == '\\') ++i;
+    } else if (c == '\'' || c == '"' || c == '`') {
+      for (++i; i < text.size() && text[i] != c; ++i) {
+        if (text[i] == '\\') ++i;
+        else if (text[i] == '\n') {
+          ++line;
+          line_start = i + 1;
+        }
+      }
+    } else if (c == '(' || c == '[' || c == '{') {
+      if (++depth > kMaxNesting) {
+        return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it",
+                                    kMaxNesting));
+      }
+    } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return "";
+}
+
+// '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
+// Text) for what the reader must not see (scan_rules_text()). A file that
+// cannot be read is ok here: loading it says so.
+foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
+  char* file = nullptr;
+  if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return PL_unify_atom_chars(problem_t, "ok");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string found = scan_rules_text(text);
+  if (found.empty()) return PL_unify_atom_chars(problem_t, "ok");
+  const auto c1 = found.find(':');
+  const auto c2 = found.find(':', c1 + 1);
+  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64,
+                       std::stoll(found.substr(0, c1)), PL_INT64,
+                       std::stoll(found.substr(c1 + 1, c2 - c1 - 1)), PL_UTF8_STRING,
+                       found.substr(c2 + 1).c_str());
+}
+
 // Loads one of the driver's modules from its text.
 core::Result<void> load_module_text(const char* module, std::string_view text) {
   Frame frame;
@@ -172,6 +258,8 @@ core::Result<void> ensure_driver() {
                                 reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
   PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
                                 reinterpret_cast<pl_function_t>(pl_strata_report), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
                                 reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
   if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
@@ -258,13 +346,64 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
       m.file = shown_path(text_of(arg));
       if (m.file.empty()) m.file = mission.path();
       PL_get_arg(2, head, arg);
-      m.line = get_uint(arg);
+      // Line, or Line:Column for a call the sandbox refused.
+      term_t line = PL_new_term_ref();
+      term_t column = PL_new_term_ref();
+      if (PL_is_functor(arg, PL_new_functor(PL_new_atom(":"), 2)) && PL_get_arg(1, arg, line) &&
+          PL_get_arg(2, arg, column)) {
+        m.line = get_uint(line);
+        m.column = get_uint(column);
+      } else {
+        m.line = get_uint(arg);
+      }
       PL_get_arg(3, head, arg);
       m.text = text_of(arg);
       messages.push_back(std::move(m));
     }
   }
 }
+
+// A wall-clock limit on the Prolog that runs on this thread while it lives:
+// past it, a watchdog thread interrupts it (prolog/interrupt.h: also out of
+// sleep/1), again every 50 ms, since a directive's catch/3 could swallow one
+// raise when the query runs without the driver's exception hook.
+class TimeLimit {
+ public:
+  explicit TimeLimit(std::chrono::milliseconds limit) : scope_(this) {
+    watchdog_ = std::thread([this, limit] {
+      std::unique_lock lock(mutex_);
+      if (done_cv_.wait_for(lock, limit, [this] { return done_; })) return;
+      expired_ = true;
+      while (!done_) {
+        interrupt(this);
+        done_cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return done_; });
+      }
+    });
+  }
+  ~TimeLimit() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    done_cv_.notify_all();
+    watchdog_.join();
+  }
+  TimeLimit(const TimeLimit&) = delete;
+  TimeLimit& operator=(const TimeLimit&) = delete;
+
+  bool expired() {
+    std::lock_guard lock(mutex_);
+    return expired_;
+  }
+
+ private:
+  InterruptScope scope_;
+  std::mutex mutex_;
+  std::condition_variable done_cv_;
+  bool done_ = false;
+  bool expired_ = false;
+  std::thread watchdog_;
+};
 
 }  // namespace
 
@@ -277,7 +416,8 @@ std::string format_message(const Message& m) {
 
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
                                                      const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages) {
+                                                     std::vector<Message>& messages,
+                                                     const LoadLimits& limits) {
   std::error_code ec;
   if (std::ifstream probe(path); !probe || !fs::is_regular_file(path, ec)) {
     return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
@@ -299,7 +439,22 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
 
   fs::path absolute = fs::absolute(path, ec);
   term_t file = new_atom(absolute.lexically_normal().string());
-  auto loaded = call_driver("load_mission", {new_atom(mission->module_), file});
+  term_t budget = PL_new_term_ref();
+  if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
+  // With the driver's exception hook: what must stop the load (the time
+  // limit, the inference budget) cannot be caught by a directive.
+  core::Result<bool> loaded = false;
+  {
+    Query q(driver_goal("load_mission", {new_atom(mission->module_), file, budget}), false,
+            /*exception_hook=*/true);
+    switch (q.next()) {
+      case Query::Status::True:
+      case Query::Status::Last: loaded = true; break;
+      case Query::Status::False: loaded = false; break;
+      default: loaded = core::make_error(core::ErrorCode::InvalidInput, q.exception_text()); break;
+    }
+  }
+  (void)call_once("strata_driver:unlimited");
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
   if (!loaded && loaded.error().message != "'$aborted'") {
@@ -310,7 +465,19 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   // only echo the load errors.
   const bool load_errors =
       !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
+  // The wall-clock limit is armed for the check only: SWI loads inside
+  // sig_atomic/1, where an interrupt cannot act, and a raise left pending
+  // there kept SWI from raising the inference limit (a directive `:- loop.`
+  // then ran for ever: found by fuzz/prolog_fuzz.cpp). The load is bounded
+  // by its inference budget and by sleep/1 being refused in directives.
+  TimeLimit time_limit(limits.time);
   if (!load_errors) check_rules(*mission, messages);
+  if (time_limit.expired() &&
+      std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {
+    messages.push_back({true, path, 0, 0,
+                        fmt::format("loading and checking took longer than their time limit ({} ms)",
+                                    limits.time.count())});
+  }
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
     fs::path written = text_of(data);

@@ -8,6 +8,7 @@
 // while a MissionQuery is open, no other Prolog may run.
 //
 // Threads: the one that called prolog::initialise().
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -49,6 +50,14 @@ class Host {
   virtual void phase_ended(const std::string& phase, const std::string& exit) = 0;
 };
 
+// The limits on loading and checking rules (directives included): past
+// either, the load ends with a located error. Standard input is never read
+// (the sandbox refuses read/1 and the like).
+struct LoadLimits {
+  std::chrono::milliseconds time{5000};          // wall clock of the check (the load runs in SWI's sig_atomic/1)
+  std::uint64_t inferences = 50'000'000;         // all directives together
+};
+
 class Mission {
  public:
   // Loads the rules at path (and the files they load) with the primitives
@@ -57,7 +66,8 @@ class Mission {
   // an error or the check found a problem (the messages say where).
   static core::Result<std::unique_ptr<Mission>> load(const std::string& path,
                                                      const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages);
+                                                     std::vector<Message>& messages,
+                                                     const LoadLimits& limits = {});
   ~Mission();
   Mission(const Mission&) = delete;
   Mission& operator=(const Mission&) = delete;

@@ -1,0 +1,3 @@
+% expect: delete_file/1 is not allowed in a mission
+mission.
+:- delete_file(marker).

@@ -1,0 +1,3 @@
+% expect: open/3 is not allowed in a mission
+mission.
+:- open(marker, write, S), close(S).

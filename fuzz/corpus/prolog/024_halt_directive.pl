@@ -1,0 +1,3 @@
+% expect: halt/0: the rules called halt while loading
+mission.
+:- halt.

@@ -1,0 +1,4 @@
+% expect: a directive ran too long while loading
+loop :- loop.
+mission.
+:- loop.

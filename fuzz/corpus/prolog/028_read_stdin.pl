@@ -1,0 +1,3 @@
+% expect: read/1 is not allowed in a mission
+mission.
+:- read(X), write(X).

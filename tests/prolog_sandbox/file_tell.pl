@@ -1,0 +1,3 @@
+% expect: tell/1 is not allowed in a mission
+mission.
+:- tell(marker), told.

@@ -1,0 +1,4 @@
+% expect: shell/2 is not allowed in a mission
+mission.
+run(C) :- shell(C, _).
+:- run('touch marker').
