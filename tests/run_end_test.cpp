@@ -45,7 +45,7 @@ struct Ended {
 // and waits for the process to end (at most 30 s, then SIGKILL).
 Ended run_and_signal(const std::vector<std::string>& args, const std::string& ready,
                      const std::vector<int>& signals, std::chrono::milliseconds settle = 0ms,
-                     std::chrono::milliseconds gap = 20ms) {
+                     std::chrono::milliseconds gap = 20ms, bool hup_ignored = false) {
   TempDir dir;
   const std::string log_path = dir.file("mission.jsonl");
   const std::string out_path = dir.file("out.txt");
@@ -67,12 +67,20 @@ Ended run_and_signal(const std::vector<std::string>& args, const std::string& re
   sigemptyset(&none);
   sigfillset(&all);
   posix_spawnattr_setsigmask(&attr, &none);
+  // As nohup starts it: SIGHUP ignored, which an exec keeps.
+  struct sigaction ignore {}, previous {};
+  ignore.sa_handler = SIG_IGN;
+  if (hup_ignored) {
+    sigdelset(&all, SIGHUP);
+    sigaction(SIGHUP, &ignore, &previous);
+  }
   posix_spawnattr_setsigdefault(&attr, &all);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   pid_t pid = -1;
   const int spawned = posix_spawn(&pid, argv[0].c_str(), &actions, &attr, cargs.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
+  if (hup_ignored) sigaction(SIGHUP, &previous, nullptr);
   Ended ended;
   if (spawned != 0) {
     ADD_FAILURE() << "cannot start " << argv[0];
@@ -143,6 +151,13 @@ TEST(RunEnd, SigtermDuringACoralMissionAtDepthSurfacesAndExits143) {
 
 TEST(RunEnd, SighupDuringACoralMissionAtDepthSurfacesAndExits129) {
   expect_safe_end(run_and_signal({kTests + "hold_at_depth.coral"}, kDived, {SIGHUP}), "SIGHUP", 129);
+}
+
+TEST(RunEnd, UnderNohupSighupIsIgnoredAndTheRunGoesOnUntilSigterm) {
+  // The terminal closes (SIGHUP), the run started with nohup goes on; the
+  // operator's later SIGTERM ends it. Were SIGHUP taken, it would exit 129.
+  Ended e = run_and_signal({kTests + "hold_at_depth.coral"}, kDived, {SIGHUP, SIGTERM}, 0ms, 300ms, true);
+  expect_safe_end(e, "SIGTERM", 143);
 }
 
 TEST(RunEnd, ASecondSigintStillClosesTheLog) {
