@@ -10,8 +10,10 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/rule_load_flags.h"
 #include "coral/compiler.h"
 #include "prolog/mission.h"
+#include "run/loaded_mission.h"
 #include "core/diagnostic_printer.h"
 
 namespace strata::cli {
@@ -22,6 +24,7 @@ struct Options {
   std::string catalogue;
   std::string format = "text";
   std::string net;
+  run::RuleLoadLimits rule_load;
 };
 
 // Diagnostics of all roots, with a problem found through two roots (a phase
@@ -82,7 +85,7 @@ int run_check(const Options& o) {
     if (file.ends_with(".pl")) {
       // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
       std::vector<prolog::Message> messages;
-      auto rules = prolog::Mission::load(file, catalogue.value(), messages);
+      auto rules = prolog::Mission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load));
       std::size_t errors = 0, warnings = 0;
       nlohmann::json diagnostics = nlohmann::json::array();
       for (const auto& m : messages) {
@@ -188,6 +191,7 @@ Runner add_check_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--catalogue", o->catalogue,
                   "Primitive catalogue to check TACTIC calls against (default: built in)");
+  add_rule_load_flags(cmd, o->rule_load);
   cmd->footer("Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
               "74 when a file cannot be read.");
   return [o] { return run_check(*o); };

@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
+#include "cli/rule_load_flags.h"
 #include "cli/trace_compare.h"
 
 namespace strata::cli {
@@ -22,6 +23,7 @@ struct Options {
   std::string params;
   std::string catalogue;
   std::uint64_t inference_limit = RunOptions{}.inference_limit;
+  run::RuleLoadLimits rule_load;
   std::optional<std::size_t> context;
 };
 
@@ -45,6 +47,7 @@ int run_compare(const Options& o) {
     run.params = o.params;
     run.catalogue = o.catalogue;
     run.inference_limit = o.inference_limit;
+    run.rule_load = o.rule_load;
     run.trace = true;
     std::ostringstream out, err;
     reports[i] = run_mission(run, out, err);
@@ -106,6 +109,7 @@ Runner add_compare_command(CLI::App& app) {
                   "PROLOG: inferences allowed between two primitive calls")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
+  add_rule_load_flags(cmd, o->rule_load);
   cmd->add_option("--context", o->context,
                   "Show only this many calls around the first difference (default: every call)");
   return [o] { return run_compare(*o); };

@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
+#include "cli/rule_load_flags.h"
 #include "cli/studio_serve.h"
 
 namespace strata::cli {
@@ -38,6 +39,7 @@ Runner add_run_command(CLI::App& app) {
                   "mission is stopped as an endless loop")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
+  add_rule_load_flags(cmd, o->rule_load);
   cmd->add_flag("--unverified", o->unverified,
                 "CORAL: run the mission even if `strata verify` finds a property that fails (the failures "
                 "are printed and the mission log records them)");

@@ -94,12 +94,10 @@ guard_halt(M) :-
                   ;   Halt
                   )).
 
-% Loading runs inside SWI-Prolog's sig_atomic/1 (init.pl, '$mt_load_file'/4):
-% no signal, so no interrupt and no wall-clock limit, reaches a directive
-% until the load is over. Directives get an inference budget (a loop ends);
 % sleep/1, the one predicate the sandbox allows that waits without
-% inferences, is refused while a mission loads, at the directive's place.
-% The rules' clauses may call it when they run (interrupts reach it then).
+% inferences, is refused while a mission loads, at the directive's place:
+% directives run at check time and have no reason to wait. The rules'
+% clauses may call it when they run (interrupts reach it then).
 :- wrap_predicate(system:sleep(_), strata_load_sleep, Sleep,
                   (   strata_driver:loading(_)
                   ->  strata_driver:note_stop_place,
@@ -277,7 +275,7 @@ load_mission(Module, File, Budget) :-
     ;   setup_call_cleanup(
             ( asserta(loading(Module), Ref), asserta(active(Module), Active),
               unlimited, system:'$inference_limit'(Budget, _) ),
-            catch(load_files(Module:File, [if(true), sandboxed(true)]), E, load_exception(E)),
+            catch(load_mission_file(Module, File, [if(true), sandboxed(true)]), E, load_exception(E)),
             ( unlimited, erase(Active), erase(Ref) ))
     ),
     (   halt_requested(F:L)
@@ -299,6 +297,42 @@ module_file_check(File) :-
         assertz(load_message(error, File, 1, 0, Text))
     ;   true
     ).
+
+% A mission's file is loaded from a stream the driver opens: SWI-Prolog
+% 9.0.4 loads a file named by its path inside sig_atomic/1 (init.pl,
+% '$mt_load_file'/4), where no signal reaches a directive, so the host's
+% wall-clock limit (mission.cpp, TimeLimit) could not end one that computes
+% for minutes within its inference budget (`X is 7^(7^9)` a hundred times);
+% a stream is loaded without it ('$load_file_e'/3). The mission's own files
+% that it consults come here too, through user:prolog_load_file/2.
+load_mission_file(Module, File, Options) :-
+    setup_call_cleanup(
+        open(File, read, In, [encoding(utf8)]),
+        load_files(Module:File, [stream(In)|Options]),
+        close(In)).
+
+:- multifile user:prolog_load_file/2.
+:- dynamic user:prolog_load_file/2.
+user:prolog_load_file(Module:Spec, Options) :-
+    loading(Mission),
+    \+ memberchk(stream(_), Options),
+    (   atom(Spec) ; string(Spec) ),
+    prolog_load_context(directory, Dir),
+    absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
+                                    access(read), file_errors(fail) ]),
+    mission_file(Mission, Abs),
+    !,
+    load_mission_file(Module, Abs, Options).
+
+% Abs is one of the files a mission may load: a .pl file in the folder of
+% the mission's file or in a folder beside it (consult_directive/2).
+mission_file(M, Abs) :-
+    file_name_extension(_, pl, Abs),
+    mission_root(M, Root),   % Root's parent holds Root, and the folders beside it
+    file_directory_name(Root, Parent),
+    Parent \== '/',
+    atom_concat(Parent, '/', Under),            % not /m/tank_evil for /m/tank
+    sub_atom(Abs, 0, _, _, Under).
 
 % Directives get this many inferences in all: a directive that loops ends.
 load_budget(50000000).
@@ -338,10 +372,11 @@ load_exception(E) :-
     (   source_location(F, L) -> true ; F = '', L = 0 ),
     assertz(load_message(error, F, L, 0, Text)).
 
-stop_text(inference_limit_exceeded, "a directive ran too long while loading (an endless loop?)") :- !.
+stop_text(inference_limit_exceeded, "the load used up its inferences (--load-inference-limit): \c
+                                     a directive that loops, or rules too large?") :- !.
 stop_text(strata_halt, "the rules called halt while loading") :- !.
-stop_text(strata_interrupted, "loading took longer than its time limit: \c
-                               a directive that waits or loops?") :- !.
+stop_text(strata_interrupted, "loading took longer than its time limit (--load-time-limit): \c
+                               a directive that computes, waits or loops?") :- !.
 stop_text(strata_halt(_), "the rules called halt while loading") :- !.
 stop_text(error(resource_error(R), _), Text) :- !,
     format(string(Text), "a directive ran out of ~w while loading (endless recursion?)", [R]).
@@ -605,6 +640,7 @@ mission_directive(M, use_module(Spec, _)) :- !, library_directive(M, Spec).
 mission_directive(M, ensure_loaded(Spec)) :- !, library_directive(M, Spec).
 mission_directive(M, load_files(Spec, _)) :- !, library_directive(M, Spec).
 mission_directive(M, consult(Spec)) :- !, consult_directive(M, Spec).
+mission_directive(M, include(Spec)) :- !, consult_directive(M, Spec).
 mission_directive(M, [H|T]) :- !, consult_directive(M, [H|T]).
 mission_directive(_, set_prolog_flag(Flag, _)) :- !,
     refuse(set_prolog_flag/2, "set_prolog_flag/2: a mission cannot change Prolog's flags (`~w`)", [Flag]).
@@ -644,14 +680,13 @@ consult_directive(M, Spec) :-
     (   absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
                                         access(read), file_errors(fail) ])
     ->  (   scan_problem(Abs, Line, Column, Why)
-        ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
+        ->  (   Line > 0
+            ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
+            ;   refuse(consult/1, "consult/1 of `~w`: ~w", [Abs, Why])
+            )
         ;   true
         ),
-        (   file_name_extension(_, pl, Abs),
-            mission_root(M, Root),
-            file_directory_name(Root, Parent),
-            (   sub_atom(Abs, 0, _, _, Root) ; sub_atom(Abs, 0, _, _, Parent) ),
-            Parent \== '/'
+        (   mission_file(M, Abs)
         ->  true
         ;   refuse(consult/1, "consult/1 of `~w`: a mission loads only .pl files in its folder \c
                                or a folder beside it", [Abs])

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "core/file.h"
 #include "prolog/driver_check_text.h"
 #include "prolog/driver_text.h"
 #include "prolog/interrupt.h"
@@ -22,6 +23,8 @@ namespace fs = std::filesystem;
 
 // The executor whose query is running; set by MissionQuery::next().
 Host* g_host = nullptr;
+// LoadLimits::max_bytes of the load under way, for '$strata_scan'/2.
+std::size_t g_max_rules_bytes = LoadLimits{}.max_bytes;
 
 term_t new_atom(const std::string& name) {
   term_t t = PL_new_term_ref();
@@ -141,13 +144,11 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   return PL_domain_error("phase_event", event_t);
 }
 
-// What SWI-Prolog's reader cannot take without a risk to the process. It
-// parses nested brackets by C recursion, and its guard against running out
-// of C stack works only when it handles signals (SIGSEGV on an alternate
-// stack), which the engine does not (--no-signals, engine.h): about 20,000
-// nested levels crash the process. Very long lines make the reader and the
-// compiler slow (a 1 MB integer, 300,000 chained operators) inside the
-// load, where no time limit reaches (SWI loads in sig_atomic/1).
+// What SWI-Prolog's reader should not be given. It parses nested brackets
+// by C recursion (about 20,000 levels overran the C stack before the engine
+// kept its SIGSEGV guard, engine.cpp), and very long lines make the reader
+// and the compiler slow (a 1 MB integer, 300,000 chained operators). A file
+// over LoadLimits::max_bytes, or not a regular file, is not read at all.
 constexpr std::size_t kMaxNesting = 1000;
 constexpr std::size_t kMaxLine = 100'000;
 
@@ -209,9 +210,20 @@ std::string scan_rules_text(std::string_view text) {
 foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
   char* file = nullptr;
   if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return PL_unify_atom_chars(problem_t, "ok");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto read = core::read_regular_file(file, g_max_rules_bytes);
+  if (!read && read.error().code == core::ErrorCode::Overflow) {
+    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
+                         PL_UTF8_STRING,
+                         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
+                                     g_max_rules_bytes)
+                             .c_str());
+  }
+  if (!read && read.error().message.ends_with("not a regular file")) {
+    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
+                         PL_UTF8_STRING, "not a regular file (a FIFO or a device is never read)");
+  }
+  if (!read) return PL_unify_atom_chars(problem_t, "ok");
+  const std::string& text = read.value();
   std::string found = scan_rules_text(text);
   if (found.empty()) return PL_unify_atom_chars(problem_t, "ok");
   const auto c1 = found.find(':');
@@ -419,9 +431,14 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
                                                      std::vector<Message>& messages,
                                                      const LoadLimits& limits) {
   std::error_code ec;
-  if (std::ifstream probe(path); !probe || !fs::is_regular_file(path, ec)) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
+  if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
+    if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
+    messages.push_back({true, path, 0, 0,
+                        fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
+                                    limits.max_bytes)});
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
+  g_max_rules_bytes = limits.max_bytes;
   if (auto r = ensure_driver(); !r) return r.error();
   std::unique_ptr<Mission> mission(new Mission());
   mission->path_ = path;
@@ -441,6 +458,11 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   term_t file = new_atom(absolute.lexically_normal().string());
   term_t budget = PL_new_term_ref();
   if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
+  // One wall-clock limit for the load (directives included) and the check.
+  // The driver loads the rules from a stream, outside the sig_atomic/1 in
+  // which SWI-Prolog 9.0.4 loads a file by name, so the interrupt reaches a
+  // directive (driver.pl, load_mission_file/3).
+  TimeLimit time_limit(limits.time);
   // With the driver's exception hook: what must stop the load (the time
   // limit, the inference budget) cannot be caught by a directive.
   core::Result<bool> loaded = false;
@@ -465,17 +487,11 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   // only echo the load errors.
   const bool load_errors =
       !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
-  // The wall-clock limit is armed for the check only: SWI loads inside
-  // sig_atomic/1, where an interrupt cannot act, and a raise left pending
-  // there kept SWI from raising the inference limit (a directive `:- loop.`
-  // then ran for ever: found by fuzz/prolog_fuzz.cpp). The load is bounded
-  // by its inference budget and by sleep/1 being refused in directives.
-  TimeLimit time_limit(limits.time);
   if (!load_errors) check_rules(*mission, messages);
   if (time_limit.expired() &&
       std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {
     messages.push_back({true, path, 0, 0,
-                        fmt::format("loading and checking took longer than their time limit ({} ms)",
+                        fmt::format("loading and checking took longer than their time limit ({} ms, --load-time-limit)",
                                     limits.time.count())});
   }
   term_t data = PL_new_term_ref();

@@ -9,6 +9,7 @@
 //
 // Threads: the one that called prolog::initialise().
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -54,8 +55,9 @@ class Host {
 // either, the load ends with a located error. Standard input is never read
 // (the sandbox refuses read/1 and the like).
 struct LoadLimits {
-  std::chrono::milliseconds time{5000};          // wall clock of the check (the load runs in SWI's sig_atomic/1)
-  std::uint64_t inferences = 50'000'000;         // all directives together
+  std::chrono::milliseconds time{5000};   // wall clock of the load and the check together
+  std::uint64_t inferences = 50'000'000;  // the load: clauses read and directives run, together
+  std::size_t max_bytes = 4u << 20;       // each rule file; a larger one is not read
 };
 
 class Mission {

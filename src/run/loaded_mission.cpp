@@ -39,9 +39,10 @@ int load_coral(const std::string& path, LoadedMission& loaded, std::ostream& err
 }
 
 // Loads and checks the rules; messages (warnings too) go to err.
-int load_prolog(const std::string& path, LoadedMission& loaded, std::ostream& err) {
+int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  const std::string& path = o.mission;
   std::vector<prolog::Message> messages;
-  auto rules = prolog::Mission::load(path, loaded.catalogue, messages);
+  auto rules = prolog::Mission::load(path, loaded.catalogue, messages, load_limits(o.rule_load));
   for (const auto& m : messages) err << prolog::format_message(m) << "\n";
   if (!rules) {
     err << "strata run: " << rules.error().message << "; not running\n";
@@ -121,11 +122,19 @@ int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
     return exit_code_for_input(catalogue.error());
   }
   loaded.catalogue = std::move(catalogue.value());
-  int code = extension == ".pl" ? load_prolog(o.mission, loaded, err) : load_coral(o.mission, loaded, err);
+  int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o.mission, loaded, err);
   if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
   if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
   if (code == kExitOk) code = load_data(o, loaded, err);
   return code;
+}
+
+prolog::LoadLimits load_limits(const RuleLoadLimits& limits) {
+  prolog::LoadLimits l;
+  l.time = std::chrono::milliseconds(static_cast<std::int64_t>(limits.time_s * 1000.0));
+  l.inferences = limits.inferences;
+  l.max_bytes = static_cast<std::size_t>(limits.max_bytes);
+  return l;
 }
 
 std::string scenario_name(const RunOptions& o) { return o.scenario.empty() ? "nominal" : o.scenario; }

@@ -44,6 +44,9 @@ struct LoadedMission {
 // go to err. Returns 0, or the exit code (64 usage, 65 invalid, 74 unreadable).
 int load_mission(const RunOptions& options, LoadedMission& loaded, std::ostream& err);
 
+// The prolog::LoadLimits of the options' limits.
+prolog::LoadLimits load_limits(const RuleLoadLimits& limits);
+
 // The scenario's name as the log and the console give it ("nominal" for none).
 std::string scenario_name(const RunOptions& options);
 // The mission log's header: which inputs made this run.

@@ -108,7 +108,13 @@ void PrologExecutor::resume() {
                      "(the limit is --inference-limit)",
                      options_.inference_limit));
   } else if (query_->out_of_stack()) {
-    fail("the rules ran out of Prolog stack: endless recursion?");
+    // error(resource_error(R), _): SWI's stack (global, local, trail: one
+    // limit), the C stack (a term nested too deep), or memory.
+    const std::string& e = query_->exception_text();
+    const char* what = e.find("c_stack") != std::string::npos ? "C stack"
+                       : e.find("memory") != std::string::npos ? "memory"
+                                                                : "Prolog stack";
+    fail(fmt::format("the rules ran out of {}: endless recursion, or a term too large or nested too deep?", what));
   } else if (query_->cannot_suspend()) {
     fail("the rules called a primitive where Prolog cannot wait for the vehicle (inside a cleanup "
          "handler, with_output_to/2 or format/2's ~@): " +

@@ -1,4 +1,4 @@
-% expect: a directive ran too long while loading
+% expect: the load used up its inferences
 loop :- catch(spin, _, true), loop.
 spin :- spin.
 mission.

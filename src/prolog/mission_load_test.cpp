@@ -1,0 +1,106 @@
+// The limits on loading PROLOG rules (issue 16): a wall clock that reaches
+// every directive, a size for each file, and files that are never waited on.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "prolog/mission.h"
+#include "prolog/mission_test_support.h"
+
+namespace strata::prolog {
+namespace {
+
+using testing_support::PrologMission;
+
+// The messages of a load that must fail, one per line.
+std::string failed_load(const std::string& path, const LoadLimits& limits) {
+  std::vector<Message> messages;
+  auto m = Mission::load(path, tactical::Catalogue::builtin(), messages, limits);
+  EXPECT_FALSE(m.ok()) << "the rules loaded";
+  std::string text;
+  for (const auto& msg : messages) text += format_message(msg) + "\n";
+  return text;
+}
+
+// Each `X is 7^(7^8)` is one inference and tens of milliseconds: a hundred
+// of them stay far inside the inference budget and take seconds.
+constexpr const char* kSlowDirective = ":- between(1, 100, _), X is 7^(7^8), X < 0 ; true.\n";
+
+LoadLimits half_a_second() {
+  LoadLimits limits;
+  limits.time = std::chrono::milliseconds(500);
+  return limits;
+}
+
+// Regression: SWI-Prolog 9.0.4 loads a file named by its path inside
+// sig_atomic/1, so the wall-clock limit did not reach a directive that
+// computed within its inference budget (82 s for `strata check`).
+TEST_F(PrologMission, load_time_limit_reaches_a_directive_that_computes) {
+  const std::string text = failed_load(rules_.write("m.pl", std::string("mission :- true.\n") + kSlowDirective),
+                                       half_a_second());
+  EXPECT_NE(text.find("m.pl:2: error: loading took longer than its time limit"), std::string::npos) << text;
+}
+
+TEST_F(PrologMission, load_time_limit_reaches_a_directive_of_a_consulted_file) {
+  rules_.write("helper.pl", std::string("p.\n") + kSlowDirective);
+  const std::string text =
+      failed_load(rules_.write("m.pl", "mission :- true.\n:- consult(helper).\n"), half_a_second());
+  EXPECT_NE(text.find("helper.pl:2: error: loading took longer than its time limit"), std::string::npos) << text;
+}
+
+TEST_F(PrologMission, a_rule_file_over_the_size_limit_is_not_read) {
+  LoadLimits limits;
+  limits.max_bytes = 100;
+  const std::string text =
+      failed_load(rules_.write("m.pl", "mission :- true.\n% " + std::string(200, 'x') + "\n"), limits);
+  EXPECT_NE(text.find("m.pl: error: the file is over the limit of 100 bytes for rules"), std::string::npos)
+      << text;
+}
+
+TEST_F(PrologMission, a_consulted_file_over_the_size_limit_is_refused_at_the_consult) {
+  LoadLimits limits;
+  limits.max_bytes = 100;
+  rules_.write("helper.pl", "% " + std::string(200, 'x') + "\np.\n");
+  const std::string text = failed_load(rules_.write("m.pl", "mission :- p.\n:- consult(helper).\n"), limits);
+  EXPECT_NE(text.find("m.pl:2:4: error: consult/1 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("over the limit of 100 bytes"), std::string::npos) << text;
+}
+
+// Without a writer, opening a FIFO for reading waits for ever.
+TEST_F(PrologMission, a_consulted_or_included_fifo_is_refused_not_waited_on) {
+  ASSERT_EQ(::mkfifo((rules_.dir() / "pipe.pl").c_str(), 0600), 0);
+  for (const std::string directive : {"consult(pipe)", "ensure_loaded(pipe)", "include(pipe)", "[pipe]"}) {
+    const std::string text =
+        failed_load(rules_.write("m.pl", "mission :- true.\n:- " + directive + ".\n"), LoadLimits{});
+    EXPECT_NE(text.find("m.pl:2"), std::string::npos) << directive << "\n" << text;
+    EXPECT_NE(text.find("not a regular file"), std::string::npos) << directive << "\n" << text;
+  }
+}
+
+TEST_F(PrologMission, an_included_file_outside_the_missions_folders_is_refused) {
+  const std::string text = failed_load(
+      rules_.write("missions/tank/m.pl", "mission :- true.\n:- include('/etc/hostname').\n"), LoadLimits{});
+  EXPECT_NE(text.find("a mission loads only .pl files in its folder"), std::string::npos) << text;
+}
+
+// Regression: the folder check compared prefixes, so /x/missions_evil was
+// taken for a folder beside /x/missions/tank.
+TEST_F(PrologMission, a_folder_whose_name_extends_the_missions_folder_is_outside_it) {
+  rules_.write("missions_evil/h.pl", "p.\n");
+  const std::string text = failed_load(
+      rules_.write("missions/tank/m.pl", "mission :- p.\n:- consult('../../missions_evil/h').\n"), LoadLimits{});
+  EXPECT_NE(text.find("a mission loads only .pl files in its folder"), std::string::npos) << text;
+}
+
+TEST_F(PrologMission, a_file_in_a_folder_beside_the_missions_folder_loads) {
+  rules_.write("missions/common/h.pl", "p.\n");
+  auto m = load_ok(rules_.write("missions/tank/m.pl", "mission :- p.\n:- consult('../common/h').\n"));
+  EXPECT_TRUE(m);
+}
+
+}  // namespace
+}  // namespace strata::prolog

@@ -1,0 +1,95 @@
+#pragma once
+// What the PROLOG mission tests share: a scratch folder of rule files, a
+// host that answers from a script, and the fixture that loads rules.
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "prolog/mission.h"
+
+namespace strata::prolog::testing_support {
+
+namespace fs = std::filesystem;
+
+// A scratch folder of rule files for one test.
+class Rules {
+ public:
+  Rules() {
+    dir_ = fs::temp_directory_path() /
+           ("strata_prolog_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  ~Rules() { fs::remove_all(dir_); }
+  const fs::path& dir() const { return dir_; }
+  std::string write(const std::string& name, const std::string& text) {
+    fs::create_directories((dir_ / name).parent_path());
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+ private:
+  fs::path dir_;
+};
+
+// Answers every call with the next scripted answer and records what happened.
+class ScriptedHost final : public Host {
+ public:
+  std::vector<int> answers;
+  std::size_t next_answer = 0;
+  bool cancel = false;
+  std::vector<std::string> events;
+
+  void primitive(const std::string& name, std::vector<tactical::Value> args) override {
+    std::string e = "call " + name;
+    for (const auto& a : args) e += " " + tactical::to_string(a);
+    events.push_back(e);
+    if (on_primitive) on_primitive();
+  }
+  std::function<void()> on_primitive;  // on the engine's thread, inside the query
+  std::optional<int> answer() override {
+    if (cancel) return std::nullopt;
+    return next_answer < answers.size() ? answers[next_answer++] : 1;
+  }
+  void report(const std::string& name, std::vector<tactical::Value> args) override {
+    events.push_back(name + " " + (args.empty() ? "" : tactical::to_string(args[0])));
+    if (on_report) on_report();
+  }
+  std::function<void()> on_report;  // on the engine's thread, inside the query
+  void phase_started(const std::string& phase) override { events.push_back("phase " + phase); }
+  void phase_ended(const std::string& phase, const std::string& exit) override {
+    events.push_back("end " + phase + " " + exit);
+  }
+};
+
+class PrologMission : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { ASSERT_TRUE(initialise().ok()); }
+
+  std::unique_ptr<Mission> load_ok(const std::string& path) {
+    std::vector<Message> messages;
+    auto m = Mission::load(path, tactical::Catalogue::builtin(), messages);
+    for (const auto& msg : messages) ADD_FAILURE() << format_message(msg);
+    if (!m) ADD_FAILURE() << m.error().message;
+    return m ? std::move(m.value()) : nullptr;
+  }
+
+  // Runs the query to its end, counting yields (bounded).
+  static Query::Status run(MissionQuery& q, int max_yields = 1000) {
+    Query::Status s;
+    int yields = 0;
+    while ((s = q.next()) == Query::Status::Yield && ++yields < max_yields) {
+    }
+    return s;
+  }
+
+  Rules rules_;
+};
+
+}  // namespace strata::prolog::testing_support
