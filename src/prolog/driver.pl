@@ -679,17 +679,17 @@ consult_directive(M, Spec) :-
     (   prolog_load_context(directory, Dir) -> true ; mission_root(M, Dir) ),
     (   absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
                                         access(read), file_errors(fail) ])
-    ->  (   scan_problem(Abs, Line, Column, Why)
+    ->  (   mission_file(M, Abs)          % first: a file outside is not even scanned
+        ->  true
+        ;   refuse(consult/1, "consult/1 of `~w`: a mission loads only .pl files in its folder \c
+                               or a folder beside it", [Abs])
+        ),
+        (   scan_problem(Abs, Line, Column, Why)
         ->  (   Line > 0
             ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
             ;   refuse(consult/1, "consult/1 of `~w`: ~w", [Abs, Why])
             )
         ;   true
-        ),
-        (   mission_file(M, Abs)
-        ->  true
-        ;   refuse(consult/1, "consult/1 of `~w`: a mission loads only .pl files in its folder \c
-                               or a folder beside it", [Abs])
         )
     ;   true                    % not there: consult/1 says so, with the place
     ).
