@@ -67,9 +67,11 @@ class StudioServerTest : public ::testing::Test {
       runs.push_back(r);
       return core::Result<void>();
     }
+    void abort() override { ++aborts; }
     void stop() override { ++stops; }
     std::vector<RunRequest> runs;
     int stops = 0;
+    int aborts = 0;
   };
   Launcher launcher_;
   std::vector<RunRequest>& runs_ = launcher_.runs;
@@ -432,7 +434,7 @@ TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
   EXPECT_EQ(400, typed->status);
   EXPECT_TRUE(json::parse(typed->body, nullptr, false).contains("error")) << typed->body;
   // The library's own errors are JSON too.
-  auto nothing = bare.Delete("/api/files", {{"Origin", origin()}});
+  auto nothing = bare.Delete("/api/nothing", {{"Origin", origin()}});
   ASSERT_TRUE(nothing);
   EXPECT_EQ(404, nothing->status);
   EXPECT_TRUE(json::parse(nothing->body, nullptr, false).contains("error")) << nothing->body;
