@@ -283,6 +283,27 @@ core::Result<coral::Edit> edit_from_json(const nlohmann::json& j) {
   }
 }
 
+namespace {
+
+// An action as written in CORAL: "PHASE(initialize, initialized, aborted)".
+std::string action_source(const coral::CompiledNet& cn, const coral::ActionSpec& a) {
+  std::string out;
+  if (a.kind == coral::ActionSpec::Kind::Phase) {
+    out = "PHASE(" + a.target;
+  } else {
+    out = fmt::format("TACTIC({}, {}", coral::tactic_type_name(a.tactic), a.target);
+    if (!a.args.empty()) {
+      out += "(";
+      for (std::size_t i = 0; i < a.args.size(); ++i) out += (i ? ", " : "") + a.args[i].text;
+      out += ")";
+    }
+  }
+  for (auto p : a.outcomes) out += fmt::format(", {}", cn.net.place_name(p));
+  return out + ")";
+}
+
+}  // namespace
+
 std::optional<std::string> refuse_delete(const std::optional<coral::Program>& program, const coral::Edit& e) {
   if (!program || e.op != coral::Edit::Op::DeletePlace) return std::nullopt;
   for (const auto& cn : program->nets) {
@@ -304,7 +325,7 @@ std::optional<std::string> refuse_delete(const std::optional<coral::Program>& pr
         if (std::find(a.outcomes.begin(), a.outcomes.end(), *place) == a.outcomes.end()) continue;
         return fmt::format("place '{}' is an outcome of {} in transition '{}': the action needs it; change or "
                            "remove that action first",
-                           e.name, coral::action_text(a), cn.net.transition_name(t));
+                           e.name, action_source(cn, a), cn.net.transition_name(t));
       }
     }
   }
