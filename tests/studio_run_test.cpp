@@ -173,6 +173,21 @@ TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
   }
 }
 
+// The studio closing (Ctrl-C on `strata studio`) asked the run to stop and
+// then asked again from the runner's destructor: the second request cut the
+// safe end short, leaving the vehicle under water.
+TEST_F(StudioRunTest, ClosingTheStudioLetsTheSafeEndFinish) {
+  ASSERT_TRUE(runner_->start(request(20.0)).ok());
+  ASSERT_TRUE(wait_for([&] { return depth() > 1.0; }, 60s)) << "the vehicle never dived";
+  runner_->abort();   // StudioServer::stop()
+  runner_.reset();    // then the runner goes: it waits for the safe end
+  const json end = hub_.snapshot()["ended"];
+  ASSERT_FALSE(end.is_null());
+  EXPECT_EQ("aborted", end["outcome"]) << end.dump();
+  EXPECT_TRUE(end["surfaced"].get<bool>()) << end.dump();
+  EXPECT_LT(end["final_depth_m"].get<double>(), 0.1) << end.dump();
+}
+
 // Stop is a hard stop: nothing more is sent to the vehicle.
 TEST_F(StudioRunTest, StopIsAHardStopThatSendsNothingMore) {
   ASSERT_TRUE(runner_->start(request(20.0)).ok());

@@ -59,9 +59,16 @@ core::Result<StudioLog> create_log(const Sandbox& sandbox, const std::string& mi
 }  // namespace
 
 StudioRunner::~StudioRunner() {
-  stop();
-  std::lock_guard lock(mutex_);
-  if (thread_.joinable()) thread_.join();
+  std::thread running;
+  {
+    // A run going ends through its safe end, waited for here; when a stop
+    // was asked already, asking again would cut that safe end short.
+    std::lock_guard lock(mutex_);
+    if (session_ && !stop_asked_) session_->stop("studio", "the studio is closing", 1, run::StopMode::Abort);
+    running = std::move(thread_);
+  }
+  // Joined without the lock: the run takes it as it ends.
+  if (running.joinable()) running.join();
   // A PROLOG run on the PrologThread: wait for its end (it was stopped).
   while (running_) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
@@ -89,7 +96,9 @@ core::Result<void> StudioRunner::start(const RunRequest& request) {
     // SWI-Prolog lives on one thread of the process.
     if (!PrologThread::instance().post(job)) {
       running_ = false;
-      return core::Error{core::ErrorCode::Overflow, "the PROLOG engine is busy (checking rules); try again"};
+      return core::Error{core::ErrorCode::Overflow,
+                         "the PROLOG engine is busy checking rules (try again), or SWI-Prolog was started on another "
+                         "thread of this process"};
     }
     return core::Result<void>();
   }
@@ -99,7 +108,9 @@ core::Result<void> StudioRunner::start(const RunRequest& request) {
 
 void StudioRunner::stop(const std::string& who, const std::string& reason, int exit_code, run::StopMode mode) {
   std::lock_guard lock(mutex_);
-  if (session_) session_->stop(who, reason, exit_code, mode);
+  if (!session_) return;
+  stop_asked_ = true;
+  session_->stop(who, reason, exit_code, mode);
 }
 
 run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions o,
@@ -153,6 +164,7 @@ run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions
   {
     std::lock_guard lock(mutex_);
     session_ = &session;
+    stop_asked_ = false;
   }
   // Problems before the mission starts (it fails verification, say) reach
   // the page as the run's end, with what strata run would print.

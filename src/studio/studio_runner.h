@@ -69,9 +69,10 @@ class StudioRunner final : public RunLauncher {
   EventHub& hub_;
   const Sandbox& sandbox_;
   const tactical::Catalogue& catalogue_;
-  std::mutex mutex_;  // guards thread_, session_ and pending_stop_
+  std::mutex mutex_;  // guards thread_, session_ and stop_asked_
   std::thread thread_;
   run::RunSession* session_ = nullptr;  // the run going, if any
+  bool stop_asked_ = false;             // stop() reached session_
   std::atomic<bool> running_{false};
   std::uint64_t runs_ = 0;
   std::string sonar_dir_;
