@@ -184,6 +184,10 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
   // holds one, so a few tabs would starve every other request.
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server_->set_payload_max_length(options_.max_body_bytes);
+  // Headers and body go out in two writes: without TCP_NODELAY the body
+  // waits for the page's delayed ACK (40 ms a request on a kept-alive
+  // connection).
+  server_->set_tcp_nodelay(true);
   watcher_ = std::make_unique<FileWatcher>(sandbox_, hub_, options_.watch_period);
   routes();
 }
