@@ -1,12 +1,15 @@
-// Runs from the studio: StudioRunner on the tank mission, on the wall clock
-// at high speed, told through the EventHub; one at a time; stopped on
-// request.
+// Runs from the studio: StudioRunner on a copy of the tank mission, on the
+// wall clock at high speed, told through the EventHub; one at a time;
+// aborted (the safe end) or stopped hard on request; each run's log in
+// runs/ beside the mission; inputs read through the studio's sandbox.
 #include "studio/studio_runner.h"
 
+#include <set>
 #include <thread>
 
 #include <gtest/gtest.h>
 
+#include "studio/replay.h"
 #include "support/tank_run.h"
 
 namespace strata::cli::run_testing {
@@ -20,19 +23,60 @@ bool wait_for(const std::function<bool()>& done, std::chrono::seconds bound) {
   return done();
 }
 
-TEST(StudioRun, ATankRunReachesTheEndAndTheSnapshotHasIt) {
-  studio::EventHub hub;
-  studio::Sandbox sandbox(kTankDir);
-  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
-  auto sub = hub.subscribe();
-  ASSERT_TRUE(runner.start({fs::path(kMission), "tank.coral", "", 200.0}).ok());
-  auto again = runner.start({fs::path(kMission), "tank.coral", "", 200.0});
+// A studio on a fresh copy of missions/tank (runs write runs/ beside it).
+class StudioRunTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(root() / "studio");
+    fs::copy(kTankDir, studio() / "tank", fs::copy_options::recursive);
+    fs::remove_all(studio() / "tank/runs");
+    sandbox_.emplace(studio());
+    runner_.emplace(hub_, *sandbox_, tactical::Catalogue::builtin());
+  }
+  void TearDown() override { runner_.reset(); }
+  // The test's folder: the studio's folder, and `outside` beside it.
+  fs::path root() const { return fs::path(dir_.file("x")).parent_path(); }
+  fs::path studio() const { return root() / "studio"; }
+  studio::RunRequest request(double speed, const std::string& mission = "tank/tank.coral") {
+    return {fs::canonical(studio() / mission), mission, "", speed};
+  }
+  bool ended(std::chrono::seconds bound = 60s) {
+    return wait_for([&] { return !hub_.snapshot()["ended"].is_null(); }, bound);
+  }
+  // The depth of the last telemetry sample.
+  double depth() {
+    const json t = hub_.snapshot()["telemetry"];
+    return t.empty() ? 0.0 : t.back()[1].get<double>();
+  }
+  std::vector<fs::path> logs() {
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(studio() / "tank/runs", ec)) out.push_back(e.path());
+    return out;
+  }
+  std::vector<json> lines(const fs::path& log) {
+    std::vector<json> out;
+    std::ifstream in(log);
+    for (std::string line; std::getline(in, line);) out.push_back(json::parse(line));
+    return out;
+  }
+
+  TempDir dir_;
+  studio::EventHub hub_;
+  std::optional<studio::Sandbox> sandbox_;
+  std::optional<studio::StudioRunner> runner_;
+};
+
+TEST_F(StudioRunTest, ATankRunReachesTheEndAndTheSnapshotHasIt) {
+  auto sub = hub_.subscribe();
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  auto again = runner_->start(request(200.0));
   ASSERT_FALSE(again.ok());
   EXPECT_EQ(core::ErrorCode::Overflow, again.error().code);
-  ASSERT_TRUE(wait_for([&] { return !hub.snapshot()["ended"].is_null(); }, 60s));
-  const json snap = hub.snapshot();
+  ASSERT_TRUE(ended());
+  const json snap = hub_.snapshot();
   EXPECT_EQ("completed", snap["ended"]["outcome"]) << snap["ended"].dump();
-  EXPECT_EQ("tank.coral", snap["mission"]);
+  EXPECT_EQ("tank/tank.coral", snap["mission"]);
   EXPECT_EQ(5u, snap["nets"].size());
   EXPECT_GT(snap["telemetry"].size(), 10u);
   // The stream saw the mission net's end: its exit place marked.
@@ -44,26 +88,216 @@ TEST(StudioRun, ATankRunReachesTheEndAndTheSnapshotHasIt) {
   EXPECT_NE(std::string::npos, text.find("\"marking\":{\"closed\":1}")) << text.substr(text.size() > 2000 ? text.size() - 2000 : 0);
 }
 
-TEST(StudioRun, StopEndsTheRunAsFailed) {
-  studio::EventHub hub;
-  studio::Sandbox sandbox(kTankDir);
-  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
-  ASSERT_TRUE(runner.start({fs::path(kMission), "tank.coral", "", 1.0}).ok());
-  ASSERT_TRUE(wait_for([&] { return hub.snapshot()["instances"].size() >= 2; }, 30s));
-  runner.stop();
-  ASSERT_TRUE(wait_for([&] { return !hub.snapshot()["ended"].is_null(); }, 60s));
-  const json ended = hub.snapshot()["ended"];
-  EXPECT_EQ("failed", ended["outcome"]);
-  EXPECT_NE(std::string::npos, ended["reason"].get<std::string>().find("stopped from the studio")) << ended.dump();
+// Issue 17: finished phases stayed "in flight" to the end of the run, in the
+// page and in the server's snapshot: the engine ends a PHASE action with the
+// phase, not with an answer to its id.
+TEST_F(StudioRunTest, FinishedPhasesStayedInFlightToTheEndOfTheRun) {
+  auto sub = hub_.subscribe();
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  // While it runs: every PHASE action in flight belongs to a phase running.
+  bool looked_mid_run = false;
+  for (auto bound = std::chrono::steady_clock::now() + 60s; std::chrono::steady_clock::now() < bound;) {
+    const json snap = hub_.snapshot();
+    if (!snap["ended"].is_null()) break;
+    std::set<std::string> running;
+    for (const auto& i : snap["instances"]) running.insert(i["net"].get<std::string>());
+    for (const auto& f : snap["in_flight"]) {
+      if (f["kind"] == "phase") {
+        EXPECT_TRUE(running.count(f["primitive"].get<std::string>())) << snap.dump();
+        looked_mid_run = true;
+      }
+    }
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_TRUE(ended());
+  EXPECT_TRUE(looked_mid_run);
+  std::string text;
+  while (auto chunk = sub->next(10ms)) {
+    if (chunk->empty()) break;
+    text += *chunk;
+  }
+  // In the stream: each PHASE action ends, with an action_finish of its id
+  // or with its phase_end's "action".
+  std::set<std::uint64_t> phases_started, phases_ended;
+  std::istringstream in(text);
+  std::string event;
+  for (std::string line; std::getline(in, line);) {
+    if (line.starts_with("event: ")) event = line.substr(7);
+    if (!line.starts_with("data: ")) continue;
+    const json d = json::parse(line.substr(6));
+    if (event == "action_start" && d["kind"] == "phase") phases_started.insert(d["id"].get<std::uint64_t>());
+    if (event == "action_finish") phases_ended.insert(d["id"].get<std::uint64_t>());
+    if (event == "phase_end") phases_ended.insert(d["action"].get<std::uint64_t>());
+  }
+  EXPECT_EQ(4u, phases_started.size());
+  for (auto id : phases_started) EXPECT_TRUE(phases_ended.count(id)) << "PHASE action " << id << " never ended";
+  // Final markings stay after the run: the mission net holds `closed`.
+  const json snap = hub_.snapshot();
+  EXPECT_TRUE(snap["in_flight"].empty());
+  bool mission_final = false;
+  for (const auto& f : snap["final"]) {
+    if (f["net"] == "tank") {
+      mission_final = true;
+      EXPECT_EQ(json({{"closed", 1}}), f["marking"]) << f.dump();
+    }
+  }
+  EXPECT_TRUE(mission_final) << snap["final"].dump();
 }
 
-TEST(StudioRun, AMissionThatFailsVerificationEndsWithTheReason) {
-  studio::EventHub hub;
-  studio::Sandbox sandbox(std::string(STRATA_SOURCE_DIR) + "/tests/verify");
-  studio::StudioRunner runner(hub, sandbox, tactical::Catalogue::builtin());
-  ASSERT_TRUE(runner.start({fs::path(STRATA_SOURCE_DIR) / "tests/verify/dead_branch.coral", "dead_branch.coral", "", 10.0}).ok());
-  ASSERT_TRUE(wait_for([&] { return !hub.snapshot()["ended"].is_null(); }, 30s));
-  EXPECT_NE(std::string::npos, hub.snapshot()["ended"]["reason"].get<std::string>().find("fails verification"));
+// Issue 17: Stop left the vehicle at 1.25 m, shown as a red "failed". Abort
+// is the run's safe end: surface, then done; outcome aborted.
+TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
+  ASSERT_TRUE(runner_->start(request(20.0)).ok());
+  ASSERT_TRUE(wait_for([&] { return depth() > 1.0; }, 60s)) << "the vehicle never dived";
+  runner_->abort();
+  ASSERT_TRUE(ended(120s));
+  const json end = hub_.snapshot()["ended"];
+  EXPECT_EQ("aborted", end["outcome"]) << end.dump();
+  EXPECT_EQ("studio", end["stopped_by"]);
+  EXPECT_EQ("abort", end["stop"]);
+  EXPECT_TRUE(end["surfaced"].get<bool>()) << end.dump();
+  ASSERT_TRUE(end["final_depth_m"].is_number()) << end.dump();
+  EXPECT_LT(end["final_depth_m"].get<double>(), 0.1) << end.dump();
+  EXPECT_FALSE(end["phase"].get<std::string>().empty()) << end.dump();
+  // The log says the same.
+  ASSERT_EQ(1u, logs().size());
+  const auto log = lines(logs()[0]);
+  ASSERT_FALSE(log.empty());
+  const json& mission_end = log.back();
+  EXPECT_EQ("mission_end", mission_end["event"]);
+  EXPECT_EQ("aborted", mission_end["outcome"]);
+  EXPECT_EQ("abort", mission_end["stop"]);
+  EXPECT_TRUE(mission_end["safe_end"]["surfaced"].get<bool>()) << mission_end.dump();
+  for (const auto& l : log) {
+    if (l["event"] == "vehicle_final") EXPECT_LT(std::stod(l["depth_m"].dump()), 0.1) << l.dump();
+  }
+}
+
+// The studio closing (Ctrl-C on `strata studio`) asked the run to stop and
+// then asked again from the runner's destructor: the second request cut the
+// safe end short, leaving the vehicle under water.
+TEST_F(StudioRunTest, ClosingTheStudioLetsTheSafeEndFinish) {
+  ASSERT_TRUE(runner_->start(request(20.0)).ok());
+  ASSERT_TRUE(wait_for([&] { return depth() > 1.0; }, 60s)) << "the vehicle never dived";
+  runner_->abort();   // StudioServer::stop()
+  runner_.reset();    // then the runner goes: it waits for the safe end
+  const json end = hub_.snapshot()["ended"];
+  ASSERT_FALSE(end.is_null());
+  EXPECT_EQ("aborted", end["outcome"]) << end.dump();
+  EXPECT_TRUE(end["surfaced"].get<bool>()) << end.dump();
+  EXPECT_LT(end["final_depth_m"].get<double>(), 0.1) << end.dump();
+}
+
+// Stop is a hard stop: nothing more is sent to the vehicle.
+TEST_F(StudioRunTest, StopIsAHardStopThatSendsNothingMore) {
+  ASSERT_TRUE(runner_->start(request(20.0)).ok());
+  ASSERT_TRUE(wait_for([&] { return depth() > 1.0; }, 60s)) << "the vehicle never dived";
+  runner_->stop();
+  ASSERT_TRUE(ended(60s));
+  const json end = hub_.snapshot()["ended"];
+  EXPECT_EQ("failed", end["outcome"]) << end.dump();
+  EXPECT_EQ("hard", end["stop"]);
+  EXPECT_EQ("studio", end["stopped_by"]);
+  EXPECT_FALSE(end["surfaced"].get<bool>());
+  EXPECT_NE(std::string::npos, end["reason"].get<std::string>().find("hard stop")) << end.dump();
+  ASSERT_EQ(1u, logs().size());
+  bool hard = false;
+  for (const auto& l : lines(logs()[0])) {
+    EXPECT_NE("emergency", l["event"]) << "a hard stop ran the safe end: " << l.dump();
+    hard = hard || l["event"] == "hard_stop";
+  }
+  EXPECT_TRUE(hard);
+}
+
+TEST_F(StudioRunTest, EveryRunWritesItsLogInRunsBesideTheMissionAndItReplays) {
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  ASSERT_TRUE(ended());
+  const json end = hub_.snapshot()["ended"];
+  ASSERT_EQ(1u, logs().size());
+  const std::string name = logs()[0].filename().string();
+  EXPECT_TRUE(name.ends_with("Z-tank.jsonl")) << name;
+  EXPECT_EQ("tank/runs/" + name, end["log"]);
+  std::ifstream in(logs()[0]);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  auto replay = studio::replay_from_log(text);
+  ASSERT_TRUE(replay.ok());
+  ASSERT_FALSE(replay.value()["events"].empty());
+  EXPECT_EQ("run_end", replay.value()["events"].back()["event"]);
+  EXPECT_EQ("completed", replay.value()["events"].back()["data"]["outcome"]);
+  // A second run gets a log of its own.
+  ASSERT_TRUE(wait_for([&] { return !runner_->running(); }, 10s));
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  ASSERT_TRUE(wait_for([&] { return !runner_->running(); }, 60s));
+  EXPECT_EQ(2u, logs().size());
+}
+
+// The run's folder for logs may be a planted link: not followed.
+TEST_F(StudioRunTest, ALinkPlantedAtRunsIsNotFollowed) {
+  fs::create_directories(root() / "outside");
+  fs::create_symlink("../../outside", studio() / "tank/runs");
+  ASSERT_TRUE(fs::is_directory(studio() / "tank/runs"));
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  ASSERT_TRUE(ended());
+  EXPECT_TRUE(fs::is_empty(root() / "outside"));
+  EXPECT_EQ("", hub_.snapshot()["ended"]["log"]);
+  EXPECT_EQ("completed", hub_.snapshot()["ended"]["outcome"]) << hub_.snapshot()["ended"].dump();
+  bool said = false;
+  const json reports = hub_.snapshot()["reports"];
+  for (const auto& r : reports) {
+    said = said || r["text"].get<std::string>().find("no mission log") != std::string::npos;
+  }
+  EXPECT_TRUE(said) << hub_.snapshot()["reports"].dump();
+}
+
+// Issue 17: a mission without scenarios/nominal.toml could not be run.
+TEST_F(StudioRunTest, AMissionWithoutScenariosRunsTheBuiltInNominal) {
+  fs::remove_all(studio() / "tank/scenarios");
+  ASSERT_TRUE(runner_->start(request(200.0)).ok());
+  ASSERT_TRUE(ended());
+  EXPECT_EQ("completed", hub_.snapshot()["ended"]["outcome"]) << hub_.snapshot()["ended"].dump();
+}
+
+// The server checks a mission before the run reads it again: a file swapped
+// for a link out in between is refused by the run itself (its reads go
+// through the sandbox).
+TEST_F(StudioRunTest, AnInputSwappedForALinkAfterTheCheckIsStillRefused) {
+  fs::create_directories(root() / "outside");
+  for (const char* swapped : {"setpoints.toml", "initialize.coral", "scenarios/nominal.toml"}) {
+    SCOPED_TRACE(swapped);
+    const fs::path victim = studio() / "tank" / swapped;
+    const fs::path outside = root() / "outside" / fs::path(swapped).filename();
+    fs::copy_file(victim, outside, fs::copy_options::overwrite_existing);
+    fs::remove(victim);
+    fs::create_symlink(outside, victim);
+    ASSERT_TRUE(wait_for([&] { return !runner_->running(); }, 10s));
+    ASSERT_TRUE(runner_->start(request(200.0)).ok());
+    ASSERT_TRUE(wait_for([&] { return !runner_->running(); }, 60s));
+    const json end = hub_.snapshot()["ended"];
+    EXPECT_EQ("failed", end["outcome"]) << end.dump();
+    EXPECT_NE(std::string::npos, end["reason"].get<std::string>().find("outside the studio's folder")) << end.dump();
+    fs::remove(victim);
+    fs::copy_file(outside, victim);
+  }
+}
+
+TEST_F(StudioRunTest, AMissionThatFailsVerificationEndsWithTheReason) {
+  fs::copy_file(fs::path(STRATA_SOURCE_DIR) / "tests/verify/dead_branch.coral", studio() / "tank/dead_branch.coral");
+  ASSERT_TRUE(runner_->start(request(10.0, "tank/dead_branch.coral")).ok());
+  ASSERT_TRUE(ended(30s));
+  EXPECT_NE(std::string::npos, hub_.snapshot()["ended"]["reason"].get<std::string>().find("fails verification"));
+  // A run that never started leaves no log behind.
+  EXPECT_TRUE(logs().empty());
+}
+
+// `.pl` missions run from the studio, on the process's PROLOG thread.
+TEST_F(StudioRunTest, APrologMissionRuns) {
+  ASSERT_TRUE(runner_->start(request(200.0, "tank/tank.pl")).ok());
+  ASSERT_TRUE(ended(120s));
+  const json snap = hub_.snapshot();
+  EXPECT_EQ("completed", snap["ended"]["outcome"]) << snap["ended"].dump();
+  EXPECT_GT(snap["telemetry"].size(), 10u);
+  ASSERT_EQ(1u, logs().size());
+  EXPECT_TRUE(logs()[0].filename().string().ends_with("Z-tank.jsonl"));
 }
 
 }  // namespace

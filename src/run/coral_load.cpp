@@ -9,11 +9,11 @@
 namespace strata::run {
 
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
-                          std::string_view command, std::string_view suffix) {
+                          std::string_view command, std::string_view suffix, const coral::FileProvider* files) {
   CoralLoad load;
   coral::DiskFileProvider disk;
   core::DiagnosticSink sink;
-  load.program = coral::compile_file(path, disk, load.sources, sink, catalogue.check_options());
+  load.program = coral::compile_file(path, files ? *files : disk, load.sources, sink, catalogue.check_options());
   sink.sort();
   bool unreadable_root = false;
   for (const auto& d : sink.diagnostics()) {

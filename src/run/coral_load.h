@@ -5,6 +5,7 @@
 #include <ostream>
 #include <string>
 
+#include "coral/loader.h"
 #include "coral/program.h"
 #include "core/source.h"
 #include "tactical/catalogue.h"
@@ -18,7 +19,9 @@ struct CoralLoad {
 };
 
 // When it does not compile, a closing line: "COMMAND: PATH: 2 errorsSUFFIX".
+// `files` reads the mission and its imports (null: the disk).
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
-                          std::string_view command, std::string_view suffix = "");
+                          std::string_view command, std::string_view suffix = "",
+                          const coral::FileProvider* files = nullptr);
 
 }  // namespace strata::run

@@ -63,4 +63,21 @@ core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario
                                       scenario));
 }
 
+core::Result<vehicle::Scenario> load_scenario_through(
+    const std::function<core::Result<std::string>(const std::string&)>& read, const std::string& scenario,
+    const std::string& mission) {
+  namespace fs = std::filesystem;
+  if (scenario.empty()) {
+    if (mission.empty()) return vehicle::Scenario::nominal();
+    const std::string nominal = (fs::path(mission).parent_path() / "scenarios" / "nominal.toml").string();
+    auto text = read(nominal);
+    if (text) return vehicle::parse_scenario(text.value(), nominal);
+    if (text.error().code == core::ErrorCode::Io) return vehicle::Scenario::nominal();
+    return core::make_error(text.error().code, fmt::format("the nominal scenario: {}", text.error().message));
+  }
+  auto text = read(scenario);
+  if (!text) return core::make_error(text.error().code, fmt::format("scenario: {}", text.error().message));
+  return vehicle::parse_scenario(text.value(), scenario);
+}
+
 }  // namespace strata::run

@@ -2,6 +2,7 @@
 // The inputs of a run as commands name them: a catalogue file or the built-in
 // one, a scenario by name or path, a vehicle address.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 
@@ -18,5 +19,11 @@ core::Result<tactical::Catalogue> load_catalogue_option(const std::string& path)
 // --scenario: the mission's scenarios/nominal.toml (else no faults) when
 // empty; a path; or NAME in the mission's scenarios/.
 core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario, const std::string& mission);
+// The same with every file read through `read` (RunOptions::read_file):
+// "" is the mission's scenarios/nominal.toml when `read` finds one (Io: it
+// is not there), else the built-in nominal; anything else is a path.
+core::Result<vehicle::Scenario> load_scenario_through(
+    const std::function<core::Result<std::string>(const std::string&)>& read, const std::string& scenario,
+    const std::string& mission);
 
 }  // namespace strata::run

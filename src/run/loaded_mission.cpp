@@ -17,14 +17,43 @@ namespace fs = std::filesystem;
 
 constexpr const char* kVersion = "0.1.0";
 
-std::string sha256_or_empty(const std::string& path) {
+std::string sha256_or_empty(const RunOptions& o, const std::string& path) {
+  if (o.read_file) {
+    auto bytes = o.read_file(path);
+    return bytes ? tactical::sha256_hex(bytes.value()) : std::string();
+  }
   auto r = tactical::sha256_file(path);
   return r ? r.value() : std::string();
 }
 
+// The mission and its imports read through RunOptions::read_file. Names are
+// compared lexically (nothing on disk is looked at but through the reader).
+class ReaderFileProvider final : public coral::FileProvider {
+ public:
+  explicit ReaderFileProvider(const RunOptions& o) : o_(o) {}
+  std::string canonical(const std::string& path) const override {
+    std::error_code ec;
+    return fs::absolute(path, ec).lexically_normal().string();
+  }
+  core::Result<std::string> read(const std::string& path) const override {
+    auto r = o_.read_file(path);
+    if (r) return r;
+    // The loader's kinds: InvalidInput is a file too large; anything else
+    // (a file outside the folder among them) a file it cannot read.
+    return core::Error{r.error().code == core::ErrorCode::Overflow ? core::ErrorCode::InvalidInput : core::ErrorCode::Io,
+                       r.error().message};
+  }
+
+ private:
+  const RunOptions& o_;
+};
+
 // Compiles the mission; diagnostics (warnings too) go to err.
-int load_coral(const std::string& path, LoadedMission& loaded, std::ostream& err) {
-  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running");
+int load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded, std::ostream& err) {
+  std::optional<ReaderFileProvider> reader;
+  if (o.read_file) reader.emplace(o);
+  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running",
+                                   reader ? &*reader : nullptr);
   if (!load.program) return load.exit_code;
   if (!load.program->mission) {
     err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
@@ -81,7 +110,8 @@ int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream
     }
     loaded.params = p.value();
   }
-  auto scenario = load_scenario_option(o.scenario, o.mission);
+  auto scenario = o.read_file ? load_scenario_through(o.read_file, o.scenario, o.mission)
+                              : load_scenario_option(o.scenario, o.mission);
   if (!scenario) {
     err << "strata run: " << scenario.error().message << "\n";
     return exit_code_for_input(scenario.error());
@@ -98,7 +128,16 @@ int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream
 int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   if (!o.data.empty()) loaded.data_path = o.data;
   if (loaded.data_path.empty()) return kExitOk;
-  auto d = tactical::MissionData::load(loaded.data_path, tactical::DataLimits{loaded.params.tank_depth_m});
+  const tactical::DataLimits limits{loaded.params.tank_depth_m};
+  core::Result<tactical::MissionData> d = core::Error{core::ErrorCode::Internal, "not read"};
+  if (o.read_file) {
+    auto text = o.read_file(loaded.data_path);
+    d = text ? tactical::MissionData::parse(text.value(), loaded.data_path, limits)
+             : core::Result<tactical::MissionData>(core::Error{core::ErrorCode::Io,
+                   fmt::format("cannot read the mission data file: {}", text.error().message)});
+  } else {
+    d = tactical::MissionData::load(loaded.data_path, limits);
+  }
   if (!d) {
     err << "strata run: " << d.error().message << "\n";
     return exit_code_for_input(d.error());
@@ -122,7 +161,7 @@ int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
     return exit_code_for_input(catalogue.error());
   }
   loaded.catalogue = std::move(catalogue.value());
-  int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o.mission, loaded, err);
+  int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o, o.mission, loaded, err);
   if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
   if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
   if (code == kExitOk) code = load_data(o, loaded, err);
@@ -144,9 +183,9 @@ tactical::RunInfo run_info(const RunOptions& o, const LoadedMission& loaded) {
   tactical::RunInfo info;
   info.version = kVersion;
   info.mission = o.mission;
-  info.mission_sha256 = sha256_or_empty(o.mission);
+  info.mission_sha256 = sha256_or_empty(o, o.mission);
   info.data = loaded.data_path;
-  if (!loaded.data_path.empty()) info.data_sha256 = sha256_or_empty(loaded.data_path);
+  if (!loaded.data_path.empty()) info.data_sha256 = sha256_or_empty(o, loaded.data_path);
   info.scenario = embedded ? scenario_name(o) : "external";
   info.seed = embedded ? loaded.scenario.seed : 0;
   info.clock = o.realtime ? "wall" : "lockstep";

@@ -4,8 +4,11 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <string_view>
+
+#include "core/result.h"
 
 namespace strata::run {
 
@@ -29,6 +32,19 @@ struct RunOptions {
   double speed = 1.0;     // with realtime: simulated seconds per wall second
   std::string vehicle;    // HOST:PORT of a running vehicle; "" embedded
   std::string log;        // mission log path; "" none
+  // The mission log written to this stream instead (the caller owns it and
+  // keeps it open past run(); `log` then only names it in the report). The
+  // studio opens its logs itself, inside its folder, never through a link.
+  std::ostream* log_stream = nullptr;
+  // When set, every input file the run reads itself — the CORAL mission and
+  // its imports, the mission data file, the scenario file — is read through
+  // this (path as the run names it, absolute or relative to the process),
+  // never opened by name: the studio passes its folder's sandbox, so a file
+  // swapped for a link after the studio checked it is still refused. An
+  // error's message is shown as the reason the input could not be read.
+  // Not used for PROLOG rules (SWI-Prolog opens them itself), --params or
+  // --catalogue.
+  std::function<core::Result<std::string>(const std::string& path)> read_file;
   // Start the Sonar Manager (`strata sonar`, a separate process) on the
   // vehicle's sonar socket, writing its scans here; "" none.
   std::string sonar_dir;

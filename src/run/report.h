@@ -18,6 +18,8 @@ struct RunReport {
   // What ended the run when it was not the mission itself: "SIGINT",
   // "SIGTERM", "SIGHUP", "studio", "limit"; "" otherwise.
   std::string stopped_by;
+  // With stopped_by: how (run::StopMode): "interrupt", "abort", "hard".
+  std::string stop_mode;
   bool link_lost = false;
   std::string link_lost_why;
   // The vehicle's own words when it refused a call or answered an exec 0

@@ -22,10 +22,20 @@ RunSession::~RunSession() = default;
 
 void RunSession::add_observer(RunObserver& observer) { observers_.push_back(&observer); }
 
-void RunSession::stop(const std::string& who, const std::string& reason, int exit_code) {
+std::string_view to_string(StopMode mode) {
+  switch (mode) {
+    case StopMode::Interrupt: return "interrupt";
+    case StopMode::Abort: return "abort";
+    case StopMode::Hard: return "hard";
+  }
+  return "interrupt";
+}
+
+void RunSession::stop(const std::string& who, const std::string& reason, int exit_code, StopMode mode) {
   std::lock_guard lock(mutex_);
   ++stop_requests_;
-  if (!stop_) stop_ = StopRequest{who, reason, exit_code};
+  if (mode == StopMode::Hard) hard_requested_ = true;
+  if (!stop_) stop_ = StopRequest{who, reason, exit_code, mode};
   if (!active_) return;
   Run* run = active_;
   asio::post(run->io(), [run] { run->on_stop(); });
@@ -96,15 +106,17 @@ void RunSession::Run::drive() {
 void RunSession::Run::on_stop() {
   std::optional<StopRequest> stop;
   int requests = 0;
+  bool hard = false;
   {
     std::lock_guard lock(session_.mutex_);
     stop = session_.stop_;
     requests = session_.stop_requests_;
+    hard = session_.hard_requested_;
   }
   if (!stop || finished_ || !executor_) return;
   if (executor_->running()) {
     executor_->cancel(stop->reason);
-  } else if (requests > 1 && safe_end_running_) {
+  } else if ((requests > 1 || hard) && safe_end_running_) {
     report_.hurried = true;
     safe_end_->abandon();
   }
@@ -138,8 +150,27 @@ bool RunSession::Run::needs_safe_end(const MissionResult& r) const {
   return link_->connected() && safe_end_->possible();
 }
 
-void RunSession::Run::mission_ended(const MissionResult& r) {
+void RunSession::Run::mission_ended(const MissionResult& ended) {
+  std::optional<StopRequest> stop;
+  bool hard = false;
+  {
+    std::lock_guard lock(session_.mutex_);
+    stop = session_.stop_;
+    hard = session_.hard_requested_;
+  }
+  MissionResult r = ended;
+  // The executor ended because of the stop: the stop says what it was.
+  if (stop && r.outcome == Outcome::Failed && r.reason == stop->reason) {
+    report_.stop_mode = std::string(to_string(hard ? StopMode::Hard : stop->mode));
+    if (stop->mode == StopMode::Abort && !hard) r.outcome = Outcome::Aborted;
+  }
   report_.result = r;
+  if (report_.stop_mode == "hard") {
+    note("hard stop: the vehicle is neither surfaced nor sent done; it is left to its own watchdog", r.sim_time_s);
+    if (log_) log_->write({{"event", "hard_stop"}, {"sim_time", tactical::log_time(r.sim_time_s)}});
+    wrap_up();
+    return;
+  }
   if (!needs_safe_end(r)) {
     wrap_up();
     return;
@@ -219,7 +250,7 @@ void RunSession::Run::finish_report() {
     return;
   }
   report_.link_lost = report_.link_lost || link_error(*r);
-  if (stop && r->outcome == Outcome::Failed && r->reason == stop->reason) {
+  if (stop && r->outcome != Outcome::Completed && r->reason == stop->reason) {
     report_.stopped_by = stop->who;
     report_.exit_code = stop->exit_code;
   } else {
@@ -249,6 +280,7 @@ void RunSession::Run::write_end_of_log() {
   end["exit"] = r.exit;
   end["reason"] = r.reason;
   if (!report_.stopped_by.empty()) end["stopped_by"] = report_.stopped_by;
+  if (!report_.stop_mode.empty()) end["stop"] = report_.stop_mode;
   if (report_.emergency_shutdown) {
     end["safe_end"] = {{"surface_commanded", report_.emergency_surface},
                        {"surfaced", report_.emergency_surfaced},

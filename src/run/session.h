@@ -23,6 +23,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "run/observer.h"
@@ -30,6 +31,18 @@
 #include "run/report.h"
 
 namespace strata::run {
+
+// How a stop request ends the run.
+//  Interrupt: the safe end (surface, then done); the mission's outcome is
+//             failed, with the stop's reason (a signal).
+//  Abort:     the same safe end, but the outcome is aborted: the operator's
+//             deliberate abort (the studio's Abort button).
+//  Hard:      no safe end: the executor is cancelled, nothing more is sent
+//             to the vehicle (no surface, no done; a safe end already going
+//             is abandoned, as a second Ctrl-C does), the link is closed and
+//             the vehicle is left to its own watchdog. Outcome failed.
+enum class StopMode { Interrupt, Abort, Hard };
+std::string_view to_string(StopMode mode);  // "interrupt", "abort", "hard"
 
 class RunSession {
  public:
@@ -53,7 +66,10 @@ class RunSession {
   // are no longer waited for, but the log is still closed. Thread-safe,
   // never blocks; before run() it stops the run as soon as it starts, after
   // run() it does nothing.
-  void stop(const std::string& who, const std::string& reason, int exit_code);
+  // `mode` says whether the safe end runs and what the outcome is; a later
+  // Hard request cuts a safe end short.
+  void stop(const std::string& who, const std::string& reason, int exit_code,
+            StopMode mode = StopMode::Interrupt);
 
  private:
   class Run;
@@ -61,6 +77,7 @@ class RunSession {
   struct StopRequest {
     std::string who, reason;
     int exit_code = 0;
+    StopMode mode = StopMode::Interrupt;
   };
 
   RunOptions options_;
@@ -68,6 +85,7 @@ class RunSession {
   std::mutex mutex_;  // guards the three below
   std::optional<StopRequest> stop_;
   int stop_requests_ = 0;
+  bool hard_requested_ = false;  // some request was Hard
   Run* active_ = nullptr;  // set while run() drives the mission
 };
 

@@ -18,14 +18,15 @@ int RunSession::Run::load_inputs() {
 }
 
 int RunSession::Run::open_log() {
-  if (o_.log.empty()) return kExitOk;
-  auto opened = tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
+  if (o_.log.empty() && !o_.log_stream) return kExitOk;
+  auto opened = o_.log_stream ? tactical::MissionLog::to_stream(*o_.log_stream, run_info(o_, loaded_))
+                              : tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
   if (!opened) {
     err_ << "strata run: cannot write the mission log: " << opened.error().message << "\n";
     return fail(kExitIo);
   }
   log_ = std::move(opened.value());
-  report_.log_path = log_->path();
+  report_.log_path = o_.log_stream ? o_.log : log_->path();
   if (o_.seed) log_->write({{"event", "choice"}, {"seed", *o_.seed}});
   if (loaded_.verification) log_->write(verification_record(*loaded_.verification, o_.unverified));
   return kExitOk;

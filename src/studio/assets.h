@@ -6,8 +6,12 @@
 
 namespace strata::studio {
 
+// An asset as built, and compressed once at build time (cmake/
+// precompress): empty when that encoding would not make it smaller.
 struct Asset {
   std::string_view data;
+  std::string_view gzip = {};
+  std::string_view brotli = {};
 };
 
 // "index.html", "assets/app.js", ...; nullopt for anything else.

@@ -31,7 +31,8 @@ struct EventHub::Event {
 };
 
 void EventHub::publish(const std::string& name, nlohmann::json data) {
-  Keys keys{data.value("instance", std::uint64_t{0}), data.value("id", std::uint64_t{0})};
+  Keys keys{data.value("instance", std::uint64_t{0}),
+            data.value(name == "phase_end" ? "action" : "id", std::uint64_t{0}), data.value("net", std::string())};
   auto event = std::make_shared<Event>();
   event->name = name;
   event->data = std::move(data);
@@ -78,8 +79,14 @@ void EventHub::fold(const EventPtr& e, Keys keys) {
       let_go(std::move(inst.fired));
     }
     instances_.clear();
-    for (auto& [id, f] : in_flight_) let_go(std::move(f));
+    for (auto& [id, f] : in_flight_) let_go(std::move(f.start));
     in_flight_.clear();
+    for (auto& [net, f] : final_) {
+      let_go(std::move(f.start));
+      let_go(std::move(f.latest));
+      let_go(std::move(f.end));
+    }
+    final_.clear();
     for (auto& t : telemetry_) let_go(std::move(t));
     telemetry_.clear();
     for (auto& r : reports_) let_go(std::move(r));
@@ -98,16 +105,30 @@ void EventHub::fold(const EventPtr& e, Keys keys) {
     }
     if (name == "action_finish") {
       if (auto f = in_flight_.find(keys.id); f != in_flight_.end()) {
-        let_go(std::move(f->second));
+        let_go(std::move(f->second.start));
         in_flight_.erase(f);
       }
     }
   } else if (name == "action_start") {
-    let_go(std::exchange(in_flight_[keys.id], e));
+    Flight& f = in_flight_[keys.id];
+    let_go(std::exchange(f.start, e));
+    f.instance = keys.instance;
   } else if (name == "phase_end") {
+    // The phase is over: the PHASE action that ran it, and whatever its net
+    // still had in flight, are no longer in flight (the engine dropped them).
+    for (auto f = in_flight_.begin(); f != in_flight_.end();) {
+      if ((keys.id != 0 && f->first == keys.id) || f->second.instance == keys.instance) {
+        let_go(std::move(f->second.start));
+        f = in_flight_.erase(f);
+      } else {
+        ++f;
+      }
+    }
     if (auto it = instances_.find(keys.instance); it != instances_.end()) {
-      let_go(std::move(it->second.start));
-      let_go(std::move(it->second.latest));
+      Final& last = final_[keys.net];
+      let_go(std::exchange(last.start, std::move(it->second.start)));
+      let_go(std::exchange(last.latest, std::move(it->second.latest)));
+      let_go(std::exchange(last.end, e));
       let_go(std::move(it->second.fired));
       instances_.erase(it);
     }
@@ -117,7 +138,7 @@ void EventHub::fold(const EventPtr& e, Keys keys) {
     reports_.push_back(e);
   } else if (name == "run_end") {
     let_go(std::exchange(ended_, e));
-    for (auto& [id, f] : in_flight_) let_go(std::move(f));
+    for (auto& [id, f] : in_flight_) let_go(std::move(f.start));
     in_flight_.clear();
   }
 }
@@ -142,7 +163,16 @@ nlohmann::json EventHub::snapshot_locked() const {
                          {"marking", field(inst.latest, "marking", nlohmann::json::object())},
                          {"enabled", field(inst.fired, "enabled", nlohmann::json::array())}});
   }
-  for (const auto& [id, e] : in_flight_) flights.push_back(e->json());
+  for (const auto& [id, f] : in_flight_) flights.push_back(f.start->json());
+  nlohmann::json finals = nlohmann::json::array();
+  for (const auto& [net, f] : final_) {
+    finals.push_back({{"instance", field(f.start, "instance", 0)},
+                      {"net", field(f.start, "net", net)},
+                      {"parent", field(f.start, "parent", 0)},
+                      {"marking", field(f.latest, "marking", nlohmann::json::object())},
+                      {"exit", field(f.end, "exit", "")},
+                      {"cancelled", field(f.end, "cancelled", false)}});
+  }
   nlohmann::json telemetry = nlohmann::json::array(), reports = nlohmann::json::array();
   for (const auto& e : telemetry_) {
     telemetry.push_back({field(e, "t", 0.0), field(e, "depth", 0.0), field(e, "setpoint", none)});
@@ -153,6 +183,7 @@ nlohmann::json EventHub::snapshot_locked() const {
           {"nets", field(run_, "nets", nlohmann::json::array())},
           {"instances", instances},
           {"in_flight", flights},
+          {"final", finals},
           {"telemetry", telemetry},
           {"reports", reports},
           {"ended", ended_ ? ended_->json() : none}};

@@ -38,17 +38,23 @@ class EventHub {
 
   // Sends `name` with `data` to every subscriber and folds it into the
   // snapshot: run_start resets it; phase_start, fired, action_* and
-  // phase_end update the instances and in-flight list; telemetry and report
-  // append; run_end records the outcome.
+  // phase_end update the instances and in-flight list (phase_end takes out
+  // the PHASE action that started the instance, data "action", and every
+  // action of the instance, and keeps the instance's last marking as the
+  // final one of its net); telemetry and report append; run_end records the
+  // outcome and empties the in-flight list.
   void publish(const std::string& name, nlohmann::json data);
 
   // The same with the data built only when a reader or the snapshot first
   // needs it (once, on that thread): the publishing thread pays for a
   // closure, not for JSON. `instance` and `id` are the data's keys of the
   // same names, which the snapshot needs without building it.
+  // For phase_end, `id` is the PHASE action that started the instance (0
+  // for the mission) and `net` the net's name.
   struct Keys {
     std::uint64_t instance = 0;
     std::uint64_t id = 0;
+    std::string net = {};
   };
   void publish_lazy(const std::string& name, Keys keys, std::function<nlohmann::json()> make);
 
@@ -115,7 +121,18 @@ class EventHub {
   // The snapshot, as the events it is made of.
   EventPtr run_;
   std::map<std::uint64_t, Instance> instances_;
-  std::map<std::uint64_t, EventPtr> in_flight_;
+  struct Flight {
+    EventPtr start;  // action_start
+    std::uint64_t instance = 0;
+  };
+  std::map<std::uint64_t, Flight> in_flight_;
+  // The last instance of each net that ended: its start, last marking and
+  // end. Bounded by the number of nets; kept after the run (a page loaded
+  // after the end shows the final markings).
+  struct Final {
+    EventPtr start, latest, end;
+  };
+  std::map<std::string, Final> final_;
   std::vector<EventPtr> telemetry_;
   std::vector<EventPtr> reports_;
   EventPtr ended_;

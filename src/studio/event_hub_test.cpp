@@ -33,18 +33,65 @@ TEST(EventHub, TheSnapshotFollowsTheRun) {
   hub.publish("fired", {{"instance", 1}, {"marking", {{"go", 1}}}, {"enabled", {"t"}}});
   hub.publish("action_start", {{"id", 7}, {"instance", 1}, {"primitive", "sleep"}});
   hub.publish("telemetry", {{"t", 0.5}, {"depth", 0.1}, {"setpoint", 1.0}});
-  hub.publish("phase_end", {{"instance", 1}});
   auto s = hub.snapshot();
+  EXPECT_EQ(1u, s["in_flight"].size());
+  hub.publish("action_finish", {{"id", 7}, {"instance", 1}});
+  EXPECT_TRUE(hub.snapshot()["in_flight"].empty());
+  hub.publish("phase_end", {{"instance", 1}, {"net", "p"}});
+  s = hub.snapshot();
   EXPECT_EQ(2, s["run"]);
   ASSERT_EQ(1u, s["instances"].size());
   EXPECT_EQ("m", s["instances"][0]["net"]);
-  EXPECT_EQ(1u, s["in_flight"].size());
   EXPECT_EQ(nlohmann::json::array({0.5, 0.1, 1.0}), s["telemetry"][0]);
-  hub.publish("action_finish", {{"id", 7}, {"instance", 1}});
   hub.publish("run_end", {{"outcome", "completed"}});
   s = hub.snapshot();
   EXPECT_TRUE(s["in_flight"].empty());
   EXPECT_EQ("completed", s["ended"]["outcome"]);
+}
+
+// Issue 17: finished phases stayed "in flight" to the end of the run: the
+// engine tells a phase's end, not an answer to the PHASE action.
+TEST(EventHub, AFinishedPhaseIsNoLongerInFlightNorAnyActionOfItsNet) {
+  EventHub hub;
+  hub.publish("run_start", {{"run", 1}, {"mission", "m.coral"}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"begin", 1}}}});
+  hub.publish("action_start", {{"id", 3}, {"instance", 0}, {"kind", "phase"}, {"primitive", "p"}});
+  hub.publish("phase_start", {{"instance", 1}, {"parent", 0}, {"net", "p"}, {"marking", {{"start", 1}}}});
+  hub.publish("action_start", {{"id", 4}, {"instance", 1}, {"kind", "exec"}, {"primitive", "sleep"}});
+  hub.publish("action_start", {{"id", 5}, {"instance", 0}, {"kind", "exec"}, {"primitive", "other"}});
+  EXPECT_EQ(3u, hub.snapshot()["in_flight"].size());
+  hub.publish("fired", {{"instance", 1}, {"marking", {{"done", 1}}}});
+  hub.publish("phase_end", {{"instance", 1}, {"net", "p"}, {"exit", "done"}, {"action", 3}, {"cancelled", false}});
+  auto s = hub.snapshot();
+  ASSERT_EQ(1u, s["in_flight"].size()) << s["in_flight"].dump();
+  EXPECT_EQ(5, s["in_flight"][0]["id"]);
+  // The phase's last marking is kept as its net's final one.
+  ASSERT_EQ(1u, s["final"].size());
+  EXPECT_EQ("p", s["final"][0]["net"]);
+  EXPECT_EQ(nlohmann::json({{"done", 1}}), s["final"][0]["marking"]);
+  EXPECT_EQ("done", s["final"][0]["exit"]);
+}
+
+// Issue 17: final markings were lost on reload: the mission's instance left
+// the snapshot with its phase_end.
+TEST(EventHub, FinalMarkingsStayInTheSnapshotAfterTheRunUntilTheNextOne) {
+  EventHub hub;
+  hub.publish("run_start", {{"run", 1}, {"mission", "m.coral"}});
+  hub.publish("phase_start", {{"instance", 0}, {"net", "m"}, {"marking", {{"begin", 1}}}});
+  hub.publish("fired", {{"instance", 0}, {"marking", {{"closed", 1}}}});
+  hub.publish("phase_end", {{"instance", 0}, {"net", "m"}, {"exit", "closed"}});
+  hub.publish("run_end", {{"outcome", "completed"}});
+  auto s = hub.snapshot();
+  EXPECT_TRUE(s["instances"].empty());
+  ASSERT_EQ(1u, s["final"].size());
+  EXPECT_EQ(nlohmann::json({{"closed", 1}}), s["final"][0]["marking"]);
+  // A page connecting now gets them in its first event.
+  auto sub = hub.subscribe();
+  auto text = sub->next(10ms);
+  ASSERT_TRUE(text);
+  EXPECT_NE(std::string::npos, text->find("\"final\":[{")) << *text;
+  hub.publish("run_start", {{"run", 2}, {"mission", "m.coral"}});
+  EXPECT_TRUE(hub.snapshot()["final"].empty());
 }
 
 TEST(EventHub, WhatEveryReaderHasTakenIsFreedByTheReaders) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -176,13 +177,16 @@ std::string scenarios_folder(const std::string& mission) {
 std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::string& mission) {
   std::vector<std::string> names;
   auto folder = sandbox.resolve(scenarios_folder(mission));
-  if (!folder) return names;  // none, or a link out: none listed
+  if (!folder) return {"nominal"};  // none, or a link out: the built-in nominal only
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(folder.value(), ec)) {
     const fs::path& p = e.path();
     if (p.extension() != ".toml" || !plain_scenario_name(p.stem().string())) continue;
     if (scenario_file(sandbox, mission, p.stem().string())) names.push_back(p.stem().string());
   }
+  // nominal is always there: the mission's nominal.toml, else the built-in
+  // one (no faults).
+  if (std::find(names.begin(), names.end(), "nominal") == names.end()) names.push_back("nominal");
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -277,6 +281,74 @@ core::Result<coral::Edit> edit_from_json(const nlohmann::json& j) {
   } catch (const nlohmann::json::exception& ex) {
     return core::Error{core::ErrorCode::InvalidInput, fmt::format("op: {}", ex.what())};
   }
+}
+
+namespace {
+
+// An action as written in CORAL: "PHASE(initialize, initialized, aborted)".
+std::string action_source(const coral::CompiledNet& cn, const coral::ActionSpec& a) {
+  std::string out;
+  if (a.kind == coral::ActionSpec::Kind::Phase) {
+    out = "PHASE(" + a.target;
+  } else {
+    out = fmt::format("TACTIC({}, {}", coral::tactic_type_name(a.tactic), a.target);
+    if (!a.args.empty()) {
+      out += "(";
+      for (std::size_t i = 0; i < a.args.size(); ++i) out += (i ? ", " : "") + a.args[i].text;
+      out += ")";
+    }
+  }
+  for (auto p : a.outcomes) out += fmt::format(", {}", cn.net.place_name(p));
+  return out + ")";
+}
+
+}  // namespace
+
+std::optional<std::string> refuse_delete(const std::optional<coral::Program>& program, const coral::Edit& e) {
+  if (!program || e.op != coral::Edit::Op::DeletePlace) return std::nullopt;
+  for (const auto& cn : program->nets) {
+    if (cn.name != e.net) continue;
+    std::optional<petri::PlaceId> place;
+    for (petri::PlaceId p = 0; p < cn.net.place_count(); ++p) {
+      if (cn.net.place_name(p) == e.name) place = p;
+    }
+    if (!place) return std::nullopt;  // apply_edit says there is no such place
+    for (auto x : cn.exits) {
+      if (x == *place) {
+        return fmt::format("place '{}' is an exit of net '{}': every PHASE({}, ...) counts its exits; remove it from "
+                           "the `exit` list first (and from each PHASE that runs '{}')",
+                           e.name, e.net, e.net, e.net);
+      }
+    }
+    for (petri::TransitionId t = 0; t < cn.net.transition_count(); ++t) {
+      for (const auto& a : cn.actions[t]) {
+        if (std::find(a.outcomes.begin(), a.outcomes.end(), *place) == a.outcomes.end()) continue;
+        return fmt::format("place '{}' is an outcome of {} in transition '{}': the action needs it; change or "
+                           "remove that action first",
+                           e.name, action_source(cn, a), cn.net.transition_name(t));
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> use_left(const nlohmann::json& before, const nlohmann::json& after, const std::string& name) {
+  std::multiset<std::string> had;
+  for (const auto& d : before) {
+    if (d.value("severity", "") == "error") had.insert(d.value("message", ""));
+  }
+  const std::string quoted = "'" + name + "'";
+  for (const auto& d : after) {
+    if (d.value("severity", "") != "error") continue;
+    const std::string message = d.value("message", "");
+    if (auto it = had.find(message); it != had.end()) {
+      had.erase(it);
+      continue;
+    }
+    if (message.find(quoted) == std::string::npos) continue;
+    return fmt::format("deleting '{}' would leave a use of it: line {}: {}", name, d.value("line", 0), message);
+  }
+  return std::nullopt;
 }
 
 nlohmann::json primitives_json(const tactical::Catalogue& catalogue) {

@@ -30,7 +30,8 @@ std::string etag_of(std::string_view bytes);
 // A scenario is a name: letters, digits, '_' and '-' (never a path).
 bool plain_scenario_name(std::string_view name);
 // The scenarios of `mission` (relative): scenarios/NAME.toml beside it,
-// inside the root, as names, sorted.
+// inside the root, as names, sorted; "nominal" always among them (the
+// built-in nominal scenario when the mission has no nominal.toml).
 std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::string& mission);
 // The file of scenario `name` of `mission`: InvalidInput for a name that is
 // not plain or a file outside the root, Io when there is none.
@@ -54,6 +55,17 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
 // An op of POST /api/edit (docs/studio.md) as a coral::Edit; the actions of
 // set_actions become CORAL text. InvalidInput says what is wrong with it.
 core::Result<coral::Edit> edit_from_json(const nlohmann::json& op);
+
+// Why deleting a place or transition (op delete_place/delete_transition)
+// is refused, or nullopt: a place that is an outcome of an action (a
+// TACTIC's answer or a PHASE's exit mark: removing it from the list would
+// change what the action means) or an exit of its net (each
+// PHASE(net, ...) counts them). Nothing is refused when the text does not
+// compile (program unset): use_left() then decides.
+std::optional<std::string> refuse_delete(const std::optional<coral::Program>& program, const coral::Edit& edit);
+// After a delete: an error diagnostic that names `name` and was not among
+// `before` (a use the edit left behind), as the reason to refuse it.
+std::optional<std::string> use_left(const nlohmann::json& before, const nlohmann::json& after, const std::string& name);
 
 // The catalogue for GET /api/primitives.
 nlohmann::json primitives_json(const tactical::Catalogue& catalogue);

@@ -24,6 +24,11 @@ json marking_json(const petri::State& state) {
 }
 
 void RunPublisher::phase_started(const strategic::PhaseStart& e) {
+  if (e.depth > 0 && pending_phase_action_ != 0) {
+    phase_action_[e.instance] = pending_phase_action_;
+    pending_phase_action_ = 0;
+  }
+  depth_[e.instance] = e.depth;
   auto names = std::make_shared<Names>();
   Running& r = running_[e.instance];
   if (e.state) {
@@ -43,10 +48,39 @@ void RunPublisher::phase_started(const strategic::PhaseStart& e) {
 
 void RunPublisher::phase_ended(const strategic::PhaseEnd& e) {
   running_.erase(e.instance);
-  hub_.publish_lazy("phase_end", {e.instance, 0},
+  strategic::ActionId action = 0;
+  if (auto it = phase_action_.find(e.instance); it != phase_action_.end()) {
+    action = it->second;
+    phase_action_.erase(it);
+  }
+  // What the engine dropped with the phase: the PHASE action, and the
+  // actions of its net still waiting for a reply.
+  std::vector<strategic::ActionId> dropped;
+  for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+    if (it->second == e.instance || it->first == action) {
+      if (it->first != action) dropped.push_back(it->first);
+      it = in_flight_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  exited_phase_action_ = e.cancelled ? 0 : action;
+  const std::size_t depth = depth_.count(e.instance) ? depth_[e.instance] : 0;
+  depth_.erase(e.instance);
+  if (depth > 0) {
+    if (e.cancelled && depth > deepest_cancelled_depth_) {
+      deepest_cancelled_depth_ = depth;
+      deepest_cancelled_ = std::string(e.name);
+    } else if (!e.cancelled && e.exit_index != 0) {
+      last_aborted_phase_ = std::string(e.name);
+    }
+  }
+  EventHub::Keys keys{e.instance, action, std::string(e.name)};
+  hub_.publish_lazy("phase_end", std::move(keys),
                     [instance = e.instance, net = std::string(e.name), exit = std::string(e.exit),
-                     cancelled = e.cancelled, t = e.sim_time_s] {
-                      return json{{"instance", instance}, {"net", net}, {"exit", exit}, {"cancelled", cancelled}, {"t", t}};
+                     cancelled = e.cancelled, action, dropped = std::move(dropped), t = e.sim_time_s] {
+                      return json{{"instance", instance}, {"net", net},      {"exit", exit}, {"cancelled", cancelled},
+                                  {"action", action},     {"dropped", dropped}, {"t", t}};
                     });
 }
 
@@ -82,9 +116,27 @@ void RunPublisher::action_started(const strategic::ActionStart& e) {
                       return json{{"id", id}, {"instance", instance}, {"transition", transition}, {"kind", kind},
                                   {"primitive", primitive}, {"t", t}};
                     });
+  if (e.kind == "report") {
+    // Sent, never answered: not in flight once sent.
+    Running& r = running_[e.instance];
+    hub_.publish_lazy("action_finish", {e.instance, e.id},
+                      [names = r.names, marking = r.marking, id = e.id, instance = e.instance,
+                       primitive = std::string(e.primitive), t = e.sim_time_s] {
+                        return json{{"id", id}, {"instance", instance}, {"primitive", primitive}, {"value", true},
+                                    {"marks", ""}, {"marking", names ? marking_json(*names, marking) : json::object()},
+                                    {"t", t}};
+                      });
+    return;
+  }
+  in_flight_[e.id] = e.instance;
+  if (e.kind == "phase") pending_phase_action_ = e.id;
 }
 
-void RunPublisher::action_finished(const strategic::ActionFinish& e) {
+void RunPublisher::action_finished(const strategic::ActionFinish& ev) {
+  strategic::ActionFinish e = ev;
+  if (e.id == 0 && exited_phase_action_ != 0) e.id = exited_phase_action_;  // a phase's exit marking its caller
+  exited_phase_action_ = 0;
+  in_flight_.erase(e.id);
   Running& r = running_[e.instance];
   if (!e.marks.empty() && r.names) {
     for (std::size_t p = 0; p < r.names->places.size() && p < r.marking.size(); ++p) {
@@ -116,7 +168,13 @@ void RunPublisher::run_ended(const run::RunReport& report) {
   hub_.publish("run_end", {{"outcome", strategic::to_string(r.outcome)},
                            {"exit", r.exit},
                            {"reason", r.reason},
+                           {"phase", !deepest_cancelled_.empty() ? deepest_cancelled_ : last_aborted_phase_},
                            {"stopped_by", report.stopped_by},
+                           {"stop", report.stop_mode},
+                           {"exit_code", report.exit_code},
+                           {"final_depth_m", report.final_depth_m ? json(*report.final_depth_m) : json(nullptr)},
+                           {"surfaced", report.emergency_surfaced},
+                           {"log", log_},
                            {"t", r.sim_time_s}});
 }
 

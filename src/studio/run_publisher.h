@@ -8,6 +8,17 @@
 // the net's token vector, names are shared per instance) and its JSON is
 // built later, by whoever reads it first (EventHub::publish_lazy).
 //
+// In flight, as the engine has it: a REPORT is sent and not waited for, so
+// its action_start is followed at once by its action_finish; a phase's end
+// (phase_end, with "action": the PHASE action that ran it) ends that PHASE
+// action and every action its net still had in flight; when the phase exits
+// normally, the mark it makes in its caller comes as action_finish with the
+// PHASE action's id (the engine tells it with id 0).
+//
+// run_end carries the phase the run ended in ("phase": the deepest phase
+// still running when the mission ended, else the last phase that took a
+// later exit than its first, else "").
+//
 // Threads: called on the run's event-loop thread; the hub is thread-safe.
 #include <map>
 #include <memory>
@@ -27,6 +38,9 @@ namespace strata::studio {
 class RunPublisher final : public run::RunObserver {
  public:
   explicit RunPublisher(EventHub& hub) : hub_(hub) {}
+  // The run's mission log, relative to the studio's folder, for run_end's
+  // "log" ("" none).
+  void set_log(std::string relative) { log_ = std::move(relative); }
 
   void phase_started(const strategic::PhaseStart& e) override;
   void phase_ended(const strategic::PhaseEnd& e) override;
@@ -49,6 +63,20 @@ class RunPublisher final : public run::RunObserver {
   };
   EventHub& hub_;
   std::map<strategic::InstanceId, Running> running_;
+  // Actions in flight (not REPORTs) and the instance that issued them.
+  std::map<strategic::ActionId, strategic::InstanceId> in_flight_;
+  // The PHASE action that started each instance; the last PHASE action
+  // started (its instance's phase_started comes right after).
+  std::map<strategic::InstanceId, strategic::ActionId> phase_action_;
+  strategic::ActionId pending_phase_action_ = 0;
+  // The PHASE action of the phase that just exited: the engine's next
+  // ActionFinish with id 0 is its mark in the caller.
+  strategic::ActionId exited_phase_action_ = 0;
+  std::map<strategic::InstanceId, std::size_t> depth_;
+  std::string deepest_cancelled_;  // the phase the mission ended in, if it was cut short
+  std::size_t deepest_cancelled_depth_ = 0;
+  std::string last_aborted_phase_;  // the last phase that took a later exit
+  std::string log_;
 };
 
 // Only the places holding tokens: {"start": 1}.

@@ -215,6 +215,66 @@ core::Result<void> Sandbox::write(std::string_view rel, std::string_view bytes) 
   return core::Result<void>();
 }
 
+core::Result<int> Sandbox::create_new(std::string_view folder, std::string_view name) const {
+  auto refuse = [&](std::string_view why) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}/{}': {}", folder, name, why)};
+  };
+  if (name.empty() || name.find('/') != std::string_view::npos || name == "." || name == ".." ||
+      name.find('\0') != std::string_view::npos) {
+    return refuse("not a file name");
+  }
+  const fs::path f(folder);
+  const std::string parent_rel = f.parent_path().generic_string();
+  const std::string leaf = f.filename().string();
+  if (!folder.empty() && (leaf.empty() || leaf == "." || leaf == "..")) return refuse("not a folder name");
+  fs::path parent = root_;
+  if (!parent_rel.empty()) {
+    auto r = resolve(parent_rel);
+    if (!r) return r.error();
+    parent = r.value();
+  }
+  Fd up(::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
+  if (up.fd < 0) return refuse("its parent folder cannot be opened");
+  if (auto at = where_open(up.fd); !at || !inside(*at)) return refuse("leaves the studio's folder");
+  int dir_fd = -1;
+  if (folder.empty()) {
+    dir_fd = ::dup(up.fd);
+  } else {
+    if (::mkdirat(up.fd, leaf.c_str(), 0755) != 0 && errno != EEXIST) return disk_error("create the folder", folder);
+    // O_NOFOLLOW: a link planted at the folder's name is refused, not used.
+    dir_fd = ::openat(up.fd, leaf.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (dir_fd < 0) return refuse("is not a folder inside the studio's folder (a link?)");
+  }
+  Fd dir(dir_fd);
+  if (dir.fd < 0) return disk_error("open the folder", folder);
+  if (auto at = where_open(dir.fd); !at || !inside(*at)) return refuse("leaves the studio's folder");
+  const std::string file(name);
+  const int fd = ::openat(dir.fd, file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) return core::Error{core::ErrorCode::Overflow, fmt::format("'{}/{}' exists", folder, name)};
+    return disk_error("create", fmt::format("{}/{}", folder, name));
+  }
+  return fd;
+}
+
+core::Result<void> Sandbox::remove_empty(std::string_view folder, std::string_view name) const {
+  auto real = resolve(folder.empty() ? std::string_view(".") : folder);
+  if (!real) return real.error();
+  Fd dir(::open(real.value().c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
+  if (dir.fd < 0) return disk_error("open the folder", folder);
+  if (auto at = where_open(dir.fd); !at || !inside(*at)) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}': leaves the studio's folder", folder)};
+  }
+  const std::string file(name);
+  struct stat st {};
+  if (::fstatat(dir.fd, file.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return disk_error("look at", name);
+  if (!S_ISREG(st.st_mode) || st.st_size != 0) {
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not an empty file; kept", name)};
+  }
+  if (::unlinkat(dir.fd, file.c_str(), 0) != 0) return disk_error("remove", name);
+  return core::Result<void>();
+}
+
 std::string Sandbox::relative(const fs::path& path) const { return path.lexically_relative(root_).generic_string(); }
 
 std::vector<std::string> Sandbox::list(const std::vector<std::string>& extensions) const {

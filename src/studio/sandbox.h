@@ -51,6 +51,18 @@ class Sandbox {
   // resolves inside (the file it points to is replaced). InvalidInput (403)
   // for every way out; Internal (500) when the disk refuses.
   core::Result<void> write(std::string_view relative, std::string_view bytes) const;
+  // Creates a new, empty file `name` in the folder `folder` (relative; ""
+  // is the root) and returns its open descriptor, for writing; the caller
+  // closes it. The folder is created when missing (its parent must exist
+  // inside the root). Nothing is followed: the parent and the folder are
+  // opened O_NOFOLLOW and checked inside the root once open, the file is
+  // created O_CREAT|O_EXCL|O_NOFOLLOW (a name already there, a link
+  // included, is Overflow: pick another name). InvalidInput (403) for every
+  // way out.
+  core::Result<int> create_new(std::string_view folder, std::string_view name) const;
+  // Removes `folder`/`name` when it is an empty regular file (a log that
+  // was never written), without following any link.
+  core::Result<void> remove_empty(std::string_view folder, std::string_view name) const;
   // Whether `path` (absolute, or relative to the process) names a place
   // inside the root before any link is resolved: nothing is looked at.
   bool lexically_inside(const std::filesystem::path& path) const;

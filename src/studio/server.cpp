@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -11,8 +12,11 @@
 
 #include "coral/verify_report.h"
 #include "sonar/output.h"
+#include "prolog/mission.h"
 #include "studio/assets.h"
+#include "studio/file_watcher.h"
 #include "studio/mission_model.h"
+#include "studio/prolog_thread.h"
 #include "studio/replay.h"
 #include "studio/studio_runner.h"
 
@@ -22,9 +26,28 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// The bytes as they are: a sized content provider, which the HTTP library
+// sends without compressing them per request (set_content() would
+// brotli-compress every JSON answer and page asset for a browser, at
+// quality 11, on loopback).
+void send_bytes(httplib::Response& res, std::string bytes, const char* mime) {
+  auto body = std::make_shared<const std::string>(std::move(bytes));
+  res.set_content_provider(body->size(), mime, [body](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+    if (offset > body->size()) return false;
+    return sink.write(body->data() + offset, std::min(length, body->size() - offset));
+  });
+}
+
+void send_bytes_view(httplib::Response& res, std::string_view bytes, const char* mime) {
+  res.set_content_provider(bytes.size(), mime, [bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+    if (offset > bytes.size()) return false;
+    return sink.write(bytes.data() + offset, std::min(length, bytes.size() - offset));
+  });
+}
+
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+  send_bytes(res, body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
 }
 
 void send_error(httplib::Response& res, int status, const std::string& message) {
@@ -99,6 +122,33 @@ bool if_match(const std::string& header, const std::string& etag) {
   return false;
 }
 
+// Every API path and the methods it answers: another method is 405.
+const std::map<std::string, std::string, std::less<>>& api_methods() {
+  static const std::map<std::string, std::string, std::less<>> methods = {
+      {"/api/files", "GET"},       {"/api/mission", "GET"},     {"/api/check", "POST"},
+      {"/api/edit", "POST"},       {"/api/verify", "POST"},     {"/api/file", "PUT"},
+      {"/api/layout", "PUT"},      {"/api/primitives", "GET"},  {"/api/run", "POST"},
+      {"/api/run/stop", "POST"},   {"/api/run/abort", "POST"},  {"/api/runs", "GET"},
+      {"/api/events", "GET"},      {"/api/replay", "GET"},      {"/api/sonar", "GET"},
+      {"/api/sonar/latest.png", "GET"}};
+  return methods;
+}
+
+// A known API path asked with a method it does not answer: 405 with Allow.
+bool method_not_allowed(const httplib::Request& req, httplib::Response& res) {
+  auto it = api_methods().find(req.path);
+  if (it == api_methods().end()) return false;
+  res.set_header("Allow", it->second == "GET" ? "GET, HEAD" : it->second);
+  send_error(res, 405, fmt::format("{} {}: method not allowed; it answers {}", req.method, req.path, it->second));
+  return true;
+}
+
+std::string mission_kind(const std::string& path) {
+  if (path.ends_with(".coral")) return "coral";
+  if (path.ends_with(".pl")) return "prolog";
+  return "";
+}
+
 }  // namespace
 
 json sonar_status(const std::filesystem::path& dir) {
@@ -134,6 +184,11 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
   // holds one, so a few tabs would starve every other request.
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server_->set_payload_max_length(options_.max_body_bytes);
+  // Headers and body go out in two writes: without TCP_NODELAY the body
+  // waits for the page's delayed ACK (40 ms a request on a kept-alive
+  // connection).
+  server_->set_tcp_nodelay(true);
+  watcher_ = std::make_unique<FileWatcher>(sandbox_, hub_, options_.watch_period);
   routes();
 }
 
@@ -156,11 +211,13 @@ core::Result<std::uint16_t> StudioServer::start() {
     if (form != own_hosts_.front()) own_hosts_.push_back(form);
   }
   listener_ = std::thread([this] { server_->listen_after_bind(); });
+  watcher_->start();
   return port_;
 }
 
 void StudioServer::stop() {
-  if (own_runner_) own_runner_->stop();  // a run going ends through its safe end
+  if (own_runner_) own_runner_->abort();  // a run going ends through its safe end
+  if (watcher_) watcher_->stop();
   hub_.close();  // every event stream ends
   if (server_) server_->stop();
   if (listener_.joinable()) listener_.join();
@@ -219,9 +276,16 @@ void StudioServer::routes() {
   });
   // The library's own errors (no route, a body too large, a bad request)
   // as JSON too.
-  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
-    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-    send_error(res, res.status, res.status == 413 ? "the request body is too large" : fmt::format("HTTP {}", res.status));
+  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
+    // Answered by a handler already (every handler's error is JSON).
+    if (!res.body.empty() || res.has_header("Content-Type")) return httplib::Server::HandlerResponse::Unhandled;
+    if (res.status == 404 && method_not_allowed(req, res)) return httplib::Server::HandlerResponse::Handled;
+    if (res.status == 404 && req.path.starts_with("/api/")) {
+      send_error(res, 404, fmt::format("{} {}: no such API", req.method, req.path));
+    } else {
+      send_error(res, res.status,
+                 res.status == 413 ? "the request body is too large" : fmt::format("HTTP {}", res.status));
+    }
     return httplib::Server::HandlerResponse::Handled;
   }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
@@ -241,8 +305,13 @@ void StudioServer::routes() {
   });
 
   s.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {
+    json missions = json::array();
+    for (const auto& path : sandbox_.list({".coral", ".pl"})) {
+      missions.push_back({{"path", path}, {"kind", mission_kind(path)}});
+    }
     send_json(res, {{"root", sandbox_.root().string()},
                     {"files", sandbox_.list({".coral"})},
+                    {"missions", missions},
                     {"logs", sandbox_.list({".jsonl"})}});
   });
 
@@ -250,8 +319,26 @@ void StudioServer::routes() {
     const std::string path = req.get_param_value("path");
     auto real = sandbox_.resolve(path);
     if (!real) return send_path_error(res, real.error());
+    if (path.ends_with(".pl")) {
+      std::string etag;
+      json model = prolog_model(path, etag);
+      if (!etag.empty()) res.set_header("ETag", etag);
+      return send_json(res, model);
+    }
     CompiledMission m = compile_mission(sandbox_, path, std::nullopt, catalogue);
     if (!m.etag.empty()) res.set_header("ETag", m.etag);
+    // What this page now shows, watched for changes on disk: the file, its
+    // layout, and every file its nets come from.
+    watcher_->watch(path, m.etag);
+    watcher_->watch(path + ".layout.json", m.model["layout_etag"].is_string() ? m.model["layout_etag"].get<std::string>() : "");
+    for (const auto& net : m.model["nets"]) {
+      const std::string file = net.value("file", "");
+      if (file.empty() || file == path) continue;
+      auto bytes = sandbox_.read(file);
+      watcher_->watch(file, bytes ? etag_of(bytes.value()) : "");
+    }
+    m.model["kind"] = "coral";
+    m.model["read_only"] = false;
     send_json(res, m.model);
   });
 
@@ -272,9 +359,25 @@ void StudioServer::routes() {
     if (!real) return send_path_error(res, real.error());
     auto edit = edit_from_json(body->value("op", json()));
     if (!edit) return send_error(res, 400, edit.error().message);
-    auto text = coral::apply_edit(body->value("text", ""), edit.value());
+    const std::string before = body->value("text", "");
+    const bool deleting = edit.value().op == coral::Edit::Op::DeletePlace ||
+                          edit.value().op == coral::Edit::Op::DeleteTransition;
+    std::optional<CompiledMission> old;
+    if (deleting) {
+      old = compile_mission(sandbox_, path, before, catalogue);
+      if (auto why = refuse_delete(old->program, edit.value())) return send_error(res, 400, *why);
+    }
+    auto text = coral::apply_edit(before, edit.value());
     if (!text) return send_error(res, 400, text.error().message);
-    send_json(res, compile_mission(sandbox_, path, text.value(), catalogue).model);
+    CompiledMission now = compile_mission(sandbox_, path, text.value(), catalogue);
+    if (deleting) {
+      // Every use went with it, or the delete is refused: an error naming
+      // it that the text did not have before means a use was left.
+      if (auto left = use_left(old->model["diagnostics"], now.model["diagnostics"], edit.value().name)) {
+        return send_error(res, 400, *left);
+      }
+    }
+    send_json(res, now.model);
   });
 
   s.Post("/api/verify", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
@@ -292,6 +395,9 @@ void StudioServer::routes() {
 
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
+    if (path.ends_with(".pl")) {
+      return send_error(res, 403, fmt::format("'{}': PROLOG missions are read-only in the studio; edit them in a text editor", path));
+    }
     if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
     std::lock_guard lock(write_mutex_);
     int status = 0;
@@ -329,6 +435,14 @@ void StudioServer::routes() {
     if (!text) return send_error(res, status_of(text.error()), text.error().message);
     auto replay = replay_from_log(text.value());
     if (!replay) return send_error(res, 422, fmt::format("{}: {}", path, replay.error().message));
+    // The log names its mission as the run did (an absolute path for a
+    // studio run): the page's name for it is relative to the folder.
+    json& mission = replay.value()["mission"];
+    if (mission.is_string() && fs::path(mission.get<std::string>()).is_absolute() &&
+        sandbox_.lexically_inside(mission.get<std::string>())) {
+      mission = sandbox_.relative(fs::path(mission.get<std::string>()).lexically_normal());
+    }
+    replay.value()["log"] = path;
     send_json(res, replay.value());
   });
 
@@ -340,6 +454,9 @@ void StudioServer::routes() {
     if (!path || !scenario) return;
     auto real = sandbox_.resolve(*path);
     if (!real) return send_path_error(res, real.error());
+    if (mission_kind(*path).empty()) {
+      return send_error(res, 400, fmt::format("'{}' is not a mission (a .coral or .pl file)", *path));
+    }
     if (!body->value("speed", json(10.0)).is_number()) return send_error(res, 400, "speed must be a number");
     RunRequest run{real.value(), *path, *scenario, body->value("speed", 10.0), {}};
     if (!(run.speed >= 0.01 && run.speed <= 1000.0)) return send_error(res, 400, "speed must be between 0.01 and 1000");
@@ -356,8 +473,10 @@ void StudioServer::routes() {
       run.scenario.clear();  // the built-in nominal: no file to look for
     }
     // The run reads the mission again, with its imports and data file: none
-    // may leave the folder.
-    CompiledMission m = compile_mission(sandbox_, *path, std::nullopt, catalogue);
+    // may leave the folder. (PROLOG rules: the run reads their data file
+    // through the sandbox, and refuses one outside.)
+    CompiledMission m;
+    if (mission_kind(*path) == "coral") m = compile_mission(sandbox_, *path, std::nullopt, catalogue);
     if (m.escaped) {
       return send_error(res, 403, fmt::format("'{}' imports a file outside the studio's folder; not running", *path));
     }
@@ -383,6 +502,53 @@ void StudioServer::routes() {
   s.Post("/api/run/stop", [this](const httplib::Request&, httplib::Response& res) {
     runs_->stop();
     send_json(res, {{"ok", true}});
+  });
+  s.Post("/api/run/abort", [this](const httplib::Request&, httplib::Response& res) {
+    runs_->abort();
+    send_json(res, {{"ok", true}});
+  });
+
+  // The mission logs of studio runs: runs/*.jsonl beside a mission (of one
+  // mission, or all), newest first.
+  s.Get("/api/runs", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::string mission = req.get_param_value("mission");
+    std::string folder, stem;
+    if (!mission.empty()) {
+      auto real = sandbox_.resolve(mission);
+      if (!real) return send_path_error(res, real.error());
+      const fs::path m(mission);
+      folder = m.parent_path().generic_string();
+      folder = folder.empty() ? "runs" : folder + "/runs";
+      stem = m.stem().string();
+    }
+    json runs = json::array();
+    for (const auto& log : sandbox_.list({".jsonl"})) {
+      const fs::path p(log);
+      if (p.parent_path().filename() != "runs") continue;
+      if (!mission.empty() && p.parent_path().generic_string() != folder) continue;
+      // NAME: 20261125T214638Z-tank[-N]
+      const std::string name = p.stem().string();
+      if (name.size() < 18 || name[8] != 'T' || name[15] != 'Z' || name[16] != '-') continue;
+      std::string of = name.substr(17);
+      if (auto dash = of.rfind('-'); dash != std::string::npos &&
+                                    of.find_first_not_of("0123456789", dash + 1) == std::string::npos && dash + 1 < of.size()) {
+        of = of.substr(0, dash);
+      }
+      if (!mission.empty() && of != stem) continue;
+      std::error_code ec;
+      const auto bytes = fs::file_size(sandbox_.root() / log, ec);
+      const std::string stamp = name.substr(0, 16);
+      runs.push_back({{"path", log},
+                      {"mission_stem", of},
+                      {"started", fmt::format("{}-{}-{}T{}:{}:{}Z", stamp.substr(0, 4), stamp.substr(4, 2),
+                                              stamp.substr(6, 2), stamp.substr(9, 2), stamp.substr(11, 2),
+                                              stamp.substr(13, 2))},
+                      {"bytes", ec ? 0 : bytes}});
+    }
+    std::sort(runs.begin(), runs.end(), [](const json& a, const json& b) {
+      return a["started"] != b["started"] ? a["started"] > b["started"] : a["path"] > b["path"];
+    });
+    send_json(res, {{"runs", runs}});
   });
 
   s.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
@@ -418,19 +584,106 @@ void StudioServer::routes() {
   s.Get(R"(/(.*))", [this](const httplib::Request& req, httplib::Response& res) {
     std::string path = req.matches[1];
     if (path.empty()) path = "index.html";
-    if (path.starts_with("api/")) return send_error(res, 404, "no such API");
+    if (path.starts_with("api/") || path == "api") {
+      if (method_not_allowed(req, res)) return;
+      return send_error(res, 404, fmt::format("{} {}: no such API", req.method, req.path));
+    }
     if (!options_.web_root.empty()) {
       Sandbox web(options_.web_root);
       auto real = web.resolve(path);
       if (!real) return send_error(res, 404, real.error().message);
       auto text = read_whole_file(real.value());
       if (!text) return send_error(res, 404, "not found");
-      return res.set_content(*text, mime_of(path));
+      return send_bytes(res, std::move(*text), mime_of(path));
     }
-    auto asset = embedded_asset(path);
-    if (!asset) return send_error(res, 404, fmt::format("'{}' is not part of the page", path));
-    res.set_content(std::string(asset->data), mime_of(path));
+    serve_asset(req, res, path);
   });
+}
+
+namespace {
+
+// Whether an Accept-Encoding header accepts `coding` (a q of 0 refuses it).
+bool accepts(const std::string& header, std::string_view coding) {
+  std::size_t at = 0;
+  while (at < header.size()) {
+    std::size_t comma = header.find(',', at);
+    if (comma == std::string::npos) comma = header.size();
+    std::string item = header.substr(at, comma - at);
+    at = comma + 1;
+    const auto semi = item.find(';');
+    std::string name = lower(item.substr(0, semi));
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (name != coding && name != "*") continue;
+    if (semi != std::string::npos) {
+      const auto q = item.find("q=", semi);
+      if (q != std::string::npos && std::strtod(item.c_str() + q + 2, nullptr) <= 0.0) return false;
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void StudioServer::serve_asset(const httplib::Request& req, httplib::Response& res, const std::string& path) {
+  auto asset = embedded_asset(path);
+  if (!asset) return send_error(res, 404, fmt::format("'{}' is not part of the page", path));
+  res.set_header("Vary", "Accept-Encoding");
+  const std::string accept = req.get_header_value("Accept-Encoding");
+  if (!asset->brotli.empty() && accepts(accept, "br")) {
+    res.set_header("Content-Encoding", "br");
+    return send_bytes_view(res, asset->brotli, mime_of(path));
+  }
+  if (!asset->gzip.empty() && accepts(accept, "gzip")) {
+    res.set_header("Content-Encoding", "gzip");
+    return send_bytes_view(res, asset->gzip, mime_of(path));
+  }
+  send_bytes_view(res, asset->data, mime_of(path));
+}
+
+json StudioServer::prolog_model(const std::string& relative, std::string& etag) {
+  json model = {{"path", relative},  {"kind", "prolog"},          {"read_only", true},
+                {"text", ""},        {"layout", nullptr},         {"layout_etag", nullptr},
+                {"nets", json::array()}, {"diagnostics", json::array()}, {"check", "done"},
+                {"scenarios", scenario_names(sandbox_, relative)}};
+  auto bytes = sandbox_.read(relative);
+  if (!bytes) {
+    model["diagnostics"].push_back({{"severity", "error"}, {"kind", "FileUnreadable"}, {"file", relative},
+                                    {"message", bytes.error().message}, {"notes", json::array()}});
+    model["check"] = "unreadable";
+    return model;
+  }
+  etag = etag_of(bytes.value());
+  model["text"] = bytes.value();
+  model["etag"] = etag;
+  watcher_->watch(relative, etag);
+  // The rules checked as `strata check` does, on the process's PROLOG
+  // thread; while a PROLOG run holds it, the text comes without a check.
+  std::vector<prolog::Message> messages;
+  const std::string absolute = (sandbox_.root() / relative).string();
+  const tactical::Catalogue& catalogue = *options_.catalogue;
+  const bool checked = PrologThread::instance().try_run([&] {
+    auto loaded = prolog::Mission::load(absolute, catalogue, messages);
+    if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message});
+  });
+  if (!checked) {
+    model["check"] = "busy";
+    return model;
+  }
+  for (const auto& m : messages) {
+    json d = {{"severity", m.error ? "error" : "warning"}, {"kind", "Prolog"}, {"message", m.text},
+              {"notes", json::array()}};
+    if (!m.file.empty()) {
+      d["file"] = sandbox_.lexically_inside(m.file) ? sandbox_.relative(fs::path(m.file).lexically_normal()) : m.file;
+    }
+    if (m.line > 0) {
+      d["line"] = m.line;
+      d["col"] = m.column;
+    }
+    model["diagnostics"].push_back(std::move(d));
+  }
+  return model;
 }
 
 }  // namespace strata::studio

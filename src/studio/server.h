@@ -29,6 +29,7 @@
 namespace httplib {
 class Server;
 struct Request;
+struct Response;
 }
 
 namespace strata::studio {
@@ -51,11 +52,16 @@ class RunLauncher {
   // Starts the run (on another thread) or says why not (InvalidInput: 400;
   // Overflow: 409, a run is going).
   virtual core::Result<void> start(const RunRequest& request) = 0;
-  // Ends the run going, if any, through its safe end.
+  // The page's Abort: the run going, if any, ends through its safe end
+  // (surface, then done); its outcome is aborted, stopped_by "studio".
+  virtual void abort() = 0;
+  // The page's Stop, a hard stop: the run going, if any, ends now, without
+  // surfacing the vehicle or sending it done (run::StopMode::Hard).
   virtual void stop() = 0;
 };
 
 class StudioRunner;
+class FileWatcher;
 
 struct StudioOptions {
   std::filesystem::path root = ".";
@@ -77,6 +83,9 @@ struct StudioOptions {
   // sonar.jsonl): GET /api/sonar says what is there, and
   // GET /api/sonar/latest.png serves the newest scan. "": no sonar.
   std::filesystem::path sonar_dir;
+  // How often the files open pages show are looked at for changes on disk
+  // (FileWatcher; file_changed events).
+  std::chrono::milliseconds watch_period{500};
 };
 
 // What GET /api/sonar answers: {"dir": bool, "latest": {"bytes", "mtime_ms"}
@@ -97,6 +106,13 @@ class StudioServer {
 
  private:
   void routes();
+  // The page's assets, precompressed at build time: the variant the
+  // request accepts (br, then gzip, else the bytes as built), never
+  // compressed here.
+  void serve_asset(const httplib::Request& req, httplib::Response& res, const std::string& path);
+  // GET /api/mission of a .pl file: its text, read-only, with the PROLOG
+  // check's messages as diagnostics.
+  nlohmann::json prolog_model(const std::string& relative, std::string& etag);
   // Whether `host` (HOST:PORT) is one of this studio's own addresses.
   bool own_host(const std::string& host) const;
   // Why writing `relative` with this request's If-Match is refused (status
@@ -110,6 +126,7 @@ class StudioServer {
   // version and the write that follows are one step for other requests.
   std::mutex write_mutex_;
   std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
+  std::unique_ptr<FileWatcher> watcher_;
   RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread listener_;

@@ -9,71 +9,10 @@
 #include <fstream>
 #include <thread>
 
-#include <gtest/gtest.h>
-#include <httplib.h>
+#include "studio/server_test_support.h"
 
 namespace strata::studio {
 namespace {
-
-namespace fs = std::filesystem;
-using namespace std::chrono_literals;
-using nlohmann::json;
-
-class StudioServerTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string pattern = (fs::path(::testing::TempDir()) / "strata_studio_XXXXXX").string();
-    ASSERT_NE(nullptr, mkdtemp(pattern.data()));
-    base_ = pattern;
-    fs::create_directories(base_ / "root");
-    fs::copy(fs::path(STRATA_SOURCE_DIR) / "missions/tank", base_ / "root/tank", fs::copy_options::recursive);
-    std::ofstream(base_ / "secret.coral") << "net secret {}";
-    StudioOptions o;
-    o.root = base_ / "root";
-    o.sonar_dir = base_ / "sonar";
-    o.heartbeat = 100ms;
-    o.runs = &launcher_;
-    server_ = std::make_unique<StudioServer>(o, hub_);
-    auto port = server_->start();
-    ASSERT_TRUE(port.ok()) << port.error().message;
-    port_ = port.value();
-  }
-  void TearDown() override {
-    server_.reset();
-    fs::remove_all(base_);
-  }
-  httplib::Client client() {
-    httplib::Client c("127.0.0.1", port_);
-    c.set_read_timeout(5, 0);
-    c.set_connection_timeout(5, 0);
-    // As the page: its writes carry the studio's own origin.
-    c.set_default_headers({{"Origin", origin()}});
-    return c;
-  }
-  std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
-  // The ETag of a file as GET /api/mission gives it.
-  std::string etag_of(const std::string& path) {
-    auto r = client().Get(("/api/mission?path=" + path).c_str());
-    return r ? r->get_header_value("ETag") : std::string();
-  }
-
-  fs::path base_;
-  EventHub hub_;
-  std::unique_ptr<StudioServer> server_;
-  std::uint16_t port_ = 0;
-  // Records the runs asked for instead of running them.
-  struct Launcher final : RunLauncher {
-    core::Result<void> start(const RunRequest& r) override {
-      runs.push_back(r);
-      return core::Result<void>();
-    }
-    void stop() override { ++stops; }
-    std::vector<RunRequest> runs;
-    int stops = 0;
-  };
-  Launcher launcher_;
-  std::vector<RunRequest>& runs_ = launcher_.runs;
-};
 
 TEST_F(StudioServerTest, ServesTheNewestSonarScanOnceThereIsOne) {
   auto c = client();
@@ -177,11 +116,6 @@ TEST_F(StudioServerTest, SavesTextAndLayoutInsideTheFolder) {
   auto m = c.Get("/api/mission?path=tank/new.coral");
   ASSERT_TRUE(m);
   EXPECT_EQ(1, json::parse(m->body)["layout"]["fresh"]["a"]["x"]);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 // Issue 17: `ln -s ../../outside/victim missions/tank/initialize.coral.strata-tmp`,
@@ -432,7 +366,7 @@ TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
   EXPECT_EQ(400, typed->status);
   EXPECT_TRUE(json::parse(typed->body, nullptr, false).contains("error")) << typed->body;
   // The library's own errors are JSON too.
-  auto nothing = bare.Delete("/api/files", {{"Origin", origin()}});
+  auto nothing = bare.Delete("/api/nothing", {{"Origin", origin()}});
   ASSERT_TRUE(nothing);
   EXPECT_EQ(404, nothing->status);
   EXPECT_TRUE(json::parse(nothing->body, nullptr, false).contains("error")) << nothing->body;

@@ -1,51 +1,155 @@
 #include "studio/studio_runner.h"
 
+#include <ext/stdio_filebuf.h>
+#include <unistd.h>
+
+#include <ctime>
+#include <filesystem>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "studio/mission_model.h"
+#include "studio/prolog_thread.h"
 #include "studio/run_publisher.h"
 
 namespace strata::studio {
 
+namespace fs = std::filesystem;
+
+std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc) {
+  const std::time_t t = std::chrono::system_clock::to_time_t(utc);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &tm);
+  const fs::path m(mission);
+  const std::string dir = m.parent_path().generic_string();
+  return fmt::format("{}runs/{}-{}.jsonl", dir.empty() ? "" : dir + "/", stamp, m.stem().string());
+}
+
+namespace {
+
+// The log file, created inside the folder through the sandbox, as a stream.
+struct StudioLog {
+  std::string relative;
+  std::unique_ptr<__gnu_cxx::stdio_filebuf<char>> buf;
+  std::unique_ptr<std::ostream> out;
+};
+
+core::Result<StudioLog> create_log(const Sandbox& sandbox, const std::string& mission) {
+  const std::string first = run_log_name(mission, std::chrono::system_clock::now());
+  const fs::path path(first);
+  const std::string folder = path.parent_path().generic_string();
+  for (int n = 1; n <= 20; ++n) {
+    const std::string name = n == 1 ? path.filename().string()
+                                    : fmt::format("{}-{}.jsonl", path.stem().string(), n);
+    auto fd = sandbox.create_new(folder, name);
+    if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
+    if (!fd) return fd.error();
+    StudioLog log;
+    log.relative = folder + "/" + name;
+    log.buf = std::make_unique<__gnu_cxx::stdio_filebuf<char>>(fd.value(), std::ios::out | std::ios::binary);
+    log.out = std::make_unique<std::ostream>(log.buf.get());
+    return log;
+  }
+  return core::Error{core::ErrorCode::Io, fmt::format("{}: 20 logs started this second; not another", first)};
+}
+
+}  // namespace
+
 StudioRunner::~StudioRunner() {
-  stop();
-  std::lock_guard lock(mutex_);
-  if (thread_.joinable()) thread_.join();
+  std::thread running;
+  {
+    // A run going ends through its safe end, waited for here; when a stop
+    // was asked already, asking again would cut that safe end short.
+    std::lock_guard lock(mutex_);
+    if (session_ && !stop_asked_) session_->stop("studio", "the studio is closing", 1, run::StopMode::Abort);
+    running = std::move(thread_);
+  }
+  // Joined without the lock: the run takes it as it ends.
+  if (running.joinable()) running.join();
+  // A PROLOG run on the PrologThread: wait for its end (it was stopped).
+  while (running_) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 core::Result<void> StudioRunner::start(const RunRequest& request) {
-  if (request.mission.extension() != ".coral") {
-    return core::Error{core::ErrorCode::InvalidInput, "the studio runs CORAL missions (.coral)"};
+  const auto extension = request.mission.extension();
+  if (extension != ".coral" && extension != ".pl") {
+    return core::Error{core::ErrorCode::InvalidInput, "the studio runs CORAL (.coral) and PROLOG (.pl) missions"};
   }
   std::lock_guard lock(mutex_);
   if (running_) return core::Error{core::ErrorCode::Overflow, "a run is going; stop it first"};
   if (thread_.joinable()) thread_.join();
   running_ = true;
-  thread_ = std::thread([this, request] {
+  auto job = [this, request] {
     run::RunOptions o;
     o.sonar_dir = sonar_dir_;
+    // Every input the run reads itself goes through the sandbox: a file
+    // swapped for a link after the server checked it is still refused.
+    o.read_file = [this](const std::string& path) { return sandbox_.read_path(path); };
     std::ostringstream err;
-    run_here(request, o, {}, err);
+    run_impl(request, o, {}, err, /*studio_log=*/true);
     running_ = false;
-  });
+  };
+  if (extension == ".pl") {
+    // SWI-Prolog lives on one thread of the process.
+    if (!PrologThread::instance().post(job)) {
+      running_ = false;
+      return core::Error{core::ErrorCode::Overflow,
+                         "the PROLOG engine is busy checking rules (try again), or SWI-Prolog was started on another "
+                         "thread of this process"};
+    }
+    return core::Result<void>();
+  }
+  thread_ = std::thread(job);
   return core::Result<void>();
 }
 
-void StudioRunner::stop(const std::string& who, const std::string& reason, int exit_code) {
+void StudioRunner::stop(const std::string& who, const std::string& reason, int exit_code, run::StopMode mode) {
   std::lock_guard lock(mutex_);
-  if (session_) session_->stop(who, reason, exit_code);
+  if (!session_) return;
+  stop_asked_ = true;
+  session_->stop(who, reason, exit_code, mode);
 }
 
 run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions o,
                                       const std::vector<run::RunObserver*>& observers, std::ostream& err) {
+  return run_impl(request, std::move(o), observers, err, /*studio_log=*/false);
+}
+
+run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions o,
+                                      const std::vector<run::RunObserver*>& observers, std::ostream& err,
+                                      bool studio_log) {
   RunPublisher publisher(hub_);
   const std::uint64_t run = ++runs_;
-  auto model = compile_mission(sandbox_, request.relative, std::nullopt, catalogue_);
+  const bool prolog = request.mission.extension() == ".pl";
+  nlohmann::json nets = nlohmann::json::array();
+  if (!prolog) nets = compile_mission(sandbox_, request.relative, std::nullopt, catalogue_).model["nets"];
+  // The mission log: in runs/ beside the mission, created inside the folder.
+  std::optional<StudioLog> log;
+  std::string log_problem;
+  if (studio_log && o.log.empty() && !o.log_stream) {
+    auto created = create_log(sandbox_, request.relative);
+    if (created) {
+      log = std::move(created).value();
+      o.log = log->relative;
+      o.log_stream = log->out.get();
+      publisher.set_log(log->relative);
+    } else {
+      log_problem = created.error().message;
+    }
+  }
   hub_.publish("run_start", {{"run", run},
                              {"mission", request.relative},
+                             {"kind", prolog ? "prolog" : "coral"},
                              {"scenario", request.scenario.empty() ? "nominal" : request.scenario},
                              {"speed", request.speed},
-                             {"nets", model.model["nets"]}});
+                             {"log", log ? log->relative : ""},
+                             {"nets", nets}});
+  if (!log_problem.empty()) {
+    hub_.publish("report", {{"t", 0.0}, {"text", "no mission log for this run: " + log_problem}});
+  }
   o.mission = request.mission.string();
   // From the page: the file the server checked inside the root, never the
   // name as a path.
@@ -60,6 +164,7 @@ run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions
   {
     std::lock_guard lock(mutex_);
     session_ = &session;
+    stop_asked_ = false;
   }
   // Problems before the mission starts (it fails verification, say) reach
   // the page as the run's end, with what strata run would print.
@@ -69,9 +174,28 @@ run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions
     std::lock_guard lock(mutex_);
     session_ = nullptr;
   }
+  if (log) {
+    log->out->flush();
+    // A run that never started wrote nothing: no empty log is left behind.
+    if (!report.result) {
+      const fs::path rel(log->relative);
+      (void)sandbox_.remove_empty(rel.parent_path().generic_string(), rel.filename().string());
+      log->relative.clear();
+    }
+  }
   err << problems.str();
   if (!report.result) {
-    hub_.publish("run_end", {{"outcome", "failed"}, {"exit", ""}, {"reason", problems.str()}, {"t", 0.0}});
+    hub_.publish("run_end", {{"outcome", "failed"},
+                             {"exit", ""},
+                             {"reason", problems.str()},
+                             {"phase", ""},
+                             {"stopped_by", ""},
+                             {"stop", ""},
+                             {"exit_code", report.exit_code},
+                             {"final_depth_m", nullptr},
+                             {"surfaced", false},
+                             {"log", log ? log->relative : ""},
+                             {"t", 0.0}});
   }
   return report;
 }

@@ -40,7 +40,13 @@ export const api = {
   primitives: () => call('GET', '/api/primitives'),
   verify: (path, text) => call('POST', '/api/verify', text === undefined ? { path } : { path, text }),
   run: (path, scenario, speed) => call('POST', '/api/run', { path, scenario, speed }),
+  // Abort: the run's safe end (surface, then done; outcome aborted).
+  abort: () => call('POST', '/api/run/abort', {}),
+  // Stop: a hard stop (nothing more is sent to the vehicle; not surfaced).
   stop: () => call('POST', '/api/run/stop', {}),
+  // The logs of studio runs (runs/ beside each mission), newest first; of
+  // one mission when given.
+  runs: (mission) => call('GET', mission ? `/api/runs?mission=${q(mission)}` : '/api/runs'),
   replay: (path) => call('GET', `/api/replay?path=${q(path)}`),
   edit: (path, text, op) => call('POST', '/api/edit', { path, text, op }),
   sonar: () => call('GET', '/api/sonar'),

@@ -1,0 +1,293 @@
+// The studio server's API for issue 17's later points, over loopback:
+// changes on disk told to pages, deletes that leave no use behind, PROLOG
+// missions, scenarios, the run list, Abort and Stop, errors and methods,
+// and page assets compressed once at build time.
+#include <set>
+
+#include "studio/assets.h"
+#include "studio/mission_model.h"
+#include "studio/server_test_support.h"
+
+namespace strata::studio {
+namespace {
+
+// Reads a stream until an event named `name` comes (or `bound` passes);
+// returns its data, or null.
+json next_event(EventHub::Subscription& sub, const std::string& name, std::chrono::seconds bound = 10s) {
+  std::string text;
+  for (auto end = std::chrono::steady_clock::now() + bound; std::chrono::steady_clock::now() < end;) {
+    auto chunk = sub.next(100ms);
+    if (!chunk) break;
+    text += *chunk;
+    const auto at = text.find("event: " + name + "\ndata: ");
+    if (at == std::string::npos) continue;
+    const auto data = at + name.size() + 14;
+    return json::parse(text.substr(data, text.find('\n', data) - data));
+  }
+  return nullptr;
+}
+
+void write_file(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+
+TEST_F(StudioServerTest, AFileAPageShowsThatChangesOnDiskIsToldToPages) {
+  auto sub = hub_.subscribe();
+  auto c = client();
+  ASSERT_EQ(200, c.Get("/api/mission?path=tank/tank.coral")->status);
+  // An import changed by another program.
+  const std::string changed = slurp(base_ / "root/tank/initialize.coral") + "\n// changed elsewhere\n";
+  write_file(base_ / "root/tank/initialize.coral", changed);
+  json e = next_event(*sub, "file_changed");
+  ASSERT_TRUE(e.is_object()) << "no file_changed";
+  EXPECT_EQ("tank/initialize.coral", e["path"]);
+  EXPECT_EQ(studio::etag_of(changed), e["etag"]);
+
+  // The same bytes written again are no news; the next event is the next
+  // real change (the layout appearing).
+  write_file(base_ / "root/tank/initialize.coral", changed);
+  write_file(base_ / "root/tank/tank.coral.layout.json", "{}\n");
+  e = next_event(*sub, "file_changed");
+  ASSERT_TRUE(e.is_object());
+  EXPECT_EQ("tank/tank.coral.layout.json", e["path"]);
+
+  // A save from another tab is told too (the saving tab knows the etag it got).
+  const std::string text = slurp(base_ / "root/tank/tank.coral") + "// saved by tab 2\n";
+  auto put = c.Put("/api/file?path=tank/tank.coral", {{"If-Match", etag_of("tank/tank.coral")}}, text, "text/plain");
+  ASSERT_EQ(200, put->status) << put->body;
+  e = next_event(*sub, "file_changed");
+  ASSERT_TRUE(e.is_object());
+  EXPECT_EQ("tank/tank.coral", e["path"]);
+  EXPECT_EQ(json::parse(put->body)["etag"], e["etag"]);
+
+  // Gone: etag null.
+  fs::remove(base_ / "root/tank/tank.coral.layout.json");
+  e = next_event(*sub, "file_changed");
+  ASSERT_TRUE(e.is_object());
+  EXPECT_EQ("tank/tank.coral.layout.json", e["path"]);
+  EXPECT_TRUE(e["etag"].is_null());
+}
+
+// A file swapped for a link out is told as gone, and what it points to is
+// never read for the page.
+TEST_F(StudioServerTest, AWatchedFileSwappedForALinkOutIsToldAsUnreadable) {
+  auto sub = hub_.subscribe();
+  auto c = client();
+  ASSERT_EQ(200, c.Get("/api/mission?path=tank/tank.coral")->status);
+  fs::remove(base_ / "root/tank/initialize.coral");
+  fs::create_symlink(base_ / "secret.coral", base_ / "root/tank/initialize.coral");
+  json e = next_event(*sub, "file_changed");
+  ASSERT_TRUE(e.is_object());
+  EXPECT_EQ("tank/initialize.coral", e["path"]);
+  EXPECT_TRUE(e["etag"].is_null()) << e.dump();
+}
+
+json edit(httplib::Client& c, const std::string& text, const json& op, int& status) {
+  auto r = c.Post("/api/edit", json{{"path", "tank/tank.coral"}, {"text", text}, {"op", op}}.dump(), "application/json");
+  status = r ? r->status : 0;
+  return r ? json::parse(r->body, nullptr, false) : json();
+}
+
+// Issue 17: deleting a place left its uses in PHASE(...) (docs/studio.md
+// said they went too): the text no longer compiled.
+TEST_F(StudioServerTest, DeletingAPlaceLeftItsUsesInPhaseOutcomes) {
+  auto c = client();
+  const std::string tank = slurp(base_ / "root/tank/tank.coral");
+  int status = 0;
+  json r = edit(c, tank, {{"op", "delete_place"}, {"net", "tank"}, {"name", "aborted"}}, status);
+  EXPECT_EQ(400, status) << r.dump();
+  EXPECT_NE(std::string::npos, r.value("error", "").find("PHASE(initialize, initialized, aborted)")) << r.dump();
+  EXPECT_NE(std::string::npos, r.value("error", "").find("'phase1'")) << r.dump();
+  // An exit: every PHASE of the net counts them.
+  r = edit(c, tank, {{"op", "delete_place"}, {"net", "tank"}, {"name", "closed"}}, status);
+  EXPECT_EQ(400, status) << r.dump();
+  EXPECT_NE(std::string::npos, r.value("error", "").find("exit")) << r.dump();
+  // A TACTIC's answer.
+  r = edit(c, tank, {{"op", "delete_place"}, {"net", "tank"}, {"name", "closed_after_abort"}}, status);
+  EXPECT_EQ(400, status) << r.dump();
+}
+
+TEST_F(StudioServerTest, DeletingAPlaceOrTransitionRemovesEveryUse) {
+  auto c = client();
+  std::string tank = slurp(base_ / "root/tank/tank.coral");
+  // A place used only by arcs: it goes, and its arcs with it.
+  const std::string with_spare =
+      tank.substr(0, tank.rfind('}')) + "  place spare;\n  transition use_spare { wait { spare, finished } signal { spare } }\n}\n";
+  int status = 0;
+  json r = edit(c, with_spare, {{"op", "delete_place"}, {"net", "tank"}, {"name", "spare"}}, status);
+  ASSERT_EQ(200, status) << r.dump();
+  EXPECT_EQ(std::string::npos, r["text"].get<std::string>().find("spare,")) << r["text"];
+  for (const auto& d : r["diagnostics"]) EXPECT_NE("error", d["severity"]) << d.dump();
+  // A transition: nothing else names it.
+  r = edit(c, tank, {{"op", "delete_transition"}, {"net", "tank"}, {"name", "abort_mission"}}, status);
+  ASSERT_EQ(200, status) << r.dump();
+  EXPECT_EQ(std::string::npos, r["text"].get<std::string>().find("abort_mission"));
+  for (const auto& d : r["diagnostics"]) EXPECT_NE("error", d["severity"]) << d.dump();
+  EXPECT_EQ(5u, r["nets"].size());
+}
+
+// When the text does not compile for another reason, the refusal comes from
+// the result: an error naming the deleted place that was not there before.
+TEST_F(StudioServerTest, ADeleteThatWouldLeaveAUseIsRefusedAlsoInTextWithOtherErrors) {
+  auto c = client();
+  std::string tank = slurp(base_ / "root/tank/tank.coral");
+  const auto at = tank.find("shutdown_network, closed)");
+  ASSERT_NE(std::string::npos, at);
+  tank.replace(at, std::string("shutdown_network").size(), "shutdown_netwrk");  // an unknown primitive
+  int status = 0;
+  json r = edit(c, tank, {{"op", "delete_place"}, {"net", "tank"}, {"name", "aborted"}}, status);
+  EXPECT_EQ(400, status) << r.dump();
+  EXPECT_NE(std::string::npos, r.value("error", "").find("'aborted'")) << r.dump();
+}
+
+TEST_F(StudioServerTest, PrologMissionsAreListedShownReadOnlyAndRun) {
+  auto c = client();
+  json files = json::parse(c.Get("/api/files")->body);
+  EXPECT_NE(files["missions"].end(), std::find(files["missions"].begin(), files["missions"].end(),
+                                               json({{"path", "tank/tank.pl"}, {"kind", "prolog"}})))
+      << files["missions"];
+  EXPECT_NE(files["missions"].end(), std::find(files["missions"].begin(), files["missions"].end(),
+                                               json({{"path", "tank/tank.coral"}, {"kind", "coral"}})));
+  EXPECT_EQ(files["files"].end(), std::find(files["files"].begin(), files["files"].end(), "tank/tank.pl"));
+
+  auto m = c.Get("/api/mission?path=tank/tank.pl");
+  ASSERT_EQ(200, m->status) << m->body;
+  json model = json::parse(m->body);
+  EXPECT_EQ("prolog", model["kind"]);
+  EXPECT_TRUE(model["read_only"].get<bool>());
+  EXPECT_EQ(slurp(base_ / "root/tank/tank.pl"), model["text"]);
+  EXPECT_TRUE(model["nets"].empty());
+  EXPECT_EQ("done", model["check"]);
+  EXPECT_TRUE(model["diagnostics"].empty()) << model["diagnostics"].dump();
+  EXPECT_EQ(m->get_header_value("ETag"), model["etag"]);
+
+  write_file(base_ / "root/tank/bad.pl", "mission :- exec_sleep(1, X), X = .\n");
+  model = json::parse(c.Get("/api/mission?path=tank/bad.pl")->body);
+  ASSERT_FALSE(model["diagnostics"].empty()) << model.dump();
+  EXPECT_EQ("error", model["diagnostics"][0]["severity"]);
+  EXPECT_EQ(1, model["diagnostics"][0].value("line", 0)) << model["diagnostics"].dump();
+
+  const std::string before = slurp(base_ / "root/tank/tank.pl");
+  auto put = c.Put("/api/file?path=tank/tank.pl", {{"If-Match", "*"}}, "mission.\n", "text/plain");
+  EXPECT_EQ(403, put->status);
+  EXPECT_NE(std::string::npos, json::parse(put->body).value("error", "").find("read-only"));
+  EXPECT_EQ(before, slurp(base_ / "root/tank/tank.pl"));
+
+  auto run = c.Post("/api/run", R"({"path": "tank/tank.pl"})", "application/json");
+  ASSERT_EQ(202, run->status) << run->body;
+  EXPECT_EQ(".pl", runs_.back().mission.extension());
+  auto other = c.Post("/api/run", R"({"path": "tank/setpoints.toml"})", "application/json");
+  EXPECT_EQ(400, other->status);
+}
+
+// Issue 17: the page always sent "nominal", which a mission without
+// scenarios/nominal.toml did not list.
+TEST_F(StudioServerTest, ScenariosAlwaysListNominal) {
+  auto c = client();
+  json m = json::parse(c.Get("/api/mission?path=tank/tank.coral")->body);
+  EXPECT_NE(m["scenarios"].end(), std::find(m["scenarios"].begin(), m["scenarios"].end(), "leak_phase2"));
+  EXPECT_EQ(1, std::count(m["scenarios"].begin(), m["scenarios"].end(), "nominal"));
+  fs::remove_all(base_ / "root/tank/scenarios");
+  m = json::parse(c.Get("/api/mission?path=tank/tank.coral")->body);
+  EXPECT_EQ(json::array({"nominal"}), m["scenarios"]);
+}
+
+TEST_F(StudioServerTest, RunsAreListedPerMissionNewestFirst) {
+  fs::create_directories(base_ / "root/tank/runs");
+  fs::create_directories(base_ / "root/other/runs");
+  for (const char* name : {"tank/runs/20261125T101010Z-tank.jsonl", "tank/runs/20261125T111111Z-tank-2.jsonl",
+                           "tank/runs/notes.jsonl", "other/runs/20261125T121212Z-other.jsonl", "tank/run.jsonl"}) {
+    write_file(base_ / "root" / name, "{\"event\":\"run\"}\n");
+  }
+  std::ofstream(base_ / "outside.jsonl") << "{}\n";
+  fs::create_symlink("../../../outside.jsonl", base_ / "root/tank/runs/20261125T131313Z-tank.jsonl");
+  auto c = client();
+  json r = json::parse(c.Get("/api/runs?mission=tank/tank.coral")->body);
+  ASSERT_EQ(2u, r["runs"].size()) << r.dump();
+  EXPECT_EQ("tank/runs/20261125T111111Z-tank-2.jsonl", r["runs"][0]["path"]);
+  EXPECT_EQ("2026-11-25T11:11:11Z", r["runs"][0]["started"]);
+  EXPECT_EQ("tank", r["runs"][0]["mission_stem"]);
+  EXPECT_EQ("tank/runs/20261125T101010Z-tank.jsonl", r["runs"][1]["path"]);
+  r = json::parse(c.Get("/api/runs")->body);
+  EXPECT_EQ(3u, r["runs"].size()) << r.dump();
+  EXPECT_EQ(403, c.Get("/api/runs?mission=../secret.coral")->status);
+}
+
+TEST_F(StudioServerTest, AReplayNamesItsMissionRelativeToTheFolder) {
+  const std::string log = json{{"event", "run"}, {"mission", (fs::canonical(base_ / "root") / "tank/tank.coral").string()}}.dump() +
+                          "\n" + json{{"event", "mission_end"}, {"outcome", "aborted"}, {"sim_time", 3.0}}.dump() + "\n";
+  fs::create_directories(base_ / "root/tank/runs");
+  write_file(base_ / "root/tank/runs/20261125T101010Z-tank.jsonl", log);
+  auto r = client().Get("/api/replay?path=tank/runs/20261125T101010Z-tank.jsonl");
+  ASSERT_EQ(200, r->status) << r->body;
+  json j = json::parse(r->body);
+  EXPECT_EQ("tank/tank.coral", j["mission"]);
+  EXPECT_EQ("aborted", j["events"].back()["data"]["outcome"]);
+}
+
+TEST_F(StudioServerTest, AbortAndStopGoToTheRunner) {
+  auto c = client();
+  EXPECT_EQ(200, c.Post("/api/run/abort", "", "application/json")->status);
+  EXPECT_EQ(1, launcher_.aborts);
+  EXPECT_EQ(0, launcher_.stops);
+  EXPECT_EQ(200, c.Post("/api/run/stop", "", "application/json")->status);
+  EXPECT_EQ(1, launcher_.stops);
+}
+
+TEST_F(StudioServerTest, ErrorsAreJsonWithTheRightStatusAndMethodsAreChecked) {
+  auto c = client();
+  auto check = [](const httplib::Result& r, int status, const char* what) {
+    ASSERT_TRUE(r) << what;
+    EXPECT_EQ(status, r->status) << what << ": " << r->body;
+    EXPECT_EQ("application/json", r->get_header_value("Content-Type")) << what;
+    EXPECT_TRUE(json::parse(r->body, nullptr, false).contains("error")) << what << ": " << r->body;
+  };
+  auto get_run = c.Get("/api/run");
+  check(get_run, 405, "GET /api/run");
+  EXPECT_EQ("POST", get_run->get_header_value("Allow"));
+  auto post_files = c.Post("/api/files", "{}", "application/json");
+  check(post_files, 405, "POST /api/files");
+  EXPECT_EQ("GET, HEAD", post_files->get_header_value("Allow"));
+  check(c.Put("/api/mission?path=tank/tank.coral", "x", "text/plain"), 405, "PUT /api/mission");
+  check(c.Delete("/api/file?path=tank/tank.coral"), 405, "DELETE /api/file");
+  check(c.Get("/api/nothing"), 404, "GET /api/nothing");
+  check(c.Post("/api/nothing", "{}", "application/json"), 404, "POST /api/nothing");
+  check(c.Get("/no-such-asset.js"), 404, "GET /no-such-asset.js");
+  check(c.Get("/api/mission?path=tank/none.coral"), 404, "GET a mission not there");
+  check(c.Get("/api/replay?path=tank/none.jsonl"), 404, "replay a log not there");
+  check(c.Post("/api/check", "not json", "application/json"), 400, "a body that is not JSON");
+  check(c.Post("/api/edit", R"({"path": "tank/tank.coral", "text": "", "op": {"op": "fly"}})", "application/json"), 400,
+        "an unknown op");
+  check(c.Post("/api/run", R"({"path": "tank/tank.coral", "speed": "fast"})", "application/json"), 400, "a bad speed");
+}
+
+// Issue 17: the 604 KB page was brotli-compressed on every request (0.8 s of
+// each page load). The bytes sent are the ones compressed at build time.
+TEST_F(StudioServerTest, ThePageWasCompressedOnEveryRequest) {
+  auto asset = embedded_asset("index.html");
+  ASSERT_TRUE(asset);
+  ASSERT_FALSE(asset->brotli.empty());
+  ASSERT_FALSE(asset->gzip.empty());
+  httplib::Client c("127.0.0.1", port_);
+  c.set_decompress(false);
+  auto br = c.Get("/", {{"Accept-Encoding", "gzip, deflate, br"}});
+  ASSERT_TRUE(br);
+  EXPECT_EQ("br", br->get_header_value("Content-Encoding"));
+  EXPECT_EQ("Accept-Encoding", br->get_header_value("Vary"));
+  EXPECT_EQ(asset->brotli, br->body);
+  auto gz = c.Get("/", {{"Accept-Encoding", "br;q=0, gzip"}});
+  EXPECT_EQ("gzip", gz->get_header_value("Content-Encoding"));
+  EXPECT_EQ(asset->gzip, gz->body);
+  auto plain = c.Get("/", {{"Accept-Encoding", "identity"}});
+  EXPECT_FALSE(plain->has_header("Content-Encoding"));
+  EXPECT_EQ(asset->data, plain->body);
+  // Decompressed by a client that asks for it, the same page.
+  httplib::Client d("127.0.0.1", port_);
+  auto again = d.Get("/", {{"Accept-Encoding", "br"}});
+  EXPECT_EQ(asset->data, again->body);
+  // Nor is JSON compressed per request.
+  auto files = c.Get("/api/files", {{"Accept-Encoding", "gzip, deflate, br"}});
+  EXPECT_FALSE(files->has_header("Content-Encoding"));
+  EXPECT_TRUE(json::parse(files->body, nullptr, false).is_object());
+}
+
+}  // namespace
+}  // namespace strata::studio
