@@ -14,6 +14,9 @@ export const kZoomStep = 1.25;
 export function createCanvas(container, store, fx) {
   const { dispatch, getState } = store;
   const cy = createCy(container);
+  // A large net draws a texture of itself while panning and zooming.
+  const kLargeNet = 2000;
+  const setLarge = (large) => { const r = cy.renderer(); r.textureOnViewport = large; r.hideEdgesOnViewport = large; };
   let drawnNet = null;      // the net object drawn
   let drawnName = null;
   let dynamicQueued = false;
@@ -85,7 +88,7 @@ export function createCanvas(container, store, fx) {
     clearTimeout(vpTimer);
     vpTimer = setTimeout(() => {
       const s = getState();
-      if (s.netName && drawnName === s.netName) dispatch({ type: 'viewport/set', net: s.netName, zoom: cy.zoom(), pan: cy.pan() });
+      if (s.netName && drawnName === s.netName) dispatch({ type: 'viewport/set', net: s.netName, zoom: cy.zoom(), pan: { ...cy.pan() } });
     }, 150);
   });
   new ResizeObserver(() => cy.resize()).observe(container);
@@ -103,15 +106,26 @@ export function createCanvas(container, store, fx) {
     return { x: (e.x1 + e.x2) / 2, y: (e.y1 + e.y2) / 2 };
   }
 
-  // Fit the net, but never below kMinFitZoom: a large net is shown from its start (left, top).
+  // Fit the net, but never below kMinFitZoom: a large net is shown from its
+  // start (left), centred vertically when it fits. The box is taken from the
+  // node positions (labels hang below, within the padding): cytoscape's own
+  // fit measures every label and edge, seconds on a 10,000-node net.
   function fitReadable() {
-    if (cy.elements().empty()) return;
-    cy.fit(undefined, 30);
-    if (cy.zoom() < kMinFitZoom) {
-      const bb = cy.elements().boundingBox();
-      cy.zoom(kMinFitZoom);
-      cy.pan({ x: 30 - bb.x1 * kMinFitZoom, y: Math.max(30 - bb.y1 * kMinFitZoom, (cy.height() - bb.h * kMinFitZoom) / 2 - bb.y1 * kMinFitZoom) });
-    }
+    const nodes = cy.nodes();
+    if (nodes.empty()) return;
+    let x1 = Infinity, y1 = Infinity, x2 = -Infinity, y2 = -Infinity;
+    nodes.forEach((n) => {
+      const p = n.position();
+      if (p.x < x1) x1 = p.x; if (p.x > x2) x2 = p.x;
+      if (p.y < y1) y1 = p.y; if (p.y > y2) y2 = p.y;
+    });
+    x1 -= 40; x2 += 80; y1 -= 40; y2 += 70;   // half a node; a label's width right and height below
+    const w = cy.width(), h = cy.height(), pad = 20;
+    const fit = Math.min((w - 2 * pad) / (x2 - x1), (h - 2 * pad) / (y2 - y1), 2);
+    const zoom = Math.max(kMinFitZoom, Math.min(cy.maxZoom(), fit));
+    const panX = fit >= kMinFitZoom ? (w - (x2 - x1) * zoom) / 2 - x1 * zoom : pad - x1 * zoom;
+    const panY = (y2 - y1) * zoom <= h - 2 * pad ? (h - (y2 - y1) * zoom) / 2 - y1 * zoom : pad - y1 * zoom;
+    cy.viewport({ zoom, pan: { x: panX, y: panY } });
   }
   function zoomBy(k) {
     cy.zoom({ level: Math.max(cy.minZoom(), Math.min(cy.maxZoom(), cy.zoom() * k)), renderedPosition: { x: cy.width() / 2, y: cy.height() / 2 } });
@@ -205,19 +219,23 @@ export function createCanvas(container, store, fx) {
     const last = running && s.rs.lastFired && s.rs.lastFired.net === net.name ? s.rs.lastFired.transition : null;
     const cexT = s.view === 'cex' && s.cex && s.cex.net === net.name && s.cex.i > 0 ? s.cex.steps[s.cex.i - 1].transition : null;
     const byName = new Map((net.transitions || []).map((t) => [t.name, t]));
+    // Only what changed is touched: a class or data set restyles the element.
+    const toggle = (n, cls, on) => { if (n.hasClass(cls) !== on) n.toggleClass(cls, on); };
     cy.batch(() => {
-      cy.nodes('.place').forEach((n) => {
-        const k = tokens ? (tokens[n.data('name')] || 0) : (n.data('initial') || 0);
-        if (n.data('tokens') !== k) n.data('tokens', k);
-        n.toggleClass('marked', k > 0);
-      });
-      cy.nodes('.transition').forEach((n) => {
+      cy.nodes().forEach((n) => {
         const name = n.data('name');
+        if (n.data('kind') === 'place') {
+          const k = tokens ? (tokens[name] || 0) : (n.data('initial') || 0);
+          if (n.data('tokens') !== k) n.data('tokens', k);
+          toggle(n, 'marked', k > 0);
+          return;
+        }
+        if (n.data('kind') !== 'transition') return;
         const fl = inFlightByT[name];
-        n.toggleClass('enabled', enabled.has(name));
-        n.toggleClass('inflight', !!fl);
-        n.toggleClass('fired', last === name);
-        n.toggleClass('cex', cexT === name);
+        toggle(n, 'enabled', enabled.has(name));
+        toggle(n, 'inflight', !!fl);
+        toggle(n, 'fired', last === name);
+        toggle(n, 'cex', cexT === name);
         const t = byName.get(name);
         const base = t ? transitionLabel(t) : name;
         const label = fl ? `${base}\n▶ ${fl.join(', ')}` : base;
@@ -231,13 +249,15 @@ export function createCanvas(container, store, fx) {
     const rebuilt = net !== drawnNet || s.netName !== drawnName;
     if (rebuilt) {
       // Leaving a net: its viewport is remembered.
-      if (drawnName && drawnName !== s.netName && !cy.elements().empty()) dispatch({ type: 'viewport/set', net: drawnName, zoom: cy.zoom(), pan: cy.pan() });
+      if (drawnName && drawnName !== s.netName && !cy.elements().empty()) dispatch({ type: 'viewport/set', net: drawnName, zoom: cy.zoom(), pan: { ...cy.pan() } });
       const sameNet = drawnName === s.netName;
       if (eh.hide) eh.hide();
       cy.elements().remove();
       drawnNet = net; drawnName = s.netName;
       if (net) {
-        cy.add(netElements(net, tokensFor(s, net.name)));
+        const els = netElements(net, tokensFor(s, net.name));
+        setLarge(els.length > kLargeNet);
+        cy.add(els);
         placeNodes(s, net);
         if (!sameNet) {
           const vp = s.viewports[net.name];
