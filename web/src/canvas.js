@@ -172,13 +172,13 @@ export function createCanvas(container, store, fx) {
     dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
   }
 
-  // The first point from p (rings of 50 around it) where a new node overlaps no other.
+  // The first point from p (rings of 50 around it) where a new node is 55 px
+  // or more from every other node in x or y (by their positions: measuring
+  // the boxes of a 10,000-node net is slow).
   function freeSpot(p, self) {
-    const others = cy.nodes().not(self).filter((m) => !m.hasClass('eh-handle'));
-    const hits = (q) => others.some((m) => {
-      const b = m.boundingBox({ includeLabels: false });
-      return q.x > b.x1 - 30 && q.x < b.x2 + 30 && q.y > b.y1 - 30 && q.y < b.y2 + 30;
-    });
+    const xs = [], ys = [];
+    cy.nodes().forEach((m) => { if (!m.same(self) && !m.hasClass('eh-handle') && !m.hasClass('eh-ghost')) { const q = m.position(); xs.push(q.x); ys.push(q.y); } });
+    const hits = (q) => { for (let i = 0; i < xs.length; i++) if (Math.abs(xs[i] - q.x) < 55 && Math.abs(ys[i] - q.y) < 55) return true; return false; };
     for (let ring = 0; ring < 12; ring++) {
       for (const [dx, dy] of [[0, 0], [1, 0], [0, 1], [-1, 0], [0, -1], [1, 1], [-1, 1], [1, -1], [-1, -1]]) {
         const q = { x: p.x + dx * ring * 50, y: p.y + dy * ring * 50 };
@@ -244,13 +244,35 @@ export function createCanvas(container, store, fx) {
     });
   }
 
+  // The drawn net brought to net's elements: only what differs is removed,
+  // added or changed, so an edit of a large net restyles a few elements,
+  // and the selection and positions stay.
+  const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome'];
+  function syncElements(s, net) {
+    const els = netElements(net, tokensFor(s, net.name));
+    const want = new Map(els.map((e) => [e.data.id, e]));
+    const add = [];
+    cy.batch(() => {
+      cy.elements().forEach((e) => { if (!want.has(e.id()) && !e.hasClass('eh-handle') && !e.hasClass('eh-ghost')) e.remove(); });
+      for (const w of els) {
+        const e = cy.getElementById(w.data.id);
+        if (e.empty()) { add.push(w); continue; }
+        for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
+        const cls = new Set(w.classes.split(' '));
+        for (const c of kBaseClasses) if (e.hasClass(c) !== cls.has(c)) e.toggleClass(c, cls.has(c));
+      }
+      if (add.length) cy.add(add);
+    });
+  }
+
   function render(s, prev) {
     const net = currentNet(s);
-    const rebuilt = net !== drawnNet || s.netName !== drawnName;
-    if (rebuilt) {
+    const switched = s.netName !== drawnName || !drawnNet !== !net;
+    const changed = net !== drawnNet;
+    const rebuilt = switched || changed;
+    if (switched) {
       // Leaving a net: its viewport is remembered.
       if (drawnName && drawnName !== s.netName && !cy.elements().empty()) dispatch({ type: 'viewport/set', net: drawnName, zoom: cy.zoom(), pan: { ...cy.pan() } });
-      const sameNet = drawnName === s.netName;
       if (eh.hide) eh.hide();
       cy.elements().remove();
       drawnNet = net; drawnName = s.netName;
@@ -259,16 +281,17 @@ export function createCanvas(container, store, fx) {
         setLarge(els.length > kLargeNet);
         cy.add(els);
         placeNodes(s, net);
-        if (!sameNet) {
-          const vp = s.viewports[net.name];
-          if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
-        }
+        const vp = s.viewports[net.name];
+        if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
         applyDiagnostics(s, net);
       }
-    } else if (net && prev && s.positions[net.name] !== prev.positions[net.name]) {
-      const hadAll = !prev.positions[net.name] || !Object.keys(s.positions[net.name] || {}).length;
+    } else if (changed) {
+      drawnNet = net;
+      syncElements(s, net);
       placeNodes(s, net);
-      if (hadAll && !Object.keys(prev.positions[net.name] || {}).length) fitReadable();
+      applyDiagnostics(s, net);
+    } else if (net && prev && s.positions[net.name] !== prev.positions[net.name]) {
+      placeNodes(s, net);
     }
     if (net && prev && !rebuilt && s.model !== prev.model) applyDiagnostics(s, net);
     if (!prev || s.mode !== prev.mode || rebuilt) {

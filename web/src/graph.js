@@ -90,11 +90,11 @@ export function netElements(net, tokens) {
   for (const p of places.values()) {
     const isExit = p.exit || (net.exits || []).includes(p.name);
     const n = tokens ? (tokens[p.name] || 0) : (p.initial || 0);
-    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit, line: p.line },
+    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit },
       classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') });
   }
   for (const t of net.transitions || []) {
-    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0, line: t.line },
+    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0 },
       classes: 'transition' });
     for (const a of t.inputs || []) {
       els.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),

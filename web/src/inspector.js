@@ -11,6 +11,7 @@ export function createInspector(store, fx, canvas) {
   const say = (t, e) => fx.say(t, e);
   const deleteSelected = () => deleteSelection(store, fx, canvas);
 
+  const lineOf = (list, name) => ((list || []).find((x) => x.name === name) || {}).line;
   function field(label, input) { return el('div', { class: 'field' }, el('label', {}, label), input); }
 
   function renderInspector(s) {
@@ -63,7 +64,7 @@ export function createInspector(store, fx, canvas) {
 
   function inspectPlace(body, net, e, ed) {
     const name = e.data('name');
-    body.append(el('div', {}, el('b', {}, 'place '), name, e.data('exit') ? el('span', { class: 'badge exit' }, 'exit') : null, e.data('line') ? el('span', { class: 'muted' }, ` line ${e.data('line')}`) : null));
+    body.append(el('div', {}, el('b', {}, 'place '), name, e.data('exit') ? el('span', { class: 'badge exit' }, 'exit') : null, lineOf(net.places, name) ? el('span', { class: 'muted' }, ` line ${lineOf(net.places, name)}`) : null));
     body.append(renameRow(net, 'place', name, ed));
     const init = el('input', { id: 'insp-initial', type: 'number', min: 0, step: 1, value: e.data('initial') || 0, size: 4, disabled: !ed });
     const setInit = () => fx.applyOp({ op: 'set_initial', net: net.name, name, initial: Math.max(0, Math.floor(Number(init.value) || 0)) });
@@ -93,7 +94,7 @@ export function createInspector(store, fx, canvas) {
   function inspectTransition(body, net, e, ed) {
     const name = e.data('name');
     const t = (net.transitions || []).find((x) => x.name === name);
-    body.append(el('div', {}, el('b', {}, 'transition '), name, t && t.priority ? ` priority ${t.priority}` : '', e.data('line') ? el('span', { class: 'muted' }, ` line ${e.data('line')}`) : null));
+    body.append(el('div', {}, el('b', {}, 'transition '), name, t && t.priority ? ` priority ${t.priority}` : '', t && t.line ? el('span', { class: 'muted' }, ` line ${t.line}`) : null));
     body.append(renameRow(net, 'transition', name, ed));
     const a = arcAdder(net, e, ed); if (a) body.append(a);
     if (!t) return;
