@@ -59,11 +59,15 @@ test('switching file with unsaved edits asks; dismissing keeps the edits', async
   expect(asked[0]).toMatch(/Discard the unsaved changes/);
   expect(await studio(page, 's.path')).toBe(TANK);
   expect(await studio(page, '/unsaved_one/.test(s.text)')).toBe(true);
+  // The open file clicked again (it would be read from disk) asks too.
+  await page.locator(`#file-list li[data-path="${TANK}"]`).click();
+  await expect.poll(() => asked.length, { timeout: 5000 }).toBe(2);
+  expect(await studio(page, '/unsaved_one/.test(s.text) && s.dirty')).toBe(true);
   page.removeAllListeners('dialog');
   page.on('dialog', (d) => { asked.push(d.message()); d.accept(); });
   await page.locator('#file-list li[data-path="missions/tank/initialize.coral"]').click();
   await waitFor(page, "s.path === 'missions/tank/initialize.coral' && s.busy === 0", 8000, 'the other file open');
-  expect(asked.length).toBe(2);
+  expect(asked.length).toBe(3);
 });
 
 test('leaving the page with unsaved edits asks first (beforeunload)', async ({ page }) => {

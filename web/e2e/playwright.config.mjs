@@ -21,15 +21,15 @@ export default defineConfig({
   workers: Math.max(1, Math.min(2, Number(process.env.STRATA_E2E_WORKERS) || 2)),
   fullyParallel: true,
   retries: 0,
-  timeout: 90_000,
-  globalTimeout: 600_000,
+  timeout: 150_000,
+  globalTimeout: 900_000,
   expect: { timeout: 15_000 },
   reporter: [['list']],
   use: {
     headless: true,
     viewport: { width: 1500, height: 950 },
     actionTimeout: 15_000,
-    navigationTimeout: 20_000,
+    navigationTimeout: 60_000,   // the server compresses the page on each request: seconds under load
     launchOptions: {
       executablePath: process.env.STRATA_CHROMIUM || '/usr/bin/chromium',
       args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run'],

@@ -71,6 +71,7 @@ test.describe('a file that does not parse', () => {
     expect(await studio(page, 's.diagnostics.filter((d) => d.severity === "error").length')).toBe(0);
     await page.keyboard.press('Control+s');
     await waitFor(page, '!s.dirty && s.busy === 0', 10000, 'saved');
+    expect(await studio(page, 's.state.conflict === null && !s.state.message.error')).toBe(true);
     expect(page.studio.read('broken.coral')).toBe(BROKEN.replace('place a = 1', 'place a = 1;'));
   });
 });

@@ -2,7 +2,7 @@
 // (docs/studio.md) and dispatches what came back to the store. Effects
 // never draw; views never call the API. `ui.confirm(text)` asks the user
 // (window.confirm in the page, a stub in tests).
-import { dirty, editable, displayNets } from './store.js';
+import { dirty, editable, displayNets, layoutByName } from './store.js';
 
 export const kCheckDelayMs = 300;
 
@@ -34,7 +34,8 @@ export function createEffects(store, api, ui = {}) {
   // whether the file is open.
   async function openFile(path, { keepView = false, force = false } = {}) {
     const s = getState();
-    if (!force && dirty(s) && s.path && (path !== s.path || keepView === 'reopen')) {
+    // Also for the open file itself: opening it again reads it from disk.
+    if (!force && dirty(s) && s.path) {
       if (!confirm(`Discard the unsaved changes to ${s.path}?`)) return false;
     }
     return busy(async () => {
@@ -107,17 +108,20 @@ export function createEffects(store, api, ui = {}) {
   async function redo() { const s = getState(); if (!s.redo.length) return; dispatch({ type: 'redo' }); await checkNow(); }
 
   // ------------------------------------------------------------ save
+  // One save at a time: a second one made with the same version would be refused (412).
+  let saving = null;
   async function save() {
     const s0 = getState();
     if (!s0.path || s0.text == null || s0.readOnly) return false;
-    return busy(async () => {
+    if (saving) return saving;
+    saving = busy(async () => {
       const s = getState();
       const { path, text } = s;
       try {
         // Each save names the version it was made from: a file saved since
         // (by another tab, or on disk) is refused with 412, not overwritten.
         const r = await api.saveFile(path, text, s.etag);
-        const l = await api.saveLayout(path, layoutOf(getState()), s.layoutEtag);
+        const l = await api.saveLayout(path, layoutByName(getState()), s.layoutEtag);
         dispatch({ type: 'file/saved', path, text, etag: r.etag, layoutEtag: l.etag, layoutSaved: true });
         say(`saved ${path}`);
         return true;
@@ -134,6 +138,7 @@ export function createEffects(store, api, ui = {}) {
         return false;
       }
     });
+    try { return await saving; } finally { saving = null; }
   }
   // Merge by text: the user keeps their text over the new version.
   async function keepMine() { dispatch({ type: 'conflict/keep-mine' }); return save(); }
@@ -223,16 +228,4 @@ export function eventOf(e) {
   let data = e.data;
   if (data === undefined) { data = { ...e }; delete data.event; delete data.type; }
   return [name, data];
-}
-
-function layoutOf(s) {
-  const out = {};
-  for (const net of displayNets(s)) {
-    const pos = s.positions[net.name];
-    if (!pos) continue;
-    const m = {};
-    for (const [id, xy] of Object.entries(pos)) m[id.slice(2)] = { x: Math.round(xy.x * 10) / 10, y: Math.round(xy.y * 10) / 10 };
-    out[net.name] = m;
-  }
-  return out;
 }

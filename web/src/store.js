@@ -47,7 +47,7 @@ export function initialState() {
     cex: null,           // {net, key, steps, i}
     conflict: null,      // {path, theirs, etag, layoutEtag}: a save refused with 412
     sonar: { frames: 0, mtime: null, frame: null, error: null },
-    panels: { left: 240, right: 330, text: 420 },  // widths in px
+    panels: { left: 220, right: 320, text: 360 },  // widths in px
     readOnly: false,     // the open file is shown as text only (not CORAL)
     sse: 'closed',
     message: { text: '', error: false },

@@ -21,12 +21,12 @@ export function createTextPane(parent, store, fx) {
       extensions: [
         lineNumbers(), highlightActiveLine(), drawSelection(), bracketMatching(),
         coral, syntaxHighlighting(defaultHighlightStyle), lintGutter(),
-        // Undo is the page's (one stack of texts for graph and text edits).
+        // Undo is the page's (one stack of texts for graph and text edits);
+        // Ctrl-S is the page's keydown handler (main.js).
         keymap.of([
           { key: 'Mod-z', run: () => { fx.undo(); return true; } },
           { key: 'Mod-Shift-z', run: () => { fx.redo(); return true; } },
           { key: 'Mod-y', run: () => { fx.redo(); return true; } },
-          { key: 'Mod-s', run: () => { fx.save(); return true; } },
           indentWithTab, ...defaultKeymap]),
         readOnly.of(EditorState.readOnly.of(true)),
         EditorView.updateListener.of((u) => {

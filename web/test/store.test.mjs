@@ -302,3 +302,26 @@ test('effects: save sends the text with the version read; a 412 fetches theirs; 
   assert.equal(saves[1][2], store.getState().text);
   assert.equal(dirty(store.getState()), false);
 });
+
+test('effects: two saves at once send one PUT (a second with the same version would be refused)', async () => {
+  const store = createStore();
+  const api = fakeApi();
+  const fx = createEffects(store, api);
+  await fx.openFile('m.coral');
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  const [a, b] = await Promise.all([fx.save(), fx.save()]);
+  assert.equal(a, true);
+  assert.equal(b, true);
+  assert.equal(api.calls.filter((c) => c[0] === 'saveFile').length, 1);
+});
+
+test('effects: the open file clicked again with unsaved edits asks before reading it again', async () => {
+  const store = createStore();
+  let asked = 0;
+  const fx = createEffects(store, fakeApi(), { confirm: () => { asked++; return false; } });
+  await fx.openFile('m.coral');
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  assert.equal(await fx.openFile('m.coral'), false);
+  assert.equal(asked, 1);
+  assert.equal(dirty(store.getState()), true);
+});
