@@ -1,5 +1,5 @@
 // Text and graph as one: the CodeMirror pane and the canvas edit one text.
-import { test, expect, studio, waitFor, openPage, TANK } from './fixtures.mjs';
+import { test, expect, studio, waitFor, openPage, nodePoint, TANK } from './fixtures.mjs';
 
 // Puts the pane's cursor just after `word` on the first line holding `line`, as a user would with the keys.
 async function cursorAfter(page, line, word) {
@@ -50,6 +50,13 @@ test('a typo: squiggles in the text, the error listed; clicking it selects the e
   const text = await studio(page, 's.text');
   expect(sel.to).toBeGreaterThan(sel.from);
   expect(text.slice(sel.from, sel.to)).toMatch(/shutdown_netwrk/);
+  // The element carries the error: red, and its tooltip says why.
+  expect(await studio(page, "cy.getElementById('t:shutdown').hasClass('diag')")).toBe(true);
+  await waitFor(page, "cy.animated() === false", 3000, 'the canvas still');
+  const p = await nodePoint(page, 't:shutdown');
+  await page.mouse.move(p.x, p.y);
+  await expect(page.locator('#tooltip')).toBeVisible();
+  await expect(page.locator('#tooltip')).toContainText('error');
 });
 
 const BROKEN = 'net broken {\n  place a = 1\n  place b;\n  transition t { wait { a } signal { b } }\n}\n';

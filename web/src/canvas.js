@@ -92,6 +92,19 @@ export function createCanvas(container, store, fx) {
     }, 150);
   });
   new ResizeObserver(() => cy.resize()).observe(container);
+  // A node's diagnostics as a tooltip.
+  const tooltip = document.querySelector('#tooltip');
+  cy.on('mouseover', 'node', (ev) => {
+    const d = ev.target.data('diag');
+    if (!d || !tooltip) return;
+    const p = ev.target.renderedPosition();
+    const box = container.getBoundingClientRect();
+    tooltip.textContent = d;
+    tooltip.style.left = `${box.left + p.x + 18}px`;
+    tooltip.style.top = `${box.top + p.y + 18}px`;
+    tooltip.hidden = false;
+  });
+  cy.on('mouseout', 'node', () => { if (tooltip) tooltip.hidden = true; });
 
   function addNode(kind, at, name) {
     const s = getState();
