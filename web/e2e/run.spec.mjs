@@ -1,6 +1,6 @@
 // Verify, run, replay, counterexamples and sonar: the live side of the page.
 import path from 'node:path';
-import { test, expect, studio, waitFor, openPage, OUT, STUCK } from './fixtures.mjs';
+import { test, expect, studio, waitFor, openPage, nodePoint, OUT, STUCK } from './fixtures.mjs';
 
 test('verify lists the properties', async ({ page }) => {
   await openPage(page);
@@ -30,6 +30,17 @@ test('run nominal at ×10: the live view reaches the end with the final marking,
   await waitFor(page, "s.net === 'tank' && cy.getElementById('p:closed').data('tokens') === 1", 5000, 'closed drawn with one token');
   expect(await page.locator('#chart canvas').count()).toBeGreaterThan(0);
   await page.screenshot({ path: path.join(OUT, 'studio-run.png') });
+  // A net picked by the user stops the following; double-click a PHASE
+  // transition opens its net with the run's marking.
+  await expect(page.locator('#follow')).toBeChecked();
+  await page.evaluate(() => { const cy = window.__cy; cy.center(cy.getElementById('t:phase2')); });
+  const p = await nodePoint(page, 't:phase2');
+  await page.mouse.dblclick(p.x, p.y);
+  await waitFor(page, "s.net === 'dive_from_surface' && s.view === 'live'", 5000, 'phase 2 opened in the live view');
+  await expect(page.locator('#follow')).not.toBeChecked();
+  const marked = await studio(page, "Object.keys(s.markings.dive_from_surface || {}).filter((k) => s.markings.dive_from_surface[k] > 0)");
+  expect(marked.length).toBeGreaterThan(0);
+  for (const place of marked) expect(await studio(page, `cy.getElementById('p:${place}').data('tokens')`)).toBeGreaterThan(0);
 });
 
 test('replay a mission log with the slider, and step it from firing to firing', async ({ page }) => {

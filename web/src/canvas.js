@@ -70,7 +70,7 @@ export function createCanvas(container, store, fx) {
     const s = getState();
     const t = (currentNet(s)?.transitions || []).find((x) => x.name === ev.target.data('name'));
     const phase = t && (t.actions || []).find((a) => a.kind === 'PHASE');
-    if (phase) dispatch({ type: 'net/show', name: phase.target });
+    if (phase) dispatch({ type: 'net/show', name: phase.target, user: true });
   });
   cy.on('dragfree', 'node', (ev) => {
     const n = ev.target;

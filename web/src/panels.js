@@ -33,6 +33,8 @@ export function createPanels(store, fx) {
     conn.className = `conn ${s.sse}`;
     conn.title = s.sse === 'open' ? 'event stream: connected' : s.sse === 'error' ? 'event stream: reconnecting' : 'event stream';
     document.body.dataset.view = s.view;
+    const follow = $('#follow');
+    if (follow.checked !== s.follow) follow.checked = s.follow;
   }
 
   function files(s) {
@@ -47,7 +49,7 @@ export function createPanels(store, fx) {
     const ul = $('#net-list'); ul.replaceChildren();
     for (const n of displayNets(s)) {
       const badge = n.kind === 'mission' ? 'mission' : 'phase';
-      ul.append(el('li', { class: n.name === s.netName ? 'active' : '', 'data-net': n.name, title: n.file || '', onclick: () => dispatch({ type: 'net/show', name: n.name }) },
+      ul.append(el('li', { class: n.name === s.netName ? 'active' : '', 'data-net': n.name, title: n.file || '', onclick: () => dispatch({ type: 'net/show', name: n.name, user: true }) },
         el('span', { class: `badge ${badge}` }, badge), ' ', n.name, n.editable ? '' : el('span', { class: 'muted' }, ' (import)')));
     }
   }

@@ -313,9 +313,13 @@ export function reduce(s, a) {
     case 'conflict/dismiss':
       return { ...s, conflict: null };
 
-    case 'net/show':
+    // A net chosen by the user while a run or replay is followed stops the
+    // following: the user's net stays on the canvas, with the run's marking.
+    case 'net/show': {
       if (!displayNets(s).some((n) => n.name === a.name) || a.name === s.netName) return s;
-      return { ...s, netName: a.name, selected: null };
+      const stop = a.user && s.follow && (s.view === 'live' || s.view === 'replay');
+      return { ...s, netName: a.name, selected: null, follow: stop ? false : s.follow };
+    }
     case 'mode/set':
       return { ...s, mode: a.mode };
     case 'select':

@@ -131,10 +131,13 @@ test('the live run: snapshot and run_start switch to the live view; follow shows
   s = reduce(s, { type: 'run/event', name: 'phase_start', data: { instance: 2, parent: 1, net: 'ph', marking: { x: 1 } } });
   assert.equal(s.netName, 'ph');
   assert.deepEqual(tokensFor(s, 'ph'), { x: 1 });
-  s = reduce(s, { type: 'follow/set', follow: false });
-  s = reduce(s, { type: 'net/show', name: 'n' });
+  // The user picks a net: following stops, the run's events leave it there.
+  s = reduce(s, { type: 'net/show', name: 'n', user: true });
+  assert.equal(s.follow, false);
   s = reduce(s, { type: 'run/event', name: 'fired', data: { instance: 2, net: 'ph', transition: 'go', marking: {}, enabled: [] } });
   assert.equal(s.netName, 'n');   // follow off: the user's net stays
+  s = reduce(s, { type: 'follow/set', follow: true });
+  assert.equal(s.netName, 'ph');  // on again: the run's latest phase
   s = reduce(s, { type: 'run/event', name: 'telemetry', data: { t: 1, depth: 0.5, setpoint: 1 } });
   s = reduce(s, { type: 'run/event', name: 'fired', data: { instance: 1, net: 'n', transition: 't', marking: { b: 1 }, enabled: [] } });
   s = reduce(s, { type: 'run/event', name: 'run_end', data: { outcome: 'completed', exit: 0 } });
