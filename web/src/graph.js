@@ -3,14 +3,11 @@
 // labelled with their weight when it is not 1, the places a TACTIC or PHASE
 // marks later as dashed arrows.
 import cytoscape from 'cytoscape';
-import dagre from 'cytoscape-dagre';
 import edgehandles from 'cytoscape-edgehandles';
+import { placeId, transId } from './store.js';
 
-cytoscape.use(dagre);
 cytoscape.use(edgehandles);
-
-export const placeId = (name) => `p:${name}`;
-export const transId = (name) => `t:${name}`;
+export { placeId, transId };
 
 const tokenSvgCache = new Map();
 // The tokens of a place, drawn inside its circle: dots up to 4, else a number.
@@ -39,12 +36,13 @@ export const style = [
     'background-fit': 'contain', 'background-clip': 'none',
   } },
   { selector: 'node.place.exit', style: { 'border-style': 'double', 'border-width': 6, 'border-color': '#1d5fa8', color: '#1d5fa8' } },
+  // Nets flow left to right (layout.js): transitions are upright bars, labels below.
   { selector: 'node.transition', style: {
-    shape: 'rectangle', width: 46, height: 12, 'background-color': '#333', 'border-width': 0,
-    label: 'data(label)', 'text-valign': 'center', 'text-halign': 'right', 'text-margin-x': 5, 'text-justification': 'left',
+    shape: 'rectangle', width: 12, height: 46, 'background-color': '#333', 'border-width': 0,
+    label: 'data(label)', 'text-valign': 'bottom', 'text-halign': 'center', 'text-margin-y': 3, 'text-justification': 'center',
     'text-background-color': '#fff', 'text-background-opacity': 0.8, 'text-background-padding': 1,
   } },
-  { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a', width: 56, height: 14 } },
+  { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a', width: 14, height: 56 } },
   { selector: 'node.transition.inflight', style: { 'background-color': '#e8a317', 'border-width': 3, 'border-color': '#b57b00' } },
   { selector: 'node.transition.fired', style: { 'underlay-color': '#2e9d3a', 'underlay-opacity': 0.35, 'underlay-padding': 6 } },
   { selector: 'node.transition.cex', style: { 'background-color': '#c2185b', 'underlay-color': '#c2185b', 'underlay-opacity': 0.3, 'underlay-padding': 8 } },
@@ -72,7 +70,7 @@ export const style = [
 
 export function createCy(container) {
   return cytoscape({
-    container, style, elements: [], wheelSensitivity: 0.3, minZoom: 0.1, maxZoom: 4,
+    container, style, elements: [], minZoom: 0.05, maxZoom: 4,
     boxSelectionEnabled: false, selectionType: 'single',
   });
 }
@@ -92,11 +90,11 @@ export function netElements(net, tokens) {
   for (const p of places.values()) {
     const isExit = p.exit || (net.exits || []).includes(p.name);
     const n = tokens ? (tokens[p.name] || 0) : (p.initial || 0);
-    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit, line: p.line },
+    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit },
       classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') });
   }
   for (const t of net.transitions || []) {
-    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0, line: t.line },
+    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0 },
       classes: 'transition' });
     for (const a of t.inputs || []) {
       els.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),
@@ -120,12 +118,6 @@ export function netElements(net, tokens) {
   // Drop edges to nodes that do not exist (a model of a broken text).
   const ids = new Set(els.filter((e) => e.group === 'nodes').map((e) => e.data.id));
   return els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
-}
-
-export function dagreLayout(cy, eles, fit = true) {
-  return (eles || cy.elements()).layout({
-    name: 'dagre', rankDir: 'TB', nodeSep: 60, rankSep: 45, edgeSep: 15, animate: false, fit, padding: 30,
-  });
 }
 
 // Diagnostics placed on elements: a diagnostic of file F at line L goes to the

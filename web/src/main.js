@@ -1,72 +1,179 @@
-// The Strata studio page: the editor of CORAL nets, the live view of a run,
-// replay of a mission log and the verifier's counterexamples played on the net.
-// The contract with the server is docs/studio.md.
+// The Strata studio page: the editor of CORAL nets and their text, the live
+// view of a run, replay of a mission log and the verifier's counterexamples
+// played on the net. The contract with the server is docs/studio.md.
+//
+// Data goes one way: server answers and events, and the user's gestures,
+// become actions on the one store (store.js); the views (canvas, text pane,
+// inspector, panels) subscribe to it and draw. Effects (effects.js) are the
+// only callers of the API. This file wires them together and binds the
+// page's buttons.
 import './style.css';
 import { api } from './api.js';
-import { $, state, cy, msg, setDirty } from './context.js';
-import { loadFiles, openFile, showNet } from './view.js';
-import { setMode, applyOp, save } from './editor.js';
-import { setView, renderRunPanels, connect } from './live.js';
-import { startSonar } from './sonar.js';
+import { $ } from './dom.js';
+import { createStore, dirty, editable, currentNet, prevFiring, nextFiring } from './store.js';
+import { createEffects } from './effects.js';
+import { createCanvas, kZoomStep } from './canvas.js';
+import { createTextPane } from './textpane.js';
+import { createInspector, deleteSelection } from './inspector.js';
+import { createPanels } from './panels.js';
 
-// The canvas follows its box (panels open and close around it).
-new ResizeObserver(() => cy.resize()).observe($('#cy'));
+const store = createStore();
+const { dispatch, getState } = store;
+const fx = createEffects(store, api, { confirm: (t) => window.confirm(t) });
+const canvas = createCanvas($('#cy'), store, fx);
+const text = createTextPane($('#text-pane'), store, fx);
+createInspector(store, fx, canvas);
+createPanels(store, fx);
+const cy = canvas.cy;
 
-window.__cy = cy;
-window.__studio = {
-  get path() { return state.path; },
-  get net() { return state.netName; },
-  get netName() { return state.netName; },
-  get text() { return state.text; },
-  get dirty() { return state.dirty; },
-  get model() { return state.model; },
-  get diagnostics() { return (state.model && state.model.diagnostics) || []; },
-  get markings() { return state.rs.markings; },
-  get lastMarking() { return state.rs.markings; },
-  get enabled() { return state.rs.enabled; },
-  get inFlight() { return Object.values(state.rs.inFlight); },
-  get telemetryCount() { return state.rs.telemetry.length; },
-  get telemetry() { return state.rs.telemetry; },
-  get reports() { return state.rs.reports; },
-  get runStatus() { return state.rs.status; },
-  get runEnded() { return state.rs.ended; },
-  get run() { return state.rs; },
-  get view() { return state.view; },
-  get mode() { return state.mode; },
-  get replay() { return state.replay && { path: state.replay.path, pos: state.replay.pos, length: state.replay.events.length }; },
-  get replayKinds() { return state.replay && state.replay.events.map((e) => e[0]); },
-  get verify() { return state.verify; },
-  get cex() { return state.cex && { net: state.cex.net, i: state.cex.i, length: state.cex.steps.length }; },
-  get primitives() { return state.primitives; },
-  get sse() { return state.sse; },
-  get lastError() { return state.lastError; },
-  get sonar() { return state.sonar; },
-  get scenarios() { return [...document.querySelectorAll('#run-scenario option')].map((o) => o.value); },
-  get busy() { return state.busy; },
-  get positions() { return state.positions; },
-  openFile: (p) => openFile(p),
-  showNet: (n) => showNet(n),
-  applyOp: (op, at) => applyOp(op, at),
-  save: () => save(),
-  setMode: (m) => setMode(m),
+// ---------------------------------------------------------------- buttons and keys
+const on = (sel, ev, f) => $(sel).addEventListener(ev, f);
+for (const b of document.querySelectorAll('button.mode')) b.addEventListener('click', () => dispatch({ type: 'mode/set', mode: b.dataset.mode }));
+store.subscribe((s, p) => {
+  if (s.mode !== p.mode) for (const b of document.querySelectorAll('button.mode')) b.classList.toggle('active', b.dataset.mode === s.mode);
+});
+on('#btn-add-place', 'click', () => { const i = $('#new-name'); const n = i.value.trim(); i.value = ''; canvas.addNode('place', canvas.centre(), n); });
+on('#btn-add-transition', 'click', () => { const i = $('#new-name'); const n = i.value.trim(); i.value = ''; canvas.addNode('transition', canvas.centre(), n); });
+on('#btn-delete', 'click', () => deleteSelection(store, fx, canvas));
+on('#btn-relayout', 'click', () => { canvas.relayout(); canvas.fitReadable(); });
+on('#btn-fit', 'click', () => canvas.fitReadable());
+on('#btn-zoom-in', 'click', () => canvas.zoomBy(kZoomStep));
+on('#btn-zoom-out', 'click', () => canvas.zoomBy(1 / kZoomStep));
+on('#btn-undo', 'click', () => fx.undo());
+on('#btn-redo', 'click', () => fx.redo());
+on('#btn-save', 'click', () => fx.save());
+on('#btn-verify', 'click', () => fx.verify());
+on('#btn-run', 'click', () => fx.run($('#run-scenario').value, Number($('#run-speed').value) || 10));
+on('#btn-stop', 'click', () => fx.stop());
+on('#btn-refresh', 'click', () => fx.loadFiles());
+on('#follow', 'change', (ev) => dispatch({ type: 'follow/set', follow: ev.target.checked }));
+on('#btn-edit-view', 'click', () => dispatch({ type: 'view/set', view: 'edit' }));
+on('#btn-live-view', 'click', () => dispatch({ type: 'view/set', view: 'live' }));
+on('#replay-slider', 'input', (ev) => dispatch({ type: 'replay/seek', pos: Number(ev.target.value) }));
+on('#replay-close', 'click', () => dispatch({ type: 'replay/close' }));
+on('#replay-prev', 'click', () => { const r = getState().replay; if (r) dispatch({ type: 'replay/seek', pos: prevFiring(r.events, r.pos) }); });
+on('#replay-next', 'click', () => { const r = getState().replay; if (r) dispatch({ type: 'replay/seek', pos: nextFiring(r.events, r.pos) }); });
+on('#cex-prev', 'click', () => { const c = getState().cex; if (c) dispatch({ type: 'cex/go', i: c.i - 1 }); });
+on('#cex-next', 'click', () => { const c = getState().cex; if (c) dispatch({ type: 'cex/go', i: c.i + 1 }); });
+on('#cex-close', 'click', () => dispatch({ type: 'cex/close' }));
+let cexTimer = null;
+on('#cex-play', 'click', () => {
+  if (cexTimer) { clearInterval(cexTimer); cexTimer = null; return; }
+  const c = getState().cex;
+  if (!c) return;
+  if (c.i >= c.steps.length) dispatch({ type: 'cex/go', i: 0 });
+  cexTimer = setInterval(() => {
+    const x = getState().cex;
+    if (!x || x.i >= x.steps.length) { clearInterval(cexTimer); cexTimer = null; return; }
+    dispatch({ type: 'cex/go', i: x.i + 1 });
+  }, 700);
+});
+
+const inForm = (t) => t && (/^(INPUT|SELECT|TEXTAREA)$/.test(t.tagName) || (t.closest && t.closest('.cm-editor')));
+document.addEventListener('keydown', (ev) => {
+  const mod = ev.ctrlKey || ev.metaKey;
+  if (mod && ev.key.toLowerCase() === 's') { ev.preventDefault(); fx.save(); return; }
+  if (inForm(ev.target)) return;   // the text pane has its own keys
+  if (mod && ev.key.toLowerCase() === 'z') { ev.preventDefault(); if (ev.shiftKey) fx.redo(); else fx.undo(); return; }
+  if (mod && ev.key.toLowerCase() === 'y') { ev.preventDefault(); fx.redo(); return; }
+  if ((ev.key === 'Delete' || ev.key === 'Backspace') && editable(getState())) deleteSelection(store, fx, canvas);
+  if (ev.key === 'Escape') dispatch({ type: 'mode/set', mode: 'select' });
+  if (ev.key === '+' || ev.key === '=') canvas.zoomBy(kZoomStep);
+  if (ev.key === '-') canvas.zoomBy(1 / kZoomStep);
+});
+// Leaving the page with unsaved edits asks first.
+window.addEventListener('beforeunload', (ev) => { if (dirty(getState())) { ev.preventDefault(); ev.returnValue = ''; } });
+
+// The wheel zooms a useful step: 1.15× for a mouse notch (100 px), smoothly
+// for a touchpad's small deltas. Taken before cytoscape's own handler, whose
+// "inaccurate device" scaling made a notch 0.8%.
+export const kWheelPerPx = Math.log(1.15) / 100;
+$('#cy-wrap').addEventListener('wheel', (ev) => {
+  ev.preventDefault();
+  ev.stopPropagation();
+  const px = ev.deltaY * (ev.deltaMode === 1 ? 33 : ev.deltaMode === 2 ? 800 : 1);
+  const k = Math.exp(-px * kWheelPerPx);
+  const rect = $('#cy').getBoundingClientRect();
+  const level = Math.max(cy.minZoom(), Math.min(cy.maxZoom(), cy.zoom() * k));
+  cy.zoom({ level, renderedPosition: { x: ev.clientX - rect.left, y: ev.clientY - rect.top } });
+}, { capture: true, passive: false });
+cy.on('zoom', () => { $('#zoom-label').textContent = `${Math.round(cy.zoom() * 100)}%`; });
+
+// Resizable panels: drag a splitter; widths live in the store.
+const kPanelVar = { left: '--left-w', right: '--right-w', text: '--text-w' };
+for (const sp of document.querySelectorAll('.splitter')) {
+  sp.addEventListener('pointerdown', (ev) => {
+    const panel = sp.dataset.panel;
+    const x0 = ev.clientX, w0 = getState().panels[panel];
+    const sign = panel === 'left' ? 1 : -1;   // the right-hand panels grow leftwards
+    sp.setPointerCapture(ev.pointerId);
+    sp.classList.add('dragging');
+    const move = (e) => dispatch({ type: 'panel/resize', panel, px: w0 + sign * (e.clientX - x0) });
+    const up = () => { sp.classList.remove('dragging'); sp.removeEventListener('pointermove', move); sp.removeEventListener('pointerup', up); };
+    sp.addEventListener('pointermove', move);
+    sp.addEventListener('pointerup', up);
+  });
+}
+const applyPanels = (s, p) => {
+  if (p && s.panels === p.panels) return;
+  for (const [k, v] of Object.entries(s.panels)) document.body.style.setProperty(kPanelVar[k], `${v}px`);
 };
+store.subscribe(applyPanels);
+applyPanels(getState(), null);
 
+// ---------------------------------------------------------------- test hooks
+// Browser tests read the page's state here (the canvas is a <canvas>).
+window.__cy = cy;
+window.__store = store;
+window.__studio = {
+  get state() { return getState(); },
+  get path() { return getState().path; },
+  get net() { return getState().netName; },
+  get netName() { return getState().netName; },
+  get text() { return getState().text; },
+  get paneText() { return text.text; },
+  get paneSelection() { return text.selection; },
+  get lintCount() { return text.lintCount; },
+  get dirty() { return dirty(getState()); },
+  get model() { return getState().model; },
+  get diagnostics() { return (getState().model && getState().model.diagnostics) || []; },
+  get markings() { return getState().rs.markings; },
+  get enabled() { return getState().rs.enabled; },
+  get inFlight() { return Object.values(getState().rs.inFlight); },
+  get telemetryCount() { return getState().rs.telemetry.length; },
+  get reports() { return getState().rs.reports; },
+  get runStatus() { return getState().rs.status; },
+  get runEnded() { return getState().rs.ended; },
+  get view() { return getState().view; },
+  get mode() { return getState().mode; },
+  get replay() { const r = getState().replay; return r && { path: r.path, pos: r.pos, length: r.events.length }; },
+  get replayKinds() { const r = getState().replay; return r && r.events.map((e) => e[0]); },
+  get verify() { return getState().verify; },
+  get cex() { const c = getState().cex; return c && { net: c.net, i: c.i, length: c.steps.length }; },
+  get sse() { return getState().sse; },
+  get lastError() { return getState().lastError; },
+  get sonar() { return getState().sonar; },
+  get scenarios() { return [...document.querySelectorAll('#run-scenario option')].map((o) => o.value); },
+  get busy() { return getState().busy; },
+  get checking() { return getState().checking; },
+  get undoDepth() { return getState().undo.length; },
+  get positions() { return getState().positions; },
+  get currentNet() { return currentNet(getState()); },
+  openFile: (p) => fx.openFile(p),
+  showNet: (n) => dispatch({ type: 'net/show', name: n }),
+  applyOp: (op, at) => fx.applyOp(op, at),
+  save: () => fx.save(),
+  setMode: (m) => dispatch({ type: 'mode/set', mode: m }),
+};
 
 // ---------------------------------------------------------------- start
 async function init() {
-  setMode('select');
-  setView('edit');
-  setDirty(false);
-  connect();
-  startSonar();
-  await loadFiles();
-  try {
-    const p = await api.primitives();
-    state.primitives = (p && p.primitives) || [];
-  } catch (e) { msg(`primitives: ${e.message}`, true); }
+  fx.connect(EventSource);
+  fx.startSonar();
+  await fx.loadFiles();
+  window.__studio.filesAt = performance.now();   // page load to file list (the e2e report)
+  await fx.loadPrimitives();
   const want = new URLSearchParams(location.search).get('path');
-  if (want && state.files.includes(want)) await openFile(want);
-  renderRunPanels();
+  if (want && getState().files.includes(want)) await fx.openFile(want);
 }
-$('#btn-refresh').addEventListener('click', loadFiles);
 init();

@@ -1,0 +1,108 @@
+// Verify, run, replay, counterexamples and sonar: the live side of the page.
+import path from 'node:path';
+import { test, expect, studio, waitFor, openPage, nodePoint, OUT, STUCK } from './fixtures.mjs';
+
+test('verify lists the properties', async ({ page }) => {
+  await openPage(page);
+  await page.locator('#btn-verify').click();
+  await waitFor(page, 's.verify && (s.verify.nets || s.verify.error)', 30000, 'verification');
+  const v = await studio(page, 's.verify');
+  expect(v.error).toBeUndefined();
+  expect(await page.locator('#verify-body li.prop').count()).toBeGreaterThan(0);
+});
+
+test('run nominal at ×10: the live view reaches the end with the final marking, the chart fills', async ({ page }) => {
+  await openPage(page);
+  await page.locator('#run-scenario').selectOption('nominal');
+  await page.locator('#run-speed').fill('10');
+  await page.locator('#btn-run').click();
+  await waitFor(page, "s.runStatus !== 'idle'", 10000, 'the run to start');
+  await waitFor(page, "s.runStatus !== 'running' && s.runEnded", 60000, 'run_end');
+  const r = await page.evaluate(() => {
+    const s = window.__studio;
+    return { status: s.runStatus, ended: s.runEnded, tank: s.markings.tank, tele: s.telemetryCount };
+  });
+  expect(r.status).toBe('completed');
+  expect(r.ended.outcome).toBe('completed');
+  expect(r.tank && r.tank.closed).toBe(1);
+  expect(r.tele).toBeGreaterThan(10);
+  await page.locator('#net-list li[data-net="tank"]').click();
+  await waitFor(page, "s.net === 'tank' && cy.getElementById('p:closed').data('tokens') === 1", 5000, 'closed drawn with one token');
+  expect(await page.locator('#chart canvas').count()).toBeGreaterThan(0);
+  await page.screenshot({ path: path.join(OUT, 'studio-run.png') });
+  // A net picked by the user stops the following; double-click a PHASE
+  // transition opens its net with the run's marking.
+  await expect(page.locator('#follow')).toBeChecked();
+  await page.evaluate(() => { const cy = window.__cy; cy.center(cy.getElementById('t:phase2')); });
+  const p = await nodePoint(page, 't:phase2');
+  await page.mouse.dblclick(p.x, p.y);
+  await waitFor(page, "s.net === 'dive_from_surface' && s.view === 'live'", 5000, 'phase 2 opened in the live view');
+  await expect(page.locator('#follow')).not.toBeChecked();
+  const marked = await studio(page, "Object.keys(s.markings.dive_from_surface || {}).filter((k) => s.markings.dive_from_surface[k] > 0)");
+  expect(marked.length).toBeGreaterThan(0);
+  for (const place of marked) expect(await studio(page, `cy.getElementById('p:${place}').data('tokens')`)).toBeGreaterThan(0);
+});
+
+test('replay a mission log with the slider, and step it from firing to firing', async ({ page }) => {
+  page.studio.runLog('missions/tank/tank.coral', 'tank-run.jsonl');
+  await page.goto(page.studio.url);
+  await page.locator('#log-list li[data-path="tank-run.jsonl"]').click();
+  await waitFor(page, "s.replay && s.replay.length > 10 && s.view === 'replay'", 10000, 'replay loaded');
+  const n = await studio(page, 's.replay.length');
+  await page.locator('#replay-slider').fill(String(n));
+  await waitFor(page, 's.markings.tank && s.markings.tank.closed === 1', 5000, 'closed at the end of the replay');
+  await page.locator('#replay-slider').fill('3');
+  await waitFor(page, '!(s.markings.tank && s.markings.tank.closed)', 5000, 'closed empty early in the replay');
+  await page.locator('#replay-slider').fill('0');
+  await page.locator('#replay-next').click();
+  const first = await studio(page, 's.replay.pos');
+  expect(first).toBeGreaterThan(0);
+  expect(await studio(page, `s.replayKinds[${first - 1}]`)).toBe('fired');
+  await page.locator('#replay-next').click();
+  const second = await studio(page, 's.replay.pos');
+  expect(second).toBeGreaterThan(first);
+  expect(await studio(page, `s.replayKinds[${second - 1}]`)).toBe('fired');
+  await page.locator('#replay-prev').click();
+  expect(await studio(page, 's.replay.pos')).toBe(first);
+  await page.locator('#replay-slider').fill(String(n));
+  await page.screenshot({ path: path.join(OUT, 'studio-replay.png') });
+  await page.locator('#replay-close').click();
+  await waitFor(page, "!s.replay && s.view !== 'replay'", 3000, 'replay closed');
+});
+
+test('a counterexample plays on its net: to the stall and one step back', async ({ page }) => {
+  await openPage(page, STUCK);
+  await waitFor(page, "cy.getElementById('p:not_reached').nonempty()", 5000, 'stuck_phase drawn');
+  await page.locator('#btn-verify').click();
+  await waitFor(page, 's.verify && s.verify.nets && s.verify.nets.some((n) => n.name === "stuck_phase")', 30000, 'verification of stuck_phase');
+  await page.locator('#verify-body li.prop[data-key="no_deadlock"] button.play-cex').click();
+  await waitFor(page, "s.view === 'cex' && s.cex && s.cex.i === 0", 5000, 'the player at its start');
+  expect(await studio(page, 's.cex.length')).toBe(6);
+  await waitFor(page, "cy.getElementById('p:start').data('tokens') === 1", 5000, 'start marked at step 0');
+  for (let i = 0; i < 6; i++) await page.locator('#cex-next').click();
+  await waitFor(page, "s.cex.i === 6 && cy.getElementById('p:not_reached').data('tokens') === 1 && !cy.getElementById('p:start').data('tokens')", 5000, 'not_reached marked at the end');
+  await page.locator('#cex-prev').click();
+  await waitFor(page, "s.cex.i === 5 && !cy.getElementById('p:not_reached').data('tokens')", 5000, 'one step back');
+  await expect(page.locator('#cex-text')).toContainText('check_depth');
+  await page.locator('#cex-close').click();
+  await waitFor(page, "!s.cex && s.view === 'edit'", 3000, 'the player closed');
+});
+
+test('a sonar search run shows the newest scan beside the net', async ({ page }) => {
+  const SEARCH = 'missions/sonar_search/sonar_search.coral';
+  await openPage(page, SEARCH);
+  await waitFor(page, "s.scenarios.includes('target_absent')", 10000, 'the scenarios of sonar_search');
+  await page.locator('#run-scenario').selectOption('nominal');
+  await page.locator('#run-speed').fill('40');
+  await page.locator('#btn-run').click();
+  await waitFor(page, 's.sonar.frames > 0', 40000, 'a first scan on the page');
+  await waitFor(page, "s.runStatus !== 'running' && s.runEnded", 40000, 'run_end');
+  const r = await page.evaluate(() => {
+    const img = document.querySelector('#sonar-img');
+    return { ended: window.__studio.runEnded, shown: !document.querySelector('#sonar-box').hidden, w: img.naturalWidth };
+  });
+  expect(r.ended.outcome).toBe('completed');
+  expect(r.shown).toBe(true);
+  expect(r.w).toBeGreaterThan(0);
+  await page.screenshot({ path: path.join(OUT, 'studio-sonar.png') });
+});

@@ -1,0 +1,351 @@
+// The net canvas (cytoscape): draws the current net of the store, its
+// marking and run classes; turns the user's gestures (drag a node, draw an
+// arc, click, double-click, zoom) into actions. It keeps no page state of
+// its own: positions and viewports go to the store.
+import { netElements, createCy, diagnosticsByElement, transitionLabel } from './graph.js';
+import { layeredLayout } from './layout.js';
+import { currentNet, editable, tokensFor, uniqueName } from './store.js';
+
+// Fit never zooms out below this: labels stay readable (11 px font ×
+// 0.82 ≈ 9 px), and the user scrolls a net larger than the view.
+export const kMinFitZoom = 0.82;
+export const kZoomStep = 1.25;
+
+export function createCanvas(container, store, fx) {
+  const { dispatch, getState } = store;
+  const cy = createCy(container);
+  // A large net draws a texture of itself while panning and zooming.
+  const kLargeNet = 2000;
+  const setLarge = (large) => { const r = cy.renderer(); r.textureOnViewport = large; r.hideEdgesOnViewport = large; };
+  let drawnNet = null;      // the net object drawn
+  let drawnName = null;
+  let dynamicQueued = false;
+
+  const canConnect = (s, t) => {
+    if (!editable(getState())) return false;
+    if (s.same(t)) return false;
+    const a = s.data('kind'), b = t.data('kind');
+    if (!((a === 'place' && b === 'transition') || (a === 'transition' && b === 'place'))) return false;
+    return cy.edges(`.arc[source = "${s.id()}"][target = "${t.id()}"]`).empty();  // one arc each way
+  };
+  const eh = cy.edgehandles({
+    canConnect,
+    edgeParams: () => ({ data: { kind: 'new' }, classes: 'arc' }),
+    hoverDelay: 50, snap: true, snapThreshold: 30, snapFrequency: 15, noEdgeEventsInDraw: true, disableBrowserGestures: true,
+  });
+
+  // Where the pointer was released, taken from the pointer events in the
+  // capture phase, before edgehandles ends the drag on mouseup: the arc is
+  // kept only when released on the node it joins, never on a neighbour the
+  // snapping found.
+  let released = null;
+  window.addEventListener('pointerdown', () => { released = null; }, true);
+  window.addEventListener('pointerup', (e) => { released = { x: e.clientX, y: e.clientY }; }, true);
+  const releasePoint = () => {
+    if (!released) return null;
+    const rect = container.getBoundingClientRect();
+    const pan = cy.pan(), zoom = cy.zoom();
+    return { x: (released.x - rect.left - pan.x) / zoom, y: (released.y - rect.top - pan.y) / zoom };
+  };
+
+  cy.on('ehcomplete', (ev, source, target, added) => {
+    added.remove();
+    const p = releasePoint();
+    const box = target.boundingBox({ includeLabels: false });
+    const slack = 6;
+    if (!p || p.x < box.x1 - slack || p.x > box.x2 + slack || p.y < box.y1 - slack || p.y > box.y2 + slack) {
+      fx.say('release the arc on the place or transition it should join', true);
+      return;
+    }
+    fx.applyOp({ op: 'add_arc', net: getState().netName, from: source.data('name'), to: target.data('name'), weight: 1 });
+  });
+
+  cy.on('tap', (ev) => {
+    if (ev.target !== cy) return;
+    const s = getState();
+    if (s.mode === 'place' || s.mode === 'transition') addNode(s.mode, { ...ev.position });
+  });
+  // Double-click a PHASE transition: open the phase's net.
+  cy.on('dbltap', 'node.transition', (ev) => {
+    const s = getState();
+    const t = (currentNet(s)?.transitions || []).find((x) => x.name === ev.target.data('name'));
+    const phase = t && (t.actions || []).find((a) => a.kind === 'PHASE');
+    if (phase) dispatch({ type: 'net/show', name: phase.target, user: true });
+  });
+  cy.on('dragfree', 'node', (ev) => {
+    const n = ev.target;
+    const s = getState();
+    if (!s.netName || n.hasClass('eh-handle')) return;
+    dispatch({ type: 'positions/set', net: s.netName, positions: { [n.id()]: { ...n.position() } }, user: !!(s.path && editable(s)) });
+  });
+  // The user's selection goes to the store; the canvas's own (following
+  // the store) is not sent back.
+  let syncing = false;
+  cy.on('select', (ev) => { if (!syncing) dispatch({ type: 'select', id: ev.target.id() }); });
+  cy.on('unselect', () => { if (!syncing && cy.$(':selected').empty()) dispatch({ type: 'select', id: null }); });
+  let vpTimer = null;
+  cy.on('viewport', () => {
+    clearTimeout(vpTimer);
+    vpTimer = setTimeout(() => {
+      const s = getState();
+      if (s.netName && drawnName === s.netName) dispatch({ type: 'viewport/set', net: s.netName, zoom: cy.zoom(), pan: { ...cy.pan() } });
+    }, 150);
+  });
+  new ResizeObserver(() => cy.resize()).observe(container);
+  // A node's diagnostics as a tooltip.
+  const tooltip = document.querySelector('#tooltip');
+  cy.on('mouseover', 'node', (ev) => {
+    const d = ev.target.data('diag');
+    if (!d || !tooltip) return;
+    const p = ev.target.renderedPosition();
+    const box = container.getBoundingClientRect();
+    tooltip.textContent = d;
+    tooltip.style.left = `${box.left + p.x + 18}px`;
+    tooltip.style.top = `${box.top + p.y + 18}px`;
+    tooltip.hidden = false;
+  });
+  cy.on('mouseout', 'node', () => { if (tooltip) tooltip.hidden = true; });
+
+  function addNode(kind, at, name) {
+    const s = getState();
+    if (!editable(s)) { fx.say('this net is not editable here', true); return; }
+    const n = name || uniqueName(s, kind === 'place' ? 'p' : 't');
+    if (!/^[A-Za-z_][A-Za-z0-9_]*$/.test(n)) { fx.say(`'${n}' is not a name (a letter or _, then letters, digits, _)`, true); return; }
+    const op = kind === 'place' ? { op: 'add_place', net: s.netName, name: n, initial: 0 } : { op: 'add_transition', net: s.netName, name: n };
+    fx.applyOp(op, at || centre());
+  }
+  function centre() {
+    const e = cy.extent();
+    return { x: (e.x1 + e.x2) / 2, y: (e.y1 + e.y2) / 2 };
+  }
+
+  // Fit the net, but never below kMinFitZoom: a large net is shown from its
+  // start (left), centred vertically when it fits. The box is taken from the
+  // node positions (labels hang below, within the padding): cytoscape's own
+  // fit measures every label and edge, seconds on a 10,000-node net.
+  function fitReadable() {
+    const nodes = cy.nodes();
+    if (nodes.empty()) return;
+    let x1 = Infinity, y1 = Infinity, x2 = -Infinity, y2 = -Infinity;
+    nodes.forEach((n) => {
+      const p = n.position();
+      if (p.x < x1) x1 = p.x; if (p.x > x2) x2 = p.x;
+      if (p.y < y1) y1 = p.y; if (p.y > y2) y2 = p.y;
+    });
+    x1 -= 40; x2 += 80; y1 -= 40; y2 += 70;   // half a node; a label's width right and height below
+    const w = cy.width(), h = cy.height(), pad = 20;
+    const fit = Math.min((w - 2 * pad) / (x2 - x1), (h - 2 * pad) / (y2 - y1), 2);
+    const zoom = Math.max(kMinFitZoom, Math.min(cy.maxZoom(), fit));
+    const panX = fit >= kMinFitZoom ? (w - (x2 - x1) * zoom) / 2 - x1 * zoom : pad - x1 * zoom;
+    const panY = (y2 - y1) * zoom <= h - 2 * pad ? (h - (y2 - y1) * zoom) / 2 - y1 * zoom : pad - y1 * zoom;
+    cy.viewport({ zoom, pan: { x: panX, y: panY } });
+  }
+  function zoomBy(k) {
+    cy.zoom({ level: Math.max(cy.minZoom(), Math.min(cy.maxZoom(), cy.zoom() * k)), renderedPosition: { x: cy.width() / 2, y: cy.height() / 2 } });
+  }
+
+  // ------------------------------------------------------------ drawing
+  function placeNodes(s, net) {
+    const pos = s.positions[net.name] || {};
+    const nodes = cy.nodes();
+    const missing = [];
+    cy.batch(() => {
+      nodes.forEach((n) => {
+        const p = pos[n.id()];
+        if (!p) { missing.push(n); return; }
+        const q = n.position();
+        if (q.x !== p.x || q.y !== p.y) n.position(p);
+      });
+    });
+    if (!missing.length) return;
+    const out = {};
+    if (missing.length === nodes.length) {
+      // A net never laid out: the layered layout, left to right.
+      const laid = layeredLayout(net);
+      cy.batch(() => nodes.forEach((n) => { const p = laid[n.id()]; if (p) { n.position(p); out[n.id()] = p; } }));
+      dispatch({ type: 'positions/set', net: net.name, positions: out, replace: true });
+      return;
+    }
+    // New nodes: where the user asked, else beside their neighbours, else the centre.
+    let k = 0;
+    for (const n of missing) {
+      let p = s.pendingPos;
+      if (!p) {
+        const nb = n.neighborhood('node').filter((m) => pos[m.id()]);
+        if (nb.length) {
+          const c = nb.reduce((a, m) => ({ x: a.x + pos[m.id()].x, y: a.y + pos[m.id()].y }), { x: 0, y: 0 });
+          p = { x: c.x / nb.length + 70, y: c.y / nb.length };
+        } else p = centre();
+      }
+      const q = freeSpot({ x: p.x + k * 30, y: p.y + k * 30 }, n);
+      k++;
+      n.position(q);
+      out[n.id()] = q;
+    }
+    dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
+  }
+
+  // The first point from p (rings of 50 around it) where a new node is 55 px
+  // or more from every other node in x or y (by their positions: measuring
+  // the boxes of a 10,000-node net is slow).
+  function freeSpot(p, self) {
+    const xs = [], ys = [];
+    cy.nodes().forEach((m) => { if (!m.same(self) && !m.hasClass('eh-handle') && !m.hasClass('eh-ghost')) { const q = m.position(); xs.push(q.x); ys.push(q.y); } });
+    const hits = (q) => { for (let i = 0; i < xs.length; i++) if (Math.abs(xs[i] - q.x) < 55 && Math.abs(ys[i] - q.y) < 55) return true; return false; };
+    for (let ring = 0; ring < 12; ring++) {
+      for (const [dx, dy] of [[0, 0], [1, 0], [0, 1], [-1, 0], [0, -1], [1, 1], [-1, 1], [1, -1], [-1, -1]]) {
+        const q = { x: p.x + dx * ring * 50, y: p.y + dy * ring * 50 };
+        if (!hits(q)) return q;
+      }
+    }
+    return p;
+  }
+
+  function applyDiagnostics(s, net) {
+    const map = diagnosticsByElement(s.model, net);
+    cy.batch(() => {
+      cy.nodes('.diag').removeClass('diag warning').removeData('diag');
+      for (const [id, ds] of map) {
+        const n = cy.getElementById(id);
+        if (!n.nonempty()) continue;
+        n.addClass('diag');
+        if (ds.every((d) => d.severity !== 'error')) n.addClass('warning');
+        n.data('diag', ds.map((d) => `${d.severity}: ${d.message}`).join('\n'));
+      }
+    });
+  }
+
+  // Token counts and run classes.
+  function updateDynamic(s) {
+    const net = currentNet(s);
+    if (!net) return;
+    const tokens = tokensFor(s, net.name);
+    const running = s.view === 'live' || s.view === 'replay';
+    const inFlightByT = {};
+    if (running) {
+      for (const a of Object.values(s.rs.inFlight)) {
+        if (a.net !== net.name) continue;
+        (inFlightByT[a.transition] || (inFlightByT[a.transition] = [])).push(a.primitive || a.kind);
+      }
+    }
+    const enabled = new Set(running ? (s.rs.enabled[net.name] || []) : []);
+    const last = running && s.rs.lastFired && s.rs.lastFired.net === net.name ? s.rs.lastFired.transition : null;
+    const cexT = s.view === 'cex' && s.cex && s.cex.net === net.name && s.cex.i > 0 ? s.cex.steps[s.cex.i - 1].transition : null;
+    const byName = new Map((net.transitions || []).map((t) => [t.name, t]));
+    // Only what changed is touched: a class or data set restyles the element.
+    const toggle = (n, cls, on) => { if (n.hasClass(cls) !== on) n.toggleClass(cls, on); };
+    cy.batch(() => {
+      cy.nodes().forEach((n) => {
+        const name = n.data('name');
+        if (n.data('kind') === 'place') {
+          const k = tokens ? (tokens[name] || 0) : (n.data('initial') || 0);
+          if (n.data('tokens') !== k) n.data('tokens', k);
+          toggle(n, 'marked', k > 0);
+          return;
+        }
+        if (n.data('kind') !== 'transition') return;
+        const fl = inFlightByT[name];
+        toggle(n, 'enabled', enabled.has(name));
+        toggle(n, 'inflight', !!fl);
+        toggle(n, 'fired', last === name);
+        toggle(n, 'cex', cexT === name);
+        const t = byName.get(name);
+        const base = t ? transitionLabel(t) : name;
+        const label = fl ? `${base}\n▶ ${fl.join(', ')}` : base;
+        if (n.data('label') !== label) n.data('label', label);
+      });
+    });
+  }
+
+  // The drawn net brought to net's elements: only what differs is removed,
+  // added or changed, so an edit of a large net restyles a few elements,
+  // and the selection and positions stay.
+  const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome'];
+  function syncElements(s, net) {
+    const els = netElements(net, tokensFor(s, net.name));
+    const want = new Map(els.map((e) => [e.data.id, e]));
+    const add = [];
+    cy.batch(() => {
+      cy.elements().forEach((e) => { if (!want.has(e.id()) && !e.hasClass('eh-handle') && !e.hasClass('eh-ghost')) e.remove(); });
+      for (const w of els) {
+        const e = cy.getElementById(w.data.id);
+        if (e.empty()) { add.push(w); continue; }
+        for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
+        const cls = new Set(w.classes.split(' '));
+        for (const c of kBaseClasses) if (e.hasClass(c) !== cls.has(c)) e.toggleClass(c, cls.has(c));
+      }
+      if (add.length) cy.add(add);
+    });
+  }
+
+  function render(s, prev) {
+    const net = currentNet(s);
+    const switched = s.netName !== drawnName || !drawnNet !== !net;
+    const changed = net !== drawnNet;
+    const rebuilt = switched || changed;
+    if (switched) {
+      // Leaving a net: its viewport is remembered.
+      if (drawnName && drawnName !== s.netName && !cy.elements().empty()) dispatch({ type: 'viewport/set', net: drawnName, zoom: cy.zoom(), pan: { ...cy.pan() } });
+      if (eh.hide) eh.hide();
+      cy.elements().remove();
+      drawnNet = net; drawnName = s.netName;
+      if (net) {
+        const els = netElements(net, tokensFor(s, net.name));
+        setLarge(els.length > kLargeNet);
+        cy.add(els);
+        placeNodes(s, net);
+        const vp = s.viewports[net.name];
+        if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
+        applyDiagnostics(s, net);
+      }
+    } else if (changed) {
+      drawnNet = net;
+      syncElements(s, net);
+      placeNodes(s, net);
+      applyDiagnostics(s, net);
+    } else if (net && prev && s.positions[net.name] !== prev.positions[net.name]) {
+      placeNodes(s, net);
+    }
+    if (net && prev && !rebuilt && s.model !== prev.model) applyDiagnostics(s, net);
+    if (!prev || s.mode !== prev.mode || rebuilt) {
+      if (s.mode === 'arc') eh.enableDrawMode(); else eh.disableDrawMode();
+      cy.edges().toggleClass('noev', s.mode === 'arc');
+      container.dataset.mode = s.mode;
+    }
+    // Selection follows the store.
+    const sel = cy.$(':selected');
+    const want = s.selected;
+    syncing = true;
+    try {
+      if (want && (sel.length !== 1 || sel[0].id() !== want)) {
+        const n = cy.getElementById(want);
+        cy.elements().unselect();
+        if (n.nonempty()) n.select();
+      } else if (!want && sel.nonempty()) sel.unselect();
+    } finally { syncing = false; }
+    if (s.focus && (!prev || s.focus !== prev.focus) && s.focus.id) {
+      const n = cy.getElementById(s.focus.id);
+      if (n.nonempty()) cy.animate({ center: { eles: n } }, { duration: 200 });
+    }
+    // Markings at most once per animation frame (a run sends many events).
+    if (rebuilt) updateDynamic(s);
+    else if (!prev || s.rs !== prev.rs || s.view !== prev.view || s.cex !== prev.cex) {
+      if (!dynamicQueued) {
+        dynamicQueued = true;
+        requestAnimationFrame(() => { dynamicQueued = false; updateDynamic(getState()); });
+      }
+    }
+  }
+
+  store.subscribe(render);
+  render(getState(), null);
+
+  return {
+    cy, addNode, centre, fitReadable, zoomBy,
+    relayout() {
+      const s = getState();
+      if (!currentNet(s)) return;
+      dispatch({ type: 'positions/clear', net: s.netName });
+    },
+  };
+}

@@ -1,0 +1,223 @@
+// The panels around the canvas: header, file, log and net lists,
+// diagnostics, messages, the run (outcome, actions in flight, reports, the
+// depth chart), replay, verification, counterexamples, sonar, and a save's
+// conflict. Each draws from the store when its part of the state changed.
+import { $, el } from './dom.js';
+import { DepthChart } from './chart.js';
+import { diagnosticsByElement } from './graph.js';
+import { displayNets, dirty } from './store.js';
+import { diagnosticRange } from './coral_lang.js';
+import { lineDiff } from './diff.js';
+
+export function createPanels(store, fx) {
+  const { getState, dispatch } = store;
+  const chart = new DepthChart($('#chart'));
+
+  function header(s) {
+    const d = dirty(s);
+    $('#path-label').textContent = s.path ? (s.readOnly ? `${s.path} (read-only)` : s.path) : (s.rs.mission ? `${s.rs.mission} (run)` : 'no file');
+    $('#dirty-mark').hidden = !d;
+    $('#btn-save').disabled = !s.path || !d || s.readOnly;
+    $('#btn-verify').disabled = !s.path || s.readOnly;
+    $('#btn-run').disabled = !s.path;
+    $('#btn-undo').disabled = !s.undo.length || s.readOnly;
+    $('#btn-redo').disabled = !s.redo.length || s.readOnly;
+    document.title = (d ? '● ' : '') + 'Strata studio' + (s.path ? ` — ${s.path}` : '');
+    const m = $('#edit-msg');
+    if (m.dataset.text !== s.message.text || m.classList.contains('error') !== s.message.error) {
+      m.dataset.text = s.message.text;
+      m.textContent = s.message.text;
+      m.classList.toggle('error', s.message.error);
+    }
+    const conn = $('#conn-status');
+    conn.className = `conn ${s.sse}`;
+    conn.title = s.sse === 'open' ? 'event stream: connected' : s.sse === 'error' ? 'event stream: reconnecting' : 'event stream';
+    document.body.dataset.view = s.view;
+    const follow = $('#follow');
+    if (follow.checked !== s.follow) follow.checked = s.follow;
+  }
+
+  function files(s) {
+    const fl = $('#file-list'); fl.replaceChildren();
+    for (const p of s.files) fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, title: p, onclick: () => fx.openFile(p) }, p));
+    const ll = $('#log-list'); ll.replaceChildren();
+    for (const p of s.logs) ll.append(el('li', { 'data-path': p, title: p, class: s.replay && s.replay.path === p ? 'active' : '', onclick: () => fx.openReplay(p) }, p));
+    if (!s.logs.length) ll.append(el('li', { class: 'muted' }, 'none'));
+  }
+
+  function nets(s) {
+    const ul = $('#net-list'); ul.replaceChildren();
+    for (const n of displayNets(s)) {
+      const badge = n.kind === 'mission' ? 'mission' : 'phase';
+      ul.append(el('li', { class: n.name === s.netName ? 'active' : '', 'data-net': n.name, title: n.file || '', onclick: () => dispatch({ type: 'net/show', name: n.name, user: true }) },
+        el('span', { class: `badge ${badge}` }, badge), ' ', n.name, n.editable ? '' : el('span', { class: 'muted' }, ' (import)')));
+    }
+  }
+
+  // A diagnostic clicked: its element on the canvas and its range in the text.
+  function focusDiagnostic(d) {
+    const s = getState();
+    let id = null, net = null;
+    for (const n of displayNets(s)) {
+      for (const [eid, ds] of diagnosticsByElement(s.model, n)) if (ds.includes(d)) { id = eid; net = n.name; break; }
+      if (id) break;
+    }
+    const r = diagnosticRange(s.text || '', d);
+    dispatch({ type: 'focus', id, net, from: r ? r.from : null, to: r ? r.to : null });
+  }
+
+  function diagnostics(s) {
+    const ds = (s.model && s.model.diagnostics) || [];
+    $('#diag-count').textContent = ds.length ? `(${ds.length})` : '';
+    const ul = $('#diag-list'); ul.replaceChildren();
+    if (!ds.length) { ul.append(el('li', { class: 'muted' }, s.model && !s.model.nets?.length && s.path && !s.readOnly ? 'the text does not compile' : 'none')); return; }
+    for (const d of ds) {
+      ul.append(el('li', { class: `sev-${d.severity}`, title: (d.notes || []).map((n) => n.message).join('\n'), onclick: () => focusDiagnostic(d) },
+        el('b', {}, d.severity), ` ${d.file || ''}:${d.line}:${d.col ?? ''} `, d.message, d.kind ? el('span', { class: 'muted' }, ` [${d.kind}]`) : null));
+    }
+  }
+
+  function run(s) {
+    const rs = s.rs;
+    const status = $('#run-status');
+    status.textContent = s.view === 'replay' ? `replay: ${rs.status}` : rs.status;
+    status.className = `status ${rs.status}`;
+    const out = $('#run-outcome');
+    if (rs.ended) {
+      out.textContent = `${rs.ended.outcome}${rs.ended.exit ? ` (exit ${rs.ended.exit})` : ''}${rs.ended.reason ? `: ${rs.ended.reason}` : ''}${rs.ended.t != null ? ` at t=${rs.ended.t}` : ''}`;
+      out.className = `outcome ${rs.ended.outcome}`;
+    } else if (rs.status === 'running') {
+      out.textContent = `running ${rs.mission || ''}${rs.scenario ? ` (${rs.scenario}, ×${rs.speed})` : ''}`;
+      out.className = 'outcome running';
+    } else { out.textContent = 'no run'; out.className = 'muted'; }
+    const fl = $('#inflight-list'); fl.replaceChildren();
+    for (const a of Object.values(rs.inFlight)) fl.append(el('li', {}, `▶ ${a.kind || ''} ${a.primitive || ''}`, el('span', { class: 'muted' }, ` ${a.net || ''}/${a.transition || ''}`)));
+    const rl = $('#report-log');
+    if (rl.childElementCount !== rs.reports.length) {
+      rl.replaceChildren(...rs.reports.map((r) => el('li', {}, el('span', { class: 'muted' }, r.t != null ? `${Number(r.t).toFixed(1)} ` : ''), r.text)));
+      rl.scrollTop = rl.scrollHeight;
+    }
+    chart.update(rs.telemetry);
+  }
+
+  function replay(s) {
+    const r = s.replay;
+    $('#replay-box').hidden = !r;
+    for (const li of document.querySelectorAll('#log-list li')) li.classList.toggle('active', !!r && li.dataset.path === r.path);
+    if (!r) return;
+    $('#replay-name').textContent = `${r.path} (${r.events.length} events)`;
+    const sl = $('#replay-slider');
+    sl.max = String(r.events.length);
+    if (sl.value !== String(r.pos)) sl.value = String(r.pos);
+    $('#replay-pos').textContent = `${r.pos} / ${r.events.length}`;
+    const cur = r.pos > 0 ? r.events[r.pos - 1] : null;
+    $('#replay-event').textContent = cur ? `${cur[0]} ${JSON.stringify(cur[1]).slice(0, 240)}` : '(start)';
+  }
+
+  function verify(s) {
+    const box = $('#verify-box'), body = $('#verify-body');
+    const res = s.verify;
+    box.hidden = !res;
+    if (!res) return;
+    if (res.pending) { body.replaceChildren(el('div', { class: 'muted' }, 'verifying…')); return; }
+    if (res.error) { body.replaceChildren(el('div', { class: 'error' }, res.error)); return; }
+    body.replaceChildren(el('div', { class: res.ok ? 'ok' : 'error', id: 'verify-summary' }, res.ok ? 'all properties hold' : 'some properties fail'));
+    for (const net of res.nets || []) {
+      const ul = el('ul', { class: 'list small props' });
+      for (const p of net.properties || []) {
+        const li = el('li', { class: `prop ${p.status}`, 'data-key': p.key }, el('b', {}, p.status === 'holds' ? '✓ ' : p.status === 'fails' ? '✗ ' : '? '), `${p.key}: `, p.message || '');
+        if (p.counterexample && (p.counterexample.steps || []).length) {
+          li.append(' ', el('button', { class: 'small play-cex', onclick: () => {
+            if (!displayNets(getState()).some((n) => n.name === net.name)) { fx.say(`net ${net.name} is not in this load`, true); return; }
+            dispatch({ type: 'cex/play', net: net.name, key: p.key, steps: p.counterexample.steps });
+          } }, '▶ play'));
+        }
+        ul.append(li);
+      }
+      body.append(el('div', { class: 'vnet' }, el('b', {}, `${net.ok ? '✓' : '✗'} ${net.name}`), el('span', { class: 'muted' }, ` ${net.states ?? '?'} states`)), ul);
+    }
+  }
+
+  function cex(s) {
+    const c = s.cex;
+    $('#cex-box').hidden = !c;
+    if (!c) return;
+    $('#cex-title').textContent = `${c.net}: ${c.key}`;
+    $('#cex-pos').textContent = `${c.i} / ${c.steps.length}`;
+    $('#cex-text').textContent = c.i > 0 ? `${c.i}. ${c.steps[c.i - 1].text}` : '(initial marking)';
+  }
+
+  function sonar(s) {
+    const so = s.sonar;
+    if (so.mtime != null) {
+      const src = `/api/sonar/latest.png?m=${so.mtime}`;
+      const img = $('#sonar-img');
+      if (img.getAttribute('src') !== src) img.setAttribute('src', src);
+      $('#sonar-box').hidden = false;
+    }
+    $('#sonar-info').textContent = describeSonar(so.frame);
+  }
+
+  // A save refused with 412: Reload, or keep mine over their version, with both texts compared.
+  function conflict(s) {
+    const box = $('#conflict-box');
+    const c = s.conflict;
+    box.hidden = !c;
+    if (!c) { box.replaceChildren(); return; }
+    const rows = c.theirs == null ? [] : lineDiff(c.theirs, s.text || '');
+    const changed = rows.filter((r) => r.op !== ' ').length;
+    box.replaceChildren(
+      el('div', {}, el('b', {}, `${c.path} changed since you opened it.`), ` ${changed} line(s) differ between the file now (−) and your text (+).`),
+      el('div', { class: 'conflict-actions' },
+        el('button', { id: 'btn-reload', onclick: () => fx.reload() }, 'Reload (drop my edits)'),
+        el('button', { id: 'btn-keep-mine', disabled: c.etag == null, onclick: () => fx.keepMine() }, 'Keep mine (save over it)'),
+        el('button', { id: 'btn-conflict-close', class: 'small', onclick: () => dispatch({ type: 'conflict/dismiss' }) }, 'close')),
+      el('pre', { id: 'conflict-diff', class: 'mono small' }, rows.filter((r, i) => r.op !== ' ' || rows.slice(Math.max(0, i - 2), i + 3).some((x) => x.op !== ' '))
+        .map((r) => el('div', { class: r.op === '-' ? 'del' : r.op === '+' ? 'add' : '' }, `${r.op} ${r.text}`))));
+  }
+
+  let prev = null;
+  function render(s) {
+    const p = prev;
+    prev = s;
+    header(s);
+    if (!p || s.files !== p.files || s.logs !== p.logs || s.path !== p.path) files(s);
+    if (!p || displayNets(s) !== displayNets(p) || s.netName !== p.netName) nets(s);
+    if (!p || s.model !== p.model) diagnostics(s);
+    if (!p || s.rs !== p.rs || s.view !== p.view) scheduleRun();
+    if (!p || s.replay !== p.replay) replay(s);
+    if (!p || s.verify !== p.verify) verify(s);
+    if (!p || s.cex !== p.cex) cex(s);
+    if (!p || s.sonar !== p.sonar) sonar(s);
+    if (!p || s.conflict !== p.conflict || (s.conflict && s.text !== p.text)) conflict(s);
+    if (!p || s.model !== p.model) fillScenarios(s);
+  }
+  // The run panels at most once per animation frame.
+  let runQueued = false;
+  function scheduleRun() {
+    if (runQueued) return;
+    runQueued = true;
+    requestAnimationFrame(() => { runQueued = false; run(getState()); });
+  }
+  // The scenarios beside the mission, nominal first.
+  function fillScenarios(s) {
+    const select = $('#run-scenario');
+    const keep = select.value;
+    const list = ['nominal', ...((s.model && s.model.scenarios) || []).filter((n) => n !== 'nominal')];
+    if ([...select.options].map((o) => o.value).join() === list.join()) return;
+    select.replaceChildren(...list.map((n) => el('option', {}, n)));
+    select.value = list.includes(keep) ? keep : 'nominal';
+  }
+  store.subscribe(render);
+  render(getState());
+  return { chart };
+}
+
+export function describeSonar(f) {
+  if (!f) return '';
+  if (f.event === 'end') return `end: ${f.frames ?? '?'} frames, ${f.pings ?? '?'} pings, ${(f.lost_pings ?? 0) + (f.queue_drops ?? 0)} lost`;
+  const t = typeof f.t === 'number' ? f.t.toFixed(1) : (typeof f.time_s === 'number' ? f.time_s.toFixed(1) : '?');
+  const target = f.target ? `target ${Number(f.target.range_m ?? 0).toFixed(1)} m away` : 'no target';
+  const walls = Array.isArray(f.walls) ? `${f.walls.length} walls` : '';
+  return `frame ${f.frame ?? '?'} at ${t} s · ${walls} · ${target}`;
+}

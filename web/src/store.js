@@ -1,0 +1,436 @@
+// The page's one store: every piece of page state lives here, and changes
+// only by dispatching an action to reduce(). Data goes one way: server
+// answers and events, and the user's actions, become actions; the views
+// subscribe and draw from the state they are given. Nothing here touches
+// the DOM, so it runs (and is tested) under plain Node.
+//
+// State objects are not mutated: reduce() returns a new state whose
+// unchanged parts are the same objects, so a view compares references to
+// know what to draw again. One exception, for speed during long runs: the
+// run's telemetry and reports arrays are append-only and shared between
+// versions (a view compares their length).
+import { emptyRun, applyEvent } from './runstate.js';
+
+export const placeId = (name) => `p:${name}`;
+export const transId = (name) => `t:${name}`;
+
+export const kMaxUndo = 200;
+
+export function initialState() {
+  return {
+    files: [], logs: [], root: null,
+    path: null,          // the open file
+    model: null,         // its mission model (the nets of the last text that compiled)
+    text: null,          // the text: the source of truth
+    savedText: null,     // the text as it is on disk (as last read or saved)
+    etag: null,          // the version of the file read (If-Match on save)
+    layoutEtag: null,    // the same for its layout file
+    layoutDirty: false,  // positions moved since the last save
+    checking: false,     // a typed text waits for its model
+    undo: [],            // texts before each edit, newest last
+    redo: [],            // texts undone, newest last
+    typing: false,       // the current undo entry is a burst of typing
+    netName: null,       // the net on the canvas
+    positions: {},       // net -> node id -> {x, y}
+    viewports: {},       // net -> {zoom, pan: {x, y}}, as the user left it
+    pendingPos: null,    // where the next new node goes
+    selected: null,      // the element id selected on the canvas
+    focus: null,         // {id, from, to, seq}: an element and a text range to show (a diagnostic clicked)
+    primitives: [],
+    mode: 'select',      // select | place | transition | arc
+    view: 'edit',        // edit | live | replay | cex
+    follow: true,        // follow the run's phases
+    rs: emptyRun(),      // the run shown (live, or the replay's)
+    live: null,          // the live run, kept while a replay is shown
+    replay: null,        // {path, mission, events, pos}
+    verify: null,        // the last verification result
+    cex: null,           // {net, key, steps, i}
+    conflict: null,      // {path, theirs, etag, layoutEtag}: a save refused with 412
+    sonar: { frames: 0, mtime: null, frame: null, error: null },
+    panels: { left: 220, right: 320, text: 360 },  // widths in px
+    readOnly: false,     // the open file is shown as text only (not CORAL)
+    sse: 'closed',
+    message: { text: '', error: false },
+    lastError: null,
+    busy: 0,
+  };
+}
+
+// ---------------------------------------------------------------- selectors
+
+// The nets shown: the open file's, or the run's when no file is open.
+const kNoNets = Object.freeze([]);
+export function displayNets(s) {
+  if (s.model && s.model.nets && s.model.nets.length) return s.model.nets;
+  if (s.rs.nets) return s.rs.nets;
+  return kNoNets;
+}
+
+export function currentNet(s) {
+  return displayNets(s).find((n) => n.name === s.netName) || null;
+}
+
+export function editable(s) {
+  const n = currentNet(s);
+  return !!(n && n.editable && s.model && s.path && !s.readOnly);
+}
+
+export function dirty(s) {
+  return s.path != null && (s.text !== s.savedText || s.layoutDirty);
+}
+
+export function uniqueName(s, prefix) {
+  const net = currentNet(s);
+  const used = new Set([...(net?.places || []).map((p) => p.name), ...(net?.transitions || []).map((t) => t.name), ...(net?.exits || [])]);
+  for (let i = 1; i <= used.size + 1; i++) if (!used.has(prefix + i)) return prefix + i;
+  return prefix + (used.size + 2);
+}
+
+// The marking drawn on net: a counterexample's, the run's, or null (the initial marking).
+export function tokensFor(s, netName) {
+  if (s.view === 'cex' && s.cex && s.cex.net === netName) return cexMarking(s, netName, s.cex.steps, s.cex.i);
+  if ((s.view === 'live' || s.view === 'replay') && s.rs.markings[netName]) return s.rs.markings[netName];
+  return null;
+}
+
+// The marking after the first i steps of a counterexample: from the initial
+// one, a firing takes its wait arcs and puts its signal arcs, an answer marks.
+export function cexMarking(s, netName, steps, i) {
+  const net = displayNets(s).find((n) => n.name === netName);
+  const m = {};
+  if (!net) return m;
+  for (const p of net.places || []) if (p.initial) m[p.name] = p.initial;
+  const tr = new Map((net.transitions || []).map((t) => [t.name, t]));
+  for (let k = 0; k < i; k++) {
+    const st = steps[k];
+    if (st.kind === 'fire') {
+      const t = tr.get(st.transition);
+      if (t) {
+        for (const a of t.inputs || []) m[a.place] = (m[a.place] || 0) - (a.weight ?? 1);
+        for (const a of t.outputs || []) m[a.place] = (m[a.place] || 0) + (a.weight ?? 1);
+      }
+    } else {
+      for (const p of st.marks || []) m[p] = (m[p] || 0) + 1;
+    }
+  }
+  for (const k of Object.keys(m)) if (m[k] <= 0) delete m[k];
+  return m;
+}
+
+// Replay steps: the event index just after the next (previous) firing.
+export function nextFiring(events, k) { for (let i = k; i < events.length; i++) if (events[i][0] === 'fired') return i + 1; return events.length; }
+export function prevFiring(events, k) { for (let i = k - 2; i >= 0; i--) if (events[i][0] === 'fired') return i + 1; return 0; }
+
+// Layout file (net -> node name -> {x, y}) into positions by node id.
+export function positionsFromLayout(model) {
+  const out = {};
+  const layout = model && model.layout;
+  if (!layout || typeof layout !== 'object') return out;
+  for (const net of model.nets || []) {
+    const l = layout[net.name];
+    if (!l || typeof l !== 'object') continue;
+    const pos = {};
+    const placeNames = new Set([...(net.places || []).map((p) => p.name), ...(net.exits || [])]);
+    const transNames = new Set((net.transitions || []).map((t) => t.name));
+    for (const [name, xy] of Object.entries(l)) {
+      if (!xy || typeof xy.x !== 'number' || typeof xy.y !== 'number') continue;
+      if (placeNames.has(name)) pos[placeId(name)] = { x: xy.x, y: xy.y };
+      if (transNames.has(name)) pos[transId(name)] = { x: xy.x, y: xy.y };
+    }
+    out[net.name] = pos;
+  }
+  return out;
+}
+
+// Positions by id back into the layout file's form, for the nets shown.
+export function layoutByName(s) {
+  const out = {};
+  for (const net of displayNets(s)) {
+    const pos = s.positions[net.name];
+    if (!pos) continue;
+    const m = {};
+    for (const [id, xy] of Object.entries(pos)) m[id.slice(2)] = { x: Math.round(xy.x * 10) / 10, y: Math.round(xy.y * 10) / 10 };
+    out[net.name] = m;
+  }
+  return out;
+}
+
+// The element a successful op leaves selected.
+export function selectedAfter(op) {
+  switch (op.op) {
+    case 'add_place': case 'set_initial': return placeId(op.name);
+    case 'rename_place': return placeId(op.to);
+    case 'add_transition': return transId(op.name);
+    case 'rename_transition': return transId(op.to);
+    case 'set_actions': return transId(op.transition);
+    default: return null;
+  }
+}
+
+// Positions follow renames and deletions of the op.
+function positionsAfterOp(positions, op) {
+  const pos = { ...(positions[op.net] || {}) };
+  const move = (from, to) => { if (pos[from]) { pos[to] = pos[from]; delete pos[from]; } };
+  if (op.op === 'rename_place') move(placeId(op.name), placeId(op.to));
+  if (op.op === 'rename_transition') move(transId(op.name), transId(op.to));
+  if (op.op === 'delete_place') delete pos[placeId(op.name)];
+  if (op.op === 'delete_transition') delete pos[transId(op.name)];
+  return { ...positions, [op.net]: pos };
+}
+
+// The net to draw after a new model: the one drawn when it is still there.
+function pickNet(nets, current, fresh) {
+  if (!fresh && current && nets.some((n) => n.name === current)) return current;
+  const mission = nets.find((n) => n.kind === 'mission' && n.editable) || nets.find((n) => n.editable) || nets.find((n) => n.kind === 'mission') || nets[0];
+  return mission ? mission.name : null;
+}
+
+// The model kept when text does not compile: the last nets drawn, with the new diagnostics.
+function mergeModel(prev, model) {
+  if (model.nets && model.nets.length === 0 && prev && prev.nets && prev.nets.length) return { ...model, nets: prev.nets, broken: true };
+  return model;
+}
+
+// While a run or replay is shown with follow on, the canvas shows the net
+// of the run's latest phase.
+function follow(s) {
+  if (!s.follow || s.view === 'edit' || s.view === 'cex') return s;
+  const n = s.rs.currentNet;
+  if (n && n !== s.netName && displayNets(s).some((x) => x.name === n)) return { ...s, netName: n, selected: null };
+  return s;
+}
+
+function pushUndo(s, text) {
+  if (text == null) return s.undo;
+  const u = s.undo.length >= kMaxUndo ? s.undo.slice(1) : s.undo.slice();
+  u.push(text);
+  return u;
+}
+
+function replayRun(events, k) {
+  const rs = emptyRun();
+  for (let i = 0; i < k; i++) applyEvent(rs, events[i][0], events[i][1]);
+  return rs;
+}
+
+// A copy of rs that applyEvent may change without touching rs (the
+// append-only telemetry and reports arrays stay shared).
+function cloneRun(rs) {
+  return { ...rs, instances: { ...rs.instances }, markings: { ...rs.markings }, enabled: { ...rs.enabled }, inFlight: { ...rs.inFlight } };
+}
+
+// ---------------------------------------------------------------- the reducer
+export function reduce(s, a) {
+  switch (a.type) {
+    case 'files/loaded':
+      return { ...s, files: a.files || [], logs: a.logs || [], root: a.root ?? s.root };
+    case 'primitives/loaded':
+      return { ...s, primitives: a.primitives || [] };
+    case 'busy':
+      return { ...s, busy: Math.max(0, s.busy + a.delta) };
+    case 'message':
+      return { ...s, message: { text: a.text || '', error: !!a.error }, lastError: a.error ? a.text : s.lastError };
+    case 'sse':
+      return { ...s, sse: a.state };
+    case 'panel/resize':
+      return { ...s, panels: { ...s.panels, [a.panel]: Math.max(a.min ?? 120, Math.min(a.max ?? 1200, Math.round(a.px))) } };
+    case 'sonar': {
+      const o = s.sonar;
+      const fresh = a.mtime != null && a.mtime !== o.mtime;
+      return { ...s, sonar: { frames: o.frames + (fresh ? 1 : 0), mtime: fresh ? a.mtime : o.mtime, frame: a.frame ?? o.frame, error: a.error ?? null } };
+    }
+
+    // A file read from disk: a fresh start of the editor.
+    case 'file/opened': {
+      const m = a.model;
+      const nets = m.nets || [];
+      const n = {
+        ...s, path: a.path, model: m, text: m.text ?? '', savedText: m.text ?? '', etag: m.etag || null,
+        layoutEtag: m.layout_etag || null, layoutDirty: false, checking: false, undo: [], redo: [], typing: false,
+        readOnly: !!a.readOnly,
+        positions: positionsFromLayout(m), viewports: {}, pendingPos: null, selected: null, focus: null,
+        netName: pickNet(nets, null, true), cex: null, verify: null, conflict: null,
+        view: a.keepView || s.view !== 'cex' ? s.view : 'edit',
+        message: { text: '', error: false },
+      };
+      return n;
+    }
+
+    // The model of an edit op (POST /api/edit): its text replaces ours.
+    case 'model/edited': {
+      if (a.path !== s.path) return s;
+      const model = mergeModel(s.model, a.model);
+      const op = a.op;
+      return {
+        ...s, model, text: a.model.text ?? s.text, checking: false,
+        undo: pushUndo(s, s.text), redo: [], typing: false,
+        positions: op && op.net ? positionsAfterOp(s.positions, op) : s.positions,
+        pendingPos: op && (op.op === 'add_place' || op.op === 'add_transition') ? (a.at || null) : s.pendingPos,
+        selected: (op && selectedAfter(op)) || s.selected,
+        netName: pickNet(model.nets || [], s.netName, false),
+        view: s.view === 'cex' ? 'edit' : s.view, cex: s.view === 'cex' ? null : s.cex,
+      };
+    }
+
+    // Text typed in the text pane: the text changes now, its model comes
+    // later (model/checked). One undo entry per burst of typing.
+    case 'text/typed': {
+      if (a.text === s.text || s.path == null || s.readOnly) return s;
+      return { ...s, text: a.text, checking: true, undo: s.typing ? s.undo : pushUndo(s, s.text), redo: s.typing ? s.redo : [], typing: true };
+    }
+    // The model of a text (POST /api/check); stale answers (the text moved on) are dropped.
+    case 'model/checked': {
+      if (a.path !== s.path || a.text !== s.text) return s;
+      const model = mergeModel(s.model, { ...a.model, text: a.text });
+      return { ...s, model, checking: false, netName: pickNet(model.nets || [], s.netName, false) };
+    }
+    case 'typing/end':
+      return s.typing ? { ...s, typing: false } : s;
+
+    case 'undo': {
+      if (!s.undo.length) return s;
+      const text = s.undo[s.undo.length - 1];
+      return { ...s, text, undo: s.undo.slice(0, -1), redo: [...s.redo, s.text], typing: false, checking: true };
+    }
+    case 'redo': {
+      if (!s.redo.length) return s;
+      const text = s.redo[s.redo.length - 1];
+      return { ...s, text, redo: s.redo.slice(0, -1), undo: pushUndo(s, s.text), typing: false, checking: true };
+    }
+
+    case 'file/saved':
+      if (a.path !== s.path) return s;
+      return { ...s, savedText: a.text, etag: a.etag ?? s.etag, layoutEtag: a.layoutEtag ?? s.layoutEtag,
+        layoutDirty: a.layoutSaved ? false : s.layoutDirty, conflict: null };
+    // A save refused with 412: their text and version, for Reload or merge by text.
+    case 'save/conflict':
+      if (a.path !== s.path) return s;
+      return { ...s, conflict: { path: a.path, theirs: a.theirs ?? null, etag: a.etag ?? null, layoutEtag: a.layoutEtag ?? null } };
+    // Keep mine: the next save is made over their version.
+    case 'conflict/keep-mine':
+      if (!s.conflict) return s;
+      return { ...s, etag: s.conflict.etag ?? s.etag, layoutEtag: s.conflict.layoutEtag ?? s.layoutEtag, conflict: null };
+    case 'conflict/dismiss':
+      return { ...s, conflict: null };
+
+    // A net chosen by the user while a run or replay is followed stops the
+    // following: the user's net stays on the canvas, with the run's marking.
+    case 'net/show': {
+      if (!displayNets(s).some((n) => n.name === a.name) || a.name === s.netName) return s;
+      const stop = a.user && s.follow && (s.view === 'live' || s.view === 'replay');
+      return { ...s, netName: a.name, selected: null, follow: stop ? false : s.follow };
+    }
+    case 'mode/set':
+      return { ...s, mode: a.mode };
+    case 'select':
+      return a.id === s.selected ? s : { ...s, selected: a.id };
+    case 'focus':
+      return { ...s, focus: { id: a.id ?? null, net: a.net ?? null, from: a.from ?? null, to: a.to ?? null, seq: (s.focus ? s.focus.seq : 0) + 1 },
+        netName: a.net && displayNets(s).some((n) => n.name === a.net) ? a.net : s.netName, selected: a.id ?? s.selected };
+
+    // Positions: dragged nodes, a layout, new nodes placed.
+    case 'positions/set': {
+      const cur = s.positions[a.net] || {};
+      const pos = a.replace ? { ...a.positions } : { ...cur, ...a.positions };
+      return { ...s, positions: { ...s.positions, [a.net]: pos }, layoutDirty: s.layoutDirty || !!a.user, pendingPos: a.placed ? null : s.pendingPos };
+    }
+    case 'positions/clear':
+      return { ...s, positions: { ...s.positions, [a.net]: {} }, viewports: { ...s.viewports, [a.net]: undefined }, layoutDirty: s.path != null };
+    case 'viewport/set':
+      return { ...s, viewports: { ...s.viewports, [a.net]: { zoom: a.zoom, pan: { x: a.pan.x, y: a.pan.y } } } };
+
+    case 'view/set': {
+      let n = { ...s, view: a.view };
+      if (a.view !== 'cex') n.cex = null;
+      if (a.view !== 'replay' && s.replay) n = { ...n, replay: null, rs: s.live || emptyRun(), live: null };
+      return follow(n);
+    }
+    case 'follow/set':
+      return follow({ ...s, follow: !!a.follow });
+
+    // One event of GET /api/events.
+    case 'run/event': {
+      let n = s;
+      if (s.replay && (a.name === 'run_start' || a.name === 'snapshot')) n = { ...n, replay: null, rs: n.live || emptyRun(), live: null };
+      if (n.replay) return { ...n, live: applyEvent(cloneRun(n.live || emptyRun()), a.name, a.data) };
+      n = { ...n, rs: applyEvent(cloneRun(n.rs), a.name, a.data) };
+      if (a.name === 'run_start' || (a.name === 'snapshot' && a.data && a.data.run != null)) {
+        n = { ...n, view: 'live', cex: null };
+        if (!n.model && n.rs.nets && n.rs.nets.length) n.netName = pickNet(n.rs.nets, n.netName, false);
+      }
+      return follow(n);
+    }
+    case 'run/started':
+      return follow({ ...s, view: 'live', cex: null, replay: null, rs: s.replay ? (s.live || emptyRun()) : s.rs, live: null });
+
+    case 'replay/opened': {
+      const events = a.events || [];
+      return follow({ ...s, live: s.replay ? s.live : s.rs, replay: { path: a.path, mission: a.mission ?? null, events, pos: events.length },
+        rs: replayRun(events, events.length), view: 'replay', cex: null });
+    }
+    case 'replay/seek': {
+      if (!s.replay) return s;
+      const k = Math.max(0, Math.min(s.replay.events.length, a.pos | 0));
+      return follow({ ...s, replay: { ...s.replay, pos: k }, rs: replayRun(s.replay.events, k) });
+    }
+    case 'replay/close':
+      if (!s.replay) return s;
+      return { ...s, replay: null, rs: s.live || emptyRun(), live: null, view: (s.live && s.live.status !== 'idle') ? 'live' : 'edit' };
+
+    case 'verify/start':
+      return { ...s, verify: { pending: true } };
+    case 'verify/result':
+      return { ...s, verify: a.result };
+    case 'cex/play': {
+      if (!displayNets(s).some((n) => n.name === a.net)) return s;
+      let n = s.replay ? { ...s, replay: null, rs: s.live || emptyRun(), live: null } : s;
+      n = { ...n, view: 'cex', netName: a.net, cex: { net: a.net, key: a.key, steps: a.steps, i: 0 } };
+      return n;
+    }
+    case 'cex/go':
+      if (!s.cex) return s;
+      return { ...s, cex: { ...s.cex, i: Math.max(0, Math.min(s.cex.steps.length, a.i)) }, netName: s.cex.net };
+    case 'cex/close':
+      return { ...s, cex: null, view: s.rs.status === 'idle' ? 'edit' : 'live' };
+
+    default:
+      throw new Error(`unknown action ${a.type}`);
+  }
+}
+
+// The store: getState, dispatch, subscribe. A dispatch made while the
+// subscribers are being told of a change is queued and done after them, so
+// every subscriber sees each state in order.
+export function createStore(state = initialState()) {
+  const subs = new Set();
+  const queue = [];
+  let notifying = false;
+  function dispatch(action) {
+    queue.push(action);
+    if (notifying) return;
+    notifying = true;
+    // A subscriber that throws is a bug: the others are still told, the
+    // queued actions still done, and the first error thrown at the end.
+    let error = null;
+    try {
+      while (queue.length) {
+        const act = queue.shift();
+        const prev = state;
+        state = reduce(state, act);
+        if (state === prev) continue;
+        for (const f of [...subs]) {
+          try { f(state, prev, act); } catch (e) { if (!error) error = e; }
+        }
+      }
+    } finally {
+      notifying = false;
+      queue.length = 0;
+    }
+    if (error) throw error;
+  }
+  return {
+    getState: () => state,
+    dispatch,
+    subscribe(f) { subs.add(f); return () => subs.delete(f); },
+  };
+}

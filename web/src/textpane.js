@@ -1,0 +1,72 @@
+// The text pane: CodeMirror 6 on the open file's text, the source of truth.
+// What the user types goes to the store (fx.textTyped), which has it
+// checked; the store's text (an op on the graph, undo, a reload) replaces
+// the pane's; the checker's diagnostics are lint marks.
+import { EditorView, keymap, lineNumbers, highlightActiveLine, drawSelection } from '@codemirror/view';
+import { EditorState, Compartment, Annotation } from '@codemirror/state';
+import { defaultKeymap, indentWithTab } from '@codemirror/commands';
+import { syntaxHighlighting, defaultHighlightStyle, bracketMatching } from '@codemirror/language';
+import { setDiagnostics, lintGutter } from '@codemirror/lint';
+import { coral, lintDiagnostics } from './coral_lang.js';
+
+const fromStore = Annotation.define();
+
+export function createTextPane(parent, store, fx) {
+  const { getState } = store;
+  const readOnly = new Compartment();
+  const view = new EditorView({
+    parent,
+    state: EditorState.create({
+      doc: '',
+      extensions: [
+        lineNumbers(), highlightActiveLine(), drawSelection(), bracketMatching(),
+        coral, syntaxHighlighting(defaultHighlightStyle), lintGutter(),
+        // Undo is the page's (one stack of texts for graph and text edits);
+        // Ctrl-S is the page's keydown handler (main.js).
+        keymap.of([
+          { key: 'Mod-z', run: () => { fx.undo(); return true; } },
+          { key: 'Mod-Shift-z', run: () => { fx.redo(); return true; } },
+          { key: 'Mod-y', run: () => { fx.redo(); return true; } },
+          indentWithTab, ...defaultKeymap]),
+        readOnly.of(EditorState.readOnly.of(true)),
+        EditorView.updateListener.of((u) => {
+          if (!u.docChanged || u.transactions.some((t) => t.annotation(fromStore))) return;
+          fx.textTyped(u.state.doc.toString());
+        }),
+        EditorView.domEventHandlers({ blur: () => { fx.endTyping(); } }),
+      ],
+    }),
+  });
+
+  function render(s, prev) {
+    const text = s.text ?? '';
+    const doc = view.state.doc.toString();
+    const effects = [];
+    if (!prev || s.readOnly !== prev.readOnly || s.path !== prev.path) {
+      effects.push(readOnly.reconfigure(EditorState.readOnly.of(s.path == null || s.readOnly)));
+    }
+    if (text !== doc) {
+      // Keep the cursor where it was, as near as the new text allows.
+      const head = Math.min(view.state.selection.main.head, text.length);
+      view.dispatch({ changes: { from: 0, to: doc.length, insert: text }, selection: { anchor: head }, annotations: fromStore.of(true), effects });
+    } else if (effects.length) view.dispatch({ effects });
+    if (!prev || s.model !== prev.model || text !== doc) {
+      // Marks only for the text the model is of (a typed text waits for its check).
+      const diags = s.checking ? [] : lintDiagnostics(text, s.model, s.path);
+      view.dispatch(setDiagnostics(view.state, diags));
+    }
+    if (s.focus && (!prev || s.focus !== prev.focus) && s.focus.from != null) {
+      const to = Math.min(s.focus.to ?? s.focus.from, view.state.doc.length);
+      const from = Math.min(s.focus.from, to);
+      view.dispatch({ selection: { anchor: from, head: to }, scrollIntoView: true });
+    }
+  }
+  store.subscribe(render);
+  render(getState(), null);
+  return {
+    view,
+    get text() { return view.state.doc.toString(); },
+    get selection() { const m = view.state.selection.main; return { from: m.from, to: m.to }; },
+    get lintCount() { let n = 0; view.dom.querySelectorAll('.cm-lintRange').forEach(() => n++); return n; },
+  };
+}
