@@ -124,7 +124,9 @@ TEST(SonarSearch, WithoutATargetTheSearchGoesRoundEveryHeading) {
   std::vector<std::string> headings;
   for (const auto& row : r.rows) {
     if (row.call.starts_with("exec heading ")) headings.push_back(row.call.substr(13));
-    if (row.call == "ask target_detected") EXPECT_EQ("0", row.answer);
+    if (row.call == "ask target_detected") {
+      EXPECT_EQ("0", row.answer);
+    }
   }
   for (const char* h : {"0", "45", "90", "135", "180", "225", "270", "315"}) {
     EXPECT_NE(headings.end(), std::find(headings.begin(), headings.end(), h)) << h;
