@@ -14,6 +14,29 @@
 :- use_module(library(aggregate)).
 :- use_module(library(readutil)).
 :- use_module(library(prolog_codewalk)).
+
+% Reading a term from text made at run time: SWI-Prolog 9.0.4's reader can
+% read freed memory on a digit followed by a quote (0'c, 16'FF) at some
+% lengths of the text (fuzz/known/swi_9_0_4_reader_use_after_free.pl;
+% term_to_atom/2 reached it at 504 characters). A rules file is scanned for
+% that before it is read (mission.cpp, scan_rules_text); text a mission
+% builds cannot be, so the predicates that parse text as a term are refused
+% (docs/prolog.md, section 7). library(sandbox) lists them as safe and asks
+% safe_primitive/1 before any other hook: these clauses come before its
+% own, as this file loads first (ensure_driver, mission.cpp), and the
+% directive at the end of this file checks that they do.
+:- multifile sandbox:safe_primitive/1.
+sandbox:safe_primitive(system:term_to_atom(_, _)) :- parses_text(term_to_atom/2).
+sandbox:safe_primitive(system:atom_to_term(_, _, _)) :- parses_text(atom_to_term/3).
+sandbox:safe_primitive(system:term_string(_, _)) :- parses_text(term_string/2).
+sandbox:safe_primitive('$syspreds':term_string(_, _, _)) :- parses_text(term_string/3).
+
+parses_text(PI) :-
+    format(string(Text), "~w is not allowed in a mission: it parses text as a term, and \c
+                          SWI-Prolog 9.0.4's reader has a memory bug on some texts \c
+                          (docs/prolog.md, section 7); build the term instead", [PI]),
+    throw(error(strata_refused(PI, Text), _)).
+
 :- use_module(library(sandbox)).
 
 :- dynamic walk_problem/4.           % File, Line, Callee, Text
@@ -203,3 +226,14 @@ message_to_codes(E, Text) :-
 message_to_codes_(E, Text) :-
     message_to_string(E, Text0),
     normalize_space(string(Text), Text0).
+
+% The refusals above hold only if they come before library(sandbox)'s own
+% clauses: a driver where they do not is not loaded at all.
+:- (   catch(( safe_goal(user:term_to_atom(_, _)), Refused = false ),
+             error(strata_refused(term_to_atom/2, _), _),
+             Refused = true),
+       Refused == true
+   ->  true
+   ;   throw(error(strata_driver_broken("library(sandbox) was loaded before the driver's \c
+                                         refusal of the predicates that parse text"), _))
+   ).

@@ -149,13 +149,28 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
 // kept its SIGSEGV guard, engine.cpp), and very long lines make the reader
 // and the compiler slow (a 1 MB integer, 300,000 chained operators). A file
 // over LoadLimits::max_bytes, or not a regular file, is not read at all.
+//
+// And SWI-Prolog 9.0.4's reader reads freed memory on a digit followed by a
+// quote (`0'c`, `16'FF`): raw_read2() keeps a pointer to the digits, adds a
+// byte to its buffer, which may move it, and then atoi()s the old place
+// (found by prolog_fuzz; fuzz/known/swi_9_0_4_reader_use_after_free.pl).
+// Whether it moves depends on the clause's length in the reader's own
+// encoding, so any digit followed by a quote outside quoted text and
+// comments is refused. So are the two things where the reader's idea of
+// quoted text and comments is not this scanner's: `||` (a quasi-quotation,
+// read raw to `|}`) and `/*` right after a symbol character (`=/*` is an
+// operator there, not a comment).
 constexpr std::size_t kMaxNesting = 1000;
 constexpr std::size_t kMaxLine = 100'000;
 
-// Scans Prolog text for bracket nesting and line length, skipping quoted
-// text and comments. Returns "" when it is fine, or "Line:Column:text".
+bool is_symbol_char(char c) { return std::string_view("#$&*+-./:<=>?@^~\\").find(c) != std::string_view::npos; }
+
+// Scans Prolog text for bracket nesting, line length and the reader's
+// digit-quote bug, skipping quoted text and comments. Returns "" when it is
+// fine, or "Line:Column:text".
 std::string scan_rules_text(std::string_view text) {
-  std::size_t line = 1, column = 0, depth = 0, line_start = 0;
+  std::size_t line = 1, depth = 0, line_start = 0;
+  char prev = ' ';  // the code character before this one (' ' after a comment)
   auto place = [&](std::size_t at, const std::string& what) {
     return fmt::format("{}:{}:{}", line, at - line_start + 1, what);
   };
@@ -164,15 +179,22 @@ std::string scan_rules_text(std::string_view text) {
     if (c == '\n') {
       ++line;
       line_start = i + 1;
+      prev = ' ';
       continue;
     }
     if (i - line_start >= kMaxLine) {
       return fmt::format("{}:1:a line longer than {} characters: rules are not read past it", line, kMaxLine);
     }
-    (void)column;
     if (c == '%') {  // a comment to the end of the line
       while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
-    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      prev = ' ';
+      continue;
+    }
+    if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      if (is_symbol_char(prev)) {
+        return place(i, "`/*` right after a symbol character (the reader takes it as an operator, "
+                        "not a comment): put a space before it");
+      }
       for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i) {
         if (text[i] == '\n') {
           ++line;
@@ -180,19 +202,29 @@ std::string scan_rules_text(std::string_view text) {
         }
       }
       ++i;
-    } else if (c == '0' && i + 1 < text.size() && text[i + 1] == '\'' &&
-               (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1])))) {
-      i += 2;  // 0'c: a character code
-      if (i < text.size() && text[i] == '\\') ++i;
-    } else if (c == '\'' || c == '"' || c == '`') {
+      prev = ' ';
+      continue;
+    }
+    if (c == '\'' && std::isdigit(static_cast<unsigned char>(prev))) {
+      return place(i - 1, "a digit followed by a quote (a character code such as 0'a, or a number "
+                          "in a base such as 16'FF): SWI-Prolog 9.0.4's reader can read freed "
+                          "memory on it, so rules may not use it; write the number (0'a is 97)");
+    }
+    if (c == '|' && prev == '|') {
+      return place(i - 1, "`||` (a quasi-quotation, which the reader takes raw): not allowed in rules");
+    }
+    if (c == '\'' || c == '"' || c == '`') {
       for (++i; i < text.size() && text[i] != c; ++i) {
-        if (text[i] == '\\') ++i;
-        else if (text[i] == '\n') {
+        if (text[i] == '\\' && i + 1 < text.size()) ++i;  // an escape, or a line continued
+        if (text[i] == '\n') {
           ++line;
           line_start = i + 1;
         }
       }
-    } else if (c == '(' || c == '[' || c == '{') {
+      prev = c;
+      continue;
+    }
+    if (c == '(' || c == '[' || c == '{') {
       if (++depth > kMaxNesting) {
         return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it",
                                     kMaxNesting));
@@ -200,6 +232,7 @@ std::string scan_rules_text(std::string_view text) {
     } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
       --depth;
     }
+    prev = c;
   }
   return "";
 }
