@@ -96,7 +96,7 @@ export class DepthChart {
     this.ensure();
     const { telemetry: points, phases = [], cursor = null } = Array.isArray(data) ? { telemetry: data } : data;
     // Bands: the phases (not the mission net, which spans the whole run).
-    const bands = phases.filter((p) => p.parent != null && p.parent !== 0 && typeof p.t0 === 'number');
+    const bands = phases.filter((p) => typeof p.t0 === 'number' && (p.depth != null ? p.depth > 0 : p.parent != null && p.parent !== p.instance));
     const extras = bands.length !== this.phases.length || bands.some((b, i) => b.t1 !== this.phases[i].t1 || b.net !== this.phases[i].net) || cursor !== this.cursor;
     this.phases = bands;
     this.cursor = cursor;

@@ -184,9 +184,10 @@ export function createEffects(store, api, ui = {}) {
   async function fileChanged(d) {
     if (!d || typeof d.path !== 'string') return;
     if (saving) { try { await saving; } catch { /* said */ } }   // our own save's news carries the etag we get back
+    const before = getState().disk;
     dispatch({ type: 'disk/changed', path: d.path, etag: d.etag ?? null });
     const disk = getState().disk;
-    if (!disk || disk.path !== d.path) return;
+    if (!disk || disk === before) return;   // no news (our own version)
     const path = getState().path;
     switch (disk.what) {
       case 'reload':

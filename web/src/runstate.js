@@ -77,7 +77,7 @@ export function applyEvent(rs, name, d) {
       rs.enabled[d.net] = [];
       rs.currentNet = d.net;
       rs.active = d.instance;
-      rs.phases = [...rs.phases, { instance: d.instance, net: d.net, parent: d.parent ?? null, t0: d.t ?? rs.t, t1: null }];
+      rs.phases = [...rs.phases, { instance: d.instance, net: d.net, parent: d.parent ?? null, depth: d.depth ?? null, t0: d.t ?? rs.t, t1: null }];
       if (rs.status === 'idle') rs.status = 'running';
       break;
     }
@@ -86,7 +86,7 @@ export function applyEvent(rs, name, d) {
       const pnet = netOf(rs, parent);
       if (pnet && pnet !== d.net) rs.currentNet = pnet;
       if (d.net) rs.enabled[d.net] = [];
-      if (rs.active === d.instance) rs.active = parent || null;
+      if (rs.active === d.instance) rs.active = parent !== d.instance ? (parent ?? null) : null;
       rs.phases = rs.phases.map((p) => (p.instance === d.instance && p.t1 == null ? { ...p, t1: d.t ?? rs.t, exit: d.exit ?? null } : p));
       break;
     }
@@ -134,7 +134,8 @@ export function applyEvent(rs, name, d) {
 export function chainOf(rs, instance) {
   const out = [];
   const seen = new Set();
-  for (let i = instance; i != null && i !== 0 && rs.instances[i] && !seen.has(i); i = rs.instances[i].parent) {
+  // The mission net's instance is its own parent (0 and 0).
+  for (let i = instance; i != null && rs.instances[i] && !seen.has(i); i = rs.instances[i].parent) {
     seen.add(i);
     out.unshift(i);
   }

@@ -287,3 +287,34 @@ test('scenarios: nominal first, then the mission\'s; nominal alone without a sce
   assert.deepEqual(scenarioList(opened(model(undefined, { scenarios: [] }))), ['nominal']);
   assert.deepEqual(scenarioList(initialState()), ['nominal']);
 });
+
+test('effects: the news of our own save does not reload the file', async () => {
+  const store = createStore();
+  const api = fakeApi({ saveFile: () => ({ ok: true, etag: '"mine"' }), saveLayout: () => ({ ok: true, etag: '"lmine"' }) });
+  const fx = createEffects(store, api);
+  await fx.openFile('m.coral');
+  await fx.fileChanged({ path: 'm.coral', etag: '"v2"' });   // another program: reloaded
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  assert.equal(await fx.save(), true);
+  const reads = api.calls.filter((c) => c[0] === 'mission').length;
+  await fx.fileChanged({ path: 'm.coral', etag: '"mine"' });
+  await fx.fileChanged({ path: 'm.coral.layout.json', etag: '"lmine"' });
+  assert.equal(api.calls.filter((c) => c[0] === 'mission').length, reads);
+  assert.equal(store.getState().text, 'ON DISK+q');
+  assert.match(store.getState().message.text, /^saved/);
+});
+
+test('the breadcrumb and bands with the server\'s numbering: the mission net is instance 0, its own parent', () => {
+  let s = ev(opened(), 'run_start', { run: 1 });
+  s = ev(s, 'phase_start', { instance: 0, parent: 0, net: 'n', depth: 0, marking: {}, t: 0 });
+  s = ev(s, 'phase_start', { instance: 1, parent: 0, net: 'ph', depth: 1, marking: {}, t: 0 });
+  assert.deepEqual(breadcrumb(s).map((c) => c.net), ['n', 'ph']);
+  s = ev(s, 'phase_end', { instance: 1, net: 'ph', exit: 'complete', t: 0.2 });
+  assert.deepEqual(breadcrumb(s).map((c) => c.net), ['n']);
+  s = ev(s, 'phase_start', { instance: 2, parent: 0, net: 'sub', depth: 1, marking: {}, t: 0.2 });
+  assert.deepEqual(breadcrumb(s).map((c) => c.net), ['n', 'sub']);
+  assert.deepEqual(chartData(s).phases.map((p) => [p.net, p.depth]), [['n', 0], ['ph', 1], ['sub', 1]]);
+  s = ev(s, 'phase_end', { instance: 2, net: 'sub', exit: 'complete', t: 1 });
+  s = ev(s, 'phase_end', { instance: 0, net: 'n', exit: 'closed', t: 1 });
+  assert.deepEqual(breadcrumb(s), []);
+});
