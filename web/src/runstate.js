@@ -86,6 +86,9 @@ export function applyEvent(rs, name, d) {
       const pnet = netOf(rs, parent);
       if (pnet && pnet !== d.net) rs.currentNet = pnet;
       if (d.net) rs.enabled[d.net] = [];
+      // The PHASE action that started it, and the net's dropped actions, are no longer in flight.
+      if (d.action) delete rs.inFlight[d.action];
+      for (const id of d.dropped || []) delete rs.inFlight[id];
       if (rs.active === d.instance) rs.active = parent !== d.instance ? (parent ?? null) : null;
       rs.phases = rs.phases.map((p) => (p.instance === d.instance && p.t1 == null ? { ...p, t1: d.t ?? rs.t, exit: d.exit ?? null } : p));
       break;

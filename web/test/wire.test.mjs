@@ -318,3 +318,14 @@ test('the breadcrumb and bands with the server\'s numbering: the mission net is 
   s = ev(s, 'phase_end', { instance: 0, net: 'n', exit: 'closed', t: 1 });
   assert.deepEqual(breadcrumb(s), []);
 });
+
+test('phase_end: its PHASE action and the dropped ones are no longer in flight', () => {
+  let s = ev(opened(), 'run_start', { run: 1 });
+  s = ev(s, 'phase_start', { instance: 0, parent: 0, net: 'n', depth: 0, marking: {}, t: 0 });
+  s = ev(s, 'action_start', { id: 5, instance: 0, transition: 't', kind: 'phase', primitive: 'ph', t: 0 });
+  s = ev(s, 'phase_start', { instance: 1, parent: 0, net: 'ph', depth: 1, marking: {}, t: 0 });
+  s = ev(s, 'action_start', { id: 6, instance: 1, transition: 'x', kind: 'ask', primitive: 'p', t: 0 });
+  s = ev(s, 'action_start', { id: 7, instance: 0, transition: 'u', kind: 'exec', primitive: 'q', t: 0 });
+  s = ev(s, 'phase_end', { instance: 1, net: 'ph', exit: 'abort', cancelled: true, action: 5, dropped: [6], t: 1 });
+  assert.deepEqual(Object.keys(s.rs.inFlight), ['7']);
+});
