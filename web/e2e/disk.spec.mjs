@@ -56,3 +56,19 @@ test('a file changed on disk while it has unsaved edits: the conflict, Reload ta
   expect(text).toMatch(/mine_kept/);
   expect(text).not.toMatch(/second_change/);
 });
+
+test('an imported file changed on disk: the lists are read again, the open file is left as it is', async ({ page }) => {
+  await page.goto(page.studio.url);
+  await page.locator('#file-list li[data-path="missions/tank/tank.coral"]').click();
+  await waitFor(page, "s.path === 'missions/tank/tank.coral' && s.busy === 0 && cy.nodes().length > 0", 15000, 'tank open');
+  // A file made after the list was read is not in it until the lists are read again.
+  page.studio.write('missions/tank/made_later.coral', page.studio.read('missions/tank/initialize.coral'));
+  await page.waitForTimeout(1200);
+  await expect(page.locator('#file-list li[data-path="missions/tank/made_later.coral"]')).toHaveCount(0);
+  const text = await studio(page, 's.text');
+  const imp = 'missions/tank/initialize.coral';
+  page.studio.write(imp, `${page.studio.read(imp)}\n// changed import\n`);
+  await expect(page.locator('#file-list li[data-path="missions/tank/made_later.coral"]')).toHaveCount(1, { timeout: 10000 });
+  expect(await studio(page, 's.text')).toBe(text);
+  expect(await studio(page, "s.path")).toBe('missions/tank/tank.coral');
+});
