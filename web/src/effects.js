@@ -2,7 +2,7 @@
 // (docs/studio.md) and dispatches what came back to the store. Effects
 // never draw; views never call the API. `ui.confirm(text)` asks the user
 // (window.confirm in the page, a stub in tests).
-import { dirty, editable, displayNets, layoutByName } from './store.js';
+import { dirty, editable, displayNets, layoutByName, missionPaths } from './store.js';
 
 export const kCheckDelayMs = 300;
 
@@ -19,8 +19,18 @@ export function createEffects(store, api, ui = {}) {
   async function loadFiles() {
     try {
       const f = await api.files();
-      dispatch({ type: 'files/loaded', files: f.files, logs: f.logs, root: f.root });
+      dispatch({ type: 'files/loaded', files: f.files, logs: f.logs, root: f.root, missions: f.missions });
     } catch (e) { say(`files: ${e.message}`, true); }
+  }
+
+  // The open mission's studio runs (runs/ beside it), newest first.
+  async function loadRuns() {
+    const p = getState().path;
+    if (!p) return;
+    try {
+      const r = await api.runs(p);
+      dispatch({ type: 'runs/loaded', mission: p, runs: (r && r.runs) || [] });
+    } catch (e) { say(`runs: ${e.message}`, true); }
   }
 
   async function loadPrimitives() {
@@ -42,6 +52,7 @@ export function createEffects(store, api, ui = {}) {
       try {
         const model = await api.mission(path);
         dispatch({ type: 'file/opened', path, model, keepView: !!keepView, readOnly: !/\.coral$/.test(path) });
+        loadRuns();
         return true;
       } catch (e) {
         say(`open ${path}: ${e.message}`, true);
@@ -157,15 +168,74 @@ export function createEffects(store, api, ui = {}) {
       say(e.status === 409 ? 'a run is going already' : `run: ${e.message}`, true);
     }
   }
+  // Abort: the safe end (surface, then shut down).
+  async function abort() {
+    try { await api.abort(); say('abort sent: the vehicle is surfaced, then the run ends'); } catch (e) { say(`abort: ${e.message}`, true); }
+  }
+  // Hard stop: nothing more is sent to the vehicle; asks first.
   async function stop() {
-    try { await api.stop(); say('stop sent'); } catch (e) { say(`stop: ${e.message}`, true); }
+    if (!confirm('Hard stop: nothing more is sent to the vehicle. It is NOT surfaced and is left to its own watchdog. ' +
+      'Use Abort to surface it. Stop hard?')) return false;
+    try { await api.stop(); say('hard stop sent: the vehicle is not surfaced'); return true; } catch (e) { say(`stop: ${e.message}`, true); return false; }
   }
 
+  // ------------------------------------------------------------ changes on disk
+  // A file changed on disk (file_changed): the reducer decides, this does it.
+  async function fileChanged(d) {
+    if (!d || typeof d.path !== 'string') return;
+    if (saving) { try { await saving; } catch { /* said */ } }   // our own save's news carries the etag we get back
+    const before = getState().disk;
+    dispatch({ type: 'disk/changed', path: d.path, etag: d.etag ?? null });
+    const disk = getState().disk;
+    if (!disk || disk === before) return;   // no news (our own version)
+    const path = getState().path;
+    switch (disk.what) {
+      case 'reload':
+        if (await openFile(path, { keepView: true, force: true })) say(`${path} changed on disk: reloaded`);
+        break;
+      case 'conflict': {
+        let theirs = null, etag = null, layoutEtag = null;
+        try { const m = await api.mission(path); theirs = m.text; etag = m.etag; layoutEtag = m.layout_etag; } catch { /* shown without their text */ }
+        if (getState().conflict && getState().conflict.disk) dispatch({ type: 'save/conflict', path, theirs, etag, layoutEtag, disk: true });
+        say(`${path} changed on disk while you have unsaved edits: Reload it (your edits here are dropped), or keep yours over it.`, true);
+        break;
+      }
+      case 'gone':
+        say(`${path} was deleted on disk (or is no longer readable inside the folder)`, true);
+        loadFiles();
+        break;
+      default:
+        loadFiles();
+    }
+  }
+
+  // ------------------------------------------------------------ replay play/pause
+  // A bounded timer: one firing a tick, stopped by pause, the end, or
+  // at most one tick per event.
+  let playTimer = null;
+  function stopTimer() { if (playTimer) { clearIntervalImpl(playTimer); playTimer = null; } }
+  const setIntervalImpl = ui.setInterval || ((f, ms) => setInterval(f, ms));
+  const clearIntervalImpl = ui.clearInterval || ((t) => clearInterval(t));
+  function playReplay(ms = 150) {
+    const r = getState().replay;
+    if (!r) return;
+    stopTimer();
+    dispatch({ type: 'replay/play' });
+    let left = r.events.length + 1;
+    playTimer = setIntervalImpl(() => {
+      const x = getState().replay;
+      if (!x || !x.playing || left-- <= 0) { stopTimer(); if (x && x.playing) dispatch({ type: 'replay/pause' }); return; }
+      dispatch({ type: 'replay/tick' });
+    }, ms);
+  }
+  function pauseReplay() { stopTimer(); dispatch({ type: 'replay/pause' }); }
+
   async function openReplay(path) {
+    stopTimer();
     try {
       const r = await api.replay(path);
       const s = getState();
-      if (r.mission && r.mission !== s.path && s.files.includes(r.mission)) await openFile(r.mission, { keepView: true });
+      if (r.mission && r.mission !== s.path && missionPaths(s).includes(r.mission)) await openFile(r.mission, { keepView: true });
       dispatch({ type: 'replay/opened', path, mission: r.mission, events: (r.events || []).map(eventOf) });
     } catch (e) { say(`replay ${path}: ${e.message}`, true); }
   }
@@ -185,11 +255,11 @@ export function createEffects(store, api, ui = {}) {
   async function adoptRunMission() {
     const s = getState();
     const m = s.rs.mission;
-    if (!s.model && m && s.files.includes(m)) await openFile(m, { keepView: true });
+    if (!s.model && m && missionPaths(s).includes(m)) await openFile(m, { keepView: true });
   }
 
   // ------------------------------------------------------------ the event stream
-  const EVENTS = ['snapshot', 'run_start', 'phase_start', 'phase_end', 'fired', 'action_start', 'action_finish', 'telemetry', 'report', 'run_end'];
+  const EVENTS = ['snapshot', 'run_start', 'phase_start', 'phase_end', 'fired', 'action_start', 'action_finish', 'telemetry', 'report', 'run_end', 'file_changed'];
   function connect(EventSourceImpl) {
     const es = new EventSourceImpl('/api/events');
     es.onopen = () => dispatch({ type: 'sse', state: 'open' });
@@ -198,8 +268,11 @@ export function createEffects(store, api, ui = {}) {
       es.addEventListener(name, (ev) => {
         let data;
         try { data = JSON.parse(ev.data); } catch { return; }
+        if (name === 'file_changed') { fileChanged(data); return; }
         dispatch({ type: 'run/event', name, data });
         if (name === 'run_start' || name === 'snapshot') adoptRunMission();
+        // A run's end: its log is in the run list and the logs now.
+        if (name === 'run_end') { loadRuns(); loadFiles(); }
       });
     }
     return es;
@@ -218,8 +291,8 @@ export function createEffects(store, api, ui = {}) {
     tick();
   }
 
-  return { loadFiles, loadPrimitives, openFile, applyOp, textTyped, checkNow, flushCheck, endTyping, undo, redo,
-    save, keepMine, reload, run, stop, openReplay, verify, connect, startSonar, say, displayNets: () => displayNets(getState()) };
+  return { loadFiles, loadRuns, loadPrimitives, openFile, applyOp, textTyped, checkNow, flushCheck, endTyping, undo, redo,
+    save, keepMine, reload, run, abort, stop, fileChanged, playReplay, pauseReplay, openReplay, verify, connect, startSonar, say, displayNets: () => displayNets(getState()) };
 }
 
 // A replay event ({event, data} or a flat log line) as [name, data].

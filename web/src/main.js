@@ -10,7 +10,7 @@
 import './style.css';
 import { api } from './api.js';
 import { $ } from './dom.js';
-import { createStore, dirty, editable, currentNet, prevFiring, nextFiring } from './store.js';
+import { createStore, dirty, editable, currentNet, prevFiring, nextFiring, runBanner, breadcrumb } from './store.js';
 import { createEffects } from './effects.js';
 import { createCanvas, kZoomStep } from './canvas.js';
 import { createTextPane } from './textpane.js';
@@ -23,7 +23,7 @@ const fx = createEffects(store, api, { confirm: (t) => window.confirm(t) });
 const canvas = createCanvas($('#cy'), store, fx);
 const text = createTextPane($('#text-pane'), store, fx);
 createInspector(store, fx, canvas);
-createPanels(store, fx);
+const panels = createPanels(store, fx);
 const cy = canvas.cy;
 
 // ---------------------------------------------------------------- buttons and keys
@@ -44,13 +44,15 @@ on('#btn-redo', 'click', () => fx.redo());
 on('#btn-save', 'click', () => fx.save());
 on('#btn-verify', 'click', () => fx.verify());
 on('#btn-run', 'click', () => fx.run($('#run-scenario').value, Number($('#run-speed').value) || 10));
+on('#btn-abort', 'click', () => fx.abort());
 on('#btn-stop', 'click', () => fx.stop());
 on('#btn-refresh', 'click', () => fx.loadFiles());
 on('#follow', 'change', (ev) => dispatch({ type: 'follow/set', follow: ev.target.checked }));
 on('#btn-edit-view', 'click', () => dispatch({ type: 'view/set', view: 'edit' }));
 on('#btn-live-view', 'click', () => dispatch({ type: 'view/set', view: 'live' }));
 on('#replay-slider', 'input', (ev) => dispatch({ type: 'replay/seek', pos: Number(ev.target.value) }));
-on('#replay-close', 'click', () => dispatch({ type: 'replay/close' }));
+on('#replay-close', 'click', () => { fx.pauseReplay(); dispatch({ type: 'replay/close' }); });
+on('#replay-play', 'click', () => { const r = getState().replay; if (!r) return; if (r.playing) fx.pauseReplay(); else fx.playReplay(); });
 on('#replay-prev', 'click', () => { const r = getState().replay; if (r) dispatch({ type: 'replay/seek', pos: prevFiring(r.events, r.pos) }); });
 on('#replay-next', 'click', () => { const r = getState().replay; if (r) dispatch({ type: 'replay/seek', pos: nextFiring(r.events, r.pos) }); });
 on('#cex-prev', 'click', () => { const c = getState().cex; if (c) dispatch({ type: 'cex/go', i: c.i - 1 }); });
@@ -146,7 +148,13 @@ window.__studio = {
   get runEnded() { return getState().rs.ended; },
   get view() { return getState().view; },
   get mode() { return getState().mode; },
-  get replay() { const r = getState().replay; return r && { path: r.path, pos: r.pos, length: r.events.length }; },
+  get replay() { const r = getState().replay; return r && { path: r.path, pos: r.pos, length: r.events.length, playing: r.playing }; },
+  get banner() { const b = runBanner(getState()); return b && { outcome: b.outcome, hard: b.hard, surfaced: b.surfaced, depth: b.depth, phase: b.phase, log: b.log, lines: b.lines }; },
+  get breadcrumb() { return breadcrumb(getState()).map((c) => c.net); },
+  get runs() { return getState().runs.list; },
+  get missions() { return getState().missions; },
+  get readOnly() { return getState().readOnly; },
+  get chart() { const c = panels.chart; return { cursor: c.cursor, cursorX: c.cursorX, bands: c.phases.length, points: c.count }; },
   get replayKinds() { const r = getState().replay; return r && r.events.map((e) => e[0]); },
   get verify() { return getState().verify; },
   get cex() { const c = getState().cex; return c && { net: c.net, i: c.i, length: c.steps.length }; },

@@ -5,7 +5,7 @@
 import { $, el } from './dom.js';
 import { DepthChart } from './chart.js';
 import { diagnosticsByElement } from './graph.js';
-import { displayNets, dirty } from './store.js';
+import { displayNets, dirty, runGoing, runBanner, breadcrumb, chartData, scenarioList, isProlog } from './store.js';
 import { diagnosticRange } from './coral_lang.js';
 import { lineDiff } from './diff.js';
 
@@ -20,6 +20,9 @@ export function createPanels(store, fx) {
     $('#btn-save').disabled = !s.path || !d || s.readOnly;
     $('#btn-verify').disabled = !s.path || s.readOnly;
     $('#btn-run').disabled = !s.path;
+    const going = runGoing(s);
+    $('#btn-abort').disabled = !going;
+    $('#btn-stop').disabled = !going;
     $('#btn-undo').disabled = !s.undo.length || s.readOnly;
     $('#btn-redo').disabled = !s.redo.length || s.readOnly;
     document.title = (d ? '● ' : '') + 'Strata studio' + (s.path ? ` — ${s.path}` : '');
@@ -39,10 +42,62 @@ export function createPanels(store, fx) {
 
   function files(s) {
     const fl = $('#file-list'); fl.replaceChildren();
-    for (const p of s.files) fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, title: p, onclick: () => fx.openFile(p) }, p));
+    const list = s.missions.length ? s.missions : s.files.map((p) => ({ path: p, kind: 'coral' }));
+    for (const { path: p, kind } of list) {
+      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onclick: () => fx.openFile(p) },
+        p, kind === 'prolog' ? el('span', { class: 'badge prolog' }, ' PROLOG') : null));
+    }
     const ll = $('#log-list'); ll.replaceChildren();
     for (const p of s.logs) ll.append(el('li', { 'data-path': p, title: p, class: s.replay && s.replay.path === p ? 'active' : '', onclick: () => fx.openReplay(p) }, p));
     if (!s.logs.length) ll.append(el('li', { class: 'muted' }, 'none'));
+  }
+
+  // The open mission's studio runs, newest first; a click replays one.
+  function runs(s) {
+    const ul = $('#run-list'); ul.replaceChildren();
+    $('#runs-of').textContent = s.path ? `of ${s.path.split('/').pop()}` : '';
+    for (const r of s.runs.list) {
+      ul.append(el('li', { 'data-path': r.path, title: r.path, class: s.replay && s.replay.path === r.path ? 'active' : '', onclick: () => fx.openReplay(r.path) },
+        r.started || r.path.split('/').pop(), el('span', { class: 'muted' }, ` ${Math.round((r.bytes || 0) / 1024)} KB`)));
+    }
+    if (!s.runs.list.length) ul.append(el('li', { class: 'muted' }, s.path ? 'none' : 'open a mission'));
+  }
+
+  // The run's end over the canvas: outcome, phase, reason, hard stop, log.
+  function banner(s) {
+    const box = $('#run-banner');
+    const b = runBanner(s);
+    box.hidden = !b;
+    if (!b) { box.replaceChildren(); box.dataset.outcome = ''; return; }
+    box.className = `${b.outcome}${b.hard ? ' hard' : ''}`;
+    box.dataset.outcome = b.outcome;
+    box.replaceChildren(
+      el('button', { class: 'small banner-close', title: 'close', onclick: () => dispatch({ type: 'banner/close' }) }, '×'),
+      ...b.lines.map((t, i) => el('div', { class: i === 0 ? 'banner-outcome' : b.hard && /NOT surfaced/.test(t) ? 'banner-hard' : t.startsWith('log:') ? 'banner-log mono small' : '' }, t)));
+  }
+
+  // During a run: mission ▸ phase ▸ ... (a crumb opens its net).
+  function crumbs(s) {
+    const box = $('#breadcrumb');
+    const c = breadcrumb(s);
+    box.hidden = !c.length;
+    const key = c.map((x) => x.net).join('>') + `|${s.netName}`;
+    if (box.dataset.key === key) return;
+    box.dataset.key = key;
+    const parts = [];
+    c.forEach((x, i) => {
+      if (i) parts.push(' ▸ ');
+      parts.push(el('span', { class: `crumb${i === c.length - 1 ? ' active' : ''}`, 'data-net': x.net, onclick: () => dispatch({ type: 'net/show', name: x.net, user: true }) }, x.net));
+    });
+    box.replaceChildren(...parts);
+  }
+
+  // A PROLOG mission: text only.
+  function note(s) {
+    const box = $('#canvas-note');
+    const p = isProlog(s);
+    box.hidden = !p;
+    if (p) box.textContent = `${s.path} is a PROLOG mission: shown as text, read-only (no graph). Run runs it on the studio's PROLOG thread.`;
   }
 
   function nets(s) {
@@ -97,7 +152,9 @@ export function createPanels(store, fx) {
       rl.replaceChildren(...rs.reports.map((r) => el('li', {}, el('span', { class: 'muted' }, r.t != null ? `${Number(r.t).toFixed(1)} ` : ''), r.text)));
       rl.scrollTop = rl.scrollHeight;
     }
-    chart.update(rs.telemetry);
+    chart.update(chartData(s));
+    banner(s);
+    crumbs(s);
   }
 
   function replay(s) {
@@ -110,6 +167,7 @@ export function createPanels(store, fx) {
     sl.max = String(r.events.length);
     if (sl.value !== String(r.pos)) sl.value = String(r.pos);
     $('#replay-pos').textContent = `${r.pos} / ${r.events.length}`;
+    $('#replay-play').textContent = r.playing ? 'pause' : 'play';
     const cur = r.pos > 0 ? r.events[r.pos - 1] : null;
     $('#replay-event').textContent = cur ? `${cur[0]} ${JSON.stringify(cur[1]).slice(0, 240)}` : '(start)';
   }
@@ -181,10 +239,12 @@ export function createPanels(store, fx) {
     const p = prev;
     prev = s;
     header(s);
-    if (!p || s.files !== p.files || s.logs !== p.logs || s.path !== p.path) files(s);
+    if (!p || s.files !== p.files || s.missions !== p.missions || s.logs !== p.logs || s.path !== p.path) files(s);
     if (!p || displayNets(s) !== displayNets(p) || s.netName !== p.netName) nets(s);
     if (!p || s.model !== p.model) diagnostics(s);
-    if (!p || s.rs !== p.rs || s.view !== p.view) scheduleRun();
+    if (!p || s.rs !== p.rs || s.view !== p.view || s.live !== p.live || s.bannerClosed !== p.bannerClosed || s.netName !== p.netName || s.replay !== p.replay) scheduleRun();
+    if (!p || s.runs !== p.runs || s.path !== p.path || s.replay !== p.replay) runs(s);
+    if (!p || s.model !== p.model) note(s);
     if (!p || s.replay !== p.replay) replay(s);
     if (!p || s.verify !== p.verify) verify(s);
     if (!p || s.cex !== p.cex) cex(s);
@@ -203,7 +263,7 @@ export function createPanels(store, fx) {
   function fillScenarios(s) {
     const select = $('#run-scenario');
     const keep = select.value;
-    const list = ['nominal', ...((s.model && s.model.scenarios) || []).filter((n) => n !== 'nominal')];
+    const list = scenarioList(s);
     if ([...select.options].map((o) => o.value).join() === list.join()) return;
     select.replaceChildren(...list.map((n) => el('option', {}, n)));
     select.value = list.includes(keep) ? keep : 'nominal';

@@ -14,6 +14,9 @@ export function emptyRun() {
     reports: [],               // {t, text}
     lastFired: null,           // {net, transition, index, t}
     currentNet: null,          // the net of the latest phase_start / fired
+    active: null,              // the instance of the deepest phase running
+    phases: [],                // {instance, net, parent, t0, t1}: each phase's span (t1 null while it runs); copied on change
+    t: null,                   // the time of the latest event that had one
     events: 0,
   };
 }
@@ -26,6 +29,7 @@ function netOf(rs, instance, fallback) {
 // Applies one event (name, data) to rs; returns rs. Unknown events are ignored.
 export function applyEvent(rs, name, d) {
   rs.events++;
+  if (d && typeof d.t === 'number') rs.t = d.t;
   switch (name) {
     case 'snapshot': {
       const fresh = emptyRun();
@@ -41,9 +45,18 @@ export function applyEvent(rs, name, d) {
       for (const a of d.in_flight || []) {
         rs.inFlight[a.id] = { ...a, net: netOf(rs, a.instance) };
       }
+      // The final markings of the instances that ended (kept after the run).
+      for (const f of d.final || []) if (f.net && !rs.markings[f.net]) rs.markings[f.net] = { ...(f.marking || {}) };
+      // The deepest instance still running is the active phase.
+      let depth = -1;
+      for (const i of d.instances || []) {
+        const k = chainOf(rs, i.instance).length;
+        if (k > depth) { depth = k; rs.active = i.instance; }
+      }
       rs.telemetry = (d.telemetry || []).map((p) => [p[0], p[1], p[2]]);
+      if (rs.telemetry.length) rs.t = rs.telemetry[rs.telemetry.length - 1][0];
       rs.reports = (d.reports || []).slice();
-      if (d.ended) { rs.ended = d.ended; rs.status = d.ended.outcome || 'ended'; }
+      if (d.ended) { rs.ended = d.ended; rs.status = d.ended.outcome || 'ended'; rs.active = null; }
       else rs.status = d.run != null ? 'running' : 'idle';
       break;
     }
@@ -63,6 +76,8 @@ export function applyEvent(rs, name, d) {
       rs.markings[d.net] = { ...(d.marking || {}) };
       rs.enabled[d.net] = [];
       rs.currentNet = d.net;
+      rs.active = d.instance;
+      rs.phases = [...rs.phases, { instance: d.instance, net: d.net, parent: d.parent ?? null, depth: d.depth ?? null, t0: d.t ?? rs.t, t1: null }];
       if (rs.status === 'idle') rs.status = 'running';
       break;
     }
@@ -71,6 +86,11 @@ export function applyEvent(rs, name, d) {
       const pnet = netOf(rs, parent);
       if (pnet && pnet !== d.net) rs.currentNet = pnet;
       if (d.net) rs.enabled[d.net] = [];
+      // The PHASE action that started it, and the net's dropped actions, are no longer in flight.
+      if (d.action) delete rs.inFlight[d.action];
+      for (const id of d.dropped || []) delete rs.inFlight[id];
+      if (rs.active === d.instance) rs.active = parent !== d.instance ? (parent ?? null) : null;
+      rs.phases = rs.phases.map((p) => (p.instance === d.instance && p.t1 == null ? { ...p, t1: d.t ?? rs.t, exit: d.exit ?? null } : p));
       break;
     }
     case 'fired': {
@@ -104,9 +124,23 @@ export function applyEvent(rs, name, d) {
       rs.ended = d;
       rs.status = d.outcome || 'ended';
       rs.inFlight = {};
+      rs.active = null;
+      rs.phases = rs.phases.map((p) => (p.t1 == null ? { ...p, t1: d.t ?? rs.t } : p));
       break;
     default:
       rs.events--;
   }
   return rs;
+}
+
+// The instances from the root (the mission net) down to instance.
+export function chainOf(rs, instance) {
+  const out = [];
+  const seen = new Set();
+  // The mission net's instance is its own parent (0 and 0).
+  for (let i = instance; i != null && rs.instances[i] && !seen.has(i); i = rs.instances[i].parent) {
+    seen.add(i);
+    out.unshift(i);
+  }
+  return out;
 }

@@ -9,7 +9,7 @@
 // know what to draw again. One exception, for speed during long runs: the
 // run's telemetry and reports arrays are append-only and shared between
 // versions (a view compares their length).
-import { emptyRun, applyEvent } from './runstate.js';
+import { emptyRun, applyEvent, chainOf } from './runstate.js';
 
 export const placeId = (name) => `p:${name}`;
 export const transId = (name) => `t:${name}`;
@@ -19,6 +19,10 @@ export const kMaxUndo = 200;
 export function initialState() {
   return {
     files: [], logs: [], root: null,
+    missions: [],        // {path, kind: 'coral'|'prolog'}: the missions under the folder
+    runs: { mission: null, list: [] },   // the open mission's studio runs (GET /api/runs), newest first
+    bannerClosed: null,  // the run_end whose banner the user closed
+    disk: null,          // {path, etag, what, seq}: the last change on disk told (file_changed)
     path: null,          // the open file
     model: null,         // its mission model (the nets of the last text that compiled)
     text: null,          // the text: the source of truth
@@ -42,7 +46,7 @@ export function initialState() {
     follow: true,        // follow the run's phases
     rs: emptyRun(),      // the run shown (live, or the replay's)
     live: null,          // the live run, kept while a replay is shown
-    replay: null,        // {path, mission, events, pos}
+    replay: null,        // {path, mission, events, pos, playing, full: {telemetry, phases}}
     verify: null,        // the last verification result
     cex: null,           // {net, key, steps, i}
     conflict: null,      // {path, theirs, etag, layoutEtag}: a save refused with 412
@@ -213,17 +217,107 @@ function replayRun(events, k) {
   return rs;
 }
 
+// The replay's run at event k: onwards from the run shown when k is ahead.
+function replayTo(rs, r, k) {
+  if (k < r.pos) return replayRun(r.events, k);
+  if (k === r.pos) return rs;
+  const n = cloneRun(rs);
+  n.telemetry = rs.telemetry.slice();
+  n.reports = rs.reports.slice();
+  for (let i = r.pos; i < k; i++) applyEvent(n, r.events[i][0], r.events[i][1]);
+  return n;
+}
+
 // A copy of rs that applyEvent may change without touching rs (the
 // append-only telemetry and reports arrays stay shared).
 function cloneRun(rs) {
   return { ...rs, instances: { ...rs.instances }, markings: { ...rs.markings }, enabled: { ...rs.enabled }, inFlight: { ...rs.inFlight } };
 }
 
+// ---------------------------------------------------------------- the run, its end, replay
+
+// The live run (kept aside while a replay is shown).
+export function liveRun(s) { return s.replay ? (s.live || emptyRun()) : s.rs; }
+
+// Abort and Hard stop: while the live run goes.
+export function runGoing(s) { return liveRun(s).status === 'running'; }
+
+const fmtDepth = (m) => (typeof m === 'number' ? `${m.toFixed(2)} m` : 'unknown');
+
+// The banner over the canvas for the live run's end (run_end, or the
+// snapshot's `ended` after a reload); null when there is none or the user
+// closed it. lines: what the banner says, first the outcome.
+export function runBanner(s) {
+  const e = liveRun(s).ended;
+  if (!e || e === s.bannerClosed) return null;
+  const hard = e.stop === 'hard';
+  const lines = [];
+  lines.push(`${hard ? 'HARD STOP — ' : ''}${e.outcome || 'ended'}${e.phase ? ` in phase ${e.phase}` : ''}${e.exit ? ` (exit ${e.exit})` : ''}`);
+  if (e.reason) lines.push(e.reason);
+  if (hard) lines.push(`The vehicle was NOT surfaced: nothing more was sent to it; last depth ${fmtDepth(e.final_depth_m)}.`);
+  else if (e.stop === 'abort' || e.surfaced) lines.push(`${e.surfaced ? 'Surfaced' : 'Not surfaced'}; final depth ${fmtDepth(e.final_depth_m)}.`);
+  else if (typeof e.final_depth_m === 'number') lines.push(`Final depth ${fmtDepth(e.final_depth_m)}.`);
+  lines.push(e.log ? `log: ${e.log}` : 'no log');
+  return { outcome: e.outcome || 'ended', hard, surfaced: !!e.surfaced, depth: e.final_depth_m ?? null, phase: e.phase || '',
+    reason: e.reason || '', log: e.log || '', lines, ended: e };
+}
+
+// The breadcrumb while the run shown goes: the mission net, then each
+// phase down to the active one ([{net, instance}]).
+export function breadcrumb(s) {
+  const rs = s.rs;
+  if (rs.status !== 'running' || rs.active == null) return [];
+  return chainOf(rs, rs.active).map((i) => ({ net: rs.instances[i].net, instance: i }));
+}
+
+// The depth chart: the run's telemetry and phase spans; in a replay the
+// whole log's, with a cursor at the replay's position (its latest time).
+export function chartData(s) {
+  if (s.view === 'replay' && s.replay) return { telemetry: s.replay.full.telemetry, phases: s.replay.full.phases, cursor: s.replay.pos > 0 ? s.rs.t : null };
+  return { telemetry: s.rs.telemetry, phases: s.rs.phases, cursor: null };
+}
+
+// The scenarios to offer: nominal first, then the mission's scenarios/.
+export function scenarioList(s) {
+  return ['nominal', ...((s.model && s.model.scenarios) || []).filter((n) => n !== 'nominal')];
+}
+
+// A mission read as text only (PROLOG rules): no graph.
+export function isProlog(s) { return !!(s.model && s.model.kind === 'prolog'); }
+
+export function missionPaths(s) { return s.missions.length ? s.missions.map((m) => m.path) : s.files; }
+
 // ---------------------------------------------------------------- the reducer
 export function reduce(s, a) {
   switch (a.type) {
     case 'files/loaded':
-      return { ...s, files: a.files || [], logs: a.logs || [], root: a.root ?? s.root };
+      return { ...s, files: a.files || [], logs: a.logs || [], root: a.root ?? s.root,
+        missions: a.missions || (a.files || []).map((p) => ({ path: p, kind: 'coral' })) };
+    case 'runs/loaded':
+      if (a.mission !== s.path) return s;
+      return { ...s, runs: { mission: a.mission, list: a.runs || [] } };
+    case 'banner/close':
+      return liveRun(s).ended ? { ...s, bannerClosed: liveRun(s).ended } : s;
+
+    // A file changed on disk (file_changed). The open file: reload it when
+    // it has no unsaved edits, else the conflict (as after a 412: Reload or
+    // Keep mine); the same bytes we hold (our own save) are no news. Another
+    // file: the lists are read again. `disk.what` tells the effects which.
+    case 'disk/changed': {
+      const seq = (s.disk ? s.disk.seq : 0) + 1;
+      const layout = s.path != null && a.path === `${s.path}.layout.json`;
+      if (s.path != null && (a.path === s.path || layout)) {
+        const mine = layout ? s.layoutEtag : s.etag;
+        if (a.etag != null && a.etag === mine) return s;
+        if (a.etag == null && !layout) return { ...s, disk: { path: a.path, etag: null, what: 'gone', seq } };
+        if (dirty(s)) {
+          return { ...s, disk: { path: a.path, etag: a.etag, what: 'conflict', seq },
+            conflict: { path: s.path, theirs: null, disk: true, etag: layout ? s.etag : a.etag, layoutEtag: layout ? a.etag : s.layoutEtag } };
+        }
+        return { ...s, disk: { path: a.path, etag: a.etag, what: 'reload', seq } };
+      }
+      return { ...s, disk: { path: a.path, etag: a.etag, what: 'list', seq } };
+    }
     case 'primitives/loaded':
       return { ...s, primitives: a.primitives || [] };
     case 'busy':
@@ -247,7 +341,8 @@ export function reduce(s, a) {
       const n = {
         ...s, path: a.path, model: m, text: m.text ?? '', savedText: m.text ?? '', etag: m.etag || null,
         layoutEtag: m.layout_etag || null, layoutDirty: false, checking: false, undo: [], redo: [], typing: false,
-        readOnly: !!a.readOnly,
+        readOnly: !!a.readOnly || !!m.read_only,
+        runs: s.runs.mission === a.path ? s.runs : { mission: a.path, list: [] },
         positions: positionsFromLayout(m), viewports: {}, pendingPos: null, selected: null, focus: null,
         netName: pickNet(nets, null, true), cex: null, verify: null, conflict: null,
         view: a.keepView || s.view !== 'cex' ? s.view : 'edit',
@@ -305,7 +400,7 @@ export function reduce(s, a) {
     // A save refused with 412: their text and version, for Reload or merge by text.
     case 'save/conflict':
       if (a.path !== s.path) return s;
-      return { ...s, conflict: { path: a.path, theirs: a.theirs ?? null, etag: a.etag ?? null, layoutEtag: a.layoutEtag ?? null } };
+      return { ...s, conflict: { path: a.path, theirs: a.theirs ?? null, etag: a.etag ?? null, layoutEtag: a.layoutEtag ?? null, disk: !!a.disk } };
     // Keep mine: the next save is made over their version.
     case 'conflict/keep-mine':
       if (!s.conflict) return s;
@@ -365,13 +460,31 @@ export function reduce(s, a) {
 
     case 'replay/opened': {
       const events = a.events || [];
-      return follow({ ...s, live: s.replay ? s.live : s.rs, replay: { path: a.path, mission: a.mission ?? null, events, pos: events.length },
-        rs: replayRun(events, events.length), view: 'replay', cex: null });
+      const rs = replayRun(events, events.length);
+      return follow({ ...s, live: s.replay ? s.live : s.rs,
+        replay: { path: a.path, mission: a.mission ?? null, events, pos: events.length, playing: false, full: { telemetry: rs.telemetry, phases: rs.phases } },
+        rs, view: 'replay', cex: null });
     }
     case 'replay/seek': {
       if (!s.replay) return s;
       const k = Math.max(0, Math.min(s.replay.events.length, a.pos | 0));
-      return follow({ ...s, replay: { ...s.replay, pos: k }, rs: replayRun(s.replay.events, k) });
+      return follow({ ...s, replay: { ...s.replay, pos: k }, rs: replayTo(s.rs, s.replay, k) });
+    }
+    // Play steps the replay from firing to firing (replay/tick, on a timer
+    // in the effects); from the end it starts again at 0. Pause stops it.
+    case 'replay/play': {
+      if (!s.replay || s.replay.playing) return s;
+      const k = s.replay.pos >= s.replay.events.length ? 0 : s.replay.pos;
+      return follow({ ...s, replay: { ...s.replay, pos: k, playing: true }, rs: k === s.replay.pos ? s.rs : replayRun(s.replay.events, k) });
+    }
+    case 'replay/pause':
+      if (!s.replay || !s.replay.playing) return s;
+      return { ...s, replay: { ...s.replay, playing: false } };
+    case 'replay/tick': {
+      const r = s.replay;
+      if (!r || !r.playing) return s;
+      const k = nextFiring(r.events, r.pos);
+      return follow({ ...s, replay: { ...r, pos: k, playing: k < r.events.length }, rs: replayTo(s.rs, r, k) });
     }
     case 'replay/close':
       if (!s.replay) return s;
