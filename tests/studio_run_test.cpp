@@ -223,7 +223,7 @@ TEST_F(StudioRunTest, EveryRunWritesItsLogInRunsBesideTheMissionAndItReplays) {
   const json end = hub_.snapshot()["ended"];
   ASSERT_EQ(1u, logs().size());
   const std::string name = logs()[0].filename().string();
-  EXPECT_TRUE(name.ends_with("Z-tank.jsonl")) << name;
+  EXPECT_TRUE(name.ends_with("Z-tank.coral.jsonl")) << name;
   EXPECT_EQ("tank/runs/" + name, end["log"]);
   std::ifstream in(logs()[0]);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
@@ -305,7 +305,7 @@ TEST_F(StudioRunTest, APrologMissionRuns) {
   EXPECT_EQ("completed", snap["ended"]["outcome"]) << snap["ended"].dump();
   EXPECT_GT(snap["telemetry"].size(), 10u);
   ASSERT_EQ(1u, logs().size());
-  EXPECT_TRUE(logs()[0].filename().string().ends_with("Z-tank.jsonl"));
+  EXPECT_TRUE(logs()[0].filename().string().ends_with("Z-tank.pl.jsonl"));
 }
 
 }  // namespace

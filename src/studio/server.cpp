@@ -519,14 +519,15 @@ void StudioServer::routes() {
       const fs::path m(mission);
       folder = m.parent_path().generic_string();
       folder = folder.empty() ? "runs" : folder + "/runs";
-      stem = m.stem().string();
+      stem = m.filename().string();
     }
     json runs = json::array();
     for (const auto& log : sandbox_.list({".jsonl"})) {
       const fs::path p(log);
       if (p.parent_path().filename() != "runs") continue;
       if (!mission.empty() && p.parent_path().generic_string() != folder) continue;
-      // NAME: 20261125T214638Z-tank[-N]
+      // NAME: 20261125T214638Z-tank.coral[-N] (before 26 November 2026:
+      // -tank[-N], the stem only, which any mission of that stem matches)
       const std::string name = p.stem().string();
       if (name.size() < 18 || name[8] != 'T' || name[15] != 'Z' || name[16] != '-') continue;
       std::string of = name.substr(17);
@@ -534,12 +535,15 @@ void StudioServer::routes() {
                                     of.find_first_not_of("0123456789", dash + 1) == std::string::npos && dash + 1 < of.size()) {
         of = of.substr(0, dash);
       }
-      if (!mission.empty() && of != stem) continue;
+      if (!mission.empty() && of != stem &&
+          !(of.find('.') == std::string::npos && of == fs::path(stem).stem().string())) {
+        continue;
+      }
       std::error_code ec;
       const auto bytes = fs::file_size(sandbox_.root() / log, ec);
       const std::string stamp = name.substr(0, 16);
       runs.push_back({{"path", log},
-                      {"mission_stem", of},
+                      {"mission_file", of},
                       {"started", fmt::format("{}-{}-{}T{}:{}:{}Z", stamp.substr(0, 4), stamp.substr(4, 2),
                                               stamp.substr(6, 2), stamp.substr(9, 2), stamp.substr(11, 2),
                                               stamp.substr(13, 2))},

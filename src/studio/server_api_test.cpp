@@ -193,8 +193,9 @@ TEST_F(StudioServerTest, ScenariosAlwaysListNominal) {
 TEST_F(StudioServerTest, RunsAreListedPerMissionNewestFirst) {
   fs::create_directories(base_ / "root/tank/runs");
   fs::create_directories(base_ / "root/other/runs");
-  for (const char* name : {"tank/runs/20261125T101010Z-tank.jsonl", "tank/runs/20261125T111111Z-tank-2.jsonl",
-                           "tank/runs/notes.jsonl", "other/runs/20261125T121212Z-other.jsonl", "tank/run.jsonl"}) {
+  for (const char* name : {"tank/runs/20261125T101010Z-tank.jsonl", "tank/runs/20261125T111111Z-tank.coral-2.jsonl",
+                           "tank/runs/20261125T141414Z-tank.pl.jsonl", "tank/runs/notes.jsonl",
+                           "other/runs/20261125T121212Z-other.coral.jsonl", "tank/run.jsonl"}) {
     write_file(base_ / "root" / name, "{\"event\":\"run\"}\n");
   }
   std::ofstream(base_ / "outside.jsonl") << "{}\n";
@@ -202,12 +203,17 @@ TEST_F(StudioServerTest, RunsAreListedPerMissionNewestFirst) {
   auto c = client();
   json r = json::parse(c.Get("/api/runs?mission=tank/tank.coral")->body);
   ASSERT_EQ(2u, r["runs"].size()) << r.dump();
-  EXPECT_EQ("tank/runs/20261125T111111Z-tank-2.jsonl", r["runs"][0]["path"]);
+  EXPECT_EQ("tank/runs/20261125T111111Z-tank.coral-2.jsonl", r["runs"][0]["path"]);
   EXPECT_EQ("2026-11-25T11:11:11Z", r["runs"][0]["started"]);
-  EXPECT_EQ("tank", r["runs"][0]["mission_stem"]);
+  EXPECT_EQ("tank.coral", r["runs"][0]["mission_file"]);
+  EXPECT_EQ("tank/runs/20261125T101010Z-tank.jsonl", r["runs"][1]["path"]) << "a log named by the stem only";
+  // Regression: tank.pl's runs were listed as tank.coral's (matched by stem).
+  r = json::parse(c.Get("/api/runs?mission=tank/tank.pl")->body);
+  ASSERT_EQ(2u, r["runs"].size()) << r.dump();
+  EXPECT_EQ("tank/runs/20261125T141414Z-tank.pl.jsonl", r["runs"][0]["path"]);
   EXPECT_EQ("tank/runs/20261125T101010Z-tank.jsonl", r["runs"][1]["path"]);
   r = json::parse(c.Get("/api/runs")->body);
-  EXPECT_EQ(3u, r["runs"].size()) << r.dump();
+  EXPECT_EQ(4u, r["runs"].size()) << r.dump();
   EXPECT_EQ(403, c.Get("/api/runs?mission=../secret.coral")->status);
 }
 

@@ -25,7 +25,7 @@ std::string run_log_name(const std::string& mission, std::chrono::system_clock::
   std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &tm);
   const fs::path m(mission);
   const std::string dir = m.parent_path().generic_string();
-  return fmt::format("{}runs/{}-{}.jsonl", dir.empty() ? "" : dir + "/", stamp, m.stem().string());
+  return fmt::format("{}runs/{}-{}.jsonl", dir.empty() ? "" : dir + "/", stamp, m.filename().string());
 }
 
 namespace {

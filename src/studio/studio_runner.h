@@ -32,7 +32,8 @@
 namespace strata::studio {
 
 // The name of a new log for `mission` (relative) started at `utc`:
-// "DIR/runs/20261125T214638Z-tank.jsonl".
+// "DIR/runs/20261125T214638Z-tank.coral.jsonl" (the file's name, so the
+// runs of tank.coral and of tank.pl are told apart).
 std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc);
 
 class StudioRunner final : public RunLauncher {

@@ -39,7 +39,7 @@ test('Abort at depth: banner aborted, surfaced, final depth < 0.15 m; it stays a
   // The vehicle calls itself surfaced at 0.15 m or less (src/vehicle/params.h
   // surface_depth_m); an Abort in submerge_to_depth ends at 0.11-0.13 m.
   expect(b.depth).toBeLessThan(0.15);
-  expect(b.log).toMatch(/runs\/\d{8}T\d{6}Z-tank\.jsonl$/);
+  expect(b.log).toMatch(/runs\/\d{8}T\d{6}Z-tank\.coral\.jsonl$/);
   const banner = page.locator('#run-banner');
   await expect(banner).toBeVisible();
   await expect(banner).toContainText('aborted');

@@ -94,7 +94,7 @@ test('the breadcrumb: mission ▸ active phase while the run goes, back up as ph
 
 test('the run list: the open mission\'s runs; another mission\'s answer is dropped; a new file starts empty', () => {
   let s = opened();
-  const runs = [{ path: 'runs/b.jsonl', mission_stem: 'm', started: '2026-11-25T21:46:38Z', bytes: 10 }, { path: 'runs/a.jsonl' }];
+  const runs = [{ path: 'runs/b.jsonl', mission_file: 'm.coral', started: '2026-11-25T21:46:38Z', bytes: 10 }, { path: 'runs/a.jsonl' }];
   s = reduce(s, { type: 'runs/loaded', mission: 'm.coral', runs });
   assert.deepEqual(s.runs.list.map((r) => r.path), ['runs/b.jsonl', 'runs/a.jsonl']);
   assert.equal(reduce(s, { type: 'runs/loaded', mission: 'other.coral', runs: [] }), s);
