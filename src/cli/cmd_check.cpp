@@ -12,7 +12,7 @@
 #include "cli/exit_codes.h"
 #include "cli/rule_load_flags.h"
 #include "coral/compiler.h"
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "run/loaded_mission.h"
 #include "strategic/coral_catalogue.h"
 #include "core/diagnostic_printer.h"
