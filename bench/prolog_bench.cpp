@@ -65,7 +65,7 @@
 #include <fmt/format.h>
 
 #include "cli/mission_run.h"
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "strategic/prolog_executor.h"
 #include "tactical/catalogue.h"
 

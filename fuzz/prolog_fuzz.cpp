@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "tactical/catalogue.h"
 
 namespace {

@@ -12,8 +12,9 @@
 #include "cli/exit_codes.h"
 #include "cli/rule_load_flags.h"
 #include "coral/compiler.h"
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "run/loaded_mission.h"
+#include "strategic/coral_catalogue.h"
 #include "core/diagnostic_printer.h"
 
 namespace strata::cli {
@@ -74,7 +75,7 @@ int run_check(const Options& o) {
     std::cerr << "strata check: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  const coral::CheckOptions options = catalogue.value().check_options();
+  const coral::CheckOptions options = strategic::coral_check_options(catalogue.value());
   coral::DiskFileProvider disk;
   Report report;
   nlohmann::json files = nlohmann::json::array();
@@ -154,7 +155,7 @@ int run_dump(const Options& o) {
   core::SourceManager sources;
   core::DiagnosticSink sink;
   auto program =
-      coral::compile_file(o.files.front(), disk, sources, sink, catalogue.value().check_options());
+      coral::compile_file(o.files.front(), disk, sources, sink, strategic::coral_check_options(catalogue.value()));
   sink.sort();
   Report report;
   report.add(sources, sink);

@@ -12,7 +12,7 @@
 #include "coral/program.h"
 #include "coral/verifier.h"
 #include "core/source.h"
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "run/options.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "petri/dump.h"
+#include "strategic/coral_catalogue.h"
 
 namespace strata::strategic {
 
@@ -68,7 +69,7 @@ CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, Engine
         if (a.kind == coral::ActionSpec::Kind::Tactic && a.tactic == coral::ast::TacticType::Report) {
           values.push_back(tactical::Value::of(a.text));
         } else {
-          for (const auto& literal : a.args) values.push_back(tactical::Value::from_literal(literal));
+          for (const auto& literal : a.args) values.push_back(value_of(literal));
         }
         args_[n][t].push_back(std::move(values));
       }

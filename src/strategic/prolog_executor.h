@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "strategic/executor.h"
 #include "strategic/tactics.h"
 

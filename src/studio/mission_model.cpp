@@ -13,6 +13,7 @@
 #include "coral/compiler.h"
 #include "coral/lexer.h"
 #include "core/diagnostic_printer.h"
+#include "strategic/coral_catalogue.h"
 #include "tactical/sha256.h"
 
 #include <fmt/format.h>
@@ -129,7 +130,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
   SandboxProvider files(sandbox, path, source);
   core::SourceManager sources;
   core::DiagnosticSink sink;
-  out.program = coral::compile_file(path, files, sources, sink, catalogue.check_options());
+  out.program = coral::compile_file(path, files, sources, sink, strategic::coral_check_options(catalogue));
   out.escaped = files.escaped();
   sink.sort();
   nlohmann::json diagnostics = core::diagnostics_to_json(sources, sink.diagnostics());

@@ -12,7 +12,7 @@
 
 #include "coral/verify_report.h"
 #include "sonar/output.h"
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 #include "studio/assets.h"
 #include "studio/file_watcher.h"
 #include "studio/mission_model.h"

@@ -415,21 +415,4 @@ const Primitive* Catalogue::find(std::string_view name) const {
   return it == index_.end() ? nullptr : &primitives_[it->second];
 }
 
-coral::CheckOptions Catalogue::check_options() const {
-  using Signatures = std::map<std::string, coral::PrimitiveSignature, std::less<>>;
-  auto signatures = std::make_shared<Signatures>();
-  coral::CheckOptions options;
-  for (const auto& p : primitives_) {
-    signatures->emplace(p.name, coral::PrimitiveSignature{tactic_type(p.kind), p.min_args(), p.max_args()});
-    options.primitive_names.push_back(p.name);
-  }
-  options.primitive = [signatures = std::shared_ptr<const Signatures>(std::move(signatures))](
-                          std::string_view name) -> std::optional<coral::PrimitiveSignature> {
-    auto it = signatures->find(name);
-    if (it == signatures->end()) return std::nullopt;
-    return it->second;
-  };
-  return options;
-}
-
 }  // namespace strata::tactical

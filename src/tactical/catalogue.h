@@ -12,7 +12,6 @@
 #include <string_view>
 #include <vector>
 
-#include "coral/checker.h"
 #include "core/result.h"
 #include "tactical/message_template.h"
 #include "tactical/value.h"
@@ -24,7 +23,6 @@ enum class Kind { Exec, Ask, Ood, Report };
 // "exec", "ask", "ood", "report": the catalogue's spelling and the wire verb.
 std::string_view kind_name(Kind kind);
 std::optional<Kind> kind_from_name(std::string_view name);
-coral::ast::TacticType tactic_type(Kind kind);
 
 // Where the Tactical level takes a primitive's data from, beside its arguments.
 enum class DataSource {
@@ -78,10 +76,6 @@ class Catalogue {
   const std::vector<Primitive>& all() const { return primitives_; }
   // Where it came from: a path, or "<builtin>/config/primitives.toml".
   const std::string& source() const { return source_; }
-
-  // The lookup and the names the CORAL checker needs. The options hold their
-  // own copy of the signatures: they stay valid when the catalogue is gone.
-  coral::CheckOptions check_options() const;
 
  private:
   std::string source_;

@@ -5,7 +5,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "coral/compiler.h"
 #include "tactical/catalogue_print.h"
 
 namespace strata::tactical {
@@ -18,33 +17,6 @@ std::string read(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// Diagnostics of compiling main.coral = text against the built-in catalogue,
-// as "LINE:COL Kind" strings.
-struct Checked {
-  core::SourceManager sources;
-  core::DiagnosticSink sink;
-  std::optional<coral::Program> program;
-  std::vector<std::string> kinds() const {
-    std::vector<std::string> out;
-    for (const auto& d : sink.diagnostics()) {
-      auto lc = sources.line_col(d.span.file, d.span.offset);
-      out.push_back(std::to_string(lc.line) + ":" + std::to_string(lc.col) + " " +
-                    std::string(core::kind_name(d.kind)));
-    }
-    return out;
-  }
-};
-
-std::unique_ptr<Checked> check_text(const std::string& text) {
-  auto c = std::make_unique<Checked>();
-  coral::MemoryFileProvider files;
-  files.add("main.coral", text);
-  c->program = coral::compile_file("main.coral", files, c->sources, c->sink,
-                                   Catalogue::builtin().check_options());
-  c->sink.sort();
-  return c;
 }
 
 std::string parse_error(const std::string& text) {
@@ -125,61 +97,6 @@ TEST(Catalogue, LoadsFromAPath) {
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(core::ErrorCode::Io, missing.error().code);
   EXPECT_NE(std::string::npos, missing.error().message.find("no_such_file.toml"));
-}
-
-TEST(Catalogue, CheckOptionsAcceptTheTankMission) {
-  coral::DiskFileProvider disk;
-  core::SourceManager sources;
-  core::DiagnosticSink sink;
-  auto program = coral::compile_file(kSourceDir + "/missions/tank/tank.coral", disk, sources, sink,
-                                     Catalogue::builtin().check_options());
-  EXPECT_TRUE(program);
-  EXPECT_FALSE(sink.has_errors());
-  EXPECT_EQ(0u, sink.warning_count());
-}
-
-TEST(Catalogue, CheckOptionsRejectAMisspelledPrimitiveWithASuggestion) {
-  auto c = check_text(
-      "net n { place s = 1, a, b; exit e;\n"
-      "  transition t1 { wait { s } action { TACTIC(ASK, depth_reachd, a, b) } }\n"
-      "  transition t2 { wait { a } signal { e } }\n"
-      "  transition t3 { wait { b } signal { e } } }");
-  EXPECT_EQ((std::vector<std::string>{"2:51 UnknownPrimitive"}), c->kinds());
-  ASSERT_EQ(1u, c->sink.diagnostics().size());
-  ASSERT_EQ(1u, c->sink.diagnostics()[0].notes.size());
-  EXPECT_EQ("did you mean 'depth_reached'?", c->sink.diagnostics()[0].notes[0].message);
-  EXPECT_FALSE(c->program);
-}
-
-TEST(Catalogue, CheckOptionsRejectAMissingArgument) {
-  auto c = check_text(
-      "net n { place s = 1; exit e;\n"
-      "  transition t { wait { s } action { TACTIC(EXEC, sleep, e) } } }");
-  EXPECT_EQ((std::vector<std::string>{"2:51 PrimitiveArity"}), c->kinds());
-  EXPECT_EQ("'sleep' takes 1 argument, but 0 given", c->sink.diagnostics()[0].message);
-}
-
-TEST(Catalogue, CheckOptionsRejectAWrongKind) {
-  auto c = check_text(
-      "net n { place s = 1; exit e;\n"
-      "  transition t { wait { s } action { TACTIC(EXEC, depth_reached, e) } } }");
-  EXPECT_EQ((std::vector<std::string>{"2:51 TacticArguments"}), c->kinds());
-}
-
-TEST(Catalogue, CheckOptionsOutliveTheCatalogue) {
-  coral::CheckOptions options;
-  {
-    auto c = Catalogue::load(kSourceDir + "/config/primitives.toml");
-    ASSERT_TRUE(c.ok());
-    options = c.value().check_options();
-  }
-  auto sig = options.primitive("sleep");
-  ASSERT_TRUE(sig);
-  EXPECT_EQ(coral::ast::TacticType::Exec, sig->kind);
-  EXPECT_EQ(1u, sig->min_args);
-  EXPECT_EQ(1u, sig->max_args);
-  EXPECT_FALSE(options.primitive("nope"));
-  EXPECT_EQ(19u, options.primitive_names.size());
 }
 
 TEST(Catalogue, SyntaxErrorsCarryLineAndColumn) {
@@ -266,20 +183,6 @@ TEST(Catalogue, ShapeErrors) {
       "message = \"exec a {x}\"\nargs = [{ name = \"x\", type = \"number\", unit = \"m\", min = 2, "
       "max = 1 }]\n",
       "primitive 'a', argument 'x': min 2 is above max 1");
-}
-
-TEST(Catalogue, OptionalArgumentsWidenTheSignature) {
-  auto c = Catalogue::parse(
-      "[[primitive]]\nname = \"goto_depth\"\nkind = \"exec\"\ndoc = \"d\"\ntimeout_s = 5\n"
-      "message = \"exec goto_depth {depth_m} {speed}\"\n"
-      "args = [{ name = \"depth_m\", type = \"number\", unit = \"m\", min = 0 },\n"
-      "        { name = \"speed\", type = \"number\", unit = \"m/s\", default = 0.2 }]\n",
-      "cat.toml");
-  ASSERT_TRUE(c.ok()) << c.error().message;
-  auto sig = c.value().check_options().primitive("goto_depth");
-  ASSERT_TRUE(sig);
-  EXPECT_EQ(1u, sig->min_args);
-  EXPECT_EQ(2u, sig->max_args);
 }
 
 TEST(CataloguePrint, TableListsEveryPrimitiveWithUnits) {

@@ -32,16 +32,6 @@ std::optional<Kind> kind_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-coral::ast::TacticType tactic_type(Kind kind) {
-  switch (kind) {
-    case Kind::Exec: return coral::ast::TacticType::Exec;
-    case Kind::Ask: return coral::ast::TacticType::Ask;
-    case Kind::Ood: return coral::ast::TacticType::Ood;
-    case Kind::Report: return coral::ast::TacticType::Report;
-  }
-  return coral::ast::TacticType::Unknown;
-}
-
 std::size_t Primitive::min_args() const {
   std::size_t n = 0;
   for (const auto& a : args) {

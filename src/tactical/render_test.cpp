@@ -59,19 +59,6 @@ TEST(Render, SeparatesTheFieldsForTheProtocol) {
   EXPECT_TRUE(ask.value().args.empty());
 }
 
-TEST(Render, CoralLiteralsBecomeValues) {
-  coral::ast::Literal one{coral::ast::Literal::Kind::Integer, "1", "1", {}};
-  coral::ast::Literal one_f{coral::ast::Literal::Kind::Float, "1.0", "1.0", {}};
-  coral::ast::Literal text{coral::ast::Literal::Kind::String, "\"a\\\"b\"", "a\"b", {}};
-  EXPECT_EQ(Value::of(1.0), Value::from_literal(one));
-  EXPECT_EQ(Value::of(1.0), Value::from_literal(one_f));
-  EXPECT_EQ(Value::of("a\"b"), Value::from_literal(text));
-  // Same call written two ways, same message.
-  EXPECT_EQ(text_of("sleep", {Value::from_literal(one)}), text_of("sleep", {Value::from_literal(one_f)}));
-  coral::ast::Literal junk{coral::ast::Literal::Kind::Float, "1.x", "1.x", {}};
-  EXPECT_TRUE(std::isnan(Value::from_literal(junk).number));
-}
-
 TEST(Render, RejectsBadArguments) {
   EXPECT_EQ("'sleep' takes 1 argument (seconds), but 0 given", error_of("sleep", {}));
   EXPECT_EQ("'sleep' takes 1 argument (seconds), but 2 given",

@@ -1,10 +1,10 @@
 #pragma once
 // A literal argument of a primitive call: a number or a string. CORAL
-// literals and PROLOG terms both become Values before a call is rendered.
+// literals and PROLOG terms both become Values before a call is rendered
+// (the Strategic level converts them: strategic/coral_catalogue.h,
+// strategic/prolog_mission.cpp).
 #include <string>
 #include <string_view>
-
-#include "coral/ast.h"
 
 namespace strata::tactical {
 
@@ -18,11 +18,6 @@ struct Value {
   static Value of(double n) { return Value{Type::Number, n, {}}; }
   static Value of(std::string s) { return Value{Type::String, 0, std::move(s)}; }
   static Value of(const char* s) { return of(std::string(s)); }
-
-  // Integer and Float literals become numbers (a literal that does not read as
-  // a number becomes NaN, which render() rejects); String literals become
-  // their unescaped value.
-  static Value from_literal(const coral::ast::Literal& literal);
 
   bool operator==(const Value&) const = default;
 };

@@ -18,6 +18,7 @@
 
 #include "coral/compiler.h"
 #include "core/diagnostic_printer.h"
+#include "strategic/coral_catalogue.h"
 #include "tactical/catalogue.h"
 
 namespace strata::coral {
@@ -67,8 +68,8 @@ const CheckOptions& check_options() {
   static const CheckOptions options = [] {
     auto extra = tactical::Catalogue::load((kRoot / "catalogue.toml").string());
     if (!extra) throw std::runtime_error(extra.error().message);
-    CheckOptions builtin = tactical::Catalogue::builtin().check_options();
-    CheckOptions tests = extra.value().check_options();
+    CheckOptions builtin = strategic::coral_check_options(tactical::Catalogue::builtin());
+    CheckOptions tests = strategic::coral_check_options(extra.value());
     CheckOptions both;
     both.primitive = [builtin, tests](std::string_view name) {
       auto found = tests.primitive(name);

@@ -2,7 +2,10 @@
 // A PROLOG mission (paper §2.2, Figure 10; docs/prolog.md): rules
 // loaded into a module of their own, beside one predicate per vehicle
 // primitive of the catalogue, and checked before they run. The Prolog side
-// of this lives in driver.pl, compiled into the binary.
+// of this lives in prolog/driver.pl and prolog/driver_check.pl, compiled
+// into the binary; it runs on src/prolog's engine (prolog/engine.h).
+// The names stay in strata::prolog (prolog::Mission, prolog::Host...), as
+// before the driver moved here from src/prolog.
 //
 // One mission runs at a time per process (SWI-Prolog has one engine here):
 // while a MissionQuery is open, no other Prolog may run.

@@ -1,4 +1,4 @@
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 
 #include <chrono>
 #include <condition_variable>
@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "prolog/mission_test_support.h"
+#include "strategic/prolog_mission_test_support.h"
 
 namespace strata::prolog {
 namespace {

@@ -6,9 +6,9 @@
 
     Run from any folder:
 
-        swipl --no-packs -q -g "(run_tests -> halt(0) ; halt(1))" -t halt src/prolog/driver_test_load.pl
+        swipl --no-packs -q -g "(run_tests -> halt(0) ; halt(1))" -t halt src/strategic/prolog/driver_test_load.pl
 
-    or load it with `swipl src/prolog/driver_test_load.pl` and ask
+    or load it with `swipl src/strategic/prolog/driver_test_load.pl` and ask
     `?- run_tests.`
 
     swipl alone has no host: driver_test_support.pl defines stand-ins for

@@ -1,4 +1,4 @@
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 
 #include "core/file.h"
-#include "prolog/driver_check_text.h"
-#include "prolog/driver_text.h"
+#include "strategic/prolog_driver_check_text.h"
+#include "strategic/prolog_driver_text.h"
 #include "prolog/interrupt.h"
 
 namespace strata::prolog {

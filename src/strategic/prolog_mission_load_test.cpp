@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "prolog/mission.h"
-#include "prolog/mission_test_support.h"
+#include "strategic/prolog_mission.h"
+#include "strategic/prolog_mission_test_support.h"
 
 namespace strata::prolog {
 namespace {

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "prolog/mission.h"
+#include "strategic/prolog_mission.h"
 
 namespace strata::prolog::testing_support {
 
