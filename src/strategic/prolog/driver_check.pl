@@ -19,11 +19,11 @@
 % read freed memory on a digit followed by a quote (0'c, 16'FF) at some
 % lengths of the text (fuzz/known/swi_9_0_4_reader_use_after_free.pl;
 % term_to_atom/2 reached it at 504 characters). A rules file is scanned for
-% that before it is read (mission.cpp, scan_rules_text); text a mission
+% that before it is read (prolog_mission.cpp, scan_rules_text); text a mission
 % builds cannot be, so the predicates that parse text as a term are refused
 % (docs/prolog.md, section 7). library(sandbox) lists them as safe and asks
 % safe_primitive/1 before any other hook: these clauses come before its
-% own, as this file loads first (ensure_driver, mission.cpp), and the
+% own, as this file loads first (ensure_driver, prolog_mission.cpp), and the
 % directive at the end of this file checks that they do.
 :- multifile sandbox:safe_primitive/1.
 sandbox:safe_primitive(system:term_to_atom(_, _)) :- parses_text(term_to_atom/2).
