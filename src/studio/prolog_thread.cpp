@@ -1,5 +1,7 @@
 #include "studio/prolog_thread.h"
 
+#include <csignal>
+
 #include "prolog/engine.h"
 
 namespace strata::studio {
@@ -46,7 +48,32 @@ bool PrologThread::try_run(const std::function<void()>& job) {
   return true;
 }
 
+namespace {
+
+// SWI-Prolog, started on this thread, puts its own alternate signal stack
+// in place (its C-stack guard's SIGSEGV handler runs there). The thread's
+// own, the one it was created with, is put back before the thread ends:
+// ASan unmaps the alternate stack it finds at a thread's end, and could
+// not unmap SWI's ("failed to deallocate", the studio's PROLOG tests
+// under the asan preset).
+class AlternateStackKept {
+ public:
+  AlternateStackKept() { kept_ = ::sigaltstack(nullptr, &original_) == 0; }
+  ~AlternateStackKept() {
+    if (kept_) ::sigaltstack(&original_, nullptr);
+  }
+  AlternateStackKept(const AlternateStackKept&) = delete;
+  AlternateStackKept& operator=(const AlternateStackKept&) = delete;
+
+ private:
+  stack_t original_{};
+  bool kept_ = false;
+};
+
+}  // namespace
+
 void PrologThread::loop() {
+  const AlternateStackKept alternate_stack;
   std::unique_lock lock(mutex_);
   for (;;) {
     wake_.wait(lock, [&] { return quit_ || job_; });
