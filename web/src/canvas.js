@@ -333,7 +333,10 @@ export function createCanvas(container, store, fx) {
     if (net && prev && !rebuilt && s.model !== prev.model) applyDiagnostics(s, net);
     if (!prev || s.mode !== prev.mode || rebuilt) {
       if (s.mode === 'arc') eh.enableDrawMode(); else eh.disableDrawMode();
-      cy.edges().toggleClass('noev', s.mode === 'arc');
+      // Every edge when the mode or the net changes; after an edit, only
+      // edges added in arc mode (a class set on 10,000 edges restyles them).
+      if (!prev || s.mode !== prev.mode || switched) cy.edges().toggleClass('noev', s.mode === 'arc');
+      else if (s.mode === 'arc') cy.edges(':not(.noev)').addClass('noev');
       container.dataset.mode = s.mode;
     }
     // Selection follows the store.
