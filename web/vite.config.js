@@ -1,6 +1,7 @@
 // Vite build of the studio page. File names are fixed (no content hashes):
-// the C++ build embeds dist/index.html, dist/assets/app.js and
-// dist/assets/app.css into the strata binary.
+// the C++ build embeds every file of dist/ into the strata binary
+// (index.html, assets/app.js, assets/app.css, and assets/app-views.js: the
+// canvas and text pane, imported by app.js once the file list is shown).
 import { defineConfig } from 'vite';
 
 export default defineConfig({
@@ -22,7 +23,6 @@ export default defineConfig({
           const n = (info.names && info.names[0]) || info.name || '';
           return n.endsWith('.css') ? 'assets/app.css' : 'assets/[name][extname]';
         },
-        inlineDynamicImports: true,
       },
     },
   },

@@ -2,7 +2,7 @@
 // marking and run classes; turns the user's gestures (drag a node, draw an
 // arc, click, double-click, zoom) into actions. It keeps no page state of
 // its own: positions and viewports go to the store.
-import { netElements, createCy, diagnosticsByElement, transitionLabel } from './graph.js';
+import { netElements, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
 import { currentNet, editable, tokensFor, uniqueName } from './store.js';
 
@@ -239,7 +239,7 @@ export function createCanvas(container, store, fx) {
         const name = n.data('name');
         if (n.data('kind') === 'place') {
           const k = tokens ? (tokens[name] || 0) : (n.data('initial') || 0);
-          if (n.data('tokens') !== k) n.data('tokens', k);
+          if (n.data('tokens') !== k) n.data({ tokens: k, img: tokenSvg(k) });
           toggle(n, 'marked', k > 0);
           return;
         }
@@ -257,17 +257,24 @@ export function createCanvas(container, store, fx) {
     });
   }
 
-  // The drawn net brought to net's elements: only what differs is removed,
-  // added or changed, so an edit of a large net restyles a few elements,
-  // and the selection and positions stay.
-  const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome'];
+  // The drawn net brought to net's elements: the new elements are compared
+  // with the ones last drawn (plain objects, no cytoscape calls), and only
+  // what differs is removed, added or changed, so an edit of a large net
+  // touches a few elements, and the selection and positions stay.
+  const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome', 'weighted', 'pair'];
+  let drawnEls = new Map();   // id -> the element spec drawn (netElements)
+  const byId = (els) => new Map(els.map((e) => [e.data.id, e]));
   function syncElements(s, net) {
     const els = netElements(net, tokensFor(s, net.name));
-    const want = new Map(els.map((e) => [e.data.id, e]));
+    const want = byId(els);
+    const gone = [];
+    for (const id of drawnEls.keys()) if (!want.has(id)) gone.push(id);
     const add = [];
     cy.batch(() => {
-      cy.elements().forEach((e) => { if (!want.has(e.id()) && !e.hasClass('eh-handle') && !e.hasClass('eh-ghost')) e.remove(); });
+      for (const id of gone) { const e = cy.getElementById(id); if (e.nonempty()) e.remove(); }
       for (const w of els) {
+        const d = drawnEls.get(w.data.id);
+        if (d && d.classes === w.classes && sameData(d.data, w.data)) continue;
         const e = cy.getElementById(w.data.id);
         if (e.empty()) { add.push(w); continue; }
         for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
@@ -276,6 +283,12 @@ export function createCanvas(container, store, fx) {
       }
       if (add.length) cy.add(add);
     });
+    drawnEls = want;
+  }
+  function sameData(a, b) {
+    for (const k in b) if (a[k] !== b[k]) return false;
+    for (const k in a) if (!(k in b)) return false;
+    return true;
   }
 
   function render(s, prev) {
@@ -288,12 +301,23 @@ export function createCanvas(container, store, fx) {
       if (drawnName && drawnName !== s.netName && !cy.elements().empty()) dispatch({ type: 'viewport/set', net: drawnName, zoom: cy.zoom(), pan: { ...cy.pan() } });
       if (eh.hide) eh.hide();
       cy.elements().remove();
+      drawnEls = new Map();
       drawnNet = net; drawnName = s.netName;
       if (net) {
         const els = netElements(net, tokensFor(s, net.name));
         setLarge(els.length > kLargeNet);
+        // Nodes are added at their positions (each position set afterwards
+        // is an event): the stored ones, or the layered layout's.
+        let pos = s.positions[net.name] || {};
+        let laid = null;
+        if (!els.some((e) => e.group === 'nodes' && pos[e.data.id])) pos = laid = layeredLayout(net);
+        for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) e.position = { ...pos[e.data.id] };
         cy.add(els);
-        placeNodes(s, net);
+        for (const e of els) delete e.position;
+        drawnEls = byId(els);
+        // (A dispatch from a view is applied after this render.)
+        if (laid) dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
+        else placeNodes(s, net);
         const vp = s.viewports[net.name];
         if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
         applyDiagnostics(s, net);
@@ -309,7 +333,10 @@ export function createCanvas(container, store, fx) {
     if (net && prev && !rebuilt && s.model !== prev.model) applyDiagnostics(s, net);
     if (!prev || s.mode !== prev.mode || rebuilt) {
       if (s.mode === 'arc') eh.enableDrawMode(); else eh.disableDrawMode();
-      cy.edges().toggleClass('noev', s.mode === 'arc');
+      // Every edge when the mode or the net changes; after an edit, only
+      // edges added in arc mode (a class set on 10,000 edges restyles them).
+      if (!prev || s.mode !== prev.mode || switched) cy.edges().toggleClass('noev', s.mode === 'arc');
+      else if (s.mode === 'arc') cy.edges(':not(.noev)').addClass('noev');
       container.dataset.mode = s.mode;
     }
     // Selection follows the store.

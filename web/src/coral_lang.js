@@ -3,6 +3,7 @@
 // marks. Pure functions of text, kept apart from the editor view so they
 // can be tested under Node.
 import { StreamLanguage } from '@codemirror/language';
+import { lineStarts, diagnosticRange } from './textrange.js';
 
 export const kKeywords = new Set(['net', 'mission', 'place', 'exit', 'transition', 'wait', 'action', 'signal', 'priority', 'import', 'data']);
 export const kBuiltins = new Set(['TACTIC', 'PHASE']);
@@ -47,31 +48,8 @@ function sameFile(a, b) {
   return na === nb || na.endsWith('/' + nb) || nb.endsWith('/' + na);
 }
 
-// Offsets of the starts of each line of text.
-export function lineStarts(text) {
-  const out = [0];
-  for (let i = text.indexOf('\n'); i >= 0; i = text.indexOf('\n', i + 1)) out.push(i + 1);
-  return out;
-}
+export { lineStarts, diagnosticRange };
 
-// The text range {from, to} of a diagnostic (1-based line and column;
-// end_line/end_col when given, else the word at the start).
-export function diagnosticRange(text, d, starts = lineStarts(text)) {
-  if (!d || !d.line) return null;
-  const off = (line, col) => {
-    const l = Math.max(1, Math.min(starts.length, line));
-    const s = starts[l - 1];
-    const e = l < starts.length ? starts[l] - 1 : text.length;
-    return Math.max(s, Math.min(e, s + Math.max(1, col || 1) - 1));
-  };
-  const from = off(d.line, d.col);
-  let to = d.end_line ? off(d.end_line, d.end_col) : from;
-  if (to <= from) {
-    const m = /^[A-Za-z0-9_]+/.exec(text.slice(from));
-    to = Math.min(text.length, from + (m ? m[0].length : 1));
-  }
-  return { from, to };
-}
 
 // The diagnostics of the model that belong to path, as @codemirror/lint wants them.
 export function lintDiagnostics(text, model, path) {

@@ -28,18 +28,21 @@ function tokenSvg(n) {
 }
 
 export const style = [
-  { selector: 'node', style: { 'font-size': 11, 'text-wrap': 'wrap', 'text-max-width': 220 } },
+  // Cheap styles for nets of thousands of elements (issue 17): no function
+  // mappers, labels skipped when zoomed out below 5 px, one-line place
+  // labels not wrapped, a token image only on marked places, straight
+  // edges except where two edges join the same nodes.
+  { selector: 'node', style: { 'font-size': 11, 'min-zoomed-font-size': 5 } },
   { selector: 'node.place', style: {
     shape: 'ellipse', width: 40, height: 40, 'background-color': '#fff', 'border-width': 2, 'border-color': '#333',
     label: 'data(name)', 'text-valign': 'bottom', 'text-margin-y': 3,
-    'background-image': (ele) => tokenSvg(ele.data('tokens') || 0),
-    'background-fit': 'contain', 'background-clip': 'none',
   } },
+  { selector: 'node.place.marked', style: { 'background-image': 'data(img)', 'background-fit': 'contain', 'background-clip': 'none' } },
   { selector: 'node.place.exit', style: { 'border-style': 'double', 'border-width': 6, 'border-color': '#1d5fa8', color: '#1d5fa8' } },
   // Nets flow left to right (layout.js): transitions are upright bars, labels below.
   { selector: 'node.transition', style: {
     shape: 'rectangle', width: 12, height: 46, 'background-color': '#333', 'border-width': 0,
-    label: 'data(label)', 'text-valign': 'bottom', 'text-halign': 'center', 'text-margin-y': 3, 'text-justification': 'center',
+    label: 'data(label)', 'text-wrap': 'wrap', 'text-max-width': 220, 'text-valign': 'bottom', 'text-halign': 'center', 'text-margin-y': 3, 'text-justification': 'center',
     'text-background-color': '#fff', 'text-background-opacity': 0.8, 'text-background-padding': 1,
   } },
   { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a', width: 14, height: 56 } },
@@ -53,10 +56,13 @@ export const style = [
   { selector: 'node:selected', style: { 'overlay-color': '#1d5fa8', 'overlay-opacity': 0.25, 'overlay-padding': 6 } },
   { selector: 'edge', style: {
     width: 1.6, 'line-color': '#555', 'target-arrow-color': '#555', 'target-arrow-shape': 'triangle',
-    'curve-style': 'bezier', 'arrow-scale': 1.1, 'font-size': 12, 'font-weight': 'bold',
+    'curve-style': 'straight', 'arrow-scale': 1.1,
+  } },
+  { selector: 'edge.pair', style: { 'curve-style': 'bezier' } },
+  { selector: 'edge.weighted', style: {
+    label: 'data(label)', 'font-size': 12, 'font-weight': 'bold',
     'text-background-color': '#fff', 'text-background-opacity': 1, 'text-background-padding': 2, color: '#a00',
   } },
-  { selector: 'edge[label]', style: { label: 'data(label)' } },
   { selector: 'edge.outcome', style: { 'line-style': 'dashed', 'line-color': '#8a8a8a', 'target-arrow-color': '#8a8a8a', width: 1.2 } },
   { selector: 'edge:selected', style: { 'line-color': '#1d5fa8', 'target-arrow-color': '#1d5fa8', width: 3 } },
   { selector: 'edge.noev', style: { events: 'no' } },
@@ -90,7 +96,7 @@ export function netElements(net, tokens) {
   for (const p of places.values()) {
     const isExit = p.exit || (net.exits || []).includes(p.name);
     const n = tokens ? (tokens[p.name] || 0) : (p.initial || 0);
-    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, initial: p.initial || 0, exit: isExit },
+    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, img: tokenSvg(n), initial: p.initial || 0, exit: isExit },
       classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') });
   }
   for (const t of net.transitions || []) {
@@ -98,11 +104,11 @@ export function netElements(net, tokens) {
       classes: 'transition' });
     for (const a of t.inputs || []) {
       els.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),
-        from: a.place, to: t.name, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: 'arc wait' });
+        from: a.place, to: t.name, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc wait weighted' : 'arc wait' });
     }
     for (const a of t.outputs || []) {
       els.push({ group: 'edges', data: { id: `a:${transId(t.name)}>${placeId(a.place)}`, kind: 'arc', source: transId(t.name), target: placeId(a.place),
-        from: t.name, to: a.place, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: 'arc signal' });
+        from: t.name, to: a.place, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc signal weighted' : 'arc signal' });
     }
     const seen = new Set();
     (t.actions || []).forEach((act, i) => {
@@ -117,51 +123,15 @@ export function netElements(net, tokens) {
   }
   // Drop edges to nodes that do not exist (a model of a broken text).
   const ids = new Set(els.filter((e) => e.group === 'nodes').map((e) => e.data.id));
-  return els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
-}
-
-// Diagnostics placed on elements: a diagnostic of file F at line L goes to the
-// element of a net of F whose line is the last one at or before L (a place
-// named in the message is preferred among several on that line).
-function sameFile(a, b) {
-  if (!a || !b) return false;
-  const na = String(a).replace(/\\/g, '/').replace(/^\.\//, '');
-  const nb = String(b).replace(/\\/g, '/').replace(/^\.\//, '');
-  return na === nb || na.endsWith('/' + nb) || nb.endsWith('/' + na);
-}
-
-export function diagnosticsByElement(model, net) {
-  const out = new Map(); // element id -> [diag]
-  if (!model || !net) return out;
-  const candidates = [];
-  for (const p of net.places || []) if (p.line) candidates.push({ id: placeId(p.name), name: p.name, line: p.line });
-  for (const t of net.transitions || []) if (t.line) candidates.push({ id: transId(t.name), name: t.name, line: t.line });
-  candidates.sort((a, b) => a.line - b.line);
-  if (!candidates.length) return out;
-  // The net's own extent: from its first element to the next net of the same file.
-  const first = candidates[0].line;
-  const sameFileNets = (model.nets || []).filter((n) => n !== net && sameFile(n.file, net.file));
-  let end = Infinity;
-  for (const n of sameFileNets) {
-    const lines = [...(n.places || []), ...(n.transitions || [])].map((e) => e.line || 0).filter((l) => l > 0);
-    const nfirst = Math.min(...lines);
-    if (nfirst > first && nfirst < end) end = nfirst - 1;
-  }
-  for (const d of model.diagnostics || []) {
-    if (!sameFile(d.file, net.file) && !(d.file == null && sameFile(model.path, net.file))) continue;
-    if (d.line < first - 1 || d.line > end) continue;
-    let best = null;
-    for (const c of candidates) if (c.line <= d.line) best = c.line;
-    if (best == null) best = first;
-    let hits = candidates.filter((c) => c.line === best);
-    if (hits.length > 1) {
-      const named = hits.filter((c) => (d.message || '').includes(`'${c.name}'`));
-      if (named.length) hits = named;
-    }
-    for (const h of hits) {
-      if (!out.has(h.id)) out.set(h.id, []);
-      out.get(h.id).push(d);
-    }
-  }
+  const out = els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
+  // Edges that share their two nodes (either way) are curved apart: 'pair'.
+  const key = (e) => (e.data.source < e.data.target ? `${e.data.source}|${e.data.target}` : `${e.data.target}|${e.data.source}`);
+  const count = new Map();
+  for (const e of out) if (e.group === 'edges') count.set(key(e), (count.get(key(e)) || 0) + 1);
+  for (const e of out) if (e.group === 'edges' && count.get(key(e)) > 1) e.classes += ' pair';
   return out;
 }
+
+export { tokenSvg };
+// Kept here for the views that import it from graph.js.
+export { diagnosticsByElement } from './diag.js';

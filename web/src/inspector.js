@@ -50,8 +50,11 @@ export function createInspector(store, fx, canvas) {
   function arcAdder(net, e, ed) {
     if (!ed) return null;
     const isPlace = e.data('kind') === 'place';
-    const others = isPlace ? (net.transitions || []).map((t) => t.name) : [...(net.places || []).map((p) => p.name), ...(net.exits || []).filter((x) => !(net.places || []).some((p) => p.name === x))];
-    const sel = el('select', { id: 'insp-arc-other' }, others.map((o) => el('option', { value: o }, o)));
+    const placeNames = new Set((net.places || []).map((p) => p.name));
+    const others = isPlace ? (net.transitions || []).map((t) => t.name) : [...placeNames, ...(net.exits || []).filter((x) => !placeNames.has(x))];
+    // Options built plainly: a place of a 5,000-transition net lists them all.
+    const sel = el('select', { id: 'insp-arc-other' });
+    for (const o of others) sel.add(new Option(o, o));
     const w = el('input', { id: 'insp-arc-weight', type: 'number', min: 1, step: 1, value: 1, size: 3 });
     const go = () => {
       const o = sel.value;

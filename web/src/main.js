@@ -10,21 +10,18 @@
 import './style.css';
 import { api } from './api.js';
 import { $ } from './dom.js';
-import { createStore, dirty, editable, currentNet, prevFiring, nextFiring, runBanner, breadcrumb } from './store.js';
+import { createStore, dirty, currentNet, prevFiring, nextFiring, runBanner, breadcrumb } from './store.js';
 import { createEffects } from './effects.js';
-import { createCanvas, kZoomStep } from './canvas.js';
-import { createTextPane } from './textpane.js';
-import { createInspector, deleteSelection } from './inspector.js';
 import { createPanels } from './panels.js';
 
 const store = createStore();
 const { dispatch, getState } = store;
 const fx = createEffects(store, api, { confirm: (t) => window.confirm(t) });
-const canvas = createCanvas($('#cy'), store, fx);
-const text = createTextPane($('#text-pane'), store, fx);
-createInspector(store, fx, canvas);
 const panels = createPanels(store, fx);
-const cy = canvas.cy;
+// The canvas, the text pane and the inspector (cytoscape and CodeMirror,
+// most of the page's code) are loaded after the file list is shown
+// (views.js); until then the store keeps what they will draw.
+let views = null;
 
 // ---------------------------------------------------------------- buttons and keys
 const on = (sel, ev, f) => $(sel).addEventListener(ev, f);
@@ -32,13 +29,6 @@ for (const b of document.querySelectorAll('button.mode')) b.addEventListener('cl
 store.subscribe((s, p) => {
   if (s.mode !== p.mode) for (const b of document.querySelectorAll('button.mode')) b.classList.toggle('active', b.dataset.mode === s.mode);
 });
-on('#btn-add-place', 'click', () => { const i = $('#new-name'); const n = i.value.trim(); i.value = ''; canvas.addNode('place', canvas.centre(), n); });
-on('#btn-add-transition', 'click', () => { const i = $('#new-name'); const n = i.value.trim(); i.value = ''; canvas.addNode('transition', canvas.centre(), n); });
-on('#btn-delete', 'click', () => deleteSelection(store, fx, canvas));
-on('#btn-relayout', 'click', () => { canvas.relayout(); canvas.fitReadable(); });
-on('#btn-fit', 'click', () => canvas.fitReadable());
-on('#btn-zoom-in', 'click', () => canvas.zoomBy(kZoomStep));
-on('#btn-zoom-out', 'click', () => canvas.zoomBy(1 / kZoomStep));
 on('#btn-undo', 'click', () => fx.undo());
 on('#btn-redo', 'click', () => fx.redo());
 on('#btn-save', 'click', () => fx.save());
@@ -78,28 +68,11 @@ document.addEventListener('keydown', (ev) => {
   if (inForm(ev.target)) return;   // the text pane has its own keys
   if (mod && ev.key.toLowerCase() === 'z') { ev.preventDefault(); if (ev.shiftKey) fx.redo(); else fx.undo(); return; }
   if (mod && ev.key.toLowerCase() === 'y') { ev.preventDefault(); fx.redo(); return; }
-  if ((ev.key === 'Delete' || ev.key === 'Backspace') && editable(getState())) deleteSelection(store, fx, canvas);
   if (ev.key === 'Escape') dispatch({ type: 'mode/set', mode: 'select' });
-  if (ev.key === '+' || ev.key === '=') canvas.zoomBy(kZoomStep);
-  if (ev.key === '-') canvas.zoomBy(1 / kZoomStep);
+  if (views) views.key(ev);   // delete, zoom
 });
 // Leaving the page with unsaved edits asks first.
 window.addEventListener('beforeunload', (ev) => { if (dirty(getState())) { ev.preventDefault(); ev.returnValue = ''; } });
-
-// The wheel zooms a useful step: 1.15× for a mouse notch (100 px), smoothly
-// for a touchpad's small deltas. Taken before cytoscape's own handler, whose
-// "inaccurate device" scaling made a notch 0.8%.
-export const kWheelPerPx = Math.log(1.15) / 100;
-$('#cy-wrap').addEventListener('wheel', (ev) => {
-  ev.preventDefault();
-  ev.stopPropagation();
-  const px = ev.deltaY * (ev.deltaMode === 1 ? 33 : ev.deltaMode === 2 ? 800 : 1);
-  const k = Math.exp(-px * kWheelPerPx);
-  const rect = $('#cy').getBoundingClientRect();
-  const level = Math.max(cy.minZoom(), Math.min(cy.maxZoom(), cy.zoom() * k));
-  cy.zoom({ level, renderedPosition: { x: ev.clientX - rect.left, y: ev.clientY - rect.top } });
-}, { capture: true, passive: false });
-cy.on('zoom', () => { $('#zoom-label').textContent = `${Math.round(cy.zoom() * 100)}%`; });
 
 // Resizable panels: drag a splitter; widths live in the store.
 const kPanelVar = { left: '--left-w', right: '--right-w', text: '--text-w' };
@@ -125,7 +98,6 @@ applyPanels(getState(), null);
 
 // ---------------------------------------------------------------- test hooks
 // Browser tests read the page's state here (the canvas is a <canvas>).
-window.__cy = cy;
 window.__store = store;
 window.__studio = {
   get state() { return getState(); },
@@ -133,9 +105,9 @@ window.__studio = {
   get net() { return getState().netName; },
   get netName() { return getState().netName; },
   get text() { return getState().text; },
-  get paneText() { return text.text; },
-  get paneSelection() { return text.selection; },
-  get lintCount() { return text.lintCount; },
+  get paneText() { return views && views.text.text; },
+  get paneSelection() { return views && views.text.selection; },
+  get lintCount() { return views && views.text.lintCount; },
   get dirty() { return dirty(getState()); },
   get model() { return getState().model; },
   get diagnostics() { return (getState().model && getState().model.diagnostics) || []; },
@@ -180,7 +152,11 @@ async function init() {
   fx.startSonar();
   await fx.loadFiles();
   window.__studio.filesAt = performance.now();   // page load to file list (the e2e report)
+  // The views after the list is drawn: their chunk is fetched, compiled and
+  // run while the user reads the list.
+  const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
   await fx.loadPrimitives();
+  await loaded;
   const want = new URLSearchParams(location.search).get('path');
   if (want && getState().files.includes(want)) await fx.openFile(want);
 }

@@ -4,9 +4,9 @@
 // conflict. Each draws from the store when its part of the state changed.
 import { $, el } from './dom.js';
 import { DepthChart } from './chart.js';
-import { diagnosticsByElement } from './graph.js';
+import { diagnosticsByElement } from './diag.js';
 import { displayNets, dirty, runGoing, runBanner, breadcrumb, chartData, scenarioList, isProlog } from './store.js';
-import { diagnosticRange } from './coral_lang.js';
+import { diagnosticRange } from './textrange.js';
 import { lineDiff } from './diff.js';
 
 export function createPanels(store, fx) {

@@ -48,7 +48,14 @@ export function createTextPane(parent, store, fx) {
     if (text !== doc) {
       // Keep the cursor where it was, as near as the new text allows.
       const head = Math.min(view.state.selection.main.head, text.length);
-      view.dispatch({ changes: { from: 0, to: doc.length, insert: text }, selection: { anchor: head }, annotations: fromStore.of(true), effects });
+      // Only the span that differs is replaced (an edit of a large file
+      // changes a line or two of it).
+      let a = 0;
+      const n = Math.min(doc.length, text.length);
+      while (a < n && doc.charCodeAt(a) === text.charCodeAt(a)) a++;
+      let b = 0;
+      while (b < n - a && doc.charCodeAt(doc.length - 1 - b) === text.charCodeAt(text.length - 1 - b)) b++;
+      view.dispatch({ changes: { from: a, to: doc.length - b, insert: text.slice(a, text.length - b) }, selection: { anchor: head }, annotations: fromStore.of(true), effects });
     } else if (effects.length) view.dispatch({ effects });
     if (!prev || s.model !== prev.model || text !== doc) {
       // Marks only for the text the model is of (a typed text waits for its check).
