@@ -14,6 +14,7 @@
 #include "core/file.h"
 #include "strategic/prolog_driver_check_text.h"
 #include "strategic/prolog_driver_text.h"
+#include "strategic/prolog_rules_scan.h"
 #include "prolog/interrupt.h"
 
 namespace strata::prolog {
@@ -144,99 +145,6 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   return PL_domain_error("phase_event", event_t);
 }
 
-// What SWI-Prolog's reader should not be given. It parses nested brackets
-// by C recursion (about 20,000 levels overran the C stack before the engine
-// kept its SIGSEGV guard, engine.cpp), and very long lines make the reader
-// and the compiler slow (a 1 MB integer, 300,000 chained operators). A file
-// over LoadLimits::max_bytes, or not a regular file, is not read at all.
-//
-// And SWI-Prolog 9.0.4's reader reads freed memory on a digit followed by a
-// quote (`0'c`, `16'FF`): raw_read2() keeps a pointer to the digits, adds a
-// byte to its buffer, which may move it, and then atoi()s the old place
-// (found by prolog_fuzz; fuzz/known/swi_9_0_4_reader_use_after_free.pl).
-// Whether it moves depends on the clause's length in the reader's own
-// encoding, so any digit followed by a quote outside quoted text and
-// comments is refused. So are the two things where the reader's idea of
-// quoted text and comments is not this scanner's: `||` (a quasi-quotation,
-// read raw to `|}`) and `/*` right after a symbol character (`=/*` is an
-// operator there, not a comment).
-constexpr std::size_t kMaxNesting = 1000;
-constexpr std::size_t kMaxLine = 100'000;
-
-bool is_symbol_char(char c) { return std::string_view("#$&*+-./:<=>?@^~\\").find(c) != std::string_view::npos; }
-
-// Scans Prolog text for bracket nesting, line length and the reader's
-// digit-quote bug, skipping quoted text and comments. Returns "" when it is
-// fine, or "Line:Column:text".
-std::string scan_rules_text(std::string_view text) {
-  std::size_t line = 1, depth = 0, line_start = 0;
-  char prev = ' ';  // the code character before this one (' ' after a comment)
-  auto place = [&](std::size_t at, const std::string& what) {
-    return fmt::format("{}:{}:{}", line, at - line_start + 1, what);
-  };
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '\n') {
-      ++line;
-      line_start = i + 1;
-      prev = ' ';
-      continue;
-    }
-    if (i - line_start >= kMaxLine) {
-      return fmt::format("{}:1:a line longer than {} characters: rules are not read past it", line, kMaxLine);
-    }
-    if (c == '%') {  // a comment to the end of the line
-      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
-      prev = ' ';
-      continue;
-    }
-    if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
-      if (is_symbol_char(prev)) {
-        return place(i, "`/*` right after a symbol character (the reader takes it as an operator, "
-                        "not a comment): put a space before it");
-      }
-      for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i) {
-        if (text[i] == '\n') {
-          ++line;
-          line_start = i + 1;
-        }
-      }
-      ++i;
-      prev = ' ';
-      continue;
-    }
-    if (c == '\'' && std::isdigit(static_cast<unsigned char>(prev))) {
-      return place(i - 1, "a digit followed by a quote (a character code such as 0'a, or a number "
-                          "in a base such as 16'FF): SWI-Prolog 9.0.4's reader can read freed "
-                          "memory on it, so rules may not use it; write the number (0'a is 97)");
-    }
-    if (c == '|' && prev == '|') {
-      return place(i - 1, "`||` (a quasi-quotation, which the reader takes raw): not allowed in rules");
-    }
-    if (c == '\'' || c == '"' || c == '`') {
-      for (++i; i < text.size() && text[i] != c; ++i) {
-        if (text[i] == '\\' && i + 1 < text.size()) ++i;  // an escape, or a line continued
-        if (text[i] == '\n') {
-          ++line;
-          line_start = i + 1;
-        }
-      }
-      prev = c;
-      continue;
-    }
-    if (c == '(' || c == '[' || c == '{') {
-      if (++depth > kMaxNesting) {
-        return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it",
-                                    kMaxNesting));
-      }
-    } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-    prev = c;
-  }
-  return "";
-}
-
 // '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
 // Text) for what the reader must not see (scan_rules_text()). A file that
 // cannot be read is ok here: loading it says so.
@@ -256,15 +164,10 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
                          PL_UTF8_STRING, "not a regular file (a FIFO or a device is never read)");
   }
   if (!read) return PL_unify_atom_chars(problem_t, "ok");
-  const std::string& text = read.value();
-  std::string found = scan_rules_text(text);
-  if (found.empty()) return PL_unify_atom_chars(problem_t, "ok");
-  const auto c1 = found.find(':');
-  const auto c2 = found.find(':', c1 + 1);
-  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64,
-                       std::stoll(found.substr(0, c1)), PL_INT64,
-                       std::stoll(found.substr(c1 + 1, c2 - c1 - 1)), PL_UTF8_STRING,
-                       found.substr(c2 + 1).c_str());
+  const auto found = scan_rules_text(read.value());
+  if (!found) return PL_unify_atom_chars(problem_t, "ok");
+  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, static_cast<int64_t>(found->line),
+                       PL_INT64, static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
 }
 
 // Loads one of the driver's modules from its text.

@@ -124,6 +124,13 @@ TEST_F(PrologMission, a_character_code_or_a_radix_number_is_refused_at_its_place
   EXPECT_NE(text.find("n.pl:1:17: error: a digit followed by a quote"), std::string::npos) << text;
 }
 
+TEST_F(PrologMission, a_character_code_in_a_consulted_file_is_refused_at_the_consult) {
+  rules_.write("helper.pl", "p.\nq(X) :- X = 0'a.\n");
+  const std::string text =
+      failed_load(rules_.write("m.pl", "mission :- p.\n:- consult(helper).\n"), LoadLimits{});
+  EXPECT_NE(text.find("helper.pl`: 2:13: a digit followed by a quote"), std::string::npos) << text;
+}
+
 TEST_F(PrologMission, a_digit_and_a_quote_in_quoted_text_or_a_comment_load) {
   auto m = load_ok(rules_.write("m.pl",
                                 "% the 10's of metres\n/* 0'a */\n"
