@@ -20,7 +20,7 @@
 namespace strata::cli {
 namespace {
 
-struct Options {
+struct CheckOptions {
   std::vector<std::string> files;
   std::string catalogue;
   std::string format = "text";
@@ -69,7 +69,7 @@ std::string plural(std::size_t n, std::string_view word) {
   return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
 }
 
-int run_check(const Options& o) {
+int run_check(const CheckOptions& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata check: " << catalogue.error().message << "\n";
@@ -145,7 +145,7 @@ int run_check(const Options& o) {
   return exit_code_for(report);
 }
 
-int run_dump(const Options& o) {
+int run_dump(const CheckOptions& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata dump: " << catalogue.error().message << "\n";
@@ -181,7 +181,7 @@ int run_dump(const Options& o) {
 }  // namespace
 
 Runner add_check_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<CheckOptions>();
   auto* cmd = app.add_subcommand("check", "Check mission files (CORAL nets, PROLOG rules) and report diagnostics");
   cmd->add_option("files", o->files,
                   "Mission files: .coral (each checked with its imports) or .pl (loaded and checked as strata run "
@@ -199,7 +199,7 @@ Runner add_check_command(CLI::App& app) {
 }
 
 Runner add_dump_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<CheckOptions>();
   auto* cmd = app.add_subcommand(
       "dump", "Print the compiled Petri nets and action tables of a CORAL mission");
   cmd->add_option("file", o->files, "Mission file (.coral)")

@@ -16,7 +16,7 @@
 namespace strata::cli {
 namespace {
 
-struct Options {
+struct CompareOptions {
   std::string a, b;
   std::string scenario;
   std::optional<std::uint64_t> seed;
@@ -36,7 +36,7 @@ std::string outcome_text(const RunReport& r) {
   return text;
 }
 
-int run_compare(const Options& o) {
+int run_compare(const CompareOptions& o) {
   RunReport reports[2];
   const std::string* paths[2] = {&o.a, &o.b};
   for (int i = 0; i < 2; ++i) {
@@ -92,7 +92,7 @@ int run_compare(const Options& o) {
 }  // namespace
 
 Runner add_compare_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<CompareOptions>();
   auto* cmd = app.add_subcommand(
       "compare",
       "Run two missions (.coral or .pl, in any mix) against identical simulated vehicles and print "

@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Options {
+struct ExportOptions {
   std::string mission;
   bool pnml = false;
   bool dot = false;
@@ -38,7 +38,7 @@ bool write_file(const fs::path& path, const std::string& text) {
   return true;
 }
 
-int run_export(const Options& o) {
+int run_export(const ExportOptions& o) {
   if (!o.mission.ends_with(".coral")) {
     std::cerr << fmt::format("strata export: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets\n", o.mission);
     return kExitUsage;
@@ -100,7 +100,7 @@ int run_export(const Options& o) {
 }  // namespace
 
 Runner add_export_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<ExportOptions>();
   auto* cmd = app.add_subcommand(
       "export",
       "Write a CORAL mission's nets for other tools: PNML (the analysis net `strata verify` explores) or "

@@ -20,13 +20,13 @@ namespace fs = std::filesystem;
 // sysexits' EX_UNAVAILABLE: a program strata needs is not installed. Only
 // `strata plot` needs another program, so it is not among the common codes.
 
-struct Options {
+struct PlotOptions {
   std::string log;
   std::string output;
   bool keep_script = false;
 };
 
-int run_plot(const Options& o) {
+int run_plot(const PlotOptions& o) {
   fs::path output = o.output;
   if (output.empty()) output = fs::path(o.log).replace_extension(".svg");
   const auto format = plot::format_for(output);
@@ -68,7 +68,7 @@ int run_plot(const Options& o) {
 }  // namespace
 
 Runner add_plot_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<PlotOptions>();
   auto* cmd = app.add_subcommand(
       "plot",
       "Draw a mission log with gnuplot: depth and setpoint against time, the phases as bands, the aborts marked, "

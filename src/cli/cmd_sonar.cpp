@@ -17,7 +17,7 @@
 namespace strata::cli {
 namespace {
 
-struct Options {
+struct SonarOptions {
   std::string vehicle;
   std::string out;
   int size_px = 400;
@@ -25,7 +25,7 @@ struct Options {
   bool verbose = false;
 };
 
-int run_sonar(const Options& o) {
+int run_sonar(const SonarOptions& o) {
   auto endpoint = parse_listen(o.vehicle);
   if (!endpoint) {
     std::cerr << "strata sonar: --vehicle: " << endpoint.error().message << "\n";
@@ -77,7 +77,7 @@ int run_sonar(const Options& o) {
 }  // namespace
 
 Runner add_sonar_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<SonarOptions>();
   auto* cmd = app.add_subcommand(
       "sonar",
       "The Sonar Manager: capture the vehicle's sonar stream, write scan images (PNG) and the walls and target "

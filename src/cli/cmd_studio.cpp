@@ -24,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Options {
+struct StudioOptions {
   std::string dir = ".";
   std::string host = "127.0.0.1";
   std::uint16_t port = 0;
@@ -47,7 +47,7 @@ sigset_t block_stop_signals() {
   return set;
 }
 
-int run_studio(const Options& o) {
+int run_studio(const StudioOptions& o) {
   std::error_code ec;
   if (!fs::is_directory(o.dir, ec)) {
     std::cerr << fmt::format("strata studio: '{}' is not a folder\n", o.dir);
@@ -153,7 +153,7 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
 }
 
 Runner add_studio_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<StudioOptions>();
   auto* cmd = app.add_subcommand("studio",
                                  "Serve the graphical mission editor and the live view of runs in the browser "
                                  "(prints http://127.0.0.1:PORT first)");

@@ -23,7 +23,7 @@
 namespace strata::cli {
 namespace {
 
-struct Options {
+struct VerifyOptions {
   std::string mission;
   std::string catalogue;
   std::uint64_t max_states = 1'000'000;
@@ -45,7 +45,7 @@ std::string human(double n) {
   return fmt::format("{:.0f}", n);
 }
 
-int run_verify_pnml(const Options& o) {
+int run_verify_pnml(const VerifyOptions& o) {
   auto loaded = petri::read_pnml(o.pnml);
   if (!loaded) {
     std::cerr << "strata verify: " << loaded.error().message << "\n";
@@ -112,7 +112,7 @@ int run_verify_pnml(const Options& o) {
   return r.complete ? kExitOk : kExitAbort;
 }
 
-int run_verify_mission(const Options& o) {
+int run_verify_mission(const VerifyOptions& o) {
   if (!o.mission.ends_with(".coral")) {
     std::cerr << fmt::format(
         "strata verify: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets (`strata run` checks them "
@@ -141,7 +141,7 @@ int run_verify_mission(const Options& o) {
 }  // namespace
 
 Runner add_verify_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<VerifyOptions>();
   auto* cmd = app.add_subcommand(
       "verify",
       "Verify a CORAL mission's nets before they run (bounds, 1-safety, dead transitions, deadlocks, traps, "

@@ -10,7 +10,7 @@ namespace {
 constexpr std::size_t kInvariantsShown = 8;
 constexpr std::size_t kWidth = 100;
 
-std::string join(const std::vector<std::string>& items, std::string_view sep = ", ") {
+std::string join_items(const std::vector<std::string>& items, std::string_view sep = ", ") {
   std::string s;
   for (const auto& i : items) s += (s.empty() ? "" : std::string(sep)) + i;
   return s;
@@ -24,7 +24,7 @@ std::string counterexample_text(const Counterexample& cx, std::string_view inden
     out += fmt::format("{}{:>3}. {}\n", indent, i + 1, step_text(cx.steps[i]));
   }
   out += fmt::format("{}marking: {}\n", indent, cx.marking);
-  if (!cx.in_flight.empty()) out += fmt::format("{}in flight: {}\n", indent, join(cx.in_flight));
+  if (!cx.in_flight.empty()) out += fmt::format("{}in flight: {}\n", indent, join_items(cx.in_flight));
   return out;
 }
 
@@ -70,8 +70,8 @@ std::string bounds_text(const NetVerification& n) {
   std::string out = fmt::format("  place bounds{}: ", n.complete ? "" : " (so far)");
   if (never.size() == n.bounds.size()) out += "no place is marked";
   else if (other.empty()) out += never.empty() ? "1 for every place" : "1 for every place marked";
-  else out += fmt::format("1 except {}", join(other));
-  if (!never.empty() && never.size() != n.bounds.size()) out += fmt::format("; never marked: {}", join(never));
+  else out += fmt::format("1 except {}", join_items(other));
+  if (!never.empty() && never.size() != n.bounds.size()) out += fmt::format("; never marked: {}", join_items(never));
   return out + "\n";
 }
 
@@ -79,7 +79,7 @@ std::string invariants_text(const NetVerification& n) {
   if (!n.invariants_complete) return "  P-invariants: too many minimal P-semiflows to list\n";
   std::string cover = n.uncovered.empty()                     ? ", covering every place"
                       : n.uncovered.size() == n.bounds.size() ? ""
-                                                              : fmt::format("; not covered: {}", join(n.uncovered));
+                                                              : fmt::format("; not covered: {}", join_items(n.uncovered));
   std::string out = fmt::format("  P-invariants: {}{}\n",
                                 count(n.invariants.size(), "minimal P-semiflow", "minimal P-semiflows"), cover);
   for (std::size_t i = 0; i < n.invariants.size() && i < kInvariantsShown; ++i) {
@@ -128,9 +128,9 @@ std::string_view status_name(Property::Status status) {
 }
 
 std::string step_text(const TraceStep& s) {
-  std::string marks = s.marks.empty() ? "" : fmt::format(" -> {}", join(s.marks));
+  std::string marks = s.marks.empty() ? "" : fmt::format(" -> {}", join_items(s.marks));
   if (s.kind == TraceStep::Kind::Fire) {
-    return fmt::format("fire {}{}{}", s.transition, s.actions.empty() ? "" : ": " + join(s.actions), marks);
+    return fmt::format("fire {}{}{}", s.transition, s.actions.empty() ? "" : ": " + join_items(s.actions), marks);
   }
   return fmt::format("{} ({}) answers {}{}", s.action, s.transition, s.answer, marks);
 }
@@ -145,7 +145,7 @@ std::string verify_text(const VerifyReport& report) {
     for (std::size_t e = 0; e < n.exits.size(); ++e) {
       exits.push_back(n.exit_reachable[e] ? n.exits[e] : n.exits[e] + (n.complete ? " (never)" : " (not yet)"));
     }
-    if (!exits.empty()) out += fmt::format("  exits reached{}: {}\n", n.complete ? "" : " (so far)", join(exits));
+    if (!exits.empty()) out += fmt::format("  exits reached{}: {}\n", n.complete ? "" : " (so far)", join_items(exits));
     out += bounds_text(n);
     out += invariants_text(n);
     out += '\n';

@@ -5,7 +5,7 @@
 namespace strata::run {
 namespace {
 
-constexpr const char* kShutdown = "shutdown_network";
+constexpr const char* kShutdownNetwork = "shutdown_network";
 constexpr const char* kSurface = "surface";
 constexpr const char* kSurfaceReached = "surface_reached";
 constexpr const char* kSleep = "sleep";
@@ -18,7 +18,7 @@ using Outcome = core::Result<tactical::CallOutcome>;
 SafeEnd::SafeEnd(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say)
     : tactical_(tactical), catalogue_(catalogue), say_(std::move(say)) {}
 
-bool SafeEnd::possible() const { return catalogue_.find(kShutdown) != nullptr; }
+bool SafeEnd::possible() const { return catalogue_.find(kShutdownNetwork) != nullptr; }
 
 bool SafeEnd::can_surface(bool link_gone) const {
   return !link_gone && catalogue_.find(kSurface) && catalogue_.find(kSurfaceReached) && catalogue_.find(kSleep);
@@ -26,8 +26,8 @@ bool SafeEnd::can_surface(bool link_gone) const {
 
 std::string SafeEnd::plan(bool link_gone) const {
   return can_surface(link_gone) ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
-                                              kSurface, kShutdown)
-                                : fmt::format("ood {}", kShutdown);
+                                              kSurface, kShutdownNetwork)
+                                : fmt::format("ood {}", kShutdownNetwork);
 }
 
 void SafeEnd::run(bool link_gone, std::function<void()> done) {
@@ -84,11 +84,11 @@ void SafeEnd::poll(int seconds_left) {
 
 void SafeEnd::send_done() {
   shutdown_sent_ = true;
-  tactical_.call(kShutdown, {}, [this](Outcome r) {
+  tactical_.call(kShutdownNetwork, {}, [this](Outcome r) {
     if (!done_) return;
     if (!r) {
       shutdown_error_ = r.error().message;
-      say_(fmt::format("ood {} failed: {}", kShutdown, r.error().message));
+      say_(fmt::format("ood {} failed: {}", kShutdownNetwork, r.error().message));
     }
     finish();
   });

@@ -6,10 +6,13 @@
 #include <limits>
 #include <numbers>
 
-namespace strata::sonar {
-namespace {
+#include "core/units.h"
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+namespace strata::sonar {
+
+using core::kRadPerDeg;
+
+namespace {
 
 // splitmix64: the same samples on every platform, so detection is
 // reproducible (std:: distributions are not portable).

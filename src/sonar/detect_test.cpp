@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 
+#include "core/units.h"
 #include "sonar/detect.h"
 #include "sonar/processor.h"
 #include "sonar/test_support.h"
@@ -13,11 +14,10 @@
 namespace strata::sonar {
 namespace {
 
+using core::kRadPerDeg;
 using testing::PingSynth;
 using testing::SynthConfig;
 using testing::SynthTarget;
-
-constexpr double kRad = std::numbers::pi / 180.0;
 
 Detection detect_after(PingSynth& synth, int sweeps) {
   Processor processor;
@@ -40,7 +40,7 @@ std::map<std::string, double> visible_walls(const SynthConfig& c) {
     const double compass = c.heading_deg + bearing;
     const double r = probe.wall_range(compass);
     if (r > c.range_m - 0.2) continue;
-    const double dx = std::sin(compass * kRad), dy = std::cos(compass * kRad);
+    const double dx = std::sin(compass * kRadPerDeg), dy = std::cos(compass * kRadPerDeg);
     const double x = c.x_m + r * dx, y = c.y_m + r * dy;
     const bool on_x_wall = std::abs(x) < 1e-6 || std::abs(x - c.tank_x_m) < 1e-6;
     if (std::abs(on_x_wall ? dx : dy) < 0.5) continue;
@@ -150,7 +150,7 @@ TEST(Detect, TargetAtAKnownPlaceIsFound) {
       EXPECT_NEAR(tc.target.y_m, d.target->y_m, 0.3);
       const double dx = tc.target.x_m - c.x_m, dy = tc.target.y_m - c.y_m;
       EXPECT_NEAR(std::hypot(dx, dy), d.target->range_m, 0.3);
-      EXPECT_NEAR(normalise_deg(std::atan2(dx, dy) / kRad - c.heading_deg), d.target->bearing_deg, 5.0);
+      EXPECT_NEAR(normalise_deg(std::atan2(dx, dy) / kRadPerDeg - c.heading_deg), d.target->bearing_deg, 5.0);
       EXPECT_GE(d.target->pings, 3);
     }
   }

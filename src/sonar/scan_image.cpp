@@ -5,12 +5,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/units.h"
+
 namespace strata::sonar {
-namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-
-}  // namespace
+using core::kRadPerDeg;
 
 ScanImage::ScanImage(const ImageOptions& options) : options_(options) {
   assert(options_.size_px >= 8);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/units.h"
 #include "sonar/output.h"
 #include "sonar/png_io.h"
 #include "sonar/processor.h"
@@ -15,10 +16,9 @@
 namespace strata::sonar {
 namespace {
 
+using core::kRadPerDeg;
 using testing::PingSynth;
 using testing::SynthConfig;
-
-constexpr double kRad = std::numbers::pi / 180.0;
 
 // The brightest pixel within `r` pixels of (col, row).
 int brightest_near(const GreyImage& image, double col, double row, int r) {
@@ -56,7 +56,7 @@ void expect_walls_drawn(const GreyImage& image, const PingSynth& synth, double c
     const double compass = c.heading_deg + bearing;
     const double wall = synth.wall_range(compass);
     if (wall > c.range_m - 0.3) continue;
-    const double dx = std::sin(compass * kRad), dy = std::cos(compass * kRad);
+    const double dx = std::sin(compass * kRadPerDeg), dy = std::cos(compass * kRadPerDeg);
     const double hit_x = synth.x_m() + wall * dx;
     const bool on_x_wall = std::abs(hit_x) < 1e-6 || std::abs(hit_x - c.tank_x_m) < 1e-6;
     if (std::abs(on_x_wall ? dx : dy) < 0.5) continue;

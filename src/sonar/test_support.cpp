@@ -17,12 +17,13 @@
 #include <limits>
 #include <numbers>
 
+#include "core/units.h"
 #include "sonar/detect.h"
 
 namespace strata::sonar::testing {
-namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+using core::kRadPerDeg;
+namespace {
 
 std::uint8_t clamp_byte(double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); }
 

@@ -25,7 +25,7 @@ bool is_setpoint_field(std::string_view name) {
          std::end(kSetpointFields);
 }
 
-std::string join_names(const std::vector<std::string>& names) {
+std::string list_names(const std::vector<std::string>& names) {
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
@@ -349,7 +349,7 @@ class CatalogueReader {
         if (p.find_arg(piece.text)) continue;
         if (p.data == DataSource::Setpoint && is_setpoint_field(piece.text)) continue;
         std::string hint = known.empty() ? std::string("it has no arguments")
-                                         : fmt::format("it knows: {}", join_names(known));
+                                         : fmt::format("it knows: {}", list_names(known));
         if (is_setpoint_field(piece.text) && p.data != DataSource::Setpoint) {
           hint += "; setpoint fields need data = \"setpoint\"";
         }

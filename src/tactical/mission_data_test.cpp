@@ -5,7 +5,7 @@
 namespace strata::tactical {
 namespace {
 
-const std::string kSourceDir = STRATA_SOURCE_DIR;
+const std::string kDataSourceDir = STRATA_SOURCE_DIR;
 
 std::string error_of(const std::string& text, const DataLimits& limits = {}) {
   auto d = MissionData::parse(text, "data.toml", limits);
@@ -14,7 +14,7 @@ std::string error_of(const std::string& text, const DataLimits& limits = {}) {
 }
 
 TEST(MissionData, TheShippedTankDataLoads) {
-  auto d = MissionData::load(kSourceDir + "/missions/tank/setpoints.toml");
+  auto d = MissionData::load(kDataSourceDir + "/missions/tank/setpoints.toml");
   ASSERT_TRUE(d.ok()) << d.error().message;
   const auto& sp = d.value().setpoints();
   ASSERT_EQ(3u, sp.size());
@@ -84,13 +84,13 @@ TEST(MissionData, SyntaxErrorsCarryLineAndColumn) {
 }
 
 TEST(MissionData, AMissingFileIsAnIoError) {
-  auto d = MissionData::load(kSourceDir + "/missions/tank/none.toml");
+  auto d = MissionData::load(kDataSourceDir + "/missions/tank/none.toml");
   ASSERT_FALSE(d.ok());
   EXPECT_EQ(core::ErrorCode::Io, d.error().code);
 }
 
 TEST(DataCursor, ServesTheSetpointsInOrderThenFailsClearly) {
-  auto d = MissionData::load(kSourceDir + "/missions/tank/setpoints.toml");
+  auto d = MissionData::load(kDataSourceDir + "/missions/tank/setpoints.toml");
   ASSERT_TRUE(d.ok());
   DataCursor cursor(d.value());
   EXPECT_EQ(nullptr, cursor.current());

@@ -7,7 +7,7 @@
 namespace strata::tactical {
 namespace {
 
-const std::string kSourceDir = STRATA_SOURCE_DIR;
+const std::string kRenderSourceDir = STRATA_SOURCE_DIR;
 
 const Primitive& builtin(std::string_view name) {
   const Primitive* p = Catalogue::builtin().find(name);
@@ -28,7 +28,7 @@ std::string error_of(std::string_view name, std::vector<Value> args) {
 }
 
 MissionData tank_data() {
-  auto d = MissionData::load(kSourceDir + "/missions/tank/setpoints.toml");
+  auto d = MissionData::load(kRenderSourceDir + "/missions/tank/setpoints.toml");
   EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
   return std::move(d).value();
 }

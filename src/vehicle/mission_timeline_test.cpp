@@ -17,15 +17,15 @@ namespace {
 using testing::MissionRun;
 using testing::TankMissionDriver;
 
-const std::string kDir = std::string(STRATA_SOURCE_DIR) + "/missions/tank/scenarios/";
+const std::string kTimelineDir = std::string(STRATA_SOURCE_DIR) + "/missions/tank/scenarios/";
 
 MissionRun run(const Scenario& scenario) {
   Simulation sim(default_params(), scenario);
   return TankMissionDriver(sim).run();
 }
 
-Scenario shipped(const std::string& name) {
-  auto s = load_scenario(kDir + name);
+Scenario shipped_scenario(const std::string& name) {
+  auto s = load_scenario(kTimelineDir + name);
   EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
   return s.ok() ? s.value() : Scenario{};
 }
@@ -61,13 +61,13 @@ TEST(TankMission, NominalCompletesForManySeeds) {
 }
 
 TEST(TankMission, ShippedNominalCompletes) {
-  const MissionRun m = run(shipped("nominal.toml"));
+  const MissionRun m = run(shipped_scenario("nominal.toml"));
   std::printf("nominal.toml:\n%s\n", describe(m).c_str());
   EXPECT_TRUE(m.completed) << describe(m);
 }
 
 TEST(TankMission, WeakThrustersTimeOutInPhaseTwo) {
-  const MissionRun m = run(shipped("weak_thrusters.toml"));
+  const MissionRun m = run(shipped_scenario("weak_thrusters.toml"));
   ASSERT_EQ(2u, m.phases.size()) << describe(m);
   EXPECT_FALSE(m.completed);
   EXPECT_EQ("time out", m.phases[1].why);
@@ -75,7 +75,7 @@ TEST(TankMission, WeakThrustersTimeOutInPhaseTwo) {
 }
 
 TEST(TankMission, LeakInPhaseTwoAbortsPhaseTwo) {
-  const Scenario s = shipped("leak_phase2.toml");
+  const Scenario s = shipped_scenario("leak_phase2.toml");
   const MissionRun m = run(s);
   ASSERT_EQ(2u, m.phases.size()) << describe(m);
   EXPECT_EQ("system problem", m.phases[1].why);
@@ -83,7 +83,7 @@ TEST(TankMission, LeakInPhaseTwoAbortsPhaseTwo) {
 }
 
 TEST(TankMission, LeakInPhaseThreeAbortsPhaseThree) {
-  const Scenario s = shipped("leak_phase3.toml");
+  const Scenario s = shipped_scenario("leak_phase3.toml");
   const MissionRun m = run(s);
   std::printf("leak_phase3.toml:\n%s\n", describe(m).c_str());
   ASSERT_EQ(3u, m.phases.size()) << describe(m);

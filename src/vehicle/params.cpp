@@ -122,7 +122,7 @@ core::Result<void> set_field(std::string_view path, const Field& f, const toml::
   return {};
 }
 
-core::Result<VehicleParams> from_table(std::string_view path, const toml::table& root) {
+core::Result<VehicleParams> params_from_table(std::string_view path, const toml::table& root) {
   VehicleParams p;
   for (auto&& [tname, tnode] : root) {
     if (!known_table(tname.str())) {
@@ -161,13 +161,13 @@ core::Result<VehicleParams> from_table(std::string_view path, const toml::table&
 core::Result<VehicleParams> load_params(std::string_view path) {
   auto table = detail::parse_toml_file(path);
   if (!table) return table.error();
-  return from_table(path, table.value());
+  return params_from_table(path, table.value());
 }
 
 core::Result<VehicleParams> parse_params(std::string_view text, std::string_view path) {
   auto table = detail::parse_toml(text, path);
   if (!table) return table.error();
-  return from_table(path, table.value());
+  return params_from_table(path, table.value());
 }
 
 }  // namespace strata::vehicle

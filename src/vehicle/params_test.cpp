@@ -35,7 +35,7 @@ int line_of(const std::string& needle) {
   return line;
 }
 
-std::string error_of(const std::string& text) {
+std::string params_error_of(const std::string& text) {
   auto p = parse_params(text, "p.toml");
   EXPECT_FALSE(p.ok());
   return p.ok() ? "" : p.error().message;
@@ -70,38 +70,38 @@ TEST(Params, YawAndSonarDefaultsAreTheDesignEstimates) {
 }
 
 TEST(Params, TheNewTablesAreRequiredAndRangeChecked) {
-  EXPECT_EQ("p.toml: missing key 'yaw.lever_arm_m'", error_of(edited("lever_arm_m = 0.6", "")));
-  EXPECT_EQ("p.toml: missing key 'sonar.bins'", error_of(edited("bins = 200", "")));
-  EXPECT_EQ("p.toml: missing key 'tank.width_y_m'", error_of(edited("width_y_m = 8.0", "")));
+  EXPECT_EQ("p.toml: missing key 'yaw.lever_arm_m'", params_error_of(edited("lever_arm_m = 0.6", "")));
+  EXPECT_EQ("p.toml: missing key 'sonar.bins'", params_error_of(edited("bins = 200", "")));
+  EXPECT_EQ("p.toml: missing key 'tank.width_y_m'", params_error_of(edited("width_y_m = 8.0", "")));
   const int line = line_of("bins = 200");
-  EXPECT_EQ(0u, error_of(edited("bins = 200", "bins = 5000"))
+  EXPECT_EQ(0u, params_error_of(edited("bins = 200", "bins = 5000"))
                     .find("p.toml:" + std::to_string(line) +
                           ":8: 'sonar.bins' = 5000 is out of range"));
   EXPECT_NE(std::string::npos,
-            error_of(edited("heading_tolerance_deg = 3.0", "heading_tolerance_deg = 0"))
+            params_error_of(edited("heading_tolerance_deg = 3.0", "heading_tolerance_deg = 0"))
                 .find("'detection.heading_tolerance_deg' = 0 is out of range"));
 }
 
 TEST(Params, SyntaxErrorCarriesLineAndColumn) {
-  const std::string e = error_of("[hull]\nmass_kg = = 3\n");
+  const std::string e = params_error_of("[hull]\nmass_kg = = 3\n");
   EXPECT_EQ(0u, e.find("p.toml:2:")) << e;
 }
 
 TEST(Params, UnknownKeyCarriesLineAndColumn) {
   const int line = line_of("mass_kg = 175.0");
-  const std::string e = error_of(edited("mass_kg = 175.0", "mass_kgs = 175.0"));
+  const std::string e = params_error_of(edited("mass_kg = 175.0", "mass_kgs = 175.0"));
   EXPECT_EQ("p.toml:" + std::to_string(line) + ":1: unknown key 'hull.mass_kgs'", e);
 }
 
 TEST(Params, UnknownTableCarriesLineAndColumn) {
   const int line = line_of("[watchdog]");
-  const std::string e = error_of(edited("[watchdog]", "[watchdogs]"));
+  const std::string e = params_error_of(edited("[watchdog]", "[watchdogs]"));
   EXPECT_EQ("p.toml:" + std::to_string(line) + ":2: unknown table 'watchdogs'", e);
 }
 
 TEST(Params, OutOfRangeValueCarriesLineAndColumn) {
   const int line = line_of("cycle_s = 0.1");
-  const std::string e = error_of(edited("cycle_s = 0.1", "cycle_s = -0.1"));
+  const std::string e = params_error_of(edited("cycle_s = 0.1", "cycle_s = -0.1"));
   EXPECT_EQ(0u, e.find("p.toml:" + std::to_string(line) + ":11: 'simulation.cycle_s' = -0.1 "
                        "is out of range"))
       << e;
@@ -109,19 +109,19 @@ TEST(Params, OutOfRangeValueCarriesLineAndColumn) {
 
 TEST(Params, IntegerKeyRejectsAFloat) {
   const int line = line_of("substeps = 10");
-  const std::string e = error_of(edited("substeps = 10", "substeps = 10.5"));
+  const std::string e = params_error_of(edited("substeps = 10", "substeps = 10.5"));
   EXPECT_EQ("p.toml:" + std::to_string(line) + ":12: 'simulation.substeps' must be an integer",
             e);
 }
 
 TEST(Params, NonNumberIsAnError) {
   const int line = line_of("noise_m = 0.02");
-  const std::string e = error_of(edited("noise_m = 0.02", "noise_m = \"2 cm\""));
+  const std::string e = params_error_of(edited("noise_m = 0.02", "noise_m = \"2 cm\""));
   EXPECT_EQ("p.toml:" + std::to_string(line) + ":11: 'depth_cell.noise_m' must be a number", e);
 }
 
 TEST(Params, MissingKeyIsNamed) {
-  const std::string e = error_of(edited("lag_s = 0.3", ""));
+  const std::string e = params_error_of(edited("lag_s = 0.3", ""));
   EXPECT_EQ("p.toml: missing key 'thrusters.lag_s'", e);
 }
 

@@ -209,7 +209,7 @@ core::Result<void> parse_target(std::string_view path, const toml::table& root, 
   return {};
 }
 
-core::Result<Scenario> from_table(std::string_view path, const toml::table& root) {
+core::Result<Scenario> scenario_from_table(std::string_view path, const toml::table& root) {
   Scenario s;
   for (auto&& [key, node] : root) {
     const std::string_view k = key.str();
@@ -253,13 +253,13 @@ core::Result<Scenario> from_table(std::string_view path, const toml::table& root
 core::Result<Scenario> load_scenario(std::string_view path) {
   auto table = detail::parse_toml_file(path);
   if (!table) return table.error();
-  return from_table(path, table.value());
+  return scenario_from_table(path, table.value());
 }
 
 core::Result<Scenario> parse_scenario(std::string_view text, std::string_view path) {
   auto table = detail::parse_toml(text, path);
   if (!table) return table.error();
-  return from_table(path, table.value());
+  return scenario_from_table(path, table.value());
 }
 
 }  // namespace strata::vehicle

@@ -6,10 +6,14 @@
 #include <numbers>
 #include <utility>
 
+#include "core/units.h"
+
 namespace strata::vehicle {
+
+using core::kRadPerDeg;
+
 namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 // The beam is traced as kRays rays spread evenly over twice its (-3 dB)
 // width, each weighted by a Gaussian beam pattern: 1 on the axis, 1/2 at
 // half the width off it (-3 dB), 1/16 at the full width.

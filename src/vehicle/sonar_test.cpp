@@ -13,7 +13,7 @@
 namespace strata::vehicle {
 namespace {
 
-const VehicleParams kP = default_params();
+const VehicleParams kSonarP = default_params();
 constexpr double kBin_m = 10.0 / 200;  // range_m / bins
 
 int strongest_bin(const protocol::SonarPing& ping) {
@@ -35,7 +35,7 @@ Scenario placed(double x_m, double y_m, double heading_deg, std::optional<Target
 }
 
 // A simulation with the network up and the sonar on.
-Simulation pinging(const Scenario& s, VehicleParams p = kP) {
+Simulation pinging(const Scenario& s, VehicleParams p = kSonarP) {
   Simulation sim(p, s);
   EXPECT_TRUE(sim.start_network().ok());
   EXPECT_TRUE(sim.start_sonar().ok());
@@ -44,11 +44,11 @@ Simulation pinging(const Scenario& s, VehicleParams p = kP) {
 
 TEST(SonarGeometry, RaysMeetTheWallsAndTheCylinder) {
   // From (6, 3) in the 12 x 8 m tank.
-  EXPECT_NEAR(5.0, wall_hit(kP, 6.0, 3.0, 0.0).range_m, 1e-12);
-  EXPECT_NEAR(6.0, wall_hit(kP, 6.0, 3.0, 90.0).range_m, 1e-12);
-  EXPECT_NEAR(3.0, wall_hit(kP, 6.0, 3.0, 180.0).range_m, 1e-12);
-  EXPECT_NEAR(6.0, wall_hit(kP, 6.0, 3.0, 270.0).range_m, 1e-12);
-  const RayHit oblique = wall_hit(kP, 6.0, 3.0, 30.0);
+  EXPECT_NEAR(5.0, wall_hit(kSonarP, 6.0, 3.0, 0.0).range_m, 1e-12);
+  EXPECT_NEAR(6.0, wall_hit(kSonarP, 6.0, 3.0, 90.0).range_m, 1e-12);
+  EXPECT_NEAR(3.0, wall_hit(kSonarP, 6.0, 3.0, 180.0).range_m, 1e-12);
+  EXPECT_NEAR(6.0, wall_hit(kSonarP, 6.0, 3.0, 270.0).range_m, 1e-12);
+  const RayHit oblique = wall_hit(kSonarP, 6.0, 3.0, 30.0);
   EXPECT_NEAR(5.0 / std::cos(std::numbers::pi / 6), oblique.range_m, 1e-12);
   EXPECT_NEAR(std::cos(std::numbers::pi / 6), oblique.cos_incidence, 1e-12);
 
@@ -64,15 +64,15 @@ TEST(SonarGeometry, RaysMeetTheWallsAndTheCylinder) {
 }
 
 TEST(SonarGeometry, TheVehicleHoversWhereTheScenarioSaysOrAtTheCentre) {
-  EXPECT_EQ(6.0, Simulation(kP, Scenario::nominal()).pose().x_m);
-  EXPECT_EQ(4.0, Simulation(kP, Scenario::nominal()).pose().y_m);
-  Simulation sim(kP, placed(2.0, 7.0, 300.0, std::nullopt));
+  EXPECT_EQ(6.0, Simulation(kSonarP, Scenario::nominal()).pose().x_m);
+  EXPECT_EQ(4.0, Simulation(kSonarP, Scenario::nominal()).pose().y_m);
+  Simulation sim(kSonarP, placed(2.0, 7.0, 300.0, std::nullopt));
   EXPECT_EQ(2.0, sim.pose().x_m);
   EXPECT_EQ(7.0, sim.pose().y_m);
   EXPECT_EQ(300.0, sim.pose().heading_deg);
   EXPECT_TRUE(sim.events().empty());
   // Outside the 12 x 8 m tank: moved to its edge, and said so.
-  Simulation out(kP, placed(20.0, 3.0, 0.0, std::nullopt));
+  Simulation out(kSonarP, placed(20.0, 3.0, 0.0, std::nullopt));
   EXPECT_EQ(12.0, out.pose().x_m);
   ASSERT_EQ(1u, out.events().size());
   EXPECT_EQ("scenario: vehicle at (20, 3) m is outside the 12 x 8 m tank: placed at (12, 3) m",
@@ -115,14 +115,14 @@ TEST(SonarPings, TurningTheVehicleMovesTheWall) {
 TEST(SonarPings, ATargetOnTheBeamEchoesAndShadowsTheWall) {
   // From (6, 2) heading 0: a cylinder of radius 0.3 m at (6, 6) has its near
   // side 3.7 m ahead (bin 74); the wall 6 m ahead (bin 120) is behind it.
-  Sonar with(kP, 1, Target{6.0, 6.0, 0.3});
+  Sonar with(kSonarP, 1, Target{6.0, 6.0, 0.3});
   const auto p = with.make_ping(0.0, 0.0, Pose{6.0, 2.0, 0.0});
   EXPECT_NEAR(3.7 / kBin_m, strongest_bin(p), 1.0);
   EXPECT_GT(strongest_in(p, 73, 75), 150);
   EXPECT_LT(strongest_in(p, 110, 130), 60);  // shadow
   EXPECT_TRUE(with.shows_target(p));
 
-  Sonar without(kP, 1, std::nullopt);
+  Sonar without(kSonarP, 1, std::nullopt);
   const auto q = without.make_ping(0.0, 0.0, Pose{6.0, 2.0, 0.0});
   EXPECT_NEAR(6.0 / kBin_m, strongest_bin(q), 1.0);
   EXPECT_GT(strongest_in(q, 119, 121), 150);
@@ -148,7 +148,7 @@ TEST(SonarScan, SweepsBackAndForthOverTheSectorOneStepPerPing) {
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(expected[i], pings[i].bearing_deg, 1e-4) << i;
   }
-  Sonar s(kP, 1, std::nullopt);
+  Sonar s(kSonarP, 1, std::nullopt);
   EXPECT_EQ(67, s.sweep_pings());
 }
 
@@ -178,7 +178,7 @@ TEST(SonarScan, PingsComeEveryFiftyMillisecondsWithoutGapsUntilStopped) {
 }
 
 TEST(SonarScan, AFullBufferDropsTheOldestAndCountsThem) {
-  VehicleParams p = kP;
+  VehicleParams p = kSonarP;
   p.sonar_buffer_pings = 10;
   Simulation sim = pinging(placed(6.0, 4.0, 0.0, std::nullopt), p);
   sim.advance(2.0);
@@ -190,7 +190,7 @@ TEST(SonarScan, AFullBufferDropsTheOldestAndCountsThem) {
 }
 
 TEST(SonarScan, CommandsNeedTheNetworkAndShutdownStopsIt) {
-  Simulation sim(kP, Scenario::nominal());
+  Simulation sim(kSonarP, Scenario::nominal());
   EXPECT_FALSE(sim.start_sonar().ok());
   EXPECT_FALSE(sim.stop_sonar().ok());
   sim.advance(1.0);
@@ -283,7 +283,7 @@ TEST(SonarDeterminism, SameScenarioSamePingsAndTrajectoryBitForBit) {
 
 TEST(SonarDeterminism, TheSonarLeavesTheDepthCellsNoiseAlone) {
   auto readings = [](bool sonar) {
-    Simulation sim(kP, Scenario::nominal(5));
+    Simulation sim(kSonarP, Scenario::nominal(5));
     EXPECT_TRUE(sim.start_network().ok());
     if (sonar) {
       EXPECT_TRUE(sim.start_sonar().ok());

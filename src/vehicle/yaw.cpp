@@ -4,12 +4,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/units.h"
+
 namespace strata::vehicle {
-namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-
-}  // namespace
+using core::kRadPerDeg;
 
 double wrap_heading_deg(double deg) {
   double w = std::fmod(deg, 360.0);

@@ -12,7 +12,7 @@
 namespace strata::vehicle {
 namespace {
 
-const VehicleParams kP = default_params();
+const VehicleParams kYawP = default_params();
 
 Scenario facing(double heading_deg) {
   Scenario s = Scenario::nominal();
@@ -31,7 +31,7 @@ struct Turn {
 };
 
 Turn turn(double from, double to, double limit_s = 40.0) {
-  Simulation sim(kP, facing(from));
+  Simulation sim(kYawP, facing(from));
   EXPECT_TRUE(sim.start_network().ok());
   EXPECT_TRUE(sim.set_heading(to).ok());
   Turn t;
@@ -67,7 +67,7 @@ TEST(Heading, ANinetyDegreeTurnSettlesWithinFifteenSecondsWithoutOvershoot) {
   EXPECT_LT(t.overshoot_deg, 1.0);
   EXPECT_TRUE(t.stayed_reached);
   // The long part of the turn runs at the law's capped rate.
-  EXPECT_NEAR(kP.hdg_max_rate_dps, t.max_rate_dps, 1.0);
+  EXPECT_NEAR(kYawP.hdg_max_rate_dps, t.max_rate_dps, 1.0);
 }
 
 TEST(Heading, TurnsTheShortWayRoundThroughNorth) {
@@ -94,33 +94,33 @@ TEST(Heading, YawDecaysByDragAloneWithTheThrustersOff) {
   // heading advances by (I + I_a)/c ln(1 + c r0 t / (I + I_a)).
   const double r0 = 20.0 * std::numbers::pi / 180.0;
   YawState s{100.0, 20.0, 0.0};
-  const double h = kP.cycle_s / kP.substeps;
-  for (int i = 0; i < 1000; ++i) advance_yaw(kP, 0.0, kP.max_yaw_moment_nm(), h, s);
-  const double k = kP.yaw_drag_coeff * r0 * 10.0 / kP.total_yaw_inertia_kgm2();
+  const double h = kYawP.cycle_s / kYawP.substeps;
+  for (int i = 0; i < 1000; ++i) advance_yaw(kYawP, 0.0, kYawP.max_yaw_moment_nm(), h, s);
+  const double k = kYawP.yaw_drag_coeff * r0 * 10.0 / kYawP.total_yaw_inertia_kgm2();
   EXPECT_NEAR(20.0 / (1.0 + k), s.rate_dps, 0.02);
-  const double turned = kP.total_yaw_inertia_kgm2() / kP.yaw_drag_coeff * std::log(1.0 + k);
+  const double turned = kYawP.total_yaw_inertia_kgm2() / kYawP.yaw_drag_coeff * std::log(1.0 + k);
   EXPECT_NEAR(100.0 + turned * 180.0 / std::numbers::pi, s.heading_deg, 0.2);
   EXPECT_EQ(0.0, s.moment_nm);
 }
 
 TEST(Heading, MomentFollowsTheCommandWithALagAndIsLimited) {
   YawState s;
-  const double h = kP.cycle_s / kP.substeps;
-  const int n = static_cast<int>(std::lround(kP.transverse_lag_s / h));
-  for (int i = 0; i < n; ++i) advance_yaw(kP, 5.0, kP.max_yaw_moment_nm(), h, s);
+  const double h = kYawP.cycle_s / kYawP.substeps;
+  const int n = static_cast<int>(std::lround(kYawP.transverse_lag_s / h));
+  for (int i = 0; i < n; ++i) advance_yaw(kYawP, 5.0, kYawP.max_yaw_moment_nm(), h, s);
   EXPECT_NEAR(5.0 * (1.0 - std::exp(-1.0)), s.moment_nm, 1e-9);
-  for (int i = 0; i < 1000; ++i) advance_yaw(kP, 100.0, 2.0, h, s);
+  for (int i = 0; i < 1000; ++i) advance_yaw(kYawP, 100.0, 2.0, h, s);
   EXPECT_NEAR(2.0, s.moment_nm, 1e-9);
-  EXPECT_NEAR(10.8, kP.max_yaw_moment_nm(), 1e-12);  // 2 x 9 N x 0.6 m
+  EXPECT_NEAR(10.8, kYawP.max_yaw_moment_nm(), 1e-12);  // 2 x 9 N x 0.6 m
   // From rest far away: the switching gain, the short way round.
-  EXPECT_EQ(kP.hdg_gain_nm, heading_moment(kP, 0.0, 0.0, 170.0));
-  EXPECT_EQ(-kP.hdg_gain_nm, heading_moment(kP, 0.0, 0.0, 190.0));
+  EXPECT_EQ(kYawP.hdg_gain_nm, heading_moment(kYawP, 0.0, 0.0, 170.0));
+  EXPECT_EQ(-kYawP.hdg_gain_nm, heading_moment(kYawP, 0.0, 0.0, 190.0));
   // Arriving far too fast: full brake, clamped to what the thrusters give.
-  EXPECT_EQ(-kP.max_yaw_moment_nm(), heading_moment(kP, 85.0, 30.0, 90.0));
+  EXPECT_EQ(-kYawP.max_yaw_moment_nm(), heading_moment(kYawP, 85.0, 30.0, 90.0));
 }
 
 TEST(Heading, IdleTransverseThrustersAreOffAndHeadingHoldNeedsTheNetwork) {
-  Simulation sim(kP, facing(45.0));
+  Simulation sim(kYawP, facing(45.0));
   EXPECT_EQ(45.0, sim.telemetry().heading_deg);
   EXPECT_FALSE(sim.heading_reached());
   auto r = sim.set_heading(90.0);
@@ -145,7 +145,7 @@ TEST(Heading, IdleTransverseThrustersAreOffAndHeadingHoldNeedsTheNetwork) {
 }
 
 TEST(Heading, AWatchdogTripDropsHeadingHoldUntilTheNetworkRestarts) {
-  Simulation sim(kP, Scenario::nominal());
+  Simulation sim(kYawP, Scenario::nominal());
   ASSERT_TRUE(sim.start_network().ok());
   ASSERT_TRUE(sim.set_heading(90.0).ok());
   sim.watchdog_trip("test");
@@ -157,7 +157,7 @@ TEST(Heading, AWatchdogTripDropsHeadingHoldUntilTheNetworkRestarts) {
 
 TEST(Heading, TheDepthLawRunsUnchangedWhileTurning) {
   auto dive = [](bool turn) {
-    Simulation sim(kP, Scenario::nominal(3));
+    Simulation sim(kYawP, Scenario::nominal(3));
     EXPECT_TRUE(sim.start_network().ok());
     EXPECT_TRUE(sim.start_depth_filter().ok());
     EXPECT_TRUE(sim.set_setpoint(1.5, 60.0).ok());
@@ -180,12 +180,12 @@ TEST(Heading, TheDepthLawRunsUnchangedWhileTurning) {
 TEST(Heading, WeakThrustersTurnSlowerButStillArrive) {
   Scenario sc = Scenario::nominal();
   sc.faults.push_back(Fault{FaultKind::WeakThrusters, 0.0, 0.5, std::nullopt});
-  Simulation sim(kP, sc);
+  Simulation sim(kYawP, sc);
   ASSERT_TRUE(sim.start_network().ok());
   ASSERT_TRUE(sim.set_heading(90.0).ok());
   sim.advance(10.0);
   EXPECT_FALSE(sim.heading_reached());
-  EXPECT_LE(std::abs(sim.telemetry().yaw_moment_nm), 0.5 * kP.max_yaw_moment_nm() + 1e-9);
+  EXPECT_LE(std::abs(sim.telemetry().yaw_moment_nm), 0.5 * kYawP.max_yaw_moment_nm() + 1e-9);
   sim.advance(20.0);
   EXPECT_TRUE(sim.heading_reached());
 }
