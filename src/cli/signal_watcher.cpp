@@ -46,6 +46,7 @@ SignalWatcher::~SignalWatcher() {
   // Wakes it now rather than at its next tick: SIGTERM sent to the watcher
   // thread alone, which takes it and sees quit_.
   if (thread_.joinable()) {
+    // NOLINTNEXTLINE(bugprone-bad-signal-to-kill-thread): it waits for SIGTERM in sigwait, it is not killed
     pthread_kill(thread_.native_handle(), SIGTERM);
     thread_.join();
   }

@@ -330,6 +330,7 @@ void check_phase_recursion(const std::unordered_map<std::string, NetRef>& librar
   enum class Mark { None, Active, Done };
   std::unordered_map<const ast::Net*, Mark> marks;
   std::vector<const ast::Net*> roots;
+  roots.reserve(library.size());
   for (const auto& [name, ref] : library) roots.push_back(ref.net);
   std::sort(roots.begin(), roots.end(), [](const ast::Net* a, const ast::Net* b) {
     return a->name.text < b->name.text;

@@ -16,7 +16,7 @@ namespace strata::coral {
 
 inline constexpr std::size_t kMaxImportDepth = 64;
 inline constexpr std::size_t kMaxFiles = 1024;
-inline constexpr std::size_t kMaxTotalSource = 64 * 1024 * 1024;  // bytes, all files of a load
+inline constexpr std::size_t kMaxTotalSource = std::size_t{64} * 1024 * 1024;  // bytes, all files of a load
 
 // Where source text comes from: the file system, or memory in tests and
 // fuzzing (the seam that keeps those away from the disk).

@@ -65,7 +65,7 @@ class Query {
   void cut();
 
  private:
-  qid_t qid_ = 0;
+  qid_t qid_ = nullptr;
   bool open_ = false;
   std::string exception_;
 };

@@ -46,8 +46,8 @@ TEST(Codec, SpeaksVersionsOneAndTwo) {
 }
 
 TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
-  EXPECT_EQ("ok 1 phoenix 1 lockstep\n", encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep}));
-  EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n", encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall}));
+  EXPECT_EQ("ok 1 phoenix 1 lockstep\n", encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep, std::nullopt}));
+  EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n", encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall, std::nullopt}));
   EXPECT_EQ("ok 3\n", encode(Ok{3}));
   EXPECT_EQ("done 4 1 2.5\n", encode(Done{4, true, 2.5}));
   EXPECT_EQ("answer 5 0 0.1\n", encode(Answer{5, false, 0.1}));
@@ -106,7 +106,7 @@ TEST(Codec, DecodesVehicleMessages) {
   EXPECT_TRUE(std::get<Telemetry>(h.value()).extras.empty());
 
   EXPECT_EQ(VehicleMessage{Telemetry{}}, decode_vehicle_message("tlm 0").value());
-  EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall}),
+  EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall, std::nullopt}),
             decode_vehicle_message("ok 1 phoenix 1 wall").value());
   EXPECT_EQ(VehicleMessage(Err{0, ErrorCode::Busy, "another client"}),
             decode_vehicle_message("err 0 busy \"another client\"\r\n").value());
@@ -375,7 +375,7 @@ rc::Gen<VehicleMessage> vehicle_messages() {
   return gen::oneOf(
       as_message(gen::apply(
           [](RequestId id, std::string name, int version, bool wall) {
-            return Welcome{id, std::move(name), version, wall ? ClockMode::Wall : ClockMode::Lockstep};
+            return Welcome{id, std::move(name), version, wall ? ClockMode::Wall : ClockMode::Lockstep, std::nullopt};
           },
           ids(), names(), gen::inRange(1, 1 << 30), gen::arbitrary<bool>())),
       as_message(gen::map(ids(), [](RequestId id) { return Ok{id}; })),

@@ -143,7 +143,7 @@ class Executor {
   // reason, from the loop; the posted cancel then finds it ended. Ignored
   // when the executor is not running. The caller keeps the executor alive
   // across the call (run::RunSession holds its lock around it).
-  virtual void interrupt(std::string reason) { (void)reason; }
+  virtual void interrupt(const std::string& /*reason*/) {}
   virtual bool running() const = 0;
 };
 

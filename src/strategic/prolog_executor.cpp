@@ -60,11 +60,11 @@ void PrologExecutor::cancel(std::string reason) {
   if (running_) fail(std::move(reason));
 }
 
-void PrologExecutor::interrupt(std::string reason) {
+void PrologExecutor::interrupt(const std::string& reason) {
   {
     std::lock_guard lock(interrupt_mutex_);
     if (!interruptible_) return;
-    if (!interrupt_reason_) interrupt_reason_ = std::move(reason);
+    if (!interrupt_reason_) interrupt_reason_ = reason;
   }
   // Outside the lock: the loop's thread takes it to end the mission, and
   // raising never waits for the query anyway. False when the rules do not

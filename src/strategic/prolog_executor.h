@@ -56,7 +56,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
   // vehicle are not disturbed: the caller's posted cancel ends the mission,
   // or the reply does if it comes first. From the interrupt on the rules
   // never run again.
-  void interrupt(std::string reason) override;
+  void interrupt(const std::string& reason) override;
   bool running() const override { return running_; }
 
  private:
