@@ -1,5 +1,9 @@
 # Warnings for our own targets only: link strata_warnings PRIVATE.
+# STRATA_WERROR (on in the presets CI builds) makes each of them an error,
+# so that the tree stays at zero warnings.
+option(STRATA_WERROR "Treat compiler warnings in Strata's own code as errors" OFF)
 add_library(strata_warnings INTERFACE)
 target_compile_options(strata_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
-  -Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual -Wimplicit-fallthrough)
+  -Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual -Wimplicit-fallthrough
+  $<$<BOOL:${STRATA_WERROR}>:-Werror>)
