@@ -48,6 +48,9 @@ export const api = {
   // one mission when given.
   runs: (mission) => call('GET', mission ? `/api/runs?mission=${q(mission)}` : '/api/runs'),
   replay: (path) => call('GET', `/api/replay?path=${q(path)}`),
-  edit: (path, text, op) => call('POST', '/api/edit', { path, text, op }),
+  // base: the rev of the model the page holds; the answer is then a patch
+  // of it ({rev, base, patch}: patch.js) when the server still has it, else
+  // the whole model.
+  edit: (path, text, op, base) => call('POST', '/api/edit', base ? { path, text, op, base } : { path, text, op }),
   sonar: () => call('GET', '/api/sonar'),
 };

@@ -2,6 +2,7 @@
 // (docs/studio.md) and dispatches what came back to the store. Effects
 // never draw; views never call the API. `ui.confirm(text)` asks the user
 // (window.confirm in the page, a stub in tests).
+import { applyModelPatch } from './patch.js';
 import { dirty, editable, displayNets, layoutByName, missionPaths } from './store.js';
 
 export const kCheckDelayMs = 300;
@@ -70,7 +71,12 @@ export function createEffects(store, api, ui = {}) {
     return busy(async () => {
       const before = getState();
       try {
-        const model = await api.edit(before.path, before.text, op);
+        // The model held, when it is the server's own (not a broken text's
+        // kept nets), is the base the answer may patch.
+        const base = before.model && before.model.rev && !before.model.broken ? before.model : null;
+        const ans = await api.edit(before.path, before.text, op, base && base.rev);
+        const model = ans.patch && base && ans.base === base.rev ? applyModelPatch(base, ans) : ans;
+        if (ans.patch && model === ans) throw new Error('the answer patches a model this page does not hold');
         if (getState().text !== before.text) { say(`${op.op}: the text changed meanwhile; not applied`, true); return false; }
         dispatch({ type: 'model/edited', path: before.path, model, op, at });
         const errs = (model.diagnostics || []).filter((d) => d.severity === 'error').length;
