@@ -94,6 +94,11 @@ TEST_F(StudioServerTest, AnEditOfTheModelAPageHoldsIsAnsweredWithAPatch) {
   json b = post_edit(c, {{"path", "tank/tank.coral"}, {"text", full["text"]},
                          {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "more"}}}, {"base", a["rev"]}});
   EXPECT_TRUE(b.contains("patch"));
+  // m is now the oldest of the models kept, and still a base when the
+  // edit's own model comes.
+  static_assert(ModelCache::kEntries == 4, "m, full, a, b");
+  json oldest = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", m["rev"]}});
+  EXPECT_TRUE(oldest.contains("patch")) << "the base was dropped for the edit's own model";
   // A base that is not known, or of another text: the whole model.
   json d = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", "nope"}});
   EXPECT_TRUE(d.contains("nets") && !d.contains("patch"));

@@ -269,8 +269,8 @@ void StudioServer::routes() {
     }
     // The page names the model it holds (`base`): when it is still kept,
     // and of the text edited, only what changed goes back.
+    auto base = models_.find(body->value("base", ""));  // before keeping another: it may be the oldest
     auto kept = models_.keep(std::move(now.model));
-    auto base = models_.find(body->value("base", ""));
     if (base && base->value("text", "") == before) {
       return send_json(res, {{"rev", (*kept)["rev"]}, {"base", (*base)["rev"]}, {"patch", model_patch(*base, *kept)}});
     }
