@@ -443,17 +443,21 @@ export function createCanvas(container, store, fx) {
       else if (s.mode === 'arc') cy.edges(':not(.noev)').addClass('noev');
       container.dataset.mode = s.mode;
     }
-    // Selection follows the store.
-    const sel = cy.$(':selected');
-    const want = s.selected;
-    syncing = true;
-    try {
-      if (want && (sel.length !== 1 || sel[0].id() !== want)) {
-        const n = cy.getElementById(want);
-        cy.elements().unselect();
-        if (n.nonempty()) n.select();
-      } else if (!want && sel.nonempty()) sel.unselect();
-    } finally { syncing = false; }
+    // Selection follows the store (looked at only when it or the net
+    // changed: a selector over every element, at each event of a run, was
+    // most of the page's work in the live view).
+    if (!prev || s.selected !== prev.selected || rebuilt) {
+      const sel = cy.$(':selected');
+      const want = s.selected;
+      syncing = true;
+      try {
+        if (want && (sel.length !== 1 || sel[0].id() !== want)) {
+          const n = cy.getElementById(want);
+          cy.elements().unselect();
+          if (n.nonempty()) n.select();
+        } else if (!want && sel.nonempty()) sel.unselect();
+      } finally { syncing = false; }
+    }
     if (s.focus && (!prev || s.focus !== prev.focus) && s.focus.id) {
       const n = cy.getElementById(s.focus.id);
       const p = part && part.pos[s.focus.id];
