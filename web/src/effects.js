@@ -49,9 +49,17 @@ export function createEffects(store, api, ui = {}) {
     if (!force && dirty(s) && s.path) {
       if (!confirm(`Discard the unsaved changes to ${s.path}?`)) return false;
     }
+    const textBefore = s.text;
     return busy(async () => {
       try {
         const model = await api.mission(path);
+        // A reload for a change on disk (force) that the user's edit
+        // overtook: the edit is kept (their save meets the new version: 412).
+        const now = getState();
+        if (force && now.path === path && now.text !== textBefore) {
+          say(`${path} changed on disk while you were editing it: your edit is kept; saving it will ask`, true);
+          return false;
+        }
         dispatch({ type: 'file/opened', path, model, keepView: !!keepView, readOnly: !/\.coral$/.test(path) });
         loadRuns();
         return true;
