@@ -62,20 +62,36 @@ class SandboxProvider final : public coral::FileProvider {
 
 nlohmann::json arcs_json(const petri::Net& net, std::span<const petri::Arc> arcs) {
   nlohmann::json out = nlohmann::json::array();
-  for (const auto& a : arcs) out.push_back({{"place", net.place_name(a.node)}, {"weight", a.weight}});
+  for (const auto& a : arcs) {
+    nlohmann::json arc = nlohmann::json::object();
+    arc["place"] = net.place_name(a.node);
+    arc["weight"] = a.weight;
+    out.push_back(std::move(arc));
+  }
   return out;
 }
 
 nlohmann::json action_json(const coral::CompiledNet& cn, const coral::ActionSpec& a) {
   nlohmann::json outcomes = nlohmann::json::array();
   for (auto p : a.outcomes) outcomes.push_back(cn.net.place_name(p));
+  nlohmann::json out = nlohmann::json::object();
   if (a.kind == coral::ActionSpec::Kind::Phase) {
-    return {{"kind", "PHASE"}, {"target", a.target}, {"outcomes", outcomes}, {"label", coral::action_text(a)}};
+    out["kind"] = "PHASE";
+    out["target"] = a.target;
+    out["outcomes"] = std::move(outcomes);
+    out["label"] = coral::action_text(a);
+    return out;
   }
   nlohmann::json args = nlohmann::json::array();
   for (const auto& l : a.args) args.push_back(l.text);
-  return {{"kind", "TACTIC"}, {"type", coral::tactic_type_name(a.tactic)}, {"target", a.target}, {"args", args},
-          {"text", a.text}, {"outcomes", outcomes}, {"label", coral::action_text(a)}};
+  out["kind"] = "TACTIC";
+  out["type"] = coral::tactic_type_name(a.tactic);
+  out["target"] = a.target;
+  out["args"] = std::move(args);
+  out["text"] = a.text;
+  out["outcomes"] = std::move(outcomes);
+  out["label"] = coral::action_text(a);
+  return out;
 }
 
 }  // namespace
@@ -87,6 +103,8 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
   auto line_of = [&](const core::SourceSpan& span) {
     return span.file < sources.size() ? sources.line_col(span.file, span.offset).line : 0;
   };
+  // Built by moves, not initializer lists: a list copies each member, and a
+  // 5,000-transition net's arrays are megabytes.
   nlohmann::json nets = nlohmann::json::array();
   for (const auto& cn : program.nets) {
     const fs::path file = fs::weakly_canonical(cn.source_file, ec);
@@ -97,20 +115,34 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
       exits.push_back(cn.net.place_name(e));
     }
     for (petri::PlaceId p = 0; p < cn.net.place_count(); ++p) {
-      places.push_back({{"name", cn.net.place_name(p)}, {"initial", cn.net.initial_marking()[p]}, {"exit", static_cast<bool>(is_exit[p])},
-                        {"line", p < cn.place_spans.size() ? line_of(cn.place_spans[p]) : 0}});
+      nlohmann::json place = nlohmann::json::object();
+      place["name"] = cn.net.place_name(p);
+      place["initial"] = cn.net.initial_marking()[p];
+      place["exit"] = static_cast<bool>(is_exit[p]);
+      place["line"] = p < cn.place_spans.size() ? line_of(cn.place_spans[p]) : 0;
+      places.push_back(std::move(place));
     }
     for (petri::TransitionId t = 0; t < cn.net.transition_count(); ++t) {
       nlohmann::json actions = nlohmann::json::array();
       for (const auto& a : cn.actions[t]) actions.push_back(action_json(cn, a));
-      transitions.push_back({{"name", cn.net.transition_name(t)}, {"priority", cn.net.priority(t)},
-                             {"line", t < cn.transition_spans.size() ? line_of(cn.transition_spans[t]) : 0},
-                             {"inputs", arcs_json(cn.net, cn.net.inputs(t))}, {"outputs", arcs_json(cn.net, cn.net.outputs(t))},
-                             {"actions", actions}});
+      nlohmann::json tr = nlohmann::json::object();
+      tr["name"] = cn.net.transition_name(t);
+      tr["priority"] = cn.net.priority(t);
+      tr["line"] = t < cn.transition_spans.size() ? line_of(cn.transition_spans[t]) : 0;
+      tr["inputs"] = arcs_json(cn.net, cn.net.inputs(t));
+      tr["outputs"] = arcs_json(cn.net, cn.net.outputs(t));
+      tr["actions"] = std::move(actions);
+      transitions.push_back(std::move(tr));
     }
-    nets.push_back({{"name", cn.name}, {"kind", cn.kind == coral::ast::Net::Kind::Mission ? "mission" : "phase"},
-                    {"file", sandbox.relative(file)}, {"editable", file == own}, {"exits", exits},
-                    {"places", places}, {"transitions", transitions}});
+    nlohmann::json net = nlohmann::json::object();
+    net["name"] = cn.name;
+    net["kind"] = cn.kind == coral::ast::Net::Kind::Mission ? "mission" : "phase";
+    net["file"] = sandbox.relative(file);
+    net["editable"] = file == own;
+    net["exits"] = std::move(exits);
+    net["places"] = std::move(places);
+    net["transitions"] = std::move(transitions);
+    nets.push_back(std::move(net));
   }
   return nets;
 }
@@ -147,9 +179,13 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
     if (layout.is_discarded()) layout = nullptr;
     layout_etag = etag_of(l.value());
   }
-  out.model = {{"path", relative}, {"text", source.value_or("")}, {"layout", layout}, {"diagnostics", diagnostics},
-               {"nets", out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array()},
-               {"scenarios", scenario_names(sandbox, relative)}};
+  out.model = nlohmann::json::object();
+  out.model["path"] = relative;
+  out.model["text"] = source ? std::move(*source) : std::string();
+  out.model["layout"] = std::move(layout);
+  out.model["diagnostics"] = std::move(diagnostics);
+  out.model["nets"] = out.program ? nets_json(*out.program, sources, sandbox, relative) : nlohmann::json::array();
+  out.model["scenarios"] = scenario_names(sandbox, relative);
   if (!out.etag.empty()) out.model["etag"] = out.etag;
   out.model["layout_etag"] = layout_etag;
   return out;

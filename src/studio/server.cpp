@@ -11,14 +11,15 @@
 #include <httplib.h>
 
 #include "coral/verify_report.h"
-#include "sonar/output.h"
-#include "strategic/prolog_mission.h"
 #include "studio/assets.h"
 #include "studio/file_watcher.h"
 #include "studio/http_answers.h"
 #include "studio/mission_model.h"
-#include "studio/prolog_thread.h"
+#include "studio/model_patch.h"
+#include "studio/prolog_model.h"
 #include "studio/replay.h"
+#include "studio/run_list.h"
+#include "studio/sonar_status.h"
 #include "studio/studio_runner.h"
 
 namespace strata::studio {
@@ -55,25 +56,6 @@ std::string mission_kind(const std::string& path) {
 }
 
 }  // namespace
-
-json sonar_status(const std::filesystem::path& dir) {
-  json out = {{"dir", !dir.empty()}, {"latest", nullptr}, {"frame", nullptr}};
-  if (dir.empty()) return out;
-  std::error_code ec;
-  const fs::path png = dir / "latest.png";
-  const auto size = fs::file_size(png, ec);
-  if (!ec) {
-    const auto mtime = fs::last_write_time(png, ec);
-    const auto ms = ec ? 0 : std::chrono::duration_cast<std::chrono::milliseconds>(mtime.time_since_epoch()).count();
-    out["latest"] = {{"bytes", size}, {"mtime_ms", ms}};
-  }
-  // The newest line of sonar.jsonl: the end summary once there is one, else
-  // the newest frame's.
-  const sonar::LastLines last = sonar::read_last_lines(dir);
-  json line = json::parse(last.end.empty() ? last.frame : last.end, nullptr, false);
-  if (!line.is_discarded()) out["frame"] = std::move(line);
-  return out;
-}
 
 StudioServer::StudioServer(StudioOptions options, EventHub& hub)
     : options_(std::move(options)), hub_(hub), sandbox_(options_.root), server_(std::make_unique<httplib::Server>()) {
@@ -226,8 +208,11 @@ void StudioServer::routes() {
     if (!real) return send_path_error(res, real.error());
     if (path.ends_with(".pl")) {
       std::string etag;
-      json model = prolog_model(path, etag);
-      if (!etag.empty()) res.set_header("ETag", etag);
+      json model = prolog_model(sandbox_, catalogue, path, etag);
+      if (!etag.empty()) {
+        res.set_header("ETag", etag);
+        watcher_->watch(path, etag);
+      }
       return send_json(res, model);
     }
     CompiledMission m = compile_mission(sandbox_, path, std::nullopt, catalogue);
@@ -244,7 +229,7 @@ void StudioServer::routes() {
     }
     m.model["kind"] = "coral";
     m.model["read_only"] = false;
-    send_json(res, m.model);
+    send_json(res, *models_.keep(std::move(m.model)));
   });
 
   s.Post("/api/check", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
@@ -253,7 +238,7 @@ void StudioServer::routes() {
     const std::string path = body->value("path", "");
     auto real = sandbox_.resolve(path, true);
     if (!real) return send_path_error(res, real.error());
-    send_json(res, compile_mission(sandbox_, path, body->value("text", ""), catalogue).model);
+    send_json(res, *models_.keep(compile_mission(sandbox_, path, body->value("text", ""), catalogue).model));
   });
 
   s.Post("/api/edit", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
@@ -282,7 +267,14 @@ void StudioServer::routes() {
         return send_error(res, 400, *left);
       }
     }
-    send_json(res, now.model);
+    // The page names the model it holds (`base`): when it is still kept,
+    // and of the text edited, only what changed goes back.
+    auto base = models_.find(body->value("base", ""));  // before keeping another: it may be the oldest
+    auto kept = models_.keep(std::move(now.model));
+    if (base && base->value("text", "") == before) {
+      return send_json(res, {{"rev", (*kept)["rev"]}, {"base", (*base)["rev"]}, {"patch", model_patch(*base, *kept)}});
+    }
+    send_json(res, *kept);
   });
 
   s.Post("/api/verify", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
@@ -417,47 +409,11 @@ void StudioServer::routes() {
   // mission, or all), newest first.
   s.Get("/api/runs", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string mission = req.get_param_value("mission");
-    std::string folder, stem;
     if (!mission.empty()) {
       auto real = sandbox_.resolve(mission);
       if (!real) return send_path_error(res, real.error());
-      const fs::path m(mission);
-      folder = m.parent_path().generic_string();
-      folder = folder.empty() ? "runs" : folder + "/runs";
-      stem = m.filename().string();
     }
-    json runs = json::array();
-    for (const auto& log : sandbox_.list({".jsonl"})) {
-      const fs::path p(log);
-      if (p.parent_path().filename() != "runs") continue;
-      if (!mission.empty() && p.parent_path().generic_string() != folder) continue;
-      // NAME: 20261125T214638Z-tank.coral[-N] (before 26 November 2026:
-      // -tank[-N], the stem only, which any mission of that stem matches)
-      const std::string name = p.stem().string();
-      if (name.size() < 18 || name[8] != 'T' || name[15] != 'Z' || name[16] != '-') continue;
-      std::string of = name.substr(17);
-      if (auto dash = of.rfind('-'); dash != std::string::npos &&
-                                    of.find_first_not_of("0123456789", dash + 1) == std::string::npos && dash + 1 < of.size()) {
-        of = of.substr(0, dash);
-      }
-      if (!mission.empty() && of != stem &&
-          !(of.find('.') == std::string::npos && of == fs::path(stem).stem().string())) {
-        continue;
-      }
-      std::error_code ec;
-      const auto bytes = fs::file_size(sandbox_.root() / log, ec);
-      const std::string stamp = name.substr(0, 16);
-      runs.push_back({{"path", log},
-                      {"mission_file", of},
-                      {"started", fmt::format("{}-{}-{}T{}:{}:{}Z", stamp.substr(0, 4), stamp.substr(4, 2),
-                                              stamp.substr(6, 2), stamp.substr(9, 2), stamp.substr(11, 2),
-                                              stamp.substr(13, 2))},
-                      {"bytes", ec ? 0 : bytes}});
-    }
-    std::sort(runs.begin(), runs.end(), [](const json& a, const json& b) {
-      return a["started"] != b["started"] ? a["started"] > b["started"] : a["path"] > b["path"];
-    });
-    send_json(res, {{"runs", runs}});
+    send_json(res, run_list(sandbox_, mission));
   });
 
   s.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
@@ -523,50 +479,6 @@ void StudioServer::serve_asset(const httplib::Request& req, httplib::Response& r
     return send_bytes_view(res, asset->gzip, mime_of(path));
   }
   send_bytes_view(res, asset->data, mime_of(path));
-}
-
-json StudioServer::prolog_model(const std::string& relative, std::string& etag) {
-  json model = {{"path", relative},  {"kind", "prolog"},          {"read_only", true},
-                {"text", ""},        {"layout", nullptr},         {"layout_etag", nullptr},
-                {"nets", json::array()}, {"diagnostics", json::array()}, {"check", "done"},
-                {"scenarios", scenario_names(sandbox_, relative)}};
-  auto bytes = sandbox_.read(relative);
-  if (!bytes) {
-    model["diagnostics"].push_back({{"severity", "error"}, {"kind", "FileUnreadable"}, {"file", relative},
-                                    {"message", bytes.error().message}, {"notes", json::array()}});
-    model["check"] = "unreadable";
-    return model;
-  }
-  etag = etag_of(bytes.value());
-  model["text"] = bytes.value();
-  model["etag"] = etag;
-  watcher_->watch(relative, etag);
-  // The rules checked as `strata check` does, on the process's PROLOG
-  // thread; while a PROLOG run holds it, the text comes without a check.
-  std::vector<prolog::Message> messages;
-  const std::string absolute = (sandbox_.root() / relative).string();
-  const tactical::Catalogue& catalogue = *options_.catalogue;
-  const bool checked = PrologThread::instance().try_run([&] {
-    auto loaded = prolog::Mission::load(absolute, catalogue, messages);
-    if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message});
-  });
-  if (!checked) {
-    model["check"] = "busy";
-    return model;
-  }
-  for (const auto& m : messages) {
-    json d = {{"severity", m.error ? "error" : "warning"}, {"kind", "Prolog"}, {"message", m.text},
-              {"notes", json::array()}};
-    if (!m.file.empty()) {
-      d["file"] = sandbox_.lexically_inside(m.file) ? sandbox_.relative(fs::path(m.file).lexically_normal()) : m.file;
-    }
-    if (m.line > 0) {
-      d["line"] = m.line;
-      d["col"] = m.column;
-    }
-    model["diagnostics"].push_back(std::move(d));
-  }
-  return model;
 }
 
 }  // namespace strata::studio

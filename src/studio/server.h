@@ -23,6 +23,7 @@
 
 #include "core/result.h"
 #include "studio/event_hub.h"
+#include "studio/model_patch.h"
 #include "studio/sandbox.h"
 #include "tactical/catalogue.h"
 
@@ -88,10 +89,6 @@ struct StudioOptions {
   std::chrono::milliseconds watch_period{500};
 };
 
-// What GET /api/sonar answers: {"dir": bool, "latest": {"bytes", "mtime_ms"}
-// or null, "frame": the last line of sonar.jsonl or null}.
-nlohmann::json sonar_status(const std::filesystem::path& dir);
-
 class StudioServer {
  public:
   StudioServer(StudioOptions options, EventHub& hub);
@@ -110,9 +107,6 @@ class StudioServer {
   // request accepts (br, then gzip, else the bytes as built), never
   // compressed here.
   void serve_asset(const httplib::Request& req, httplib::Response& res, const std::string& path);
-  // GET /api/mission of a .pl file: its text, read-only, with the PROLOG
-  // check's messages as diagnostics.
-  nlohmann::json prolog_model(const std::string& relative, std::string& etag);
   // Whether `host` (HOST:PORT) is one of this studio's own addresses.
   bool own_host(const std::string& host) const;
   // Why writing `relative` with this request's If-Match is refused (status
@@ -125,6 +119,8 @@ class StudioServer {
   // Every write of the API (text, layout) holds it: a check of the file's
   // version and the write that follows are one step for other requests.
   std::mutex write_mutex_;
+  // The models last answered, for edits answered with a patch.
+  ModelCache models_;
   std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
   std::unique_ptr<FileWatcher> watcher_;
   RunLauncher* runs_ = nullptr;

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "studio/server_test_support.h"
+#include "studio/sonar_status.h"
 
 namespace strata::studio {
 namespace {

@@ -14,7 +14,10 @@ async function call(method, url, body, type, headers = {}) {
       init.body = JSON.stringify(body);
     }
   }
-  const res = await fetch(url, init);
+  return answer(await fetch(url, init));
+}
+
+async function answer(res) {
   let data = null;
   const raw = await res.text();
   try { data = raw ? JSON.parse(raw) : null; } catch { data = null; }
@@ -29,8 +32,16 @@ async function call(method, url, body, type, headers = {}) {
 
 const q = (p) => encodeURIComponent(p);
 
+// The file list, asked for by index.html before this script loaded (the
+// page's first request, beside the script's), taken once.
+function earlyFiles() {
+  const early = globalThis.__filesAnswer;
+  globalThis.__filesAnswer = null;
+  return early ? early.then(answer) : null;
+}
+
 export const api = {
-  files: () => call('GET', '/api/files'),
+  files: () => earlyFiles() || call('GET', '/api/files'),
   mission: (path) => call('GET', `/api/mission?path=${q(path)}`),
   check: (path, text) => call('POST', '/api/check', { path, text }),
   // etag: the version the page read (the model's etag / layout_etag), sent
@@ -48,6 +59,9 @@ export const api = {
   // one mission when given.
   runs: (mission) => call('GET', mission ? `/api/runs?mission=${q(mission)}` : '/api/runs'),
   replay: (path) => call('GET', `/api/replay?path=${q(path)}`),
-  edit: (path, text, op) => call('POST', '/api/edit', { path, text, op }),
+  // base: the rev of the model the page holds; the answer is then a patch
+  // of it ({rev, base, patch}: patch.js) when the server still has it, else
+  // the whole model.
+  edit: (path, text, op, base) => call('POST', '/api/edit', base ? { path, text, op, base } : { path, text, op }),
   sonar: () => call('GET', '/api/sonar'),
 };

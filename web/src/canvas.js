@@ -5,6 +5,7 @@
 import { netElements, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
 import { currentNet, editable, tokensFor, uniqueName } from './store.js';
+import { kLargeNet, windowBox, windowIds } from './netwindow.js';
 
 // Fit never zooms out below this: labels stay readable (11 px font ×
 // 0.82 ≈ 9 px), and the user scrolls a net larger than the view.
@@ -15,9 +16,12 @@ export function createCanvas(container, store, fx) {
   const { dispatch, getState } = store;
   const cy = createCy(container);
   // A large net draws a texture of itself while panning and zooming.
-  const kLargeNet = 2000;
   const setLarge = (large) => { const r = cy.renderer(); r.textureOnViewport = large; r.hideEdgesOnViewport = large; };
   let drawnNet = null;      // the net object drawn
+  // A net of more than kLargeNet elements is shown in parts (netwindow.js):
+  // part.pos has the position of each of its nodes, shown or not; cytoscape
+  // holds only the elements near the view.
+  let part = null;
   let drawnName = null;
   let dynamicQueued = false;
 
@@ -84,7 +88,9 @@ export function createCanvas(container, store, fx) {
   cy.on('select', (ev) => { if (!syncing) dispatch({ type: 'select', id: ev.target.id() }); });
   cy.on('unselect', () => { if (!syncing && cy.$(':selected').empty()) dispatch({ type: 'select', id: null }); });
   let vpTimer = null;
+  let windowTimer = null;
   cy.on('viewport', () => {
+    if (part && !windowTimer) windowTimer = setTimeout(() => { windowTimer = null; showWindow(); }, 60);
     clearTimeout(vpTimer);
     vpTimer = setTimeout(() => {
       const s = getState();
@@ -124,14 +130,13 @@ export function createCanvas(container, store, fx) {
   // node positions (labels hang below, within the padding): cytoscape's own
   // fit measures every label and edge, seconds on a 10,000-node net.
   function fitReadable() {
-    const nodes = cy.nodes();
-    if (nodes.empty()) return;
+    const points = nodePoints(null);
+    if (!points.length) return;
     let x1 = Infinity, y1 = Infinity, x2 = -Infinity, y2 = -Infinity;
-    nodes.forEach((n) => {
-      const p = n.position();
+    for (const p of points) {
       if (p.x < x1) x1 = p.x; if (p.x > x2) x2 = p.x;
       if (p.y < y1) y1 = p.y; if (p.y > y2) y2 = p.y;
-    });
+    }
     x1 -= 40; x2 += 80; y1 -= 40; y2 += 70;   // half a node; a label's width right and height below
     const w = cy.width(), h = cy.height(), pad = 20;
     const fit = Math.min((w - 2 * pad) / (x2 - x1), (h - 2 * pad) / (y2 - y1), 2);
@@ -140,12 +145,24 @@ export function createCanvas(container, store, fx) {
     const panY = (y2 - y1) * zoom <= h - 2 * pad ? (h - (y2 - y1) * zoom) / 2 - y1 * zoom : pad - y1 * zoom;
     cy.viewport({ zoom, pan: { x: panX, y: panY } });
   }
+  // The positions of the net's nodes but the one of id skip: all of them
+  // for a net shown in parts, else cytoscape's (edgehandles' own aside).
+  function nodePoints(skip) {
+    const out = [];
+    if (part) {
+      for (const [id, e] of drawnEls) if (e.group === 'nodes' && id !== skip && part.pos[id]) out.push(part.pos[id]);
+      return out;
+    }
+    cy.nodes().forEach((m) => { if (m.id() !== skip && !m.hasClass('eh-handle') && !m.hasClass('eh-ghost')) out.push(m.position()); });
+    return out;
+  }
   function zoomBy(k) {
     cy.zoom({ level: Math.max(cy.minZoom(), Math.min(cy.maxZoom(), cy.zoom() * k)), renderedPosition: { x: cy.width() / 2, y: cy.height() / 2 } });
   }
 
   // ------------------------------------------------------------ drawing
   function placeNodes(s, net) {
+    if (part) { placeParts(s, net); return; }
     const pos = s.positions[net.name] || {};
     const nodes = cy.nodes();
     const missing = [];
@@ -177,7 +194,7 @@ export function createCanvas(container, store, fx) {
           p = { x: c.x / nb.length + 70, y: c.y / nb.length };
         } else p = centre();
       }
-      const q = freeSpot({ x: p.x + k * 30, y: p.y + k * 30 }, n);
+      const q = freeSpot({ x: p.x + k * 30, y: p.y + k * 30 }, n.id());
       k++;
       n.position(q);
       out[n.id()] = q;
@@ -185,12 +202,88 @@ export function createCanvas(container, store, fx) {
     dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
   }
 
+  // placeNodes for a net shown in parts: part.pos follows the store, nodes
+  // without a position are placed as placeNodes does, and what is shown
+  // follows.
+  function placeParts(s, net) {
+    const pos = s.positions[net.name] || {};
+    const missing = [], moved = [];
+    let nodes = 0;
+    for (const [id, e] of drawnEls) {
+      if (e.group !== 'nodes') continue;
+      nodes++;
+      const p = pos[id];
+      if (!p) { missing.push(id); continue; }
+      const q = part.pos[id];
+      if (!q || q.x !== p.x || q.y !== p.y) { part.pos[id] = { x: p.x, y: p.y }; moved.push(id); }
+    }
+    if (moved.length) cy.batch(() => { for (const id of moved) { const n = cy.getElementById(id); if (n.nonempty()) n.position({ ...part.pos[id] }); } });
+    if (missing.length && missing.length === nodes) {
+      const laid = layeredLayout(net);
+      part.pos = { ...laid };
+      dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
+      cy.batch(() => cy.nodes().forEach((n) => { const p = part.pos[n.id()]; if (p) n.position({ ...p }); }));
+    } else if (missing.length) {
+      const out = {};
+      let k = 0;
+      for (const id of missing) {
+        let p = s.pendingPos;
+        if (!p) {
+          const nb = [];
+          for (const e of drawnEls.values()) {
+            if (e.group !== 'edges') continue;
+            const other = e.data.source === id ? e.data.target : e.data.target === id ? e.data.source : null;
+            if (other && part.pos[other]) nb.push(part.pos[other]);
+          }
+          if (nb.length) {
+            const c = nb.reduce((a, m) => ({ x: a.x + m.x, y: a.y + m.y }), { x: 0, y: 0 });
+            p = { x: c.x / nb.length + 70, y: c.y / nb.length };
+          } else p = centre();
+        }
+        const q = freeSpot({ x: p.x + k * 30, y: p.y + k * 30 }, id);
+        k++;
+        part.pos[id] = q;
+        out[id] = q;
+      }
+      dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
+    }
+    showWindow();
+  }
+
+  // The elements near the view brought into cytoscape, the others out (a
+  // net shown in parts); those brought in get the run's classes, the
+  // diagnostics and the selection.
+  function showWindow() {
+    if (!part) return;
+    const s = getState();
+    const want = windowIds(drawnEls.values(), part.pos, windowBox(cy.extent()));
+    const arc = s.mode === 'arc';
+    const nodes = [], edges = [];
+    cy.batch(() => {
+      cy.elements().filter((x) => drawnEls.has(x.id()) && !want.has(x.id())).remove();
+      for (const id of want) {
+        if (cy.getElementById(id).nonempty()) continue;
+        const e = drawnEls.get(id);
+        if (e.group === 'nodes') nodes.push({ ...e, data: { ...e.data }, position: { ...part.pos[id] } });
+        else edges.push({ ...e, data: { ...e.data }, classes: arc ? `${e.classes} noev` : e.classes });
+      }
+      if (nodes.length || edges.length) cy.add([...nodes, ...edges]);
+    });
+    if (!nodes.length && !edges.length) return;
+    const net = currentNet(s);
+    if (net) { updateDynamic(s); applyDiagnostics(s, net); }
+    if (s.selected && want.has(s.selected)) {
+      syncing = true;
+      try { cy.getElementById(s.selected).select(); } finally { syncing = false; }
+    }
+  }
+
   // The first point from p (rings of 50 around it) where a new node is 55 px
   // or more from every other node in x or y (by their positions: measuring
   // the boxes of a 10,000-node net is slow).
-  function freeSpot(p, self) {
+  function freeSpot(p, selfId) {
     const xs = [], ys = [];
-    cy.nodes().forEach((m) => { if (!m.same(self) && !m.hasClass('eh-handle') && !m.hasClass('eh-ghost')) { const q = m.position(); xs.push(q.x); ys.push(q.y); } });
+    for (const q of nodePoints(selfId)) { xs.push(q.x); ys.push(q.y); }
     const hits = (q) => { for (let i = 0; i < xs.length; i++) if (Math.abs(xs[i] - q.x) < 55 && Math.abs(ys[i] - q.y) < 55) return true; return false; };
     for (let ring = 0; ring < 12; ring++) {
       for (const [dx, dy] of [[0, 0], [1, 0], [0, 1], [-1, 0], [0, -1], [1, 1], [-1, 1], [1, -1], [-1, -1]]) {
@@ -276,7 +369,7 @@ export function createCanvas(container, store, fx) {
         const d = drawnEls.get(w.data.id);
         if (d && d.classes === w.classes && sameData(d.data, w.data)) continue;
         const e = cy.getElementById(w.data.id);
-        if (e.empty()) { add.push(w); continue; }
+        if (e.empty()) { if (!part) add.push(w); continue; }   // in parts: showWindow adds it
         for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
         const cls = new Set(w.classes.split(' '));
         for (const c of kBaseClasses) if (e.hasClass(c) !== cls.has(c)) e.toggleClass(c, cls.has(c));
@@ -302,24 +395,34 @@ export function createCanvas(container, store, fx) {
       if (eh.hide) eh.hide();
       cy.elements().remove();
       drawnEls = new Map();
+      part = null;
       drawnNet = net; drawnName = s.netName;
       if (net) {
         const els = netElements(net, tokensFor(s, net.name));
-        setLarge(els.length > kLargeNet);
+        const large = els.length > kLargeNet;
+        setLarge(large);
         // Nodes are added at their positions (each position set afterwards
         // is an event): the stored ones, or the layered layout's.
         let pos = s.positions[net.name] || {};
         let laid = null;
         if (!els.some((e) => e.group === 'nodes' && pos[e.data.id])) pos = laid = layeredLayout(net);
-        for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) e.position = { ...pos[e.data.id] };
-        cy.add(els);
-        for (const e of els) delete e.position;
         drawnEls = byId(els);
+        if (large) {
+          // In parts: the view first, then the elements near it.
+          part = { pos: {} };
+          for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) part.pos[e.data.id] = { ...pos[e.data.id] };
+        } else {
+          for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) e.position = { ...pos[e.data.id] };
+          cy.add(els);
+          for (const e of els) delete e.position;
+        }
+        const vp = s.viewports[net.name];
         // (A dispatch from a view is applied after this render.)
         if (laid) dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
-        else placeNodes(s, net);
-        const vp = s.viewports[net.name];
+        else if (!large) placeNodes(s, net);
         if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
+        if (large && !laid) placeNodes(s, net);   // places what has no position, then shows the part in view
+        else if (large) showWindow();
         applyDiagnostics(s, net);
       }
     } else if (changed) {
@@ -335,24 +438,31 @@ export function createCanvas(container, store, fx) {
       if (s.mode === 'arc') eh.enableDrawMode(); else eh.disableDrawMode();
       // Every edge when the mode or the net changes; after an edit, only
       // edges added in arc mode (a class set on 10,000 edges restyles them).
-      if (!prev || s.mode !== prev.mode || switched) cy.edges().toggleClass('noev', s.mode === 'arc');
+      // (Elements added after a switch have no noev: a class set on each edge of a large net is a restyle of each.)
+      if (!prev || s.mode !== prev.mode || (switched && s.mode === 'arc')) cy.edges().toggleClass('noev', s.mode === 'arc');
       else if (s.mode === 'arc') cy.edges(':not(.noev)').addClass('noev');
       container.dataset.mode = s.mode;
     }
-    // Selection follows the store.
-    const sel = cy.$(':selected');
-    const want = s.selected;
-    syncing = true;
-    try {
-      if (want && (sel.length !== 1 || sel[0].id() !== want)) {
-        const n = cy.getElementById(want);
-        cy.elements().unselect();
-        if (n.nonempty()) n.select();
-      } else if (!want && sel.nonempty()) sel.unselect();
-    } finally { syncing = false; }
+    // Selection follows the store (looked at only when it or the net
+    // changed: a selector over every element, at each event of a run, was
+    // most of the page's work in the live view).
+    if (!prev || s.selected !== prev.selected || rebuilt) {
+      const sel = cy.$(':selected');
+      const want = s.selected;
+      syncing = true;
+      try {
+        if (want && (sel.length !== 1 || sel[0].id() !== want)) {
+          const n = cy.getElementById(want);
+          cy.elements().unselect();
+          if (n.nonempty()) n.select();
+        } else if (!want && sel.nonempty()) sel.unselect();
+      } finally { syncing = false; }
+    }
     if (s.focus && (!prev || s.focus !== prev.focus) && s.focus.id) {
       const n = cy.getElementById(s.focus.id);
+      const p = part && part.pos[s.focus.id];
       if (n.nonempty()) cy.animate({ center: { eles: n } }, { duration: 200 });
+      else if (p) cy.animate({ pan: { x: cy.width() / 2 - p.x * cy.zoom(), y: cy.height() / 2 - p.y * cy.zoom() } }, { duration: 200 });
     }
     // Markings at most once per animation frame (a run sends many events).
     if (rebuilt) updateDynamic(s);
@@ -369,6 +479,8 @@ export function createCanvas(container, store, fx) {
 
   return {
     cy, addNode, centre, fitReadable, zoomBy,
+    // The net drawn: its elements, and whether cytoscape holds only a part of them.
+    get drawn() { return { elements: drawnEls.size, nodes: [...drawnEls.values()].filter((e) => e.group === 'nodes').length, inParts: !!part }; },
     relayout() {
       const s = getState();
       if (!currentNet(s)) return;

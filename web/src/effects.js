@@ -2,6 +2,7 @@
 // (docs/studio.md) and dispatches what came back to the store. Effects
 // never draw; views never call the API. `ui.confirm(text)` asks the user
 // (window.confirm in the page, a stub in tests).
+import { applyModelPatch } from './patch.js';
 import { dirty, editable, displayNets, layoutByName, missionPaths } from './store.js';
 
 export const kCheckDelayMs = 300;
@@ -48,9 +49,17 @@ export function createEffects(store, api, ui = {}) {
     if (!force && dirty(s) && s.path) {
       if (!confirm(`Discard the unsaved changes to ${s.path}?`)) return false;
     }
+    const textBefore = s.text;
     return busy(async () => {
       try {
         const model = await api.mission(path);
+        // A reload for a change on disk (force) that the user's edit
+        // overtook: the edit is kept (their save meets the new version: 412).
+        const now = getState();
+        if (force && now.path === path && now.text !== textBefore) {
+          say(`${path} changed on disk while you were editing it: your edit is kept; saving it will ask`, true);
+          return false;
+        }
         dispatch({ type: 'file/opened', path, model, keepView: !!keepView, readOnly: !/\.coral$/.test(path) });
         loadRuns();
         return true;
@@ -70,7 +79,12 @@ export function createEffects(store, api, ui = {}) {
     return busy(async () => {
       const before = getState();
       try {
-        const model = await api.edit(before.path, before.text, op);
+        // The model held, when it is the server's own (not a broken text's
+        // kept nets), is the base the answer may patch.
+        const base = before.model && before.model.rev && !before.model.broken ? before.model : null;
+        const ans = await api.edit(before.path, before.text, op, base && base.rev);
+        const model = ans.patch && base && ans.base === base.rev ? applyModelPatch(base, ans) : ans;
+        if (ans.patch && model === ans) throw new Error('the answer patches a model this page does not hold');
         if (getState().text !== before.text) { say(`${op.op}: the text changed meanwhile; not applied`, true); return false; }
         dispatch({ type: 'model/edited', path: before.path, model, op, at });
         const errs = (model.diagnostics || []).filter((d) => d.severity === 'error').length;

@@ -45,7 +45,9 @@ export const style = [
     label: 'data(label)', 'text-wrap': 'wrap', 'text-max-width': 220, 'text-valign': 'bottom', 'text-halign': 'center', 'text-margin-y': 3, 'text-justification': 'center',
     'text-background-color': '#fff', 'text-background-opacity': 0.8, 'text-background-padding': 1,
   } },
-  { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a', width: 14, height: 56 } },
+  // Enabled: a colour, not a size (a size changed moves the ends of every
+  // edge of the node: most of a live view's redraw).
+  { selector: 'node.transition.enabled', style: { 'background-color': '#2e9d3a' } },
   { selector: 'node.transition.inflight', style: { 'background-color': '#e8a317', 'border-width': 3, 'border-color': '#b57b00' } },
   { selector: 'node.transition.fired', style: { 'underlay-color': '#2e9d3a', 'underlay-opacity': 0.35, 'underlay-padding': 6 } },
   { selector: 'node.transition.cex', style: { 'background-color': '#c2185b', 'underlay-color': '#c2185b', 'underlay-opacity': 0.3, 'underlay-padding': 8 } },

@@ -139,6 +139,8 @@ window.__studio = {
   get undoDepth() { return getState().undo.length; },
   get positions() { return getState().positions; },
   get currentNet() { return currentNet(getState()); },
+  // The net drawn: {elements, nodes, inParts} (a large net: cytoscape holds the part near the view).
+  get drawn() { return views && views.canvas.drawn; },
   openFile: (p) => fx.openFile(p),
   showNet: (n) => dispatch({ type: 'net/show', name: n }),
   applyOp: (op, at) => fx.applyOp(op, at),

@@ -1,0 +1,110 @@
+// Edits answered with a patch of the model the page holds: what the patch
+// says for the usual edits, and when the server answers the whole model.
+#include "studio/model_patch.h"
+
+#include "studio/server_test_support.h"
+
+namespace strata::studio {
+namespace {
+
+json place(const std::string& name, int line) {
+  return {{"name", name}, {"initial", 0}, {"exit", false}, {"line", line}};
+}
+json transition(const std::string& name, int line, const std::string& in) {
+  return {{"name", name}, {"priority", 0}, {"line", line}, {"inputs", json::array({{{"place", in}, {"weight", 1}}})},
+          {"outputs", json::array()}, {"actions", json::array()}};
+}
+json model(const std::string& text, json places, json transitions) {
+  return {{"path", "m.coral"}, {"text", text}, {"diagnostics", json::array()}, {"layout", nullptr}, {"rev", "x"},
+          {"nets", json::array({{{"name", "m"}, {"kind", "mission"}, {"file", "m.coral"}, {"editable", true},
+                                 {"exits", json::array()}, {"places", places}, {"transitions", transitions}}})}};
+}
+
+TEST(ModelPatch, APlaceAddedIsOneInsertAndTheLinesBelowMoveByOne) {
+  const json before = model("net m {\n  place a;\n  transition t { wait { a } }\n}\n", {place("a", 2)},
+                            {transition("t", 3, "a")});
+  const json after = model("net m {\n  place a;\n  place b;\n  transition t { wait { a } }\n}\n",
+                           {place("a", 2), place("b", 3)}, {transition("t", 4, "a")});
+  const json p = model_patch(before, after);
+  EXPECT_EQ(json({{"at", 2}, {"remove", 0}, {"insert", {"  place b;"}}}), p["text"]) << p.dump();
+  EXPECT_EQ(json({{"from", 3}, {"by", 1}}), p["shift"]);
+  ASSERT_EQ(1u, p["nets"].size());
+  const json& net = p["nets"][0];
+  EXPECT_EQ(0, net["from"]);
+  EXPECT_TRUE(net["shift"].get<bool>());
+  EXPECT_EQ(json({{"at", 1}, {"remove", 0}, {"insert", {place("b", 3)}}}), net["places"]) << net.dump();
+  EXPECT_FALSE(net.contains("transitions")) << "t only moved down a line: " << net.dump();
+  EXPECT_FALSE(net.contains("fields"));
+  EXPECT_TRUE(p["fields"].empty()) << p.dump();
+  EXPECT_TRUE(p["drop"].empty());
+}
+
+TEST(ModelPatch, ChangedMembersAndNetsComeWholeAndGoneOnesAreNamed) {
+  json before = model("a\n", json::array(), json::array());
+  json after = before;
+  after["diagnostics"] = json::array({{{"severity", "error"}, {"message", "x"}}});
+  after.erase("layout");
+  after["nets"].push_back({{"name", "n2"}, {"places", json::array()}});
+  after["nets"][0]["exits"] = {"done"};
+  after["rev"] = "y";
+  const json p = model_patch(before, after);
+  EXPECT_EQ(json({{"diagnostics", after["diagnostics"]}}), p["fields"]);
+  EXPECT_EQ(json({"layout"}), p["drop"]);
+  EXPECT_EQ(json({{"at", 2}, {"remove", 0}, {"insert", json::array()}}), p["text"]);
+  ASSERT_EQ(2u, p["nets"].size());
+  EXPECT_EQ(json({{"exits", {"done"}}}), p["nets"][0]["fields"]);
+  EXPECT_EQ(after["nets"][1], p["nets"][1]["net"]);
+}
+
+TEST(ModelCache, KeepsTheLastFewModelsUnderRevisionsOfItsOwn) {
+  ModelCache a, b;
+  auto first = a.keep(json{{"n", 1}});
+  const std::string rev = (*first)["rev"];
+  EXPECT_EQ(first, a.find(rev));
+  EXPECT_EQ(nullptr, b.find(rev));
+  EXPECT_NE(rev, (*b.keep(json{{"n", 1}}))["rev"].get<std::string>()) << "another server's revision";
+  for (std::size_t i = 0; i < ModelCache::kEntries; ++i) a.keep(json{{"n", i}});
+  EXPECT_EQ(nullptr, a.find(rev));
+}
+
+json post_edit(httplib::Client& c, const json& body) {
+  auto r = c.Post("/api/edit", body.dump(), "application/json");
+  EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "no answer");
+  return r ? json::parse(r->body, nullptr, false) : json();
+}
+
+TEST_F(StudioServerTest, AnEditOfTheModelAPageHoldsIsAnsweredWithAPatch) {
+  auto c = client();
+  auto opened = c.Get("/api/mission?path=tank/tank.coral");
+  ASSERT_TRUE(opened && opened->status == 200);
+  const json m = json::parse(opened->body);
+  ASSERT_TRUE(m["rev"].is_string()) << "every model answered has a revision";
+  const json op = {{"op", "add_place"}, {"net", "tank"}, {"name", "extra"}};
+  const json full = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}});
+  ASSERT_TRUE(full.contains("nets")) << "no base: the whole model";
+  json a = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", m["rev"]}});
+  ASSERT_TRUE(a.contains("patch")) << a.dump().substr(0, 300);
+  EXPECT_EQ(m["rev"], a["base"]);
+  EXPECT_NE(m["rev"], a["rev"]);
+  // The tank mission's nets but the one edited are unchanged.
+  std::size_t unchanged = 0;
+  for (const auto& e : a["patch"]["nets"]) unchanged += e.size() == 2;  // {from, shift}
+  EXPECT_EQ(full["nets"].size() - 1, unchanged) << a["patch"]["nets"].dump();
+  // The patch's revision is a base in turn.
+  json b = post_edit(c, {{"path", "tank/tank.coral"}, {"text", full["text"]},
+                         {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "more"}}}, {"base", a["rev"]}});
+  EXPECT_TRUE(b.contains("patch"));
+  // m is now the oldest of the models kept, and still a base when the
+  // edit's own model comes.
+  static_assert(ModelCache::kEntries == 4, "m, full, a, b");
+  json oldest = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", m["rev"]}});
+  EXPECT_TRUE(oldest.contains("patch")) << "the base was dropped for the edit's own model";
+  // A base that is not known, or of another text: the whole model.
+  json d = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", "nope"}});
+  EXPECT_TRUE(d.contains("nets") && !d.contains("patch"));
+  d = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", a["rev"]}});
+  EXPECT_TRUE(d.contains("nets") && !d.contains("patch")) << "base a is of another text";
+}
+
+}  // namespace
+}  // namespace strata::studio
