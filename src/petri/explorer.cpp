@@ -189,7 +189,7 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::uint32_t old_words = words_;
   bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
   layout();
-  if (words_ != old_words && !fits(Words::rounded(slots_ * words_ * 8) + queue_slots_ * words_ * 8)) {
+  if (words_ != old_words && !fits(Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) + queue_slots_ * words_ * sizeof(std::uint64_t))) {
     return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
   }
   std::vector<std::uint64_t> m(words_);
@@ -208,7 +208,7 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   queue_.assign(queue_slots_ * words_, 0);
   for (std::size_t k = 0; k < queue_size_; ++k) {
     repack(&old[((queue_head_ + k) & (queue_slots_ - 1)) * old_words]);
-    std::memcpy(&queue_[k * words_], m.data(), words_ * 8);
+    std::memcpy(&queue_[k * words_], m.data(), words_ * sizeof(std::uint64_t));
   }
   queue_head_ = 0;
   return true;
@@ -225,7 +225,7 @@ void Explorer::place(const std::uint64_t* m, std::uint64_t full_hash) {
   const std::size_t mask = slots_ - 1;
   std::size_t i = slot_of(full_hash);
   while (table_[i * words_] != kEmpty) i = (i + 1) & mask;
-  std::memcpy(&table_[i * words_], m, words_ * 8);
+  std::memcpy(&table_[i * words_], m, words_ * sizeof(std::uint64_t));
 }
 
 template <unsigned W>
@@ -257,14 +257,14 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     if (!fits(need)) return full(need);
     std::vector<std::uint64_t> bigger(queue_.size() * 2);
     const std::size_t first = queue_slots_ - queue_head_;  // entries before the wrap
-    std::memcpy(bigger.data(), &queue_[queue_head_ * words], first * words * 8);
-    std::memcpy(&bigger[first * words], queue_.data(), queue_head_ * words * 8);
+    std::memcpy(bigger.data(), &queue_[queue_head_ * words], first * words * sizeof(std::uint64_t));
+    std::memcpy(&bigger[first * words], queue_.data(), queue_head_ * words * sizeof(std::uint64_t));
     queue_ = std::move(bigger);
     queue_slots_ *= 2;
     queue_head_ = 0;
   }
-  std::memcpy(&table_[i * words], m, words * 8);
-  std::memcpy(&queue_[((queue_head_ + queue_size_) & (queue_slots_ - 1)) * words], m, words * 8);
+  std::memcpy(&table_[i * words], m, words * sizeof(std::uint64_t));
+  std::memcpy(&queue_[((queue_head_ + queue_size_) & (queue_slots_ - 1)) * words], m, words * sizeof(std::uint64_t));
   ++queue_size_;
   ++count_;
   return true;

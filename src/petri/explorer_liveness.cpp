@@ -15,7 +15,7 @@ bool Explorer::enabled(const std::uint64_t* m, TransitionId t) const {
 }
 
 void Explorer::fire(const std::uint64_t* m, TransitionId t, std::uint64_t* out) const {
-  std::memcpy(out, m, words_ * 8);
+  std::memcpy(out, m, words_ * sizeof(std::uint64_t));
   for (std::uint32_t d = delta_begin_[t]; d < delta_begin_[t + 1]; ++d) {
     out[deltas_[d].word] = out[deltas_[d].word] - deltas_[d].sub + deltas_[d].add;
   }

@@ -6,7 +6,7 @@ namespace strata::petri {
 
 Net dining_philosophers(unsigned n) {
   NetBuilder b;
-  b.reserve(5 * n, 5 * n, 16 * n);
+  b.reserve(std::size_t{5} * n, std::size_t{5} * n, std::size_t{16} * n);
   std::vector<PlaceId> think(n), fork(n), left(n), right(n), eat(n);
   for (unsigned i = 0; i < n; ++i) {
     const std::string k = std::to_string(i + 1);

@@ -79,7 +79,7 @@ Query::Query(term_t goal, bool allow_yield, bool exception_hook) {
   static predicate_t call1 = PL_predicate("call", 1, "user");
   const int flags = kQueryFlags | (allow_yield ? PL_Q_ALLOW_YIELD : 0) | (exception_hook ? 0 : PL_Q_NODEBUG);
   qid_ = PL_open_query(nullptr, flags, call1, goal);
-  open_ = qid_ != 0;
+  open_ = qid_ != nullptr;
 }
 
 Query::~Query() { cut(); }

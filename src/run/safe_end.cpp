@@ -70,7 +70,7 @@ void SafeEnd::poll(int seconds_left) {
              : fmt::format("ask {} failed: {}", kSurfaceReached, r.error().message));
       send_done();
     } else {
-      tactical_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](Outcome s) {
+      tactical_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](const Outcome& s) {
         if (!done_) return;
         if (!s) {
           send_done();
@@ -84,7 +84,7 @@ void SafeEnd::poll(int seconds_left) {
 
 void SafeEnd::send_done() {
   shutdown_sent_ = true;
-  tactical_.call(kShutdownNetwork, {}, [this](Outcome r) {
+  tactical_.call(kShutdownNetwork, {}, [this](const Outcome& r) {
     if (!done_) return;
     if (!r) {
       shutdown_error_ = r.error().message;

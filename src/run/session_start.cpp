@@ -138,7 +138,7 @@ void RunSession::Run::build_levels() {
     check_limits();
   });
   if (o_.telemetry_hz > 0) {
-    link_->send(protocol::make_telemetry(0, o_.telemetry_hz), [](core::Result<protocol::VehicleMessage>) {});
+    link_->send(protocol::make_telemetry(0, o_.telemetry_hz), [](const core::Result<protocol::VehicleMessage>&) {});
   }
   tactics_.emplace(*tactical_);
   std::unique_ptr<strategic::Executor> executor;

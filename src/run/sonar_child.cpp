@@ -32,6 +32,7 @@ core::Result<SonarChild> SonarChild::start(const std::string& host, std::uint16_
                                    dir};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
 

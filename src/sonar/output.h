@@ -47,6 +47,6 @@ struct LastLines {
   std::string frame;
   std::string end;
 };
-LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_bytes = 64 * 1024);
+LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_bytes = std::size_t{64} * 1024);
 
 }  // namespace strata::sonar

@@ -70,7 +70,7 @@ void ScanImage::paint(const protocol::SonarPing& ping, double beam_width_deg) {
       const auto col = static_cast<int>(std::floor(c0 + t * dc));
       const auto row = static_cast<int>(std::floor(r0 + t * dr));
       if (col < 0 || row < 0 || col >= size || row >= size) continue;
-      const auto p = static_cast<std::size_t>(row * size + col);
+      const auto p = static_cast<std::size_t>(row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(col);
       const std::uint8_t v = grey_[ping.bins[bin]];
       if (sweep_of_[p] != sweep_) {
         image_.pixels[p] = v;
@@ -102,8 +102,8 @@ void ScanImage::centre_on(double x_m, double y_m) {
     for (int col = 0; col < size; ++col) {
       const int from_col = col + dc;
       if (from_col < 0 || from_col >= size) continue;
-      const auto to = static_cast<std::size_t>(row * size + col);
-      const auto from = static_cast<std::size_t>(from_row * size + from_col);
+      const auto to = static_cast<std::size_t>(row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(col);
+      const auto from = static_cast<std::size_t>(from_row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(from_col);
       pixels[to] = image_.pixels[from];
       sweeps[to] = sweep_of_[from];
     }
