@@ -185,7 +185,7 @@ void CoralEngine::handle(Message& message) {
     MissionResult result{Outcome::Failed, "",
                          fmt::format("{} {} failed: {}", kind, primitive_of(a), message.outcome.error().message),
                          message.outcome.error().code, now()};
-    finish(std::move(result));
+    finish(result);
     return;
   }
   const tactical::CallOutcome& out = message.outcome.value();
@@ -312,7 +312,7 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   }
   if (a.tactic == coral::ast::TacticType::Report) {
     // A REPORT marks nothing and waits for nothing: sent, not tracked.
-    tactics_.call(primitive_of(a), args_[inst.net_index][t][index], [](core::Result<tactical::CallOutcome>) {});
+    tactics_.call(primitive_of(a), args_[inst.net_index][t][index], [](const core::Result<tactical::CallOutcome>&) {});
     return;
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
@@ -348,7 +348,7 @@ void CoralEngine::check_exits(InstanceId id, petri::PlaceId) {
       for (Observer* o : observers_) o->phase_ended(end);
       MissionResult result{e == 0 ? Outcome::Completed : Outcome::Aborted,
                            std::string(inst.net->net.place_name(exits[e])), "", std::nullopt, now()};
-      finish(std::move(result));
+      finish(result);
       return;
     }
     end_instance(id, e, false);
@@ -388,7 +388,7 @@ void CoralEngine::fail(std::string reason) {
   finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()});
 }
 
-void CoralEngine::finish(MissionResult result) {
+void CoralEngine::finish(const MissionResult& result) {
   if (!running_) return;
   running_ = false;
   ended_ = true;

@@ -113,7 +113,7 @@ class CoralEngine final : public Executor {
   void check_exits(InstanceId id, petri::PlaceId p);
   void end_instance(InstanceId id, std::optional<std::size_t> exit_index, bool cancelled);
   void fail(std::string reason);
-  void finish(MissionResult result);
+  void finish(const MissionResult& result);
   std::size_t net_index(const coral::CompiledNet& net) const;
   double now() const { return tactics_.sim_time_s(); }
 

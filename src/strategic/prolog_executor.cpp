@@ -177,7 +177,7 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
   ActionStart event{next_action_++, current_instance(), "report", name, "", now()};
   for (Observer* o : observers_) o->action_started(event);
-  tactics_.call(name, std::move(args), [](core::Result<tactical::CallOutcome>) {});
+  tactics_.call(name, std::move(args), [](const core::Result<tactical::CallOutcome>&) {});
 }
 
 void PrologExecutor::phase_started(const std::string& phase) {
@@ -220,7 +220,7 @@ void PrologExecutor::fail(std::string reason, std::optional<core::ErrorCode> cod
   finish({Outcome::Failed, "", std::move(reason), code, now()});
 }
 
-void PrologExecutor::finish(MissionResult result) {
+void PrologExecutor::finish(const MissionResult& result) {
   if (!running_) return;
   running_ = false;
   ended_ = true;

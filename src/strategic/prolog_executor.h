@@ -79,7 +79,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
   void fail(std::string reason, std::optional<core::ErrorCode> code = std::nullopt);
   // The reason interrupt() gave, once it was called on the running executor.
   std::optional<std::string> interrupt_reason() const;
-  void finish(MissionResult result);
+  void finish(const MissionResult& result);
   double now() const { return tactics_.sim_time_s(); }
   InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
 
