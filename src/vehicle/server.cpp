@@ -1,7 +1,6 @@
 #include "vehicle/server.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -19,82 +18,20 @@ namespace {
 // exact in binary, and "5.6000000000000005" helps nobody.
 double wire_time(double t_s) { return std::round(t_s * 1e6) / 1e6; }
 
+// The controller's connection: lines up to the protocol's maximum (a longer
+// one is answered `err ID too_long`), and a write queue bounded far above
+// what one lockstep instant can queue (telemetry through a long sleep), so
+// that only a client that stopped reading reaches it.
+protocol::LineConnectionOptions controller_options() {
+  protocol::LineConnectionOptions o;
+  o.max_line_bytes = protocol::kMaxLineBytes;
+  o.overlong = protocol::LineConnectionOptions::Overlong::Deliver;
+  o.max_queue_bytes = std::size_t{64} << 20;
+  o.when_full = protocol::LineConnectionOptions::WhenFull::Close;
+  return o;
+}
+
 }  // namespace
-
-class VehicleServer::Connection : public std::enable_shared_from_this<Connection> {
- public:
-  Connection(VehicleServer& server, asio::ip::tcp::socket socket)
-      : server_(server), socket_(std::move(socket)) {}
-
-  void start_reading() { read(); }
-
-  void write(std::string line) {
-    if (closed_) return;
-    if (server_.options_.trace) server_.log("> " + line.substr(0, line.size() - 1));
-    queue_.push_back(std::move(line));
-    if (queue_.size() == 1) write_front();
-  }
-
-  // Closes once everything queued is written.
-  void close_after_writes() {
-    closing_ = true;
-    if (queue_.empty()) close();
-  }
-
-  void close() {
-    if (closed_) return;
-    closed_ = true;
-    asio::error_code ignored;
-    socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
-    socket_.close(ignored);
-  }
-
-  bool closed() const { return closed_; }
-
- private:
-  void read() {
-    auto self = shared_from_this();
-    socket_.async_read_some(asio::buffer(buffer_), [this, self](const asio::error_code& e, std::size_t n) {
-      if (closed_) return;
-      if (e) {
-        close();
-        server_.on_closed(*this);
-        return;
-      }
-      for (const auto& frame : framer_.feed(std::string_view(buffer_.data(), n))) {
-        server_.on_line(*this, frame);
-        if (closed_ || closing_) return;  // nothing after bye is read
-      }
-      read();
-    });
-  }
-
-  void write_front() {
-    auto self = shared_from_this();
-    asio::async_write(socket_, asio::buffer(queue_.front()), [this, self](const asio::error_code& e, std::size_t) {
-      if (closed_) return;
-      queue_.pop_front();
-      if (e) {
-        close();
-        server_.on_closed(*this);
-        return;
-      }
-      if (!queue_.empty()) {
-        write_front();
-      } else if (closing_) {
-        close();
-      }
-    });
-  }
-
-  VehicleServer& server_;
-  asio::ip::tcp::socket socket_;
-  protocol::LineFramer framer_;
-  std::array<char, 4096> buffer_{};
-  std::deque<std::string> queue_;
-  bool closing_ = false;
-  bool closed_ = false;
-};
 
 VehicleServer::VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options)
     : io_(io), sim_(sim), options_(std::move(options)), acceptor_(io), tick_timer_(io),
@@ -141,7 +78,7 @@ void VehicleServer::stop() {
   silence_timer_.cancel();
   hello_timer_.cancel();
   waiting_.clear();
-  if (controller_) controller_->close();
+  if (controller_) controller_->close("the vehicle is stopping");
   controller_.reset();
   if (sonar_) sonar_->end(sim_.time_s(), "the vehicle is stopping");
   settled();
@@ -153,13 +90,16 @@ void VehicleServer::accept() {
     if (!e) {
       asio::error_code ignored;
       socket.set_option(asio::ip::tcp::no_delay(true), ignored);
-      auto c = std::make_shared<Connection>(*this, std::move(socket));
-      if (controller_ && !controller_->closed()) {
+      auto c = protocol::LineConnection::create(
+          std::move(socket), controller_options(),
+          {[this](protocol::LineConnection& conn, const protocol::Frame& frame) { on_line(conn, frame); },
+           [this](protocol::LineConnection& conn, const protocol::CloseReason& why) { on_closed(conn, why); }});
+      if (controller_ && !controller_->closing()) {
         ++refused_;
         log("refused a second client: one client controls the vehicle");
-        c->write(protocol::encode(protocol::VehicleMessage{
-            protocol::Err{0, ErrorCode::Busy, "another client controls the vehicle"}}));
-        c->close_after_writes();
+        write(*c, protocol::encode(protocol::VehicleMessage{
+                      protocol::Err{0, ErrorCode::Busy, "another client controls the vehicle"}}));
+        c->close_when_written("refused: another client controls the vehicle");
       } else {
         controller_ = c;
         hello_done_ = false;
@@ -169,7 +109,7 @@ void VehicleServer::accept() {
         telemetry_rate_hz_ = 0.0;
         last_rx_s_ = sim_.time_s();
         log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
-        c->start_reading();
+        c->start();
         arm_silence_watchdog();
         arm_hello_timeout(c);
       }
@@ -179,12 +119,18 @@ void VehicleServer::accept() {
 }
 
 void VehicleServer::send(const protocol::VehicleMessage& m) {
-  if (!controller_ || controller_->closed()) return;
+  if (!controller_ || controller_->closing()) return;
   if (sim_.link_lost()) return;  // the link is silent both ways
-  controller_->write(protocol::encode(m));
+  write(*controller_, protocol::encode(m));
 }
 
-void VehicleServer::on_line(Connection& c, const protocol::Frame& frame) {
+void VehicleServer::write(protocol::LineConnection& c, std::string line) {
+  if (c.closing()) return;
+  if (options_.trace) log("> " + line.substr(0, line.size() - 1));
+  (void)c.send(std::move(line));  // a full queue closes it, and on_closed says so
+}
+
+void VehicleServer::on_line(protocol::LineConnection& c, const protocol::Frame& frame) {
   if (&c != controller_.get()) return;
   if (sim_.link_lost()) return;  // lost on the way
   last_rx_s_ = sim_.time_s();
@@ -206,7 +152,7 @@ void VehicleServer::on_line(Connection& c, const protocol::Frame& frame) {
   on_request(c, decoded.value());
 }
 
-void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
+void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Request& r) {
   using protocol::Verb;
   if (r.verb == Verb::Hello) {
     on_hello(r);
@@ -228,7 +174,7 @@ void VehicleServer::on_request(Connection& c, const protocol::Request& r) {
       return;
     case Verb::Bye:
       send(protocol::Ok{r.id});
-      c.close_after_writes();
+      c.close_when_written("bye");
       return;
     case Verb::Advance:
       if (session_version_ < 2) {
@@ -435,17 +381,17 @@ void VehicleServer::reply_later(protocol::RequestId id, double until_s) {
 
 // A client that connects and says nothing must not hold the vehicle: every
 // client after it would be refused as busy for ever.
-void VehicleServer::arm_hello_timeout(const std::shared_ptr<Connection>& c) {
+void VehicleServer::arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c) {
   if (options_.hello_timeout_s <= 0) return;
   hello_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(std::min(options_.hello_timeout_s, 86400.0))));
-  hello_timer_.async_wait([this, weak = std::weak_ptr<Connection>(c)](const asio::error_code& e) {
+  hello_timer_.async_wait([this, weak = std::weak_ptr<protocol::LineConnection>(c)](const asio::error_code& e) {
     auto conn = weak.lock();
-    if (e || stopped_ || hello_done_ || !conn || conn != controller_ || conn->closed()) return;
+    if (e || stopped_ || hello_done_ || !conn || conn != controller_ || conn->closing()) return;
     const std::string why = fmt::format("no hello within {} s: closing this connection", options_.hello_timeout_s);
     log(fmt::format("{:.1f} s: {}; the next client will be served", sim_.time_s(), why));
-    conn->write(protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::NotReady, why}}));
-    conn->close_after_writes();
+    write(*conn, protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::NotReady, why}}));
+    conn->close_when_written(why);
     controller_.reset();
     silence_timer_.cancel();
   });
@@ -457,7 +403,7 @@ void VehicleServer::arm_silence_watchdog() {
   silence_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(silence_s)));
   silence_timer_.async_wait([this](const asio::error_code& e) {
-    if (e || stopped_ || !controller_ || controller_->closed() || !sim_.network_up()) return;
+    if (e || stopped_ || !controller_ || controller_->closing() || !sim_.network_up()) return;
     trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
   });
 }
@@ -465,13 +411,18 @@ void VehicleServer::arm_silence_watchdog() {
 void VehicleServer::controller_gone() {
   if (!controller_) return;
   auto c = controller_;
-  c->close();
-  on_closed(*c);
+  c->close("the controller is gone");
+  on_closed(*c, protocol::CloseReason{protocol::CloseReason::Why::PeerClosed, {}, "the controller is gone"});
 }
 
-void VehicleServer::on_closed(Connection& c) {
-  if (&c != controller_.get()) return;
-  log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
+void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::CloseReason& why) {
+  // A close this server asked for (bye, the hello timeout) is no dropped link.
+  if (&c != controller_.get() || why.why == protocol::CloseReason::Why::Local) return;
+  if (why.why == protocol::CloseReason::Why::PeerClosed) {
+    log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
+  } else {
+    log(fmt::format("{:.1f} s: client disconnected: {}", sim_.time_s(), why.message));
+  }
   silence_timer_.cancel();
   hello_timer_.cancel();
   controller_.reset();
@@ -570,7 +521,7 @@ void VehicleServer::tick() {
       next_heartbeat_s_ += 1.0;
     }
     const bool client_waits = !deferred_.empty() && !sim_.link_lost();
-    if (controller_ && !controller_->closed() && !client_waits &&
+    if (controller_ && !controller_->closing() && !client_waits &&
         sim_.time_s() - last_rx_s_ >= sim_.params().watchdog_s) {
       trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
     }
