@@ -1,10 +1,10 @@
 #include "core/toml_reader.h"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
+
+#include "core/file.h"
 
 namespace strata::core {
 
@@ -55,12 +55,8 @@ Result<toml::table> parse_toml(std::string_view text, std::string_view path) {
 }
 
 Result<std::string> read_toml_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return make_error(ErrorCode::Io, fmt::format("{}: cannot open file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return make_error(ErrorCode::Io, fmt::format("{}: cannot read file", path));
-  return text.str();
+  return read_regular_file(path, kMaxTomlFileBytes,
+                           [](const std::string& p, const char*) { return p + ": cannot open file"; });
 }
 
 Result<toml::table> parse_toml_file(const std::string& path) {

@@ -59,8 +59,9 @@ class TomlErrors {
 // Parses text as TOML; a syntax error becomes "path:line:col: message"
 // (InvalidInput). Never throws.
 Result<toml::table> parse_toml(std::string_view text, std::string_view path);
-// The text of the TOML file at path; a file that cannot be read is an Io
-// error, distinct from a syntax error in a file that exists.
+// The text of the TOML file at path (core::read_regular_file: a FIFO or a
+// device is refused, a file over kMaxTomlFileBytes too); a file that cannot
+// be read is an Io error, distinct from a syntax error in a file that exists.
 Result<std::string> read_toml_text(const std::string& path);
 // read_toml_text, then parse_toml.
 Result<toml::table> parse_toml_file(const std::string& path);

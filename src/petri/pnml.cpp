@@ -1,19 +1,16 @@
 #include "petri/pnml.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <optional>
-#include <sstream>
 #include <string_view>
 #include <unordered_map>
 #include <unordered_set>
 
 #include <fmt/format.h>
 #include <pugixml.hpp>
+
+#include "core/file.h"
 
 namespace strata::petri {
 namespace {
@@ -433,19 +430,11 @@ core::Result<PnmlNet> parse_pnml(const std::string& text, const std::string& sou
 }
 
 core::Result<PnmlNet> read_pnml(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("'{}' is a directory", path));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return core::make_error(core::ErrorCode::Io,
-                            fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
-  return parse_pnml(std::move(text).str(), path);
+  auto text = core::read_regular_file(path, kMaxPnmlBytes, [](const std::string& p, const char* reason) {
+    return fmt::format("cannot open '{}': {}", p, reason);
+  });
+  if (!text) return text.error();
+  return parse_pnml(std::move(text).value(), path);
 }
 
 std::string write_pnml(const Net& net, const std::string& net_id) {
