@@ -58,6 +58,7 @@
 #include "protocol/message.h"
 #include "vehicle/simulation.h"
 #include "vehicle/sonar_server.h"
+#include "vehicle/telemetry_sampler.h"
 
 namespace strata::vehicle {
 
@@ -152,8 +153,7 @@ class VehicleServer {
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;
   std::vector<std::function<void()>> settled_waiters_;
-  double telemetry_rate_hz_ = 0.0;
-  double next_telemetry_s_ = 0.0;
+  TelemetrySampler telemetry_;
   double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)
   double next_heartbeat_s_ = 1.0;
   struct Deferred {
