@@ -27,6 +27,7 @@
 // or Io when the file cannot be read.
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/result.h"
@@ -41,6 +42,9 @@ struct PnmlNet {
   std::vector<std::string> place_labels;       // by PlaceId: the <name><text>, or the id
   std::vector<std::string> transition_labels;  // by TransitionId
 };
+
+// The type of a place/transition net's <net>.
+inline constexpr std::string_view kPtNetType = "http://www.pnml.org/version-2009/grammar/ptnet";
 
 // The largest PNML file read.
 inline constexpr std::size_t kMaxPnmlBytes = std::size_t{64} << 20;
