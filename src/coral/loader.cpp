@@ -1,13 +1,12 @@
 #include "coral/loader.h"
 
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "coral/lexer.h"
+#include "core/file.h"
 #include "coral/parser.h"
 
 namespace strata::coral {
@@ -20,27 +19,14 @@ std::string DiskFileProvider::canonical(const std::string& path) const {
 }
 
 core::Result<std::string> DiskFileProvider::read(const std::string& path) const {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("'{}' is a directory", path));
+  auto text = core::read_regular_file(path, kMaxSourceSize, [](const std::string& p, const char* reason) {
+    return fmt::format("cannot open '{}': {}", p, reason);
+  });
+  if (!text && text.error().code == core::ErrorCode::Overflow) {
+    // Too big to be a mission: the text's fault, not the disk's.
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("'{}' is over the limit of {} bytes", path, kMaxSourceSize));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return core::make_error(core::ErrorCode::Io,
-                            fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
-  }
-  // Read in chunks, never more than the limit: a device or a pipe has no
-  // size to ask for in advance.
-  std::string text;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
-    text.append(chunk, static_cast<std::size_t>(in.gcount()));
-    if (text.size() > kMaxSourceSize) {
-      return core::make_error(core::ErrorCode::InvalidInput,
-                              fmt::format("'{}' is over the limit of {} bytes", path, kMaxSourceSize));
-    }
-  }
-  if (in.bad()) return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}'", path));
   return text;
 }
 

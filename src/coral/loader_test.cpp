@@ -1,6 +1,13 @@
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "coral/lexer.h"
+#include "coral/loader.h"
 #include "coral/test_support.h"
 
 namespace strata::coral {
@@ -51,6 +58,36 @@ TEST(Loader, SelfImportIsACycle) {
 TEST(Loader, OversizedFileIsReportedNotParsed) {
   auto c = compile_text("import \"big.coral\";", {{"big.coral", std::string(kMaxSourceSize + 1, ' ')}});
   EXPECT_EQ((std::vector<std::string>{"1:1 FileTooLarge"}), c->kinds());
+}
+
+// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
+// unless the reader refuses what is not a regular file.
+std::filesystem::path make_fifo(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::remove(path);
+  if (::mkfifo(path.c_str(), 0600) != 0) return {};
+  return path;
+}
+
+TEST(Loader, AFifoGivenAsASourceIsAnErrorNotAHang) {
+  const auto fifo = make_fifo("mission.coral");
+  ASSERT_FALSE(fifo.empty());
+  DiskFileProvider disk;
+  auto r = disk.read(fifo.string());
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(r);
+  EXPECT_EQ(core::ErrorCode::Io, r.error().code);
+  EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
+}
+
+TEST(Loader, AMissingSourceSaysCannotOpen) {
+  DiskFileProvider disk;
+  auto r = disk.read("/nonexistent/strata/mission.coral");
+  ASSERT_FALSE(r);
+  EXPECT_EQ(core::ErrorCode::Io, r.error().code);
+  EXPECT_EQ("cannot open '/nonexistent/strata/mission.coral': No such file or directory", r.error().message);
 }
 
 }  // namespace

@@ -12,10 +12,14 @@
 
 namespace strata::core {
 
-Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes) {
+Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open) {
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return make_error(ErrorCode::Io, fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
+  if (fd < 0) {
+    const char* reason = std::strerror(errno);
+    return make_error(ErrorCode::Io, cannot_open ? cannot_open(path, reason)
+                                                 : fmt::format("cannot read '{}': {}", path, reason));
+  }
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }

@@ -25,7 +25,9 @@
 // Errors: InvalidInput with "path:line:col: message" (the '<' of the
 // offending element, or where the XML parser stopped; columns count bytes),
 // or Io when the file cannot be read.
+#include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/result.h"
@@ -41,6 +43,14 @@ struct PnmlNet {
   std::vector<std::string> transition_labels;  // by TransitionId
 };
 
+// The type of a place/transition net's <net>.
+inline constexpr std::string_view kPtNetType = "http://www.pnml.org/version-2009/grammar/ptnet";
+
+// The largest PNML file read.
+inline constexpr std::size_t kMaxPnmlBytes = std::size_t{64} << 20;
+
+// Reads a PNML file (core::read_regular_file: a FIFO or a device is refused,
+// a file over kMaxPnmlBytes too) and parses it.
 core::Result<PnmlNet> read_pnml(const std::string& path);
 // The same from text; source_name labels the errors.
 core::Result<PnmlNet> parse_pnml(const std::string& text, const std::string& source_name);

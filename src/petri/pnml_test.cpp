@@ -1,5 +1,8 @@
 #include "petri/pnml.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -336,6 +339,27 @@ TEST(PnmlCorpus, MccModelsMatchTheirAnswersAndRoundTrip) {
     ++models;
   }
   EXPECT_EQ(23, models);
+}
+
+// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
+// unless the reader refuses what is not a regular file.
+std::filesystem::path make_fifo(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::remove(path);
+  if (::mkfifo(path.c_str(), 0600) != 0) return {};
+  return path;
+}
+
+TEST(PnmlRead, AFifoGivenAsInputIsAnErrorNotAHang) {
+  const auto fifo = make_fifo("net.pnml");
+  ASSERT_FALSE(fifo.empty());
+  auto r = read_pnml(fifo.string());
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(r);
+  EXPECT_EQ(core::ErrorCode::Io, r.error().code);
+  EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

@@ -18,6 +18,8 @@
 
 #include <fmt/format.h>
 
+#include "core/file.h"
+
 extern char** environ;
 
 namespace strata::plot {
@@ -223,11 +225,12 @@ std::optional<fs::path> find_on_path(std::string_view name) {
 
 namespace {
 
+// What gnuplot wrote to its stderr file ("" if it cannot be read; a
+// gnuplot that writes more than a few megabytes of messages is not heard).
 std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
+  auto text = core::read_regular_file(file.string(), std::size_t{4} << 20);
+  if (!text) return {};
+  std::string s = std::move(text).value();
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
   return s;
 }

@@ -1,16 +1,15 @@
 #include "plot/plot_log.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <limits>
 #include <map>
 #include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "core/file.h"
 
 namespace strata::plot {
 namespace {
@@ -198,14 +197,11 @@ core::Result<MissionPlot> read_log(std::istream& in, std::string_view name) {
 }
 
 core::Result<MissionPlot> read_log_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("cannot read '{}': it is a folder", path));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
-  }
+  auto text = core::read_regular_file(path, kMaxLogBytes, [](const std::string& p, const char* reason) {
+    return fmt::format("cannot open '{}': {}", p, reason);
+  });
+  if (!text) return text.error();
+  std::istringstream in(std::move(text).value());
   return read_log(in, path);
 }
 

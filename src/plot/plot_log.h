@@ -72,7 +72,12 @@ struct MissionPlot {
 // log without depth telemetry.
 core::Result<MissionPlot> read_log(std::istream& in, std::string_view name);
 
-// The same from a file; Io when it cannot be read.
+// The largest mission log read (hours of telemetry are a few megabytes).
+inline constexpr std::size_t kMaxLogBytes = std::size_t{1} << 30;
+
+// The same from a file (core::read_regular_file: a FIFO or a device is
+// refused, never waited on); Io when it cannot be read, Overflow past
+// kMaxLogBytes.
 core::Result<MissionPlot> read_log_file(const std::string& path);
 
 }  // namespace strata::plot

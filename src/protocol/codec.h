@@ -2,11 +2,8 @@
 // One encoder and one decoder for both ends of the link: the vehicle decodes
 // requests and encodes its messages, the tactical client the other way round.
 // Pure functions; no I/O. docs/protocol.md is the table they implement.
-#include <cassert>
 #include <string>
 #include <string_view>
-#include <utility>
-#include <variant>
 
 #include "core/result.h"
 #include "protocol/message.h"
@@ -27,30 +24,10 @@ struct DecodeError {
 
 Err to_err(const DecodeError& e);
 
-// A decoded message or the reason it could not be; the same shape as
-// core::Result, with a DecodeError instead of a core::Error.
+// A decoded message or the reason it could not be: core::Result with a
+// DecodeError for its error (to_core() gives the plain core::Result<T>).
 template <typename T>
-class [[nodiscard]] DecodeResult {
- public:
-  DecodeResult(T value) : v_(std::move(value)) {}  // NOLINT: implicit by design
-  DecodeResult(DecodeError error) : v_(std::move(error)) {}  // NOLINT
-
-  bool ok() const { return v_.index() == 0; }
-  explicit operator bool() const { return ok(); }
-
-  T& value() & { assert(ok()); return std::get<0>(v_); }
-  const T& value() const& { assert(ok()); return std::get<0>(v_); }
-  T&& value() && { assert(ok()); return std::get<0>(std::move(v_)); }
-  const DecodeError& error() const { assert(!ok()); return std::get<1>(v_); }
-
-  core::Result<T> to_core() && {
-    if (ok()) return std::get<0>(std::move(v_));
-    return error().to_core();
-  }
-
- private:
-  std::variant<T, DecodeError> v_;
-};
+using DecodeResult = core::Result<T, DecodeError>;
 
 // One line ending in "\n". Strings that the grammar cannot carry lose their
 // unprintable bytes ('?'); the free text of err and event is cut (ending in

@@ -14,11 +14,10 @@ std::vector<Frame> LineFramer::feed(std::string_view bytes) {
       continue;
     }
     // A line of n bytes before its "\n" takes n + 1 bytes on the wire (a
-    // "\r" before the "\n" is one of the n), so at most kMaxLineBytes - 1 are
+    // "\r" before the "\n" is one of the n), so at most the maximum - 1 are
     // kept; one more byte that is not the "\n" makes the line too long.
-    constexpr std::size_t kMaxContent = kMaxLineBytes - 1;
-    if (buffer_.size() + part.size() > kMaxContent) {
-      buffer_.append(part.substr(0, kMaxContent - buffer_.size()));
+    if (buffer_.size() + part.size() > max_content_) {
+      buffer_.append(part.substr(0, max_content_ - buffer_.size()));
       frames.push_back(Frame{std::move(buffer_), true});
       buffer_.clear();
       discarding_ = true;

@@ -12,9 +12,7 @@
 #include <fmt/format.h>
 
 #include "core/file.h"
-#include "strategic/prolog_driver_check_text.h"
-#include "strategic/prolog_driver_text.h"
-#include "strategic/prolog_rules_scan.h"
+#include "strategic/prolog_driver.h"
 #include "prolog/interrupt.h"
 
 namespace strata::prolog {
@@ -22,200 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The executor whose query is running; set by MissionQuery::next().
-Host* g_host = nullptr;
-// LoadLimits::max_bytes of the load under way, for '$strata_scan'/2.
-std::size_t g_max_rules_bytes = LoadLimits{}.max_bytes;
-
-term_t new_atom(const std::string& name) {
-  term_t t = PL_new_term_ref();
-  PL_put_atom_chars(t, name.c_str());
-  return t;
-}
-
-// strata_driver:Name(Args...)
-term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
-  term_t refs = PL_new_term_refs(static_cast<int>(args.size()));
-  int i = 0;
-  for (term_t a : args) {
-    if (!PL_put_term(refs + i++, a)) PL_clear_exception();
-  }
-  term_t goal = PL_new_term_ref();
-  term_t call = PL_new_term_ref();
-  if (!PL_cons_functor_v(goal, PL_new_functor(PL_new_atom(name), args.size()), refs) ||
-      !PL_cons_functor(call, PL_new_functor(PL_new_atom(":"), 2), new_atom("strata_driver"), goal)) {
-    PL_clear_exception();
-  }
-  return call;
-}
-
-core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args) {
-  return call_term(driver_goal(name, args));
-}
-
-// A primitive argument: a number, or text (an atom or a string). Raises a
-// Prolog error and returns nullopt otherwise.
-std::optional<tactical::Value> value_of(term_t t) {
-  double number = 0;
-  if (PL_is_number(t) && PL_get_float(t, &number)) return tactical::Value::of(number);
-  char* s = nullptr;
-  std::size_t len = 0;
-  if (PL_get_nchars(t, &len, &s, CVT_ATOM | CVT_STRING | BUF_STACK | REP_UTF8)) {
-    return tactical::Value::of(std::string(s, len));
-  }
-  if (PL_is_variable(t)) {
-    PL_instantiation_error(t);
-  } else {
-    PL_type_error("number_or_text", t);
-  }
-  return std::nullopt;
-}
-
-bool call_arguments(term_t name_t, term_t list, std::string& name, std::vector<tactical::Value>& args) {
-  char* s = nullptr;
-  if (!PL_get_atom_chars(name_t, &s)) return PL_type_error("atom", name_t);
-  name = s;
-  term_t head = PL_new_term_ref();
-  term_t tail = PL_copy_term_ref(list);
-  while (PL_get_list(tail, head, tail)) {
-    auto v = value_of(head);
-    if (!v) return false;
-    args.push_back(std::move(*v));
-  }
-  if (!PL_get_nil(tail)) return PL_type_error("list", list);
-  return true;
-}
-
-bool no_host() {
-  term_t ex = PL_new_term_ref();
-  return PL_unify_term(ex, PL_FUNCTOR_CHARS, "strata_error", 1, PL_CHARS,
-                       "a primitive was called outside a running mission") &&
-         PL_raise_exception(ex);
-}
-
-// '$strata_call'(+Name, +Args, -Answer): yields to the host until the
-// vehicle answers, then unifies Answer with 1 or 0.
-foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_t handle) {
-  alignas(8) static int token = 0;
-  switch (PL_foreign_control(handle)) {
-    case PL_FIRST_CALL: {
-      if (!g_host) return no_host();
-      std::string name;
-      std::vector<tactical::Value> args;
-      if (!call_arguments(name_t, args_t, name, args)) return FALSE;
-      g_host->primitive(name, std::move(args));
-      PL_yield_address(&token);
-    }
-    case PL_RESUME: {
-      auto answer = g_host ? g_host->answer() : std::nullopt;
-      if (!answer) {
-        term_t ex = PL_new_term_ref();
-        PL_put_atom_chars(ex, "strata_cancelled");
-        return PL_raise_exception(ex);
-      }
-      return PL_unify_integer(answer_t, *answer);
-    }
-    default: return TRUE;
-  }
-}
-
-foreign_t pl_strata_report(term_t name_t, term_t args_t) {
-  if (!g_host) return no_host();
-  std::string name;
-  std::vector<tactical::Value> args;
-  if (!call_arguments(name_t, args_t, name, args)) return FALSE;
-  g_host->report(name, std::move(args));
-  return TRUE;
-}
-
-// '$strata_phase'(+Event, +Phase): Event is start or end(Exit).
-foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
-  if (!g_host) return TRUE;  // the rules run outside a mission (plunit)
-  std::string phase = text_of(phase_t);
-  char* s = nullptr;
-  if (PL_get_atom_chars(event_t, &s)) {
-    g_host->phase_started(phase);
-    return TRUE;
-  }
-  term_t exit = PL_new_term_ref();
-  if (PL_is_functor(event_t, PL_new_functor(PL_new_atom("end"), 1)) && PL_get_arg(1, event_t, exit)) {
-    g_host->phase_ended(phase, text_of(exit));
-    return TRUE;
-  }
-  return PL_domain_error("phase_event", event_t);
-}
-
-// '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
-// Text) for what the reader must not see (scan_rules_text()). A file that
-// cannot be read is ok here: loading it says so.
-foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
-  char* file = nullptr;
-  if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
-  auto read = core::read_regular_file(file, g_max_rules_bytes);
-  if (!read && read.error().code == core::ErrorCode::Overflow) {
-    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
-                         PL_UTF8_STRING,
-                         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
-                                     g_max_rules_bytes)
-                             .c_str());
-  }
-  if (!read && read.error().message.ends_with("not a regular file")) {
-    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
-                         PL_UTF8_STRING, "not a regular file (a FIFO or a device is never read)");
-  }
-  if (!read) return PL_unify_atom_chars(problem_t, "ok");
-  const auto found = scan_rules_text(read.value());
-  if (!found) return PL_unify_atom_chars(problem_t, "ok");
-  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, static_cast<int64_t>(found->line),
-                       PL_INT64, static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
-}
-
-// Loads one of the driver's modules from its text.
-core::Result<void> load_module_text(const char* module, std::string_view text) {
-  Frame frame;
-  auto goal = parse_term(
-      "open_string(Text, S), call_cleanup(load_files(Module, [stream(S), silent(true), imports([])]), close(S))");
-  if (!goal) return goal.error();
-  term_t open = PL_new_term_ref();
-  term_t text_t = PL_new_term_ref();
-  term_t load = PL_new_term_ref();
-  term_t call_load = PL_new_term_ref();
-  term_t module_t = PL_new_term_ref();
-  if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text_t) ||
-      !PL_unify_chars(text_t, PL_STRING, text.size(), text.data()) || !PL_get_arg(2, goal.value(), load) ||
-      !PL_get_arg(1, load, call_load) || !PL_get_arg(1, call_load, module_t) ||
-      !PL_unify_atom_chars(module_t, module)) {
-    return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
-  }
-  auto r = call_term(goal.value());
-  if (!r || !r.value()) {
-    return core::make_error(core::ErrorCode::Internal,
-                            fmt::format("the PROLOG driver ({}) did not load: {}", module,
-                                        r ? std::string("failed") : r.error().message));
-  }
-  return {};
-}
-
-core::Result<void> ensure_driver() {
-  static bool loaded = false;
-  if (loaded) return {};
-  if (auto r = initialise(); !r) return r.error();
-  if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
-  if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
-  PL_register_foreign_in_module("strata_driver", "$strata_call", 3,
-                                reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
-  PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_report), 0);
-  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
-  PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
-  if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
-    return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");
-  }
-  loaded = true;
-  return {};
-}
+using detail::call_driver;
+using detail::driver_goal;
+using detail::new_atom;
 
 std::string prolog_atom(std::string_view s) {
   std::string out = "'";
@@ -374,8 +181,8 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
                                     limits.max_bytes)});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
-  g_max_rules_bytes = limits.max_bytes;
-  if (auto r = ensure_driver(); !r) return r.error();
+  detail::set_max_rules_bytes(limits.max_bytes);
+  if (auto r = detail::ensure_driver(); !r) return r.error();
   std::unique_ptr<Mission> mission(new Mission());
   mission->path_ = path;
   mission->name_ = fs::path(path).stem().string();
@@ -465,7 +272,7 @@ MissionQuery::~MissionQuery() { close(); }
 
 Query::Status MissionQuery::next() {
   if (!query_) return Query::Status::False;
-  g_host = &host_;
+  detail::set_running_host(&host_);
   Query::Status status;
   bool interrupted = false;
   {
@@ -473,7 +280,7 @@ Query::Status MissionQuery::next() {
     status = query_->next();
     interrupted = scope.interrupted();
   }
-  g_host = nullptr;
+  detail::set_running_host(nullptr);
   if (status != Query::Status::Exception) return status;
   exception_ = query_->exception_text();
   if (exception_ == "'$aborted'") {

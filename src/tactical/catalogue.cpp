@@ -11,7 +11,7 @@
 #include <fmt/ranges.h>
 
 #include "tactical/builtin_catalogue_text.h"  // generated from config/primitives.toml
-#include "tactical/toml_support.h"
+#include "core/toml_reader.h"
 
 namespace strata::tactical {
 
@@ -32,7 +32,7 @@ std::string list_names(const std::vector<std::string>& names) {
 // Checks one document against the catalogue's shape, collecting every problem.
 class CatalogueReader {
  public:
-  explicit CatalogueReader(detail::TomlErrors& errors) : errors_(errors) {}
+  explicit CatalogueReader(core::TomlErrors& errors) : errors_(errors) {}
 
   std::vector<Primitive> read(const toml::table& root) {
     std::vector<Primitive> out;
@@ -78,7 +78,7 @@ class CatalogueReader {
   const toml::node* string_node(const toml::table& t, std::string_view key, std::string_view owner) {
     const toml::node* n = t.get(key);
     if (n && !n->is_string()) {
-      errors_.add(*n, fmt::format("{}: '{}' must be a string, not {}", owner, key, detail::type_phrase(*n)));
+      errors_.add(*n, fmt::format("{}: '{}' must be a string, not {}", owner, key, core::toml_type_phrase(*n)));
       return nullptr;
     }
     return n;
@@ -170,7 +170,7 @@ class CatalogueReader {
       errors_.add(t, fmt::format("{} has no 'timeout_s' (the reply timeout, in seconds)", owner));
       ok = false;
     } else {
-      auto v = detail::as_number(*timeout);
+      auto v = core::toml_number(*timeout);
       if (!v || !std::isfinite(*v) || *v <= 0) {
         errors_.add(*timeout, fmt::format("{}: timeout_s must be a number of seconds above 0", owner));
         ok = false;
@@ -275,7 +275,7 @@ class CatalogueReader {
     for (auto [key, slot] : {std::pair{"min", &a.min}, std::pair{"max", &a.max}}) {
       const toml::node* n = t.get(key);
       if (!n) continue;
-      auto v = detail::as_number(*n);
+      auto v = core::toml_number(*n);
       if (!number) {
         errors_.add(*n, fmt::format("{}: '{}' applies to numbers only", what, key));
         ok = false;
@@ -293,7 +293,7 @@ class CatalogueReader {
 
     if (const toml::node* d = t.get("default")) {
       std::optional<Value> v;
-      if (auto n = detail::as_number(*d); n && number) v = Value::of(*n);
+      if (auto n = core::toml_number(*d); n && number) v = Value::of(*n);
       if (d->is_string() && !number) v = Value::of(str(*d));
       if (!v) {
         errors_.add(*d, fmt::format("{}: the default must be a {}", what, number ? "number" : "string"));
@@ -369,15 +369,15 @@ class CatalogueReader {
     return ok;
   }
 
-  detail::TomlErrors& errors_;
+  core::TomlErrors& errors_;
 };
 
 }  // namespace
 
 core::Result<Catalogue> Catalogue::parse(std::string_view text, const std::string& source_name) {
-  auto root = detail::parse_toml(text, source_name);
+  auto root = core::parse_toml(text, source_name);
   if (!root) return root.error();
-  detail::TomlErrors errors(source_name);
+  core::TomlErrors errors(source_name);
   CatalogueReader reader(errors);
   std::vector<Primitive> primitives = reader.read(root.value());
   if (!errors.empty()) return errors.error();
@@ -389,7 +389,7 @@ core::Result<Catalogue> Catalogue::parse(std::string_view text, const std::strin
 }
 
 core::Result<Catalogue> Catalogue::load(const std::string& path) {
-  auto text = detail::read_text_file(path);
+  auto text = core::read_toml_text(path);
   if (!text) return text.error();
   return parse(text.value(), path);
 }

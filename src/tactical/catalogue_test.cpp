@@ -1,7 +1,11 @@
 #include "tactical/catalogue.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -209,6 +213,27 @@ TEST(CataloguePrint, Json) {
       sleep.dump());
   EXPECT_EQ("report", j["primitives"][18]["kind"]);
   EXPECT_FALSE(j["primitives"][18].contains("message"));
+}
+
+// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
+// unless the reader refuses what is not a regular file.
+std::filesystem::path make_fifo(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::remove(path);
+  if (::mkfifo(path.c_str(), 0600) != 0) return {};
+  return path;
+}
+
+TEST(Catalogue, AFifoGivenAsTheCatalogueIsAnErrorNotAHang) {
+  const auto fifo = make_fifo("primitives.toml");
+  ASSERT_FALSE(fifo.empty());
+  auto r = Catalogue::load(fifo.string());
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(r);
+  EXPECT_EQ(core::ErrorCode::Io, r.error().code);
+  EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

@@ -4,14 +4,14 @@
 
 #include <fmt/format.h>
 
-#include "tactical/toml_support.h"
+#include "core/toml_reader.h"
 
 namespace strata::tactical {
 
 namespace {
 
 std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits,
-                                     detail::TomlErrors& errors) {
+                                     core::TomlErrors& errors) {
   std::vector<Setpoint> out;
   for (auto&& [key, node] : root) {
     if (key.str() != "setpoint") {
@@ -52,14 +52,14 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
       if (const auto* s = name->as_string()) {
         sp.name = s->get();
       } else {
-        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, detail::type_phrase(*name)));
+        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, core::toml_type_phrase(*name)));
       }
     }
     if (const toml::node* depth = t.get("depth_m")) {
-      auto v = detail::as_number(*depth);
+      auto v = core::toml_number(*depth);
       if (!v) {
         errors.add(*depth, fmt::format("{}: depth_m must be a number of metres, not {}", owner,
-                                       detail::type_phrase(*depth)));
+                                       core::toml_type_phrase(*depth)));
       } else if (!std::isfinite(*v) || *v < 0 || *v > limits.max_depth_m) {
         errors.add(*depth, fmt::format("{}: depth_m is {} m; it must lie in 0 .. {} m (positive down, "
                                        "within the tank)",
@@ -71,10 +71,10 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
       errors.add(t, fmt::format("{} has no depth_m", owner));
     }
     if (const toml::node* timeout = t.get("timeout_s")) {
-      auto v = detail::as_number(*timeout);
+      auto v = core::toml_number(*timeout);
       if (!v) {
         errors.add(*timeout, fmt::format("{}: timeout_s must be a number of seconds, not {}", owner,
-                                         detail::type_phrase(*timeout)));
+                                         core::toml_type_phrase(*timeout)));
       } else if (!std::isfinite(*v) || *v <= 0) {
         errors.add(*timeout, fmt::format("{}: timeout_s is {} s; it must be above 0", owner, *v));
       } else {
@@ -92,9 +92,9 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
 
 core::Result<MissionData> MissionData::parse(std::string_view text, const std::string& source_name,
                                              const DataLimits& limits) {
-  auto root = detail::parse_toml(text, source_name);
+  auto root = core::parse_toml(text, source_name);
   if (!root) return root.error();
-  detail::TomlErrors errors(source_name);
+  core::TomlErrors errors(source_name);
   std::vector<Setpoint> setpoints = read_setpoints(root.value(), limits, errors);
   if (!errors.empty()) return errors.error();
   MissionData data;
@@ -104,7 +104,7 @@ core::Result<MissionData> MissionData::parse(std::string_view text, const std::s
 }
 
 core::Result<MissionData> MissionData::load(const std::string& path, const DataLimits& limits) {
-  auto text = detail::read_text_file(path);
+  auto text = core::read_toml_text(path);
   if (!text) return text.error();
   return parse(text.value(), path, limits);
 }

@@ -1,12 +1,11 @@
 #include "tactical/sha256.h"
 
 #include <cassert>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "core/file.h"
 
 namespace strata::tactical {
 
@@ -126,19 +125,12 @@ std::string sha256_hex(std::string_view bytes) {
   return Sha256::hex(s.finish());
 }
 
-core::Result<std::string> sha256_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  }
-  Sha256 s;
-  std::vector<char> chunk(65536);
-  while (in) {
-    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    s.update(std::string_view(chunk.data(), static_cast<std::size_t>(in.gcount())));
-  }
-  if (in.bad()) return core::make_error(core::ErrorCode::Io, fmt::format("{}: read failed", path));
-  return Sha256::hex(s.finish());
+core::Result<std::string> sha256_file(const std::string& path, std::size_t max_bytes) {
+  auto bytes = core::read_regular_file(path, max_bytes, [](const std::string& p, const char* reason) {
+    return fmt::format("{}: cannot open: {}", p, reason);
+  });
+  if (!bytes) return bytes.error();
+  return sha256_hex(bytes.value());
 }
 
 }  // namespace strata::tactical

@@ -3,6 +3,7 @@
 // the mission and data files, so a log says exactly which inputs made it.
 // Not used for security.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -34,7 +35,8 @@ class Sha256 {
 
 // Lower-case hex digest of bytes.
 std::string sha256_hex(std::string_view bytes);
-// Lower-case hex digest of a file's bytes, or an Io error.
-core::Result<std::string> sha256_file(const std::string& path);
+// Lower-case hex digest of a regular file's bytes (core::read_regular_file),
+// or an Io error (Overflow past max_bytes).
+core::Result<std::string> sha256_file(const std::string& path, std::size_t max_bytes = std::size_t{256} << 20);
 
 }  // namespace strata::tactical

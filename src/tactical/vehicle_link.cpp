@@ -7,6 +7,21 @@ namespace strata::tactical {
 using core::ErrorCode;
 using core::make_error;
 
+namespace {
+
+// Lines up to the protocol's maximum (a longer one is reported as garbage and
+// skipped); a write queue no client fills unless the vehicle stopped reading.
+protocol::LineConnectionOptions link_options() {
+  protocol::LineConnectionOptions o;
+  o.max_line_bytes = protocol::kMaxLineBytes;
+  o.overlong = protocol::LineConnectionOptions::Overlong::Deliver;
+  o.max_queue_bytes = std::size_t{1} << 20;
+  o.when_full = protocol::LineConnectionOptions::WhenFull::Close;
+  return o;
+}
+
+}  // namespace
+
 std::string describe(const protocol::Request& request) {
   std::string line = protocol::encode(request);
   // "exec 7 sleep 1\n" -> "exec sleep 1": the id says nothing to a person.
@@ -47,8 +62,14 @@ VehicleLink::Hold VehicleLink::hold() {
 }
 
 VehicleLink::~VehicleLink() {
+  drop_connection("the link is gone");
+}
+
+void VehicleLink::drop_connection(const std::string& why) {
   asio::error_code ignored;
   socket_.close(ignored);
+  if (connection_) connection_->close(why);
+  connection_.reset();
 }
 
 void VehicleLink::connect(std::function<void(core::Result<protocol::Welcome>)> done) {
@@ -66,8 +87,8 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     return;
   }
   asio::ip::tcp::endpoint endpoint(address, options_.port);
+  drop_connection("connecting again");
   socket_ = asio::ip::tcp::socket(io_);
-  framer_.reset();
   auto finished = std::make_shared<bool>(false);
   connect_timer_.expires_after(options_.connect_timeout);
   connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
@@ -92,7 +113,16 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     asio::error_code ignored;
     socket_.set_option(nodelay, ignored);
     connected_ = true;
-    start_read();
+    std::weak_ptr<VehicleLink> weak = self;
+    connection_ = protocol::LineConnection::create(
+        std::move(socket_), link_options(),
+        {[weak](protocol::LineConnection&, const protocol::Frame& frame) {
+           if (auto link = weak.lock()) link->handle_line(frame);
+         },
+         [weak](protocol::LineConnection& c, const protocol::CloseReason& why) {
+           if (auto link = weak.lock()) link->connection_closed(c, why);
+         }});
+    connection_->start();
     // This handler is kept in pending_, inside the link: it must not hold
     // `self`, or the link would own itself.
     protocol::Request hello = protocol::make_hello(0, options_.client_name);
@@ -242,46 +272,28 @@ void VehicleLink::write(std::string line) {
     if (!text.empty() && text.back() == '\n') text.remove_suffix(1);
     options_.tap(true, text);
   }
-  write_queue_.push_back(std::move(line));
-  if (!writing_) start_write();
+  if (!connected_ || !connection_) return;
+  // A full queue closes the connection; connection_closed says so.
+  (void)connection_->send(std::move(line));
 }
 
-void VehicleLink::start_write() {
-  if (write_queue_.empty() || !connected_) {
-    writing_ = false;
-    return;
-  }
-  writing_ = true;
-  auto self = shared_from_this();
-  asio::async_write(socket_, asio::buffer(write_queue_.front()),
-                    [this, self](const asio::error_code& e, std::size_t) {
-                      if (!write_queue_.empty()) write_queue_.pop_front();
-                      if (e) {
-                        writing_ = false;
-                        lost(fmt::format("cannot write to the vehicle: {}", e.message()));
-                        return;
-                      }
-                      start_write();
-                    });
-}
-
-void VehicleLink::start_read() {
-  auto self = shared_from_this();
-  socket_.async_read_some(asio::buffer(read_buffer_), [this, self](const asio::error_code& e,
-                                                                   std::size_t n) {
-    if (e) {
-      if (!closing_) {
-        lost(e == asio::error::eof ? std::string("the vehicle closed the link")
-                                   : fmt::format("link to the vehicle failed: {}", e.message()));
-      }
+void VehicleLink::connection_closed(protocol::LineConnection& c, const protocol::CloseReason& why) {
+  if (&c != connection_.get()) return;
+  using Why = protocol::CloseReason::Why;
+  switch (why.why) {
+    case Why::PeerClosed:
+      lost("the vehicle closed the link");
       return;
-    }
-    for (const auto& frame : framer_.feed(std::string_view(read_buffer_.data(), n))) {
-      handle_line(frame);
-      if (!connected_) return;  // a handler closed the link
-    }
-    start_read();
-  });
+    case Why::ReadError:
+      lost(fmt::format("link to the vehicle failed: {}", why.error.message()));
+      return;
+    case Why::WriteError:
+      lost(fmt::format("cannot write to the vehicle: {}", why.error.message()));
+      return;
+    default:
+      lost(fmt::format("link to the vehicle closed: {}", why.message));
+      return;
+  }
 }
 
 void VehicleLink::handle_line(const protocol::Frame& frame) {
@@ -371,9 +383,7 @@ void VehicleLink::end_session() {
 void VehicleLink::lost(const std::string& why) {
   if (!connected_) return;
   end_session();
-  asio::error_code ignored;
-  socket_.close(ignored);
-  write_queue_.clear();
+  drop_connection(why);
   fail_all(make_error(ErrorCode::Closed, why));
   try_reconnect(why);
 }
@@ -402,9 +412,7 @@ void VehicleLink::try_reconnect(const std::string& why) {
 void VehicleLink::abandon(const core::Error& error) {
   end_session();
   reconnects_left_ = 0;
-  asio::error_code ignored;
-  socket_.close(ignored);
-  write_queue_.clear();
+  drop_connection(error.message);
   fail_all(error);
 }
 
@@ -412,9 +420,7 @@ void VehicleLink::close() {
   closing_ = true;
   end_session();
   connect_timer_.cancel();
-  asio::error_code ignored;
-  socket_.close(ignored);
-  write_queue_.clear();
+  drop_connection("the link was closed");
   fail_all(make_error(ErrorCode::Closed, "the link was closed"));
 }
 

@@ -32,14 +32,13 @@
 #include <string>
 #include <string_view>
 
-#include <array>
 #include <deque>
 
 #include <asio.hpp>
 
 #include "core/result.h"
 #include "protocol/codec.h"
-#include "protocol/framer.h"
+#include "protocol/line_connection.h"
 #include "protocol/message.h"
 
 namespace strata::tactical {
@@ -137,10 +136,11 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   };
 
   void start_connect(std::function<void(core::Result<protocol::Welcome>)> done);
-  void start_read();
   void handle_line(const protocol::Frame& frame);
   void write(std::string line);
-  void start_write();
+  void connection_closed(protocol::LineConnection& c, const protocol::CloseReason& why);
+  // Closes the connection (or the connect in progress) without a word.
+  void drop_connection(const std::string& why);
   void fail_all(const core::Error& error);
   void lost(const std::string& why);
   void try_reconnect(const std::string& why);
@@ -159,12 +159,9 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   void end_session();
   asio::io_context& io_;
   LinkOptions options_;
-  asio::ip::tcp::socket socket_;
+  asio::ip::tcp::socket socket_;  // while connecting
   asio::steady_timer connect_timer_;
-  protocol::LineFramer framer_;
-  std::array<char, 4096> read_buffer_{};
-  std::deque<std::string> write_queue_;
-  bool writing_ = false;
+  std::shared_ptr<protocol::LineConnection> connection_;  // once connected
   bool connected_ = false;
   bool closing_ = false;
   int reconnects_left_ = 0;

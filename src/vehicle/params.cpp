@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "vehicle/toml_util.h"
+#include "core/toml_reader.h"
 
 namespace strata::vehicle {
 namespace {
@@ -101,17 +101,17 @@ core::Result<void> set_field(std::string_view path, const Field& f, const toml::
   double v = 0.0;
   if (std::holds_alternative<int VehicleParams::*>(f.member)) {
     if (!node.is_integer()) {
-      return detail::error_at(path, node.source(), fmt::format("'{}' must be an integer", name));
+      return core::toml_error_at(path, node.source(), fmt::format("'{}' must be an integer", name));
     }
     v = static_cast<double>(*node.value<std::int64_t>());
   } else {
-    auto n = detail::number_at(path, node, name);
+    auto n = core::toml_number_at(path, node, name);
     if (!n) return n.error();
     v = n.value();
   }
   const bool lo_ok = f.lo_open ? v > f.lo : v >= f.lo;
   if (!std::isfinite(v) || !lo_ok || v > f.hi) {
-    return detail::error_at(path, node.source(),
+    return core::toml_error_at(path, node.source(),
                             fmt::format("'{}' = {} is out of range ({})", name, v, range_text(f)));
   }
   if (auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
@@ -126,18 +126,18 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
   VehicleParams p;
   for (auto&& [tname, tnode] : root) {
     if (!known_table(tname.str())) {
-      return detail::error_at(path, tname.source(),
+      return core::toml_error_at(path, tname.source(),
                               fmt::format("unknown table '{}'", tname.str()));
     }
     const toml::table* t = tnode.as_table();
     if (t == nullptr) {
-      return detail::error_at(path, tnode.source(),
+      return core::toml_error_at(path, tnode.source(),
                               fmt::format("'{}' must be a table", tname.str()));
     }
     for (auto&& [key, node] : *t) {
       const Field* f = find_field(tname.str(), key.str());
       if (f == nullptr) {
-        return detail::error_at(path, key.source(),
+        return core::toml_error_at(path, key.source(),
                                 fmt::format("unknown key '{}.{}'", tname.str(), key.str()));
       }
       if (auto r = set_field(path, *f, node, p); !r) return r.error();
@@ -146,11 +146,11 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
   for (const Field& f : kFields) {
     const toml::node* node = root.at_path(fmt::format("{}.{}", f.table, f.key)).node();
     if (node == nullptr) {
-      return detail::error_in(path, fmt::format("missing key '{}.{}'", f.table, f.key));
+      return core::toml_error_in(path, fmt::format("missing key '{}.{}'", f.table, f.key));
     }
   }
   if (p.surface_depth_m >= p.tank_depth_m) {
-    return detail::error_in(path, "detection.surface_depth_m must be less than "
+    return core::toml_error_in(path, "detection.surface_depth_m must be less than "
                                   "simulation.tank_depth_m");
   }
   return p;
@@ -159,13 +159,13 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
 }  // namespace
 
 core::Result<VehicleParams> load_params(std::string_view path) {
-  auto table = detail::parse_toml_file(path);
+  auto table = core::parse_toml_file(std::string(path));
   if (!table) return table.error();
   return params_from_table(path, table.value());
 }
 
 core::Result<VehicleParams> parse_params(std::string_view text, std::string_view path) {
-  auto table = detail::parse_toml(text, path);
+  auto table = core::parse_toml(text, path);
   if (!table) return table.error();
   return params_from_table(path, table.value());
 }

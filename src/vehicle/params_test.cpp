@@ -1,5 +1,9 @@
 #include "vehicle/params.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -136,6 +140,27 @@ TEST(Params, MissingFileIsAnIoError) {
   ASSERT_FALSE(p.ok());
   EXPECT_EQ(core::ErrorCode::Io, p.error().code);
   EXPECT_EQ("/nonexistent/phoenix.toml: cannot open file", p.error().message);
+}
+
+// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
+// unless the reader refuses what is not a regular file.
+std::filesystem::path make_fifo(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::remove(path);
+  if (::mkfifo(path.c_str(), 0600) != 0) return {};
+  return path;
+}
+
+TEST(Params, AFifoGivenAsTheParametersIsAnErrorNotAHang) {
+  const auto fifo = make_fifo("phoenix.toml");
+  ASSERT_FALSE(fifo.empty());
+  auto r = load_params(fifo.string());
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(r);
+  EXPECT_EQ(core::ErrorCode::Io, r.error().code);
+  EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

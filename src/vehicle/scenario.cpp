@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "vehicle/time_compare.h"
-#include "vehicle/toml_util.h"
+#include "core/toml_reader.h"
 
 namespace strata::vehicle {
 
@@ -61,11 +61,11 @@ bool allowed_key(FaultKind kind, std::string_view key) {
 
 core::Result<double> non_negative(std::string_view path, const toml::node& node,
                                   std::string_view what, bool allow_zero) {
-  auto v = detail::number_at(path, node, what);
+  auto v = core::toml_number_at(path, node, what);
   if (!v) return v;
   const double x = v.value();
   if (!std::isfinite(x) || x < 0.0 || (!allow_zero && x == 0.0)) {
-    return detail::error_at(path, node.source(),
+    return core::toml_error_at(path, node.source(),
                             fmt::format("'{}' must be {}", what, allow_zero ? ">= 0" : "> 0"));
   }
   return x;
@@ -73,12 +73,12 @@ core::Result<double> non_negative(std::string_view path, const toml::node& node,
 
 core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
   const toml::node* kind_node = t.get("kind");
-  if (kind_node == nullptr) return detail::error_at(path, t.source(), "fault without 'kind'");
+  if (kind_node == nullptr) return core::toml_error_at(path, t.source(), "fault without 'kind'");
   const auto kind_text = kind_node->value<std::string_view>();
-  if (!kind_text) return detail::error_at(path, kind_node->source(), "'kind' must be a string");
+  if (!kind_text) return core::toml_error_at(path, kind_node->source(), "'kind' must be a string");
   const auto kind = kind_from(*kind_text);
   if (!kind) {
-    return detail::error_at(path, kind_node->source(),
+    return core::toml_error_at(path, kind_node->source(),
                             fmt::format("unknown fault kind '{}' (expected weak_thrusters, leak, "
                                         "sensor_dropout or link_loss)",
                                         *kind_text));
@@ -88,12 +88,12 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
   for (auto&& [key, node] : t) {
     const std::string_view k = key.str();
     if (k == "kind" || k == "at_s" || allowed_key(*kind, k)) continue;
-    return detail::error_at(path, key.source(),
+    return core::toml_error_at(path, key.source(),
                             fmt::format("unknown key '{}' for a {} fault", k, *kind_text));
   }
 
   const toml::node* at = t.get("at_s");
-  if (at == nullptr) return detail::error_at(path, t.source(), "fault without 'at_s'");
+  if (at == nullptr) return core::toml_error_at(path, t.source(), "fault without 'at_s'");
   auto at_s = non_negative(path, *at, "at_s", true);
   if (!at_s) return at_s.error();
   f.at_s = at_s.value();
@@ -102,12 +102,12 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
     case FaultKind::WeakThrusters: {
       const toml::node* h = t.get("health");
       if (h == nullptr) {
-        return detail::error_at(path, t.source(), "weak_thrusters fault without 'health'");
+        return core::toml_error_at(path, t.source(), "weak_thrusters fault without 'health'");
       }
       auto health = non_negative(path, *h, "health", true);
       if (!health) return health.error();
       if (health.value() > 1.0) {
-        return detail::error_at(path, h->source(), "'health' must be in [0, 1]");
+        return core::toml_error_at(path, h->source(), "'health' must be in [0, 1]");
       }
       f.health = health.value();
       break;
@@ -119,17 +119,17 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
       const toml::node* forever = t.get("forever");
       if (forever != nullptr) {
         if (!forever->is_boolean() || !*forever->value<bool>()) {
-          return detail::error_at(path, forever->source(),
+          return core::toml_error_at(path, forever->source(),
                                   "'forever' must be true (omit it for a limited loss)");
         }
         if (d != nullptr) {
-          return detail::error_at(path, d->source(),
+          return core::toml_error_at(path, d->source(),
                                   "give either 'duration_s' or 'forever = true', not both");
         }
         break;
       }
       if (d == nullptr) {
-        return detail::error_at(path, t.source(),
+        return core::toml_error_at(path, t.source(),
                                 f.kind == FaultKind::LinkLoss
                                     ? "link_loss fault needs 'duration_s' or 'forever = true'"
                                     : "sensor_dropout fault without 'duration_s'");
@@ -152,11 +152,11 @@ core::Result<const toml::table*> optional_table(std::string_view path, const tom
   if (node == nullptr) return static_cast<const toml::table*>(nullptr);
   const toml::table* t = node->as_table();
   if (t == nullptr) {
-    return detail::error_at(path, node->source(), fmt::format("'{}' must be a table", name));
+    return core::toml_error_at(path, node->source(), fmt::format("'{}' must be a table", name));
   }
   for (auto&& [key, value] : *t) {
     if (std::find(keys.begin(), keys.end(), key.str()) == keys.end()) {
-      return detail::error_at(path, key.source(),
+      return core::toml_error_at(path, key.source(),
                               fmt::format("unknown key '{}' in [{}]", key.str(), name));
     }
   }
@@ -180,7 +180,7 @@ core::Result<void> parse_vehicle(std::string_view path, const toml::table& root,
     auto h = non_negative(path, *n, "vehicle.heading_deg", true);
     if (!h) return h.error();
     if (h.value() >= 360.0) {
-      return detail::error_at(path, n->source(), "'vehicle.heading_deg' must be in [0, 360)");
+      return core::toml_error_at(path, n->source(), "'vehicle.heading_deg' must be in [0, 360)");
     }
     s.vehicle_heading_deg = h.value();
   }
@@ -198,7 +198,7 @@ core::Result<void> parse_target(std::string_view path, const toml::table& root, 
                           std::pair{"radius_m", &target.radius_m}}) {
     const toml::node* n = v.get(key);
     if (n == nullptr) {
-      return detail::error_at(path, v.source(), fmt::format("target without '{}'", key));
+      return core::toml_error_at(path, v.source(), fmt::format("target without '{}'", key));
     }
     const bool radius = std::string_view(key) == "radius_m";
     auto x = non_negative(path, *n, fmt::format("target.{}", key), !radius);
@@ -214,19 +214,19 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
   for (auto&& [key, node] : root) {
     const std::string_view k = key.str();
     if (k != "seed" && k != "description" && k != "fault" && k != "vehicle" && k != "target") {
-      return detail::error_at(path, key.source(), fmt::format("unknown key '{}'", k));
+      return core::toml_error_at(path, key.source(), fmt::format("unknown key '{}'", k));
     }
   }
   const toml::node* seed = root.get("seed");
-  if (seed == nullptr) return detail::error_in(path, "missing 'seed'");
+  if (seed == nullptr) return core::toml_error_in(path, "missing 'seed'");
   if (!seed->is_integer() || *seed->value<std::int64_t>() < 0) {
-    return detail::error_at(path, seed->source(), "'seed' must be an integer >= 0");
+    return core::toml_error_at(path, seed->source(), "'seed' must be an integer >= 0");
   }
   s.seed = static_cast<std::uint64_t>(*seed->value<std::int64_t>());
 
   if (const toml::node* d = root.get("description")) {
     if (!d->is_string()) {
-      return detail::error_at(path, d->source(), "'description' must be a string");
+      return core::toml_error_at(path, d->source(), "'description' must be a string");
     }
     s.description = *d->value<std::string>();
   }
@@ -234,7 +234,7 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
   if (const toml::node* faults = root.get("fault")) {
     const toml::array* arr = faults->as_array();
     if (arr == nullptr || (!arr->empty() && !arr->is_array_of_tables())) {
-      return detail::error_at(path, faults->source(),
+      return core::toml_error_at(path, faults->source(),
                               "'fault' must be an array of tables ([[fault]])");
     }
     for (const toml::node& n : *arr) {
@@ -251,13 +251,13 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
 }  // namespace
 
 core::Result<Scenario> load_scenario(std::string_view path) {
-  auto table = detail::parse_toml_file(path);
+  auto table = core::parse_toml_file(std::string(path));
   if (!table) return table.error();
   return scenario_from_table(path, table.value());
 }
 
 core::Result<Scenario> parse_scenario(std::string_view text, std::string_view path) {
-  auto table = detail::parse_toml(text, path);
+  auto table = core::parse_toml(text, path);
   if (!table) return table.error();
   return scenario_from_table(path, table.value());
 }

@@ -54,10 +54,11 @@
 
 #include <asio.hpp>
 
-#include "protocol/framer.h"
+#include "protocol/line_connection.h"
 #include "protocol/message.h"
 #include "vehicle/simulation.h"
 #include "vehicle/sonar_server.h"
+#include "vehicle/telemetry_sampler.h"
 
 namespace strata::vehicle {
 
@@ -107,20 +108,19 @@ class VehicleServer {
   void when_settled(std::function<void()> f);
 
  private:
-  class Connection;
-  friend class Connection;
-
   void accept();
-  void on_request(Connection& c, const protocol::Request& r);
+  void on_request(protocol::LineConnection& c, const protocol::Request& r);
   void on_hello(const protocol::Request& r);
   void on_call(const protocol::Request& r);
   void advance(std::optional<protocol::RequestId> advance_id);
   void reply_due();
   bool in_flight(protocol::RequestId id) const;
-  void arm_hello_timeout(const std::shared_ptr<Connection>& c);
-  void on_line(Connection& c, const protocol::Frame& frame);
-  void on_closed(Connection& c);
+  void arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c);
+  void on_line(protocol::LineConnection& c, const protocol::Frame& frame);
+  void on_closed(protocol::LineConnection& c, const protocol::CloseReason& why);
   void send(const protocol::VehicleMessage& m);
+  // Writes a line (with its newline) to c, traced when trace is on.
+  void write(protocol::LineConnection& c, std::string line);
   void step_one();
   void after_step();
   void flush_events();
@@ -141,7 +141,7 @@ class VehicleServer {
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
   asio::steady_timer hello_timer_;
-  std::shared_ptr<Connection> controller_;
+  std::shared_ptr<protocol::LineConnection> controller_;
   std::unique_ptr<SonarServer> sonar_;
   bool sonar_was_on_ = false;
   std::uint16_t port_ = 0;
@@ -153,8 +153,7 @@ class VehicleServer {
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;
   std::vector<std::function<void()>> settled_waiters_;
-  double telemetry_rate_hz_ = 0.0;
-  double next_telemetry_s_ = 0.0;
+  TelemetrySampler telemetry_;
   double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)
   double next_heartbeat_s_ = 1.0;
   struct Deferred {

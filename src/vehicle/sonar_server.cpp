@@ -1,89 +1,68 @@
 #include "vehicle/sonar_server.h"
 
-#include <deque>
+#include <utility>
+
+#include "protocol/line_connection.h"
 
 namespace strata::vehicle {
 
 using asio::ip::tcp;
 
-class SonarServer::Reader : public std::enable_shared_from_this<Reader> {
+// A reader: a connection whose lines are ignored (a reader has nothing to
+// say; reading notices when it goes away), and a write queue with room for
+// max_queue_bytes of pings and some more for the status and end frames, which
+// are never dropped. A reader that lets even those pile up is closed.
+class SonarServer::Reader {
  public:
-  Reader(SonarServer& server, tcp::socket socket) : server_(&server), socket_(std::move(socket)) {}
+  Reader(SonarServer& server, tcp::socket socket) : server_(&server) {
+    protocol::LineConnectionOptions o;
+    o.overlong = protocol::LineConnectionOptions::Overlong::Deliver;
+    o.max_queue_bytes = server.options_.max_queue_bytes + kControlRoomBytes;
+    o.when_full = protocol::LineConnectionOptions::WhenFull::Close;
+    connection_ = protocol::LineConnection::create(
+        std::move(socket), o,
+        {[](protocol::LineConnection&, const protocol::Frame&) {},
+         [this](protocol::LineConnection&, const protocol::CloseReason&) { leave(); }});
+  }
 
-  void start() { read(); }
+  void start() { connection_->start(); }
 
-  // Queues a frame; a ping (droppable) is dropped when the queue is full.
+  // Queues a frame; a ping (droppable) is dropped when its bound is reached.
   void send(std::shared_ptr<const std::string> bytes, bool droppable) {
-    if (closing_ || !server_) return;
-    if (droppable && queued_bytes_ + bytes->size() > server_->options_.max_queue_bytes) {
+    if (connection_->closing() || !server_) return;
+    if (droppable && connection_->queued_bytes() + bytes->size() > server_->options_.max_queue_bytes) {
       ++dropped_;
       return;
     }
-    queued_bytes_ += bytes->size();
-    queue_.push_back(std::move(bytes));
-    if (!writing_) write();
+    // A full queue closes the connection; on_close then forgets the reader.
+    (void)connection_->send(*bytes);
   }
 
-  // After what is queued: close.
-  void finish() {
-    closing_ = true;
-    if (!writing_) close();
-  }
+  // After what is queued: close (and on_close forgets the reader).
+  void finish() { connection_->close_when_written("the vehicle is stopping"); }
 
+  // Closes now; the server forgets it.
   void close() {
-    asio::error_code ignored;
-    socket_.shutdown(tcp::socket::shutdown_both, ignored);
-    socket_.close(ignored);
+    connection_->close("the vehicle is stopping");
+    leave();
+  }
+
+  std::uint64_t dropped() const { return dropped_; }
+  void detach() { server_ = nullptr; }
+  ~Reader() { connection_->close(); }
+
+ private:
+  static constexpr std::size_t kControlRoomBytes = 64 * 1024;
+
+  void leave() {
     if (server_) {
       SonarServer* s = std::exchange(server_, nullptr);
       s->remove(this);  // may free this object: touch nothing after
     }
   }
-
-  std::uint64_t dropped() const { return dropped_; }
-  void detach() { server_ = nullptr; }
-
- private:
-  void write() {
-    writing_ = true;
-    asio::async_write(socket_, asio::buffer(*queue_.front()),
-                      [self = shared_from_this()](const asio::error_code& ec, std::size_t) {
-                        self->writing_ = false;
-                        if (!self->server_) return;
-                        if (ec) {
-                          self->close();
-                          return;
-                        }
-                        self->queued_bytes_ -= self->queue_.front()->size();
-                        self->queue_.pop_front();
-                        if (!self->queue_.empty()) {
-                          self->write();
-                        } else if (self->closing_) {
-                          self->close();
-                        }
-                      });
-  }
-
-  // A reader has nothing to say; reading notices when it goes away.
-  void read() {
-    socket_.async_read_some(asio::buffer(scratch_), [self = shared_from_this()](const asio::error_code& ec, std::size_t) {
-      if (!self->server_) return;
-      if (ec) {
-        if (!self->writing_) self->close();
-        return;
-      }
-      self->read();
-    });
-  }
-
   SonarServer* server_;
-  tcp::socket socket_;
-  std::deque<std::shared_ptr<const std::string>> queue_;
-  std::size_t queued_bytes_ = 0;
+  std::shared_ptr<protocol::LineConnection> connection_;
   std::uint64_t dropped_ = 0;
-  bool writing_ = false;
-  bool closing_ = false;
-  char scratch_[256];
 };
 
 SonarServer::SonarServer(asio::io_context& io, SonarServerOptions options)
@@ -134,7 +113,7 @@ void SonarServer::remove(Reader* r) {
   for (auto it = readers_.begin(); it != readers_.end(); ++it) {
     if (it->get() == r) {
       dropped_gone_ += r->dropped();
-      readers_.erase(it);  // the pending handlers keep it alive until they run
+      readers_.erase(it);  // its connection is closed; pending handlers only see that
       return;
     }
   }

@@ -1,0 +1,69 @@
+#pragma once
+// Internal to the verifier (verifier.cpp runs it, verifier_properties.cpp
+// decides each property, verifier_trace.cpp turns states into counterexamples
+// and names for people): one net's analysis net and its explored state space.
+#include <cstddef>
+#include <cstdint>
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "coral/analysis.h"
+#include "coral/verifier.h"
+#include "petri/reach_graph.h"
+
+namespace strata::coral::detail {
+
+using petri::StateId;
+
+std::string join(const std::vector<std::string>& items, std::string_view sep = ", ");
+
+struct ExploredNet {
+  // Builds the analysis net of cn (with the exits of the phases in `known`)
+  // and explores it, up to options.max_states.
+  ExploredNet(const Program& program, const CompiledNet& cn, const std::vector<PhaseExits>& known,
+              const VerifyOptions& options);
+
+  const Program& program;
+  const CompiledNet& cn;
+  AnalysisNet an;
+  petri::ReachGraph graph;
+  std::vector<std::uint64_t> bounds;  // by place of an.net: the most tokens seen there
+
+  std::uint64_t max_bound() const;
+  // A mission net without exits ends when nothing is enabled; a phase
+  // without exits never ends.
+  bool ends_when_dead() const;
+  // Edges into s, with `target` holding their source; built on first use.
+  std::span<const petri::ReachEdge> predecessors(StateId s) const;
+  // Every step that can still happen from s.
+  std::set<petri::TransitionId> reachable_steps(StateId from) const;
+
+  // Names for people (verifier_trace.cpp).
+  const ActionSpec& action_of(petri::TransitionId t, std::size_t i) const;
+  std::string place_label(petri::PlaceId p) const;
+  std::string step_label(petri::TransitionId t) const;
+  std::vector<std::string> labels(const std::set<petri::TransitionId>& steps) const;
+
+  // Counterexamples (verifier_trace.cpp): the shortest run to s, or the
+  // steps of `path` from the initial marking, which end at state s.
+  Counterexample trace_to(StateId s) const;
+  Counterexample trace_along(const std::vector<petri::TransitionId>& path, StateId s) const;
+
+ private:
+  mutable std::vector<std::size_t> pred_begin_;
+  mutable std::vector<petri::ReachEdge> preds_;
+};
+
+// The properties, in report order (verifier_properties.cpp).
+Property bounded(const ExploredNet& x);
+Property one_safe(const ExploredNet& x);
+Property no_dead(const ExploredNet& x);
+Property no_deadlock(const ExploredNet& x);
+Property can_always_end(const ExploredNet& x);
+Property no_busy_cycle(const ExploredNet& x);
+Property exits_exclusive(const ExploredNet& x);
+
+}  // namespace strata::coral::detail

@@ -1,0 +1,251 @@
+// The verifier's properties (docs/verification.md), each decided on one
+// explored net; a property that fails carries its counterexample.
+#include <algorithm>
+#include <deque>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "coral/verifier_internal.h"
+
+namespace strata::coral::detail {
+namespace {
+
+using Status = Property::Status;
+
+Property named(std::string key) {
+  Property p;
+  p.key = std::move(key);
+  return p;
+}
+
+Property undecided(const ExploredNet& x, Property p) {
+  p.status = Status::Undecided;
+  p.message = fmt::format("not decided: the exploration stopped ({})", x.graph.stopped_why());
+  return p;
+}
+
+}  // namespace
+
+Property bounded(const ExploredNet& x) {
+  Property p = named("bounded");
+  if (const auto& u = x.graph.unbounded()) {
+    std::vector<std::string> grows;
+    auto m = x.graph.marking(u->state), a = x.graph.marking(u->ancestor);
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      if (m[i] > a[i]) grows.push_back(x.place_label(static_cast<petri::PlaceId>(i)));
+    }
+    p.status = Status::Fails;
+    p.message = fmt::format("unbounded: {} can grow without limit; the steps from step {} on can repeat for ever",
+                            join(grows), x.graph.path_to(u->ancestor).size() + 1);
+    p.counterexample = x.trace_to(u->state);
+    p.counterexample->repeat_from = x.graph.path_to(u->ancestor).size();
+    return p;
+  }
+  if (!x.graph.complete()) return undecided(x, p);
+  p.message = fmt::format("every place is bounded (the most tokens in one place: {})", x.max_bound());
+  return p;
+}
+
+Property one_safe(const ExploredNet& x) {
+  Property p = named("one_safe");
+  for (StateId s = 0; s < x.graph.state_count(); ++s) {
+    auto m = x.graph.marking(s);
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      if (m[i] < 2) continue;
+      p.status = Status::Fails;
+      p.message = fmt::format("{} can hold {} tokens", x.place_label(static_cast<petri::PlaceId>(i)), m[i]);
+      p.counterexample = x.trace_to(s);
+      return p;
+    }
+  }
+  if (x.graph.unbounded()) {
+    p.status = Status::Fails;
+    p.message = "an unbounded place holds 2 tokens and more (see bounded)";
+    return p;
+  }
+  if (!x.graph.complete()) return undecided(x, p);
+  p.message = "no place holds more than 1 token";
+  return p;
+}
+
+Property no_dead(const ExploredNet& x) {
+  Property p = named("no_dead");
+  std::vector<bool> fired(x.an.net.transition_count(), false);
+  for (StateId s = 0; s < x.graph.state_count(); ++s) {
+    for (const auto& e : x.graph.successors(s)) fired[e.transition] = true;
+  }
+  std::vector<std::string> dead;
+  for (petri::TransitionId t = 0; t < x.cn.net.transition_count(); ++t) {
+    if (fired[t]) continue;
+    std::string why;
+    for (const petri::Arc& a : x.cn.net.inputs(t)) {
+      if (x.bounds[a.node] < a.weight) {
+        why = a.weight == 1 ? fmt::format(" ({} is never marked)", x.cn.net.place_name(a.node))
+                            : fmt::format(" ({} never holds {} tokens)", x.cn.net.place_name(a.node), a.weight);
+        break;
+      }
+    }
+    dead.push_back(fmt::format("{}{}", x.cn.net.transition_name(t), why));
+  }
+  if (dead.empty()) {
+    p.message = x.cn.net.transition_count() == 1 ? "the one transition can fire"
+                                                 : fmt::format("each of the {} transitions can fire", x.cn.net.transition_count());
+    return p;
+  }
+  if (!x.graph.complete()) return undecided(x, p);
+  p.status = Status::Fails;
+  p.message = fmt::format("never fire{}: {}", dead.size() == 1 ? "s" : "", join(dead));
+  return p;
+}
+
+Property no_deadlock(const ExploredNet& x) {
+  Property p = named("no_deadlock");
+  if (x.ends_when_dead()) {
+    p.message = "a mission net without exits ends when nothing is enabled and nothing is in flight";
+    return p;
+  }
+  for (StateId s = 0; s < x.graph.state_count(); ++s) {
+    if (!x.graph.explored(s) || x.graph.terminal(s) || !x.graph.successors(s).empty()) continue;
+    p.status = Status::Fails;
+    p.counterexample = x.trace_to(s);
+    p.message = p.counterexample->in_flight.empty()
+                    ? "deadlock: nothing enabled, nothing in flight and no exit marked (the engine reports a stall)"
+                    : "deadlock: nothing enabled, and what is in flight can never end (its phase reaches no exit)";
+    return p;
+  }
+  if (!x.graph.complete()) return undecided(x, p);
+  p.message = "every run that stops, stops at an exit";
+  return p;
+}
+
+Property can_always_end(const ExploredNet& x) {
+  Property p = named("can_always_end");
+  if (!x.graph.complete()) return undecided(x, p);
+  const std::size_t n = x.graph.state_count();
+  // Backwards from the ends: markings with an exit, or, for a mission net
+  // without exits, dead ones. (A phase without exits has no end.)
+  std::vector<bool> ends(n, false);
+  std::deque<StateId> queue;
+  for (StateId s = 0; s < n; ++s) {
+    const bool end = x.ends_when_dead() ? x.graph.successors(s).empty() : x.graph.terminal(s);
+    if (end) {
+      ends[s] = true;
+      queue.push_back(s);
+    }
+  }
+  while (!queue.empty()) {
+    StateId s = queue.front();
+    queue.pop_front();
+    for (const auto& e : x.predecessors(s)) {
+      if (!ends[e.target]) {
+        ends[e.target] = true;
+        queue.push_back(e.target);
+      }
+    }
+  }
+  // The nearest marking (breadth-first order) that cannot end.
+  StateId bad = 0;
+  while (bad < n && ends[bad]) ++bad;
+  const std::string goal = x.ends_when_dead() ? "the end (nothing enabled)" : "an exit";
+  if (bad == n) {
+    p.message = fmt::format("{} stays reachable from every marking", goal);
+    return p;
+  }
+  p.status = Status::Fails;
+  if (x.cn.exits.empty() && !x.ends_when_dead()) {
+    p.message = "a phase without exits can never end";
+  } else if (x.graph.successors(bad).empty()) {
+    p.message = fmt::format("trapped: {} can no longer be reached (nothing can fire)", goal);
+  } else {
+    p.message = fmt::format("trapped: from here {} can no longer be reached; only {} can still happen", goal,
+                            join(x.labels(x.reachable_steps(bad))));
+  }
+  p.counterexample = x.trace_to(bad);
+  return p;
+}
+
+// A cycle of firings that issue nothing to wait for: the engine, which
+// fires until nothing is enabled, may go round it for ever.
+Property no_busy_cycle(const ExploredNet& x) {
+  Property p = named("no_busy_cycle");
+  const std::size_t n = x.graph.state_count();
+  auto is_firing = [&](petri::TransitionId t) { return x.an.steps[t].kind == AnalysisNet::Step::Kind::Transition; };
+  // Peel off markings from which every sequence of firings stops; what
+  // remains lies on, or leads into, a cycle of firings alone.
+  std::vector<std::uint32_t> firing_out(n, 0);
+  std::deque<StateId> queue;
+  for (StateId s = 0; s < n; ++s) {
+    for (const auto& e : x.graph.successors(s)) firing_out[s] += is_firing(e.transition) ? 1 : 0;
+    if (firing_out[s] == 0) queue.push_back(s);
+  }
+  while (!queue.empty()) {
+    StateId s = queue.front();
+    queue.pop_front();
+    for (const auto& e : x.predecessors(s)) {
+      if (is_firing(e.transition) && --firing_out[e.target] == 0) queue.push_back(e.target);
+    }
+  }
+  StateId start = 0;
+  while (start < n && firing_out[start] == 0) ++start;
+  if (start == n) {
+    if (!x.graph.complete()) return undecided(x, p);
+    p.message = "no cycle of firings goes round without waiting for the vehicle";
+    return p;
+  }
+  // A lasso: from the nearest such marking, follow firings that stay in
+  // what remains until a marking repeats.
+  std::vector<petri::TransitionId> path = x.graph.path_to(start);
+  std::vector<StateId> walk{start};
+  std::set<std::string> cycle;
+  std::size_t repeat_from = 0;
+  for (StateId at = start;;) {
+    for (const auto& e : x.graph.successors(at)) {
+      if (!is_firing(e.transition) || firing_out[e.target] == 0) continue;
+      path.push_back(e.transition);
+      at = e.target;
+      break;
+    }
+    auto seen = std::find(walk.begin(), walk.end(), at);
+    if (seen != walk.end()) {
+      repeat_from = x.graph.path_to(start).size() + static_cast<std::size_t>(seen - walk.begin());
+      break;
+    }
+    walk.push_back(at);
+  }
+  for (std::size_t i = repeat_from; i < path.size(); ++i) cycle.insert(x.step_label(path[i]));
+  p.status = Status::Fails;
+  p.message = fmt::format(
+      "busy cycle: {} can fire for ever without waiting for the vehicle, from step {} on (the engine stops such "
+      "a mission after its firing limit)",
+      join({cycle.begin(), cycle.end()}), repeat_from + 1);
+  p.counterexample = x.trace_along(path, walk.back());
+  p.counterexample->repeat_from = repeat_from;
+  return p;
+}
+
+Property exits_exclusive(const ExploredNet& x) {
+  Property p = named("exits_exclusive");
+  if (x.cn.exits.size() < 2) {
+    p.message = x.cn.exits.empty() ? "no exits" : "one exit";
+    return p;
+  }
+  for (StateId s = 0; s < x.graph.state_count(); ++s) {
+    auto m = x.graph.marking(s);
+    std::vector<std::string> marked;
+    for (petri::PlaceId e : x.cn.exits) {
+      if (m[e] > 0) marked.emplace_back(x.cn.net.place_name(e));
+    }
+    if (marked.size() < 2) continue;
+    p.status = Status::Fails;
+    p.message = fmt::format("exits {} are marked together (the engine takes the first declared)", join(marked));
+    p.counterexample = x.trace_to(s);
+    return p;
+  }
+  if (!x.graph.complete()) return undecided(x, p);
+  p.message = "no marking holds two exits";
+  return p;
+}
+
+
+}  // namespace strata::coral::detail

@@ -1,0 +1,84 @@
+// The PROLOG driver (prolog/driver.pl and prolog/driver_check.pl, compiled
+// in): loading it once into the engine, and calling its predicates.
+#include <string>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "strategic/prolog_driver.h"
+#include "strategic/prolog_driver_check_text.h"
+#include "strategic/prolog_driver_text.h"
+
+namespace strata::prolog::detail {
+
+term_t new_atom(const std::string& name) {
+  term_t t = PL_new_term_ref();
+  PL_put_atom_chars(t, name.c_str());
+  return t;
+}
+
+// strata_driver:Name(Args...)
+term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
+  term_t refs = PL_new_term_refs(static_cast<int>(args.size()));
+  int i = 0;
+  for (term_t a : args) {
+    if (!PL_put_term(refs + i++, a)) PL_clear_exception();
+  }
+  term_t goal = PL_new_term_ref();
+  term_t call = PL_new_term_ref();
+  if (!PL_cons_functor_v(goal, PL_new_functor(PL_new_atom(name), args.size()), refs) ||
+      !PL_cons_functor(call, PL_new_functor(PL_new_atom(":"), 2), new_atom("strata_driver"), goal)) {
+    PL_clear_exception();
+  }
+  return call;
+}
+
+core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args) {
+  return call_term(driver_goal(name, args));
+}
+
+namespace {
+
+// Loads one of the driver's modules from its text.
+core::Result<void> load_module_text(const char* module, std::string_view text) {
+  Frame frame;
+  auto goal = parse_term(
+      "open_string(Text, S), call_cleanup(load_files(Module, [stream(S), silent(true), imports([])]), close(S))");
+  if (!goal) return goal.error();
+  term_t open = PL_new_term_ref();
+  term_t text_t = PL_new_term_ref();
+  term_t load = PL_new_term_ref();
+  term_t call_load = PL_new_term_ref();
+  term_t module_t = PL_new_term_ref();
+  if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text_t) ||
+      !PL_unify_chars(text_t, PL_STRING, text.size(), text.data()) || !PL_get_arg(2, goal.value(), load) ||
+      !PL_get_arg(1, load, call_load) || !PL_get_arg(1, call_load, module_t) ||
+      !PL_unify_atom_chars(module_t, module)) {
+    return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
+  }
+  auto r = call_term(goal.value());
+  if (!r || !r.value()) {
+    return core::make_error(core::ErrorCode::Internal,
+                            fmt::format("the PROLOG driver ({}) did not load: {}", module,
+                                        r ? std::string("failed") : r.error().message));
+  }
+  return {};
+}
+
+}  // namespace
+
+core::Result<void> ensure_driver() {
+  static bool loaded = false;
+  if (loaded) return {};
+  if (auto r = initialise(); !r) return r.error();
+  if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
+  if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
+  register_foreign_predicates();
+  if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
+    return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");
+  }
+  loaded = true;
+  return {};
+}
+
+}  // namespace strata::prolog::detail

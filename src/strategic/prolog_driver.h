@@ -1,0 +1,34 @@
+#pragma once
+// Internal to strata_strategic: the PROLOG mission driver's parts below
+// Mission and MissionQuery (prolog_mission.h). prolog_driver.cpp loads the
+// driver's modules and calls their predicates; prolog_foreign.cpp holds the
+// foreign predicates the driver calls back into, and who they serve.
+// Threads: the Prolog engine's thread only.
+#include <cstddef>
+#include <initializer_list>
+#include <string>
+
+#include "core/result.h"
+#include "prolog/engine.h"
+#include "strategic/prolog_mission.h"
+
+namespace strata::prolog::detail {
+
+// A fresh term holding the atom `name`.
+term_t new_atom(const std::string& name);
+// strata_driver:Name(Args...)
+term_t driver_goal(const char* name, std::initializer_list<term_t> args);
+core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args);
+// Starts the engine and loads the driver once per process (its foreign
+// predicates too); later calls return at once.
+core::Result<void> ensure_driver();
+
+// Registers the foreign predicates in module strata_driver (ensure_driver()).
+void register_foreign_predicates();
+// The host whose query is running ('$strata_call'/3 and the others reach it),
+// or nullptr between queries.
+void set_running_host(Host* host);
+// The size limit '$strata_scan'/2 reads rule files with (the load's).
+void set_max_rules_bytes(std::size_t max_bytes);
+
+}  // namespace strata::prolog::detail

@@ -1,0 +1,157 @@
+// The driver's foreign predicates ('$strata_call'/3, '$strata_report'/2,
+// '$strata_phase'/2, '$strata_scan'/2): where the rules reach the host that
+// runs them (docs/prolog.md).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/file.h"
+#include "strategic/prolog_driver.h"
+#include "strategic/prolog_rules_scan.h"
+
+namespace strata::prolog::detail {
+namespace {
+
+// The executor whose query is running; set by MissionQuery::next().
+Host* g_host = nullptr;
+// LoadLimits::max_bytes of the load under way, for '$strata_scan'/2.
+std::size_t g_max_rules_bytes = LoadLimits{}.max_bytes;
+
+// A primitive argument: a number, or text (an atom or a string). Raises a
+// Prolog error and returns nullopt otherwise.
+std::optional<tactical::Value> value_of(term_t t) {
+  double number = 0;
+  if (PL_is_number(t) && PL_get_float(t, &number)) return tactical::Value::of(number);
+  char* s = nullptr;
+  std::size_t len = 0;
+  if (PL_get_nchars(t, &len, &s, CVT_ATOM | CVT_STRING | BUF_STACK | REP_UTF8)) {
+    return tactical::Value::of(std::string(s, len));
+  }
+  if (PL_is_variable(t)) {
+    PL_instantiation_error(t);
+  } else {
+    PL_type_error("number_or_text", t);
+  }
+  return std::nullopt;
+}
+
+bool call_arguments(term_t name_t, term_t list, std::string& name, std::vector<tactical::Value>& args) {
+  char* s = nullptr;
+  if (!PL_get_atom_chars(name_t, &s)) return PL_type_error("atom", name_t);
+  name = s;
+  term_t head = PL_new_term_ref();
+  term_t tail = PL_copy_term_ref(list);
+  while (PL_get_list(tail, head, tail)) {
+    auto v = value_of(head);
+    if (!v) return false;
+    args.push_back(std::move(*v));
+  }
+  if (!PL_get_nil(tail)) return PL_type_error("list", list);
+  return true;
+}
+
+bool no_host() {
+  term_t ex = PL_new_term_ref();
+  return PL_unify_term(ex, PL_FUNCTOR_CHARS, "strata_error", 1, PL_CHARS,
+                       "a primitive was called outside a running mission") &&
+         PL_raise_exception(ex);
+}
+
+// '$strata_call'(+Name, +Args, -Answer): yields to the host until the
+// vehicle answers, then unifies Answer with 1 or 0.
+foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_t handle) {
+  alignas(8) static int token = 0;
+  switch (PL_foreign_control(handle)) {
+    case PL_FIRST_CALL: {
+      if (!g_host) return no_host();
+      std::string name;
+      std::vector<tactical::Value> args;
+      if (!call_arguments(name_t, args_t, name, args)) return FALSE;
+      g_host->primitive(name, std::move(args));
+      PL_yield_address(&token);
+    }
+    case PL_RESUME: {
+      auto answer = g_host ? g_host->answer() : std::nullopt;
+      if (!answer) {
+        term_t ex = PL_new_term_ref();
+        PL_put_atom_chars(ex, "strata_cancelled");
+        return PL_raise_exception(ex);
+      }
+      return PL_unify_integer(answer_t, *answer);
+    }
+    default: return TRUE;
+  }
+}
+
+foreign_t pl_strata_report(term_t name_t, term_t args_t) {
+  if (!g_host) return no_host();
+  std::string name;
+  std::vector<tactical::Value> args;
+  if (!call_arguments(name_t, args_t, name, args)) return FALSE;
+  g_host->report(name, std::move(args));
+  return TRUE;
+}
+
+// '$strata_phase'(+Event, +Phase): Event is start or end(Exit).
+foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
+  if (!g_host) return TRUE;  // the rules run outside a mission (plunit)
+  std::string phase = text_of(phase_t);
+  char* s = nullptr;
+  if (PL_get_atom_chars(event_t, &s)) {
+    g_host->phase_started(phase);
+    return TRUE;
+  }
+  term_t exit = PL_new_term_ref();
+  if (PL_is_functor(event_t, PL_new_functor(PL_new_atom("end"), 1)) && PL_get_arg(1, event_t, exit)) {
+    g_host->phase_ended(phase, text_of(exit));
+    return TRUE;
+  }
+  return PL_domain_error("phase_event", event_t);
+}
+
+// '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
+// Text) for what the reader must not see (scan_rules_text()). A file that
+// cannot be read is ok here: loading it says so.
+foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
+  char* file = nullptr;
+  if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
+  auto read = core::read_regular_file(file, g_max_rules_bytes);
+  if (!read && read.error().code == core::ErrorCode::Overflow) {
+    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
+                         PL_UTF8_STRING,
+                         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
+                                     g_max_rules_bytes)
+                             .c_str());
+  }
+  if (!read && read.error().message.ends_with("not a regular file")) {
+    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
+                         PL_UTF8_STRING, "not a regular file (a FIFO or a device is never read)");
+  }
+  if (!read) return PL_unify_atom_chars(problem_t, "ok");
+  const auto found = scan_rules_text(read.value());
+  if (!found) return PL_unify_atom_chars(problem_t, "ok");
+  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, static_cast<int64_t>(found->line),
+                       PL_INT64, static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
+}
+
+}  // namespace
+
+void set_running_host(Host* host) { g_host = host; }
+
+void set_max_rules_bytes(std::size_t max_bytes) { g_max_rules_bytes = max_bytes; }
+
+void register_foreign_predicates() {
+  PL_register_foreign_in_module("strata_driver", "$strata_call", 3,
+                                reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
+  PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_report), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
+}
+
+}  // namespace strata::prolog::detail

@@ -1,0 +1,125 @@
+// The server's watchdog (docs in server.h, "Watchdog" and "Hello"): the
+// hello timeout, the silence timer, the controller's link dropping, the trip,
+// and the lockstep vehicle running on alone until it is at the surface.
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "protocol/codec.h"
+#include "vehicle/server.h"
+#include "vehicle/wire_time.h"
+
+namespace strata::vehicle {
+
+using protocol::ErrorCode;
+
+// A client that connects and says nothing must not hold the vehicle: every
+// client after it would be refused as busy for ever.
+void VehicleServer::arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c) {
+  if (options_.hello_timeout_s <= 0) return;
+  hello_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(std::min(options_.hello_timeout_s, 86400.0))));
+  hello_timer_.async_wait([this, weak = std::weak_ptr<protocol::LineConnection>(c)](const asio::error_code& e) {
+    auto conn = weak.lock();
+    if (e || stopped_ || hello_done_ || !conn || conn != controller_ || conn->closing()) return;
+    const std::string why = fmt::format("no hello within {} s: closing this connection", options_.hello_timeout_s);
+    log(fmt::format("{:.1f} s: {}; the next client will be served", sim_.time_s(), why));
+    write(*conn, protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::NotReady, why}}));
+    conn->close_when_written(why);
+    controller_.reset();
+    silence_timer_.cancel();
+  });
+}
+
+void VehicleServer::arm_silence_watchdog() {
+  if (options_.clock != protocol::ClockMode::Lockstep) return;  // wall: checked per tick
+  double silence_s = std::min(sim_.params().watchdog_s, 86400.0);  // a day is "never" here
+  silence_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(silence_s)));
+  silence_timer_.async_wait([this](const asio::error_code& e) {
+    if (e || stopped_ || !controller_ || controller_->closing() || !sim_.network_up()) return;
+    trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+  });
+}
+
+void VehicleServer::controller_gone() {
+  if (!controller_) return;
+  auto c = controller_;
+  c->close("the controller is gone");
+  on_closed(*c, protocol::CloseReason{protocol::CloseReason::Why::PeerClosed, {}, "the controller is gone"});
+}
+
+void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::CloseReason& why) {
+  // A close this server asked for (bye, the hello timeout) is no dropped link.
+  if (&c != controller_.get() || why.why == protocol::CloseReason::Why::Local) return;
+  if (why.why == protocol::CloseReason::Why::PeerClosed) {
+    log(fmt::format("{:.1f} s: client disconnected", sim_.time_s()));
+  } else {
+    log(fmt::format("{:.1f} s: client disconnected: {}", sim_.time_s(), why.message));
+  }
+  silence_timer_.cancel();
+  hello_timer_.cancel();
+  controller_.reset();
+  deferred_.clear();
+  waiting_.clear();  // nobody to answer
+  if (sim_.network_up()) trip("link dropped");
+}
+
+void VehicleServer::trip(const std::string& reason) {
+  if (sim_.watchdog_tripped()) return;
+  sim_.watchdog_trip(reason);
+  flush_events();
+  // Requests waiting for their cycle will not get it: the vehicle is on its own.
+  std::sort(waiting_.begin(), waiting_.end(),
+            [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
+  for (const auto& w : waiting_) {
+    send(protocol::Err{w.request.id, ErrorCode::NotReady, "the watchdog tripped: the vehicle is surfacing on its own"});
+  }
+  waiting_.clear();
+  if (options_.clock == protocol::ClockMode::Lockstep) run_alone(std::nullopt);
+}
+
+// Lockstep without a client: nobody will ask the simulation to move, so it
+// runs on its own (in batches, without blocking the event loop). If trip_at_s
+// is set, the watchdog trips then (the link went silent); after the trip it
+// runs until the vehicle is at the surface, or autonomous_run_s has passed.
+void VehicleServer::run_alone(std::optional<double> trip_at_s) {
+  if (running_alone_) return;
+  running_alone_ = true;
+  alone_until_s_ = sim_.time_s() + options_.autonomous_run_s;
+  alone_trip_at_s_ = trip_at_s;
+  asio::post(io_, [this] { run_alone_batch(); });
+}
+
+// One batch of cycles, then yield to the event loop.
+void VehicleServer::run_alone_batch() {
+  if (stopped_ || !running_alone_) return;
+  for (int i = 0; i < 100 && sim_.time_s() < alone_until_s_; ++i) {
+    step_one();
+    if (alone_trip_at_s_ && !sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *alone_trip_at_s_) {
+      sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+      flush_events();
+    }
+  }
+  if ((sim_.watchdog_tripped() && sim_.surface_reached()) || sim_.time_s() >= alone_until_s_) {
+    log(fmt::format("{:.1f} s: {}", sim_.time_s(),
+                    sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
+    running_alone_ = false;
+    settled();
+    return;
+  }
+  asio::post(io_, [this] { run_alone_batch(); });
+}
+
+void VehicleServer::when_settled(std::function<void()> f) {
+  settled_waiters_.push_back(std::move(f));
+  if (!running_alone_ || stopped_) settled();
+}
+
+void VehicleServer::settled() {
+  auto waiters = std::move(settled_waiters_);
+  settled_waiters_.clear();
+  for (auto& f : waiters) asio::post(io_, std::move(f));
+}
+
+}  // namespace strata::vehicle
