@@ -236,7 +236,10 @@ class Editor {
     if (!p.waits.empty()) out += fmt::format("{}  wait   {{ {} }}\n", indent, arcs_text(p.waits));
     if (!p.actions.empty()) {
       std::string joined;
-      for (const auto& a : p.actions) joined += (joined.empty() ? "" : ",\n" + indent + "           ") + a;
+      for (const auto& a : p.actions) {
+        if (!joined.empty()) joined.append(",\n").append(indent).append("           ");
+        joined += a;
+      }
       out += fmt::format("{}  action {{ {} }}\n", indent, joined);
     }
     if (!p.signals.empty()) out += fmt::format("{}  signal {{ {} }}\n", indent, arcs_text(p.signals));

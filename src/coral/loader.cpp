@@ -58,7 +58,7 @@ class Loader {
                                fmt::format("import of '{}' makes a cycle", path));
         std::string chain;
         for (std::size_t j = i; j < stack_.size(); ++j) chain += shown_[j] + " -> ";
-        core::add_note(d, "the cycle is " + chain + path);
+        core::add_note(d, fmt::format("the cycle is {}{}", chain, path));
         return;
       }
     }

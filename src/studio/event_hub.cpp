@@ -39,14 +39,14 @@ void EventHub::publish(const std::string& name, nlohmann::json data) {
   add(std::move(event), keys);
 }
 
-void EventHub::publish_lazy(const std::string& name, Keys keys, std::function<nlohmann::json()> make) {
+void EventHub::publish_lazy(const std::string& name, const Keys& keys, std::function<nlohmann::json()> make) {
   auto event = std::make_shared<Event>();
   event->name = name;
   event->make = std::move(make);
   add(std::move(event), keys);
 }
 
-void EventHub::add(EventPtr event, Keys keys) {
+void EventHub::add(EventPtr event, const Keys& keys) {
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
@@ -69,7 +69,7 @@ void EventHub::let_go(EventPtr e) {
   unused_.push_back(std::move(e));
 }
 
-void EventHub::fold(const EventPtr& e, Keys keys) {
+void EventHub::fold(const EventPtr& e, const Keys& keys) {
   const std::string& name = e->name;
   if (name == "run_start") {
     let_go(std::exchange(run_, e));

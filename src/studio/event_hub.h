@@ -56,7 +56,7 @@ class EventHub {
     std::uint64_t id = 0;
     std::string net = {};
   };
-  void publish_lazy(const std::string& name, Keys keys, std::function<nlohmann::json()> make);
+  void publish_lazy(const std::string& name, const Keys& keys, std::function<nlohmann::json()> make);
 
   // A new stream: its first event is the snapshot.
   std::shared_ptr<Subscription> subscribe();
@@ -101,8 +101,8 @@ class EventHub {
     EventPtr fired;   // the last firing: the enabled transitions
   };
   nlohmann::json snapshot_locked() const;
-  void add(EventPtr event, Keys keys);
-  void fold(const EventPtr& event, Keys keys);
+  void add(EventPtr event, const Keys& keys);
+  void fold(const EventPtr& event, const Keys& keys);
   void unsubscribe(Subscription* s);
 
   const std::size_t max_log_;

@@ -223,7 +223,7 @@ std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::strin
   }
   // nominal is always there: the mission's nominal.toml, else the built-in
   // one (no faults).
-  if (std::find(names.begin(), names.end(), "nominal") == names.end()) names.push_back("nominal");
+  if (std::find(names.begin(), names.end(), "nominal") == names.end()) names.emplace_back("nominal");
   std::sort(names.begin(), names.end());
   return names;
 }

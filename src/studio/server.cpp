@@ -175,7 +175,7 @@ void StudioServer::routes() {
     }
     return httplib::Server::HandlerResponse::Handled;
   }));
-  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, const std::exception_ptr& ep) {
     // A field of the wrong type in a JSON body is the client's mistake.
     std::string what = "internal error";
     int status = 500;

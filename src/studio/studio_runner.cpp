@@ -48,7 +48,7 @@ core::Result<StudioLog> create_log(const Sandbox& sandbox, const std::string& mi
     if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
     if (!fd) return fd.error();
     StudioLog log;
-    log.relative = folder + "/" + name;
+    log.relative = fmt::format("{}/{}", folder, name);
     log.buf = std::make_unique<__gnu_cxx::stdio_filebuf<char>>(fd.value(), std::ios::out | std::ios::binary);
     log.out = std::make_unique<std::ostream>(log.buf.get());
     return log;

@@ -64,7 +64,7 @@ std::string Primitive::prolog_call() const {
   for (const auto& a : args) {
     std::string var = a.name;
     var[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(var[0])));
-    if (var[0] == '_') var = "A" + var;  // a PROLOG variable starts with a capital
+    if (var[0] == '_') var.insert(0, "A");  // a PROLOG variable starts with a capital
     params.push_back(std::move(var));
   }
   if (kind != Kind::Report) params.emplace_back("X");
