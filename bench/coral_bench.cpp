@@ -85,8 +85,8 @@ void append_phase(std::string& out, std::size_t index, std::size_t k) {
         break;
       case 2:
         fmt::format_to(std::back_inserter(body),
-                       "  transition t{0} {{ wait {{ {1}, ready }} signal {{ s{2}*2, ready }} }}\n",
-                       j, wait_stage(), j + 1);
+                       "  transition t{0} {{ wait {{ {1}, ready }} signal {{ s{2}*2, ready }} }}\n", j, wait_stage(),
+                       j + 1);
         uses_ready = true;
         w = 2;
         left -= 1;
@@ -117,8 +117,8 @@ void append_phase(std::string& out, std::size_t index, std::size_t k) {
   }
   places.push_back(fmt::format("s{}", j));
   if (uses_abort) {
-    fmt::format_to(std::back_inserter(body),
-                   "  transition finish {{ wait {{ {} }} signal {{ complete }} }}\n", wait_stage());
+    fmt::format_to(std::back_inserter(body), "  transition finish {{ wait {{ {} }} signal {{ complete }} }}\n",
+                   wait_stage());
   } else {
     // Nothing else marks abort: let the last stage choose, so the exit is live.
     fmt::format_to(std::back_inserter(body),
@@ -226,8 +226,7 @@ const Fixture& fixture(Shape shape, std::size_t transitions) {
   auto [it, fresh] = cache.try_emplace({shape, transitions});
   Fixture& f = it->second;
   if (!fresh) return f;
-  f.source = shape == Shape::kMission ? generate_mission(transitions)
-                                      : generate_reversed_chain(transitions);
+  f.source = shape == Shape::kMission ? generate_mission(transitions) : generate_reversed_chain(transitions);
   f.files.add(kFileName, f.source.text);
 
   core::SourceManager sources;
@@ -237,8 +236,7 @@ const Fixture& fixture(Shape shape, std::size_t transitions) {
   for (const auto& d : sink.diagnostics()) {
     if (d.severity == core::Severity::Error) {
       auto lc = sources.line_col(d.span.file, d.span.offset);
-      f.problem = fmt::format("{}:{}:{}: {} [{}]", kFileName, lc.line, lc.col, d.message,
-                              core::kind_name(d.kind));
+      f.problem = fmt::format("{}:{}:{}: {} [{}]", kFileName, lc.line, lc.col, d.message, core::kind_name(d.kind));
       return f;
     }
   }
@@ -257,8 +255,8 @@ const Fixture& fixture(Shape shape, std::size_t transitions) {
 void report(benchmark::State& st, const Fixture& f) {
   const auto iterations = static_cast<double>(st.iterations());
   st.SetBytesProcessed(st.iterations() * static_cast<std::int64_t>(f.source.text.size()));
-  st.counters["transitions_per_second"] = benchmark::Counter(
-      iterations * static_cast<double>(f.source.transitions), benchmark::Counter::kIsRate);
+  st.counters["transitions_per_second"] =
+      benchmark::Counter(iterations * static_cast<double>(f.source.transitions), benchmark::Counter::kIsRate);
   st.counters["source_KiB"] = static_cast<double>(f.source.text.size()) / 1024.0;
   st.counters["warnings"] = static_cast<double>(f.warnings);
 }
@@ -301,13 +299,27 @@ void bm_compile_file(benchmark::State& st, Shape shape) {
   report(st, f);
 }
 
-BENCHMARK(bm_load)->Name("coral/load")->ArgName("transitions")->Arg(1'000)->Arg(10'000)
-    ->Arg(100'000)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(bm_compile_file, mission, Shape::kMission)->Name("coral/compile_file")
-    ->ArgName("transitions")->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(bm_load)
+    ->Name("coral/load")
+    ->ArgName("transitions")
+    ->Arg(1'000)
+    ->Arg(10'000)
+    ->Arg(100'000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(bm_compile_file, mission, Shape::kMission)
+    ->Name("coral/compile_file")
+    ->ArgName("transitions")
+    ->Arg(1'000)
+    ->Arg(10'000)
+    ->Arg(100'000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(bm_compile_file, reversed_chain, Shape::kReversedChain)
-    ->Name("coral/compile_file_reversed_chain")->ArgName("transitions")->Arg(1'000)->Arg(2'000)
-    ->Arg(4'000)->Unit(benchmark::kMillisecond);
+    ->Name("coral/compile_file_reversed_chain")
+    ->ArgName("transitions")
+    ->Arg(1'000)
+    ->Arg(2'000)
+    ->Arg(4'000)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace strata::coral

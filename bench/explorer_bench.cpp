@@ -67,13 +67,33 @@ void bm_pnml(benchmark::State& st, const std::string& model, bool liveness) {
 }
 
 BENCHMARK(bm_referendum)->Name("explore/referendum")->Arg(10)->Arg(15)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK(bm_philosophers)->Name("explore/philosophers")->Arg(10)->Arg(13)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, kanban, std::string("Kanban-PT-00005"), true)->Name("explore/pnml/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, fms, std::string("FMS-PT-00005"), true)->Name("explore/pnml/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, referendum, std::string("Referendum-PT-0015"), true)->Name("explore/pnml/Referendum-PT-0015")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(bm_philosophers)
+    ->Name("explore/philosophers")
+    ->Arg(10)
+    ->Arg(13)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, kanban, std::string("Kanban-PT-00005"), true)
+    ->Name("explore/pnml/Kanban-PT-00005")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, fms, std::string("FMS-PT-00005"), true)
+    ->Name("explore/pnml/FMS-PT-00005")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, referendum, std::string("Referendum-PT-0015"), true)
+    ->Name("explore/pnml/Referendum-PT-0015")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 // The same without the liveness pass (ExploreOptions::liveness = false).
-BENCHMARK_CAPTURE(bm_pnml, kanban_nolive, std::string("Kanban-PT-00005"), false)->Name("explore/pnml-nolive/Kanban-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK_CAPTURE(bm_pnml, fms_nolive, std::string("FMS-PT-00005"), false)->Name("explore/pnml-nolive/FMS-PT-00005")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, kanban_nolive, std::string("Kanban-PT-00005"), false)
+    ->Name("explore/pnml-nolive/Kanban-PT-00005")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(bm_pnml, fms_nolive, std::string("FMS-PT-00005"), false)
+    ->Name("explore/pnml-nolive/FMS-PT-00005")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace strata::petri

@@ -105,8 +105,7 @@ class Rig {
     link_ = VehicleLink::create(io_, link_options);
     std::optional<core::Result<protocol::Welcome>> welcome;
     link_->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
-    while (!welcome && run_once()) {
-    }
+    while (!welcome && run_once()) {}
     if (!welcome) {
       problem_ = "connect: the client's event loop ran out of work";
     } else if (!welcome->ok()) {
@@ -157,8 +156,7 @@ class Rig {
   vehicle::Simulation sim_;
   asio::io_context vehicle_io_;
   // Keeps the vehicle thread's run() going between connections.
-  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work_{
-      asio::make_work_guard(vehicle_io_)};
+  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work_{asio::make_work_guard(vehicle_io_)};
   std::unique_ptr<vehicle::VehicleServer> server_;
   std::thread vehicle_thread_;
   asio::io_context io_;
@@ -313,15 +311,14 @@ void register_all() {
   fixed(benchmark::RegisterBenchmark("link/round_trip/ask_spinning",
                                      [](benchmark::State& st) { bm_round_trip(st, Wait::kSpin, ask); }),
         kRoundTrips);
-  fixed(benchmark::RegisterBenchmark(
-            "link/poll/sleep_1", [](benchmark::State& st) { bm_poll(st, Wait::kBlock, Value::integer(1)); }),
+  fixed(benchmark::RegisterBenchmark("link/poll/sleep_1",
+                                     [](benchmark::State& st) { bm_poll(st, Wait::kBlock, Value::integer(1)); }),
         kPolls);
-  fixed(benchmark::RegisterBenchmark(
-            "link/poll/sleep_0.1", [](benchmark::State& st) { bm_poll(st, Wait::kBlock, Value::real(0.1)); }),
+  fixed(benchmark::RegisterBenchmark("link/poll/sleep_0.1",
+                                     [](benchmark::State& st) { bm_poll(st, Wait::kBlock, Value::real(0.1)); }),
         kPolls);
-  fixed(benchmark::RegisterBenchmark(
-            "link/poll/sleep_0.1_spinning",
-            [](benchmark::State& st) { bm_poll(st, Wait::kSpin, Value::real(0.1)); }),
+  fixed(benchmark::RegisterBenchmark("link/poll/sleep_0.1_spinning",
+                                     [](benchmark::State& st) { bm_poll(st, Wait::kSpin, Value::real(0.1)); }),
         kPolls);
 }
 

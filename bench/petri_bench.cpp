@@ -79,9 +79,7 @@ class Rng {
     return z ^ (z >> 31);
   }
   // Uniform in [0, n) for n < 2^32 (multiply-shift, no division).
-  std::uint32_t below(std::size_t n) {
-    return static_cast<std::uint32_t>(((next() >> 32) * n) >> 32);
-  }
+  std::uint32_t below(std::size_t n) { return static_cast<std::uint32_t>(((next() >> 32) * n) >> 32); }
 
  private:
   std::uint64_t state_;
@@ -190,22 +188,23 @@ class NaiveRunner {
 // The incremental runner's choice, shared by the benchmark and the warm-up.
 template <Choice kChoice>
 TransitionId choose(const EnabledSet& enabled, Rng& rng) {
-  if constexpr (kChoice == Choice::kFirst) return *enabled.first();
-  else return enabled.at(rng.below(enabled.size()));
+  if constexpr (kChoice == Choice::kFirst)
+    return *enabled.first();
+  else
+    return enabled.at(rng.below(enabled.size()));
 }
 
 struct BenchNet {
   Net net;
   std::vector<TransitionId> by_rank;  // highest priority first, then lowest id
   std::size_t warmup_firings = 0;
-  std::string problem;                // non-empty: the net failed a check
-  std::optional<Marking> warm[2];     // per Choice, computed on first use
+  std::string problem;             // non-empty: the net failed a check
+  std::optional<Marking> warm[2];  // per Choice, computed on first use
 };
 
 // Fires `steps` times with first-choice in both runners and checks they make
 // the same choices, reach the same marking and agree on the enabled set.
-std::string cross_check(const Net& net, const std::vector<TransitionId>& by_rank,
-                        std::size_t steps) {
+std::string cross_check(const Net& net, const std::vector<TransitionId>& by_rank, std::size_t steps) {
   State incremental(net);
   NaiveRunner naive(net, by_rank, net.initial_marking());
   for (std::size_t i = 0; i < steps; ++i) {
@@ -234,9 +233,7 @@ BenchNet& bench_net(Shape shape, std::size_t n) {
     slot->by_rank.resize(n);
     std::iota(slot->by_rank.begin(), slot->by_rank.end(), TransitionId{0});
     std::stable_sort(slot->by_rank.begin(), slot->by_rank.end(),
-                     [&](TransitionId a, TransitionId b) {
-                       return net.priority(a) > net.priority(b);
-                     });
+                     [&](TransitionId a, TransitionId b) { return net.priority(a) > net.priority(b); });
     slot->problem = cross_check(net, slot->by_rank, n >= 1'000'000 ? 200 : 20'000);
   }
   return *slot;
@@ -286,9 +283,8 @@ void bm_incremental(benchmark::State& st, Shape shape) {
     }
   }
   st.SetItemsProcessed(st.iterations());
-  st.counters["bytes_per_arc"] = benchmark::Counter(
-      static_cast<double>(bn.net.memory_bytes() + s.memory_bytes()) /
-      static_cast<double>(bn.net.arc_count()));
+  st.counters["bytes_per_arc"] = benchmark::Counter(static_cast<double>(bn.net.memory_bytes() + s.memory_bytes()) /
+                                                    static_cast<double>(bn.net.arc_count()));
   st.counters["enabled_at_end"] = benchmark::Counter(static_cast<double>(s.enabled().size()));
 }
 
@@ -323,28 +319,30 @@ void bm_naive(benchmark::State& st, Shape shape) {
 
 void register_all() {
   constexpr std::int64_t kSizes[] = {100, 10'000, 1'000'000};
-  const std::pair<Shape, const char*> shapes[] = {{Shape::kRing, "ring"},
-                                                   {Shape::kRandom, "random"}};
+  const std::pair<Shape, const char*> shapes[] = {{Shape::kRing, "ring"}, {Shape::kRandom, "random"}};
   for (const auto& [shape, shape_name] : shapes) {
     for (Choice choice : {Choice::kFirst, Choice::kRandom}) {
-      const std::string prefix = std::string("fire/") + shape_name +
-                                 (choice == Choice::kFirst ? "/first" : "/random");
+      const std::string prefix = std::string("fire/") + shape_name + (choice == Choice::kFirst ? "/first" : "/random");
       for (std::int64_t n : kSizes) {
         const Shape s = shape;  // a lambda cannot capture a structured binding in GCC 12
-        auto* inc = benchmark::RegisterBenchmark(
-            (prefix + "/incremental").c_str(), [s, choice](benchmark::State& st) {
-              if (choice == Choice::kFirst) bm_incremental<Choice::kFirst>(st, s);
-              else bm_incremental<Choice::kRandom>(st, s);
-            });
+        auto* inc = benchmark::RegisterBenchmark((prefix + "/incremental").c_str(), [s, choice](benchmark::State& st) {
+          if (choice == Choice::kFirst)
+            bm_incremental<Choice::kFirst>(st, s);
+          else
+            bm_incremental<Choice::kRandom>(st, s);
+        });
         inc->ArgName("n")->Arg(n)->MinTime(0.3);
-        auto* naive = benchmark::RegisterBenchmark(
-            (prefix + "/naive").c_str(), [s, choice](benchmark::State& st) {
-              if (choice == Choice::kFirst) bm_naive<Choice::kFirst>(st, s);
-              else bm_naive<Choice::kRandom>(st, s);
-            });
+        auto* naive = benchmark::RegisterBenchmark((prefix + "/naive").c_str(), [s, choice](benchmark::State& st) {
+          if (choice == Choice::kFirst)
+            bm_naive<Choice::kFirst>(st, s);
+          else
+            bm_naive<Choice::kRandom>(st, s);
+        });
         naive->ArgName("n")->Arg(n);
-        if (n >= 1'000'000) naive->Iterations(kNaiveIterationsAtMillion);
-        else naive->MinTime(0.2);
+        if (n >= 1'000'000)
+          naive->Iterations(kNaiveIterationsAtMillion);
+        else
+          naive->MinTime(0.2);
       }
     }
   }

@@ -95,9 +95,8 @@ cli::RunReport run_once(const char* mission, std::string& why) {
   std::ostream out(&null);
   std::ostringstream err;  // empty in a nominal run
   cli::RunReport report = cli::run_mission(options, out, err);
-  why = report.exit_code == 0
-            ? ""
-            : fmt::format("run_mission exit code {}: {}", report.exit_code, err.str().substr(0, 300));
+  why = report.exit_code == 0 ? ""
+                              : fmt::format("run_mission exit code {}: {}", report.exit_code, err.str().substr(0, 300));
   return report;
 }
 
@@ -171,8 +170,7 @@ class ImmediateHost final : public prolog::Host {
 void set_per_call(benchmark::State& st, Clock::duration spent, std::int64_t calls) {
   if (calls == 0) return;
   st.SetItemsProcessed(calls);
-  st.counters["ns_per_call"] =
-      std::chrono::duration<double, std::nano>(spent).count() / static_cast<double>(calls);
+  st.counters["ns_per_call"] = std::chrono::duration<double, std::nano>(spent).count() / static_cast<double>(calls);
 }
 
 void bm_foreign_call(benchmark::State& st) {
@@ -185,8 +183,7 @@ void bm_foreign_call(benchmark::State& st) {
     auto start = Clock::now();
     prolog::MissionQuery query(*mission, host, kInferenceLimit);
     prolog::Query::Status s;
-    while ((s = query.next()) == prolog::Query::Status::Yield) {
-    }
+    while ((s = query.next()) == prolog::Query::Status::Yield) {}
     query.close();
     spent += Clock::now() - start;
     if (s != prolog::Query::Status::True && s != prolog::Query::Status::Last) {

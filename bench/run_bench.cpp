@@ -133,9 +133,7 @@ struct Stamp {
   Kind kind;
 };
 
-bool is_reply(std::string_view line) {
-  return line.substr(0, 5) == "done " || line.substr(0, 7) == "answer ";
-}
+bool is_reply(std::string_view line) { return line.substr(0, 5) == "done " || line.substr(0, 7) == "answer "; }
 
 // Sample at quantile q (0..1) of sorted samples, nearest rank (as link_bench).
 double quantile(const std::vector<double>& sorted, double q) {

@@ -40,8 +40,8 @@ void BM_ProcessPings(benchmark::State& state) {
     }
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(pings().size()));
-  state.counters["pings/s"] = benchmark::Counter(static_cast<double>(state.iterations() * pings().size()),
-                                                 benchmark::Counter::kIsRate);
+  state.counters["pings/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * pings().size()), benchmark::Counter::kIsRate);
   state.counters["frames"] = static_cast<double>(frames) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_ProcessPings)->Arg(400)->Arg(800)->Unit(benchmark::kMillisecond);
@@ -61,8 +61,8 @@ void BM_ProcessPingsAndWriteFrames(benchmark::State& state) {
       if (auto f = processor.add_ping(ping)) benchmark::DoNotOptimize(out.value().write_frame(f->frame, f->image).ok());
     }
   }
-  state.counters["pings/s"] = benchmark::Counter(static_cast<double>(state.iterations() * pings().size()),
-                                                 benchmark::Counter::kIsRate);
+  state.counters["pings/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * pings().size()), benchmark::Counter::kIsRate);
   std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_ProcessPingsAndWriteFrames)->Unit(benchmark::kMillisecond);

@@ -51,7 +51,8 @@ double quantile(std::vector<double> v, double q) {
 }
 
 void bm_link_rtt(benchmark::State& st) {
-  auto scenario = vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) + "/missions/sonar_search/scenarios/nominal.toml");
+  auto scenario =
+      vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) + "/missions/sonar_search/scenarios/nominal.toml");
   if (!scenario) {
     st.SkipWithError(scenario.error().message.c_str());
     return;
@@ -85,14 +86,12 @@ void bm_link_rtt(benchmark::State& st) {
   auto link = tactical::VehicleLink::create(io, lo);
   std::optional<core::Result<protocol::Welcome>> welcome;
   link->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
-  while (!welcome && io.run_one() > 0) {
-  }
+  while (!welcome && io.run_one() > 0) {}
   std::string problem = !welcome ? "no hello" : !welcome->ok() ? welcome->error().message : "";
   auto call = [&](protocol::Request r) -> bool {
     std::optional<core::Result<protocol::VehicleMessage>> reply;
     link->send(std::move(r), [&](core::Result<protocol::VehicleMessage> m) { reply = std::move(m); });
-    while (!reply && io.run_one() > 0) {
-    }
+    while (!reply && io.run_one() > 0) {}
     if (!reply || !reply->ok()) {
       problem = reply ? reply->error().message : "the link's loop ran out of work";
       return false;

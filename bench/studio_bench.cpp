@@ -158,7 +158,13 @@ void bm_paired(benchmark::State& st) {
   st.counters["stream_MB"] = static_cast<double>(Viewers::bytes.load()) / 1e6;
 }
 
-BENCHMARK(bm_paired)->Name("studio/paired")->ArgName("viewers")->Arg(0)->Arg(20)->Unit(benchmark::kMillisecond)->Iterations(60);
+BENCHMARK(bm_paired)
+    ->Name("studio/paired")
+    ->ArgName("viewers")
+    ->Arg(0)
+    ->Arg(20)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(60);
 
 }  // namespace
 }  // namespace strata::cli

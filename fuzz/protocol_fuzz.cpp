@@ -49,9 +49,8 @@ std::string visible(std::string_view bytes) {
 }
 
 [[noreturn]] void broken(std::string_view what, std::string_view input, std::string_view output) {
-  std::fprintf(stderr, "protocol_fuzz: %.*s\n  input:  [%s]\n  output: [%s]\n",
-               static_cast<int>(what.size()), what.data(), visible(input).c_str(),
-               visible(output).c_str());
+  std::fprintf(stderr, "protocol_fuzz: %.*s\n  input:  [%s]\n  output: [%s]\n", static_cast<int>(what.size()),
+               what.data(), visible(input).c_str(), visible(output).c_str());
   __builtin_trap();
 }
 
@@ -154,10 +153,8 @@ void check_round_trip(const VehicleMessage& m, std::string_view input) {
   VehicleMessage expected = m;
   std::string* before = free_text(expected);
   const std::string* after = free_text(back);
-  require(before != nullptr && after != nullptr, "vehicle message changed in encode -> decode",
-          input, line);
-  require(is_text_as_encoded(*before, *after), "free text changed beyond '?' and cutting", input,
-          line);
+  require(before != nullptr && after != nullptr, "vehicle message changed in encode -> decode", input, line);
+  require(is_text_as_encoded(*before, *after), "free text changed beyond '?' and cutting", input, line);
   *before = *after;
   require(expected == back, "vehicle message changed in encode -> decode", input, line);
 }
@@ -174,8 +171,7 @@ void check_frame(const Frame& frame) {
   require(line.find('\n') == std::string_view::npos, "frame holds a \\n", line);
   if (frame.too_long) {
     require(line.size() == kMaxLineBytes - 1, "too_long frame is not kMaxLineBytes - 1 bytes", line);
-    check_round_trip(VehicleMessage{Err{peek_id(line), ErrorCode::TooLong, "line over 1024 bytes"}},
-                     line);
+    check_round_trip(VehicleMessage{Err{peek_id(line), ErrorCode::TooLong, "line over 1024 bytes"}}, line);
     return;
   }
   require(line.size() < kMaxLineBytes, "frame longer than kMaxLineBytes - 1", line);
@@ -198,11 +194,9 @@ void check_frame(const Frame& frame) {
                 "line over kMaxLineBytes with its terminator is not too_long", terminated);
         continue;
       }
-      require(again.ok() == request.ok(), "the terminator changes whether a request decodes",
-              terminated);
+      require(again.ok() == request.ok(), "the terminator changes whether a request decodes", terminated);
       if (request.ok()) {
-        require(again.value() == request.value(), "the terminator changes the decoded request",
-                terminated);
+        require(again.value() == request.value(), "the terminator changes the decoded request", terminated);
       } else {
         require(again.error().code == request.error().code && again.error().id == request.error().id,
                 "the terminator changes the decode error", terminated);

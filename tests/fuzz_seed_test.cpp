@@ -34,8 +34,7 @@ TEST(FuzzSeeds, EverySeedRunsThroughTheTarget) {
     ss << in.rdbuf();
     std::string bytes = ss.str();
     SCOPED_TRACE(path);
-    EXPECT_EQ(0, LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                                        bytes.size()));
+    EXPECT_EQ(0, LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
   }
 }
 

@@ -100,7 +100,8 @@ MissionRun run_two_branches(protocol::ClockMode clock, int protocol_version = pr
   strategic::LogObserver observer(log.value());
   engine.add_observer(observer);
   engine.start([&](const strategic::MissionResult& r) { run.result = r; });
-  EXPECT_TRUE(tactical::testing::run_until(rig.io, [&] { return run.result.has_value(); }, 10000ms));
+  EXPECT_TRUE(tactical::testing::run_until(
+      rig.io, [&] { return run.result.has_value(); }, 10000ms));
   link->close();
   run.calls = tactics.calls;
   run.log = tactical::strip_wall_fields_from_log(log_text.str());
@@ -109,7 +110,8 @@ MissionRun run_two_branches(protocol::ClockMode clock, int protocol_version = pr
 
 std::string describe(const std::vector<Call>& calls) {
   std::string out;
-  for (const auto& c : calls) out += fmt::format("  {} -> {} at {:.3f} s\n", c.primitive, c.value ? 1 : 0, c.sim_time_s);
+  for (const auto& c : calls)
+    out += fmt::format("  {} -> {} at {:.3f} s\n", c.primitive, c.value ? 1 : 0, c.sim_time_s);
   return out;
 }
 
@@ -160,14 +162,17 @@ TEST(LockstepMission, LockstepAndTheWallClockAgree) {
   MissionRun wall = run_two_branches(protocol::ClockMode::Wall);
   ASSERT_TRUE(lockstep.result && wall.result);
   EXPECT_EQ(strategic::Outcome::Completed, wall.result->outcome) << wall.result->reason;
-  ASSERT_EQ(lockstep.calls.size(), wall.calls.size())
-      << "lockstep:\n" << describe(lockstep.calls) << "wall:\n" << describe(wall.calls);
+  ASSERT_EQ(lockstep.calls.size(), wall.calls.size()) << "lockstep:\n"
+                                                      << describe(lockstep.calls) << "wall:\n"
+                                                      << describe(wall.calls);
   for (std::size_t i = 0; i < lockstep.calls.size(); ++i) {
     SCOPED_TRACE(i);
     EXPECT_EQ(lockstep.calls[i].primitive, wall.calls[i].primitive);
     EXPECT_EQ(lockstep.calls[i].value, wall.calls[i].value);
     EXPECT_LE(std::fabs(lockstep.calls[i].sim_time_s - wall.calls[i].sim_time_s), 0.1 + 1e-6)
-        << "lockstep:\n" << describe(lockstep.calls) << "wall:\n" << describe(wall.calls);
+        << "lockstep:\n"
+        << describe(lockstep.calls) << "wall:\n"
+        << describe(wall.calls);
   }
 }
 

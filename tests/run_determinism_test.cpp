@@ -54,8 +54,7 @@ TEST_P(Determinism, TwoRunsLogTheSameOnceWallFieldsAreStripped) {
 }
 
 INSTANTIATE_TEST_SUITE_P(TankScenarios, Determinism,
-                         ::testing::Values("nominal", "weak_thrusters", "leak_phase2", "leak_phase3",
-                                           "link_loss"));
+                         ::testing::Values("nominal", "weak_thrusters", "leak_phase2", "leak_phase3", "link_loss"));
 
 TEST(DeterminismSeeded, TwoRunsWithTheSameSeedLogTheSame) {
   for (const std::string scenario : {"nominal", "leak_phase3"}) {
@@ -75,12 +74,11 @@ TEST(DeterminismSeeded, TwoRunsWithTheSameSeedLogTheSame) {
 
 TEST(RunAgainstVehicleProcess, NominalMissionCompletes) {
   TempDir dir;
-  strata::testing::ChildProcess vehicle({STRATA_BINARY, "vehicle", "--listen", "0", "--scenario", "nominal",
-                                         "--mission", kMission},
-                                        dir.file("vehicle.err"));
+  strata::testing::ChildProcess vehicle(
+      {STRATA_BINARY, "vehicle", "--listen", "0", "--scenario", "nominal", "--mission", kMission},
+      dir.file("vehicle.err"));
   auto line = vehicle.first_line(10s);
-  ASSERT_TRUE(line.has_value()) << "strata vehicle printed no address; stderr:\n"
-                                << read_file(dir.file("vehicle.err"));
+  ASSERT_TRUE(line.has_value()) << "strata vehicle printed no address; stderr:\n" << read_file(dir.file("vehicle.err"));
   ASSERT_EQ(0u, line->rfind("127.0.0.1:", 0)) << *line;
   const std::string address = *line;
 
@@ -106,8 +104,8 @@ TEST(RunAgainstVehicleProcess, NominalMissionCompletes) {
 
   // Stopped by its pid (SIGTERM): a clean exit.
   int status = vehicle.stop();
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-      << "status " << status << "; stderr:\n" << read_file(dir.file("vehicle.err"));
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status << "; stderr:\n"
+                                                             << read_file(dir.file("vehicle.err"));
 }
 
 }  // namespace

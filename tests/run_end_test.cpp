@@ -43,9 +43,9 @@ struct Ended {
 // Starts `strata run` with args (and --log), waits until its log shows
 // `ready` (a substring of a line), sends each signal in turn `gap` apart,
 // and waits for the process to end (at most 30 s, then SIGKILL).
-Ended run_and_signal(const std::vector<std::string>& args, const std::string& ready,
-                     const std::vector<int>& signals, std::chrono::milliseconds settle = 0ms,
-                     std::chrono::milliseconds gap = 20ms, bool hup_ignored = false) {
+Ended run_and_signal(const std::vector<std::string>& args, const std::string& ready, const std::vector<int>& signals,
+                     std::chrono::milliseconds settle = 0ms, std::chrono::milliseconds gap = 20ms,
+                     bool hup_ignored = false) {
   TempDir dir;
   const std::string log_path = dir.file("mission.jsonl");
   const std::string out_path = dir.file("out.txt");
@@ -68,7 +68,8 @@ Ended run_and_signal(const std::vector<std::string>& args, const std::string& re
   sigfillset(&all);
   posix_spawnattr_setsigmask(&attr, &none);
   // As nohup starts it: SIGHUP ignored, which an exec keeps.
-  struct sigaction ignore {}, previous {};
+  struct sigaction ignore {
+  }, previous{};
   ignore.sa_handler = SIG_IGN;
   if (hup_ignored) {
     sigdelset(&all, SIGHUP);
@@ -185,8 +186,8 @@ TEST(RunEnd, SighupDuringPrologSleepSurfacesAndExits129) {
 }
 
 TEST(RunEnd, SigintDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
-  Ended e = run_and_signal({kTests + "loop_at_depth.pl", "--inference-limit", "1000000000000"}, kRulesDived, {SIGINT},
-                           300ms);
+  Ended e =
+      run_and_signal({kTests + "loop_at_depth.pl", "--inference-limit", "1000000000000"}, kRulesDived, {SIGINT}, 300ms);
   expect_safe_end(e, "SIGINT", 130);
 }
 
@@ -197,9 +198,9 @@ TEST(RunEnd, SigtermDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
 }
 
 TEST(RunEnd, SighupDuringABusyPrologLoopUnderAHugeInferenceLimitSurfaces) {
-  expect_safe_end(run_and_signal({kTests + "loop_at_depth.pl", "--inference-limit", "1000000000000"}, kRulesDived,
-                                 {SIGHUP}, 300ms),
-                  "SIGHUP", 129);
+  expect_safe_end(
+      run_and_signal({kTests + "loop_at_depth.pl", "--inference-limit", "1000000000000"}, kRulesDived, {SIGHUP}, 300ms),
+      "SIGHUP", 129);
 }
 
 MissionRun run_file(const std::string& mission, double max_sim_time_s = RunOptions{}.max_sim_time_s) {

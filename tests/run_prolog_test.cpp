@@ -127,7 +127,8 @@ std::string figure10() {
 }
 
 TEST(Figure10, RunsUnchangedAndBehavesAsOurPhase2InEveryScenario) {
-  if (!fs::exists(kPaper)) GTEST_SKIP() << "skipped: ../shared/seed not present (the paper's text is not in the project)";
+  if (!fs::exists(kPaper))
+    GTEST_SKIP() << "skipped: ../shared/seed not present (the paper's text is not in the project)";
   const std::string fig10 = figure10();
   ASSERT_NE(std::string::npos, fig10.find("execute_phase(2)")) << "Figure 10 not found after the Figure 9 caption";
   ASSERT_NE(std::string::npos, fig10.find("done:- current_phase(mission_abort)"));
@@ -143,7 +144,8 @@ TEST(Figure10, RunsUnchangedAndBehavesAsOurPhase2InEveryScenario) {
     TracedRun ours = run_traced(kRules, scenario);
     TracedRun paper = run_traced(paper_rules, scenario);
     ASSERT_TRUE(paper.report.result.has_value()) << paper.err;
-    EXPECT_NE(std::string::npos, paper.err.find("phase2.pl")) << "Figure 10's singleton X is warned about, with its file";
+    EXPECT_NE(std::string::npos, paper.err.find("phase2.pl"))
+        << "Figure 10's singleton X is warned about, with its file";
     EXPECT_EQ(std::string::npos, paper.err.find("error")) << paper.err;
     EXPECT_EQ(std::nullopt, first_difference(ours.rows, paper.rows))
         << side_by_side(ours.rows, paper.rows, {"ours", "Figure 10", std::size_t{5}});
@@ -170,7 +172,8 @@ TEST(BadRules, AnEndlessLoopIsStoppedAndTheVehicleSurfaced) {
   EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m) << r.out;
   // It was under water when the rules stopped: the surfacing is the runner's.
   const std::string trace = side_by_side(r.rows, {}, {});
-  auto surface = std::find_if(r.rows.begin(), r.rows.end(), [](const TraceRow& row) { return row.call == "exec surface"; });
+  auto surface =
+      std::find_if(r.rows.begin(), r.rows.end(), [](const TraceRow& row) { return row.call == "exec surface"; });
   ASSERT_NE(r.rows.end(), surface) << trace;
   ASSERT_NE(r.rows.begin(), surface);
   EXPECT_EQ("ask surface_reached", (surface - 1)->call) << "asked first: " << trace;

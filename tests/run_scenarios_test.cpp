@@ -15,7 +15,6 @@
 namespace strata::cli::run_testing {
 namespace {
 
-
 // What holds for every run of a valid mission on the embedded vehicle: the
 // log is well formed, agrees with the RunReport and the console summary, and
 // ends with the vehicle's final state.
@@ -56,7 +55,8 @@ void expect_consistent(const MissionRun& r, const std::string& scenario) {
   EXPECT_EQ(result.outcome == Outcome::Completed ? 0 : 1, r.report.exit_code);
 
   ASSERT_TRUE(log.vehicle_final.has_value());
-  EXPECT_EQ(log.lines.size() - 1, *log.mission_end) << "mission_end is the last line: the run wrote it after its safe end";
+  EXPECT_EQ(log.lines.size() - 1, *log.mission_end)
+      << "mission_end is the last line: the run wrote it after its safe end";
   EXPECT_EQ(*log.mission_end - 1, *log.vehicle_final) << "vehicle_final comes just before it";
   EXPECT_EQ(r.report.exit_code, end["exit_code"]);
   EXPECT_NEAR(result.sim_time_s, end["mission_sim_time"].get<double>(), kEps);
@@ -66,8 +66,7 @@ void expect_consistent(const MissionRun& r, const std::string& scenario) {
   EXPECT_EQ(r.report.vehicle_watchdog_tripped, final_line["watchdog_tripped"].get<bool>());
   EXPECT_GE(final_line["sim_time"].get<double>(), result.sim_time_s - kEps);
 
-  EXPECT_NE(std::string::npos,
-            r.out.find("log: " + r.log_path + " (" + std::to_string(log.lines.size()) + " lines)"))
+  EXPECT_NE(std::string::npos, r.out.find("log: " + r.log_path + " (" + std::to_string(log.lines.size()) + " lines)"))
       << r.out;
 
   // The OOD opens the network first and the last request shuts it down.
@@ -145,8 +144,8 @@ void expect_leak_seen_in_time(const MissionRun& r, const std::string& scenario, 
                                  << " s, before the leak at " << leak_s << " s";
     }
   }
-  const Call* first_after = log.first(
-      [&](const Call& c) { return c.primitive == "system_problem" && c.requested_s >= leak_s - kEps; });
+  const Call* first_after =
+      log.first([&](const Call& c) { return c.primitive == "system_problem" && c.requested_s >= leak_s - kEps; });
   ASSERT_NE(nullptr, first_after) << "no system_problem check after the leak at " << leak_s << " s";
   EXPECT_TRUE(first_after->answered(1)) << "the first check after the leak missed it";
   EXPECT_EQ(phase, first_after->phase);
@@ -181,14 +180,13 @@ TEST(TankScenario, NominalCompletesAllFourPhases) {
     setpoint_phases.push_back(c.phase);
   }
   EXPECT_EQ(data.size(), setpoint_phases.size());
-  EXPECT_EQ((std::vector<std::string>{"dive_from_surface", "submerge_to_depth", "return_to_surface"}),
-            setpoint_phases);
+  EXPECT_EQ((std::vector<std::string>{"dive_from_surface", "submerge_to_depth", "return_to_surface"}), setpoint_phases);
 
   // The key calls, in this order (other calls may come between them).
-  const std::vector<std::pair<std::string, int>> key = {
-      {"start_network", 1},   {"next_setpt_data", 1}, {"submerge", 1},        {"depth_reached", 1},
-      {"next_setpt_data", 1}, {"submerge", 1},        {"depth_reached", 1},   {"next_setpt_data", 1},
-      {"surface", 1},         {"surface_reached", 1}, {"shutdown_network", 1}};
+  const std::vector<std::pair<std::string, int>> key = {{"start_network", 1},   {"next_setpt_data", 1}, {"submerge", 1},
+                                                        {"depth_reached", 1},   {"next_setpt_data", 1}, {"submerge", 1},
+                                                        {"depth_reached", 1},   {"next_setpt_data", 1}, {"surface", 1},
+                                                        {"surface_reached", 1}, {"shutdown_network", 1}};
   std::size_t k = 0;
   for (const auto& c : log.calls) {
     if (k < key.size() && c.is(key[k].first, key[k].second)) ++k;
@@ -213,8 +211,7 @@ TEST(TankScenario, NominalCompletesAllFourPhases) {
 
   // The vehicle went down past the first setpoint and came back up.
   ASSERT_FALSE(log.telemetry_depths_m.empty());
-  EXPECT_GT(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()),
-            data.at(0).depth_m);
+  EXPECT_GT(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()), data.at(0).depth_m);
   ASSERT_TRUE(r.report.final_depth_m.has_value());
   EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
   EXPECT_FALSE(r.report.vehicle_watchdog_tripped);
@@ -246,8 +243,7 @@ TEST(TankScenario, WeakThrustersTimeOutInPhase2AndAbort) {
   EXPECT_EQ(0u, log.count([](const Call& c) { return c.is("system_problem", 1); }));
   // 10% thrust cannot beat the buoyancy: the vehicle never leaves the surface.
   ASSERT_FALSE(log.telemetry_depths_m.empty());
-  EXPECT_LE(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()),
-            kParams.surface_depth_m);
+  EXPECT_LE(*std::max_element(log.telemetry_depths_m.begin(), log.telemetry_depths_m.end()), kParams.surface_depth_m);
 }
 
 TEST(TankScenario, LeakInPhase2SurfacesAndAborts) {
@@ -263,9 +259,9 @@ TEST(TankScenario, LeakInPhase2SurfacesAndAborts) {
 TEST(TankScenario, LeakInPhase3SurfacesAndAborts) {
   const MissionRun& r = scenario_run("leak_phase3");
   expect_consistent(r, "leak_phase3");
-  EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface completed",
-                                      "submerge_to_depth aborted"}),
-            r.report.phases);
+  EXPECT_EQ(
+      (std::vector<std::string>{"initialize completed", "dive_from_surface completed", "submerge_to_depth aborted"}),
+      r.report.phases);
   expect_abort_path(r, "submerge_to_depth", "system_problem");
   expect_leak_seen_in_time(r, "leak_phase3", "submerge_to_depth");
   auto phase2 = r.log.in_phase("dive_from_surface");

@@ -86,7 +86,8 @@ TEST_F(StudioRunTest, ATankRunReachesTheEndAndTheSnapshotHasIt) {
     if (chunk->empty()) break;
     text += *chunk;
   }
-  EXPECT_NE(std::string::npos, text.find("\"marking\":{\"closed\":1}")) << text.substr(text.size() > 2000 ? text.size() - 2000 : 0);
+  EXPECT_NE(std::string::npos, text.find("\"marking\":{\"closed\":1}"))
+      << text.substr(text.size() > 2000 ? text.size() - 2000 : 0);
 }
 
 // Issue 17: finished phases stayed "in flight" to the end of the run, in the
@@ -187,8 +188,8 @@ TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
 TEST_F(StudioRunTest, ClosingTheStudioLetsTheSafeEndFinish) {
   ASSERT_TRUE(runner_->start(request(20.0)).ok());
   ASSERT_TRUE(wait_for([&] { return depth() > 1.0; }, 60s)) << "the vehicle never dived";
-  runner_->abort();   // StudioServer::stop()
-  runner_.reset();    // then the runner goes: it waits for the safe end
+  runner_->abort();  // StudioServer::stop()
+  runner_.reset();   // then the runner goes: it waits for the safe end
   const json end = hub_.snapshot()["ended"];
   ASSERT_FALSE(end.is_null());
   EXPECT_EQ("aborted", end["outcome"]) << end.dump();

@@ -28,8 +28,7 @@ struct VehicleProcess {
 };
 
 std::shared_ptr<VehicleLink> connect(asio::io_context& io, std::uint16_t port,
-                                     std::optional<core::Result<protocol::Welcome>>& welcome,
-                                     int reconnects = 0) {
+                                     std::optional<core::Result<protocol::Welcome>>& welcome, int reconnects = 0) {
   LinkOptions o;
   o.port = port;
   o.reply_timeout = 2000ms;
@@ -104,7 +103,8 @@ TEST(VehicleProcess, AVehicleThatDiesMidRequestIsAClearErrorNotAHang) {
   std::optional<core::Result<CallOutcome>> out;
   t.call("sleep", {Value::of(3000.0)}, [&](core::Result<CallOutcome> r) { out = std::move(r); });
   v.child->kill_now();
-  ASSERT_TRUE(run_until(io, [&] { return out.has_value() && lost.has_value(); }, 10s));
+  ASSERT_TRUE(run_until(
+      io, [&] { return out.has_value() && lost.has_value(); }, 10s));
   ASSERT_FALSE(out->ok());
   EXPECT_EQ(core::ErrorCode::Closed, out->error().code) << out->error().message;
   EXPECT_NE(std::string::npos, out->error().message.find("sleep")) << out->error().message;
@@ -153,10 +153,13 @@ TEST(VehicleProcess, AClientThatNeverSaysHelloIsDroppedAndTheNextIsServed) {
   ASSERT_TRUE(refused_welcome.has_value());
   ASSERT_FALSE(refused_welcome->ok());
   EXPECT_NE(std::string::npos, refused_welcome->error().message.find("busy")) << refused_welcome->error().message;
-  ASSERT_TRUE(run_until(io, [&] {
-    silent.poll();
-    return silent.closed;
-  }, 10s));
+  ASSERT_TRUE(run_until(
+      io,
+      [&] {
+        silent.poll();
+        return silent.closed;
+      },
+      10s));
   ASSERT_EQ(1u, silent.lines.size());
   EXPECT_EQ("err 0 not_ready \"no hello within 0.5 s: closing this connection\"", silent.lines[0]);
   std::optional<core::Result<protocol::Welcome>> welcome;
@@ -173,8 +176,7 @@ TEST(VehicleProcess, HelloWithAnUnsupportedVersionIsRefusedNamingTheVersionsSpok
   testing::LineClient c(io, v.port);
   c.say("hello 1 hand 99");
   ASSERT_TRUE(c.wait_for(io, "err 1", 10s));
-  EXPECT_EQ("err 1 bad_argument \"protocol version 99 is not spoken here; this vehicle speaks 1 and 2\"",
-            c.lines[0]);
+  EXPECT_EQ("err 1 bad_argument \"protocol version 99 is not spoken here; this vehicle speaks 1 and 2\"", c.lines[0]);
   c.say("hello 2 hand 2");
   ASSERT_TRUE(c.wait_for(io, "ok 2", 10s));
   EXPECT_TRUE(c.lines[1].starts_with("ok 2 phoenix-sim 2 lockstep")) << c.lines[1];

@@ -65,9 +65,7 @@ int exit_code_for(const Report& report) {
   return report.errors() > 0 ? kExitInvalid : kExitOk;
 }
 
-std::string plural(std::size_t n, std::string_view word) {
-  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
-}
+std::string plural(std::size_t n, std::string_view word) { return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s"); }
 
 int run_check(const CheckOptions& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
@@ -92,8 +90,11 @@ int run_check(const CheckOptions& o) {
       for (const auto& m : messages) {
         (m.error ? errors : warnings) += 1;
         if (o.format != "json") std::cerr << prolog::format_message(m) << "\n";
-        diagnostics.push_back({{"file", m.file}, {"line", m.line}, {"column", m.column},
-                               {"severity", m.error ? "error" : "warning"}, {"message", m.text}});
+        diagnostics.push_back({{"file", m.file},
+                               {"line", m.line},
+                               {"column", m.column},
+                               {"severity", m.error ? "error" : "warning"},
+                               {"message", m.text}});
       }
       if (!rules && errors == 0) {  // the messages say why, when there are any
         errors = 1;
@@ -105,8 +106,12 @@ int run_check(const CheckOptions& o) {
       }
       rule_errors += errors;
       rule_warnings += warnings;
-      files.push_back(nlohmann::json{{"file", file}, {"language", "prolog"}, {"ok", rules.ok()}, {"errors", errors},
-                                     {"warnings", warnings}, {"diagnostics", diagnostics}});
+      files.push_back(nlohmann::json{{"file", file},
+                                     {"language", "prolog"},
+                                     {"ok", rules.ok()},
+                                     {"errors", errors},
+                                     {"warnings", warnings},
+                                     {"diagnostics", diagnostics}});
       summaries.push_back(rules ? fmt::format("{}: ok (PROLOG rules, mission {})", file, rules.value()->name())
                                 : fmt::format("{}: {}", file, plural(errors, "error")));
       continue;
@@ -121,16 +126,21 @@ int run_check(const CheckOptions& o) {
     if (program) {
       for (const auto& n : program->nets) transitions += n.net.transition_count();
     }
-    files.push_back(nlohmann::json{{"file", file}, {"ok", program.has_value()}, {"nets", nets},
-                                   {"transitions", transitions}, {"errors", sink.error_count()},
+    files.push_back(nlohmann::json{{"file", file},
+                                   {"ok", program.has_value()},
+                                   {"nets", nets},
+                                   {"transitions", transitions},
+                                   {"errors", sink.error_count()},
                                    {"warnings", sink.warning_count()}});
-    summaries.push_back(program ? fmt::format("{}: ok ({}, {})", file, plural(nets, "net"),
-                                              plural(transitions, "transition"))
-                                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
+    summaries.push_back(
+        program ? fmt::format("{}: ok ({}, {})", file, plural(nets, "net"), plural(transitions, "transition"))
+                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
   }
   if (o.format == "json") {
-    nlohmann::json out = {{"diagnostics", report.json()}, {"files", files},
-                          {"errors", report.errors() + rule_errors}, {"warnings", report.warnings() + rule_warnings}};
+    nlohmann::json out = {{"diagnostics", report.json()},
+                          {"files", files},
+                          {"errors", report.errors() + rule_errors},
+                          {"warnings", report.warnings() + rule_warnings}};
     std::cout << core::dump_json(out) << "\n";
   } else {
     std::cerr << report.text();
@@ -190,21 +200,18 @@ Runner add_check_command(CLI::App& app) {
   cmd->add_option("--format", o->format, "Output format: text (for people) or json (for tools)")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
-  cmd->add_option("--catalogue", o->catalogue,
-                  "Primitive catalogue to check TACTIC calls against (default: built in)");
+  cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue to check TACTIC calls against (default: built in)");
   add_rule_load_flags(cmd, o->rule_load);
-  cmd->footer("Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
-              "74 when a file cannot be read.");
+  cmd->footer(
+      "Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
+      "74 when a file cannot be read.");
   return [o] { return run_check(*o); };
 }
 
 Runner add_dump_command(CLI::App& app) {
   auto o = std::make_shared<CheckOptions>();
-  auto* cmd = app.add_subcommand(
-      "dump", "Print the compiled Petri nets and action tables of a CORAL mission");
-  cmd->add_option("file", o->files, "Mission file (.coral)")
-      ->required()
-      ->expected(1);
+  auto* cmd = app.add_subcommand("dump", "Print the compiled Petri nets and action tables of a CORAL mission");
+  cmd->add_option("file", o->files, "Mission file (.coral)")->required()->expected(1);
   cmd->add_option("--net", o->net, "Print only this net");
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
   cmd->add_option("--format", o->format, "Diagnostics format: text or json")

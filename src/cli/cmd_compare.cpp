@@ -73,9 +73,10 @@ int run_compare(const CompareOptions& o) {
   const auto diff = first_difference(rows_a, rows_b);
   const bool same_outcome = reports[0].result->outcome == reports[1].result->outcome;
   if (!diff && same_outcome) {
-    std::cout << fmt::format("identical: {} primitive calls, the same answers at the same simulated times; "
-                             "both {}\n",
-                             rows_a.size(), strategic::to_string(reports[0].result->outcome));
+    std::cout << fmt::format(
+        "identical: {} primitive calls, the same answers at the same simulated times; "
+        "both {}\n",
+        rows_a.size(), strategic::to_string(reports[0].result->outcome));
     return kExitOk;
   }
   if (diff) {
@@ -93,10 +94,10 @@ int run_compare(const CompareOptions& o) {
 
 Runner add_compare_command(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
-  auto* cmd = app.add_subcommand(
-      "compare",
-      "Run two missions (.coral or .pl, in any mix) against identical simulated vehicles and print "
-      "their primitive-call traces side by side; exit 0 when identical, 1 when not");
+  auto* cmd =
+      app.add_subcommand("compare",
+                         "Run two missions (.coral or .pl, in any mix) against identical simulated vehicles and print "
+                         "their primitive-call traces side by side; exit 0 when identical, 1 when not");
   cmd->add_option("a", o->a, "The first mission")->required();
   cmd->add_option("b", o->b, "The second mission")->required();
   cmd->add_option("--scenario", o->scenario,
@@ -105,8 +106,7 @@ Runner add_compare_command(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "CORAL: choose among enabled transitions at random, from this seed");
   cmd->add_option("--params", o->params, "Vehicle parameter file (default: built in)");
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
-  cmd->add_option("--inference-limit", o->inference_limit,
-                  "PROLOG: inferences allowed between two primitive calls")
+  cmd->add_option("--inference-limit", o->inference_limit, "PROLOG: inferences allowed between two primitive calls")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
   add_rule_load_flags(cmd, o->rule_load);

@@ -40,7 +40,8 @@ bool write_file(const fs::path& path, const std::string& text) {
 
 int run_export(const ExportOptions& o) {
   if (!o.mission.ends_with(".coral")) {
-    std::cerr << fmt::format("strata export: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets\n", o.mission);
+    std::cerr << fmt::format("strata export: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets\n",
+                             o.mission);
     return kExitUsage;
   }
   auto catalogue = load_catalogue_option(o.catalogue);

@@ -49,18 +49,10 @@ int run_plot(const PlotOptions& o) {
   }
   if (!r.warnings.empty()) std::cerr << "gnuplot: " << r.warnings << "\n";
   switch (r.status) {
-    case plot::RenderStatus::Ok:
-      std::cerr << fmt::format("wrote {}\n", output.string());
-      return kExitOk;
-    case plot::RenderStatus::GnuplotMissing:
-      std::cerr << "strata plot: " << r.message << "\n";
-      return kExitUnavailable;
-    case plot::RenderStatus::GnuplotFailed:
-      std::cerr << "strata plot: " << r.message << "\n";
-      return kExitInternal;
-    case plot::RenderStatus::Io:
-      std::cerr << "strata plot: " << r.message << "\n";
-      return kExitIo;
+    case plot::RenderStatus::Ok: std::cerr << fmt::format("wrote {}\n", output.string()); return kExitOk;
+    case plot::RenderStatus::GnuplotMissing: std::cerr << "strata plot: " << r.message << "\n"; return kExitUnavailable;
+    case plot::RenderStatus::GnuplotFailed: std::cerr << "strata plot: " << r.message << "\n"; return kExitInternal;
+    case plot::RenderStatus::Io: std::cerr << "strata plot: " << r.message << "\n"; return kExitIo;
   }
   return kExitInternal;
 }

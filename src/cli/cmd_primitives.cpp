@@ -36,9 +36,7 @@ Runner add_primitives_command(CLI::App& app) {
   auto o = std::make_shared<PrimitivesOptions>();
   auto* cmd = app.add_subcommand("primitives", "Print the vehicle primitives a mission may call");
   cmd->add_option("--catalogue", o->catalogue, "Catalogue file (default: built in, as config/primitives.toml)");
-  cmd->add_option("--format", o->format, "text or json")
-      ->check(CLI::IsMember({"text", "json"}))
-      ->capture_default_str();
+  cmd->add_option("--format", o->format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
   return [o] { return run_primitives(*o); };
 }
 

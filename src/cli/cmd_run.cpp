@@ -53,7 +53,8 @@ Runner add_run_command(CLI::App& app) {
                   "that vehicle runs at, to scale reply timeouts)")
       ->check(CLI::Range(0.01, 1000.0))
       ->capture_default_str();
-  cmd->add_option("--vehicle", o->vehicle, "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");
+  cmd->add_option("--vehicle", o->vehicle,
+                  "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");
   cmd->add_option("--log", o->log, "Write the mission log (JSON Lines) to this file");
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "

@@ -85,12 +85,13 @@ int run_studio(const StudioOptions& o) {
     return kExitIo;
   }
   std::cout << fmt::format("http://{}:{}", o.host, port.value()) << std::endl;
-  std::cerr << fmt::format("strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
-                           o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
+  std::cerr << fmt::format(
+      "strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
+      o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
   int signal = 0;
   sigwait(&stop_signals, &signal);
   std::cerr << "strata studio: stopping\n";
-  server.stop();  // a run going ends through its safe end first
+  server.stop();                                                         // a run going ends through its safe end first
   if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
   return kExitOk;
 }

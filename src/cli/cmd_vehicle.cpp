@@ -72,10 +72,10 @@ int run_vehicle(const VehicleOptions& o) {
   }
   // The first line of stdout is the address, for scripts and tests.
   std::cout << so.address << ":" << server.port() << std::endl;
-  std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})",
-                           so.address, server.port(), o.realtime ? "wall" : "lockstep",
-                           o.realtime ? fmt::format(", speed {}", o.speed) : "",
-                           scenario.value().description, scenario.value().seed)
+  std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})", so.address,
+                           server.port(), o.realtime ? "wall" : "lockstep",
+                           o.realtime ? fmt::format(", speed {}", o.speed) : "", scenario.value().description,
+                           scenario.value().seed)
             << std::endl;
   std::cerr << fmt::format("vehicle: sonar socket on {}:{} (`strata sonar --vehicle {}:{} --out DIR` reads it)",
                            so.address, server.sonar_port(), so.address, server.sonar_port())

@@ -63,8 +63,8 @@ int run_verify_pnml(const VerifyOptions& o) {
   eo.progress = [&](const petri::ExploreProgress& p) {
     if (tty) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::cerr << fmt::format("\r  {} states, {} explored, {} states/s, {} MB   ", human(static_cast<double>(p.states)),
-                               human(static_cast<double>(p.explored)),
+      std::cerr << fmt::format("\r  {} states, {} explored, {} states/s, {} MB   ",
+                               human(static_cast<double>(p.states)), human(static_cast<double>(p.explored)),
                                human(s > 0 ? static_cast<double>(p.states) / s : 0.0), p.memory_bytes >> 20)
                 << std::flush;
     }
@@ -156,11 +156,10 @@ Runner add_verify_command(CLI::App& app) {
                   "not decided)")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}))
       ->capture_default_str();
-  cmd->add_option("--format", o->format, "text or json")
-      ->check(CLI::IsMember({"text", "json"}))
-      ->capture_default_str();
-  cmd->add_option("--max-memory", o->max_memory_mb,
-                  "--pnml: stop with a partial report when the markings and their index would need more MB (0: no limit)")
+  cmd->add_option("--format", o->format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
+  cmd->add_option(
+         "--max-memory", o->max_memory_mb,
+         "--pnml: stop with a partial report when the markings and their index would need more MB (0: no limit)")
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
   cmd->footer(

@@ -25,8 +25,8 @@ void Console::draw_status(bool force) {
   std::string phase = current_phase_.empty() ? "-" : current_phase_;
   std::string depth = depth_m_ ? fmt::format("{:.2f} m", *depth_m_) : "-";
   std::string setpoint = setpoint_m_ ? fmt::format("{:.2f} m", *setpoint_m_) : "-";
-  std::string text = fmt::format("{:7.1f} s | {} | depth {} | setpoint {} | {}", sim_time_s_, phase,
-                                 depth, setpoint, action_.empty() ? "idle" : action_);
+  std::string text = fmt::format("{:7.1f} s | {} | depth {} | setpoint {} | {}", sim_time_s_, phase, depth, setpoint,
+                                 action_.empty() ? "idle" : action_);
   out_ << "\r\033[K" << text;
   out_.flush();
   status_shown_ = true;

@@ -11,9 +11,7 @@
 int main(int argc, char** argv) {
   using namespace strata;
   using namespace strata::cli;
-  CLI::App app{
-      "Strata: strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)",
-      "strata"};
+  CLI::App app{"Strata: strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)", "strata"};
   app.set_version_flag("--version", "strata 0.1.0");
   app.require_subcommand(1);
   app.footer(exit_code_help());

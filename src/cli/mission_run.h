@@ -17,8 +17,8 @@ using run::RunOptions;
 using run::RunReport;
 
 struct ConsoleOptions {
-  bool tty = false;             // a live status line instead of plain event lines
-  bool handle_signals = false;  // SIGINT, SIGTERM, SIGHUP stop the run (the CLI's main thread only)
+  bool tty = false;                          // a live status line instead of plain event lines
+  bool handle_signals = false;               // SIGINT, SIGTERM, SIGHUP stop the run (the CLI's main thread only)
   std::vector<run::RunObserver*> observers;  // told after the console
 };
 

@@ -25,13 +25,14 @@ std::string cell(const std::vector<TraceRow>& rows, std::size_t i, std::size_t w
 }  // namespace
 
 bool TraceRow::operator==(const TraceRow& o) const {
-  return call == o.call && answer == o.answer && std::llround(sim_time_s * 1000.0) == std::llround(o.sim_time_s * 1000.0);
+  return call == o.call && answer == o.answer &&
+         std::llround(sim_time_s * 1000.0) == std::llround(o.sim_time_s * 1000.0);
 }
 
 TraceRow trace_row(const tactical::CallRecord& r) {
   TraceRow row;
-  const bool to_vehicle = r.message.starts_with("exec ") || r.message.starts_with("ask ") ||
-                          r.message.starts_with("ood ");
+  const bool to_vehicle =
+      r.message.starts_with("exec ") || r.message.starts_with("ask ") || r.message.starts_with("ood ");
   row.call = to_vehicle ? r.message : fmt::format("{} \"{}\"", r.primitive, r.message);
   if (!r.error.empty()) {
     if (r.message.empty()) row.call = r.primitive;
@@ -72,8 +73,8 @@ std::string side_by_side(const std::vector<TraceRow>& a, const std::vector<Trace
     from = centre > *options.context ? centre - *options.context : 0;
     to = std::min(rows, centre + (diff ? *options.context + 1 : 0));
   }
-  std::string out = fmt::format("{:>5} {:>7}  {:<{}}   {:>7}  {}\n", "#", "t (s)", options.title_a, width, "t (s)",
-                                options.title_b);
+  std::string out =
+      fmt::format("{:>5} {:>7}  {:<{}}   {:>7}  {}\n", "#", "t (s)", options.title_a, width, "t (s)", options.title_b);
   if (from > 0) out += fmt::format("{:>5}  ({} identical calls before)\n", "...", from);
   for (std::size_t i = from; i < to; ++i) {
     const bool same = i < a.size() && i < b.size() && a[i] == b[i];

@@ -46,9 +46,9 @@ struct AnalysisNet {
 
   const CompiledNet* source = nullptr;
   petri::Net net;
-  std::vector<Step> steps;           // by analysis TransitionId
-  std::vector<PlaceOrigin> places;   // by analysis PlaceId
-  std::vector<petri::PlaceId> exits; // the mission net's exits (same ids)
+  std::vector<Step> steps;            // by analysis TransitionId
+  std::vector<PlaceOrigin> places;    // by analysis PlaceId
+  std::vector<petri::PlaceId> exits;  // the mission net's exits (same ids)
 };
 
 // Which exits of a phase its own analysis found reachable, by phase name;

@@ -44,9 +44,9 @@ enum class TacticType { Exec, Ask, Report, Ood, Unknown };
 struct Tactic {
   TacticType type = TacticType::Unknown;
   Name type_name;
-  std::optional<Call> function;   // EXEC, ASK, OOD
-  std::optional<Literal> text;    // REPORT
-  std::vector<Name> places;       // outcome places
+  std::optional<Call> function;  // EXEC, ASK, OOD
+  std::optional<Literal> text;   // REPORT
+  std::vector<Name> places;      // outcome places
   core::SourceSpan span;
 };
 
@@ -84,7 +84,7 @@ struct Net {
   std::vector<Name> exits;        // exit places in declaration order
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)
   std::vector<Transition> transitions;
-  core::SourceSpan span;  // the `net NAME` / `mission NAME` head
+  core::SourceSpan span;                  // the `net NAME` / `mission NAME` head
   std::optional<std::uint32_t> body_end;  // offset of the closing '}', when there is one
 };
 

@@ -39,8 +39,8 @@ std::string_view expected_places_text(ast::TacticType type) {
 
 class NetChecker {
  public:
-  NetChecker(const ast::Net& net, const std::unordered_map<std::string, NetRef>& library,
-             core::DiagnosticSink& sink, const CheckOptions& options)
+  NetChecker(const ast::Net& net, const std::unordered_map<std::string, NetRef>& library, core::DiagnosticSink& sink,
+             const CheckOptions& options)
       : net_(net), library_(library), sink_(sink), options_(options) {}
 
   void run() {
@@ -52,8 +52,7 @@ class NetChecker {
       auto [it, fresh] = transitions.emplace(t.name.text, &t);
       if (!fresh) {
         auto* d = sink_.report(DiagnosticKind::DuplicateTransition, t.name.span,
-                               fmt::format("transition '{}' is declared twice in '{}'",
-                                           t.name.text, net_.name.text));
+                               fmt::format("transition '{}' is declared twice in '{}'", t.name.text, net_.name.text));
         core::add_note(d, it->second->name.span, "first declared here");
       }
       check_transition(t);
@@ -68,8 +67,7 @@ class NetChecker {
       auto [it, fresh] = places_.emplace(p.name.text, &p);
       if (!fresh) {
         auto* d = sink_.report(DiagnosticKind::DuplicatePlace, p.name.span,
-                               fmt::format("place '{}' is declared twice in '{}'", p.name.text,
-                                           net_.name.text));
+                               fmt::format("place '{}' is declared twice in '{}'", p.name.text, net_.name.text));
         core::add_note(d, it->second->name.span, "first declared here");
       } else {
         place_names_.push_back(p.name.text);
@@ -169,10 +167,10 @@ class NetChecker {
     if (call.args.size() < sig->min_args || call.args.size() > sig->max_args) {
       sink_.report(DiagnosticKind::PrimitiveArity, call.span,
                    sig->min_args == sig->max_args
-                       ? fmt::format("'{}' takes {} argument{}, but {} given", call.name.text,
-                                     sig->min_args, sig->min_args == 1 ? "" : "s", call.args.size())
-                       : fmt::format("'{}' takes {} to {} arguments, but {} given", call.name.text,
-                                     sig->min_args, sig->max_args, call.args.size()));
+                       ? fmt::format("'{}' takes {} argument{}, but {} given", call.name.text, sig->min_args,
+                                     sig->min_args == 1 ? "" : "s", call.args.size())
+                       : fmt::format("'{}' takes {} to {} arguments, but {} given", call.name.text, sig->min_args,
+                                     sig->max_args, call.args.size()));
     }
   }
 
@@ -188,8 +186,10 @@ class NetChecker {
         if (ref.net->kind == ast::Net::Kind::Phase) phases.push_back(name);
       }
       std::sort(phases.begin(), phases.end());  // ties resolve the same way every run
-      if (auto s = suggest(a.phase.text, phases)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
-      else core::add_note(d, "import the file that declares it");
+      if (auto s = suggest(a.phase.text, phases))
+        core::add_note(d, fmt::format("did you mean '{}'?", *s));
+      else
+        core::add_note(d, "import the file that declares it");
       return;
     }
     const ast::Net& phase = *it->second.net;
@@ -200,13 +200,13 @@ class NetChecker {
     }
     if (a.places.size() != phase.exits.size()) {
       auto* d = sink_.report(DiagnosticKind::PhaseArity, a.phase.span,
-                             fmt::format("phase '{}' has {} exit(s), but PHASE gives {} place(s)",
-                                         a.phase.text, phase.exits.size(), a.places.size()));
+                             fmt::format("phase '{}' has {} exit(s), but PHASE gives {} place(s)", a.phase.text,
+                                         phase.exits.size(), a.places.size()));
       std::string exits;
       for (const auto& e : phase.exits) exits += (exits.empty() ? "" : ", ") + e.text;
-      core::add_note(d, phase.span,
-                     exits.empty() ? std::string("the phase declares no exit")
-                                   : fmt::format("its exits, in order: {}", exits));
+      core::add_note(
+          d, phase.span,
+          exits.empty() ? std::string("the phase declares no exit") : fmt::format("its exits, in order: {}", exits));
     }
   }
 
@@ -218,9 +218,8 @@ class NetChecker {
       for (const auto& a : t.waits) read.insert(a.place.text);
       for (const auto& a : t.signals) written.insert(a.place.text);
       for (const auto& action : t.actions) {
-        const auto& places = std::holds_alternative<ast::Tactic>(action)
-                                 ? std::get<ast::Tactic>(action).places
-                                 : std::get<ast::Phase>(action).places;
+        const auto& places = std::holds_alternative<ast::Tactic>(action) ? std::get<ast::Tactic>(action).places
+                                                                         : std::get<ast::Phase>(action).places;
         for (const auto& p : places) written.insert(p.text);
       }
       if (t.waits.empty()) {
@@ -235,8 +234,7 @@ class NetChecker {
       if (p.is_exit) {
         if (!written.count(p.name.text)) {
           sink_.report(DiagnosticKind::ExitNeverMarked, p.name.span,
-                       fmt::format("exit '{}' is never marked, so the phase never ends there",
-                                   p.name.text));
+                       fmt::format("exit '{}' is never marked, so the phase never ends there", p.name.text));
         }
       } else if (!read.count(p.name.text) && !written.count(p.name.text)) {
         sink_.report(DiagnosticKind::UnusedPlace, p.name.span,
@@ -293,9 +291,8 @@ class NetChecker {
       can_fire[i] = true;
       for (const auto& a : ts[i].signals) mark(a.place.text);
       for (const auto& action : ts[i].actions) {
-        const auto& places = std::holds_alternative<ast::Tactic>(action)
-                                 ? std::get<ast::Tactic>(action).places
-                                 : std::get<ast::Phase>(action).places;
+        const auto& places = std::holds_alternative<ast::Tactic>(action) ? std::get<ast::Tactic>(action).places
+                                                                         : std::get<ast::Phase>(action).places;
         for (const auto& p : places) mark(p.text);
       }
     }
@@ -307,8 +304,7 @@ class NetChecker {
       for (const auto& a : t.waits) {
         auto it = place_index.find(a.place.text);
         if (it != place_index.end() && !markable[it->second]) {
-          core::add_note(d, a.place.span,
-                         fmt::format("no firing can ever mark '{}'", a.place.text));
+          core::add_note(d, a.place.span, fmt::format("no firing can ever mark '{}'", a.place.text));
           break;
         }
       }
@@ -325,16 +321,14 @@ class NetChecker {
 
 // A PHASE cycle would load phases without end: report the PHASE that closes
 // it. Iterative depth-first search, so a long chain cannot overflow the stack.
-void check_phase_recursion(const std::unordered_map<std::string, NetRef>& library,
-                           core::DiagnosticSink& sink) {
+void check_phase_recursion(const std::unordered_map<std::string, NetRef>& library, core::DiagnosticSink& sink) {
   enum class Mark { None, Active, Done };
   std::unordered_map<const ast::Net*, Mark> marks;
   std::vector<const ast::Net*> roots;
   roots.reserve(library.size());
   for (const auto& [name, ref] : library) roots.push_back(ref.net);
-  std::sort(roots.begin(), roots.end(), [](const ast::Net* a, const ast::Net* b) {
-    return a->name.text < b->name.text;
-  });
+  std::sort(roots.begin(), roots.end(),
+            [](const ast::Net* a, const ast::Net* b) { return a->name.text < b->name.text; });
   auto calls = [&](const ast::Net* net) {
     std::vector<const ast::Phase*> out;
     for (const auto& t : net->transitions) {
@@ -368,9 +362,9 @@ void check_phase_recursion(const std::unordered_map<std::string, NetRef>& librar
       if (callee->kind == ast::Net::Kind::Mission) continue;  // PhaseIsMission says it
       Mark m = marks[callee];
       if (m == Mark::Active) {
-        sink.report(DiagnosticKind::PhaseRecursion, phase->phase.span,
-                    fmt::format("PHASE({}) in '{}' runs a phase that is already running",
-                                phase->phase.text, f.net->name.text));
+        sink.report(
+            DiagnosticKind::PhaseRecursion, phase->phase.span,
+            fmt::format("PHASE({}) in '{}' runs a phase that is already running", phase->phase.text, f.net->name.text));
       } else if (m == Mark::None) {
         marks[callee] = Mark::Active;
         stack.push_back({callee, calls(callee)});
@@ -395,8 +389,7 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
       if (net.kind == ast::Net::Kind::Mission) {
         if (mission) {
           auto* d = sink.report(DiagnosticKind::MultipleMissions, net.name.span,
-                                fmt::format("a load holds one mission, but '{}' is a second",
-                                            net.name.text));
+                                fmt::format("a load holds one mission, but '{}' is a second", net.name.text));
           core::add_note(d, mission->name.span, "the first mission");
         } else {
           mission = &net;

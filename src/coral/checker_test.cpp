@@ -23,8 +23,7 @@ TEST(Checker, TacticPlaceCountsFollowTheType) {
       "  transition t2 { wait { a } action { TACTIC(EXEC, f, a, b) } }\n"
       "  transition t3 { wait { b } action { TACTIC(REPORT, \"x\", b) } }\n"
       "  transition t4 { wait { b } action { TACTIC(OOD, f) } signal { e } } }");
-  EXPECT_EQ((std::vector<std::string>{"2:46 TacticArity", "3:46 TacticArity", "4:46 TacticArity",
-                                      "5:46 TacticArity"}),
+  EXPECT_EQ((std::vector<std::string>{"2:46 TacticArity", "3:46 TacticArity", "4:46 TacticArity", "5:46 TacticArity"}),
             c->kinds());
 }
 
@@ -47,8 +46,9 @@ TEST(Checker, UnknownPhaseAndPhaseRecursion) {
 }
 
 TEST(Checker, DuplicatesAcrossTheLibrary) {
-  auto c = compile_text("import \"x.coral\";\nnet n { place a = 1, a; exit e; transition t { wait { a } signal { e } } }",
-                        {{"x.coral", "net n { place s = 1; exit e; transition t { wait { s } signal { e } } }"}});
+  auto c =
+      compile_text("import \"x.coral\";\nnet n { place a = 1, a; exit e; transition t { wait { a } signal { e } } }",
+                   {{"x.coral", "net n { place s = 1; exit e; transition t { wait { s } signal { e } } }"}});
   auto kinds = c->kinds();
   EXPECT_EQ((std::vector<std::string>{"2:22 DuplicatePlace", "1:5 DuplicateNet"}), kinds);
 }
@@ -60,8 +60,7 @@ TEST(Checker, StructuralWarnings) {
       "  transition dead { wait { never } signal { e } }\n"
       "  transition spin { signal { s } } }");
   EXPECT_TRUE(c->program);  // warnings do not stop compilation
-  EXPECT_EQ((std::vector<std::string>{"1:22 UnusedPlace", "1:45 ExitNeverMarked",
-                                      "3:14 NeverEnabled", "4:14 NoInput"}),
+  EXPECT_EQ((std::vector<std::string>{"1:22 UnusedPlace", "1:45 ExitNeverMarked", "3:14 NeverEnabled", "4:14 NoInput"}),
             c->kinds());
 }
 
@@ -81,8 +80,8 @@ TEST(Checker, ChainDeclaredAgainstTheFlowIsLive) {
   for (int i = 1; i <= 50; ++i) text += ", p" + std::to_string(i);
   text += "; exit e;\n";
   for (int i = 50; i >= 1; --i) {
-    text += "transition t" + std::to_string(i) + " { wait { p" + std::to_string(i - 1) +
-            " } signal { p" + std::to_string(i) + " } }\n";
+    text += "transition t" + std::to_string(i) + " { wait { p" + std::to_string(i - 1) + " } signal { p" +
+            std::to_string(i) + " } }\n";
   }
   text += "transition last { wait { p50 } signal { e } } }";
   auto c = compile_text(text);
@@ -104,8 +103,7 @@ TEST(Checker, PrimitivesAreCheckedAgainstTheCatalogueWhenGiven) {
       "  transition t2 { wait { a } action { TACTIC(EXEC, sleep, e) } }\n"
       "  transition t3 { wait { b } action { TACTIC(EXEC, depth_reached, e) } } }",
       {}, options);
-  EXPECT_EQ((std::vector<std::string>{"2:51 UnknownPrimitive", "3:52 PrimitiveArity",
-                                      "4:52 TacticArguments"}),
+  EXPECT_EQ((std::vector<std::string>{"2:51 UnknownPrimitive", "3:52 PrimitiveArity", "4:52 TacticArguments"}),
             c->kinds());
   EXPECT_EQ("did you mean 'depth_reached'?", c->sink.diagnostics()[0].notes[0].message);
 }
@@ -128,7 +126,8 @@ TEST(Checker, MissionCalledAsAPhaseIsReportedOnce) {
 // warnings threw on the unknown name: exit 70 instead of 65.
 TEST(Checker, ErrorsPastTheLimitDoNotReachTheWarnings) {
   std::string text = "net a { place p;\n";
-  for (int i = 0; i < 60; ++i) text += "transition t" + std::to_string(i) + " { wait { q" + std::to_string(i) + " } }\n";
+  for (int i = 0; i < 60; ++i)
+    text += "transition t" + std::to_string(i) + " { wait { q" + std::to_string(i) + " } }\n";
   text += "}\nnet b { place x; transition u { wait { nope } } }\n";
   std::unique_ptr<testing::Compiled> c;
   ASSERT_NO_THROW(c = compile_text(text));

@@ -66,8 +66,7 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
 
 }  // namespace
 
-std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink,
-                               const CheckOptions& options) {
+std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options) {
   check(load, sink, options);
   if (sink.has_errors()) return std::nullopt;
   Program program;
@@ -80,9 +79,8 @@ std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink,
   return program;
 }
 
-std::optional<Program> compile_file(const std::string& root, const FileProvider& provider,
-                                    core::SourceManager& sources, core::DiagnosticSink& sink,
-                                    const CheckOptions& options) {
+std::optional<Program> compile_file(const std::string& root, const FileProvider& provider, core::SourceManager& sources,
+                                    core::DiagnosticSink& sink, const CheckOptions& options) {
   Load l = load(root, provider, sources, sink);
   // Syntax errors stop here: checking a partly parsed tree would report
   // names whose declarations failed to parse (cascades).

@@ -12,12 +12,10 @@
 namespace strata::coral {
 
 // Checks, then compiles when the check found no error. Warnings stay in sink.
-std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink,
-                               const CheckOptions& options = {});
+std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options = {});
 
 // Loads root (with its imports) from provider, checks and compiles it.
-std::optional<Program> compile_file(const std::string& root, const FileProvider& provider,
-                                    core::SourceManager& sources, core::DiagnosticSink& sink,
-                                    const CheckOptions& options = {});
+std::optional<Program> compile_file(const std::string& root, const FileProvider& provider, core::SourceManager& sources,
+                                    core::DiagnosticSink& sink, const CheckOptions& options = {});
 
 }  // namespace strata::coral

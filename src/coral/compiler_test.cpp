@@ -46,15 +46,13 @@ TEST(Compiler, DumpEscapesReportTextAndDataPath) {
   ASSERT_TRUE(c->program) << ::testing::PrintToString(c->kinds());
   std::string dump = dump_net(c->program->nets[0]);
   EXPECT_NE(std::string::npos, dump.find("data \"a \\\"b\\\".toml\"\n")) << dump;
-  EXPECT_NE(std::string::npos,
-            dump.find("action t: TACTIC(REPORT, \"say \\\"hi\\\"\\n\\tnext\") -> []\n"))
-      << dump;
+  EXPECT_NE(std::string::npos, dump.find("action t: TACTIC(REPORT, \"say \\\"hi\\\"\\n\\tnext\") -> []\n")) << dump;
 }
 
 TEST(Compiler, DataFileResolvesAgainstTheMissionFolder) {
-  auto c = compile_text("import \"sub/m.coral\";",
-                        {{"sub/m.coral", "mission m { data \"sp.toml\"; place s = 1; exit e;\n"
-                                         "transition t { wait { s } signal { e } } }"}});
+  auto c = compile_text("import \"sub/m.coral\";", {{"sub/m.coral",
+                                                     "mission m { data \"sp.toml\"; place s = 1; exit e;\n"
+                                                     "transition t { wait { s } signal { e } } }"}});
   ASSERT_TRUE(c->program);
   ASSERT_TRUE(c->program->mission);
   EXPECT_EQ("sub/sp.toml", c->program->nets[*c->program->mission].data_file);
@@ -84,9 +82,9 @@ TEST(Compiler, TankMissionCompiles) {
   for (const auto& acts : program->find("dive_from_surface")->actions) {
     for (const auto& a : acts) prims.insert(a.target);
   }
-  EXPECT_EQ((std::set<std::string>{"next_setpt_data", "depth_filter_off", "start_depth_filter",
-                                   "sleep", "submerge", "start_timer", "depth_reached", "time_out",
-                                   "system_problem", "surface", "surface_reached"}),
+  EXPECT_EQ((std::set<std::string>{"next_setpt_data", "depth_filter_off", "start_depth_filter", "sleep", "submerge",
+                                   "start_timer", "depth_reached", "time_out", "system_problem", "surface",
+                                   "surface_reached"}),
             prims);
 }
 

@@ -78,7 +78,8 @@ class Editor {
     return nullptr;
   }
   core::Result<void> fresh_name(const std::string& name) const {
-    if (!is_name(name)) return invalid(fmt::format("'{}' is not a name (letters, digits and '_', not a keyword)", name));
+    if (!is_name(name))
+      return invalid(fmt::format("'{}' is not a name (letters, digits and '_', not a keyword)", name));
     if (place(name) || transition(name)) return invalid(fmt::format("'{}' is already used in net '{}'", name, e_.net));
     return {};
   }
@@ -119,7 +120,8 @@ class Editor {
   // ---- places -----------------------------------------------------------------
   core::Result<void> add_place() {
     if (auto r = fresh_name(e_.name); !r) return r;
-    const std::string decl = e_.value ? fmt::format("place {} = {};", e_.name, e_.value) : fmt::format("place {};", e_.name);
+    const std::string decl =
+        e_.value ? fmt::format("place {} = {};", e_.name, e_.value) : fmt::format("place {};", e_.name);
     // After the last place or exit statement, else before the first transition,
     // else before the closing brace.
     std::optional<std::uint32_t> after;
@@ -228,10 +230,12 @@ class Editor {
   }
   static std::string arcs_text(const std::vector<std::pair<std::string, std::uint32_t>>& arcs) {
     std::string s;
-    for (const auto& [place, w] : arcs) s += (s.empty() ? "" : ", ") + (w == 1 ? place : fmt::format("{}*{}", place, w));
+    for (const auto& [place, w] : arcs)
+      s += (s.empty() ? "" : ", ") + (w == 1 ? place : fmt::format("{}*{}", place, w));
     return s;
   }
-  std::string transition_text(const std::string& name, int priority, const Printed& p, const std::string& indent) const {
+  std::string transition_text(const std::string& name, int priority, const Printed& p,
+                              const std::string& indent) const {
     std::string out = fmt::format("transition {}{} {{\n", name, priority ? fmt::format(" priority {}", priority) : "");
     if (!p.waits.empty()) out += fmt::format("{}  wait   {{ {} }}\n", indent, arcs_text(p.waits));
     if (!p.actions.empty()) {
@@ -246,8 +250,8 @@ class Editor {
     return out + indent + "}";
   }
   void reprint(const ast::Transition& t, const Printed& p) {
-    splices_.push_back({t.extent.offset, t.extent.length,
-                        transition_text(t.name.text, t.priority, p, indent_of(t.extent.offset))});
+    splices_.push_back(
+        {t.extent.offset, t.extent.length, transition_text(t.name.text, t.priority, p, indent_of(t.extent.offset))});
   }
 
   core::Result<void> add_transition() {

@@ -34,8 +34,8 @@ std::string export_dot(const Program& program, const CompiledNet& cn, const std:
   std::vector<bool> is_exit(net.place_count(), false);
   for (petri::PlaceId e : cn.exits) is_exit[e] = true;
 
-  std::string out = fmt::format("digraph {} {{\n  rankdir=TB;\n  node [fontname=\"Helvetica\", fontsize=10];\n",
-                                dot_quoted(cn.name));
+  std::string out =
+      fmt::format("digraph {} {{\n  rankdir=TB;\n  node [fontname=\"Helvetica\", fontsize=10];\n", dot_quoted(cn.name));
   for (petri::PlaceId p = 0; p < net.place_count(); ++p) {
     const auto& origin = an.places[p];
     const petri::Tokens tokens = net.initial_marking()[p];
@@ -63,10 +63,12 @@ std::string export_dot(const Program& program, const CompiledNet& cn, const std:
                          dot_quoted(net.transition_name(t)));
     }
     for (const petri::Arc& arc : net.inputs(t)) {
-      out += fmt::format("  p{} -> t{}{};\n", arc.node, t, arc.weight == 1 ? "" : fmt::format(" [label=\"{}\"]", arc.weight));
+      out += fmt::format("  p{} -> t{}{};\n", arc.node, t,
+                         arc.weight == 1 ? "" : fmt::format(" [label=\"{}\"]", arc.weight));
     }
     for (const petri::Arc& arc : net.outputs(t)) {
-      out += fmt::format("  t{} -> p{}{};\n", t, arc.node, arc.weight == 1 ? "" : fmt::format(" [label=\"{}\"]", arc.weight));
+      out += fmt::format("  t{} -> p{}{};\n", t, arc.node,
+                         arc.weight == 1 ? "" : fmt::format(" [label=\"{}\"]", arc.weight));
     }
   }
   return out + "}\n";

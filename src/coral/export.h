@@ -14,7 +14,8 @@ namespace strata::coral {
 // the analysis net's names ("check_depth.depth_reached.yes"). `phase_exits`
 // as for build_analysis_net: pass reachable_phase_exits of a verification
 // to write the nets it explored.
-std::string export_pnml(const Program& program, const CompiledNet& net, const std::vector<PhaseExits>& phase_exits = {});
+std::string export_pnml(const Program& program, const CompiledNet& net,
+                        const std::vector<PhaseExits>& phase_exits = {});
 
 // Graphviz DOT of the analysis net: places as circles with their initial
 // tokens (exits doubled), mission transitions as boxes labelled with their

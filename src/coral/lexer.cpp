@@ -14,12 +14,18 @@ bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
 constexpr std::array<std::pair<std::string_view, TokenKind>, 13> kKeywords = {{
-    {"net", TokenKind::KwNet},           {"mission", TokenKind::KwMission},
-    {"place", TokenKind::KwPlace},       {"exit", TokenKind::KwExit},
-    {"transition", TokenKind::KwTransition}, {"priority", TokenKind::KwPriority},
-    {"wait", TokenKind::KwWait},         {"action", TokenKind::KwAction},
-    {"signal", TokenKind::KwSignal},     {"data", TokenKind::KwData},
-    {"import", TokenKind::KwImport},     {"TACTIC", TokenKind::KwTactic},
+    {"net", TokenKind::KwNet},
+    {"mission", TokenKind::KwMission},
+    {"place", TokenKind::KwPlace},
+    {"exit", TokenKind::KwExit},
+    {"transition", TokenKind::KwTransition},
+    {"priority", TokenKind::KwPriority},
+    {"wait", TokenKind::KwWait},
+    {"action", TokenKind::KwAction},
+    {"signal", TokenKind::KwSignal},
+    {"data", TokenKind::KwData},
+    {"import", TokenKind::KwImport},
+    {"TACTIC", TokenKind::KwTactic},
     {"PHASE", TokenKind::KwPhase},
 }};
 
@@ -90,9 +96,9 @@ void Lexer::skip_trivia() {
 
 void Lexer::check_length(const Token& t) {
   if (t.text.size() > kMaxTokenLength) {
-    sink_.report(core::DiagnosticKind::TokenTooLong, {t.span.file, t.span.offset, 1},
-                 fmt::format("{} is {} bytes long; the limit is {}", token_kind_name(t.kind),
-                             t.text.size(), kMaxTokenLength));
+    sink_.report(
+        core::DiagnosticKind::TokenTooLong, {t.span.file, t.span.offset, 1},
+        fmt::format("{} is {} bytes long; the limit is {}", token_kind_name(t.kind), t.text.size(), kMaxTokenLength));
   }
 }
 
@@ -147,8 +153,8 @@ Token Lexer::lex_string(std::size_t begin) {
       char e = text_[pos_ + 1];
       if (e != '"' && e != '\\' && e != 'n' && e != 't') {
         auto u = static_cast<unsigned char>(e);
-        std::string shown = u >= 0x21 && u < 0x7f ? fmt::format("'\\{}'", e)
-                                                  : fmt::format("'\\' before byte 0x{:02x}", u);
+        std::string shown =
+            u >= 0x21 && u < 0x7f ? fmt::format("'\\{}'", e) : fmt::format("'\\' before byte 0x{:02x}", u);
         sink_.report(core::DiagnosticKind::InvalidEscape, span(pos_, pos_ + 2),
                      fmt::format("unknown escape {} in string; use \\\", \\\\, \\n or \\t", shown));
       }
@@ -204,9 +210,8 @@ Token Lexer::next() {
     // flood the sink.
     while (pos_ < text_.size()) {
       char d = text_[pos_];
-      if (is_ident_start(d) || is_digit(d) || d == '"' || d == '{' || d == '}' || d == '(' ||
-          d == ')' || d == ',' || d == ';' || d == '=' || d == '*' || d == '/' ||
-          std::isspace(static_cast<unsigned char>(d))) {
+      if (is_ident_start(d) || is_digit(d) || d == '"' || d == '{' || d == '}' || d == '(' || d == ')' || d == ',' ||
+          d == ';' || d == '=' || d == '*' || d == '/' || std::isspace(static_cast<unsigned char>(d))) {
         break;
       }
       ++pos_;

@@ -10,7 +10,7 @@
 
 namespace strata::coral {
 
-inline constexpr std::size_t kMaxTokenLength = 4096;         // bytes
+inline constexpr std::size_t kMaxTokenLength = 4096;                          // bytes
 inline constexpr std::size_t kMaxSourceSize = std::size_t{16} * 1024 * 1024;  // bytes
 
 class Lexer {

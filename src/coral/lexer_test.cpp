@@ -17,12 +17,34 @@ std::vector<std::string> lex(std::string_view text, core::DiagnosticSink& sink) 
 TEST(Lexer, KeywordsNamesNumbersStringsAndPunctuation) {
   core::DiagnosticSink sink;
   auto toks = lex("transition t priority -2 { wait { a*2 } action { TACTIC(EXEC, f(1.5, \"x\\\"y\"), p) } }", sink);
-  std::vector<std::string> want = {
-      "transition(transition)", "a name(t)", "priority(priority)", "an integer(-2)", "'{'({)",
-      "wait(wait)", "'{'({)", "a name(a)", "'*'(*)", "an integer(2)", "'}'(})",
-      "action(action)", "'{'({)", "TACTIC(TACTIC)", "'('(()", "a name(EXEC)", "','(,)",
-      "a name(f)", "'('(()", "a number(1.5)", "','(,)", "a string(\"x\\\"y\")", "')'())",
-      "','(,)", "a name(p)", "')'())", "'}'(})", "'}'(})"};
+  std::vector<std::string> want = {"transition(transition)",
+                                   "a name(t)",
+                                   "priority(priority)",
+                                   "an integer(-2)",
+                                   "'{'({)",
+                                   "wait(wait)",
+                                   "'{'({)",
+                                   "a name(a)",
+                                   "'*'(*)",
+                                   "an integer(2)",
+                                   "'}'(})",
+                                   "action(action)",
+                                   "'{'({)",
+                                   "TACTIC(TACTIC)",
+                                   "'('(()",
+                                   "a name(EXEC)",
+                                   "','(,)",
+                                   "a name(f)",
+                                   "'('(()",
+                                   "a number(1.5)",
+                                   "','(,)",
+                                   "a string(\"x\\\"y\")",
+                                   "')'())",
+                                   "','(,)",
+                                   "a name(p)",
+                                   "')'())",
+                                   "'}'(})",
+                                   "'}'(})"};
   EXPECT_EQ(want, toks);
   EXPECT_FALSE(sink.has_errors());
 }
@@ -72,9 +94,7 @@ TEST(Lexer, EscapeIsTheInverseOfUnescape) {
   EXPECT_EQ("\"a\\nb\"", escape("a\nb"));
 }
 
-TEST(Lexer, UnescapeAppliesEscapes) {
-  EXPECT_EQ("a\"b\\c\nd\te", unescape("\"a\\\"b\\\\c\\nd\\te\""));
-}
+TEST(Lexer, UnescapeAppliesEscapes) { EXPECT_EQ("a\"b\\c\nd\te", unescape("\"a\\\"b\\\\c\\nd\\te\"")); }
 
 }  // namespace
 }  // namespace strata::coral

@@ -78,9 +78,8 @@ class Loader {
     if (!text) {
       // An unreadable root has no location: the span's file is out of range.
       core::SourceSpan where = from ? from->span : core::SourceSpan{core::FileId(-1), 0, 0};
-      sink_.report(text.error().code == core::ErrorCode::InvalidInput
-                       ? core::DiagnosticKind::FileTooLarge
-                       : core::DiagnosticKind::FileUnreadable,
+      sink_.report(text.error().code == core::ErrorCode::InvalidInput ? core::DiagnosticKind::FileTooLarge
+                                                                      : core::DiagnosticKind::FileUnreadable,
                    where, text.error().message);
       return;
     }

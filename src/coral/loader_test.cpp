@@ -16,11 +16,13 @@ namespace {
 using testing::compile_text;
 
 TEST(Loader, ImportsResolveAgainstTheImportingFile) {
-  auto c = compile_text("import \"lib/a.coral\";\nmission m { place s = 1; exit e;\n"
-                        "transition t { wait { s } action { PHASE(pa, e) } } }",
-                        {{"lib/a.coral", "import \"b.coral\";\nnet pa { place s = 1; exit e; "
-                                         "transition t { wait { s } action { PHASE(pb, e) } } }"},
-                         {"lib/b.coral", "net pb { place s = 1; exit e; transition t { wait { s } signal { e } } }"}});
+  auto c = compile_text(
+      "import \"lib/a.coral\";\nmission m { place s = 1; exit e;\n"
+      "transition t { wait { s } action { PHASE(pa, e) } } }",
+      {{"lib/a.coral",
+        "import \"b.coral\";\nnet pa { place s = 1; exit e; "
+        "transition t { wait { s } action { PHASE(pb, e) } } }"},
+       {"lib/b.coral", "net pb { place s = 1; exit e; transition t { wait { s } signal { e } } }"}});
   EXPECT_TRUE(c->program) << ::testing::PrintToString(c->kinds());
   EXPECT_EQ(3u, c->program->nets.size());
 }
@@ -35,8 +37,8 @@ TEST(Loader, DiamondImportLoadsOnce) {
 }
 
 TEST(Loader, CycleIsReportedAtTheClosingImport) {
-  auto c = compile_text("import \"a.coral\";",
-                        {{"a.coral", "import \"b.coral\";"}, {"b.coral", "\n import \"a.coral\";"}});
+  auto c =
+      compile_text("import \"a.coral\";", {{"a.coral", "import \"b.coral\";"}, {"b.coral", "\n import \"a.coral\";"}});
   EXPECT_FALSE(c->program);
   ASSERT_EQ(1u, c->sink.diagnostics().size());
   const auto& d = c->sink.diagnostics()[0];

@@ -68,8 +68,7 @@ class Parser : private TokenCursor {
     net.span = join(head.span, n->span);
     // A missing '{' is reported, then the body is parsed as if it were there.
     bool opened = expect(TK::LBrace, "to open the net body");
-    while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) &&
-           !at(TK::KwImport)) {
+    while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) && !at(TK::KwImport)) {
       if (opened) panic_ = false;
       opened = true;
       if (match(TK::KwPlace)) {
@@ -86,9 +85,9 @@ class Parser : private TokenCursor {
       }
     }
     if (!at(TK::RBrace)) {
-      error_at(tok_, fmt::format("expected '}}' to close {} '{}', found {}",
-                                 net.kind == ast::Net::Kind::Mission ? "mission" : "net",
-                                 net.name.text, describe(tok_)));
+      error_at(tok_,
+               fmt::format("expected '}}' to close {} '{}', found {}",
+                           net.kind == ast::Net::Kind::Mission ? "mission" : "net", net.name.text, describe(tok_)));
     } else {
       net.body_end = tok_.span.offset;
       advance();
@@ -107,8 +106,8 @@ class Parser : private TokenCursor {
       }
       ast::PlaceDecl decl{*n, 0, is_exit, {}, {}};
       if (match(TK::Equals)) {
-        decl.initial = integer(0, std::numeric_limits<std::uint32_t>::max(),
-                               DiagnosticKind::BadWeight, "an initial mark", &decl.initial_span);
+        decl.initial = integer(0, std::numeric_limits<std::uint32_t>::max(), DiagnosticKind::BadWeight,
+                               "an initial mark", &decl.initial_span);
       }
       if (is_exit) net.exits.push_back(decl.name);
       net.places.push_back(std::move(decl));
@@ -152,9 +151,9 @@ class Parser : private TokenCursor {
       Token clause = tok_;
       auto once = [&](bool& seen) {
         if (seen) {
-          sink_.report(DiagnosticKind::DuplicateClause, clause.span,
-                       fmt::format("transition '{}' has more than one '{}' clause; merge them",
-                                   t.name.text, clause.text));
+          sink_.report(
+              DiagnosticKind::DuplicateClause, clause.span,
+              fmt::format("transition '{}' has more than one '{}' clause; merge them", t.name.text, clause.text));
         }
         seen = true;
       };
@@ -198,8 +197,8 @@ class Parser : private TokenCursor {
       ast::ArcRef arc{*n, 1, n->span};
       if (match(TK::Star)) {
         core::SourceSpan w{};
-        arc.weight = integer(1, std::numeric_limits<std::uint32_t>::max(),
-                             DiagnosticKind::BadWeight, "an arc weight", &w);
+        arc.weight =
+            integer(1, std::numeric_limits<std::uint32_t>::max(), DiagnosticKind::BadWeight, "an arc weight", &w);
         arc.span = join(n->span, w.length ? w : n->span);
       }
       out.push_back(std::move(arc));
@@ -249,43 +248,42 @@ class Parser : private TokenCursor {
     auto type = name("a TACTIC type: EXEC, ASK, REPORT or OOD");
     if (!type) return std::nullopt;
     a.type_name = *type;
-    if (type->text == "EXEC") a.type = ast::TacticType::Exec;
-    else if (type->text == "ASK") a.type = ast::TacticType::Ask;
-    else if (type->text == "REPORT") a.type = ast::TacticType::Report;
-    else if (type->text == "OOD") a.type = ast::TacticType::Ood;
+    if (type->text == "EXEC")
+      a.type = ast::TacticType::Exec;
+    else if (type->text == "ASK")
+      a.type = ast::TacticType::Ask;
+    else if (type->text == "REPORT")
+      a.type = ast::TacticType::Report;
+    else if (type->text == "OOD")
+      a.type = ast::TacticType::Ood;
     else {
       sink_.report(DiagnosticKind::UnknownTacticType, type->span,
-                   fmt::format("unknown TACTIC type '{}'; expected EXEC, ASK, REPORT or OOD",
-                               type->text));
+                   fmt::format("unknown TACTIC type '{}'; expected EXEC, ASK, REPORT or OOD", type->text));
     }
     if (!expect(TK::Comma, "after the TACTIC type")) return std::nullopt;
     if (at(TK::String)) {
       ast::Literal text = literal();
       if (a.type != ast::TacticType::Report && a.type != ast::TacticType::Unknown) {
         sink_.report(DiagnosticKind::TacticArguments, text.span,
-                     fmt::format("TACTIC({}, ...) takes a primitive name, not a string",
-                                 a.type_name.text));
+                     fmt::format("TACTIC({}, ...) takes a primitive name, not a string", a.type_name.text));
       }
       a.text = std::move(text);
     } else if (at(TK::Identifier)) {
       auto call = parse_call();
       if (!call) return std::nullopt;
       if (a.type == ast::TacticType::Report) {
-        sink_.report(DiagnosticKind::TacticArguments, call->span,
-                     "TACTIC(REPORT, ...) takes a string in quotes");
+        sink_.report(DiagnosticKind::TacticArguments, call->span, "TACTIC(REPORT, ...) takes a string in quotes");
       }
       a.function = std::move(*call);
     } else {
-      error_here(a.type == ast::TacticType::Report ? "expected a string in quotes"
-                                                   : "expected a primitive name");
+      error_here(a.type == ast::TacticType::Report ? "expected a string in quotes" : "expected a primitive name");
       return std::nullopt;
     }
     while (match(TK::Comma)) {
       auto p = name("a place name");
       if (!p) return std::nullopt;
       if (at(TK::LParen)) {
-        error_here(fmt::format("expected ',' or ')' after place '{}' (places take no arguments)",
-                               p->text));
+        error_here(fmt::format("expected ',' or ')' after place '{}' (places take no arguments)", p->text));
         return std::nullopt;
       }
       a.places.push_back(std::move(*p));

@@ -127,8 +127,7 @@ TEST(Parser, JunkWithBracesInATransitionBodyIsOneError) {
 TEST(Parser, NegativePriorityOutOfRangeKeepsItsSignInTheMessage) {
   auto p = parse_text("net n { transition t priority -2000000 { } }");
   ASSERT_EQ(1u, p->sink.diagnostics().size());
-  EXPECT_EQ("a priority must be from -1000000 to 1000000, not -2000000",
-            p->sink.diagnostics()[0].message);
+  EXPECT_EQ("a priority must be from -1000000 to 1000000, not -2000000", p->sink.diagnostics()[0].message);
 }
 
 }  // namespace

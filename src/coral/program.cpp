@@ -51,8 +51,7 @@ std::string describe(const petri::Net& net, const ActionSpec& a) {
       what += "(" + args + ")";
     }
   }
-  return fmt::format("TACTIC({}, {}) -> [{}]", tactic_type_name(a.tactic), what,
-                     places(net, a.outcomes));
+  return fmt::format("TACTIC({}, {}) -> [{}]", tactic_type_name(a.tactic), what, places(net, a.outcomes));
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ struct ActionSpec {
   enum class Kind { Tactic, Phase };
   Kind kind = Kind::Tactic;
   ast::TacticType tactic = ast::TacticType::Unknown;  // Kind::Tactic only
-  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  std::string target;              // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
   std::vector<ast::Literal> args;  // literal arguments of the primitive
   std::string text;                // REPORT only
   // Places marked by the outcome: EXEC/OOD [done]; ASK [true, false];
@@ -30,9 +30,9 @@ struct CompiledNet {
   petri::Net net;
   std::vector<std::vector<ActionSpec>> actions;  // indexed by TransitionId
   std::vector<petri::PlaceId> exits;             // in declaration order
-  std::string data_file;    // mission only: resolved against the mission's folder, or empty
-  std::string data_as_written;  // the path as the mission wrote it
-  std::string source_file;  // the file that declares the net
+  std::string data_file;                         // mission only: resolved against the mission's folder, or empty
+  std::string data_as_written;                   // the path as the mission wrote it
+  std::string source_file;                       // the file that declares the net
   core::SourceSpan span;
   std::vector<core::SourceSpan> place_spans;       // by PlaceId: the name where declared
   std::vector<core::SourceSpan> transition_spans;  // by TransitionId: the `transition NAME` head

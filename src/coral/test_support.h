@@ -30,9 +30,9 @@ struct Compiled {
 };
 
 // Compiles `main.coral` = text, with optional extra files for imports.
-inline std::unique_ptr<Compiled> compile_text(
-    const std::string& text, const std::vector<std::pair<std::string, std::string>>& extra = {},
-    const CheckOptions& options = {}) {
+inline std::unique_ptr<Compiled> compile_text(const std::string& text,
+                                              const std::vector<std::pair<std::string, std::string>>& extra = {},
+                                              const CheckOptions& options = {}) {
   auto c = std::make_unique<Compiled>();
   MemoryFileProvider files;
   files.add("main.coral", text);

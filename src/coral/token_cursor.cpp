@@ -10,8 +10,8 @@ using core::DiagnosticKind;
 using TK = TokenKind;
 
 bool is_declaration_keyword(TK k) {
-  return k == TK::KwNet || k == TK::KwMission || k == TK::KwImport || k == TK::KwPlace ||
-         k == TK::KwExit || k == TK::KwData || k == TK::KwTransition;
+  return k == TK::KwNet || k == TK::KwMission || k == TK::KwImport || k == TK::KwPlace || k == TK::KwExit ||
+         k == TK::KwData || k == TK::KwTransition;
 }
 
 bool is_clause_keyword(TK k) { return k == TK::KwWait || k == TK::KwAction || k == TK::KwSignal; }
@@ -20,12 +20,9 @@ std::string describe(const Token& t) {
   switch (t.kind) {
     case TK::Identifier:
     case TK::Integer:
-    case TK::Float:
-      return fmt::format("'{}'", t.text.substr(0, 40));
-    case TK::String:
-      return "a string";
-    default:
-      return std::string(token_kind_name(t.kind));
+    case TK::Float: return fmt::format("'{}'", t.text.substr(0, 40));
+    case TK::String: return "a string";
+    default: return std::string(token_kind_name(t.kind));
   }
 }
 
@@ -68,8 +65,7 @@ bool TokenCursor::recover(TK closer, bool stop_at_clause) {
       advance();
       return true;
     }
-    if (depth == 0 && (is_declaration_keyword(tok_.kind) ||
-                       (stop_at_clause && is_clause_keyword(tok_.kind)))) {
+    if (depth == 0 && (is_declaration_keyword(tok_.kind) || (stop_at_clause && is_clause_keyword(tok_.kind)))) {
       return false;
     }
     if (at(TK::LBrace) || at(TK::LParen)) {
@@ -98,8 +94,8 @@ std::optional<ast::Name> TokenCursor::name(std::string_view what) {
   return n;
 }
 
-std::uint32_t TokenCursor::integer(std::uint64_t lo, std::uint64_t hi, DiagnosticKind kind,
-                      std::string_view what, core::SourceSpan* where) {
+std::uint32_t TokenCursor::integer(std::uint64_t lo, std::uint64_t hi, DiagnosticKind kind, std::string_view what,
+                                   core::SourceSpan* where) {
   if (!at(TK::Integer)) {
     error_here(fmt::format("expected {}", what));
     return static_cast<std::uint32_t>(lo);
@@ -110,8 +106,7 @@ std::uint32_t TokenCursor::integer(std::uint64_t lo, std::uint64_t hi, Diagnosti
   if (where) *where = tok_.span;
   if (!ok) {
     sink_.report(kind, tok_.span,
-                 fmt::format("{} must be from {} to {}, not {}", what, lo, hi,
-                             tok_.text.substr(0, 40)));
+                 fmt::format("{} must be from {} to {}, not {}", what, lo, hi, tok_.text.substr(0, 40)));
     v = lo;
   }
   advance();
@@ -126,12 +121,11 @@ int TokenCursor::priority() {
   }
   long long v = 0;
   auto [p, ec] = std::from_chars(tok_.text.data(), tok_.text.data() + tok_.text.size(), v);
-  bool ok = ec == std::errc() && p == tok_.text.data() + tok_.text.size() && v >= -kMaxPriority &&
-            v <= kMaxPriority;
+  bool ok = ec == std::errc() && p == tok_.text.data() + tok_.text.size() && v >= -kMaxPriority && v <= kMaxPriority;
   if (!ok) {
-    sink_.report(DiagnosticKind::InvalidNumber, tok_.span,
-                 fmt::format("a priority must be from {} to {}, not {}", -kMaxPriority,
-                             kMaxPriority, tok_.text.substr(0, 40)));
+    sink_.report(
+        DiagnosticKind::InvalidNumber, tok_.span,
+        fmt::format("a priority must be from {} to {}, not {}", -kMaxPriority, kMaxPriority, tok_.text.substr(0, 40)));
     v = 0;
   }
   advance();
@@ -140,9 +134,9 @@ int TokenCursor::priority() {
 
 ast::Literal TokenCursor::literal() {
   ast::Literal lit;
-  lit.kind = at(TK::String) ? ast::Literal::Kind::String
-           : at(TK::Float)  ? ast::Literal::Kind::Float
-                            : ast::Literal::Kind::Integer;
+  lit.kind = at(TK::String)  ? ast::Literal::Kind::String
+             : at(TK::Float) ? ast::Literal::Kind::Float
+                             : ast::Literal::Kind::Integer;
   lit.text = std::string(tok_.text);
   lit.value = lit.kind == ast::Literal::Kind::String ? unescape(tok_.text) : lit.text;
   lit.span = tok_.span;

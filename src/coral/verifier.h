@@ -50,8 +50,8 @@ struct TraceStep {
 
 struct Counterexample {
   std::vector<TraceStep> steps;
-  std::string marking;                 // mission places at the end: "a:1 b:2", or "(empty)"
-  std::vector<std::string> in_flight;  // "ASK depth_reached (check_depth)"
+  std::string marking;                     // mission places at the end: "a:1 b:2", or "(empty)"
+  std::vector<std::string> in_flight;      // "ASK depth_reached (check_depth)"
   std::optional<std::size_t> repeat_from;  // bounded: the steps from here on repeat for ever
 };
 
@@ -71,22 +71,22 @@ struct PlaceBound {
 
 struct Invariant {
   std::vector<std::pair<std::string, std::uint64_t>> weights;  // place name, weight
-  std::uint64_t constant = 0;                                   // y.M0
+  std::uint64_t constant = 0;                                  // y.M0
 };
 
 struct NetVerification {
   std::string name;
   std::string kind;  // "phase" or "mission"
   std::string file;
-  std::size_t places = 0, transitions = 0;          // of the mission's net
-  std::size_t in_flight_places = 0, outcomes = 0;   // added by the analysis
+  std::size_t places = 0, transitions = 0;         // of the mission's net
+  std::size_t in_flight_places = 0, outcomes = 0;  // added by the analysis
   std::uint64_t states = 0, edges = 0;
   bool complete = true;
   std::string stopped_why;
-  std::vector<PlaceBound> bounds;     // every analysis place (unbounded: the most seen)
-  std::vector<std::string> exits;     // in order
-  std::vector<bool> exit_reachable;   // by exit index
-  std::vector<Property> properties;   // in the order listed above
+  std::vector<PlaceBound> bounds;    // every analysis place (unbounded: the most seen)
+  std::vector<std::string> exits;    // in order
+  std::vector<bool> exit_reachable;  // by exit index
+  std::vector<Property> properties;  // in the order listed above
   std::vector<Invariant> invariants;
   bool invariants_complete = true;
   std::vector<std::string> uncovered;  // places no P-semiflow covers

@@ -89,8 +89,9 @@ Property no_dead(const ExploredNet& x) {
     dead.push_back(fmt::format("{}{}", x.cn.net.transition_name(t), why));
   }
   if (dead.empty()) {
-    p.message = x.cn.net.transition_count() == 1 ? "the one transition can fire"
-                                                 : fmt::format("each of the {} transitions can fire", x.cn.net.transition_count());
+    p.message = x.cn.net.transition_count() == 1
+                    ? "the one transition can fire"
+                    : fmt::format("each of the {} transitions can fire", x.cn.net.transition_count());
     return p;
   }
   if (!x.graph.complete()) return undecided(x, p);
@@ -246,6 +247,5 @@ Property exits_exclusive(const ExploredNet& x) {
   p.message = "no marking holds two exits";
   return p;
 }
-
 
 }  // namespace strata::coral::detail

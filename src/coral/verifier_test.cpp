@@ -31,7 +31,8 @@ std::vector<std::string> steps(const Property& p) {
   return out;
 }
 
-VerifyReport verify_text_mission(const std::string& text, const std::vector<std::pair<std::string, std::string>>& extra = {}) {
+VerifyReport verify_text_mission(const std::string& text,
+                                 const std::vector<std::pair<std::string, std::string>>& extra = {}) {
   auto c = compile_text(text, extra);
   if (!c->program) {
     std::string all;
@@ -46,7 +47,8 @@ TEST(AnalysisNet, EachWaitingActionGetsAnInFlightPlaceAndItsOutcomes) {
   auto c = compile_text(
       "net n { place s = 1, a, b, r; exit e;\n"
       "  transition ask { wait { s } action { TACTIC(ASK, depth_reached, a, b) } }\n"
-      "  transition go { wait { a } action { TACTIC(REPORT, \"hi\"), TACTIC(EXEC, sleep(1), r), TACTIC(EXEC, sleep(2), r) } }\n"
+      "  transition go { wait { a } action { TACTIC(REPORT, \"hi\"), TACTIC(EXEC, sleep(1), r), TACTIC(EXEC, sleep(2), "
+      "r) } }\n"
       "  transition end { wait { r*2 } signal { e } }\n"
       "  transition other { wait { b } signal { e } } }");
   ASSERT_TRUE(c->program);
@@ -106,8 +108,9 @@ TEST(Verifier, ATrapThatKeepsFiringIsNamedWithWhatCycles) {
   EXPECT_EQ(Status::Holds, property(n, "no_deadlock").status);
   const Property& p = property(n, "can_always_end");
   EXPECT_EQ(Status::Fails, p.status);
-  EXPECT_EQ("trapped: from here an exit can no longer be reached; only EXEC sleep(1) answering 1, loop can still happen",
-            p.message);
+  EXPECT_EQ(
+      "trapped: from here an exit can no longer be reached; only EXEC sleep(1) answering 1, loop can still happen",
+      p.message);
   EXPECT_EQ(std::vector<std::string>({"fire ask: ASK q", "ASK q (ask) answers 0 -> spin"}), steps(p));
 }
 
@@ -348,8 +351,9 @@ TEST(Verifier, TheTankMissionHoldsEveryPropertyPhasesFirst) {
   EXPECT_TRUE(r.ok()) << verify_text(r);
   std::vector<std::string> order;
   for (const auto& n : r.nets) order.push_back(n.name);
-  EXPECT_EQ(std::vector<std::string>({"initialize", "dive_from_surface", "submerge_to_depth", "return_to_surface", "tank"}),
-            order);
+  EXPECT_EQ(
+      std::vector<std::string>({"initialize", "dive_from_surface", "submerge_to_depth", "return_to_surface", "tank"}),
+      order);
   // Each phase is a state machine: one P-semiflow over all its places, 1.
   for (const auto& n : r.nets) {
     ASSERT_EQ(1u, n.invariants.size()) << n.name;
@@ -381,7 +385,8 @@ TEST(Export, DotShowsActionsInFlightPlacesAndAnswers) {
   EXPECT_NE(std::string::npos, dot.find("p3 [shape=doublecircle, label=\"e\"];")) << dot;
   EXPECT_NE(std::string::npos, dot.find("label=\"ask\\nASK depth_reached\"")) << dot;
   EXPECT_NE(std::string::npos, dot.find("label=\"no\\nREPORT \\\"say \\\\\\\"no\\\\\\\"\\\"\"")) << dot;
-  EXPECT_NE(std::string::npos, dot.find("p4 [shape=circle, style=dashed, label=\"ASK depth_reached\\nin flight\"")) << dot;
+  EXPECT_NE(std::string::npos, dot.find("p4 [shape=circle, style=dashed, label=\"ASK depth_reached\\nin flight\""))
+      << dot;
   EXPECT_NE(std::string::npos, dot.find("label=\"answers 0\", tooltip=\"ask.depth_reached.no\"")) << dot;
   EXPECT_NE(std::string::npos, dot.find("p2 -> t2 [label=\"2\"];")) << dot;
 }

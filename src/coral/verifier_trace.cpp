@@ -77,7 +77,9 @@ std::vector<std::string> ExploredNet::labels(const std::set<petri::TransitionId>
   return {names.begin(), names.end()};
 }
 
-std::uint64_t ExploredNet::max_bound() const { return bounds.empty() ? 0 : *std::max_element(bounds.begin(), bounds.end()); }
+std::uint64_t ExploredNet::max_bound() const {
+  return bounds.empty() ? 0 : *std::max_element(bounds.begin(), bounds.end());
+}
 
 const ActionSpec& ExploredNet::action_of(petri::TransitionId t, std::size_t i) const { return cn.actions[t][i]; }
 
@@ -126,8 +128,8 @@ Counterexample ExploredNet::trace_along(const std::vector<petri::TransitionId>& 
     if (o.place) {
       marked.push_back(fmt::format("{}:{}", cn.net.place_name(*o.place), m[p]));
     } else {
-      std::string what = fmt::format("{} ({})", action_text(action_of(o.transition, o.action)),
-                                     cn.net.transition_name(o.transition));
+      std::string what =
+          fmt::format("{} ({})", action_text(action_of(o.transition, o.action)), cn.net.transition_name(o.transition));
       cx.in_flight.push_back(m[p] == 1 ? what : fmt::format("{} x{}", what, m[p]));
     }
   }

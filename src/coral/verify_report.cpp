@@ -20,7 +20,8 @@ std::string counterexample_text(const Counterexample& cx, std::string_view inden
   std::string out;
   if (cx.steps.empty()) out += fmt::format("{}at the initial marking\n", indent);
   for (std::size_t i = 0; i < cx.steps.size(); ++i) {
-    if (cx.repeat_from && *cx.repeat_from == i) out += fmt::format("{}   -- from here on the steps can repeat --\n", indent);
+    if (cx.repeat_from && *cx.repeat_from == i)
+      out += fmt::format("{}   -- from here on the steps can repeat --\n", indent);
     out += fmt::format("{}{:>3}. {}\n", indent, i + 1, step_text(cx.steps[i]));
   }
   out += fmt::format("{}marking: {}\n", indent, cx.marking);
@@ -31,7 +32,9 @@ std::string counterexample_text(const Counterexample& cx, std::string_view inden
 // One property; its counterexample unless an earlier property of the same
 // net printed the same one (`shown` keeps those, by text).
 std::string property_line(const Property& p, std::vector<std::pair<std::string, std::string>>& shown) {
-  const char* tag = p.status == Property::Status::Holds ? "ok  " : p.status == Property::Status::Fails ? "FAIL" : "??  ";
+  const char* tag = p.status == Property::Status::Holds   ? "ok  "
+                    : p.status == Property::Status::Fails ? "FAIL"
+                                                          : "??  ";
   std::string out = fmt::format("  {}  {:<16} {}\n", tag, p.key, p.message);
   if (!p.counterexample) return out;
   const Counterexample& cx = *p.counterexample;
@@ -64,27 +67,34 @@ std::string net_heading(const NetVerification& n) {
 std::string bounds_text(const NetVerification& n) {
   std::vector<std::string> other, never;
   for (const auto& b : n.bounds) {
-    if (b.bound == 0) never.push_back(b.name);
-    else if (b.bound != 1) other.push_back(fmt::format("{} {}", b.name, b.bound));
+    if (b.bound == 0)
+      never.push_back(b.name);
+    else if (b.bound != 1)
+      other.push_back(fmt::format("{} {}", b.name, b.bound));
   }
   std::string out = fmt::format("  place bounds{}: ", n.complete ? "" : " (so far)");
-  if (never.size() == n.bounds.size()) out += "no place is marked";
-  else if (other.empty()) out += never.empty() ? "1 for every place" : "1 for every place marked";
-  else out += fmt::format("1 except {}", join_items(other));
+  if (never.size() == n.bounds.size())
+    out += "no place is marked";
+  else if (other.empty())
+    out += never.empty() ? "1 for every place" : "1 for every place marked";
+  else
+    out += fmt::format("1 except {}", join_items(other));
   if (!never.empty() && never.size() != n.bounds.size()) out += fmt::format("; never marked: {}", join_items(never));
   return out + "\n";
 }
 
 std::string invariants_text(const NetVerification& n) {
   if (!n.invariants_complete) return "  P-invariants: too many minimal P-semiflows to list\n";
-  std::string cover = n.uncovered.empty()                     ? ", covering every place"
-                      : n.uncovered.size() == n.bounds.size() ? ""
-                                                              : fmt::format("; not covered: {}", join_items(n.uncovered));
+  std::string cover = n.uncovered.empty() ? ", covering every place"
+                      : n.uncovered.size() == n.bounds.size()
+                          ? ""
+                          : fmt::format("; not covered: {}", join_items(n.uncovered));
   std::string out = fmt::format("  P-invariants: {}{}\n",
                                 count(n.invariants.size(), "minimal P-semiflow", "minimal P-semiflows"), cover);
   for (std::size_t i = 0; i < n.invariants.size() && i < kInvariantsShown; ++i) {
     const Invariant& inv = n.invariants[i];
-    const bool all_ones = std::all_of(inv.weights.begin(), inv.weights.end(), [](const auto& w) { return w.second == 1; });
+    const bool all_ones =
+        std::all_of(inv.weights.begin(), inv.weights.end(), [](const auto& w) { return w.second == 1; });
     if (all_ones && inv.weights.size() == n.bounds.size()) {
       out += fmt::format("    the tokens of all {} places add up to {}\n", inv.weights.size(), inv.constant);
       continue;
@@ -111,7 +121,8 @@ std::string invariants_text(const NetVerification& n) {
 std::string summary(const VerifyReport& r) {
   std::size_t failing = 0;
   for (const auto& n : r.nets) failing += n.ok() ? 0 : 1;
-  if (failing == 0) return fmt::format("verified {} net{}: every property holds\n", r.nets.size(), r.nets.size() == 1 ? "" : "s");
+  if (failing == 0)
+    return fmt::format("verified {} net{}: every property holds\n", r.nets.size(), r.nets.size() == 1 ? "" : "s");
   return fmt::format("verified {} net{}: {} with a property that fails or is not decided\n", r.nets.size(),
                      r.nets.size() == 1 ? "" : "s", failing);
 }
@@ -200,8 +211,8 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
           sj["text"] = step_text(s);
           steps.push_back(std::move(sj));
         }
-        nlohmann::ordered_json cj{{"steps", steps}, {"marking", p.counterexample->marking},
-                                  {"in_flight", p.counterexample->in_flight}};
+        nlohmann::ordered_json cj{
+            {"steps", steps}, {"marking", p.counterexample->marking}, {"in_flight", p.counterexample->in_flight}};
         if (p.counterexample->repeat_from) cj["repeat_from"] = *p.counterexample->repeat_from;
         pj["counterexample"] = std::move(cj);
       }

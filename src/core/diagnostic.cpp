@@ -46,8 +46,8 @@ Diagnostic* DiagnosticSink::report(DiagnosticKind kind, SourceSpan span, std::st
   Severity severity = default_severity(kind);
   if (severity == Severity::Error && errors_ >= max_errors_) {
     saturated_ = true;
-    diagnostics_.push_back({Severity::Error, DiagnosticKind::TooManyErrors, span,
-                            "too many errors; stopping here", {}});
+    diagnostics_.push_back(
+        {Severity::Error, DiagnosticKind::TooManyErrors, span, "too many errors; stopping here", {}});
     ++errors_;
     return nullptr;
   }
@@ -58,13 +58,12 @@ Diagnostic* DiagnosticSink::report(DiagnosticKind kind, SourceSpan span, std::st
 }
 
 void DiagnosticSink::sort() {
-  std::stable_sort(diagnostics_.begin(), diagnostics_.end(),
-                   [](const Diagnostic& a, const Diagnostic& b) {
-                     if (a.kind == DiagnosticKind::TooManyErrors) return false;
-                     if (b.kind == DiagnosticKind::TooManyErrors) return true;
-                     if (a.span.file != b.span.file) return a.span.file < b.span.file;
-                     return a.span.offset < b.span.offset;
-                   });
+  std::stable_sort(diagnostics_.begin(), diagnostics_.end(), [](const Diagnostic& a, const Diagnostic& b) {
+    if (a.kind == DiagnosticKind::TooManyErrors) return false;
+    if (b.kind == DiagnosticKind::TooManyErrors) return true;
+    if (a.span.file != b.span.file) return a.span.file < b.span.file;
+    return a.span.offset < b.span.offset;
+  });
 }
 
 void add_note(Diagnostic* d, std::string message) {

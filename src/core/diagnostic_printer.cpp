@@ -40,7 +40,8 @@ void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan s
     line = line.substr(start, kMaxShownLine);
   }
   std::size_t rel = col - start;
-  std::size_t len = std::max<std::size_t>(1, std::min<std::size_t>(span.length, line.size() - std::min(rel, line.size())));
+  std::size_t len =
+      std::max<std::size_t>(1, std::min<std::size_t>(span.length, line.size() - std::min(rel, line.size())));
   std::string caret;
   for (std::size_t i = 0; i < rel && i < line.size(); ++i) caret.push_back(line[i] == '\t' ? '\t' : ' ');
   caret.push_back('^');
@@ -51,23 +52,20 @@ void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan s
 }  // namespace
 
 void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d) {
-  out << location(sources, d.span) << severity_name(d.severity) << ": "
-      << printable(d.message) << " [" << kind_name(d.kind) << "]\n";
+  out << location(sources, d.span) << severity_name(d.severity) << ": " << printable(d.message) << " ["
+      << kind_name(d.kind) << "]\n";
   print_excerpt(out, sources, d.span);
   for (const auto& note : d.notes) {
-    out << location(sources, note.has_span ? note.span : d.span) << "note: "
-        << printable(note.message) << "\n";
+    out << location(sources, note.has_span ? note.span : d.span) << "note: " << printable(note.message) << "\n";
     if (note.has_span) print_excerpt(out, sources, note.span);
   }
 }
 
-void print_diagnostics(std::ostream& out, const SourceManager& sources,
-                       std::span<const Diagnostic> diagnostics) {
+void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics) {
   for (const auto& d : diagnostics) print_diagnostic(out, sources, d);
 }
 
-nlohmann::json diagnostics_to_json(const SourceManager& sources,
-                                   std::span<const Diagnostic> diagnostics) {
+nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const Diagnostic> diagnostics) {
   auto place = [&](nlohmann::json& j, SourceSpan span) {
     if (span.file >= sources.size()) return;
     LineCol b = sources.line_col(span.file, span.offset);

@@ -13,13 +13,11 @@ namespace strata::core {
 // file:line:col: severity: message [Kind], the source line, a caret under the
 // span, then the notes. Bytes that are not printable are shown as '?'.
 void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d);
-void print_diagnostics(std::ostream& out, const SourceManager& sources,
-                       std::span<const Diagnostic> diagnostics);
+void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics);
 
 // One object per diagnostic: severity, kind, file, line, col, end_line,
 // end_col, message, notes[] (each with file/line/col when it has a span).
-nlohmann::json diagnostics_to_json(const SourceManager& sources,
-                                   std::span<const Diagnostic> diagnostics);
+nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const Diagnostic> diagnostics);
 
 // Serialises j; invalid UTF-8 from user input is replaced, never thrown on.
 std::string dump_json(const nlohmann::json& j, int indent = 2);

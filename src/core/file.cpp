@@ -17,8 +17,8 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     const char* reason = std::strerror(errno);
-    return make_error(ErrorCode::Io, cannot_open ? cannot_open(path, reason)
-                                                 : fmt::format("cannot read '{}': {}", path, reason));
+    return make_error(ErrorCode::Io,
+                      cannot_open ? cannot_open(path, reason) : fmt::format("cannot read '{}': {}", path, reason));
   }
   struct Closer {
     int fd;
@@ -48,8 +48,7 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
     got += static_cast<std::size_t>(n);
   }
   if (got > max_bytes) {
-    return make_error(ErrorCode::Overflow,
-                      fmt::format("'{}' is over the limit of {} bytes", path, max_bytes));
+    return make_error(ErrorCode::Overflow, fmt::format("'{}' is over the limit of {} bytes", path, max_bytes));
   }
   text.resize(got);
   return text;

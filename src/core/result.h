@@ -29,15 +29,25 @@ class [[nodiscard]] Result {
   bool ok() const { return v_.index() == 0; }
   explicit operator bool() const { return ok(); }
 
-  T& value() & { assert(ok()); return std::get<0>(v_); }
-  const T& value() const& { assert(ok()); return std::get<0>(v_); }
-  T&& value() && { assert(ok()); return std::get<0>(std::move(v_)); }
-  const E& error() const { assert(!ok()); return std::get<1>(v_); }
+  T& value() & {
+    assert(ok());
+    return std::get<0>(v_);
+  }
+  const T& value() const& {
+    assert(ok());
+    return std::get<0>(v_);
+  }
+  T&& value() && {
+    assert(ok());
+    return std::get<0>(std::move(v_));
+  }
+  const E& error() const {
+    assert(!ok());
+    return std::get<1>(v_);
+  }
 
   // The same result with its error as a core::Error (E::to_core()).
-  Result<T> to_core() &&
-    requires(!std::is_same_v<E, Error>)
-  {
+  Result<T> to_core() && requires(!std::is_same_v<E, Error>) {
     if (ok()) return std::get<0>(std::move(v_));
     return error().to_core();
   }
@@ -54,7 +64,10 @@ class [[nodiscard]] Result<void, E> {
 
   bool ok() const { return ok_; }
   explicit operator bool() const { return ok_; }
-  const E& error() const { assert(!ok_); return error_; }
+  const E& error() const {
+    assert(!ok_);
+    return error_;
+  }
 
  private:
   E error_;

@@ -24,8 +24,7 @@ std::string_view SourceManager::line_text(FileId id, std::uint32_t line) const {
   const File& f = files_.at(id);
   if (line == 0 || line > f.line_starts.size()) return {};
   std::uint32_t begin = f.line_starts[line - 1];
-  std::uint32_t end = line < f.line_starts.size() ? f.line_starts[line] - 1
-                                                  : static_cast<std::uint32_t>(f.text.size());
+  std::uint32_t end = line < f.line_starts.size() ? f.line_starts[line] - 1 : static_cast<std::uint32_t>(f.text.size());
   std::string_view s(f.text.data() + begin, end - begin);
   if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
   return s;

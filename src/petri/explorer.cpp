@@ -169,7 +169,8 @@ void Explorer::layout() {
 void Explorer::fold_bounds() {
   if (seen_or_.empty()) return;
   for (PlaceId p = 0; p < fields_.size(); ++p) {
-    if (bits_[p] == 1 && get(seen_or_.data(), fields_[p]) != 0) r_.place_bounds[p] = std::max<Tokens>(r_.place_bounds[p], 1);
+    if (bits_[p] == 1 && get(seen_or_.data(), fields_[p]) != 0)
+      r_.place_bounds[p] = std::max<Tokens>(r_.place_bounds[p], 1);
   }
 }
 
@@ -189,7 +190,8 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::uint32_t old_words = words_;
   bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
   layout();
-  if (words_ != old_words && !fits(Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) + queue_slots_ * words_ * sizeof(std::uint64_t))) {
+  if (words_ != old_words &&
+      !fits(Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) + queue_slots_ * words_ * sizeof(std::uint64_t))) {
     return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
   }
   std::vector<std::uint64_t> m(words_);
@@ -238,7 +240,8 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     if (s[0] == kEmpty) break;
     if (equal<W>(s, m)) return true;
   }
-  if (opt_.max_states && count_ >= opt_.max_states) return stop(fmt::format("stopped at {} states (the limit)", count_));
+  if (opt_.max_states && count_ >= opt_.max_states)
+    return stop(fmt::format("stopped at {} states (the limit)", count_));
   if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
   if ((count_ + 1) * 4 > slots_ * 3) {
     const std::size_t need = Words::rounded(table_.size() * 16) + queue_.size() * 8;
@@ -271,8 +274,7 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
 }
 
 bool Explorer::full(std::size_t need) {
-  return stop(fmt::format("stopped at {} states: the next step needs {} MB, over --max-memory", count_,
-                          need >> 20));
+  return stop(fmt::format("stopped at {} states: the next step needs {} MB, over --max-memory", count_, need >> 20));
 }
 
 bool Explorer::stop(std::string why) {
@@ -388,6 +390,8 @@ bool Explorer::breadth_first() {
 
 }  // namespace explorer_detail
 
-ExploreResult explore(const Net& net, const ExploreOptions& options) { return explorer_detail::Explorer(net, options).run(); }
+ExploreResult explore(const Net& net, const ExploreOptions& options) {
+  return explorer_detail::Explorer(net, options).run();
+}
 
 }  // namespace strata::petri

@@ -37,8 +37,8 @@
 namespace strata::petri {
 
 struct ExploreProgress {
-  std::uint64_t states = 0;      // found so far
-  std::uint64_t explored = 0;    // whose successors are known
+  std::uint64_t states = 0;    // found so far
+  std::uint64_t explored = 0;  // whose successors are known
   std::uint64_t edges = 0;
   std::size_t memory_bytes = 0;  // hash table (the markings) + queue
 };
@@ -64,15 +64,15 @@ struct ExploreResult {
   std::uint64_t edges = 0;  // (marking, enabled transition) pairs
   Tokens max_tokens_in_place = 0;
   std::uint64_t max_tokens_per_marking = 0;
-  bool deadlock = false;    // some reachable marking enables nothing
-  bool one_safe = true;     // no reachable marking has 2 tokens in a place
-  bool quasi_live = false;  // every transition fires somewhere
-  std::optional<bool> live; // every transition can always fire again; unset if not decided
-  std::vector<Tokens> place_bounds;         // by PlaceId: the most tokens seen there
-  std::vector<bool> transition_fired;       // by TransitionId
+  bool deadlock = false;                        // some reachable marking enables nothing
+  bool one_safe = true;                         // no reachable marking has 2 tokens in a place
+  bool quasi_live = false;                      // every transition fires somewhere
+  std::optional<bool> live;                     // every transition can always fire again; unset if not decided
+  std::vector<Tokens> place_bounds;             // by PlaceId: the most tokens seen there
+  std::vector<bool> transition_fired;           // by TransitionId
   std::optional<std::uint64_t> first_deadlock;  // the state index (BFS order) of a deadlock
-  std::size_t memory_bytes = 0;             // hash table (the markings) + queue, allocated, at the end
-  std::size_t words_per_state = 0;          // 64-bit words one packed marking takes
+  std::size_t memory_bytes = 0;                 // hash table (the markings) + queue, allocated, at the end
+  std::size_t words_per_state = 0;              // 64-bit words one packed marking takes
 };
 
 ExploreResult explore(const Net& net, const ExploreOptions& options = {});

@@ -71,7 +71,8 @@ class Words {
   // The bytes an array of that many bytes takes.
   static std::size_t rounded(std::size_t bytes) { return bytes >= kHuge ? (bytes + kHuge - 1) / kHuge * kHuge : bytes; }
   explicit Words(std::size_t n);
-  Words(Words&& o) noexcept : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)), bytes_(std::exchange(o.bytes_, 0)) {}
+  Words(Words&& o) noexcept
+      : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)), bytes_(std::exchange(o.bytes_, 0)) {}
   Words& operator=(Words&& o) noexcept {
     std::swap(p_, o.p_);
     std::swap(n_, o.n_);
@@ -236,7 +237,7 @@ class Explorer {
   ExploreResult r_;
   // Layout.
   std::vector<unsigned> bits_;
-  std::vector<bool> bounded_;  // by place: the field has a P-semiflow bound
+  std::vector<bool> bounded_;         // by place: the field has a P-semiflow bound
   std::vector<std::uint64_t> bound_;  // by place: that bound, or kNoBound
   // Token counts (expand): per word, the bits at position k of every field
   // (total tokens = sum of popcounts << k); the OR of every marking seen

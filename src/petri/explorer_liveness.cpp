@@ -35,8 +35,9 @@ void Explorer::decide_liveness() {
   if (!opt_.liveness) return;
   // Every transition fires somewhere: when every state reaches the initial
   // one, the graph is one component, bottom, and the net is live.
-  const bool strongly_connected = words_ == 1 ? all_reach_initial<1>() : words_ == 2 ? all_reach_initial<2>()
-                                                                                   : all_reach_initial<0>();
+  const bool strongly_connected = words_ == 1   ? all_reach_initial<1>()
+                                  : words_ == 2 ? all_reach_initial<2>()
+                                                : all_reach_initial<0>();
   r_.live = strongly_connected || bottom_components_enable_all();
 }
 

@@ -65,8 +65,10 @@ Semiflows p_semiflows(const Net& net, std::size_t max_rows, std::uint64_t max_wo
     std::vector<Row> next;
     std::vector<const Row*> pos, neg;
     for (const Row& r : rows) {
-      if (r.c[t] == 0) next.push_back(r);
-      else (r.c[t] > 0 ? pos : neg).push_back(&r);
+      if (r.c[t] == 0)
+        next.push_back(r);
+      else
+        (r.c[t] > 0 ? pos : neg).push_back(&r);
     }
     for (const Row* a : pos) {
       for (const Row* b : neg) {

@@ -20,7 +20,7 @@ namespace strata::petri {
 
 struct Semiflow {
   std::vector<std::pair<PlaceId, std::uint64_t>> weights;  // the support, by PlaceId
-  std::uint64_t constant = 0;                               // y.M0
+  std::uint64_t constant = 0;                              // y.M0
 };
 
 struct Semiflows {

@@ -14,11 +14,9 @@ struct Keyed {
 
 // Groups arcs by key into CSR form: begin has key_count + 1 offsets. Arcs
 // with the same key and node are merged (weights added, saturating).
-void to_csr(std::vector<Keyed> arcs, std::size_t key_count, std::vector<std::uint32_t>& begin,
-            std::vector<Arc>& out) {
-  std::stable_sort(arcs.begin(), arcs.end(), [](const Keyed& a, const Keyed& b) {
-    return a.key != b.key ? a.key < b.key : a.node < b.node;
-  });
+void to_csr(std::vector<Keyed> arcs, std::size_t key_count, std::vector<std::uint32_t>& begin, std::vector<Arc>& out) {
+  std::stable_sort(arcs.begin(), arcs.end(),
+                   [](const Keyed& a, const Keyed& b) { return a.key != b.key ? a.key < b.key : a.node < b.node; });
   begin.assign(key_count + 1, 0);
   out.clear();
   out.reserve(arcs.size());
@@ -41,21 +39,18 @@ void to_csr(std::vector<Keyed> arcs, std::size_t key_count, std::vector<std::uin
 
 std::uint32_t weight_in(std::span<const Arc> arcs, std::uint32_t node) {
   // Arcs are sorted by node within a transition.
-  auto it = std::lower_bound(arcs.begin(), arcs.end(), node,
-                             [](const Arc& a, std::uint32_t n) { return a.node < n; });
+  auto it = std::lower_bound(arcs.begin(), arcs.end(), node, [](const Arc& a, std::uint32_t n) { return a.node < n; });
   return it != arcs.end() && it->node == node ? it->weight : 0;
 }
 
 std::vector<std::uint32_t> sorted_by_name(const NameTable& names) {
   std::vector<std::uint32_t> ids(names.size());
   for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
-  std::stable_sort(ids.begin(), ids.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return names.at(a) < names.at(b); });
+  std::stable_sort(ids.begin(), ids.end(), [&](std::uint32_t a, std::uint32_t b) { return names.at(a) < names.at(b); });
   return ids;
 }
 
-std::optional<std::uint32_t> find_by_name(const NameTable& names,
-                                          const std::vector<std::uint32_t>& sorted,
+std::optional<std::uint32_t> find_by_name(const NameTable& names, const std::vector<std::uint32_t>& sorted,
                                           std::string_view name) {
   auto it = std::lower_bound(sorted.begin(), sorted.end(), name,
                              [&](std::uint32_t id, std::string_view n) { return names.at(id) < n; });
@@ -83,10 +78,9 @@ void NameTable::push_back(std::string_view name) {
 
 std::size_t Net::memory_bytes() const {
   auto vec = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return sizeof(*this) + place_names_.memory_bytes() + transition_names_.memory_bytes() +
-         vec(priorities_) + vec(initial_) + vec(pre_begin_) + vec(post_begin_) +
-         vec(readers_begin_) + vec(writers_begin_) + vec(pre_) + vec(post_) + vec(readers_) +
-         vec(writers_) + vec(places_by_name_) + vec(transitions_by_name_);
+  return sizeof(*this) + place_names_.memory_bytes() + transition_names_.memory_bytes() + vec(priorities_) +
+         vec(initial_) + vec(pre_begin_) + vec(post_begin_) + vec(readers_begin_) + vec(writers_begin_) + vec(pre_) +
+         vec(post_) + vec(readers_) + vec(writers_) + vec(places_by_name_) + vec(transitions_by_name_);
 }
 
 PlaceId NetBuilder::add_place(std::string_view name, Tokens initial) {

@@ -38,9 +38,7 @@ class NameTable {
     return std::string_view(chars_).substr(begin_[i], begin_[i + 1] - begin_[i]);
   }
   void reserve(std::size_t n) { begin_.reserve(n + 1); }
-  std::size_t memory_bytes() const {
-    return chars_.capacity() + begin_.capacity() * sizeof(std::uint32_t);
-  }
+  std::size_t memory_bytes() const { return chars_.capacity() + begin_.capacity() * sizeof(std::uint32_t); }
 
  private:
   std::string chars_;

@@ -33,7 +33,7 @@ TEST(Net, KeepsPreAndPostSeparately) {
   EXPECT_EQ(1u, net.pre_weight(2, 0));
   EXPECT_EQ(1u, net.post_weight(2, 0));
   EXPECT_EQ(2u, net.post_weight(0, 1));  // merged
-  EXPECT_EQ(6u, net.arc_count());  // Pre 3 + Post 3 (the doubled arc merged)
+  EXPECT_EQ(6u, net.arc_count());        // Pre 3 + Post 3 (the doubled arc merged)
 }
 
 TEST(Net, IncidenceIsPostMinusPreAndSelfLoopsCancel) {

@@ -53,8 +53,8 @@ std::optional<std::uint64_t> parse_count(std::string_view s) {
 
 // The elements with ids, named as in PNML.
 enum class Kind { Place, Transition, RefPlace, RefTransition, Arc, Page, Net };
-constexpr const char* kKindNames[] = {"place", "transition", "referencePlace", "referenceTransition",
-                                      "arc",   "page",       "net"};
+constexpr const char* kKindNames[] = {"place", "transition", "referencePlace", "referenceTransition", "arc",
+                                      "page",  "net"};
 
 const char* kind_name(Kind k) { return kKindNames[static_cast<int>(k)]; }
 
@@ -100,15 +100,13 @@ class Reader {
     return core::make_error(core::ErrorCode::InvalidInput,
                             fmt::format("{}:{}{}{}", source_, at, at.empty() ? " " : ": ", message));
   }
-  core::Error fail(pugi::xml_node at, std::string_view message) const {
-    return fail_at(where(at), message);
-  }
+  core::Error fail(pugi::xml_node at, std::string_view message) const { return fail_at(where(at), message); }
   core::Error unexpected(pugi::xml_node element, std::string_view in) const {
-    return fail(element, fmt::format("<{}>{}{} is not part of a P/T net", element.name(),
-                                     in.empty() ? "" : " in ", in));
+    return fail(element,
+                fmt::format("<{}>{}{} is not part of a P/T net", element.name(), in.empty() ? "" : " in ", in));
   }
-  core::Result<std::uint32_t> count(pugi::xml_node label, std::string_view what,
-                                    std::string_view id, std::uint32_t min) const;
+  core::Result<std::uint32_t> count(pugi::xml_node label, std::string_view what, std::string_view id,
+                                    std::uint32_t min) const;
   core::Result<std::string_view> id_of(pugi::xml_node n, Kind kind);
   core::Result<void> walk(pugi::xml_node net);
   core::Result<void> read_node(pugi::xml_node n, Kind kind);
@@ -139,8 +137,8 @@ std::string Reader::where(std::ptrdiff_t offset) const {
 
 // The number in a label's <text>, from min to kMaxTokens; `what` and `id`
 // name the label in errors ("initial marking of place", "p1").
-core::Result<std::uint32_t> Reader::count(pugi::xml_node label, std::string_view what,
-                                          std::string_view id, std::uint32_t min) const {
+core::Result<std::uint32_t> Reader::count(pugi::xml_node label, std::string_view what, std::string_view id,
+                                          std::uint32_t min) const {
   std::optional<std::string_view> text = label_text(label);
   std::optional<std::uint64_t> n = text ? parse_count(*text) : std::nullopt;
   if (!n || *n < min) {
@@ -160,8 +158,7 @@ core::Result<std::string_view> Reader::id_of(pugi::xml_node n, Kind kind) {
   std::string_view id = attr.value();
   auto [it, fresh] = by_id_.try_emplace(id, static_cast<std::uint32_t>(nodes_.size()));
   if (!fresh) {
-    return fail(n, fmt::format("duplicate id '{}' (first used at {})", id,
-                               where(nodes_[it->second].xml)));
+    return fail(n, fmt::format("duplicate id '{}' (first used at {})", id, where(nodes_[it->second].xml)));
   }
   nodes_.push_back({kind, n});
   return id;
@@ -189,8 +186,10 @@ core::Result<void> Reader::walk(pugi::xml_node net) {
     if (kind == Kind::Page || kind == Kind::Arc) {
       auto id = id_of(n, *kind);
       if (!id) return id.error();
-      if (kind == Kind::Page) stack.push_back(n.first_child());
-      else arcs_.push_back(n);
+      if (kind == Kind::Page)
+        stack.push_back(n.first_child());
+      else
+        arcs_.push_back(n);
     } else if (kind && kind != Kind::Net) {
       r = read_node(n, *kind);
     } else if (!is_decoration(local_name(n))) {
@@ -252,8 +251,8 @@ core::Result<void> Reader::resolve(std::uint32_t start) {
     const Node& next = nodes_[it->second];
     Kind real = node.kind == Kind::RefPlace ? Kind::Place : Kind::Transition;
     if (next.kind != real && next.kind != node.kind) {
-      return fail(node.xml, fmt::format("{} refers to {} '{}', not to a {}", what(),
-                                        kind_name(next.kind), ref, kind_name(real)));
+      return fail(node.xml,
+                  fmt::format("{} refers to {} '{}', not to a {}", what(), kind_name(next.kind), ref, kind_name(real)));
     }
     if (next.state == Node::State::Visiting) {
       return fail(node.xml, fmt::format("{} is part of a reference cycle", what()));
@@ -277,8 +276,7 @@ core::Result<const Node*> Reader::arc_end(pugi::xml_node arc, const char* role) 
   }
   const Node* end = &nodes_[it->second];
   if (end->kind == Kind::Arc || end->kind == Kind::Page || end->kind == Kind::Net) {
-    return fail(arc, fmt::format("arc '{}' has {} '{}', which is a {}", id, role, attr.value(),
-                                 kind_name(end->kind)));
+    return fail(arc, fmt::format("arc '{}' has {} '{}', which is a {}", id, role, attr.value(), kind_name(end->kind)));
   }
   return end;
 }
@@ -344,15 +342,17 @@ core::Result<void> Reader::read_arcs() {
       }
     }
     auto w = static_cast<std::uint32_t>(sum.weight);
-    if (sum.input) builder_.add_input(sum.t, sum.p, w);
-    else builder_.add_output(sum.t, sum.p, w);
+    if (sum.input)
+      builder_.add_input(sum.t, sum.p, w);
+    else
+      builder_.add_output(sum.t, sum.p, w);
   }
   return {};
 }
 
 core::Result<PnmlNet> Reader::read() {
-  pugi::xml_parse_result parsed = doc_.load_buffer(text_.data(), text_.size(),
-                                                   pugi::parse_default | pugi::parse_ws_pcdata_single);
+  pugi::xml_parse_result parsed =
+      doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default | pugi::parse_ws_pcdata_single);
   if (!parsed) return fail_at(where(parsed.offset), fmt::format("malformed XML: {}", parsed.description()));
   pugi::xml_node root = doc_.document_element();
   if (local_name(root) != "pnml") {

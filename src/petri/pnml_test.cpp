@@ -17,8 +17,7 @@ namespace strata::petri {
 namespace {
 
 // Lines 1-4 are the header, so the body starts on line 5, column 1.
-std::string pnml(std::string_view body,
-                 std::string_view type = "http://www.pnml.org/version-2009/grammar/ptnet") {
+std::string pnml(std::string_view body, std::string_view type = "http://www.pnml.org/version-2009/grammar/ptnet") {
   return fmt::format(
       "<?xml version=\"1.0\"?>\n"
       "<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\">\n"
@@ -58,10 +57,10 @@ std::string structure(const Net& net) {
 }
 
 TEST(PnmlRead, MinimalNetHasWeightOneAndNoTokensByDefault) {
-  PnmlNet n = parse_ok(pnml(
-      "<place id=\"p\"/><place id=\"q\"><initialMarking><text>2</text></initialMarking></place>\n"
-      "<transition id=\"t\"/>\n"
-      "<arc id=\"a1\" source=\"p\" target=\"t\"/><arc id=\"a2\" source=\"t\" target=\"q\"/>\n"));
+  PnmlNet n =
+      parse_ok(pnml("<place id=\"p\"/><place id=\"q\"><initialMarking><text>2</text></initialMarking></place>\n"
+                    "<transition id=\"t\"/>\n"
+                    "<arc id=\"a1\" source=\"p\" target=\"t\"/><arc id=\"a2\" source=\"t\" target=\"q\"/>\n"));
   EXPECT_EQ("place p = 0\nplace q = 2\ntransition t: in{p} out{q}\n", dump_net(n.net));
   EXPECT_EQ(2u, n.net.arc_count());
   EXPECT_EQ("n", n.id);
@@ -96,53 +95,54 @@ TEST(PnmlRead, PrefixedElementNamesMeanTheSame) {
 }
 
 TEST(PnmlRead, NestedPagesAreReadInDocumentOrder) {
-  PnmlNet n = parse_ok(pnml(
-      "<place id=\"a\"/>\n"
-      "<page id=\"inner\"><place id=\"b\"/><page id=\"deeper\"><transition id=\"t\"/></page>"
-      "<place id=\"c\"/></page>\n"
-      "<place id=\"d\"/>\n"
-      "<arc id=\"x\" source=\"d\" target=\"t\"/>\n"));
-  EXPECT_EQ("place a = 0\nplace b = 0\nplace c = 0\nplace d = 0\ntransition t: in{d} out{}\n",
-            dump_net(n.net));
+  PnmlNet n =
+      parse_ok(pnml("<place id=\"a\"/>\n"
+                    "<page id=\"inner\"><place id=\"b\"/><page id=\"deeper\"><transition id=\"t\"/></page>"
+                    "<place id=\"c\"/></page>\n"
+                    "<place id=\"d\"/>\n"
+                    "<arc id=\"x\" source=\"d\" target=\"t\"/>\n"));
+  EXPECT_EQ("place a = 0\nplace b = 0\nplace c = 0\nplace d = 0\ntransition t: in{d} out{}\n", dump_net(n.net));
 }
 
 TEST(PnmlRead, ReferenceNodesStandForTheNodeTheyReference) {
   // r2 -> r1 -> p is a chain; rt is defined before the transition it names.
-  PnmlNet n = parse_ok(pnml(
-      "<page id=\"pg2\"><referencePlace id=\"r2\" ref=\"r1\"/><referenceTransition id=\"rt\" ref=\"t\"/>\n"
-      "<arc id=\"a1\" source=\"r2\" target=\"rt\"><inscription><text>2</text></inscription></arc></page>\n"
-      "<place id=\"p\"><initialMarking><text>1</text></initialMarking></place>\n"
-      "<referencePlace id=\"r1\" ref=\"p\"/><place id=\"q\"/><transition id=\"t\"/>\n"
-      "<arc id=\"a2\" source=\"rt\" target=\"q\"/>\n"));
+  PnmlNet n = parse_ok(
+      pnml("<page id=\"pg2\"><referencePlace id=\"r2\" ref=\"r1\"/><referenceTransition id=\"rt\" ref=\"t\"/>\n"
+           "<arc id=\"a1\" source=\"r2\" target=\"rt\"><inscription><text>2</text></inscription></arc></page>\n"
+           "<place id=\"p\"><initialMarking><text>1</text></initialMarking></place>\n"
+           "<referencePlace id=\"r1\" ref=\"p\"/><place id=\"q\"/><transition id=\"t\"/>\n"
+           "<arc id=\"a2\" source=\"rt\" target=\"q\"/>\n"));
   EXPECT_EQ("place p = 1\nplace q = 0\ntransition t: in{p*2} out{q}\n", dump_net(n.net));
   EXPECT_EQ(2u, n.net.place_count());  // references are no places of their own
 }
 
 TEST(PnmlRead, ParallelArcsAddUp) {
-  PnmlNet n = parse_ok(pnml(
-      "<place id=\"p\"/><referencePlace id=\"rp\" ref=\"p\"/><transition id=\"t\"/>\n"
-      "<arc id=\"a1\" source=\"p\" target=\"t\"/>\n"
-      "<arc id=\"a2\" source=\"rp\" target=\"t\"><inscription><text>2</text></inscription></arc>\n"
-      "<arc id=\"a3\" source=\"t\" target=\"p\"/>\n"));
+  PnmlNet n =
+      parse_ok(pnml("<place id=\"p\"/><referencePlace id=\"rp\" ref=\"p\"/><transition id=\"t\"/>\n"
+                    "<arc id=\"a1\" source=\"p\" target=\"t\"/>\n"
+                    "<arc id=\"a2\" source=\"rp\" target=\"t\"><inscription><text>2</text></inscription></arc>\n"
+                    "<arc id=\"a3\" source=\"t\" target=\"p\"/>\n"));
   EXPECT_EQ("place p = 0\ntransition t: in{p*3} out{p}\n", dump_net(n.net));
   EXPECT_EQ(2u, n.net.arc_count());  // the self-loop is one Pre and one Post arc
 }
 
 TEST(PnmlRead, NumbersMayHaveWhitespaceAndReachTheTokenLimit) {
-  PnmlNet n = parse_ok(pnml(
-      "<place id=\"p\"><initialMarking><text>\n  4294967295\t</text></initialMarking></place>\n"
-      "<transition id=\"t\"/>\n"
-      "<arc id=\"a\" source=\"p\" target=\"t\"><inscription><text> 7 </text></inscription></arc>\n"));
+  PnmlNet n =
+      parse_ok(pnml("<place id=\"p\"><initialMarking><text>\n  4294967295\t</text></initialMarking></place>\n"
+                    "<transition id=\"t\"/>\n"
+                    "<arc id=\"a\" source=\"p\" target=\"t\"><inscription><text> 7 </text></inscription></arc>\n"));
   EXPECT_EQ("place p = 4294967295\ntransition t: in{p*7} out{}\n", dump_net(n.net));
 }
 
 TEST(PnmlRead, UnsupportedNetTypesAreErrors) {
-  EXPECT_EQ("t.pnml:3:1: net type 'http://www.pnml.org/version-2009/grammar/symmetricnet' is not "
-            "supported: Strata reads P/T nets (ptnet)",
-            error_of(pnml("", "http://www.pnml.org/version-2009/grammar/symmetricnet")));
-  EXPECT_EQ("t.pnml:3:1: net type 'http://www.pnml.org/version-2009/grammar/pnmlcoremodel' is not "
-            "supported: Strata reads P/T nets (ptnet)",
-            error_of(pnml("", "http://www.pnml.org/version-2009/grammar/pnmlcoremodel")));
+  EXPECT_EQ(
+      "t.pnml:3:1: net type 'http://www.pnml.org/version-2009/grammar/symmetricnet' is not "
+      "supported: Strata reads P/T nets (ptnet)",
+      error_of(pnml("", "http://www.pnml.org/version-2009/grammar/symmetricnet")));
+  EXPECT_EQ(
+      "t.pnml:3:1: net type 'http://www.pnml.org/version-2009/grammar/pnmlcoremodel' is not "
+      "supported: Strata reads P/T nets (ptnet)",
+      error_of(pnml("", "http://www.pnml.org/version-2009/grammar/pnmlcoremodel")));
   EXPECT_EQ("t.pnml:2:2: <net> has no type: Strata reads P/T nets (ptnet)",
             error_of("<pnml>\n <net id=\"n\"><page id=\"p\"/></net></pnml>"));
 }
@@ -152,7 +152,8 @@ TEST(PnmlRead, InhibitorReadAndResetArcsAreErrors) {
     EXPECT_EQ("t.pnml:7:3: " + type + " arc 'a' is not supported: Strata reads P/T nets (ptnet)",
               error_of(pnml("<place id=\"p\"/><transition id=\"t\"/>\n"
                             "<arc id=\"a\" source=\"p\" target=\"t\">\n"
-                            "  <type value=\"" + type + "\"/></arc>\n")));
+                            "  <type value=\"" +
+                            type + "\"/></arc>\n")));
   }
 }
 
@@ -166,27 +167,26 @@ TEST(PnmlRead, ArcsMustJoinAPlaceAndAKnownTransition) {
             error_of(pnml(nodes + "<arc id=\"a\" source=\"p\" target=\"zz\"/>\n")));
   EXPECT_EQ("t.pnml:6:1: arc 'a' has source 'pg', which is a page",
             error_of(pnml(nodes + "<arc id=\"a\" source=\"pg\" target=\"t\"/>\n")));
-  EXPECT_EQ("t.pnml:6:1: arc 'a' has no target",
-            error_of(pnml(nodes + "<arc id=\"a\" source=\"p\"/>\n")));
+  EXPECT_EQ("t.pnml:6:1: arc 'a' has no target", error_of(pnml(nodes + "<arc id=\"a\" source=\"p\"/>\n")));
 }
 
 TEST(PnmlRead, BadMarkingsAndInscriptionsAreErrors) {
   auto marking = [](std::string_view text) {
-    return error_of(pnml(fmt::format(
-        "<place id=\"p\">\n<initialMarking><text>{}</text></initialMarking></place>\n", text)));
+    return error_of(
+        pnml(fmt::format("<place id=\"p\">\n<initialMarking><text>{}</text></initialMarking></place>\n", text)));
   };
   EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is '-1', not a non-negative integer", marking("-1"));
   EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is '1.5', not a non-negative integer", marking("1.5"));
   EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is '', not a non-negative integer", marking(""));
-  EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is over the limit of 4294967295",
-            marking("4294967296"));
+  EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is over the limit of 4294967295", marking("4294967296"));
   EXPECT_EQ("t.pnml:6:1: initial marking of place 'p' is over the limit of 4294967295",
             marking("99999999999999999999999999"));
   auto inscription = [](std::string_view text) {
-    return error_of(pnml(fmt::format("<place id=\"p\"/><transition id=\"t\"/>\n"
-                                     "<arc id=\"a\" source=\"p\" target=\"t\">\n"
-                                     " <inscription><text>{}</text></inscription></arc>\n",
-                                     text)));
+    return error_of(
+        pnml(fmt::format("<place id=\"p\"/><transition id=\"t\"/>\n"
+                         "<arc id=\"a\" source=\"p\" target=\"t\">\n"
+                         " <inscription><text>{}</text></inscription></arc>\n",
+                         text)));
   };
   EXPECT_EQ("t.pnml:7:2: inscription of arc 'a' is '0', not a positive integer", inscription("0"));
   EXPECT_EQ("t.pnml:7:2: inscription of arc 'a' is 'x', not a positive integer", inscription("x"));
@@ -207,8 +207,7 @@ TEST(PnmlRead, DanglingAndCyclicReferencesAreErrors) {
             error_of(pnml("<referenceTransition id=\"r\" ref=\"r\"/>\n")));
   EXPECT_EQ("t.pnml:6:1: referencePlace 'r' refers to transition 't', not to a place",
             error_of(pnml("<transition id=\"t\"/>\n<referencePlace id=\"r\" ref=\"t\"/>\n")));
-  EXPECT_EQ("t.pnml:5:1: referenceTransition 'r' has no ref",
-            error_of(pnml("<referenceTransition id=\"r\"/>\n")));
+  EXPECT_EQ("t.pnml:5:1: referenceTransition 'r' has no ref", error_of(pnml("<referenceTransition id=\"r\"/>\n")));
 }
 
 TEST(PnmlRead, StructuralErrorsNameTheirLine) {
@@ -227,8 +226,7 @@ TEST(PnmlRead, StructuralErrorsNameTheirLine) {
 TEST(PnmlRead, NonPnmlAndMalformedXmlAreErrors) {
   EXPECT_EQ("t.pnml:2:1: not a PNML document: the root element is <html>, not <pnml>",
             error_of("<?xml version=\"1.0\"?>\n<html><body/></html>\n"));
-  EXPECT_EQ("t.pnml:6:3: malformed XML: Start-end tags mismatch",
-            error_of(pnml("<place id=\"p\">\n</transition>\n")));
+  EXPECT_EQ("t.pnml:6:3: malformed XML: Start-end tags mismatch", error_of(pnml("<place id=\"p\">\n</transition>\n")));
   EXPECT_EQ("t.pnml:1:1: malformed XML: No document element found", error_of(""));
   // pugixml puts this one past the end of the text: reported at the end.
   EXPECT_EQ("t.pnml:2:7: malformed XML: Error parsing element attribute", error_of("<pnml>\n<net a"));
@@ -270,8 +268,7 @@ TEST(PnmlWrite, RoundTripKeepsTheNetAndOddNamesComeBackAsLabels) {
   const PnmlNet& n = back.value();
   EXPECT_EQ(structure(net), structure(n.net));
   EXPECT_EQ(net.arc_count(), n.net.arc_count());
-  EXPECT_EQ((std::vector<std::string>{"a b", "x<y", "a_b", "9lives & \"quotes\"\r\n\x01", ""}),
-            n.place_labels);
+  EXPECT_EQ((std::vector<std::string>{"a b", "x<y", "a_b", "9lives & \"quotes\"\r\n\x01", ""}), n.place_labels);
   EXPECT_EQ((std::vector<std::string>{"a b", "t1", "t1"}), n.transition_labels);
   EXPECT_EQ("my net", n.name);
   // Ids: XML names, unique across the document.

@@ -41,11 +41,16 @@ class IdMaker {
 // characters as references so that they come back unchanged.
 void append_text(std::string& out, std::string_view s) {
   for (char c : s) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (static_cast<unsigned char>(c) >= 0x20 || c == '\t' || c == '\n') out += c;
-    else fmt::format_to(std::back_inserter(out), "&#{};", int{c});
+    if (c == '&')
+      out += "&amp;";
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (static_cast<unsigned char>(c) >= 0x20 || c == '\t' || c == '\n')
+      out += c;
+    else
+      fmt::format_to(std::back_inserter(out), "&#{};", int{c});
   }
 }
 
@@ -62,8 +67,9 @@ std::string write_pnml(const Net& net, const std::string& net_id) {
   }
   std::string out;
   auto o = std::back_inserter(out);
-  fmt::format_to(o, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<pnml xmlns=\"{}\">\n"
-                    "  <net id=\"{}\" type=\"{}\">\n    <name><text>",
+  fmt::format_to(o,
+                 "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<pnml xmlns=\"{}\">\n"
+                 "  <net id=\"{}\" type=\"{}\">\n    <name><text>",
                  kPnmlNamespace, ids.make(net_id), kPtNetType);
   append_text(out, net_id);
   fmt::format_to(o, "</text></name>\n    <page id=\"{}\">\n", ids.make("page"));
@@ -83,10 +89,12 @@ std::string write_pnml(const Net& net, const std::string& net_id) {
   }
   std::uint64_t arcs = 0;
   auto write_arc = [&](const std::string& source, const std::string& target, std::uint32_t weight) {
-    fmt::format_to(o, "      <arc id=\"{}\" source=\"{}\" target=\"{}\"",
-                   ids.make(fmt::format("a{}", ++arcs)), source, target);
-    if (weight == 1) out += "/>\n";
-    else fmt::format_to(o, "><inscription><text>{}</text></inscription></arc>\n", weight);
+    fmt::format_to(o, "      <arc id=\"{}\" source=\"{}\" target=\"{}\"", ids.make(fmt::format("a{}", ++arcs)), source,
+                   target);
+    if (weight == 1)
+      out += "/>\n";
+    else
+      fmt::format_to(o, "><inscription><text>{}</text></inscription></arc>\n", weight);
   };
   for (TransitionId t = 0; t < net.transition_count(); ++t) {
     for (const Arc& a : net.inputs(t)) write_arc(place_ids[a.node], transition_ids[t], a.weight);

@@ -137,8 +137,8 @@ ReachGraph build_reach_graph(const Net& net, const ReachOptions& options) {
           if (!overflow) next[a.node] += a.weight;
         }
         if (overflow) {
-          g.stopped_why_ = fmt::format("firing {} would put more than {} tokens in a place",
-                                       net.transition_name(t), kMaxTokens);
+          g.stopped_why_ =
+              fmt::format("firing {} would put more than {} tokens in a place", net.transition_name(t), kMaxTokens);
           break;
         }
         const std::size_t before = g.parent_.size();

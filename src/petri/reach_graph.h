@@ -54,9 +54,7 @@ class ReachGraph {
  public:
   std::size_t state_count() const { return parent_.size(); }
   std::size_t edge_count() const { return edges_.size(); }
-  std::span<const Tokens> marking(StateId s) const {
-    return {markings_.data() + std::size_t{s} * places_, places_};
-  }
+  std::span<const Tokens> marking(StateId s) const { return {markings_.data() + std::size_t{s} * places_, places_}; }
   // Successors of an explored state (none for a terminal or unexplored one).
   std::span<const ReachEdge> successors(StateId s) const;
   bool explored(StateId s) const { return s < explored_; }

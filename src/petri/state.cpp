@@ -7,13 +7,11 @@
 namespace strata::petri {
 
 EnabledSet::EnabledSet(const Net& net)
-    : rank_(net.transition_count()), by_rank_(net.transition_count()),
-      pos_(net.transition_count(), kAbsent) {
+    : rank_(net.transition_count()), by_rank_(net.transition_count()), pos_(net.transition_count(), kAbsent) {
   const std::size_t n = net.transition_count();
   for (TransitionId t = 0; t < n; ++t) by_rank_[t] = t;
-  std::stable_sort(by_rank_.begin(), by_rank_.end(), [&](TransitionId a, TransitionId b) {
-    return net.priority(a) > net.priority(b);
-  });
+  std::stable_sort(by_rank_.begin(), by_rank_.end(),
+                   [&](TransitionId a, TransitionId b) { return net.priority(a) > net.priority(b); });
   for (std::uint32_t r = 0; r < n; ++r) rank_[by_rank_[r]] = r;
   std::size_t bits = std::max<std::size_t>(n, 1);
   std::size_t total = 0;
@@ -75,10 +73,9 @@ std::vector<TransitionId> EnabledSet::sorted() const {
 }
 
 std::size_t EnabledSet::memory_bytes() const {
-  std::size_t n = (rank_.capacity() + by_rank_.capacity() + dense_.capacity() + pos_.capacity()) *
-                  sizeof(std::uint32_t);
-  return n + bits_.capacity() * sizeof(std::uint64_t) +
-         level_begin_.capacity() * sizeof(std::uint32_t);
+  std::size_t n =
+      (rank_.capacity() + by_rank_.capacity() + dense_.capacity() + pos_.capacity()) * sizeof(std::uint32_t);
+  return n + bits_.capacity() * sizeof(std::uint64_t) + level_begin_.capacity() * sizeof(std::uint32_t);
 }
 
 State::State(const Net& net) : State(net, net.initial_marking()) {}
@@ -110,9 +107,8 @@ void State::set_tokens(PlaceId p, Tokens value) {
 }
 
 core::Error State::overflow(PlaceId p) const {
-  return core::make_error(core::ErrorCode::Overflow,
-                          "place '" + std::string(net_->place_name(p)) + "' would exceed " +
-                              std::to_string(kMaxTokens) + " tokens");
+  return core::make_error(core::ErrorCode::Overflow, "place '" + std::string(net_->place_name(p)) + "' would exceed " +
+                                                         std::to_string(kMaxTokens) + " tokens");
 }
 
 core::Result<void> State::fire(TransitionId t) {
@@ -142,8 +138,8 @@ void State::remove_tokens(PlaceId p, Tokens n) {
 }
 
 std::size_t State::memory_bytes() const {
-  return sizeof(*this) + marking_.capacity() * sizeof(Tokens) +
-         missing_.capacity() * sizeof(std::uint32_t) + enabled_.memory_bytes();
+  return sizeof(*this) + marking_.capacity() * sizeof(Tokens) + missing_.capacity() * sizeof(std::uint32_t) +
+         enabled_.memory_bytes();
 }
 
 }  // namespace strata::petri

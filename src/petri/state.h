@@ -34,15 +34,15 @@ class EnabledSet {
 
  private:
   static constexpr std::uint32_t kAbsent = UINT32_MAX;
-  std::vector<std::uint32_t> rank_;             // transition -> rank
-  std::vector<TransitionId> by_rank_;           // rank -> transition
+  std::vector<std::uint32_t> rank_;    // transition -> rank
+  std::vector<TransitionId> by_rank_;  // rank -> transition
   // A hierarchical bitmap in one array: level 0 has one bit per rank, each
   // higher level one bit per non-zero word below. level_begin_[l] is the
   // first word of level l; the top level is one word.
   std::vector<std::uint64_t> bits_;
   std::vector<std::uint32_t> level_begin_;
   std::vector<TransitionId> dense_;
-  std::vector<std::uint32_t> pos_;              // transition -> index in dense_, or kAbsent
+  std::vector<std::uint32_t> pos_;  // transition -> index in dense_, or kAbsent
 };
 
 class State {

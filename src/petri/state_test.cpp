@@ -117,8 +117,10 @@ RC_GTEST_PROP(StateProperty, IncrementalEnabledSetMatchesFullRescan, ()) {
     for (std::size_t i = 0; i < arcs; ++i) {
       auto p = *rc::gen::inRange<std::size_t>(0, places);
       auto w = *rc::gen::inRange<std::uint32_t>(1, 3);
-      if (*rc::gen::arbitrary<bool>()) b.add_input(id, static_cast<PlaceId>(p), w);
-      else b.add_output(id, static_cast<PlaceId>(p), w);
+      if (*rc::gen::arbitrary<bool>())
+        b.add_input(id, static_cast<PlaceId>(p), w);
+      else
+        b.add_output(id, static_cast<PlaceId>(p), w);
     }
   }
   Net net = std::move(b).build();

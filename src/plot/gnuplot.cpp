@@ -73,14 +73,16 @@ void bands(std::string& s, const MissionPlot& plot, bool nested) {
   for (const PhaseBand& b : plot.phases) {
     if (b.depth == 1) {
       const char* colour = completed(b) ? kBandColours[shade++ % 2] : kFailedBandColour;
-      s += fmt::format("set object rect from first {}, graph 0 to first {}, graph 1 fc rgb '{}' "
-                       "fs solid 0.15 noborder behind\n",
-                       num(b.start_s), num(b.end_s), colour);
+      s += fmt::format(
+          "set object rect from first {}, graph 0 to first {}, graph 1 fc rgb '{}' "
+          "fs solid 0.15 noborder behind\n",
+          num(b.start_s), num(b.end_s), colour);
     } else if (nested) {
       const double top = 1.0 - kNestedStrip * (b.depth - 2);
-      s += fmt::format("set object rect from first {}, graph {} to first {}, graph {} fc rgb '{}' "
-                       "fs solid 0.45 noborder behind\n",
-                       num(b.start_s), num(top - kNestedStrip * 0.8), num(b.end_s), num(top), kNestedBandColour);
+      s += fmt::format(
+          "set object rect from first {}, graph {} to first {}, graph {} fc rgb '{}' "
+          "fs solid 0.45 noborder behind\n",
+          num(b.start_s), num(top - kNestedStrip * 0.8), num(b.end_s), num(top), kNestedBandColour);
     }
   }
 }
@@ -108,8 +110,8 @@ void phase_labels(std::string& s, const MissionPlot& plot) {
   std::size_t row = 0;
   for (const PhaseBand& b : plot.phases) {
     if (b.depth != 1) continue;
-    s += fmt::format("set label {} at first {}, graph 1 left offset 0.4,{} front\n", gp_string(b.net),
-                     num(b.start_s), row++ % 2 == 0 ? "0.6" : "1.7");
+    s += fmt::format("set label {} at first {}, graph 1 left offset 0.4,{} front\n", gp_string(b.net), num(b.start_s),
+                     row++ % 2 == 0 ? "0.6" : "1.7");
   }
 }
 
@@ -130,7 +132,8 @@ std::pair<double, double> depth_range(const MissionPlot& plot) {
 
 std::optional<Format> format_for(const fs::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".svg") return Format::Svg;
   if (ext == ".png") return Format::Png;
   return std::nullopt;
@@ -265,7 +268,9 @@ Rendered run_gnuplot(const fs::path& gnuplot, const fs::path& script, const fs::
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
       return {RenderStatus::GnuplotFailed,
-              fmt::format("gnuplot was still running after {} ms and was stopped", bound.count()), {}, {}};
+              fmt::format("gnuplot was still running after {} ms and was stopped", bound.count()),
+              {},
+              {}};
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -293,8 +298,7 @@ Rendered render_in(const MissionPlot& plot, const RenderOptions& o, const fs::pa
   if (!r.ok()) return r;
   std::error_code ec;
   if (fs::file_size(picture, ec) == 0 || ec) {
-    return {RenderStatus::GnuplotFailed, fmt::format("gnuplot exited without drawing {}", picture.string()),
-            {}, {}};
+    return {RenderStatus::GnuplotFailed, fmt::format("gnuplot exited without drawing {}", picture.string()), {}, {}};
   }
   // gnuplot draws inside the folder, so a failed run never leaves half a
   // picture where the user asked for one.

@@ -47,8 +47,8 @@ enum class RenderStatus {
 
 struct [[nodiscard]] Rendered {
   RenderStatus status = RenderStatus::Ok;
-  std::string message;               // what went wrong (gnuplot's stderr when it failed)
-  std::string warnings;              // gnuplot's stderr when it succeeded anyway
+  std::string message;                // what went wrong (gnuplot's stderr when it failed)
+  std::string warnings;               // gnuplot's stderr when it succeeded anyway
   std::filesystem::path kept_folder;  // with keep_folder: where the script and data are
   bool ok() const { return status == RenderStatus::Ok; }
 };
@@ -56,7 +56,7 @@ struct [[nodiscard]] Rendered {
 struct RenderOptions {
   Format format = Format::Svg;
   std::filesystem::path output;
-  bool keep_folder = false;  // leave the temporary folder (script, data, stderr) behind
+  bool keep_folder = false;                 // leave the temporary folder (script, data, stderr) behind
   std::chrono::milliseconds bound{60'000};  // wall time gnuplot may take; killed after
 };
 

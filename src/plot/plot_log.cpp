@@ -134,8 +134,8 @@ core::Result<void> read_event(const json& e, const Place& at, MissionPlot& plot,
   } else if (event == "mission_end") {
     auto t = need_time();
     if (!t) return t.error();
-    for (auto [key, field] : {std::pair{"outcome", &plot.outcome}, std::pair{"exit", &plot.exit},
-                              std::pair{"reason", &plot.reason}}) {
+    for (auto [key, field] :
+         {std::pair{"outcome", &plot.outcome}, std::pair{"exit", &plot.exit}, std::pair{"reason", &plot.reason}}) {
       auto v = text(e, key, at);
       if (!v) return v.error();
       *field = v.value();

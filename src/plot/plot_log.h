@@ -31,9 +31,9 @@ struct PhaseBand {
   std::string net;
   int depth = 1;
   double start_s = 0.0;
-  double end_s = 0.0;   // the log's last time when the phase never ended
-  std::string result;   // "completed", "aborted", ...; "" when it never ended
-  std::string exit;     // the exit place it ended through
+  double end_s = 0.0;  // the log's last time when the phase never ended
+  std::string result;  // "completed", "aborted", ...; "" when it never ended
+  std::string exit;    // the exit place it ended through
   bool ended = false;
 };
 
@@ -41,12 +41,12 @@ struct PhaseBand {
 // "completed", or the mission's end when it did not complete.
 struct AbortMark {
   double time_s = 0.0;
-  std::string label;   // "dive_from_surface aborted (exit abort)"
+  std::string label;     // "dive_from_surface aborted (exit abort)"
   bool mission = false;  // the mission_end mark, not a phase's
 };
 
 struct MissionPlot {
-  std::string mission;   // the run header's mission path; "" if no header
+  std::string mission;  // the run header's mission path; "" if no header
   std::string scenario;
   Series depth_m;
   Series filtered_depth_m;

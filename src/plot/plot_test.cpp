@@ -82,12 +82,14 @@ void write_script(const fs::path& file, const std::string& body) {
 
 TEST(ReadLog, KnownLogGivesPhasesAbortsAndSeries) {
   const MissionPlot p = read_fixture("leak_phase2.jsonl");
-  EXPECT_EQ("initialize@1 0-0.2 completed\n"
-            "dive_from_surface@2 0.2-7.8 aborted\n",
-            dump(p.phases));
-  EXPECT_EQ("7.8 dive_from_surface aborted (exit abort)\n"
-            "7.9 mission aborted (exit closed_after_abort) [mission]\n",
-            dump(p.aborts));
+  EXPECT_EQ(
+      "initialize@1 0-0.2 completed\n"
+      "dive_from_surface@2 0.2-7.8 aborted\n",
+      dump(p.phases));
+  EXPECT_EQ(
+      "7.8 dive_from_surface aborted (exit abort)\n"
+      "7.9 mission aborted (exit closed_after_abort) [mission]\n",
+      dump(p.aborts));
   EXPECT_EQ(15u, p.depth_m.size());
   EXPECT_EQ(15u, p.filtered_depth_m.size());
   EXPECT_EQ(12u, p.setpoint_m.size());  // from 2 s on, once the dive is commanded
@@ -100,14 +102,16 @@ TEST(ReadLog, KnownLogGivesPhasesAbortsAndSeries) {
 
 TEST(ReadLog, HeadingSetpointAndNestedPhases) {
   const MissionPlot p = read_fixture("heading.jsonl");
-  EXPECT_EQ("descend@1 0-2.5 completed\n"
-            "turn_leg@2 2.5-5.5 aborted\n"
-            "  hold_heading@3 3-4.5 aborted\n",
-            dump(p.phases));
-  EXPECT_EQ("4.5 hold_heading aborted (exit drifted)\n"
-            "5.5 turn_leg aborted (exit abort)\n"
-            "6 mission aborted (exit closed_after_abort): compass drift [mission]\n",
-            dump(p.aborts));
+  EXPECT_EQ(
+      "descend@1 0-2.5 completed\n"
+      "turn_leg@2 2.5-5.5 aborted\n"
+      "  hold_heading@3 3-4.5 aborted\n",
+      dump(p.phases));
+  EXPECT_EQ(
+      "4.5 hold_heading aborted (exit drifted)\n"
+      "5.5 turn_leg aborted (exit abort)\n"
+      "6 mission aborted (exit closed_after_abort): compass drift [mission]\n",
+      dump(p.aborts));
   EXPECT_EQ(6u, p.depth_m.size());
   EXPECT_EQ(5u, p.setpoint_m.size());
   EXPECT_EQ(6u, p.heading_deg.size());
@@ -145,8 +149,9 @@ TEST(ReadLog, MalformedLineIsAnErrorNamingItsLine) {
 }
 
 TEST(ReadLog, FieldOfTheWrongTypeNamesItsLine) {
-  auto r = read_text("{\"event\":\"telemetry\",\"sim_time\":0.5,\"depth_m\":0.1}\n"
-                     "{\"event\":\"telemetry\",\"sim_time\":1,\"depth_m\":\"deep\"}\n");
+  auto r = read_text(
+      "{\"event\":\"telemetry\",\"sim_time\":0.5,\"depth_m\":0.1}\n"
+      "{\"event\":\"telemetry\",\"sim_time\":1,\"depth_m\":\"deep\"}\n");
   ASSERT_FALSE(r);
   EXPECT_EQ("x.jsonl:2: telemetry: 'depth_m' is not a number", r.error().message);
 }

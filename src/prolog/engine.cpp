@@ -136,8 +136,7 @@ core::Result<bool> call_term(term_t goal) {
     case Query::Status::True:
     case Query::Status::Last: return true;
     case Query::Status::False: return false;
-    case Query::Status::Exception:
-      return core::make_error(core::ErrorCode::InvalidInput, q.exception_text());
+    case Query::Status::Exception: return core::make_error(core::ErrorCode::InvalidInput, q.exception_text());
     case Query::Status::Yield:
       return core::make_error(core::ErrorCode::Internal, "a foreign predicate yielded outside a mission query");
   }

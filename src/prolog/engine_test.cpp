@@ -55,19 +55,14 @@ int g_yields = 0;
 foreign_t answer_later(term_t x, control_t h) {
   static int token;
   switch (PL_foreign_control(h)) {
-    case PL_FIRST_CALL:
-      ++g_yields;
-      PL_yield_address(&token);
-    case PL_RESUME:
-      return PL_unify_integer(x, g_answer);
-    default:
-      return TRUE;
+    case PL_FIRST_CALL: ++g_yields; PL_yield_address(&token);
+    case PL_RESUME: return PL_unify_integer(x, g_answer);
+    default: return TRUE;
   }
 }
 
 TEST_F(PrologEngine, ForeignYieldHandsControlBackAndResumes) {
-  PL_register_foreign("answer_later", 1, reinterpret_cast<pl_function_t>(answer_later),
-                      PL_FA_NONDETERMINISTIC);
+  PL_register_foreign("answer_later", 1, reinterpret_cast<pl_function_t>(answer_later), PL_FA_NONDETERMINISTIC);
   ASSERT_TRUE(call_once("assertz((count_to(N, N) :- !)), "
                         "assertz((count_to(I, N) :- answer_later(X), J is I + X, count_to(J, N)))")
                   .value());

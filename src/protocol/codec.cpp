@@ -112,8 +112,7 @@ DecodeResult<std::vector<Field>> split(std::string_view line) {
   }
   if (line.size() + terminator > kMaxLineBytes) {
     return fail(ErrorCode::TooLong, peek_id(line),
-                fmt::format("line of {} bytes is longer than {}", line.size() + terminator,
-                            kMaxLineBytes));
+                fmt::format("line of {} bytes is longer than {}", line.size() + terminator, kMaxLineBytes));
   }
   SplitResult s = split_fields(line);
   if (!s.ok()) return fail(ErrorCode::BadLine, id_of(s.fields), std::move(s.error));
@@ -128,8 +127,7 @@ DecodeResult<RequestId> read_id(Fields f, bool allow_zero = false) {
   if (!f[1].quoted) id = parse_id(f[1].text, allow_zero);
   if (!id) {
     return fail(ErrorCode::BadLine, 0,
-                fmt::format("bad id '{}': ids are integers {}..{}", f[1].text,
-                            allow_zero ? 0 : 1, kMaxRequestId));
+                fmt::format("bad id '{}': ids are integers {}..{}", f[1].text, allow_zero ? 0 : 1, kMaxRequestId));
   }
   return *id;
 }
@@ -143,8 +141,7 @@ DecodeResult<double> read_number(const Field& f, RequestId id, std::string_view 
   std::optional<double> d;
   if (!f.quoted) d = parse_double(f.text);
   if (!d) {
-    return fail(ErrorCode::BadArgument, id,
-                fmt::format("{} '{}' is not a finite decimal number", what, f.text));
+    return fail(ErrorCode::BadArgument, id, fmt::format("{} '{}' is not a finite decimal number", what, f.text));
   }
   return *d;
 }
@@ -161,8 +158,7 @@ DecodeResult<int> read_version(const Field& f, RequestId id) {
   std::optional<RequestId> v;
   if (!f.quoted) v = parse_id(f.text);
   if (!v || *v > static_cast<RequestId>(INT_MAX)) {
-    return fail(ErrorCode::BadArgument, id,
-                fmt::format("protocol version '{}' is not a positive integer", f.text));
+    return fail(ErrorCode::BadArgument, id, fmt::format("protocol version '{}' is not a positive integer", f.text));
   }
   return static_cast<int>(*v);
 }
@@ -173,18 +169,14 @@ DecodeResult<bool> read_flag(const Field& f, RequestId id) {
   return fail(ErrorCode::BadArgument, id, fmt::format("'{}' is not 0 or 1", f.text));
 }
 
-DecodeError wrong_arity(std::string_view verb, RequestId id, std::string_view syntax,
-                        std::size_t got) {
-  return fail(ErrorCode::BadArgument, id,
-              fmt::format("'{}' takes {} ({} fields given)", verb, syntax, got));
+DecodeError wrong_arity(std::string_view verb, RequestId id, std::string_view syntax, std::size_t got) {
+  return fail(ErrorCode::BadArgument, id, fmt::format("'{}' takes {} ({} fields given)", verb, syntax, got));
 }
 
 DecodeResult<Request> decode_call(Verb verb, Fields f, RequestId id) {
   std::string_view verb_text = verb_name(verb);
   if (f.size() < 3) {
-    return wrong_arity(verb_text, id,
-                       verb == Verb::Ask ? "ID PREDICATE [ARG...]" : "ID FUNCTION [ARG...]",
-                       f.size());
+    return wrong_arity(verb_text, id, verb == Verb::Ask ? "ID PREDICATE [ARG...]" : "ID FUNCTION [ARG...]", f.size());
   }
   Request r;
   r.verb = verb;
@@ -199,8 +191,7 @@ DecodeResult<Request> decode_call(Verb verb, Fields f, RequestId id) {
     }
     core::Result<Value> v = parse_number(f[i].text);
     if (!v.ok()) {
-      return fail(ErrorCode::BadArgument, id,
-                  fmt::format("argument {}: {} (quote strings)", i - 2, v.error().message));
+      return fail(ErrorCode::BadArgument, id, fmt::format("argument {}: {} (quote strings)", i - 2, v.error().message));
     }
     r.args.push_back(std::move(v).value());
   }
@@ -218,9 +209,7 @@ Err to_err(const DecodeError& e) { return Err{e.id, e.code, e.message}; }
 std::string encode(const Request& r) {
   std::string out = fmt::format("{} {}", verb_name(r.verb), r.id);
   switch (r.verb) {
-    case Verb::Hello:
-      out += fmt::format(" {} {}", bare_or_quoted(r.name), r.version);
-      break;
+    case Verb::Hello: out += fmt::format(" {} {}", bare_or_quoted(r.name), r.version); break;
     case Verb::Exec:
     case Verb::Ask:
     case Verb::Ood:
@@ -237,8 +226,7 @@ std::string encode(const Request& r) {
       break;
     case Verb::Ping:
     case Verb::Bye:
-    case Verb::Advance:
-      break;
+    case Verb::Advance: break;
   }
   out += '\n';
   return out;
@@ -259,14 +247,10 @@ std::string encode(const VehicleMessage& message) {
             return fmt::format("answer {} {} {}\n", m.id, m.value ? 1 : 0, format_double(m.sim_time_s));
           },
           [](const Pong& m) { return fmt::format("pong {} {}\n", m.id, format_double(m.sim_time_s)); },
-          [](const Err& m) {
-            return with_text(fmt::format("err {} {} ", m.id, code_name(m.code)), m.message);
-          },
+          [](const Err& m) { return with_text(fmt::format("err {} {} ", m.id, code_name(m.code)), m.message); },
           [](const Telemetry& m) { return encode_telemetry(m); },
           [](const Heartbeat& m) { return fmt::format("hb {}\n", format_double(m.sim_time_s)); },
-          [](const Event& m) {
-            return with_text(fmt::format("event {} ", format_double(m.sim_time_s)), m.text);
-          },
+          [](const Event& m) { return with_text(fmt::format("event {} ", format_double(m.sim_time_s)), m.text); },
       },
       message);
 }
@@ -303,8 +287,7 @@ DecodeResult<Request> decode_request(std::string_view line) {
     }
     case Verb::Exec:
     case Verb::Ask:
-    case Verb::Ood:
-      return decode_call(*verb, f, id);
+    case Verb::Ood: return decode_call(*verb, f, id);
     case Verb::Telemetry: {
       if (f.size() != 3) return wrong_arity("telemetry", id, "ID RATE_HZ", f.size());
       auto rate = read_number(f[2], id, "rate");
@@ -348,8 +331,7 @@ DecodeResult<VehicleMessage> decode_ok(Fields f, RequestId id) {
   } else if (!f[4].quoted && f[4].text == "wall") {
     w.clock = ClockMode::Wall;
   } else {
-    return fail(ErrorCode::BadArgument, id,
-                fmt::format("clock '{}' is neither lockstep nor wall", f[4].text));
+    return fail(ErrorCode::BadArgument, id, fmt::format("clock '{}' is neither lockstep nor wall", f[4].text));
   }
   for (std::size_t i = 5; i < f.size(); ++i) {
     const std::string_view field = f[i].text;
@@ -379,8 +361,7 @@ DecodeResult<VehicleMessage> decode_tlm(Fields f) {
   for (std::size_t i = 2; i < f.size(); ++i) {
     std::string_view field = f[i].text;
     std::size_t eq = field.find('=');
-    if (f[i].quoted || eq == std::string_view::npos || !is_key(field.substr(0, eq)) ||
-        eq + 1 == field.size()) {
+    if (f[i].quoted || eq == std::string_view::npos || !is_key(field.substr(0, eq)) || eq + 1 == field.size()) {
       return fail(ErrorCode::BadArgument, 0, fmt::format("'{}' is not KEY=VALUE", field));
     }
     std::string_view key = field.substr(0, eq);
@@ -392,8 +373,7 @@ DecodeResult<VehicleMessage> decode_tlm(Fields f) {
     if (const KnownKey* k = find_known_key(key)) {
       std::optional<double> d = parse_double(value);
       if (!d) {
-        return fail(ErrorCode::BadArgument, 0,
-                    fmt::format("{} '{}' is not a finite decimal number", key, value));
+        return fail(ErrorCode::BadArgument, 0, fmt::format("{} '{}' is not a finite decimal number", key, value));
       }
       t.*(k->field) = *d;
     } else {
@@ -424,8 +404,7 @@ DecodeResult<VehicleMessage> decode_vehicle_message(std::string_view line) {
     return VehicleMessage{Event{time.value(), f[2].text}};
   }
   if (verb != "ok" && verb != "done" && verb != "answer" && verb != "pong" && verb != "err") {
-    return fail(ErrorCode::UnknownVerb, id_of(f, true),
-                fmt::format("unknown verb '{}'", f[0].text));
+    return fail(ErrorCode::UnknownVerb, id_of(f, true), fmt::format("unknown verb '{}'", f[0].text));
   }
   auto id_result = read_id(f, verb == "err");
   if (!id_result.ok()) return id_result.error();

@@ -25,8 +25,7 @@ namespace gen = rc::gen;
 TEST(Codec, EncodesRequestsAsTheTableSays) {
   EXPECT_EQ("hello 1 strata 2\n", encode(make_hello(1, "strata")));  // the newest version
   EXPECT_EQ("exec 7 sleep 1\n", encode(make_exec(7, "sleep", {Value::integer(1)})));
-  EXPECT_EQ("exec 8 setpoint 0.6 30\n",
-            encode(make_exec(8, "setpoint", {Value::real(0.6), Value::integer(30)})));
+  EXPECT_EQ("exec 8 setpoint 0.6 30\n", encode(make_exec(8, "setpoint", {Value::real(0.6), Value::integer(30)})));
   EXPECT_EQ("exec 9 log \"say \\\"hi\\\"\" 2.0\n",
             encode(make_exec(9, "log", {Value::string("say \"hi\""), Value::real(2.0)})));
   EXPECT_EQ("ask 10 depth_reached\n", encode(make_ask(10, "depth_reached")));
@@ -87,8 +86,7 @@ TEST(Codec, DecodesRequests) {
 }
 
 TEST(Codec, DecodesVehicleMessages) {
-  auto m = decode_vehicle_message(
-      "tlm 12.5 depth=1.02 fdepth=1 rate=0.05 thrust=-3.2 setpoint=1.5 mode=diving leak=0");
+  auto m = decode_vehicle_message("tlm 12.5 depth=1.02 fdepth=1 rate=0.05 thrust=-3.2 setpoint=1.5 mode=diving leak=0");
   ASSERT_TRUE(m.ok()) << m.error().message;
   const Telemetry& t = std::get<Telemetry>(m.value());
   EXPECT_EQ(12.5, t.sim_time_s);
@@ -299,9 +297,8 @@ rc::Gen<std::string> texts(int max_length) {
       {8, gen::inRange<char>(0x20, 0x7f)},
       {1, gen::element('"', '\\', '\n', '\t', ' ')},
   });
-  return gen::mapcat(gen::inRange(0, max_length + 1), [chars](int n) {
-    return gen::container<std::string>(static_cast<std::size_t>(n), chars);
-  });
+  return gen::mapcat(gen::inRange(0, max_length + 1),
+                     [chars](int n) { return gen::container<std::string>(static_cast<std::size_t>(n), chars); });
 }
 
 rc::Gen<std::string> names() {
@@ -319,8 +316,7 @@ rc::Gen<double> times() {
 }
 
 rc::Gen<Value> values() {
-  return gen::oneOf(gen::map(gen::arbitrary<std::int64_t>(), Value::integer),
-                    gen::map(finite_doubles(), Value::real),
+  return gen::oneOf(gen::map(gen::arbitrary<std::int64_t>(), Value::integer), gen::map(finite_doubles(), Value::real),
                     gen::map(texts(24), Value::string));
 }
 
@@ -332,25 +328,23 @@ rc::Gen<Request> requests() {
           r.verb = verb;
           return r;
         },
-        ids(), names(),
-        gen::mapcat(gen::inRange(0, 9), [](int n) {
+        ids(), names(), gen::mapcat(gen::inRange(0, 9), [](int n) {
           return gen::container<std::vector<Value>>(static_cast<std::size_t>(n), values());
         }));
   };
-  return gen::oneOf(
-      gen::apply(
-          [](RequestId id, std::string name, int version) {
-            Request r = make_hello(id, std::move(name));
-            r.version = version;
-            return r;
-          },
-          ids(), names(), gen::inRange(1, 1 << 30)),
-      call(Verb::Exec), call(Verb::Ask), call(Verb::Ood),
-      gen::apply(make_telemetry, ids(),
-                 gen::oneOf(gen::element(0.0, 1.0, 2.5, kMaxTelemetryRateHz),
-                            gen::map(gen::inRange(0, 1 << 20),
-                                     [](int i) { return kMaxTelemetryRateHz * i / (1 << 20); }))),
-      gen::map(ids(), make_ping), gen::map(ids(), make_bye), gen::map(ids(), make_advance));
+  return gen::oneOf(gen::apply(
+                        [](RequestId id, std::string name, int version) {
+                          Request r = make_hello(id, std::move(name));
+                          r.version = version;
+                          return r;
+                        },
+                        ids(), names(), gen::inRange(1, 1 << 30)),
+                    call(Verb::Exec), call(Verb::Ask), call(Verb::Ood),
+                    gen::apply(make_telemetry, ids(),
+                               gen::oneOf(gen::element(0.0, 1.0, 2.5, kMaxTelemetryRateHz),
+                                          gen::map(gen::inRange(0, 1 << 20),
+                                                   [](int i) { return kMaxTelemetryRateHz * i / (1 << 20); }))),
+                    gen::map(ids(), make_ping), gen::map(ids(), make_bye), gen::map(ids(), make_advance));
 }
 
 rc::Gen<std::optional<double>> maybe_times() {
@@ -360,18 +354,16 @@ rc::Gen<std::optional<double>> maybe_times() {
 
 rc::Gen<std::map<std::string, std::string>> extras() {
   auto key = gen::element<std::string>("mode", "leak", "battery_v", "x_1", "_k");
-  auto value = gen::nonEmpty(gen::container<std::string>(
-      gen::element('a', 'Z', '0', '9', '_', '.', ':', '+', '-', '/', '=')));
+  auto value =
+      gen::nonEmpty(gen::container<std::string>(gen::element('a', 'Z', '0', '9', '_', '.', ':', '+', '-', '/', '=')));
   return gen::container<std::map<std::string, std::string>>(key, value);
 }
 
 rc::Gen<VehicleMessage> vehicle_messages() {
-  auto as_message = [](auto g) {
-    return gen::map(std::move(g), [](auto m) { return VehicleMessage(std::move(m)); });
-  };
-  auto codes = gen::element(ErrorCode::BadLine, ErrorCode::TooLong, ErrorCode::UnknownVerb,
-                            ErrorCode::BadArgument, ErrorCode::UnknownFunction, ErrorCode::Busy,
-                            ErrorCode::NotReady, ErrorCode::Failed, ErrorCode::DuplicateId);
+  auto as_message = [](auto g) { return gen::map(std::move(g), [](auto m) { return VehicleMessage(std::move(m)); }); };
+  auto codes = gen::element(ErrorCode::BadLine, ErrorCode::TooLong, ErrorCode::UnknownVerb, ErrorCode::BadArgument,
+                            ErrorCode::UnknownFunction, ErrorCode::Busy, ErrorCode::NotReady, ErrorCode::Failed,
+                            ErrorCode::DuplicateId);
   return gen::oneOf(
       as_message(gen::apply(
           [](RequestId id, std::string name, int version, bool wall) {
@@ -379,25 +371,37 @@ rc::Gen<VehicleMessage> vehicle_messages() {
           },
           ids(), names(), gen::inRange(1, 1 << 30), gen::arbitrary<bool>())),
       as_message(gen::map(ids(), [](RequestId id) { return Ok{id}; })),
-      as_message(gen::apply([](RequestId id, bool b, double t) { return Done{id, b, t}; }, ids(),
-                            gen::arbitrary<bool>(), times())),
-      as_message(gen::apply([](RequestId id, bool b, double t) { return Answer{id, b, t}; }, ids(),
-                            gen::arbitrary<bool>(), times())),
-      as_message(gen::apply([](RequestId id, double t) { return Pong{id, t}; }, ids(), times())),
       as_message(gen::apply(
-          [](RequestId id, ErrorCode code, std::string text) { return Err{id, code, std::move(text)}; },
+          [](RequestId id, bool b, double t) {
+            return Done{id, b, t};
+          },
+          ids(), gen::arbitrary<bool>(), times())),
+      as_message(gen::apply(
+          [](RequestId id, bool b, double t) {
+            return Answer{id, b, t};
+          },
+          ids(), gen::arbitrary<bool>(), times())),
+      as_message(gen::apply(
+          [](RequestId id, double t) {
+            return Pong{id, t};
+          },
+          ids(), times())),
+      as_message(gen::apply(
+          [](RequestId id, ErrorCode code, std::string text) {
+            return Err{id, code, std::move(text)};
+          },
           gen::oneOf(ids(), gen::just<RequestId>(0)), codes, texts(200))),
       as_message(gen::apply(
           [](double t, std::optional<double> a, std::optional<double> b, std::optional<double> c,
              std::optional<double> d, std::optional<double> e, std::optional<double> h,
-             std::map<std::string, std::string> x) {
-            return Telemetry{t, a, b, c, d, e, h, std::move(x)};
-          },
-          times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(),
-          maybe_times(), extras())),
+             std::map<std::string, std::string> x) { return Telemetry{t, a, b, c, d, e, h, std::move(x)}; },
+          times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), maybe_times(), extras())),
       as_message(gen::map(times(), [](double t) { return Heartbeat{t}; })),
-      as_message(gen::apply([](double t, std::string s) { return Event{t, std::move(s)}; }, times(),
-                            texts(200))));
+      as_message(gen::apply(
+          [](double t, std::string s) {
+            return Event{t, std::move(s)};
+          },
+          times(), texts(200))));
 }
 
 // A valid line: printable ASCII, one "\n" at the end, within the limit.
@@ -440,8 +444,7 @@ RC_GTEST_PROP(Codec, AnyFreeTextMakesAValidLine, (const std::string& text, Reque
 // Any accepted line has one canonical form that decodes to the same request.
 RC_GTEST_PROP(Codec, DecodingArbitraryBytesIsSafeAndCanonical, ()) {
   const std::string line = *gen::oneOf(
-      gen::arbitrary<std::string>(),
-      gen::map(requests(), [](const Request& r) { return encode(r); }),
+      gen::arbitrary<std::string>(), gen::map(requests(), [](const Request& r) { return encode(r); }),
       gen::apply([](std::string a, std::string b) { return a + " " + b; },
                  gen::element<std::string>("exec 1", "ask 2 x", "hello 3", "telemetry 4"),
                  gen::container<std::string>(gen::element('1', '.', 'e', '-', ' ', '"', '\\', 'n', 'a', '='))));

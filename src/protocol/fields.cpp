@@ -55,8 +55,7 @@ bool read_quoted(std::string_view line, std::size_t& pos, Field& field, std::str
           if (is_printable(e)) {
             error = fmt::format("bad escape '\\{}' at column {} (only \\\" \\\\ \\n \\t)", e, pos + 1);
           } else {
-            error = fmt::format("byte {} at column {} is not printable ASCII", describe_byte(e),
-                                pos + 2);
+            error = fmt::format("byte {} at column {} is not printable ASCII", describe_byte(e), pos + 2);
           }
           return false;
       }
@@ -117,8 +116,8 @@ bool is_number_syntax(std::string_view s, bool& is_float) {
 }  // namespace
 
 bool is_bare_char(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || is_digit(c) || c == '_' ||
-         c == '.' || c == ':' || c == '+' || c == '-' || c == '/' || c == '=';
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || is_digit(c) || c == '_' || c == '.' || c == ':' ||
+         c == '+' || c == '-' || c == '/' || c == '=';
 }
 
 bool is_bare_token(std::string_view text) {
@@ -183,9 +182,7 @@ std::string quote_within(std::string_view text, std::size_t max_bytes) {
   return out;
 }
 
-std::string bare_or_quoted(std::string_view text) {
-  return is_bare_token(text) ? std::string(text) : quote(text);
-}
+std::string bare_or_quoted(std::string_view text) { return is_bare_token(text) ? std::string(text) : quote(text); }
 
 std::string format_double(double d) {
   std::string s = fmt::format("{}", d);
@@ -196,8 +193,7 @@ std::string format_double(double d) {
 core::Result<Value> parse_number(std::string_view token) {
   bool is_float = false;
   if (!is_number_syntax(token, is_float)) {
-    return core::make_error(core::ErrorCode::InvalidInput,
-                            fmt::format("'{}' is not a decimal number", token));
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not a decimal number", token));
   }
   const char* first = token.data();
   const char* last = token.data() + token.size();
@@ -205,16 +201,14 @@ core::Result<Value> parse_number(std::string_view token) {
     std::int64_t i = 0;
     auto [ptr, ec] = std::from_chars(first, last, i);
     if (ec != std::errc() || ptr != last) {
-      return core::make_error(core::ErrorCode::Overflow,
-                              fmt::format("integer '{}' is out of range", token));
+      return core::make_error(core::ErrorCode::Overflow, fmt::format("integer '{}' is out of range", token));
     }
     return Value::integer(i);
   }
   double d = 0.0;
   auto [ptr, ec] = std::from_chars(first, last, d, std::chars_format::general);
   if (ec != std::errc() || ptr != last || !std::isfinite(d)) {
-    return core::make_error(core::ErrorCode::Overflow,
-                            fmt::format("number '{}' is out of range", token));
+    return core::make_error(core::ErrorCode::Overflow, fmt::format("number '{}' is out of range", token));
   }
   return Value::real(d);
 }

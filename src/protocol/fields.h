@@ -18,7 +18,7 @@
 namespace strata::protocol {
 
 struct Field {
-  std::string text;     // escapes already applied when quoted
+  std::string text;  // escapes already applied when quoted
   bool quoted = false;
   std::size_t column = 0;  // 1-based, where the field starts
 };

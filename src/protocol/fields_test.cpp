@@ -41,20 +41,16 @@ TEST(Fields, QuotedStringsApplyTheFourEscapes) {
 TEST(Fields, RejectsWhatTheGrammarDoesNot) {
   EXPECT_EQ(" !empty line", show(split_fields("")));
   EXPECT_EQ(" !empty line", show(split_fields("    ")));
-  EXPECT_EQ("exec 4 !bad escape '\\q' at column 10 (only \\\" \\\\ \\n \\t)",
-            show(split_fields(R"(exec 4 "a\qb")")));
+  EXPECT_EQ("exec 4 !bad escape '\\q' at column 10 (only \\\" \\\\ \\n \\t)", show(split_fields(R"(exec 4 "a\qb")")));
   EXPECT_EQ("exec !unterminated quoted string starting at column 6", show(split_fields(R"(exec "abc)")));
   EXPECT_EQ("exec !unterminated quoted string starting at column 6", show(split_fields(R"(exec "abc\)")));
-  EXPECT_EQ("exec !a quoted string must be followed by a space (column 11)",
-            show(split_fields(R"(exec "abc"d)")));
-  EXPECT_EQ("exec !character '\"' at column 8 is not allowed outside quotes",
-            show(split_fields(R"(exec ab"c")")));
+  EXPECT_EQ("exec !a quoted string must be followed by a space (column 11)", show(split_fields(R"(exec "abc"d)")));
+  EXPECT_EQ("exec !character '\"' at column 8 is not allowed outside quotes", show(split_fields(R"(exec ab"c")")));
   EXPECT_EQ("x !character '#' at column 3 is not allowed outside quotes", show(split_fields("x #1")));
   EXPECT_EQ(" !byte 0x09 at column 2 is not printable ASCII", show(split_fields("x\ty")));
   EXPECT_EQ("x !byte 0xc3 at column 4 is not printable ASCII", show(split_fields("x \"\xc3\xa9\"")));
   EXPECT_EQ("x !byte 0x0d at column 4 is not printable ASCII", show(split_fields("x y\r")));
-  EXPECT_EQ("x !byte 0x00 at column 5 is not printable ASCII",
-            show(split_fields(std::string_view("x \"\\\0\"", 6))));
+  EXPECT_EQ("x !byte 0x00 at column 5 is not printable ASCII", show(split_fields(std::string_view("x \"\\\0\"", 6))));
 }
 
 TEST(Fields, AtMostMaxFields) {
@@ -96,14 +92,12 @@ TEST(Fields, NumbersFollowTheGrammar) {
   EXPECT_EQ(Value::integer(-42), parse_number("-42").value());
   EXPECT_EQ(Value::real(1500.0), parse_number("1.5E3").value());
   EXPECT_EQ(Value::real(-0.0025), parse_number("-2.5e-3").value());
-  EXPECT_EQ(Value::integer(std::numeric_limits<std::int64_t>::min()),
-            parse_number("-9223372036854775808").value());
-  for (std::string_view bad : {"", "-", "+1", ".5", "1.", "1e", "1e+", "0x10", "nan", "inf", "-inf",
-                               "NaN", "infinity", "1_000", "1.2.3", "--1", "1e1.5"}) {
+  EXPECT_EQ(Value::integer(std::numeric_limits<std::int64_t>::min()), parse_number("-9223372036854775808").value());
+  for (std::string_view bad : {"", "-", "+1", ".5", "1.", "1e", "1e+", "0x10", "nan", "inf", "-inf", "NaN", "infinity",
+                               "1_000", "1.2.3", "--1", "1e1.5"}) {
     EXPECT_FALSE(parse_number(bad).ok()) << bad;
   }
-  EXPECT_EQ("integer '9223372036854775808' is out of range",
-            parse_number("9223372036854775808").error().message);
+  EXPECT_EQ("integer '9223372036854775808' is out of range", parse_number("9223372036854775808").error().message);
   EXPECT_EQ("number '1e999' is out of range", parse_number("1e999").error().message);
   EXPECT_FALSE(parse_number("1e-999").ok());
   EXPECT_EQ(30.0, parse_double("30"));
@@ -122,8 +116,7 @@ TEST(Fields, IdsArePositiveAndFitInt64) {
 }
 
 RC_GTEST_PROP(Fields, EveryFiniteDoubleRoundTripsExactly, ()) {
-  const double d = *rc::gen::suchThat(rc::gen::arbitrary<double>(),
-                                      [](double x) { return std::isfinite(x); });
+  const double d = *rc::gen::suchThat(rc::gen::arbitrary<double>(), [](double x) { return std::isfinite(x); });
   const std::string text = format_double(d);
   core::Result<Value> back = parse_number(text);
   RC_ASSERT(back.ok());

@@ -48,7 +48,7 @@ TEST(Framer, CrlfIsOneTerminatorAndALoneCrIsKept) {
   LineFramer f;
   EXPECT_EQ("[ping 1]", show(f.feed("ping 1\r\nping 2\r")));
   EXPECT_EQ("", show(f.feed("")));
-  EXPECT_EQ("[ping 2]", show(f.feed("\n")));  // "\r" then "\n" in separate chunks
+  EXPECT_EQ("[ping 2]", show(f.feed("\n")));    // "\r" then "\n" in separate chunks
   EXPECT_EQ("[a\rb]", show(f.feed("a\rb\n")));  // left for the decoder to reject
 }
 
@@ -115,8 +115,7 @@ rc::Gen<std::string> streams() {
         if (terminator == 2) l += "\r\n";
         return l;
       },
-      gen::oneOf(gen::inRange<std::size_t>(0, 20),
-                 gen::inRange<std::size_t>(kMaxLineBytes - 4, kMaxLineBytes + 4),
+      gen::oneOf(gen::inRange<std::size_t>(0, 20), gen::inRange<std::size_t>(kMaxLineBytes - 4, kMaxLineBytes + 4),
                  gen::inRange<std::size_t>(0, 3 * kMaxLineBytes)),
       gen::element('a', '\r', ' '), gen::inRange(0, 3));
   return gen::map(gen::container<std::vector<std::string>>(line), [](std::vector<std::string> ls) {

@@ -23,8 +23,7 @@ std::shared_ptr<LineConnection> LineConnection::create(asio::ip::tcp::socket soc
 }
 
 LineConnection::LineConnection(asio::ip::tcp::socket socket, LineConnectionOptions options, Handlers handlers)
-    : socket_(std::move(socket)), options_(options), handlers_(std::move(handlers)),
-      framer_(options.max_line_bytes) {}
+    : socket_(std::move(socket)), options_(options), handlers_(std::move(handlers)), framer_(options.max_line_bytes) {}
 
 LineConnection::~LineConnection() {
   asio::error_code ignored;
@@ -41,7 +40,8 @@ LineConnection::Sent LineConnection::send(std::string bytes) {
   if (closing()) return Sent::Closed;
   if (queued_bytes_ + bytes.size() > options_.max_queue_bytes) {
     if (options_.when_full == LineConnectionOptions::WhenFull::Refuse) return Sent::Refused;
-    CloseReason reason{CloseReason::Why::QueueFull, {},
+    CloseReason reason{CloseReason::Why::QueueFull,
+                       {},
                        "write queue full: " + std::to_string(queued_bytes_) + " bytes waiting, " +
                            std::to_string(bytes.size()) + " more would pass the bound of " +
                            std::to_string(options_.max_queue_bytes)};
@@ -87,7 +87,8 @@ void LineConnection::read() {
     }
     for (const auto& frame : self->framer_.feed(std::string_view(self->buffer_.data(), n))) {
       if (frame.too_long && self->options_.overlong == LineConnectionOptions::Overlong::Close) {
-        self->fail(CloseReason{CloseReason::Why::LineTooLong, {},
+        self->fail(CloseReason{CloseReason::Why::LineTooLong,
+                               {},
                                "a line over " + std::to_string(self->options_.max_line_bytes) + " bytes"});
         return;
       }
@@ -100,22 +101,22 @@ void LineConnection::read() {
 
 void LineConnection::write_front() {
   writing_ = true;
-  asio::async_write(socket_, asio::buffer(queue_.front()), [self = shared_from_this()](const asio::error_code& e,
-                                                                                       std::size_t) {
-    self->writing_ = false;
-    if (self->closed_) return;
-    self->queued_bytes_ -= self->queue_.front().size();
-    self->queue_.pop_front();
-    if (e) {
-      self->fail(CloseReason{CloseReason::Why::WriteError, e, "write failed: " + e.message()});
-      return;
-    }
-    if (!self->queue_.empty()) {
-      self->write_front();
-    } else if (self->closing_) {
-      self->fail(self->reason_);
-    }
-  });
+  asio::async_write(socket_, asio::buffer(queue_.front()),
+                    [self = shared_from_this()](const asio::error_code& e, std::size_t) {
+                      self->writing_ = false;
+                      if (self->closed_) return;
+                      self->queued_bytes_ -= self->queue_.front().size();
+                      self->queue_.pop_front();
+                      if (e) {
+                        self->fail(CloseReason{CloseReason::Why::WriteError, e, "write failed: " + e.message()});
+                        return;
+                      }
+                      if (!self->queue_.empty()) {
+                        self->write_front();
+                      } else if (self->closing_) {
+                        self->fail(self->reason_);
+                      }
+                    });
 }
 
 bool LineConnection::shut(CloseReason reason) {

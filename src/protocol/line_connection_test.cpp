@@ -38,13 +38,14 @@ class Loopback {
     peer_.connect(acceptor_.local_endpoint());
     tcp::socket accepted(io_);
     acceptor_.accept(accepted);
-    connection = LineConnection::create(
-        std::move(accepted), options,
-        {[this](LineConnection&, const Frame& f) { lines.push_back(f.too_long ? "<too_long:" + f.line + ">" : f.line); },
-         [this](LineConnection&, const CloseReason& r) {
-           ++closes;
-           reason = r;
-         }});
+    connection = LineConnection::create(std::move(accepted), options,
+                                        {[this](LineConnection&, const Frame& f) {
+                                           lines.push_back(f.too_long ? "<too_long:" + f.line + ">" : f.line);
+                                         },
+                                         [this](LineConnection&, const CloseReason& r) {
+                                           ++closes;
+                                           reason = r;
+                                         }});
     connection->start();
     peer_read();
   }

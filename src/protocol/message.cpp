@@ -58,9 +58,7 @@ std::string_view verb_name(Verb verb) {
   return "?";
 }
 
-std::string_view clock_name(ClockMode clock) {
-  return clock == ClockMode::Lockstep ? "lockstep" : "wall";
-}
+std::string_view clock_name(ClockMode clock) { return clock == ClockMode::Lockstep ? "lockstep" : "wall"; }
 
 Request make_hello(RequestId id, std::string client_name) {
   Request r;
@@ -135,8 +133,7 @@ std::optional<RequestId> reply_id(const VehicleMessage& message) {
   return std::visit(
       [](const auto& m) -> std::optional<RequestId> {
         using M = std::decay_t<decltype(m)>;
-        if constexpr (std::is_same_v<M, Telemetry> || std::is_same_v<M, Heartbeat> ||
-                      std::is_same_v<M, Event>) {
+        if constexpr (std::is_same_v<M, Telemetry> || std::is_same_v<M, Heartbeat> || std::is_same_v<M, Event>) {
           return std::nullopt;
         } else {
           return m.id;

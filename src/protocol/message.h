@@ -189,8 +189,7 @@ struct Event {
   friend bool operator==(const Event&, const Event&) = default;
 };
 
-using VehicleMessage =
-    std::variant<Welcome, Ok, Done, Answer, Pong, Err, Telemetry, Heartbeat, Event>;
+using VehicleMessage = std::variant<Welcome, Ok, Done, Answer, Pong, Err, Telemetry, Heartbeat, Event>;
 
 // The id a vehicle message answers; nullopt for tlm, hb and event.
 std::optional<RequestId> reply_id(const VehicleMessage& message);

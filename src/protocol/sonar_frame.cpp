@@ -198,9 +198,8 @@ std::optional<SonarFrame> SonarDecoder::next() {
     if (rest.size() < kHeader + length + kTrailer) return std::nullopt;
     std::uint32_t crc = 0;
     std::memcpy(&crc, rest.data() + kHeader + length, 4);
-    auto frame = crc == crc32(rest.substr(4, kHeader - 4 + length))
-                     ? decode_payload(type, rest.substr(kHeader, length))
-                     : std::nullopt;
+    auto frame = crc == crc32(rest.substr(4, kHeader - 4 + length)) ? decode_payload(type, rest.substr(kHeader, length))
+                                                                    : std::nullopt;
     if (!frame) {
       ++bad_frames_;
       skip(1);

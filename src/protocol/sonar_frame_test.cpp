@@ -31,8 +31,8 @@ TEST(SonarFrame, CrcIsIeee) {
 }
 
 TEST(SonarFrame, EveryKindRoundTrips) {
-  const std::vector<SonarFrame> frames = {ping(0), SonarStatus{1.5, true, 3, 1}, SonarEnd{99.0, 1200, 4, "the run is over"},
-                                          ping(7, 0)};
+  const std::vector<SonarFrame> frames = {ping(0), SonarStatus{1.5, true, 3, 1},
+                                          SonarEnd{99.0, 1200, 4, "the run is over"}, ping(7, 0)};
   std::string bytes;
   for (const auto& f : frames) bytes += encode_sonar(f);
   SonarDecoder d;

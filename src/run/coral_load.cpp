@@ -14,8 +14,8 @@ CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& ca
   CoralLoad load;
   coral::DiskFileProvider disk;
   core::DiagnosticSink sink;
-  load.program = coral::compile_file(path, files ? *files : disk, load.sources, sink,
-                                    strategic::coral_check_options(catalogue));
+  load.program =
+      coral::compile_file(path, files ? *files : disk, load.sources, sink, strategic::coral_check_options(catalogue));
   sink.sort();
   bool unreadable_root = false;
   for (const auto& d : sink.diagnostics()) {

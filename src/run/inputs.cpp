@@ -36,8 +36,7 @@ core::Result<std::pair<std::string, std::uint16_t>> parse_listen(const std::stri
   return std::make_pair(host, static_cast<std::uint16_t>(value));
 }
 
-core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario,
-                                                     const std::string& mission) {
+core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario, const std::string& mission) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (scenario.empty()) {
@@ -54,13 +53,11 @@ core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario
     fs::path beside = fs::path(mission).parent_path() / "scenarios" / (scenario + ".toml");
     if (fs::is_regular_file(beside, ec)) return vehicle::load_scenario(beside.string());
     return core::make_error(core::ErrorCode::Io,
-                            fmt::format("no scenario '{}': neither a file nor {}", scenario,
-                                        beside.string()));
+                            fmt::format("no scenario '{}': neither a file nor {}", scenario, beside.string()));
   }
-  return core::make_error(core::ErrorCode::Io,
-                          fmt::format("no scenario file '{}' (give a path, or --mission to look "
-                                      "in the mission's scenarios/ folder)",
-                                      scenario));
+  return core::make_error(core::ErrorCode::Io, fmt::format("no scenario file '{}' (give a path, or --mission to look "
+                                                           "in the mission's scenarios/ folder)",
+                                                           scenario));
 }
 
 core::Result<vehicle::Scenario> load_scenario_through(

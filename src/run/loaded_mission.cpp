@@ -40,8 +40,9 @@ class ReaderFileProvider final : public coral::FileProvider {
     if (r) return r;
     // The loader's kinds: InvalidInput is a file too large; anything else
     // (a file outside the folder among them) a file it cannot read.
-    return core::Error{r.error().code == core::ErrorCode::Overflow ? core::ErrorCode::InvalidInput : core::ErrorCode::Io,
-                       r.error().message};
+    return core::Error{
+        r.error().code == core::ErrorCode::Overflow ? core::ErrorCode::InvalidInput : core::ErrorCode::Io,
+        r.error().message};
   }
 
  private:
@@ -52,8 +53,8 @@ class ReaderFileProvider final : public coral::FileProvider {
 int load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded, std::ostream& err) {
   std::optional<ReaderFileProvider> reader;
   if (o.read_file) reader.emplace(o);
-  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running",
-                                   reader ? &*reader : nullptr);
+  CoralLoad load =
+      load_coral_file(path, loaded.catalogue, err, "strata run", "; not running", reader ? &*reader : nullptr);
   if (!load.program) return load.exit_code;
   if (!load.program->mission) {
     err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
@@ -91,9 +92,10 @@ int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   if (loaded.verification->ok()) return kExitOk;
   err << coral::verify_failures_text(*loaded.verification);
   if (!o.unverified) {
-    err << fmt::format("strata run: {} fails verification; not running (`strata verify {}` shows every "
-                       "property; --unverified runs it anyway, and its log records that)\n",
-                       o.mission, o.mission);
+    err << fmt::format(
+        "strata run: {} fails verification; not running (`strata verify {}` shows every "
+        "property; --unverified runs it anyway, and its log records that)\n",
+        o.mission, o.mission);
     return kExitInvalid;
   }
   err << "strata run: warning: running a mission that fails verification (--unverified)\n";
@@ -133,8 +135,8 @@ int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   if (o.read_file) {
     auto text = o.read_file(loaded.data_path);
     d = text ? tactical::MissionData::parse(text.value(), loaded.data_path, limits)
-             : core::Result<tactical::MissionData>(core::Error{core::ErrorCode::Io,
-                   fmt::format("cannot read the mission data file: {}", text.error().message)});
+             : core::Result<tactical::MissionData>(core::Error{
+                   core::ErrorCode::Io, fmt::format("cannot read the mission data file: {}", text.error().message)});
   } else {
     d = tactical::MissionData::load(loaded.data_path, limits);
   }
@@ -199,8 +201,8 @@ nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified
     states += n.states;
     for (const auto& p : n.properties) {
       if (p.status == coral::Property::Status::Holds) continue;
-      failed.push_back({{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)},
-                        {"message", p.message}});
+      failed.push_back(
+          {{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)}, {"message", p.message}});
     }
   }
   nlohmann::json j{{"event", "verification"}, {"ok", v.ok()}, {"nets", v.nets.size()}, {"states", states}};

@@ -14,24 +14,24 @@ namespace strata::run {
 
 // PROLOG: the limits on loading and checking the rules (prolog::LoadLimits).
 struct RuleLoadLimits {
-  double time_s = 5.0;                   // wall clock of the load and check together
+  double time_s = 5.0;                    // wall clock of the load and check together
   std::uint64_t inferences = 50'000'000;  // clauses read and directives run, together
   std::uint64_t max_bytes = 4u << 20;     // each rule file
 };
 
 struct RunOptions {
-  std::string mission;    // a .coral (CORAL) or .pl (PROLOG) file
-  std::string data;       // overrides the mission's data file
-  std::string scenario;   // name (in the mission's scenarios/) or path; "" nominal
-  std::string params;     // vehicle parameter file; "" built in
-  std::string catalogue;  // primitive catalogue; "" built in
+  std::string mission;                         // a .coral (CORAL) or .pl (PROLOG) file
+  std::string data;                            // overrides the mission's data file
+  std::string scenario;                        // name (in the mission's scenarios/) or path; "" nominal
+  std::string params;                          // vehicle parameter file; "" built in
+  std::string catalogue;                       // primitive catalogue; "" built in
   std::optional<std::uint64_t> seed;           // CORAL: seeded choice among enabled transitions
   std::uint64_t inference_limit = 10'000'000;  // PROLOG: inferences allowed between primitive calls
-  RuleLoadLimits rule_load;                     // PROLOG: loading and checking the rules
-  bool realtime = false;  // the embedded vehicle on the wall clock
-  double speed = 1.0;     // with realtime: simulated seconds per wall second
-  std::string vehicle;    // HOST:PORT of a running vehicle; "" embedded
-  std::string log;        // mission log path; "" none
+  RuleLoadLimits rule_load;                    // PROLOG: loading and checking the rules
+  bool realtime = false;                       // the embedded vehicle on the wall clock
+  double speed = 1.0;                          // with realtime: simulated seconds per wall second
+  std::string vehicle;                         // HOST:PORT of a running vehicle; "" embedded
+  std::string log;                             // mission log path; "" none
   // The mission log written to this stream instead (the caller owns it and
   // keeps it open past run(); `log` then only names it in the report). The
   // studio opens its logs itself, inside its folder, never through a link.

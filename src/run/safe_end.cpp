@@ -25,9 +25,9 @@ bool SafeEnd::can_surface(bool link_gone) const {
 }
 
 std::string SafeEnd::plan(bool link_gone) const {
-  return can_surface(link_gone) ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached,
-                                              kSurface, kShutdownNetwork)
-                                : fmt::format("ood {}", kShutdownNetwork);
+  return can_surface(link_gone)
+             ? fmt::format("ask {}; if 0, exec {} and ask until 1; ood {}", kSurfaceReached, kSurface, kShutdownNetwork)
+             : fmt::format("ood {}", kShutdownNetwork);
 }
 
 void SafeEnd::run(bool link_gone, std::function<void()> done) {

@@ -137,8 +137,7 @@ void RunSession::Run::check_limits() {
   if (!report_.lockstep || !executor_ || !executor_->running()) return;
   if (tactical_->sim_time_s() > o_.max_sim_time_s) {
     stop_here("limit",
-              fmt::format("the simulated-time limit was reached ({:.0f} s; --max-sim-time sets it)",
-                          o_.max_sim_time_s),
+              fmt::format("the simulated-time limit was reached ({:.0f} s; --max-sim-time sets it)", o_.max_sim_time_s),
               kExitAbort);
   }
 }

@@ -68,8 +68,7 @@ class RunSession {
   // run() it does nothing.
   // `mode` says whether the safe end runs and what the outcome is; a later
   // Hard request cuts a safe end short.
-  void stop(const std::string& who, const std::string& reason, int exit_code,
-            StopMode mode = StopMode::Interrupt);
+  void stop(const std::string& who, const std::string& reason, int exit_code, StopMode mode = StopMode::Interrupt);
 
  private:
   class Run;
@@ -86,7 +85,7 @@ class RunSession {
   std::optional<StopRequest> stop_;
   int stop_requests_ = 0;
   bool hard_requested_ = false;  // some request was Hard
-  Run* active_ = nullptr;  // set while run() drives the mission
+  Run* active_ = nullptr;        // set while run() drives the mission
 };
 
 }  // namespace strata::run

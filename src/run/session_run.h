@@ -40,7 +40,10 @@ class PhaseRecorder final : public strategic::Observer {
     auto it = depth_.find(e.instance);
     if (it == depth_.end()) return;
     if (it->second == 1) {
-      phases_.push_back(fmt::format("{} {}", e.name, e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted"));
+      phases_.push_back(fmt::format("{} {}", e.name,
+                                    e.cancelled         ? "cancelled"
+                                    : e.exit_index == 0 ? "completed"
+                                                        : "aborted"));
     }
     depth_.erase(it);
   }

@@ -72,11 +72,10 @@ int RunSession::Run::connect() {
   link_ = tactical::VehicleLink::create(io_, link_options_);
   std::optional<core::Result<protocol::Welcome>> welcome;
   link_->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
-  while (!welcome && io_.run_one() > 0) {
-  }
+  while (!welcome && io_.run_one() > 0) {}
   if (!welcome || !welcome->ok()) {
-    err_ << "strata run: "
-         << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello")) << "\n";
+    err_ << "strata run: " << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello"))
+         << "\n";
     return fail(kExitIo);
   }
   const protocol::Welcome& w = welcome->value();
@@ -98,8 +97,8 @@ int RunSession::Run::connect() {
 
 int RunSession::Run::start_sonar() {
   if (o_.sonar_dir.empty()) return kExitOk;
-  auto started = start_sonar_manager(o_.sonar_dir, link_options_.host, sonar_port_, io_,
-                                     server_ ? server_->sonar() : nullptr);
+  auto started =
+      start_sonar_manager(o_.sonar_dir, link_options_.host, sonar_port_, io_, server_ ? server_->sonar() : nullptr);
   if (!started) {
     err_ << "strata run: --sonar: " << started.error().message << "\n";
     return fail(exit_code_for_input(started.error()));
@@ -149,8 +148,8 @@ void RunSession::Run::build_levels() {
   } else {
     strategic::PrologOptions prolog_options;
     prolog_options.inference_limit = o_.inference_limit;
-    executor = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue,
-                                                           prolog_options);
+    executor =
+        std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue, prolog_options);
   }
   {
     std::lock_guard lock(session_.mutex_);  // stop() reads executor_ from another thread

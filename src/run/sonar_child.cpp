@@ -28,8 +28,8 @@ std::string self_executable() {
 
 core::Result<SonarChild> SonarChild::start(const std::string& host, std::uint16_t port, const std::string& dir,
                                            const std::string& log_path, const std::vector<std::string>& extra) {
-  std::vector<std::string> args = {self_executable(), "sonar", "--vehicle", host + ":" + std::to_string(port), "--out",
-                                   dir};
+  std::vector<std::string> args = {self_executable(), "sonar", "--vehicle", host + ":" + std::to_string(port),
+                                   "--out",           dir};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);
@@ -109,7 +109,9 @@ namespace strata::run {
 core::Result<SonarChild> start_sonar_manager(const std::string& dir, const std::string& host,
                                              std::optional<std::uint16_t> port, asio::io_context& io,
                                              const vehicle::SonarServer* sonar) {
-  if (!port) return core::Error{core::ErrorCode::InvalidInput, "the vehicle announced no sonar socket (no sonar= in its hello reply)"};
+  if (!port)
+    return core::Error{core::ErrorCode::InvalidInput,
+                       "the vehicle announced no sonar socket (no sonar= in its hello reply)"};
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return core::Error{core::ErrorCode::Io, "cannot create '" + dir + "': " + ec.message()};
@@ -120,7 +122,7 @@ core::Result<SonarChild> start_sonar_manager(const std::string& dir, const std::
   while (sonar->readers() <= before && std::chrono::steady_clock::now() < end) {
     if (auto gone = child.value().wait(std::chrono::milliseconds(0))) {
       return core::Error{core::ErrorCode::Io, "the Sonar Manager ended at once (exit " + std::to_string(*gone) +
-                                                   "): see " + (std::filesystem::path(dir) / "manager.log").string()};
+                                                  "): see " + (std::filesystem::path(dir) / "manager.log").string()};
     }
     io.restart();
     io.run_for(std::chrono::milliseconds(5));

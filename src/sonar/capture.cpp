@@ -56,7 +56,7 @@ core::Result<int> connect_with_retry(const CaptureOptions& o, const std::atomic<
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not an IPv4 address", o.host));
   }
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                            std::chrono::duration<double>(std::max(o.connect_timeout_s, 0.0)));
+                                           std::chrono::duration<double>(std::max(o.connect_timeout_s, 0.0)));
   for (;;) {
     const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) return core::make_error(core::ErrorCode::Io, fmt::format("socket: {}", std::strerror(errno)));
@@ -70,9 +70,8 @@ core::Result<int> connect_with_retry(const CaptureOptions& o, const std::atomic<
     std::string why = error == ETIMEDOUT ? "no answer" : std::strerror(error);
     if (!why.empty()) why[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(why[0])));
     if (!worth_retrying(error) || Clock::now() >= deadline) {
-      return core::make_error(core::ErrorCode::Timeout,
-                              fmt::format("could not connect to {}:{} within {:g} s ({})", o.host, o.port,
-                                          o.connect_timeout_s, why));
+      return core::make_error(core::ErrorCode::Timeout, fmt::format("could not connect to {}:{} within {:g} s ({})",
+                                                                    o.host, o.port, o.connect_timeout_s, why));
     }
     for (int i = 0; i < 10 && !stop.load() && Clock::now() < deadline; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -166,8 +165,9 @@ void Capture::read_stream(int fd) {
   while (!ended) {
     if (stop_.load()) return closed(true, "stopped");
     if (decoder.frames() == 0 && Clock::now() >= quiet_limit) {
-      return closed(false, fmt::format("connected, but nothing came from the vehicle within {:g} s (not a sonar socket?)",
-                                       std::max(options_.connect_timeout_s, 1.0)));
+      return closed(false,
+                    fmt::format("connected, but nothing came from the vehicle within {:g} s (not a sonar socket?)",
+                                std::max(options_.connect_timeout_s, 1.0)));
     }
     pollfd p{fd, POLLIN, 0};
     const int ready = ::poll(&p, 1, kPollMs);

@@ -13,12 +13,11 @@
 namespace strata::sonar {
 namespace {
 
+using testing::options_for;
 using testing::PingSynth;
 using testing::SynthConfig;
 using testing::TestConnection;
 using testing::TestServer;
-using testing::options_for;
-
 
 protocol::SonarStatus status(bool on) { return {0.0, on, 0, 0}; }
 

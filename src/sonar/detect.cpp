@@ -116,8 +116,8 @@ WallRun wall_run(std::span<const EchoPoint> pts, std::vector<std::size_t> in, co
   return out;
 }
 
-std::optional<Line> ransac(std::span<const EchoPoint> pts, const std::vector<std::size_t>& left,
-                           const DetectOptions& o, Random& random) {
+std::optional<Line> ransac(std::span<const EchoPoint> pts, const std::vector<std::size_t>& left, const DetectOptions& o,
+                           Random& random) {
   std::size_t best = 0;
   Line best_line;
   for (int s = 0; s < o.ransac_samples; ++s) {
@@ -149,7 +149,8 @@ bool lies_along_the_beam(std::span<const EchoPoint> pts, const std::vector<std::
     sxy += dx * dy;
   }
   const double n = static_cast<double>(members.size());
-  const double spread = (sxx + syy) / (2.0 * n) + std::sqrt(std::pow((sxx - syy) / (2.0 * n), 2) + std::pow(sxy / n, 2));
+  const double spread =
+      (sxx + syy) / (2.0 * n) + std::sqrt(std::pow((sxx - syy) / (2.0 * n), 2) + std::pow(sxy / n, 2));
   if (std::sqrt(spread) * 2.0 < 0.2) return false;  // too short to have a direction
   const double axis = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
   const double sight = std::atan2(cy - vehicle.y_m, cx - vehicle.x_m);
@@ -353,7 +354,8 @@ Detection detect(std::span<const EchoPoint> pts, const Pose& vehicle, const Dete
     }
     std::erase_if(left, [&](std::size_t i) { return line.distance(pts[i]) <= o.on_wall_m; });
   }
-  std::stable_sort(out.walls.begin(), out.walls.end(), [](const Wall& a, const Wall& b) { return a.points > b.points; });
+  std::stable_sort(out.walls.begin(), out.walls.end(),
+                   [](const Wall& a, const Wall& b) { return a.points > b.points; });
   std::erase_if(left, [&](std::size_t i) { return pts[i].range_m > pts[i].max_range_m - o.target_range_margin_m; });
   out.target = find_target(pts, left, vehicle, o);
   return out;

@@ -33,9 +33,9 @@ struct EchoOptions {
 struct EchoPoint {
   double x_m = 0.0;  // tank coordinates
   double y_m = 0.0;
-  double range_m = 0.0;  // from the vehicle, along the beam
+  double range_m = 0.0;      // from the vehicle, along the beam
   double max_range_m = 0.0;  // the ping's range
-  std::uint32_t seq = 0;  // the ping's
+  std::uint32_t seq = 0;     // the ping's
 };
 
 // The ping's first strong return past min_range_m, or nullopt (open water,
@@ -51,19 +51,19 @@ struct DetectOptions {
                                    // more across gaps up to 3 times this (a target's shadow on the wall)
   double wall_min_core_m = 0.8;    // and its main stretch at least this long (a target's face is shorter)
   int max_walls = 4;
-  int ransac_samples = 300;        // point pairs tried per wall
-  double on_wall_m = 0.3;          // points this near a wall's line are not target candidates
-  double cluster_link_m = 0.5;     // single-linkage distance between a cluster's points
-  double target_max_radius_m = 0.6;  // every point of a target within this of its centroid
-  double target_range_margin_m = 0.5;  // echoes this near the ping's range are no target candidates
-                                       // (where a wall leaves the range, its end looks compact)
-  int target_min_pings = 4;        // distinct pings that saw it
+  int ransac_samples = 300;             // point pairs tried per wall
+  double on_wall_m = 0.3;               // points this near a wall's line are not target candidates
+  double cluster_link_m = 0.5;          // single-linkage distance between a cluster's points
+  double target_max_radius_m = 0.6;     // every point of a target within this of its centroid
+  double target_range_margin_m = 0.5;   // echoes this near the ping's range are no target candidates
+                                        // (where a wall leaves the range, its end looks compact)
+  int target_min_pings = 4;             // distinct pings that saw it
   double target_min_across_deg = 55.0;  // a cluster longer than 0.2 m must lie across the line of sight,
                                         // its long axis at least this far from it (a target's face is
                                         // across the beam; the end of a wall seen obliquely runs along it)
-  double target_edge_deg = 4.0;    // beside a target (this far past either end, seen from the vehicle) ...
-  double target_step_m = 0.5;      // ... no echo within this of the range at that end: it stands out
-                                   // from what is behind it (a wall running on into a corner does not)
+  double target_edge_deg = 4.0;         // beside a target (this far past either end, seen from the vehicle) ...
+  double target_step_m = 0.5;           // ... no echo within this of the range at that end: it stands out
+                                        // from what is behind it (a wall running on into a corner does not)
 };
 
 // A wall: the segment its points span, and its distance from the vehicle
@@ -86,8 +86,8 @@ struct Target {
 };
 
 struct Detection {
-  std::vector<Wall> walls;        // most points first
-  std::optional<Target> target;   // the cluster seen by the most pings
+  std::vector<Wall> walls;       // most points first
+  std::optional<Target> target;  // the cluster seen by the most pings
 };
 
 Detection detect(std::span<const EchoPoint> points, const Pose& vehicle, const DetectOptions& options = {});

@@ -44,7 +44,10 @@ std::map<std::string, double> visible_walls(const SynthConfig& c) {
     const double x = c.x_m + r * dx, y = c.y_m + r * dy;
     const bool on_x_wall = std::abs(x) < 1e-6 || std::abs(x - c.tank_x_m) < 1e-6;
     if (std::abs(on_x_wall ? dx : dy) < 0.5) continue;
-    ++hits[std::abs(x) < 1e-6 ? "west" : std::abs(x - c.tank_x_m) < 1e-6 ? "east" : std::abs(y) < 1e-6 ? "south" : "north"];
+    ++hits[std::abs(x) < 1e-6                ? "west"
+           : std::abs(x - c.tank_x_m) < 1e-6 ? "east"
+           : std::abs(y) < 1e-6              ? "south"
+                                             : "north"];
   }
   const std::map<std::string, double> distance{
       {"west", c.x_m}, {"east", c.tank_x_m - c.x_m}, {"south", c.y_m}, {"north", c.tank_y_m - c.y_m}};
@@ -164,8 +167,11 @@ TEST(Detect, NoTargetWhereAShortPieceOfWallRunsIntoACorner) {
     Place vehicle;
     std::uint64_t seed;
   };
-  const Case cases[] = {{{7.02, 3.67, 358.4}, 266}, {{8.27, 2.44, 175.4}, 281}, {{10.19, 6.35, 111.7}, 274},
-                        {{3.08, 4.26, 13.8}, 257},  {{10.70, 5.80, 55.2}, 291}};
+  const Case cases[] = {{{7.02, 3.67, 358.4}, 266},
+                        {{8.27, 2.44, 175.4}, 281},
+                        {{10.19, 6.35, 111.7}, 274},
+                        {{3.08, 4.26, 13.8}, 257},
+                        {{10.70, 5.80, 55.2}, 291}};
   for (const auto& tc : cases) {
     SCOPED_TRACE(::testing::Message() << "vehicle at (" << tc.vehicle.x_m << ", " << tc.vehicle.y_m << ") heading "
                                       << tc.vehicle.heading_deg);
@@ -189,10 +195,10 @@ TEST(Detect, EchoIsTheFirstStrongReturnPastTheMinimumRange) {
   ping.range_m = 10.0f;
   ping.bins.assign(200, 20);
   ping.bins[0] = ping.bins[1] = ping.bins[2] = 200;  // ringing, inside min_range_m
-  ping.bins[50] = 250;                                // one bin: speckle or a spike, not a return
-  ping.bins[80] = 200;                                // the return: 4.0 - 4.1 m
+  ping.bins[50] = 250;                               // one bin: speckle or a spike, not a return
+  ping.bins[80] = 200;                               // the return: 4.0 - 4.1 m
   ping.bins[81] = 100;
-  ping.bins[120] = ping.bins[121] = 250;              // a stronger return behind: not the first
+  ping.bins[120] = ping.bins[121] = 250;  // a stronger return behind: not the first
   auto echo = find_echo(ping);
   ASSERT_TRUE(echo);
   const double range = (80.5 * 200 + 81.5 * 100) / 300 * 0.05;  // the intensity-weighted centre

@@ -30,12 +30,20 @@ Json frame_json(const FrameReport& f, const std::string& file, const CaptureItem
   j["y_m"] = round3(f.vehicle.y_m);
   j["walls"] = Json::array();
   for (const auto& w : f.detection.walls) {
-    j["walls"].push_back({{"x1_m", round3(w.x1_m)}, {"y1_m", round3(w.y1_m)}, {"x2_m", round3(w.x2_m)},
-                          {"y2_m", round3(w.y2_m)}, {"distance_m", round3(w.distance_m)}, {"points", w.points}});
+    j["walls"].push_back({{"x1_m", round3(w.x1_m)},
+                          {"y1_m", round3(w.y1_m)},
+                          {"x2_m", round3(w.x2_m)},
+                          {"y2_m", round3(w.y2_m)},
+                          {"distance_m", round3(w.distance_m)},
+                          {"points", w.points}});
   }
   if (const auto& t = f.detection.target) {
-    j["target"] = {{"x_m", round3(t->x_m)},         {"y_m", round3(t->y_m)}, {"range_m", round3(t->range_m)},
-                   {"bearing_deg", round3(t->bearing_deg)}, {"pings", t->pings}, {"points", t->points}};
+    j["target"] = {{"x_m", round3(t->x_m)},
+                   {"y_m", round3(t->y_m)},
+                   {"range_m", round3(t->range_m)},
+                   {"bearing_deg", round3(t->bearing_deg)},
+                   {"pings", t->pings},
+                   {"points", t->points}};
   } else {
     j["target"] = nullptr;
   }
@@ -157,7 +165,8 @@ ManagerSummary run_sonar_manager(const ManagerOptions& o, std::stop_token stop) 
     if (!item) continue;  // the capture thread always ends its stream with SonarEnd or StreamClosed
     if (!warned_behind && queue.dropped() > 0) {
       warned_behind = true;
-      log(fmt::format("sonar: processing is falling behind: {} pings wait in the queue, further pings are dropped "
+      log(
+          fmt::format("sonar: processing is falling behind: {} pings wait in the queue, further pings are dropped "
                       "until it catches up",
                       queue.capacity()));
     }
@@ -193,8 +202,8 @@ ManagerSummary run_sonar_manager(const ManagerOptions& o, std::stop_token stop) 
       } else if (!closed.connected) {
         finish(Outcome::NeverConnected, closed.why);
       } else {
-        finish(Outcome::VehicleGone, fmt::format("the vehicle went away without ending the sonar stream ({})",
-                                                 closed.why));
+        finish(Outcome::VehicleGone,
+               fmt::format("the vehicle went away without ending the sonar stream ({})", closed.why));
       }
       done = true;
     }

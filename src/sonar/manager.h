@@ -23,11 +23,11 @@
 namespace strata::sonar {
 
 struct ManagerOptions {
-  CaptureOptions capture;        // host, port, connect timeout
+  CaptureOptions capture;  // host, port, connect timeout
   std::filesystem::path out_dir;
-  ProcessorOptions processor;    // image size, display curve, detection thresholds
+  ProcessorOptions processor;         // image size, display curve, detection thresholds
   std::size_t queue_capacity = 8192;  // pings waiting for processing before they are dropped
-  bool verbose = false;          // a log line per frame written
+  bool verbose = false;               // a log line per frame written
   // Lines for people (no newline): one when connected, warnings, one at the
   // end; called on the thread that runs run_sonar_manager(). Default: stderr.
   std::function<void(const std::string&)> log;
@@ -54,12 +54,12 @@ const char* outcome_name(Outcome outcome);
 struct ManagerSummary {
   Outcome outcome = Outcome::Ended;
   int exit_code = 0;
-  std::string message;           // for people, as in the end line
-  CaptureCounts capture;         // what was read
-  std::uint64_t processed = 0;   // pings processed (painted, echo looked for)
-  std::uint64_t unusable = 0;    // pings with no bins or range, or not-a-number fields
-  std::uint64_t frames = 0;      // frames written
-  double last_time_s = 0.0;      // the vehicle's time of the last frame read
+  std::string message;          // for people, as in the end line
+  CaptureCounts capture;        // what was read
+  std::uint64_t processed = 0;  // pings processed (painted, echo looked for)
+  std::uint64_t unusable = 0;   // pings with no bins or range, or not-a-number fields
+  std::uint64_t frames = 0;     // frames written
+  double last_time_s = 0.0;     // the vehicle's time of the last frame read
   std::optional<protocol::SonarEnd> end;
   std::optional<protocol::SonarStatus> last_status;
 };

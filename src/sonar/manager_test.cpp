@@ -18,12 +18,11 @@
 namespace strata::sonar {
 namespace {
 
+using testing::options_for;
 using testing::PingSynth;
 using testing::SynthConfig;
 using testing::TestConnection;
 using testing::TestServer;
-using testing::options_for;
-
 
 std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
   std::vector<nlohmann::json> lines;
@@ -197,7 +196,8 @@ TEST(Output, ReadLastLinesReadsOnlyTheTailAndWholeLines) {
   const auto dir = testing::fresh_dir("last_lines");
   {
     std::ofstream out(dir / "sonar.jsonl");
-    for (int i = 1; i <= 2000; ++i) out << "{\"event\":\"frame\",\"frame\":" << i << ",\"pad\":\"" << std::string(40, 'x') << "\"}\n";
+    for (int i = 1; i <= 2000; ++i)
+      out << "{\"event\":\"frame\",\"frame\":" << i << ",\"pad\":\"" << std::string(40, 'x') << "\"}\n";
   }
   LastLines last = read_last_lines(dir, 4096);  // the file is about 100 KB
   EXPECT_NE(std::string::npos, last.frame.find("\"frame\":2000,")) << last.frame;

@@ -18,9 +18,8 @@ core::Result<OutputDir> OutputDir::open(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir, ec)) {
-    return core::make_error(core::ErrorCode::Io,
-                            fmt::format("cannot create the folder {}: {}", dir.string(),
-                                        ec ? ec.message() : "a file of that name is in the way"));
+    return core::make_error(core::ErrorCode::Io, fmt::format("cannot create the folder {}: {}", dir.string(),
+                                                             ec ? ec.message() : "a file of that name is in the way"));
   }
   const auto log_path = dir / "sonar.jsonl";
   std::FILE* log = std::fopen(log_path.c_str(), "we");
@@ -43,8 +42,8 @@ core::Result<std::string> OutputDir::write_frame(std::uint64_t frame, const Grey
 core::Result<void> OutputDir::append_line(const std::string& json) {
   if (std::fwrite(json.data(), 1, json.size(), log_.get()) != json.size() || std::fputc('\n', log_.get()) == EOF ||
       std::fflush(log_.get()) != 0) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("cannot write {}: {}",
-                                                             (dir_ / "sonar.jsonl").string(), std::strerror(errno)));
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("cannot write {}: {}", (dir_ / "sonar.jsonl").string(), std::strerror(errno)));
   }
   return {};
 }
@@ -55,7 +54,8 @@ LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_byt
   if (!in) return out;
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
-  const std::streamoff from = size > static_cast<std::streamoff>(tail_bytes) ? size - static_cast<std::streamoff>(tail_bytes) : 0;
+  const std::streamoff from =
+      size > static_cast<std::streamoff>(tail_bytes) ? size - static_cast<std::streamoff>(tail_bytes) : 0;
   in.seekg(from);
   std::string text(static_cast<std::size_t>(size - from), '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));

@@ -14,7 +14,8 @@ namespace strata::sonar {
 namespace {
 
 core::Error io_error(const std::filesystem::path& path, const char* what) {
-  return core::make_error(core::ErrorCode::Io, fmt::format("cannot {} {}: {}", what, path.string(), std::strerror(errno)));
+  return core::make_error(core::ErrorCode::Io,
+                          fmt::format("cannot {} {}: {}", what, path.string(), std::strerror(errno)));
 }
 
 }  // namespace
@@ -73,7 +74,8 @@ core::Result<GreyImage> read_png(const std::filesystem::path& path) {
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&png, path.c_str())) {
-    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: not a PNG: {}", path.string(), png.message));
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("{}: not a PNG: {}", path.string(), png.message));
   }
   png.format = PNG_FORMAT_GRAY;
   GreyImage image;

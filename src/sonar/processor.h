@@ -20,7 +20,7 @@ struct ProcessorOptions {
   ImageOptions image;
   EchoOptions echo;
   DetectOptions detect;
-  int window_sweeps = 2;         // sweeps of echo points detection looks at
+  int window_sweeps = 2;          // sweeps of echo points detection looks at
   double default_step_deg = 1.8;  // the beam width until two pings show the step
 };
 
@@ -31,7 +31,7 @@ struct FrameReport {
   std::uint64_t pings = 0;        // pings processed so far
   Pose vehicle;                   // at the frame's last ping
   Detection detection;
-  GreyImage image;                // centred on `vehicle` (to half a pixel)
+  GreyImage image;  // centred on `vehicle` (to half a pixel)
 };
 
 class Processor {

@@ -25,13 +25,9 @@ ScanImage::ScanImage(const ImageOptions& options) : options_(options) {
   }
 }
 
-double ScanImage::col_of(double x_m) const {
-  return options_.size_px / 2.0 + (x_m - centre_x_m_) / metres_per_px_;
-}
+double ScanImage::col_of(double x_m) const { return options_.size_px / 2.0 + (x_m - centre_x_m_) / metres_per_px_; }
 
-double ScanImage::row_of(double y_m) const {
-  return options_.size_px / 2.0 - (y_m - centre_y_m_) / metres_per_px_;
-}
+double ScanImage::row_of(double y_m) const { return options_.size_px / 2.0 - (y_m - centre_y_m_) / metres_per_px_; }
 
 void ScanImage::reset(const protocol::SonarPing& ping) {
   range_m_ = ping.range_m;
@@ -103,7 +99,8 @@ void ScanImage::centre_on(double x_m, double y_m) {
       const int from_col = col + dc;
       if (from_col < 0 || from_col >= size) continue;
       const auto to = static_cast<std::size_t>(row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(col);
-      const auto from = static_cast<std::size_t>(from_row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(from_col);
+      const auto from =
+          static_cast<std::size_t>(from_row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(from_col);
       pixels[to] = image_.pixels[from];
       sweeps[to] = sweep_of_[from];
     }

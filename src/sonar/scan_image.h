@@ -27,7 +27,9 @@ struct GreyImage {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> pixels;
-  std::uint8_t at(int col, int row) const { return pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(width) + static_cast<std::size_t>(col)]; }
+  std::uint8_t at(int col, int row) const {
+    return pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(width) + static_cast<std::size_t>(col)];
+  }
 };
 
 struct ImageOptions {

@@ -62,8 +62,8 @@ void expect_walls_drawn(const GreyImage& image, const PingSynth& synth, double c
     if (std::abs(on_x_wall ? dx : dy) < 0.5) continue;
     auto col = [&](double r) { return image.width / 2.0 + (synth.x_m() + r * dx - centre_x) * px_per_m; };
     auto row = [&](double r) { return image.height / 2.0 - (synth.y_m() + r * dy - centre_y) * px_per_m; };
-    EXPECT_GE(brightest_near(image, col(wall), row(wall), 2), 128) << "no wall at bearing " << bearing << ", "
-                                                                   << wall << " m";
+    EXPECT_GE(brightest_near(image, col(wall), row(wall), 2), 128)
+        << "no wall at bearing " << bearing << ", " << wall << " m";
     std::vector<int> water;
     for (double r = 1.0; r < wall - 0.5; r += 0.05) {
       water.push_back(image.at(static_cast<int>(col(r)), static_cast<int>(row(r))));
@@ -124,7 +124,8 @@ TEST(ScanImage, DisplayCurveIsBlackUpToTheFloorThenRisesToWhite) {
   EXPECT_EQ(0, scan.grey(0));
   EXPECT_EQ(0, scan.grey(static_cast<std::uint8_t>(options.floor_intensity)));
   EXPECT_EQ(255, scan.grey(255));
-  for (int v = 1; v < 256; ++v) EXPECT_LE(scan.grey(static_cast<std::uint8_t>(v - 1)), scan.grey(static_cast<std::uint8_t>(v)));
+  for (int v = 1; v < 256; ++v)
+    EXPECT_LE(scan.grey(static_cast<std::uint8_t>(v - 1)), scan.grey(static_cast<std::uint8_t>(v)));
   // The log curve lifts weak echoes: a quarter of the way up is well over a quarter bright.
   EXPECT_GT(scan.grey(static_cast<std::uint8_t>(options.floor_intensity + 58)), 128);
 }

@@ -72,7 +72,7 @@ protocol::SonarPing PingSynth::next() {
   std::exponential_distribution<double> speckle(1.0 / config_.noise_mean);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<double> level(n, 0.0);
-  for (std::size_t i = 0; i < 3 && i < n; ++i) level[i] = 150.0;  // the transducer's ringing
+  for (std::size_t i = 0; i < 3 && i < n; ++i) level[i] = 150.0;              // the transducer's ringing
   const double compass = static_cast<double>(p.heading_deg) + p.bearing_deg;  // as the reader computes it
   const double dx = std::sin(compass * kRadPerDeg), dy = std::cos(compass * kRadPerDeg);
   double range = wall_range(compass);
@@ -115,7 +115,8 @@ bool TestConnection::send(std::string_view bytes) {
   while (!bytes.empty()) {
     const auto start = std::chrono::steady_clock::now();
     const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
-    longest_send_s_ = std::max(longest_send_s_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    longest_send_s_ =
+        std::max(longest_send_s_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (n <= 0) return false;
     bytes.remove_prefix(static_cast<std::size_t>(n));
   }
@@ -202,7 +203,8 @@ MadeDirs made_dirs;
 }  // namespace
 
 std::filesystem::path fresh_dir(std::string_view name) {
-  auto dir = std::filesystem::temp_directory_path() / ("strata_sonar_" + std::to_string(::getpid()) + "_" + std::string(name));
+  auto dir =
+      std::filesystem::temp_directory_path() / ("strata_sonar_" + std::to_string(::getpid()) + "_" + std::string(name));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   made_dirs.dirs.push_back(dir);

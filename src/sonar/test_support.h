@@ -58,8 +58,8 @@ struct SynthConfig {
   double ping_interval_s = 0.05;
   std::optional<SynthTarget> target;
   std::uint64_t seed = 1;
-  double noise_mean = 8.0;  // exponential speckle
-  double wall_echo = 180.0;    // at normal incidence
+  double noise_mean = 8.0;   // exponential speckle
+  double wall_echo = 180.0;  // at normal incidence
   double target_echo = 200.0;
   double spike_rate = 0.0002;  // per bin
 };

@@ -40,8 +40,7 @@ std::unique_ptr<Checked> check_text(const std::string& text) {
   auto c = std::make_unique<Checked>();
   coral::MemoryFileProvider files;
   files.add("main.coral", text);
-  c->program = coral::compile_file("main.coral", files, c->sources, c->sink,
-                                   coral_check_options(Catalogue::builtin()));
+  c->program = coral::compile_file("main.coral", files, c->sources, c->sink, coral_check_options(Catalogue::builtin()));
   c->sink.sort();
   return c;
 }

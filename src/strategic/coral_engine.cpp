@@ -35,8 +35,7 @@ std::string_view kind_name(const coral::ActionSpec& a) {
 
 // The primitive a TACTIC calls: REPORT goes to the catalogue's `report`.
 std::string_view primitive_of(const coral::ActionSpec& a) {
-  return a.tactic == coral::ast::TacticType::Report ? std::string_view("report")
-                                                    : std::string_view(a.target);
+  return a.tactic == coral::ast::TacticType::Report ? std::string_view("report") : std::string_view(a.target);
 }
 
 }  // namespace
@@ -54,8 +53,7 @@ struct CoralEngine::Instance {
 };
 
 CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, EngineOptions options)
-    : program_(program), tactics_(tactics), options_(options),
-      self_(std::make_shared<CoralEngine*>(this)) {
+    : program_(program), tactics_(tactics), options_(options), self_(std::make_shared<CoralEngine*>(this)) {
   assert(program_.mission.has_value());
   if (options_.seed) rng_.emplace(*options_.seed);
   args_.resize(program_.nets.size());
@@ -163,8 +161,7 @@ void CoralEngine::drain() {
     finish({Outcome::Completed, "", "", std::nullopt, now()});
     return;
   }
-  fail(fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}",
-                   marking_text("; ")));
+  fail(fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}", marking_text("; ")));
 }
 
 void CoralEngine::handle(Message& message) {
@@ -191,25 +188,23 @@ void CoralEngine::handle(Message& message) {
   const tactical::CallOutcome& out = message.outcome.value();
   std::optional<petri::PlaceId> place;
   switch (a.tactic) {
-    case coral::ast::TacticType::Ask:
-      place = a.outcomes.at(out.value ? 0 : 1);
-      break;
+    case coral::ast::TacticType::Ask: place = a.outcomes.at(out.value ? 0 : 1); break;
     case coral::ast::TacticType::Exec:
     case coral::ast::TacticType::Ood:
       if (!out.value) {
-        fail(fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind,
-                         primitive_of(a), out.sim_time_s));
+        fail(fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind, primitive_of(a),
+                         out.sim_time_s));
         return;
       }
       place = a.outcomes.at(0);
       break;
     case coral::ast::TacticType::Report:
-    case coral::ast::TacticType::Unknown:
-      break;
+    case coral::ast::TacticType::Unknown: break;
   }
   Instance& inst = *instances_[action.instance];
-  ActionFinish f{message.id, action.instance, inst.net->name, primitive_of(a), out.value,
-                 place ? inst.net->net.place_name(*place) : std::string_view(), out.sim_time_s};
+  ActionFinish f{message.id,      action.instance, inst.net->name,
+                 primitive_of(a), out.value,       place ? inst.net->net.place_name(*place) : std::string_view(),
+                 out.sim_time_s};
   for (Observer* o : observers_) o->action_finished(f);
   if (place) mark(action.instance, *place, 1);
 }
@@ -229,10 +224,10 @@ void CoralEngine::run_instance(InstanceId id) {
   Instance& inst = *instances_[id];
   while (running_ && inst.state && !inst.state->enabled().empty()) {
     if (firings_this_event_ >= options_.max_firings_per_event) {
-      fail(fmt::format("net '{}' fired {} transitions without waiting for any reply: it cycles "
-                       "without acting (marking: {})",
-                       inst.net->name, firings_this_event_,
-                       petri::dump_marking(inst.net->net, inst.state->marking())));
+      fail(
+          fmt::format("net '{}' fired {} transitions without waiting for any reply: it cycles "
+                      "without acting (marking: {})",
+                      inst.net->name, firings_this_event_, petri::dump_marking(inst.net->net, inst.state->marking())));
       return;
     }
     fire(inst, choose(*inst.state));
@@ -264,8 +259,7 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
     for (const petri::Arc& arc : net.outputs(t)) event.produced.emplace_back(net.place_name(arc.node), arc.weight);
   }
   if (auto r = inst.state->fire(t); !r) {
-    fail(fmt::format("net '{}', transition '{}': {}", inst.net->name, net.transition_name(t),
-                     r.error().message));
+    fail(fmt::format("net '{}', transition '{}': {}", inst.net->name, net.transition_name(t), r.error().message));
     return;
   }
   ++firings_;
@@ -293,8 +287,7 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
   }
 }
 
-void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index,
-                        const coral::ActionSpec& a) {
+void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a) {
   ActionId id = next_action_++;
   std::string_view transition = inst.net->net.transition_name(t);
   ActionStart event{id, inst.id, kind_name(a), primitive_of(a), transition, now()};
@@ -303,8 +296,8 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
     const coral::CompiledNet* phase = program_.find(a.target);
     assert(phase && "the checker guarantees PHASE names a phase net");
     if (inst.depth + 1 > options_.max_phase_depth) {
-      fail(fmt::format("PHASE({}) in '{}' would nest phases {} deep (limit {}): does a phase run itself?",
-                       a.target, inst.net->name, inst.depth + 1, options_.max_phase_depth));
+      fail(fmt::format("PHASE({}) in '{}' would nest phases {} deep (limit {}): does a phase run itself?", a.target,
+                       inst.net->name, inst.depth + 1, options_.max_phase_depth));
       return;
     }
     start_instance(*phase, inst.id, &a, transition);
@@ -360,8 +353,7 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
   Instance& inst = *instances_[id];
   if (!inst.state) return;
   for (InstanceId child : inst.children) end_instance(child, std::nullopt, true);
-  std::string_view exit =
-      exit_index ? inst.net->net.place_name(inst.net->exits[*exit_index]) : std::string_view();
+  std::string_view exit = exit_index ? inst.net->net.place_name(inst.net->exits[*exit_index]) : std::string_view();
   PhaseEnd event{id, inst.net->name, exit, exit_index.value_or(0), cancelled, now()};
   for (Observer* o : observers_) o->phase_ended(event);
   inst.state.reset();
@@ -377,16 +369,14 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
     Instance& parent = *instances_[*inst.parent];
     petri::PlaceId place = inst.caller->outcomes.at(*exit_index);
     // The phase's exit marks its caller's place: told like a reply's mark.
-    ActionFinish f{0, parent.id, parent.net->name, inst.net->name, *exit_index == 0,
-                   parent.net->net.place_name(place), now()};
+    ActionFinish f{
+        0, parent.id, parent.net->name, inst.net->name, *exit_index == 0, parent.net->net.place_name(place), now()};
     for (Observer* o : observers_) o->action_finished(f);
     mark(*inst.parent, place, 1);
   }
 }
 
-void CoralEngine::fail(std::string reason) {
-  finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()});
-}
+void CoralEngine::fail(std::string reason) { finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()}); }
 
 void CoralEngine::finish(const MissionResult& result) {
   if (!running_) return;

@@ -45,7 +45,10 @@ struct Recorder final : Observer {
   }
   void fired(const Firing& e) override { fired_names.push_back(std::string(e.transition_name)); }
   void notice(const Notice& e) override { notices.push_back(e.text); }
-  void mission_ended(const MissionResult& r) override { ++ended; result = r; }
+  void mission_ended(const MissionResult& r) override {
+    ++ended;
+    result = r;
+  }
 
   std::vector<std::string> events;
   std::vector<std::string> fired_names;
@@ -179,8 +182,8 @@ TEST(CoralEngine, NestedPhasesStartAndEndInOrderAndMarkTheirCallers) {
   ASSERT_TRUE(h.on_end_result);
   EXPECT_EQ(Outcome::Completed, h.on_end_result->outcome);
   EXPECT_EQ("fine report(inner done)", h.tactics.names()) << "a REPORT beside an exit signal is still sent";
-  EXPECT_EQ((std::vector<std::string>{"start m depth 0", "start outer depth 1", "start inner depth 2",
-                                      "end inner ok", "end outer ok", "end m done"}),
+  EXPECT_EQ((std::vector<std::string>{"start m depth 0", "start outer depth 1", "start inner depth 2", "end inner ok",
+                                      "end outer ok", "end m done"}),
             h.recorder.events);
   // A REPORT is not waited for: its reply, after the mission ended, is not
   // even a notice.
@@ -253,8 +256,7 @@ TEST(CoralEngine, StallIsReportedWithTheMarking) {
   h.start();
   ASSERT_TRUE(h.on_end_result);
   EXPECT_EQ(Outcome::Failed, h.on_end_result->outcome);
-  EXPECT_EQ("mission stalled: no transition enabled and no action in flight; marking: m: a:1",
-            h.on_end_result->reason);
+  EXPECT_EQ("mission stalled: no transition enabled and no action in flight; marking: m: a:1", h.on_end_result->reason);
 }
 
 TEST(CoralEngine, MissionWithoutExitsCompletesWhenAtRest) {

@@ -49,10 +49,10 @@ using ActionId = std::uint64_t;
 
 struct PhaseStart {
   InstanceId instance = 0;
-  InstanceId parent = 0;  // the mission itself: its own id (0)
-  std::string_view name;  // the net's (phase's) name
-  std::string_view caller;  // the transition whose PHASE action started it; "" for the mission
-  std::size_t depth = 0;    // 0 for the mission, 1 for a phase it runs, ...
+  InstanceId parent = 0;                // the mission itself: its own id (0)
+  std::string_view name;                // the net's (phase's) name
+  std::string_view caller;              // the transition whose PHASE action started it; "" for the mission
+  std::size_t depth = 0;                // 0 for the mission, 1 for a phase it runs, ...
   const petri::State* state = nullptr;  // CORAL: the initial marking; PROLOG: null
   double sim_time_s = 0.0;
 };
@@ -60,9 +60,9 @@ struct PhaseStart {
 struct PhaseEnd {
   InstanceId instance = 0;
   std::string_view name;
-  std::string_view exit;     // the exit place that ended it ("" if cancelled)
+  std::string_view exit;       // the exit place that ended it ("" if cancelled)
   std::size_t exit_index = 0;  // 0: the first exit (completed)
-  bool cancelled = false;    // ended because its caller ended first
+  bool cancelled = false;      // ended because its caller ended first
   double sim_time_s = 0.0;
 };
 
@@ -84,9 +84,9 @@ struct Firing {
 struct ActionStart {
   ActionId id = 0;
   InstanceId instance = 0;
-  std::string_view kind;       // "exec" | "ask" | "report" | "ood" | "phase"
-  std::string_view primitive;  // the primitive, or the phase net
-  std::string_view transition; // CORAL: the transition that issued it
+  std::string_view kind;        // "exec" | "ask" | "report" | "ood" | "phase"
+  std::string_view primitive;   // the primitive, or the phase net
+  std::string_view transition;  // CORAL: the transition that issued it
   double sim_time_s = 0.0;
 };
 

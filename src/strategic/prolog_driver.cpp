@@ -58,9 +58,8 @@ core::Result<void> load_module_text(const char* module, std::string_view text) {
   }
   auto r = call_term(goal.value());
   if (!r || !r.value()) {
-    return core::make_error(core::ErrorCode::Internal,
-                            fmt::format("the PROLOG driver ({}) did not load: {}", module,
-                                        r ? std::string("failed") : r.error().message));
+    return core::make_error(core::ErrorCode::Internal, fmt::format("the PROLOG driver ({}) did not load: {}", module,
+                                                                   r ? std::string("failed") : r.error().message));
   }
   return {};
 }

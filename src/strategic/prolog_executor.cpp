@@ -18,9 +18,12 @@ bool completes(const std::string& exit) { return exit == "complete" || exit == "
 
 }  // namespace
 
-PrologExecutor::PrologExecutor(prolog::Mission& mission, Tactics& tactics,
-                               const tactical::Catalogue& catalogue, PrologOptions options)
-    : mission_(mission), tactics_(tactics), catalogue_(catalogue), options_(options),
+PrologExecutor::PrologExecutor(prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
+                               PrologOptions options)
+    : mission_(mission),
+      tactics_(tactics),
+      catalogue_(catalogue),
+      options_(options),
       self_(std::make_shared<PrologExecutor*>(this)) {}
 
 PrologExecutor::~PrologExecutor() {
@@ -51,8 +54,8 @@ void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
     std::lock_guard lock(interrupt_mutex_);
     interruptible_ = true;
   }
-  query_ = std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this),
-                                                  options_.inference_limit);
+  query_ =
+      std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this), options_.inference_limit);
   resume();
 }
 
@@ -104,21 +107,23 @@ void PrologExecutor::resume() {
   } else if (query_->interrupted()) {
     fail("the rules were interrupted");  // not reached: interrupt() set a reason first
   } else if (query_->inference_limit_exceeded()) {
-    fail(fmt::format("the rules made {} inferences without calling a primitive: an endless loop? "
-                     "(the limit is --inference-limit)",
-                     options_.inference_limit));
+    fail(
+        fmt::format("the rules made {} inferences without calling a primitive: an endless loop? "
+                    "(the limit is --inference-limit)",
+                    options_.inference_limit));
   } else if (query_->out_of_stack()) {
     // error(resource_error(R), _): SWI's stack (global, local, trail: one
     // limit), the C stack (a term nested too deep), or memory.
     const std::string& e = query_->exception_text();
-    const char* what = e.find("c_stack") != std::string::npos ? "C stack"
+    const char* what = e.find("c_stack") != std::string::npos  ? "C stack"
                        : e.find("memory") != std::string::npos ? "memory"
-                                                                : "Prolog stack";
+                                                               : "Prolog stack";
     fail(fmt::format("the rules ran out of {}: endless recursion, or a term too large or nested too deep?", what));
   } else if (query_->cannot_suspend()) {
-    fail("the rules called a primitive where Prolog cannot wait for the vehicle (inside a cleanup "
-         "handler, with_output_to/2 or format/2's ~@): " +
-         shortened(query_->exception_text()));
+    fail(
+        "the rules called a primitive where Prolog cannot wait for the vehicle (inside a cleanup "
+        "handler, with_output_to/2 or format/2's ~@): " +
+        shortened(query_->exception_text()));
   } else {
     fail("the rules raised an exception: " + shortened(query_->exception_text()));
   }
@@ -166,8 +171,8 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
   for (Observer* o : observers_) o->action_finished(f);
   if (!out.value && p && (p->kind == tactical::Kind::Exec || p->kind == tactical::Kind::Ood)) {
     // As in CORAL: a command the vehicle did not carry out ends the mission.
-    fail(fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind, pending_name_,
-                     out.sim_time_s));
+    fail(
+        fmt::format("{} {} was not executed: the vehicle answered 0 at {:.1f} s", kind, pending_name_, out.sim_time_s));
     return;
   }
   answer_ = out.value ? 1 : 0;
@@ -209,8 +214,8 @@ void PrologExecutor::rules_ended() {
     return;
   }
   if (rules.value() == prolog::RulesOutcome::Aborted) {
-    finish({Outcome::Aborted, "mission_abort", "the rules ended with current_phase(mission_abort)", std::nullopt,
-            now()});
+    finish(
+        {Outcome::Aborted, "mission_abort", "the rules ended with current_phase(mission_abort)", std::nullopt, now()});
   } else {
     finish({Outcome::Completed, "", "", std::nullopt, now()});
   }
@@ -240,8 +245,12 @@ void PrologExecutor::finish(const MissionResult& result) {
     for (Observer* o : observers_) o->phase_ended(end);
     phases_.pop_back();
   }
-  PhaseEnd mission{0, mission_.name(), result.exit, result.outcome == Outcome::Completed ? 0u : 1u,
-                   result.outcome == Outcome::Failed, result.sim_time_s};
+  PhaseEnd mission{0,
+                   mission_.name(),
+                   result.exit,
+                   result.outcome == Outcome::Completed ? 0u : 1u,
+                   result.outcome == Outcome::Failed,
+                   result.sim_time_s};
   for (Observer* o : observers_) o->phase_ended(mission);
   for (Observer* o : observers_) o->mission_ended(result);
   if (on_end_) {

@@ -30,9 +30,10 @@ execute_phase(surfacing) :- exec_surface(_).
   EXPECT_EQ(2u, r.tactics.pending.size()) << "the report's reply and system_problem's";
   // system_problem 0: the other clause; time_out 0: phase extra fails.
   for (bool answer : {false, false, true, true}) r.tactics.answer(answer);
-  EXPECT_EQ("start_timer sleep(2) depth_reached report(deep enough) system_problem report(problem free) "
-            "time_out surface shutdown_network",
-            r.tactics.names());
+  EXPECT_EQ(
+      "start_timer sleep(2) depth_reached report(deep enough) system_problem report(problem free) "
+      "time_out surface shutdown_network",
+      r.tactics.names());
   ASSERT_TRUE(r.result);
   EXPECT_EQ(Outcome::Completed, r.result->outcome) << r.result->reason;
   EXPECT_EQ("", r.result->exit);
@@ -40,18 +41,36 @@ execute_phase(surfacing) :- exec_surface(_).
   EXPECT_FALSE(r.result->call_error);
   EXPECT_NEAR(0.7, r.result->sim_time_s, 1e-9);
   EXPECT_FALSE(r.executor->running());
-  EXPECT_EQ((Strings{"start nominal#0 parent 0 depth 0", "action 1 exec start_timer in 0",
-                     "finish 1 start_timer=1 in nominal#0", "start descend#1 parent 0 depth 1",
-                     "action 2 exec sleep in 1", "finish 2 sleep=1 in descend#1", "action 3 ask depth_reached in 1",
-                     "finish 3 depth_reached=1 in descend#1", "action 4 report report in 1",
-                     "end descend#1 'complete' 0", "start check#2 parent 0 depth 1",
-                     "action 5 ask system_problem in 2", "finish 5 system_problem=0 in check#2",
-                     "action 6 report report in 2", "end check#2 'abort' 1", "start extra#3 parent 0 depth 1",
-                     "action 7 ask time_out in 3", "finish 7 time_out=0 in extra#3", "end extra#3 'failed' 1",
-                     "start finish#4 parent 0 depth 1", "start surfacing#5 parent 4 depth 2",
-                     "action 8 exec surface in 5", "finish 8 surface=1 in surfacing#5", "end surfacing#5 'done' 0",
-                     "action 9 ood shutdown_network in 4", "finish 9 shutdown_network=1 in finish#4",
-                     "end finish#4 'done' 0", "end nominal#0 '' 0", "mission_ended completed", "on_end"}),
+  EXPECT_EQ((Strings{"start nominal#0 parent 0 depth 0",
+                     "action 1 exec start_timer in 0",
+                     "finish 1 start_timer=1 in nominal#0",
+                     "start descend#1 parent 0 depth 1",
+                     "action 2 exec sleep in 1",
+                     "finish 2 sleep=1 in descend#1",
+                     "action 3 ask depth_reached in 1",
+                     "finish 3 depth_reached=1 in descend#1",
+                     "action 4 report report in 1",
+                     "end descend#1 'complete' 0",
+                     "start check#2 parent 0 depth 1",
+                     "action 5 ask system_problem in 2",
+                     "finish 5 system_problem=0 in check#2",
+                     "action 6 report report in 2",
+                     "end check#2 'abort' 1",
+                     "start extra#3 parent 0 depth 1",
+                     "action 7 ask time_out in 3",
+                     "finish 7 time_out=0 in extra#3",
+                     "end extra#3 'failed' 1",
+                     "start finish#4 parent 0 depth 1",
+                     "start surfacing#5 parent 4 depth 2",
+                     "action 8 exec surface in 5",
+                     "finish 8 surface=1 in surfacing#5",
+                     "end surfacing#5 'done' 0",
+                     "action 9 ood shutdown_network in 4",
+                     "finish 9 shutdown_network=1 in finish#4",
+                     "end finish#4 'done' 0",
+                     "end nominal#0 '' 0",
+                     "mission_ended completed",
+                     "on_end"}),
             r.recorder.events);
   // The REPORTs' replies come after the end: nothing happens, not even a notice.
   r.tactics.answer_reports();
@@ -109,9 +128,9 @@ execute_phase(dive) :- exec_submerge(_), exec_sleep(5, _), ask_depth_reached(1),
   EXPECT_EQ("mission_abort", r->result->exit);
   EXPECT_FALSE(r->result->call_error);
   EXPECT_EQ("submerge sleep(5) depth_reached", r->tactics.names());
-  EXPECT_EQ((Strings{"end dive#1 cancelled", "end dive_and_halt#0 'mission_abort' 1", "mission_ended aborted",
-                     "on_end"}),
-            r->last(4));
+  EXPECT_EQ(
+      (Strings{"end dive#1 cancelled", "end dive_and_halt#0 'mission_abort' 1", "mission_ended aborted", "on_end"}),
+      r->last(4));
 }
 
 TEST_F(PrologExecutorTest, ExecOrOodAnsweredZeroFailsAsInCoral) {
@@ -120,8 +139,7 @@ TEST_F(PrologExecutorTest, ExecOrOodAnsweredZeroFailsAsInCoral) {
   EXPECT_NE(std::string::npos, r->result->reason.find("exec submerge was not executed")) << r->result->reason;
   EXPECT_FALSE(r->result->call_error);
   EXPECT_EQ("submerge", r->tactics.names()) << "the rules never saw the 0";
-  EXPECT_EQ((Strings{"finish 1 submerge=0 in refused#0", "end refused#0 cancelled", "mission_ended failed",
-                     "on_end"}),
+  EXPECT_EQ((Strings{"finish 1 submerge=0 in refused#0", "end refused#0 cancelled", "mission_ended failed", "on_end"}),
             r->last(4));
 
   auto o = run("ood_refused", "mission :- ood('start_network', _), exec_surface(_).\n", {false});
@@ -170,9 +188,8 @@ execute_phase(one) :- exec_sleep(5, _), exec_surface(_).
   ASSERT_EQ(1u, r.recorder.notices.size());
   EXPECT_EQ("a reply for call 1, which the mission no longer waits for, was ignored", r.recorder.notices[0]);
   EXPECT_EQ("sleep(5)", r.tactics.names()) << "the rules did not go on";
-  EXPECT_EQ((Strings{"start cancelled#0 parent 0 depth 0", "start one#1 parent 0 depth 1",
-                     "action 1 exec sleep in 1", "end one#1 cancelled", "end cancelled#0 cancelled",
-                     "mission_ended failed", "on_end"}),
+  EXPECT_EQ((Strings{"start cancelled#0 parent 0 depth 0", "start one#1 parent 0 depth 1", "action 1 exec sleep in 1",
+                     "end one#1 cancelled", "end cancelled#0 cancelled", "mission_ended failed", "on_end"}),
             r.recorder.events);
   EXPECT_EQ("interrupted by the operator", r.result->reason) << "the second cancel changed nothing";
   r.executor.reset();
@@ -230,9 +247,10 @@ TEST_F(PrologExecutorTest, LoopWithoutPrimitiveCallsHitsTheInferenceLimit) {
   auto r = run("spinning", "mission :- exec_start_timer(_), spin(0).\nspin(N) :- N1 is N + 1, spin(N1).\n", {true},
                PrologOptions{100000});
   ASSERT_TRUE(r && r->ended_with(Outcome::Failed));
-  EXPECT_EQ("the rules made 100000 inferences without calling a primitive: an endless loop? "
-            "(the limit is --inference-limit)",
-            r->result->reason);
+  EXPECT_EQ(
+      "the rules made 100000 inferences without calling a primitive: an endless loop? "
+      "(the limit is --inference-limit)",
+      r->result->reason);
 }
 
 TEST_F(PrologExecutorTest, InferenceLimitCountsFromTheLastPrimitiveCall) {
@@ -266,10 +284,9 @@ execute_phase(inner) :- exec_submerge(_).
   ASSERT_TRUE(r && r->ended_with(Outcome::Failed));
   EXPECT_EQ((Strings{"start nested#0 parent 0 depth 0", "start outer#1 parent 0 depth 1",
                      "action 1 exec start_timer in 1", "finish 1 start_timer=1 in outer#1",
-                     "start middle#2 parent 1 depth 2", "start inner#3 parent 2 depth 3",
-                     "action 2 exec submerge in 3", "finish 2 submerge=0 in inner#3",
-                     "end inner#3 cancelled", "end middle#2 cancelled", "end outer#1 cancelled",
-                     "end nested#0 cancelled", "mission_ended failed", "on_end"}),
+                     "start middle#2 parent 1 depth 2", "start inner#3 parent 2 depth 3", "action 2 exec submerge in 3",
+                     "finish 2 submerge=0 in inner#3", "end inner#3 cancelled", "end middle#2 cancelled",
+                     "end outer#1 cancelled", "end nested#0 cancelled", "mission_ended failed", "on_end"}),
             r->recorder.events);
 }
 

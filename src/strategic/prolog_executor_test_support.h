@@ -4,7 +4,6 @@
 // records, and the fixture that loads rules from text.
 #include "strategic/prolog_executor.h"
 
-
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
@@ -26,7 +25,6 @@
 #include "tactical/catalogue.h"
 
 namespace strata::strategic::prolog_testing {
-
 
 namespace fs = std::filesystem;
 using Strings = std::vector<std::string>;
@@ -123,9 +121,9 @@ class PrologExecutorTest : public ::testing::Test {
   static void SetUpTestSuite() { ASSERT_TRUE(prolog::initialise().ok()); }
 
   PrologExecutorTest() {
-    dir_ = fs::temp_directory_path() /
-           fmt::format("strata_prolog_executor_{}_{}", ::testing::UnitTest::GetInstance()->random_seed(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / fmt::format("strata_prolog_executor_{}_{}",
+                                                   ::testing::UnitTest::GetInstance()->random_seed(),
+                                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

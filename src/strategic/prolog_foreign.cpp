@@ -120,11 +120,9 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
   if (!PL_get_file_name(file_t, &file, 0)) return FALSE;
   auto read = core::read_regular_file(file, g_max_rules_bytes);
   if (!read && read.error().code == core::ErrorCode::Overflow) {
-    return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
-                         PL_UTF8_STRING,
-                         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
-                                     g_max_rules_bytes)
-                             .c_str());
+    return PL_unify_term(
+        problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0}, PL_UTF8_STRING,
+        fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", g_max_rules_bytes).c_str());
   }
   if (!read && read.error().message.ends_with("not a regular file")) {
     return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
@@ -133,8 +131,8 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
   if (!read) return PL_unify_atom_chars(problem_t, "ok");
   const auto found = scan_rules_text(read.value());
   if (!found) return PL_unify_atom_chars(problem_t, "ok");
-  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, static_cast<int64_t>(found->line),
-                       PL_INT64, static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
+  return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, static_cast<int64_t>(found->line), PL_INT64,
+                       static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
 }
 
 }  // namespace
@@ -144,14 +142,13 @@ void set_running_host(Host* host) { g_host = host; }
 void set_max_rules_bytes(std::size_t max_bytes) { g_max_rules_bytes = max_bytes; }
 
 void register_foreign_predicates() {
-  PL_register_foreign_in_module("strata_driver", "$strata_call", 3,
-                                reinterpret_cast<pl_function_t>(pl_strata_call), PL_FA_NONDETERMINISTIC);
-  PL_register_foreign_in_module("strata_driver", "$strata_report", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_report), 0);
-  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
-  PL_register_foreign_in_module("strata_driver", "$strata_phase", 2,
-                                reinterpret_cast<pl_function_t>(pl_strata_phase), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_call", 3, reinterpret_cast<pl_function_t>(pl_strata_call),
+                                PL_FA_NONDETERMINISTIC);
+  PL_register_foreign_in_module("strata_driver", "$strata_report", 2, reinterpret_cast<pl_function_t>(pl_strata_report),
+                                0);
+  PL_register_foreign_in_module("strata_driver", "$strata_scan", 2, reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_phase", 2, reinterpret_cast<pl_function_t>(pl_strata_phase),
+                                0);
 }
 
 }  // namespace strata::prolog::detail

@@ -82,8 +82,7 @@ execute_phase(wait) :- report(ready), sleep(30), exec_surface(_).
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 15.0) << "a guard: sleep(30) ran on";
   RecordProperty("interrupt_to_end_ms", std::to_string(latency_ms));
   EXPECT_EQ("start_timer report(ready)", s.tactics.names()) << "the rules did not go on";
-  EXPECT_EQ((Strings{"end wait#1 cancelled", "end sleeping#0 cancelled", "mission_ended failed", "on_end"}),
-            s.last(4));
+  EXPECT_EQ((Strings{"end wait#1 cancelled", "end sleeping#0 cancelled", "mission_ended failed", "on_end"}), s.last(4));
   EXPECT_EQ(1, s.on_end_calls);
   EXPECT_FALSE(s.executor->running());
 }
@@ -105,8 +104,9 @@ TEST_F(PrologExecutorTest, InterruptEndsABusyLoopUnderAHugeInferenceLimitAlsoIns
 }
 
 TEST_F(PrologExecutorTest, InterruptWhileWaitingForTheVehicleLeavesTheEndToCancelAndTheNextRunRuns) {
-  const std::string text = "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
-                           "burn :- between(1, 20000, _), fail ; true.\n";
+  const std::string text =
+      "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
+      "burn :- between(1, 20000, _), fail ; true.\n";
   auto m = rules("waiting", text);
   ASSERT_TRUE(m);
   Session s(*m);
@@ -151,8 +151,9 @@ TEST_F(PrologExecutorTest, InterruptWhileWaitingForTheVehicleLeavesTheEndToCance
 TEST_F(PrologExecutorTest, AnInterruptFromInsideTheRulesEndsTheMissionAndDoesNotReachTheNextRun) {
   // Made on the loop's thread while the rules run (a REPORT is sent from
   // inside them): they stop at their next call.
-  const std::string text = "mission :- exec_sleep(1, _), report(ready), burn, exec_surface(_).\n"
-                           "burn :- between(1, 20000, _), fail ; true.\n";
+  const std::string text =
+      "mission :- exec_sleep(1, _), report(ready), burn, exec_surface(_).\n"
+      "burn :- between(1, 20000, _), fail ; true.\n";
   auto m = rules("from_inside", text);
   ASSERT_TRUE(m);
   Session s(*m);

@@ -37,8 +37,8 @@ std::string primitive_specs(const tactical::Catalogue& catalogue) {
   std::string out = "[";
   for (const auto& p : catalogue.all()) {
     if (out.size() > 1) out += ",";
-    out += fmt::format("primitive({},{},{},{})", prolog_atom(p.name), tactical::kind_name(p.kind),
-                       p.min_args(), p.max_args());
+    out += fmt::format("primitive({},{},{},{})", prolog_atom(p.name), tactical::kind_name(p.kind), p.min_args(),
+                       p.max_args());
   }
   return out + "]";
 }
@@ -89,8 +89,9 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
   term_t problems = PL_new_term_ref();
   auto checked = call_driver("check_mission", {new_atom(mission.module()), problems});
   if (!checked || !checked.value()) {
-    messages.push_back({true, mission.path(), 0, 0,
-                        "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
+    messages.push_back(
+        {true, mission.path(), 0, 0,
+         "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
   } else {
     term_t head = PL_new_term_ref();
     term_t arg = PL_new_term_ref();
@@ -169,16 +170,14 @@ std::string format_message(const Message& m) {
   return fmt::format("{}{}{}: {}", where, where.empty() ? "" : ": ", m.error ? "error" : "warning", m.text);
 }
 
-core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
-                                                     const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages,
-                                                     const LoadLimits& limits) {
+core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, const tactical::Catalogue& catalogue,
+                                                     std::vector<Message>& messages, const LoadLimits& limits) {
   std::error_code ec;
   if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
-    messages.push_back({true, path, 0, 0,
-                        fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)",
-                                    limits.max_bytes)});
+    messages.push_back(
+        {true, path, 0, 0,
+         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes)});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
   detail::set_max_rules_bytes(limits.max_bytes);
@@ -192,8 +191,8 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path,
   auto specs = parse_term(primitive_specs(catalogue));
   if (!specs) return specs.error();
   if (auto r = call_driver("open_mission", {module, specs.value()}); !r || !r.value()) {
-    return core::make_error(core::ErrorCode::Internal, "cannot make a module for the mission: " +
-                                                           (r ? std::string("failed") : r.error().message));
+    return core::make_error(core::ErrorCode::Internal,
+                            "cannot make a module for the mission: " + (r ? std::string("failed") : r.error().message));
   }
   mission->module_ = text_of(module);
 

@@ -69,10 +69,8 @@ class Mission {
   // of catalogue, then checks them. Every message goes to messages.
   // Errors: Io when path cannot be read; InvalidInput when loading printed
   // an error or the check found a problem (the messages say where).
-  static core::Result<std::unique_ptr<Mission>> load(const std::string& path,
-                                                     const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages,
-                                                     const LoadLimits& limits = {});
+  static core::Result<std::unique_ptr<Mission>> load(const std::string& path, const tactical::Catalogue& catalogue,
+                                                     std::vector<Message>& messages, const LoadLimits& limits = {});
   ~Mission();
   Mission(const Mission&) = delete;
   Mission& operator=(const Mission&) = delete;

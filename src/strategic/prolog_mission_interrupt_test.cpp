@@ -68,9 +68,9 @@ class Interrupter {
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-
 TEST_F(PrologMission, InterruptFromAnotherThreadStopsRulesInSleep) {
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), report(ready), sleep(30), exec_surface(_).\n"));
+  auto m =
+      load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), report(ready), sleep(30), exec_surface(_).\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 100000);
@@ -90,9 +90,10 @@ TEST_F(PrologMission, InterruptFromAnotherThreadStopsRulesInSleep) {
 
 TEST_F(PrologMission, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAll) {
   for (std::string loop : {"repeat, fail", "count(0)", "catch((repeat, fail), _, true), exec_surface(_)",
-                                  "repeat, catch(count(0), _, true), fail"}) {
-    auto m = load_ok(rules_.write("m.pl", "mission :- report(ready), " + loop + ".\n"
-                                          "count(N) :- M is N + 1, count(M).\n"));
+                           "repeat, catch(count(0), _, true), fail"}) {
+    auto m = load_ok(rules_.write("m.pl", "mission :- report(ready), " + loop +
+                                              ".\n"
+                                              "count(N) :- M is N + 1, count(M).\n"));
     ASSERT_TRUE(m);
     ScriptedHost host;
     MissionQuery q(*m, host, 1'000'000'000'000);
@@ -111,8 +112,9 @@ TEST_F(PrologMission, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAl
 }
 
 TEST_F(PrologMission, InterruptWhileTheRulesWaitForTheVehicleDoesNothing) {
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
-                                        "burn :- between(1, 20000, _), fail ; true.\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
+                                "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 100000);
@@ -131,8 +133,9 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
   // Raised as the rules yield (from inside the primitive call, on the
   // engine's thread): the query returns before it reaches a call port, so
   // the raise is still pending in SWI when next() returns.
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
-                                        "burn :- between(1, 20000, _), fail ; true.\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
+                                "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   bool raised = false;
@@ -151,8 +154,9 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
   q.close();
 
   // The same as the last thing a query does: the next query is not hit.
-  auto again = load_ok(rules_.write("again.pl", "mission :- exec_surface(_), burn, exec_surface(_).\n"
-                                                "burn :- between(1, 20000, _), fail ; true.\n"));
+  auto again = load_ok(rules_.write("again.pl",
+                                    "mission :- exec_surface(_), burn, exec_surface(_).\n"
+                                    "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(again);
   ScriptedHost last;
   bool raised_last = false;
@@ -164,8 +168,9 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
     ASSERT_EQ(Query::Status::Yield, first.next());
     ASSERT_TRUE(raised_last);
   }  // closed while the raise is pending
-  auto third = load_ok(rules_.write("third.pl", "mission :- burn, exec_surface(_).\n"
-                                                "burn :- between(1, 20000, _), fail ; true.\n"));
+  auto third = load_ok(rules_.write("third.pl",
+                                    "mission :- burn, exec_surface(_).\n"
+                                    "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(third);
   ScriptedHost fresh;
   MissionQuery next(*third, fresh, 100000);

@@ -43,15 +43,14 @@ LoadLimits two_seconds() {
 // sig_atomic/1, so the wall-clock limit did not reach a directive that
 // computed within its inference budget (82 s for `strata check`).
 TEST_F(PrologMission, load_time_limit_reaches_a_directive_that_computes) {
-  const std::string text = failed_load(rules_.write("m.pl", std::string("mission :- true.\n") + kSlowDirective),
-                                       two_seconds());
+  const std::string text =
+      failed_load(rules_.write("m.pl", std::string("mission :- true.\n") + kSlowDirective), two_seconds());
   EXPECT_NE(text.find("m.pl:2: error: loading took longer than its time limit"), std::string::npos) << text;
 }
 
 TEST_F(PrologMission, load_time_limit_reaches_a_directive_of_a_consulted_file) {
   rules_.write("helper.pl", std::string("p.\n") + kSlowDirective);
-  const std::string text =
-      failed_load(rules_.write("m.pl", "mission :- true.\n:- consult(helper).\n"), two_seconds());
+  const std::string text = failed_load(rules_.write("m.pl", "mission :- true.\n:- consult(helper).\n"), two_seconds());
   EXPECT_NE(text.find("helper.pl:2: error: loading took longer than its time limit"), std::string::npos) << text;
 }
 
@@ -60,8 +59,7 @@ TEST_F(PrologMission, a_rule_file_over_the_size_limit_is_not_read) {
   limits.max_bytes = 100;
   const std::string text =
       failed_load(rules_.write("m.pl", "mission :- true.\n% " + std::string(200, 'x') + "\n"), limits);
-  EXPECT_NE(text.find("m.pl: error: the file is over the limit of 100 bytes for rules"), std::string::npos)
-      << text;
+  EXPECT_NE(text.find("m.pl: error: the file is over the limit of 100 bytes for rules"), std::string::npos) << text;
 }
 
 TEST_F(PrologMission, a_consulted_file_over_the_size_limit_is_refused_at_the_consult) {
@@ -85,8 +83,8 @@ TEST_F(PrologMission, a_consulted_or_included_fifo_is_refused_not_waited_on) {
 }
 
 TEST_F(PrologMission, an_included_file_outside_the_missions_folders_is_refused) {
-  const std::string text = failed_load(
-      rules_.write("missions/tank/m.pl", "mission :- true.\n:- include('/etc/hostname').\n"), LoadLimits{});
+  const std::string text =
+      failed_load(rules_.write("missions/tank/m.pl", "mission :- true.\n:- include('/etc/hostname').\n"), LoadLimits{});
   EXPECT_NE(text.find("a mission loads only .pl files in its folder"), std::string::npos) << text;
 }
 
@@ -111,8 +109,8 @@ TEST_F(PrologMission, a_file_in_a_folder_beside_the_missions_folder_loads) {
 // Any such digit-quote outside quoted text and comments is refused, with its
 // place, before the reader sees the file.
 TEST_F(PrologMission, reader_use_after_free_input_is_refused_before_it_is_read) {
-  const std::string text = failed_load(
-      std::string(STRATA_SOURCE_DIR) + "/fuzz/known/swi_9_0_4_reader_use_after_free.pl", LoadLimits{});
+  const std::string text =
+      failed_load(std::string(STRATA_SOURCE_DIR) + "/fuzz/known/swi_9_0_4_reader_use_after_free.pl", LoadLimits{});
   EXPECT_NE(text.find("a digit followed by a quote"), std::string::npos) << text;
   EXPECT_NE(text.find("swi_9_0_4_reader_use_after_free.pl:"), std::string::npos) << text;
 }
@@ -126,8 +124,7 @@ TEST_F(PrologMission, a_character_code_or_a_radix_number_is_refused_at_its_place
 
 TEST_F(PrologMission, a_character_code_in_a_consulted_file_is_refused_at_the_consult) {
   rules_.write("helper.pl", "p.\nq(X) :- X = 0'a.\n");
-  const std::string text =
-      failed_load(rules_.write("m.pl", "mission :- p.\n:- consult(helper).\n"), LoadLimits{});
+  const std::string text = failed_load(rules_.write("m.pl", "mission :- p.\n:- consult(helper).\n"), LoadLimits{});
   EXPECT_NE(text.find("helper.pl`: 2:13: a digit followed by a quote"), std::string::npos) << text;
 }
 

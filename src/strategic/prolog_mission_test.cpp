@@ -38,9 +38,9 @@ mission :- exec_sleep(2, X), X == 1, ask_depth_reached(Y), Y == 0,
   auto s = q.next();
   EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
   q.close();
-  EXPECT_EQ((std::vector<std::string>{"call sleep 2", "call depth_reached", "call shutdown_network",
-                                      "report all done"}),
-            host.events);
+  EXPECT_EQ(
+      (std::vector<std::string>{"call sleep 2", "call depth_reached", "call shutdown_network", "report all done"}),
+      host.events);
   EXPECT_EQ(RulesOutcome::Completed, mission_outcome(*m).value());
 }
 
@@ -74,16 +74,16 @@ next_phase(2) :- retract(current_phase(2)), asserta(current_phase(mission_abort)
   auto s = run(q);
   ASSERT_NE(Query::Status::Exception, s) << q.exception_text();
   q.close();
-  EXPECT_EQ((std::vector<std::string>{"phase 1", "call start_timer", "end 1 complete", "phase 2",
-                                      "call time_out", "end 2 abort"}),
+  EXPECT_EQ((std::vector<std::string>{"phase 1", "call start_timer", "end 1 complete", "phase 2", "call time_out",
+                                      "end 2 abort"}),
             host.events);
   EXPECT_EQ(RulesOutcome::Aborted, mission_outcome(*m).value());
 }
 
 TEST_F(PrologMission, SyntaxErrorsHaveFileAndLine) {
   std::vector<Message> messages;
-  auto m = Mission::load(rules_.write("bad.pl", "mission :- exec_submerge(X.\nok.\n"),
-                         tactical::Catalogue::builtin(), messages);
+  auto m = Mission::load(rules_.write("bad.pl", "mission :- exec_submerge(X.\nok.\n"), tactical::Catalogue::builtin(),
+                         messages);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(core::ErrorCode::InvalidInput, m.error().code);
   ASSERT_FALSE(messages.empty());
@@ -95,8 +95,9 @@ TEST_F(PrologMission, SyntaxErrorsHaveFileAndLine) {
 
 TEST_F(PrologMission, UnknownPrimitivesAreFoundWhenTheRulesLoad) {
   std::vector<Message> messages;
-  auto m = Mission::load(rules_.write("m.pl", "mission :- start.\nstart :- exec_warp_drive(X), X = 1.\n"
-                                              "start :- exec_sleep(1), ask_nothing(_).\n"),
+  auto m = Mission::load(rules_.write("m.pl",
+                                      "mission :- start.\nstart :- exec_warp_drive(X), X = 1.\n"
+                                      "start :- exec_sleep(1), ask_nothing(_).\n"),
                          tactical::Catalogue::builtin(), messages);
   ASSERT_FALSE(m.ok());
   std::string all;
@@ -111,8 +112,7 @@ TEST_F(PrologMission, UnknownPrimitivesAreFoundWhenTheRulesLoad) {
 
 TEST_F(PrologMission, RulesWithoutMissionAreRefused) {
   std::vector<Message> messages;
-  auto m = Mission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(),
-                         messages);
+  auto m = Mission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(), messages);
   ASSERT_FALSE(m.ok());
   ASSERT_EQ(1u, messages.size());
   EXPECT_NE(std::string::npos, messages[0].text.find("no mission/0")) << messages[0].text;
@@ -152,8 +152,9 @@ mission.
 
 TEST_F(PrologMission, ACatchAllCannotSwallowTheLimitOrHalt) {
   // The "robust" idiom: each step in a catch-all, retried for ever.
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), repeat, catch(step, _, fail), fail.\n"
-                                        "step :- spin.\nspin :- spin.\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- exec_start_timer(_), repeat, catch(step, _, fail), fail.\n"
+                                "step :- spin.\nspin :- spin.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 200000);
@@ -171,8 +172,9 @@ TEST_F(PrologMission, ACatchAllCannotSwallowTheLimitOrHalt) {
 }
 
 TEST_F(PrologMission, HaltInsideAPhaseDoesNotEndItAsFailed) {
-  auto m = load_ok(rules_.write("m.pl", "mission :- execute_phase(1).\n"
-                                        "execute_phase(1) :- exec_start_timer(_), halt.\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- execute_phase(1).\n"
+                                "execute_phase(1) :- exec_start_timer(_), halt.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 200000);
@@ -183,8 +185,9 @@ TEST_F(PrologMission, HaltInsideAPhaseDoesNotEndItAsFailed) {
 }
 
 TEST_F(PrologMission, SystemHaltEndsTheMissionNotTheProcess) {
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), system:halt(0), exec_submerge(_).\n"
-                                        "mission :- exec_surface(_).\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- exec_start_timer(_), system:halt(0), exec_submerge(_).\n"
+                                "mission :- exec_surface(_).\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 200000);
@@ -271,8 +274,9 @@ mission :- retract(count(N)), M is N + 1, assertz(count(M)), exec_sleep(M, _).
 
 TEST_F(PrologMission, FilesLoadedByTheMissionComeFromItsFolder) {
   rules_.write("phase2.pl", "execute_phase(2) :- exec_submerge(_).\n");
-  auto m = load_ok(rules_.write("m.pl", ":- multifile execute_phase/1.\n:- consult(phase2).\n"
-                                        "mission :- execute_phase(2).\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                ":- multifile execute_phase/1.\n:- consult(phase2).\n"
+                                "mission :- execute_phase(2).\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 100000);
@@ -288,8 +292,7 @@ TEST_F(PrologMission, APredicateSplitAcrossFilesWithoutMultifileIsAnError) {
   ASSERT_FALSE(m.ok()) << "the second file would silently wipe the first one's clauses";
   ASSERT_EQ(1u, messages.size());
   EXPECT_EQ(2u, messages[0].line);
-  EXPECT_NE(std::string::npos, messages[0].text.find("declare `:- multifile execute_phase/1.`"))
-      << messages[0].text;
+  EXPECT_NE(std::string::npos, messages[0].text.find("declare `:- multifile execute_phase/1.`")) << messages[0].text;
   EXPECT_EQ(std::string::npos, messages[0].text.find("strata_mission_")) << "no internal module names";
 }
 
@@ -314,8 +317,9 @@ TEST_F(PrologMission, SystemHaltInEarlierRulesLeavesStopsUncatchableAndTheProces
   // rules' queries: a catch-all swallowed the inference limit (and the
   // interrupt). And SWI ends the process anyway after ten cancelled halts.
   auto halting = [this](int i) {
-    auto h = load_ok(rules_.write("h.pl", "mission :- exec_start_timer(_), catch(system:halt(0), _, true), "
-                                          "exec_submerge(_).\n"));
+    auto h = load_ok(rules_.write("h.pl",
+                                  "mission :- exec_start_timer(_), catch(system:halt(0), _, true), "
+                                  "exec_submerge(_).\n"));
     ASSERT_TRUE(h);
     ScriptedHost host;
     MissionQuery q(*h, host, 100000);
@@ -325,13 +329,14 @@ TEST_F(PrologMission, SystemHaltInEarlierRulesLeavesStopsUncatchableAndTheProces
   };
   halting(0);
   std::vector<Message> messages;
-  auto d = Mission::load(rules_.write("d.pl", ":- system:halt(0).\nmission.\n"), tactical::Catalogue::builtin(),
-                         messages);
+  auto d =
+      Mission::load(rules_.write("d.pl", ":- system:halt(0).\nmission.\n"), tactical::Catalogue::builtin(), messages);
   ASSERT_FALSE(d.ok());
 
-  auto m = load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), ( between(1, 3, _), catch(burn, _, true), "
-                                        "fail ; report(swallowed) ).\n"
-                                        "burn :- between(1, 1000000, _), fail ; true.\n"));
+  auto m = load_ok(rules_.write("m.pl",
+                                "mission :- exec_start_timer(_), ( between(1, 3, _), catch(burn, _, true), "
+                                "fail ; report(swallowed) ).\n"
+                                "burn :- between(1, 1000000, _), fail ; true.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
   MissionQuery q(*m, host, 200000);

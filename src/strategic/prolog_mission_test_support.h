@@ -84,8 +84,7 @@ class PrologMission : public ::testing::Test {
   static Query::Status run(MissionQuery& q, int max_yields = 1000) {
     Query::Status s;
     int yields = 0;
-    while ((s = q.next()) == Query::Status::Yield && ++yields < max_yields) {
-    }
+    while ((s = q.next()) == Query::Status::Yield && ++yields < max_yields) {}
     return s;
   }
 

@@ -59,8 +59,9 @@ std::optional<RulesScanProblem> scan_rules_text(std::string_view text) {
     }
     if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
       if (is_symbol_char(prev)) {
-        return place(i, "`/*` right after a symbol character (the reader takes it as an operator, "
-                        "not a comment): put a space before it");
+        return place(i,
+                     "`/*` right after a symbol character (the reader takes it as an operator, "
+                     "not a comment): put a space before it");
       }
       for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i) {
         if (text[i] == '\n') {
@@ -73,9 +74,10 @@ std::optional<RulesScanProblem> scan_rules_text(std::string_view text) {
       continue;
     }
     if (c == '\'' && std::isdigit(static_cast<unsigned char>(prev))) {
-      return place(i - 1, "a digit followed by a quote (a character code such as 0'a, or a number "
-                          "in a base such as 16'FF): SWI-Prolog 9.0.4's reader can read freed "
-                          "memory on it, so rules may not use it; write the number (0'a is 97)");
+      return place(i - 1,
+                   "a digit followed by a quote (a character code such as 0'a, or a number "
+                   "in a base such as 16'FF): SWI-Prolog 9.0.4's reader can read freed "
+                   "memory on it, so rules may not use it; write the number (0'a is 97)");
     }
     if (c == '|' && prev == '|') {
       return place(i - 1, "`||` (a quasi-quotation, which the reader takes raw): not allowed in rules");
@@ -93,8 +95,7 @@ std::optional<RulesScanProblem> scan_rules_text(std::string_view text) {
     }
     if (c == '(' || c == '[' || c == '{') {
       if (++depth > kMaxNesting) {
-        return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it",
-                                    kMaxNesting));
+        return place(i, fmt::format("a term nested deeper than {} levels: rules are not read past it", kMaxNesting));
       }
     } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
       --depth;

@@ -18,7 +18,7 @@ std::string where(std::string_view text) {
 TEST(RulesScan, ADigitBeforeAQuoteIsRefusedAtTheDigit) {
   EXPECT_EQ("2:6", where("m.\np :- 0'a."));
   EXPECT_EQ("1:11", where("p :- X = 16'FF."));  // the digit before the quote
-  EXPECT_EQ("1:6", where("p :- 9'"));  // at the very end of the file
+  EXPECT_EQ("1:6", where("p :- 9'"));           // at the very end of the file
   const auto p = scan_rules_text("p :- 0'a.");
   ASSERT_TRUE(p);
   EXPECT_NE(std::string::npos, p->text.find("a digit followed by a quote")) << p->text;

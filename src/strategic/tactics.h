@@ -18,8 +18,7 @@ class Tactics {
   virtual ~Tactics() = default;
   // Calls primitive `name`. done is called exactly once, from the event
   // loop and never inside call(): with the outcome or with an error.
-  virtual void call(std::string_view name, std::vector<tactical::Value> args,
-                    tactical::CallHandler done) = 0;
+  virtual void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) = 0;
   // The vehicle's time as last heard, in simulated seconds.
   virtual double sim_time_s() const = 0;
 };
@@ -28,8 +27,7 @@ class Tactics {
 class TacticalTactics final : public Tactics {
  public:
   explicit TacticalTactics(tactical::TacticalLevel& level) : level_(level) {}
-  void call(std::string_view name, std::vector<tactical::Value> args,
-            tactical::CallHandler done) override {
+  void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) override {
     level_.call(name, std::move(args), std::move(done));
   }
   double sim_time_s() const override { return level_.sim_time_s(); }

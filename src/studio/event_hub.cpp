@@ -233,7 +233,7 @@ std::size_t EventHub::kept() const {
 }
 
 std::optional<std::string> EventHub::Subscription::next(std::chrono::milliseconds wait,
-                                                       std::chrono::milliseconds settle) {
+                                                        std::chrono::milliseconds settle) {
   std::vector<std::shared_ptr<Event>> events, done;
   std::string out;
   {
@@ -288,7 +288,8 @@ std::optional<std::string> EventHub::Subscription::next(std::chrono::millisecond
       done.push_back(std::move(hub_->log_.front()));
       hub_->log_.pop_front();
     }
-    done.insert(done.end(), std::make_move_iterator(hub_->unused_.begin()), std::make_move_iterator(hub_->unused_.end()));
+    done.insert(done.end(), std::make_move_iterator(hub_->unused_.begin()),
+                std::make_move_iterator(hub_->unused_.end()));
     hub_->unused_.clear();
   }
   // Serialised here, on the reader's thread, once per event for all readers.

@@ -88,8 +88,8 @@ class EventHub {
    private:
     friend class EventHub;
     EventHub* hub_ = nullptr;
-    std::uint64_t next_seq_ = 0;   // the next event of the log to take
-    std::string pending_;          // the snapshot, before anything else
+    std::uint64_t next_seq_ = 0;  // the next event of the log to take
+    std::string pending_;         // the snapshot, before anything else
   };
 
  private:

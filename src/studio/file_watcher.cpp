@@ -97,7 +97,8 @@ void FileWatcher::look() {
       }
     }
     if (changed) {
-      hub_.publish("file_changed", {{"path", path}, {"etag", etag.empty() ? nlohmann::json(nullptr) : nlohmann::json(etag)}});
+      hub_.publish("file_changed",
+                   {{"path", path}, {"etag", etag.empty() ? nlohmann::json(nullptr) : nlohmann::json(etag)}});
     }
   }
 }

@@ -23,10 +23,11 @@ void send_bytes(httplib::Response& res, std::string bytes, const char* mime) {
 }
 
 void send_bytes_view(httplib::Response& res, std::string_view bytes, const char* mime) {
-  res.set_content_provider(bytes.size(), mime, [bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-    if (offset > bytes.size()) return false;
-    return sink.write(bytes.data() + offset, std::min(length, bytes.size() - offset));
-  });
+  res.set_content_provider(bytes.size(), mime,
+                           [bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                             if (offset > bytes.size()) return false;
+                             return sink.write(bytes.data() + offset, std::min(length, bytes.size() - offset));
+                           });
 }
 
 void send_json(httplib::Response& res, const json& body, int status) {
@@ -127,6 +128,5 @@ bool accepts(const std::string& header, std::string_view coding) {
   }
   return false;
 }
-
 
 }  // namespace strata::studio

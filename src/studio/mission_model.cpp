@@ -47,7 +47,8 @@ class SandboxProvider final : public coral::FileProvider {
       escaped_ = true;
       return core::Error{core::ErrorCode::Io, r.error().message};
     }
-    if (r.error().code == core::ErrorCode::Overflow) return core::Error{core::ErrorCode::InvalidInput, r.error().message};
+    if (r.error().code == core::ErrorCode::Overflow)
+      return core::Error{core::ErrorCode::InvalidInput, r.error().message};
     return r;
   }
   bool escaped() const { return escaped_; }
@@ -108,7 +109,8 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
   nlohmann::json nets = nlohmann::json::array();
   for (const auto& cn : program.nets) {
     const fs::path file = fs::weakly_canonical(cn.source_file, ec);
-    nlohmann::json places = nlohmann::json::array(), transitions = nlohmann::json::array(), exits = nlohmann::json::array();
+    nlohmann::json places = nlohmann::json::array(), transitions = nlohmann::json::array(),
+                   exits = nlohmann::json::array();
     std::vector<bool> is_exit(cn.net.place_count(), false);
     for (auto e : cn.exits) {
       is_exit[e] = true;
@@ -191,9 +193,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
   return out;
 }
 
-std::string etag_of(std::string_view bytes) {
-  return fmt::format("\"{}\"", tactical::sha256_hex(bytes).substr(0, 32));
-}
+std::string etag_of(std::string_view bytes) { return fmt::format("\"{}\"", tactical::sha256_hex(bytes).substr(0, 32)); }
 
 bool plain_scenario_name(std::string_view name) {
   if (name.empty() || name.size() > 64) return false;
@@ -233,7 +233,8 @@ core::Result<std::filesystem::path> scenario_file(const Sandbox& sandbox, const 
   if (!plain_scenario_name(name)) {
     return core::Error{core::ErrorCode::InvalidInput,
                        fmt::format("'{}' is not a scenario name (letters, digits, '_' and '-', from the mission's "
-                                   "scenarios/ folder)", name)};
+                                   "scenarios/ folder)",
+                                   name)};
   }
   const std::string rel = scenarios_folder(mission) + "/" + name + ".toml";
   auto real = sandbox.resolve(rel);
@@ -286,16 +287,21 @@ core::Result<std::string> action_text_of(const nlohmann::json& a) {
 
 core::Result<coral::Edit> edit_from_json(const nlohmann::json& j) {
   using Op = coral::Edit::Op;
-  static const std::map<std::string, Op, std::less<>> ops = {
-      {"add_place", Op::AddPlace},           {"delete_place", Op::DeletePlace},
-      {"rename_place", Op::RenamePlace},     {"set_initial", Op::SetInitial},
-      {"add_transition", Op::AddTransition}, {"delete_transition", Op::DeleteTransition},
-      {"rename_transition", Op::RenameTransition}, {"add_arc", Op::AddArc},
-      {"delete_arc", Op::DeleteArc},         {"set_weight", Op::SetWeight},
-      {"set_actions", Op::SetActions}};
+  static const std::map<std::string, Op, std::less<>> ops = {{"add_place", Op::AddPlace},
+                                                             {"delete_place", Op::DeletePlace},
+                                                             {"rename_place", Op::RenamePlace},
+                                                             {"set_initial", Op::SetInitial},
+                                                             {"add_transition", Op::AddTransition},
+                                                             {"delete_transition", Op::DeleteTransition},
+                                                             {"rename_transition", Op::RenameTransition},
+                                                             {"add_arc", Op::AddArc},
+                                                             {"delete_arc", Op::DeleteArc},
+                                                             {"set_weight", Op::SetWeight},
+                                                             {"set_actions", Op::SetActions}};
   if (!j.is_object()) return core::Error{core::ErrorCode::InvalidInput, "op is not an object"};
   auto it = ops.find(j.value("op", ""));
-  if (it == ops.end()) return core::Error{core::ErrorCode::InvalidInput, fmt::format("unknown op '{}'", j.value("op", ""))};
+  if (it == ops.end())
+    return core::Error{core::ErrorCode::InvalidInput, fmt::format("unknown op '{}'", j.value("op", ""))};
   try {
     coral::Edit e;
     e.op = it->second;
@@ -352,24 +358,27 @@ std::optional<std::string> refuse_delete(const std::optional<coral::Program>& pr
     if (!place) return std::nullopt;  // apply_edit says there is no such place
     for (auto x : cn.exits) {
       if (x == *place) {
-        return fmt::format("place '{}' is an exit of net '{}': every PHASE({}, ...) counts its exits; remove it from "
-                           "the `exit` list first (and from each PHASE that runs '{}')",
-                           e.name, e.net, e.net, e.net);
+        return fmt::format(
+            "place '{}' is an exit of net '{}': every PHASE({}, ...) counts its exits; remove it from "
+            "the `exit` list first (and from each PHASE that runs '{}')",
+            e.name, e.net, e.net, e.net);
       }
     }
     for (petri::TransitionId t = 0; t < cn.net.transition_count(); ++t) {
       for (const auto& a : cn.actions[t]) {
         if (std::find(a.outcomes.begin(), a.outcomes.end(), *place) == a.outcomes.end()) continue;
-        return fmt::format("place '{}' is an outcome of {} in transition '{}': the action needs it; change or "
-                           "remove that action first",
-                           e.name, action_source(cn, a), cn.net.transition_name(t));
+        return fmt::format(
+            "place '{}' is an outcome of {} in transition '{}': the action needs it; change or "
+            "remove that action first",
+            e.name, action_source(cn, a), cn.net.transition_name(t));
       }
     }
   }
   return std::nullopt;
 }
 
-std::optional<std::string> use_left(const nlohmann::json& before, const nlohmann::json& after, const std::string& name) {
+std::optional<std::string> use_left(const nlohmann::json& before, const nlohmann::json& after,
+                                    const std::string& name) {
   std::multiset<std::string> had;
   for (const auto& d : before) {
     if (d.value("severity", "") == "error") had.insert(d.value("message", ""));
@@ -393,8 +402,10 @@ nlohmann::json primitives_json(const tactical::Catalogue& catalogue) {
   for (const auto& p : catalogue.all()) {
     nlohmann::json args = nlohmann::json::array();
     for (const auto& a : p.args) {
-      args.push_back({{"name", a.name}, {"type", a.type == tactical::Value::Type::Number ? "number" : "string"},
-                      {"unit", a.unit}, {"min", a.min ? nlohmann::json(*a.min) : nlohmann::json(nullptr)},
+      args.push_back({{"name", a.name},
+                      {"type", a.type == tactical::Value::Type::Number ? "number" : "string"},
+                      {"unit", a.unit},
+                      {"min", a.min ? nlohmann::json(*a.min) : nlohmann::json(nullptr)},
                       {"max", a.max ? nlohmann::json(*a.max) : nlohmann::json(nullptr)}});
     }
     list.push_back({{"name", p.name}, {"kind", tactical::kind_name(p.kind)}, {"args", args}, {"doc", p.doc}});

@@ -11,18 +11,31 @@ json place(const std::string& name, int line) {
   return {{"name", name}, {"initial", 0}, {"exit", false}, {"line", line}};
 }
 json transition(const std::string& name, int line, const std::string& in) {
-  return {{"name", name}, {"priority", 0}, {"line", line}, {"inputs", json::array({{{"place", in}, {"weight", 1}}})},
-          {"outputs", json::array()}, {"actions", json::array()}};
+  return {{"name", name},
+          {"priority", 0},
+          {"line", line},
+          {"inputs", json::array({{{"place", in}, {"weight", 1}}})},
+          {"outputs", json::array()},
+          {"actions", json::array()}};
 }
 json model(const std::string& text, json places, json transitions) {
-  return {{"path", "m.coral"}, {"text", text}, {"diagnostics", json::array()}, {"layout", nullptr}, {"rev", "x"},
-          {"nets", json::array({{{"name", "m"}, {"kind", "mission"}, {"file", "m.coral"}, {"editable", true},
-                                 {"exits", json::array()}, {"places", places}, {"transitions", transitions}}})}};
+  return {{"path", "m.coral"},
+          {"text", text},
+          {"diagnostics", json::array()},
+          {"layout", nullptr},
+          {"rev", "x"},
+          {"nets", json::array({{{"name", "m"},
+                                 {"kind", "mission"},
+                                 {"file", "m.coral"},
+                                 {"editable", true},
+                                 {"exits", json::array()},
+                                 {"places", places},
+                                 {"transitions", transitions}}})}};
 }
 
 TEST(ModelPatch, APlaceAddedIsOneInsertAndTheLinesBelowMoveByOne) {
-  const json before = model("net m {\n  place a;\n  transition t { wait { a } }\n}\n", {place("a", 2)},
-                            {transition("t", 3, "a")});
+  const json before =
+      model("net m {\n  place a;\n  transition t { wait { a } }\n}\n", {place("a", 2)}, {transition("t", 3, "a")});
   const json after = model("net m {\n  place a;\n  place b;\n  transition t { wait { a } }\n}\n",
                            {place("a", 2), place("b", 3)}, {transition("t", 4, "a")});
   const json p = model_patch(before, after);
@@ -91,8 +104,10 @@ TEST_F(StudioServerTest, AnEditOfTheModelAPageHoldsIsAnsweredWithAPatch) {
   for (const auto& e : a["patch"]["nets"]) unchanged += e.size() == 2;  // {from, shift}
   EXPECT_EQ(full["nets"].size() - 1, unchanged) << a["patch"]["nets"].dump();
   // The patch's revision is a base in turn.
-  json b = post_edit(c, {{"path", "tank/tank.coral"}, {"text", full["text"]},
-                         {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "more"}}}, {"base", a["rev"]}});
+  json b = post_edit(c, {{"path", "tank/tank.coral"},
+                         {"text", full["text"]},
+                         {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "more"}}},
+                         {"base", a["rev"]}});
   EXPECT_TRUE(b.contains("patch"));
   // m is now the oldest of the models kept, and still a base when the
   // edit's own model comes.

@@ -14,14 +14,18 @@ using nlohmann::json;
 
 json prolog_model(const Sandbox& sandbox, const tactical::Catalogue& catalogue, const std::string& relative,
                   std::string& etag) {
-  json model = {{"path", relative},  {"kind", "prolog"},          {"read_only", true},
-                {"text", ""},        {"layout", nullptr},         {"layout_etag", nullptr},
-                {"nets", json::array()}, {"diagnostics", json::array()}, {"check", "done"},
-                {"scenarios", scenario_names(sandbox, relative)}};
+  json model = {{"path", relative},      {"kind", "prolog"},
+                {"read_only", true},     {"text", ""},
+                {"layout", nullptr},     {"layout_etag", nullptr},
+                {"nets", json::array()}, {"diagnostics", json::array()},
+                {"check", "done"},       {"scenarios", scenario_names(sandbox, relative)}};
   auto bytes = sandbox.read(relative);
   if (!bytes) {
-    model["diagnostics"].push_back({{"severity", "error"}, {"kind", "FileUnreadable"}, {"file", relative},
-                                    {"message", bytes.error().message}, {"notes", json::array()}});
+    model["diagnostics"].push_back({{"severity", "error"},
+                                    {"kind", "FileUnreadable"},
+                                    {"file", relative},
+                                    {"message", bytes.error().message},
+                                    {"notes", json::array()}});
     model["check"] = "unreadable";
     return model;
   }
@@ -41,8 +45,8 @@ json prolog_model(const Sandbox& sandbox, const tactical::Catalogue& catalogue, 
     return model;
   }
   for (const auto& m : messages) {
-    json d = {{"severity", m.error ? "error" : "warning"}, {"kind", "Prolog"}, {"message", m.text},
-              {"notes", json::array()}};
+    json d = {
+        {"severity", m.error ? "error" : "warning"}, {"kind", "Prolog"}, {"message", m.text}, {"notes", json::array()}};
     if (!m.file.empty()) {
       d["file"] = sandbox.lexically_inside(m.file) ? sandbox.relative(fs::path(m.file).lexically_normal()) : m.file;
     }

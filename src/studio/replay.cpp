@@ -45,30 +45,39 @@ core::Result<nlohmann::json> replay_from_log(const std::string& text) {
       mission = e.value("mission", "");
     } else if (kind == "phase_start") {
       markings[instance] = e.value("marking", nlohmann::json::object());
-      emit("phase_start", {{"instance", instance}, {"parent", e.value("parent", 0)}, {"net", e.value("net", "")},
-                           {"caller", e.value("caller", "")}, {"depth", e.value("depth", 0)}, {"marking", markings[instance]}});
+      emit("phase_start", {{"instance", instance},
+                           {"parent", e.value("parent", 0)},
+                           {"net", e.value("net", "")},
+                           {"caller", e.value("caller", "")},
+                           {"depth", e.value("depth", 0)},
+                           {"marking", markings[instance]}});
     } else if (kind == "fire") {
       nlohmann::json& m = markings[instance];
       if (!m.is_object()) m = nlohmann::json::object();
       add(m, e.value("consumed", nlohmann::json::object()), -1);
       add(m, e.value("produced", nlohmann::json::object()), +1);
-      emit("fired", {{"instance", instance}, {"net", e.value("net", "")}, {"transition", e.value("transition", "")},
-                     {"marking", m}, {"index", e.value("n", 0)}});
+      emit("fired", {{"instance", instance},
+                     {"net", e.value("net", "")},
+                     {"transition", e.value("transition", "")},
+                     {"marking", m},
+                     {"index", e.value("n", 0)}});
     } else if (kind == "mark") {
       nlohmann::json& m = markings[instance];
       if (!m.is_object()) m = nlohmann::json::object();
       add(m, nlohmann::json{{e.value("place", ""), 1}}, +1);
-      emit("action_finish", {{"instance", instance}, {"primitive", e.value("by", "")}, {"marks", e.value("place", "")},
-                             {"marking", m}});
+      emit("action_finish",
+           {{"instance", instance}, {"primitive", e.value("by", "")}, {"marks", e.value("place", "")}, {"marking", m}});
     } else if (kind == "phase_end") {
       markings.erase(instance);
       emit("phase_end", {{"instance", instance}, {"net", e.value("net", "")}, {"exit", e.value("exit", "")}});
     } else if (kind == "telemetry") {
-      emit("telemetry", {{"depth", e.value("depth_m", 0.0)}, {"setpoint", e.contains("setpoint_m") ? e["setpoint_m"] : nlohmann::json(nullptr)}});
+      emit("telemetry", {{"depth", e.value("depth_m", 0.0)},
+                         {"setpoint", e.contains("setpoint_m") ? e["setpoint_m"] : nlohmann::json(nullptr)}});
     } else if (kind == "report") {
       emit("report", {{"text", e.value("text", "")}});
     } else if (kind == "mission_end") {
-      emit("run_end", {{"outcome", e.value("outcome", "")}, {"exit", e.value("exit", "")}, {"reason", e.value("reason", "")}});
+      emit("run_end",
+           {{"outcome", e.value("outcome", "")}, {"exit", e.value("exit", "")}, {"reason", e.value("reason", "")}});
     }
   }
   return nlohmann::json{{"mission", mission}, {"events", events}};

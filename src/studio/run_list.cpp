@@ -29,7 +29,8 @@ json run_list(const Sandbox& sandbox, const std::string& mission) {
     if (name.size() < 18 || name[8] != 'T' || name[15] != 'Z' || name[16] != '-') continue;
     std::string of = name.substr(17);
     if (auto dash = of.rfind('-'); dash != std::string::npos &&
-                                  of.find_first_not_of("0123456789", dash + 1) == std::string::npos && dash + 1 < of.size()) {
+                                   of.find_first_not_of("0123456789", dash + 1) == std::string::npos &&
+                                   dash + 1 < of.size()) {
       of = of.substr(0, dash);
     }
     if (!mission.empty() && of != stem &&
@@ -39,12 +40,12 @@ json run_list(const Sandbox& sandbox, const std::string& mission) {
     std::error_code ec;
     const auto bytes = fs::file_size(sandbox.root() / log, ec);
     const std::string stamp = name.substr(0, 16);
-    runs.push_back({{"path", log},
-                    {"mission_file", of},
-                    {"started", fmt::format("{}-{}-{}T{}:{}:{}Z", stamp.substr(0, 4), stamp.substr(4, 2),
-                                            stamp.substr(6, 2), stamp.substr(9, 2), stamp.substr(11, 2),
-                                            stamp.substr(13, 2))},
-                    {"bytes", ec ? 0 : bytes}});
+    runs.push_back(
+        {{"path", log},
+         {"mission_file", of},
+         {"started", fmt::format("{}-{}-{}T{}:{}:{}Z", stamp.substr(0, 4), stamp.substr(4, 2), stamp.substr(6, 2),
+                                 stamp.substr(9, 2), stamp.substr(11, 2), stamp.substr(13, 2))},
+         {"bytes", ec ? 0 : bytes}});
   }
   std::sort(runs.begin(), runs.end(), [](const json& a, const json& b) {
     return a["started"] != b["started"] ? a["started"] > b["started"] : a["path"] > b["path"];

@@ -34,15 +34,21 @@ void RunPublisher::phase_started(const strategic::PhaseStart& e) {
   if (e.state) {
     const petri::Net& net = e.state->net();
     for (petri::PlaceId p = 0; p < net.place_count(); ++p) names->places.emplace_back(net.place_name(p));
-    for (petri::TransitionId t = 0; t < net.transition_count(); ++t) names->transitions.emplace_back(net.transition_name(t));
+    for (petri::TransitionId t = 0; t < net.transition_count(); ++t)
+      names->transitions.emplace_back(net.transition_name(t));
     r.marking = e.state->marking();
   }
   r.names = names;
   hub_.publish_lazy("phase_start", {e.instance, 0},
                     [names, marking = r.marking, instance = e.instance, parent = e.parent, net = std::string(e.name),
                      caller = std::string(e.caller), depth = e.depth, t = e.sim_time_s] {
-                      return json{{"instance", instance}, {"parent", parent}, {"net", net}, {"caller", caller},
-                                  {"depth", depth}, {"marking", marking_json(*names, marking)}, {"t", t}};
+                      return json{{"instance", instance},
+                                  {"parent", parent},
+                                  {"net", net},
+                                  {"caller", caller},
+                                  {"depth", depth},
+                                  {"marking", marking_json(*names, marking)},
+                                  {"t", t}};
                     });
 }
 
@@ -79,8 +85,9 @@ void RunPublisher::phase_ended(const strategic::PhaseEnd& e) {
   hub_.publish_lazy("phase_end", std::move(keys),
                     [instance = e.instance, net = std::string(e.name), exit = std::string(e.exit),
                      cancelled = e.cancelled, action, dropped = std::move(dropped), t = e.sim_time_s] {
-                      return json{{"instance", instance}, {"net", net},      {"exit", exit}, {"cancelled", cancelled},
-                                  {"action", action},     {"dropped", dropped}, {"t", t}};
+                      return json{
+                          {"instance", instance}, {"net", net},         {"exit", exit}, {"cancelled", cancelled},
+                          {"action", action},     {"dropped", dropped}, {"t", t}};
                     });
 }
 
@@ -91,30 +98,30 @@ void RunPublisher::fired(const strategic::Firing& e) {
     r.marking = e.state->marking();
     enabled = e.state->enabled().sorted();
   }
-  hub_.publish_lazy("fired", {e.instance, 0},
-                    [names = r.names, marking = r.marking, enabled = std::move(enabled), instance = e.instance,
-                     net = std::string(e.net), transition = std::string(e.transition_name), index = e.index,
-                     t = e.sim_time_s] {
-                      json on = json::array();
-                      for (auto id : enabled) {
-                        if (names && id < names->transitions.size()) on.push_back(names->transitions[id]);
-                      }
-                      return json{{"instance", instance},
-                                  {"net", net},
-                                  {"transition", transition},
-                                  {"marking", names ? marking_json(*names, marking) : json::object()},
-                                  {"enabled", on},
-                                  {"index", index},
-                                  {"t", t}};
-                    });
+  hub_.publish_lazy(
+      "fired", {e.instance, 0},
+      [names = r.names, marking = r.marking, enabled = std::move(enabled), instance = e.instance,
+       net = std::string(e.net), transition = std::string(e.transition_name), index = e.index, t = e.sim_time_s] {
+        json on = json::array();
+        for (auto id : enabled) {
+          if (names && id < names->transitions.size()) on.push_back(names->transitions[id]);
+        }
+        return json{{"instance", instance},
+                    {"net", net},
+                    {"transition", transition},
+                    {"marking", names ? marking_json(*names, marking) : json::object()},
+                    {"enabled", on},
+                    {"index", index},
+                    {"t", t}};
+      });
 }
 
 void RunPublisher::action_started(const strategic::ActionStart& e) {
   hub_.publish_lazy("action_start", {e.instance, e.id},
                     [id = e.id, instance = e.instance, transition = std::string(e.transition),
                      kind = std::string(e.kind), primitive = std::string(e.primitive), t = e.sim_time_s] {
-                      return json{{"id", id}, {"instance", instance}, {"transition", transition}, {"kind", kind},
-                                  {"primitive", primitive}, {"t", t}};
+                      return json{{"id", id},     {"instance", instance},   {"transition", transition},
+                                  {"kind", kind}, {"primitive", primitive}, {"t", t}};
                     });
   if (e.kind == "report") {
     // Sent, never answered: not in flight once sent.
@@ -122,8 +129,12 @@ void RunPublisher::action_started(const strategic::ActionStart& e) {
     hub_.publish_lazy("action_finish", {e.instance, e.id},
                       [names = r.names, marking = r.marking, id = e.id, instance = e.instance,
                        primitive = std::string(e.primitive), t = e.sim_time_s] {
-                        return json{{"id", id}, {"instance", instance}, {"primitive", primitive}, {"value", true},
-                                    {"marks", ""}, {"marking", names ? marking_json(*names, marking) : json::object()},
+                        return json{{"id", id},
+                                    {"instance", instance},
+                                    {"primitive", primitive},
+                                    {"value", true},
+                                    {"marks", ""},
+                                    {"marking", names ? marking_json(*names, marking) : json::object()},
                                     {"t", t}};
                       });
     return;
@@ -146,18 +157,18 @@ void RunPublisher::action_finished(const strategic::ActionFinish& ev) {
       }
     }
   }
-  hub_.publish_lazy("action_finish", {e.instance, e.id},
-                    [names = r.names, marking = r.marking, id = e.id, instance = e.instance,
-                     primitive = std::string(e.primitive), value = e.value, marks = std::string(e.marks),
-                     t = e.sim_time_s] {
-                      return json{{"id", id},
-                                  {"instance", instance},
-                                  {"primitive", primitive},
-                                  {"value", value},
-                                  {"marks", marks},
-                                  {"marking", names ? marking_json(*names, marking) : json::object()},
-                                  {"t", t}};
-                    });
+  hub_.publish_lazy(
+      "action_finish", {e.instance, e.id},
+      [names = r.names, marking = r.marking, id = e.id, instance = e.instance, primitive = std::string(e.primitive),
+       value = e.value, marks = std::string(e.marks), t = e.sim_time_s] {
+        return json{{"id", id},
+                    {"instance", instance},
+                    {"primitive", primitive},
+                    {"value", value},
+                    {"marks", marks},
+                    {"marking", names ? marking_json(*names, marking) : json::object()},
+                    {"t", t}};
+      });
 }
 
 // After the safe end, with the run's own word on how it ended. A run that

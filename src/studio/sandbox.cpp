@@ -119,7 +119,8 @@ core::Result<std::string> Sandbox::read_path(const fs::path& path, std::size_t m
   return read_real(real, shown, max_bytes);
 }
 
-core::Result<std::string> Sandbox::read_real(const fs::path& real, std::string_view shown, std::size_t max_bytes) const {
+core::Result<std::string> Sandbox::read_real(const fs::path& real, std::string_view shown,
+                                             std::size_t max_bytes) const {
   // O_NONBLOCK: a FIFO planted under the name must not hang the worker.
   Fd f(::open(real.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK));
   if (f.fd < 0) {
@@ -141,7 +142,8 @@ core::Result<std::string> Sandbox::read_real(const fs::path& real, std::string_v
   for (;;) {
     const ssize_t n = ::read(f.fd, chunk, sizeof chunk);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return core::Error{core::ErrorCode::Io, fmt::format("cannot read '{}': {}", shown, std::strerror(errno))};
+    if (n < 0)
+      return core::Error{core::ErrorCode::Io, fmt::format("cannot read '{}': {}", shown, std::strerror(errno))};
     if (n == 0) break;
     out.append(chunk, static_cast<std::size_t>(n));
     if (out.size() > max_bytes) {

@@ -77,7 +77,8 @@ class Sandbox {
   bool inside(const std::filesystem::path& real) const;
   // Opens `real` (a canonical path found inside) and reads it, checking the
   // open file itself; `shown` names it in messages.
-  core::Result<std::string> read_real(const std::filesystem::path& real, std::string_view shown, std::size_t max_bytes) const;
+  core::Result<std::string> read_real(const std::filesystem::path& real, std::string_view shown,
+                                      std::size_t max_bytes) const;
   std::filesystem::path root_;  // canonical
 };
 

@@ -31,12 +31,10 @@ using nlohmann::json;
 // Every API path and the methods it answers: another method is 405.
 const std::map<std::string, std::string, std::less<>>& api_methods() {
   static const std::map<std::string, std::string, std::less<>> methods = {
-      {"/api/files", "GET"},       {"/api/mission", "GET"},     {"/api/check", "POST"},
-      {"/api/edit", "POST"},       {"/api/verify", "POST"},     {"/api/file", "PUT"},
-      {"/api/layout", "PUT"},      {"/api/primitives", "GET"},  {"/api/run", "POST"},
-      {"/api/run/stop", "POST"},   {"/api/run/abort", "POST"},  {"/api/runs", "GET"},
-      {"/api/events", "GET"},      {"/api/replay", "GET"},      {"/api/sonar", "GET"},
-      {"/api/sonar/latest.png", "GET"}};
+      {"/api/files", "GET"},   {"/api/mission", "GET"},   {"/api/check", "POST"},     {"/api/edit", "POST"},
+      {"/api/verify", "POST"}, {"/api/file", "PUT"},      {"/api/layout", "PUT"},     {"/api/primitives", "GET"},
+      {"/api/run", "POST"},    {"/api/run/stop", "POST"}, {"/api/run/abort", "POST"}, {"/api/runs", "GET"},
+      {"/api/events", "GET"},  {"/api/replay", "GET"},    {"/api/sonar", "GET"},      {"/api/sonar/latest.png", "GET"}};
   return methods;
 }
 
@@ -86,8 +84,8 @@ core::Result<std::uint16_t> StudioServer::start() {
                                       : (server_->bind_to_port(options_.host, options_.port) ? options_.port : -1);
   if (port <= 0) {
     return core::Error{core::ErrorCode::Io,
-                       fmt::format("cannot listen on {}:{}", options_.host, options_.port == 0 ? std::string("any port")
-                                                                                          : std::to_string(options_.port))};
+                       fmt::format("cannot listen on {}:{}", options_.host,
+                                   options_.port == 0 ? std::string("any port") : std::to_string(options_.port))};
   }
   port_ = static_cast<std::uint16_t>(port);
   // The addresses a request may name (Host) and come from (Origin): the one
@@ -129,8 +127,10 @@ std::optional<std::string> StudioServer::refuse_write(const std::string& relativ
   }
   if (exists && if_match(req.get_header_value("If-Match"), etag_of(current.value()))) return std::nullopt;
   status = 412;
-  return exists ? fmt::format("'{}' changed since it was read (another tab or another program saved it); "
-                              "reload it, then make your change again", relative)
+  return exists ? fmt::format(
+                      "'{}' changed since it was read (another tab or another program saved it); "
+                      "reload it, then make your change again",
+                      relative)
                 : fmt::format("'{}' is no longer there (it was deleted or moved since it was read)", relative);
 }
 
@@ -153,9 +153,10 @@ void StudioServer::routes() {
       const std::string origin = req.get_header_value("Origin");
       if (!origin.starts_with("http://") || !own_host(origin.substr(7))) {
         send_error(res, 403,
-                   origin.empty() ? fmt::format("a {} needs an Origin header: this studio's own, http://{}", req.method,
-                                                own_hosts_.front())
-                                  : fmt::format("Origin '{}' is not this studio (http://{})", origin, own_hosts_.front()));
+                   origin.empty()
+                       ? fmt::format("a {} needs an Origin header: this studio's own, http://{}", req.method,
+                                     own_hosts_.front())
+                       : fmt::format("Origin '{}' is not this studio (http://{})", origin, own_hosts_.front()));
         return httplib::Server::HandlerResponse::Handled;
       }
     }
@@ -186,8 +187,7 @@ void StudioServer::routes() {
       what = fmt::format("the body: {}", e.what());
     } catch (const std::exception& e) {
       what = e.what();
-    } catch (...) {
-    }
+    } catch (...) {}
     send_error(res, status, what);
   });
 
@@ -220,7 +220,8 @@ void StudioServer::routes() {
     // What this page now shows, watched for changes on disk: the file, its
     // layout, and every file its nets come from.
     watcher_->watch(path, m.etag);
-    watcher_->watch(path + ".layout.json", m.model["layout_etag"].is_string() ? m.model["layout_etag"].get<std::string>() : "");
+    watcher_->watch(path + ".layout.json",
+                    m.model["layout_etag"].is_string() ? m.model["layout_etag"].get<std::string>() : "");
     for (const auto& net : m.model["nets"]) {
       const std::string file = net.value("file", "");
       if (file.empty() || file == path) continue;
@@ -250,8 +251,8 @@ void StudioServer::routes() {
     auto edit = edit_from_json(body->value("op", json()));
     if (!edit) return send_error(res, 400, edit.error().message);
     const std::string before = body->value("text", "");
-    const bool deleting = edit.value().op == coral::Edit::Op::DeletePlace ||
-                          edit.value().op == coral::Edit::Op::DeleteTransition;
+    const bool deleting =
+        edit.value().op == coral::Edit::Op::DeletePlace || edit.value().op == coral::Edit::Op::DeleteTransition;
     std::optional<CompiledMission> old;
     if (deleting) {
       old = compile_mission(sandbox_, path, before, catalogue);
@@ -286,16 +287,19 @@ void StudioServer::routes() {
     std::optional<std::string> text;
     if (body->contains("text") && (*body)["text"].is_string()) text = (*body)["text"].get<std::string>();
     CompiledMission m = compile_mission(sandbox_, path, text, catalogue);
-    if (!m.program) return send_json(res, {{"error", "the mission does not compile"}, {"diagnostics", m.model["diagnostics"]}}, 422);
+    if (!m.program)
+      return send_json(res, {{"error", "the mission does not compile"}, {"diagnostics", m.model["diagnostics"]}}, 422);
     send_json(res, coral::verify_json(coral::verify_program(*m.program)));
   });
 
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
     if (path.ends_with(".pl")) {
-      return send_error(res, 403, fmt::format("'{}': PROLOG missions are read-only in the studio; edit them in a text editor", path));
+      return send_error(
+          res, 403, fmt::format("'{}': PROLOG missions are read-only in the studio; edit them in a text editor", path));
     }
-    if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
+    if (!path.ends_with(".coral"))
+      return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
     std::lock_guard lock(write_mutex_);
     int status = 0;
     if (auto refused = refuse_write(path, req, status)) return send_error(res, status, *refused);
@@ -308,7 +312,8 @@ void StudioServer::routes() {
 
   s.Put("/api/layout", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
-    if (!path.ends_with(".coral")) return send_error(res, 403, fmt::format("'{}': a layout belongs to a .coral file", path));
+    if (!path.ends_with(".coral"))
+      return send_error(res, 403, fmt::format("'{}': a layout belongs to a .coral file", path));
     auto body = json_body(req, res);
     if (!body) return;
     std::lock_guard lock(write_mutex_);
@@ -322,9 +327,8 @@ void StudioServer::routes() {
     send_json(res, {{"ok", true}, {"etag", etag}});
   });
 
-  s.Get("/api/primitives", [&catalogue](const httplib::Request&, httplib::Response& res) {
-    send_json(res, primitives_json(catalogue));
-  });
+  s.Get("/api/primitives",
+        [&catalogue](const httplib::Request&, httplib::Response& res) { send_json(res, primitives_json(catalogue)); });
 
   s.Get("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
@@ -386,7 +390,8 @@ void StudioServer::routes() {
         return !found && found.error().code == core::ErrorCode::InvalidInput;  // missing: the run says so
       };
       if (!data.empty() && escapes()) {
-        return send_error(res, 403, fmt::format("'{}': its data file is outside the studio's folder; not running", *path));
+        return send_error(res, 403,
+                          fmt::format("'{}': its data file is outside the studio's folder; not running", *path));
       }
     }
     auto started = runs_->start(run);
@@ -422,22 +427,22 @@ void StudioServer::routes() {
     const auto batch = options_.batch;
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
-    res.set_chunked_content_provider("text/event-stream", [sub, heartbeat, batch](std::size_t, httplib::DataSink& sink) {
-      std::optional<std::string> chunk = sub->next(heartbeat, batch);
-      if (!chunk) {
-        sink.done();  // the server is stopping
-        return true;
-      }
-      // A comment when nothing happened: a closed tab is noticed on write.
-      const std::string text = chunk->empty() ? std::string(": ping\n\n") : *chunk;
-      return sink.write(text.data(), text.size());
-    });
+    res.set_chunked_content_provider("text/event-stream",
+                                     [sub, heartbeat, batch](std::size_t, httplib::DataSink& sink) {
+                                       std::optional<std::string> chunk = sub->next(heartbeat, batch);
+                                       if (!chunk) {
+                                         sink.done();  // the server is stopping
+                                         return true;
+                                       }
+                                       // A comment when nothing happened: a closed tab is noticed on write.
+                                       const std::string text = chunk->empty() ? std::string(": ping\n\n") : *chunk;
+                                       return sink.write(text.data(), text.size());
+                                     });
   });
 
   // The newest sonar scan, when a run's Sonar Manager writes one.
-  s.Get("/api/sonar", [this](const httplib::Request&, httplib::Response& res) {
-    send_json(res, sonar_status(options_.sonar_dir));
-  });
+  s.Get("/api/sonar",
+        [this](const httplib::Request&, httplib::Response& res) { send_json(res, sonar_status(options_.sonar_dir)); });
   s.Get("/api/sonar/latest.png", [this](const httplib::Request&, httplib::Response& res) {
     auto bytes = options_.sonar_dir.empty() ? std::nullopt : read_whole_file(options_.sonar_dir / "latest.png");
     if (!bytes) return send_error(res, 404, "no sonar scan yet");

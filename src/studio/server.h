@@ -31,7 +31,7 @@ namespace httplib {
 class Server;
 struct Request;
 struct Response;
-}
+}  // namespace httplib
 
 namespace strata::studio {
 
@@ -67,8 +67,8 @@ class FileWatcher;
 struct StudioOptions {
   std::filesystem::path root = ".";
   std::string host = "127.0.0.1";
-  std::uint16_t port = 0;            // 0: any free port
-  std::filesystem::path web_root;    // "": the page compiled into strata
+  std::uint16_t port = 0;                          // 0: any free port
+  std::filesystem::path web_root;                  // "": the page compiled into strata
   const tactical::Catalogue* catalogue = nullptr;  // null: the built-in one
   std::size_t max_body_bytes = 4u << 20;
   int threads = 48;

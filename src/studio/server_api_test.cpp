@@ -81,7 +81,8 @@ TEST_F(StudioServerTest, AWatchedFileSwappedForALinkOutIsToldAsUnreadable) {
 }
 
 json edit(httplib::Client& c, const std::string& text, const json& op, int& status) {
-  auto r = c.Post("/api/edit", json{{"path", "tank/tank.coral"}, {"text", text}, {"op", op}}.dump(), "application/json");
+  auto r =
+      c.Post("/api/edit", json{{"path", "tank/tank.coral"}, {"text", text}, {"op", op}}.dump(), "application/json");
   status = r ? r->status : 0;
   return r ? json::parse(r->body, nullptr, false) : json();
 }
@@ -110,7 +111,8 @@ TEST_F(StudioServerTest, DeletingAPlaceOrTransitionRemovesEveryUse) {
   std::string tank = slurp(base_ / "root/tank/tank.coral");
   // A place used only by arcs: it goes, and its arcs with it.
   const std::string with_spare =
-      tank.substr(0, tank.rfind('}')) + "  place spare;\n  transition use_spare { wait { spare, finished } signal { spare } }\n}\n";
+      tank.substr(0, tank.rfind('}')) +
+      "  place spare;\n  transition use_spare { wait { spare, finished } signal { spare } }\n}\n";
   int status = 0;
   json r = edit(c, with_spare, {{"op", "delete_place"}, {"net", "tank"}, {"name", "spare"}}, status);
   ASSERT_EQ(200, status) << r.dump();
@@ -218,8 +220,9 @@ TEST_F(StudioServerTest, RunsAreListedPerMissionNewestFirst) {
 }
 
 TEST_F(StudioServerTest, AReplayNamesItsMissionRelativeToTheFolder) {
-  const std::string log = json{{"event", "run"}, {"mission", (fs::canonical(base_ / "root") / "tank/tank.coral").string()}}.dump() +
-                          "\n" + json{{"event", "mission_end"}, {"outcome", "aborted"}, {"sim_time", 3.0}}.dump() + "\n";
+  const std::string log =
+      json{{"event", "run"}, {"mission", (fs::canonical(base_ / "root") / "tank/tank.coral").string()}}.dump() + "\n" +
+      json{{"event", "mission_end"}, {"outcome", "aborted"}, {"sim_time", 3.0}}.dump() + "\n";
   fs::create_directories(base_ / "root/tank/runs");
   write_file(base_ / "root/tank/runs/20261125T101010Z-tank.jsonl", log);
   auto r = client().Get("/api/replay?path=tank/runs/20261125T101010Z-tank.jsonl");

@@ -28,8 +28,8 @@ TEST_F(StudioServerTest, ServesTheNewestSonarScanOnceThereIsOne) {
   const std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + "not really an image";
   std::ofstream(base_ / "sonar/latest.png", std::ios::binary) << png;
   // Two whole frame lines and one being written: the last whole one counts.
-  std::ofstream(base_ / "sonar/sonar.jsonl")
-      << "{\"event\":\"frame\",\"frame\":1}\n{\"event\":\"frame\",\"frame\":2,\"target\":null}\n{\"event\":\"frame\",\"frame\":3,";
+  std::ofstream(base_ / "sonar/sonar.jsonl") << "{\"event\":\"frame\",\"frame\":1}\n{\"event\":\"frame\",\"frame\":2,"
+                                                "\"target\":null}\n{\"event\":\"frame\",\"frame\":3,";
   auto some = c.Get("/api/sonar");
   j = json::parse(some->body);
   EXPECT_EQ(png.size(), j["latest"]["bytes"].get<std::size_t>());
@@ -150,7 +150,8 @@ TEST_F(StudioServerTest, EditsComeBackAsTheNewTextAndItsModel) {
   auto mission = c.Get("/api/mission?path=tank/tank.coral");
   ASSERT_TRUE(mission);
   const std::string text = json::parse(mission->body)["text"];
-  json body = {{"path", "tank/tank.coral"}, {"text", text},
+  json body = {{"path", "tank/tank.coral"},
+               {"text", text},
                {"op", {{"op", "add_place"}, {"net", "tank"}, {"name", "spare"}, {"initial", 0}}}};
   auto r = c.Post("/api/edit", body.dump(), "application/json");
   ASSERT_TRUE(r);
@@ -161,15 +162,21 @@ TEST_F(StudioServerTest, EditsComeBackAsTheNewTextAndItsModel) {
   bool warned = false;
   for (const auto& d : m["diagnostics"]) warned = warned || d["kind"] == "UnusedPlace";
   EXPECT_TRUE(warned) << m["diagnostics"].dump();
-  body = {{"path", "tank/tank.coral"}, {"text", m["text"]},
-          {"op", {{"op", "set_actions"}, {"net", "tank"}, {"transition", "shutdown"},
-                  {"actions", {{{"kind", "TACTIC"}, {"type", "EXEC"}, {"target", "sleep"}, {"args", {"2"}}, {"outcomes", {"spare"}}},
-                               {{"kind", "TACTIC"}, {"type", "REPORT"}, {"text", "say \"bye\""}}}}}}};
+  body = {{"path", "tank/tank.coral"},
+          {"text", m["text"]},
+          {"op",
+           {{"op", "set_actions"},
+            {"net", "tank"},
+            {"transition", "shutdown"},
+            {"actions",
+             {{{"kind", "TACTIC"}, {"type", "EXEC"}, {"target", "sleep"}, {"args", {"2"}}, {"outcomes", {"spare"}}},
+              {{"kind", "TACTIC"}, {"type", "REPORT"}, {"text", "say \"bye\""}}}}}}};
   r = c.Post("/api/edit", body.dump(), "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(200, r->status) << r->body;
-  EXPECT_NE(std::string::npos, json::parse(r->body)["text"].get<std::string>().find(
-                                   "action { TACTIC(EXEC, sleep(2), spare),\n             TACTIC(REPORT, \"say \\\"bye\\\"\") }"))
+  EXPECT_NE(std::string::npos,
+            json::parse(r->body)["text"].get<std::string>().find(
+                "action { TACTIC(EXEC, sleep(2), spare),\n             TACTIC(REPORT, \"say \\\"bye\\\"\") }"))
       << json::parse(r->body)["text"].get<std::string>();
   body["op"] = {{"op", "add_arc"}, {"net", "tank"}, {"from", "begin"}, {"to", "finished"}};
   r = c.Post("/api/edit", body.dump(), "application/json");
@@ -204,7 +211,8 @@ TEST_F(StudioServerTest, VerifiesAndListsPrimitives) {
 
 TEST_F(StudioServerTest, RunRequestsGoToTheRunner) {
   auto c = client();
-  auto r = c.Post("/api/run", R"({"path": "tank/tank.coral", "scenario": "leak_phase2", "speed": 20})", "application/json");
+  auto r =
+      c.Post("/api/run", R"({"path": "tank/tank.coral", "scenario": "leak_phase2", "speed": 20})", "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(202, r->status) << r->body;
   ASSERT_EQ(1u, runs_.size());
@@ -222,8 +230,9 @@ TEST_F(StudioServerTest, ImportsOutsideTheFolderAreRefusedWithoutReadingThem) {
   fs::create_symlink("../outside.coral", base_ / "root/linked.coral");
   auto c = client();
   for (const std::string& import : std::vector<std::string>{"/etc/passwd", "../../outside.coral", "../linked.coral",
-                                   (base_ / "outside.coral").string()}) {
-    json body = {{"path", "tank/tank.coral"}, {"text", "import \"" + import + "\";\nmission m { place a = 1; exit e; }\n"}};
+                                                            (base_ / "outside.coral").string()}) {
+    json body = {{"path", "tank/tank.coral"},
+                 {"text", "import \"" + import + "\";\nmission m { place a = 1; exit e; }\n"}};
     auto r = c.Post("/api/check", body.dump(), "application/json");
     ASSERT_TRUE(r);
     ASSERT_EQ(200, r->status) << r->body;
@@ -238,12 +247,14 @@ TEST_F(StudioServerTest, ImportsOutsideTheFolderAreRefusedWithoutReadingThem) {
     EXPECT_EQ("tank/tank.coral", m["diagnostics"][0]["file"]);
   }
   // An import inside still works.
-  json body = {{"path", "tank/tank.coral"}, {"text", "import \"initialize.coral\";\nmission m { place a = 1; exit e; }\n"}};
+  json body = {{"path", "tank/tank.coral"},
+               {"text", "import \"initialize.coral\";\nmission m { place a = 1; exit e; }\n"}};
   auto r = c.Post("/api/check", body.dump(), "application/json");
   ASSERT_TRUE(r);
   EXPECT_NE(std::string::npos, r->body.find("\"initialize\""));
   // A mission that imports outside is not run either.
-  std::ofstream(base_ / "root/tank/escape.coral") << "import \"../../outside.coral\";\nmission m { place a = 1; exit e; }\n";
+  std::ofstream(base_ / "root/tank/escape.coral")
+      << "import \"../../outside.coral\";\nmission m { place a = 1; exit e; }\n";
   auto run = c.Post("/api/run", R"({"path": "tank/escape.coral"})", "application/json");
   ASSERT_TRUE(run);
   EXPECT_EQ(403, run->status) << run->body;
@@ -286,8 +297,8 @@ TEST_F(StudioServerTest, AScenarioIsANameFromTheMissionsFolder) {
   std::ofstream(base_ / "outside/evil.toml") << "seed = 1\n";
   fs::create_symlink("../../../outside/evil.toml", base_ / "root/tank/scenarios/evil.toml");
   auto c = client();
-  for (const char* bad : {"../../../../etc/passwd", "/etc/passwd", "scenarios/leak_phase2", "leak_phase2.toml",
-                          "evil", "none_such", "a b"}) {
+  for (const char* bad : {"../../../../etc/passwd", "/etc/passwd", "scenarios/leak_phase2", "leak_phase2.toml", "evil",
+                          "none_such", "a b"}) {
     json body = {{"path", "tank/tank.coral"}, {"scenario", bad}};
     auto r = c.Post("/api/run", body.dump(), "application/json");
     ASSERT_TRUE(r) << bad;
@@ -343,8 +354,9 @@ TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
   auto none = bare.Post("/api/run", run, "text/plain");
   ASSERT_TRUE(none);
   EXPECT_EQ(403, none->status);
-  for (const std::string& origin : std::vector<std::string>{"http://evil.example", "null", "http://127.0.0.1:1", "https://127.0.0.1:" + std::to_string(port_),
-                                   "http://evil.example:" + std::to_string(port_)}) {
+  for (const std::string& origin : std::vector<std::string>{"http://evil.example", "null", "http://127.0.0.1:1",
+                                                            "https://127.0.0.1:" + std::to_string(port_),
+                                                            "http://evil.example:" + std::to_string(port_)}) {
     auto r = bare.Post("/api/run", {{"Origin", origin}}, run, "text/plain");
     ASSERT_TRUE(r);
     EXPECT_EQ(403, r->status) << origin;
@@ -411,7 +423,8 @@ TEST_F(StudioServerTest, ASaveWithAStaleETagIsRefused) {
   ASSERT_EQ(200, l1->status) << l1->body;
   model = json::parse(c.Get("/api/mission?path=tank/initialize.coral")->body);
   EXPECT_EQ(l1->get_header_value("ETag"), model["layout_etag"]);
-  auto l2 = c.Put("/api/layout?path=tank/initialize.coral", {{"If-Match", "\"stale\""}}, R"({"b": {}})", "application/json");
+  auto l2 =
+      c.Put("/api/layout?path=tank/initialize.coral", {{"If-Match", "\"stale\""}}, R"({"b": {}})", "application/json");
   ASSERT_TRUE(l2);
   EXPECT_EQ(412, l2->status);
   auto l3 = c.Put("/api/layout?path=tank/initialize.coral", {{"If-Match", model["layout_etag"].get<std::string>()}},

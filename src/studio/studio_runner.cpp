@@ -42,8 +42,7 @@ core::Result<StudioLog> create_log(const Sandbox& sandbox, const std::string& mi
   const fs::path path(first);
   const std::string folder = path.parent_path().generic_string();
   for (int n = 1; n <= 20; ++n) {
-    const std::string name = n == 1 ? path.filename().string()
-                                    : fmt::format("{}-{}.jsonl", path.stem().string(), n);
+    const std::string name = n == 1 ? path.filename().string() : fmt::format("{}-{}.jsonl", path.stem().string(), n);
     auto fd = sandbox.create_new(folder, name);
     if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
     if (!fd) return fd.error();

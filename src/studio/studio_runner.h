@@ -47,7 +47,9 @@ class StudioRunner final : public RunLauncher {
   // The page's Abort: the run's safe end, outcome aborted.
   void abort() override { stop("studio", "aborted from the studio", 1, run::StopMode::Abort); }
   // The page's Stop: a hard stop (no surfacing, no done).
-  void stop() override { stop("studio", "stopped from the studio (hard stop: the vehicle was not surfaced)", 1, run::StopMode::Hard); }
+  void stop() override {
+    stop("studio", "stopped from the studio (hard stop: the vehicle was not surfaced)", 1, run::StopMode::Hard);
+  }
   // Any other cause (a signal): as run::RunSession::stop(). No run: nothing.
   void stop(const std::string& who, const std::string& reason, int exit_code,
             run::StopMode mode = run::StopMode::Interrupt);

@@ -21,13 +21,10 @@ constexpr std::string_view kBuiltinSource = "<builtin>/config/primitives.toml";
 constexpr std::string_view kSetpointFields[] = {"depth_m", "timeout_s"};
 
 bool is_setpoint_field(std::string_view name) {
-  return std::find(std::begin(kSetpointFields), std::end(kSetpointFields), name) !=
-         std::end(kSetpointFields);
+  return std::find(std::begin(kSetpointFields), std::end(kSetpointFields), name) != std::end(kSetpointFields);
 }
 
-std::string list_names(const std::vector<std::string>& names) {
-  return fmt::format("{}", fmt::join(names, ", "));
-}
+std::string list_names(const std::vector<std::string>& names) { return fmt::format("{}", fmt::join(names, ", ")); }
 
 // Checks one document against the catalogue's shape, collecting every problem.
 class CatalogueReader {
@@ -87,8 +84,8 @@ class CatalogueReader {
   static std::string str(const toml::node& n) { return n.as_string()->get(); }
 
   std::optional<Primitive> read_primitive(const toml::table& t) {
-    static const std::set<std::string, std::less<>> kKeys = {
-        "name", "kind", "args", "timeout_s", "timeout_plus_arg", "data", "doc", "message"};
+    static const std::set<std::string, std::less<>> kKeys = {"name", "kind", "args",   "timeout_s", "timeout_plus_arg",
+                                                             "data", "doc",  "message"};
     Primitive p;
     p.line = t.source().begin.line;
 
@@ -99,8 +96,7 @@ class CatalogueReader {
     }
     p.name = str(*name);
     if (!is_identifier(p.name)) {
-      errors_.add(*name, fmt::format("primitive name '{}' is not an identifier (letters, digits, '_')",
-                                     p.name));
+      errors_.add(*name, fmt::format("primitive name '{}' is not an identifier (letters, digits, '_')", p.name));
       return std::nullopt;
     }
     const std::string owner = fmt::format("primitive '{}'", p.name);
@@ -121,8 +117,7 @@ class CatalogueReader {
     }
     auto k = kind_from_name(str(*kind));
     if (!k) {
-      errors_.add(*kind, fmt::format("{}: unknown kind '{}': expected exec, ask, ood or report", owner,
-                                     str(*kind)));
+      errors_.add(*kind, fmt::format("{}: unknown kind '{}': expected exec, ask, ood or report", owner, str(*kind)));
       return std::nullopt;
     }
     p.kind = *k;
@@ -141,8 +136,8 @@ class CatalogueReader {
       if (str(*data) == "setpoint") {
         p.data = DataSource::Setpoint;
       } else {
-        errors_.add(*data, fmt::format("{}: unknown data source '{}': the only one is \"setpoint\"",
-                                       owner, str(*data)));
+        errors_.add(*data,
+                    fmt::format("{}: unknown data source '{}': the only one is \"setpoint\"", owner, str(*data)));
         ok = false;
       }
     }
@@ -215,8 +210,7 @@ class CatalogueReader {
   }
 
   bool read_argument(const toml::table& t, Primitive& p, const std::string& owner) {
-    static const std::set<std::string, std::less<>> kKeys = {"name", "type", "unit", "min", "max",
-                                                             "default"};
+    static const std::set<std::string, std::less<>> kKeys = {"name", "type", "unit", "min", "max", "default"};
     bool ok = true;
     for (auto&& [key, node] : t) {
       if (!kKeys.count(key.str())) {
@@ -242,8 +236,7 @@ class CatalogueReader {
       return false;
     }
     if (p.data == DataSource::Setpoint && is_setpoint_field(a.name)) {
-      errors_.add(*name, fmt::format("{}: argument '{}' hides the setpoint field of that name", owner,
-                                     a.name));
+      errors_.add(*name, fmt::format("{}: argument '{}' hides the setpoint field of that name", owner, a.name));
       ok = false;
     }
     const std::string what = fmt::format("{}, argument '{}'", owner, a.name);
@@ -298,8 +291,8 @@ class CatalogueReader {
       if (!v) {
         errors_.add(*d, fmt::format("{}: the default must be a {}", what, number ? "number" : "string"));
         ok = false;
-      } else if (number && ((a.min && v->number < *a.min) || (a.max && v->number > *a.max) ||
-                            !std::isfinite(v->number))) {
+      } else if (number &&
+                 ((a.min && v->number < *a.min) || (a.max && v->number > *a.max) || !std::isfinite(v->number))) {
         errors_.add(*d, fmt::format("{}: the default {} is out of range", what, v->number));
         ok = false;
       } else {
@@ -348,13 +341,13 @@ class CatalogueReader {
         used.insert(piece.text);
         if (p.find_arg(piece.text)) continue;
         if (p.data == DataSource::Setpoint && is_setpoint_field(piece.text)) continue;
-        std::string hint = known.empty() ? std::string("it has no arguments")
-                                         : fmt::format("it knows: {}", list_names(known));
+        std::string hint =
+            known.empty() ? std::string("it has no arguments") : fmt::format("it knows: {}", list_names(known));
         if (is_setpoint_field(piece.text) && p.data != DataSource::Setpoint) {
           hint += "; setpoint fields need data = \"setpoint\"";
         }
-        errors_.add(where, fmt::format("{}: placeholder {{{}}} in the message names no argument ({})",
-                                       owner, piece.text, hint));
+        errors_.add(where, fmt::format("{}: placeholder {{{}}} in the message names no argument ({})", owner,
+                                       piece.text, hint));
         ok = false;
       }
     }
@@ -401,8 +394,7 @@ const Catalogue& Catalogue::builtin() {
     auto c = parse(kBuiltinCatalogueText, std::string(kBuiltinSource));
     if (!c) {
       // A broken built-in catalogue is a build defect (catalogue_test guards it).
-      std::fprintf(stderr, "strata: the built-in primitive catalogue is invalid:\n%s\n",
-                   c.error().message.c_str());
+      std::fprintf(stderr, "strata: the built-in primitive catalogue is invalid:\n%s\n", c.error().message.c_str());
       std::abort();
     }
     return std::move(c).value();

@@ -33,10 +33,10 @@ enum class DataSource {
 struct Argument {
   std::string name;
   Value::Type type = Value::Type::Number;
-  std::string unit;                   // "s", "m", ...; "" for none
-  std::optional<double> min;          // inclusive; numbers only
-  std::optional<double> max;          // inclusive; numbers only
-  std::optional<Value> default_value; // set: the argument may be left out
+  std::string unit;                    // "s", "m", ...; "" for none
+  std::optional<double> min;           // inclusive; numbers only
+  std::optional<double> max;           // inclusive; numbers only
+  std::optional<Value> default_value;  // set: the argument may be left out
 };
 
 struct Primitive {
@@ -45,7 +45,7 @@ struct Primitive {
   std::vector<Argument> args;
   double timeout_s = 0;  // the reply timeout, s; 0 for report
   std::string doc;
-  std::string message;  // the template, e.g. "exec sleep {seconds}"; "" for report
+  std::string message;           // the template, e.g. "exec sleep {seconds}"; "" for report
   std::string timeout_plus_arg;  // an argument in seconds added to timeout_s; "" if none
   DataSource data = DataSource::None;
   std::uint32_t line = 0;  // where the [[primitive]] table starts in its file

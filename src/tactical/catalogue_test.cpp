@@ -33,10 +33,12 @@ TEST(Catalogue, BuiltinParsesAndHasEveryFigure10Primitive) {
   const Catalogue& c = Catalogue::builtin();
   EXPECT_EQ("<builtin>/config/primitives.toml", c.source());
   const std::vector<std::pair<std::string, Kind>> figure10 = {
-      {"next_setpt_data", Kind::Exec}, {"start_depth_filter", Kind::Exec}, {"submerge", Kind::Exec},
-      {"start_timer", Kind::Exec},     {"sleep", Kind::Exec},              {"surface", Kind::Exec},
-      {"depth_filter_off", Kind::Ask}, {"depth_reached", Kind::Ask},       {"time_out", Kind::Ask},
-      {"system_problem", Kind::Ask},   {"surface_reached", Kind::Ask},     {"start_network", Kind::Ood},
+      {"next_setpt_data", Kind::Exec}, {"start_depth_filter", Kind::Exec},
+      {"submerge", Kind::Exec},        {"start_timer", Kind::Exec},
+      {"sleep", Kind::Exec},           {"surface", Kind::Exec},
+      {"depth_filter_off", Kind::Ask}, {"depth_reached", Kind::Ask},
+      {"time_out", Kind::Ask},         {"system_problem", Kind::Ask},
+      {"surface_reached", Kind::Ask},  {"start_network", Kind::Ood},
       {"shutdown_network", Kind::Ood}, {"report", Kind::Report}};
   for (const auto& [name, kind] : figure10) {
     const Primitive* p = c.find(name);
@@ -130,8 +132,7 @@ TEST(Catalogue, SemanticErrorsAreLocated) {
   EXPECT_EQ("cat.toml:3:8: primitive 'sleep': unknown kind 'run': expected exec, ask, ood or report",
             parse_error(bad_kind));
 
-  EXPECT_EQ("cat.toml:10:8: duplicate primitive 'sleep' (first declared at line 1)",
-            parse_error(kGood + "\n" + kGood));
+  EXPECT_EQ("cat.toml:10:8: duplicate primitive 'sleep' (first declared at line 1)", parse_error(kGood + "\n" + kGood));
 
   std::string bad_placeholder = kGood;
   bad_placeholder.replace(bad_placeholder.find("{seconds}"), 9, "{second}");
@@ -142,9 +143,10 @@ TEST(Catalogue, SemanticErrorsAreLocated) {
       "{seconds} where it goes",
       parse_error(bad_placeholder));
 
-  EXPECT_EQ("cat.toml:8:1: primitive 'sleep': unknown key 'colour' (known: args, data, doc, kind, "
-            "message, name, timeout_plus_arg, timeout_s)",
-            parse_error(kGood + "colour = \"red\"\n"));
+  EXPECT_EQ(
+      "cat.toml:8:1: primitive 'sleep': unknown key 'colour' (known: args, data, doc, kind, "
+      "message, name, timeout_plus_arg, timeout_s)",
+      parse_error(kGood + "colour = \"red\"\n"));
 }
 
 TEST(Catalogue, ShapeErrors) {
@@ -206,11 +208,10 @@ TEST(CataloguePrint, Json) {
   auto j = catalogue_json(Catalogue::builtin());
   ASSERT_EQ(19u, j["primitives"].size());
   const auto& sleep = j["primitives"][4];
-  EXPECT_EQ(
-      R"({"name":"sleep","kind":"exec","args":[{"name":"seconds","type":"number","unit":"s","min":0.1,)"
-      R"("max":3600.0}],"timeout_s":2.0,"timeout_plus_arg":"seconds","prolog":"exec_sleep/2",)"
-      R"("doc":"Let the vehicle run for the given time, then reply","message":"exec sleep {seconds}"})",
-      sleep.dump());
+  EXPECT_EQ(R"({"name":"sleep","kind":"exec","args":[{"name":"seconds","type":"number","unit":"s","min":0.1,)"
+            R"("max":3600.0}],"timeout_s":2.0,"timeout_plus_arg":"seconds","prolog":"exec_sleep/2",)"
+            R"("doc":"Let the vehicle run for the given time, then reply","message":"exec sleep {seconds}"})",
+            sleep.dump());
   EXPECT_EQ("report", j["primitives"][18]["kind"]);
   EXPECT_FALSE(j["primitives"][18].contains("message"));
 }

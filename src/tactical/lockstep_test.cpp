@@ -88,8 +88,8 @@ std::vector<std::string> concurrent_exchange() {
   std::vector<std::string> lines;
   LinkOptions o;
   o.tap = [&](bool sent, std::string_view line) {
-    lines.push_back(std::regex_replace(std::string(sent ? "> " : "< ") + std::string(line),
-                                       std::regex(" sonar=[0-9]+"), ""));
+    lines.push_back(
+        std::regex_replace(std::string(sent ? "> " : "< ") + std::string(line), std::regex(" sonar=[0-9]+"), ""));
   };
   Rig rig;
   auto link = rig.connect(o);
@@ -188,7 +188,8 @@ TEST(Lockstep, AHoldKeepsTheAdvanceBackUntilItIsLetGo) {
   std::optional<double> asked;
   link->send(protocol::make_ask(0, "depth_filter_off"),
              [&](core::Result<VehicleMessage> r) { asked = time_of(r.value()); });
-  run_until(rig.io, [] { return false; }, 50ms);  // time for a wrong advance to be sent
+  run_until(
+      rig.io, [] { return false; }, 50ms);  // time for a wrong advance to be sent
   EXPECT_FALSE(asked.has_value());
   EXPECT_EQ(0u, link->advances_sent());
   EXPECT_DOUBLE_EQ(0.0, rig.sim.time_s());
@@ -279,8 +280,8 @@ TEST(VehicleLink, RepliesOfOneInstantAreHandedOverTogetherHoweverTheBytesArrive)
     ++handled;
   });
   ASSERT_TRUE(run_until(io, [&] { return handled == 2; }));
-  EXPECT_EQ((std::vector<std::string>{"< ok 1 scripted 2 lockstep", "< answer 2 1 0.1", "< answer 3 0 0.1",
-                                      "< ok 4", "handled 2", "handled 3"}),
+  EXPECT_EQ((std::vector<std::string>{"< ok 1 scripted 2 lockstep", "< answer 2 1 0.1", "< answer 3 0 0.1", "< ok 4",
+                                      "handled 2", "handled 3"}),
             seen);
 }
 

@@ -9,9 +9,7 @@ namespace {
 bool is_ident_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
 bool is_ident_char(char c) { return is_ident_start(c) || (c >= '0' && c <= '9'); }
 
-core::Error syntax(std::string message) {
-  return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
-}
+core::Error syntax(std::string message) { return core::make_error(core::ErrorCode::InvalidInput, std::move(message)); }
 
 }  // namespace
 
@@ -55,9 +53,10 @@ core::Result<MessageTemplate> parse_message_template(std::string_view message) {
       }
       std::string_view name = message.substr(i + 1, close - i - 1);
       if (!is_identifier(name)) {
-        return syntax(fmt::format("'{{{}}}' is not a placeholder: write {{name}} with a letter, "
-                                  "digits and '_'",
-                                  name));
+        return syntax(
+            fmt::format("'{{{}}}' is not a placeholder: write {{name}} with a letter, "
+                        "digits and '_'",
+                        name));
       }
       if (!literal.empty()) field.pieces.push_back({false, std::move(literal)});
       literal.clear();

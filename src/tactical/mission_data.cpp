@@ -10,8 +10,7 @@ namespace strata::tactical {
 
 namespace {
 
-std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits,
-                                     core::TomlErrors& errors) {
+std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits, core::TomlErrors& errors) {
   std::vector<Setpoint> out;
   for (auto&& [key, node] : root) {
     if (key.str() != "setpoint") {
@@ -121,9 +120,7 @@ core::Result<const Setpoint*> DataCursor::next() {
   return &all[position_++];
 }
 
-const Setpoint* DataCursor::current() const {
-  return position_ == 0 ? nullptr : &data_->setpoints()[position_ - 1];
-}
+const Setpoint* DataCursor::current() const { return position_ == 0 ? nullptr : &data_->setpoints()[position_ - 1]; }
 
 std::string ordinal(std::size_t n) {
   std::string_view suffix = "th";

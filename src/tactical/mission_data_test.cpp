@@ -39,23 +39,26 @@ TEST(MissionData, NameIsOptional) {
 TEST(MissionData, ErrorsCarryLineAndColumn) {
   EXPECT_EQ("data.toml:2:11: setpoint 1: depth_m must be a number of metres, not a string",
             error_of("[[setpoint]]\ndepth_m = \"deep\"\ntimeout_s = 10\n"));
-  EXPECT_EQ("data.toml:6:11: setpoint 2: depth_m is -0.5 m; it must lie in 0 .. 6 m (positive down, "
-            "within the tank)",
-            error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 10\n\n[[setpoint]]\ndepth_m = -0.5\n"
-                     "timeout_s = 10\n"));
+  EXPECT_EQ(
+      "data.toml:6:11: setpoint 2: depth_m is -0.5 m; it must lie in 0 .. 6 m (positive down, "
+      "within the tank)",
+      error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 10\n\n[[setpoint]]\ndepth_m = -0.5\n"
+               "timeout_s = 10\n"));
   EXPECT_EQ("data.toml:1:1: setpoint 1 has no timeout_s", error_of("[[setpoint]]\ndepth_m = 1\n"));
   EXPECT_EQ("data.toml:4:1: setpoint 1: unknown key 'speed' (known: depth_m, name, timeout_s)",
             error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 10\nspeed = 2\n"));
   EXPECT_EQ("data.toml:3:13: setpoint 1: timeout_s is 0 s; it must be above 0",
             error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 0\n"));
-  EXPECT_EQ("data.toml:2:11: setpoint 1: depth_m is 12 m; it must lie in 0 .. 10 m (positive down, "
-            "within the tank)",
-            error_of("[[setpoint]]\ndepth_m = 12\ntimeout_s = 1\n", DataLimits{10.0}));
+  EXPECT_EQ(
+      "data.toml:2:11: setpoint 1: depth_m is 12 m; it must lie in 0 .. 10 m (positive down, "
+      "within the tank)",
+      error_of("[[setpoint]]\ndepth_m = 12\ntimeout_s = 1\n", DataLimits{10.0}));
   EXPECT_EQ("data.toml:2:8: setpoint 1: name must be a string, not an integer",
             error_of("[[setpoint]]\nname = 3\ndepth_m = 1\ntimeout_s = 1\n"));
-  EXPECT_EQ("data.toml:2:11: setpoint 1: depth_m is nan m; it must lie in 0 .. 6 m (positive down, "
-            "within the tank)",
-            error_of("[[setpoint]]\ndepth_m = nan\ntimeout_s = 1\n"));
+  EXPECT_EQ(
+      "data.toml:2:11: setpoint 1: depth_m is nan m; it must lie in 0 .. 6 m (positive down, "
+      "within the tank)",
+      error_of("[[setpoint]]\ndepth_m = nan\ntimeout_s = 1\n"));
 }
 
 TEST(MissionData, EveryErrorIsReportedInFileOrder) {
@@ -73,10 +76,11 @@ TEST(MissionData, EmptyAndMisshapenFiles) {
             error_of("setpoint = [1]\n"));
   EXPECT_EQ("data.toml:1:12: 'setpoint' must be an array of tables: write each as [[setpoint]]",
             error_of("setpoint = 1\n"));
-  EXPECT_EQ("data.toml:1:1: unknown key 'depth_m' at the top level: mission data holds only "
-            "[[setpoint]] tables\n"
-            "data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s",
-            error_of("depth_m = 1\n"));
+  EXPECT_EQ(
+      "data.toml:1:1: unknown key 'depth_m' at the top level: mission data holds only "
+      "[[setpoint]] tables\n"
+      "data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s",
+      error_of("depth_m = 1\n"));
 }
 
 TEST(MissionData, SyntaxErrorsCarryLineAndColumn) {
@@ -106,8 +110,7 @@ TEST(DataCursor, ServesTheSetpointsInOrderThenFailsClearly) {
   ASSERT_FALSE(past.ok());
   EXPECT_EQ("mission data has 3 setpoints; next_setpt_data was called a 4th time", past.error().message);
   EXPECT_EQ(0.0, cursor.current()->depth_m);  // unchanged
-  EXPECT_EQ("mission data has 3 setpoints; next_setpt_data was called a 5th time",
-            cursor.next().error().message);
+  EXPECT_EQ("mission data has 3 setpoints; next_setpt_data was called a 5th time", cursor.next().error().message);
 }
 
 TEST(DataCursor, OneSetpointIsSingular) {

@@ -60,8 +60,8 @@ std::string iso8601_utc(std::chrono::system_clock::time_point t) {
   std::time_t tt = static_cast<std::time_t>(secs);
   std::tm tm{};
   gmtime_r(&tt, &tm);
-  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:06}Z", tm.tm_year + 1900, tm.tm_mon + 1,
-                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, frac);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:06}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                     tm.tm_hour, tm.tm_min, tm.tm_sec, frac);
 }
 
 ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_point wall_time) {
@@ -79,15 +79,13 @@ ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_poin
   return j;
 }
 
-MissionLog::MissionLog(std::unique_ptr<std::ostream> owned, std::ostream* out, std::string path,
-                       WallTimeSource wall)
+MissionLog::MissionLog(std::unique_ptr<std::ostream> owned, std::ostream* out, std::string path, WallTimeSource wall)
     : owned_(std::move(owned)), out_(out), path_(std::move(path)), wall_(std::move(wall)) {}
 
 core::Result<MissionLog> MissionLog::start(MissionLog log, const RunInfo& run) {
   if (run.clock != "lockstep" && run.clock != "wall") {
     return core::make_error(core::ErrorCode::InvalidInput,
-                            fmt::format("mission log: clock must be \"lockstep\" or \"wall\", not \"{}\"",
-                                        run.clock));
+                            fmt::format("mission log: clock must be \"lockstep\" or \"wall\", not \"{}\"", run.clock));
   }
   log.write(run_header(run, log.wall_.now()));
   if (auto s = log.status(); !s) return s.error();
@@ -122,8 +120,7 @@ void MissionLog::write(const ordered_json& line) {
   ++lines_;
 }
 
-void MissionLog::request(std::uint64_t id, std::string_view primitive, std::string_view message,
-                         double sim_time_s) {
+void MissionLog::request(std::uint64_t id, std::string_view primitive, std::string_view message, double sim_time_s) {
   pending_[id] = Pending{sim_time_s, wall_.monotonic()};
   ordered_json j;
   j["event"] = "request";

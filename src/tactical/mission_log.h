@@ -41,7 +41,7 @@ struct RunInfo {
   std::string mission_sha256;  // see sha256.h
   std::string data;            // the mission data file; "" for none (logged as null)
   std::string data_sha256;
-  std::string scenario;        // the vehicle scenario's name
+  std::string scenario;  // the vehicle scenario's name
   std::uint64_t seed = 0;
   std::string clock = "lockstep";  // "lockstep" | "wall"
 };
@@ -64,8 +64,7 @@ class MissionLog {
 
   // {"event":"request","id","primitive","message","sim_time"}. message is the
   // script message without its id (RenderedCall::text()).
-  void request(std::uint64_t id, std::string_view primitive, std::string_view message,
-               double sim_time_s);
+  void request(std::uint64_t id, std::string_view primitive, std::string_view message, double sim_time_s);
   // {"event":"reply","id","result","sim_time","latency_sim_s","wall_latency_us"}.
   // The latencies are measured from the request of the same id; null if no
   // such request was logged. result is what the vehicle answered (1/0, "done",

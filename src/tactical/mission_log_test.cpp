@@ -82,16 +82,15 @@ void play(MissionLog& log) {
 
 TEST(MissionLog, TheHeaderComesFirst) {
   std::ostringstream out;
-  auto log = MissionLog::to_stream(out, tank_run(),
-                                   fake_clock(std::chrono::system_clock::time_point(1700000000s), 0us));
+  auto log =
+      MissionLog::to_stream(out, tank_run(), fake_clock(std::chrono::system_clock::time_point(1700000000s), 0us));
   ASSERT_TRUE(log.ok()) << log.error().message;
   EXPECT_EQ(1u, log.value().lines());
-  EXPECT_EQ(
-      R"({"event":"run","version":"0.1.0","mission":"missions/tank/tank.coral","mission_sha256":"ab",)"
-      R"("data":"missions/tank/setpoints.toml","data_sha256":"cd","scenario":"nominal","seed":7,)"
-      R"("clock":"lockstep","wall_time":"2023-11-14T22:13:20.000000Z"})"
-      "\n",
-      out.str());
+  EXPECT_EQ(R"({"event":"run","version":"0.1.0","mission":"missions/tank/tank.coral","mission_sha256":"ab",)"
+            R"("data":"missions/tank/setpoints.toml","data_sha256":"cd","scenario":"nominal","seed":7,)"
+            R"("clock":"lockstep","wall_time":"2023-11-14T22:13:20.000000Z"})"
+            "\n",
+            out.str());
 }
 
 TEST(MissionLog, NoDataFileIsNull) {
@@ -110,8 +109,9 @@ TEST(MissionLog, OneLinePerEventWithFixedKeyOrder) {
   auto lines = lines_of(out.str());
   ASSERT_EQ(11u, lines.size());
   EXPECT_EQ(11u, log.value().lines());
-  EXPECT_EQ(R"({"event":"request","id":1,"primitive":"next_setpt_data","message":"exec setpoint 0.6 30","sim_time":0.0})",
-            lines[1]);
+  EXPECT_EQ(
+      R"({"event":"request","id":1,"primitive":"next_setpt_data","message":"exec setpoint 0.6 30","sim_time":0.0})",
+      lines[1]);
   EXPECT_EQ(R"({"event":"reply","id":1,"result":"done","sim_time":0.1,"latency_sim_s":0.1,"wall_latency_us":250})",
             lines[2]);
   EXPECT_EQ(R"({"event":"telemetry","sim_time":0.6,"depth_m":0.12,"depth_rate_mps":0.3})", lines[4]);
@@ -156,8 +156,10 @@ TEST(MissionLog, EveryLineIsOnDiskAsSoonAsItIsWritten) {
 
 TEST(MissionLog, TwoRunsDifferOnlyInWallFields) {
   std::ostringstream a, b;
-  auto log_a = MissionLog::to_stream(a, tank_run(), fake_clock(std::chrono::system_clock::time_point(1700000000s), 100us));
-  auto log_b = MissionLog::to_stream(b, tank_run(), fake_clock(std::chrono::system_clock::time_point(1800000000s), 7us));
+  auto log_a =
+      MissionLog::to_stream(a, tank_run(), fake_clock(std::chrono::system_clock::time_point(1700000000s), 100us));
+  auto log_b =
+      MissionLog::to_stream(b, tank_run(), fake_clock(std::chrono::system_clock::time_point(1800000000s), 7us));
   ASSERT_TRUE(log_a.ok() && log_b.ok());
   play(log_a.value());
   play(log_b.value());

@@ -9,13 +9,10 @@ namespace strata::tactical {
 
 namespace {
 
-core::Error invalid(std::string message) {
-  return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
-}
+core::Error invalid(std::string message) { return core::make_error(core::ErrorCode::InvalidInput, std::move(message)); }
 
 std::string describe(const Value& v) {
-  return v.type == Value::Type::Number ? fmt::format("number {}", to_string(v))
-                                       : fmt::format("string \"{}\"", v.text);
+  return v.type == Value::Type::Number ? fmt::format("number {}", to_string(v)) : fmt::format("string \"{}\"", v.text);
 }
 
 std::string with_unit(double n, const std::string& unit) {
@@ -30,8 +27,8 @@ std::string arity_text(const Primitive& p) {
   }
   std::size_t lo = p.min_args(), hi = p.max_args();
   if (hi == 0) return "no arguments";
-  std::string count = lo == hi ? fmt::format("{} argument{}", hi, hi == 1 ? "" : "s")
-                               : fmt::format("{} to {} arguments", lo, hi);
+  std::string count =
+      lo == hi ? fmt::format("{} argument{}", hi, hi == 1 ? "" : "s") : fmt::format("{} to {} arguments", lo, hi);
   return fmt::format("{} ({})", count, names);
 }
 
@@ -94,8 +91,7 @@ core::Result<std::vector<Value>> check_args(const Primitive& p, std::span<const 
   return out;
 }
 
-core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> args,
-                                  const DataCursor* cursor) {
+core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> args, const DataCursor* cursor) {
   auto checked = check_args(p, args);
   if (!checked) return checked.error();
   const std::vector<Value>& values = checked.value();
@@ -125,8 +121,7 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
   if (!parsed) return invalid(fmt::format("'{}': {}", p.name, parsed.error().message));
   const auto& fields = parsed.value().fields;
   if (fields.size() < 2 || !fields[0].is_literal() || !fields[1].is_literal()) {
-    return invalid(fmt::format("'{}': the message \"{}\" does not start with a verb and a name", p.name,
-                               p.message));
+    return invalid(fmt::format("'{}': the message \"{}\" does not start with a verb and a name", p.name, p.message));
   }
   call.verb = fields[0].pieces[0].text;
   call.name = fields[1].pieces[0].text;
@@ -145,14 +140,14 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
       if (!v && setpoint && piece.text == "depth_m") v = Value::of(setpoint->depth_m);
       if (!v && setpoint && piece.text == "timeout_s") v = Value::of(setpoint->timeout_s);
       if (!v) {
-        return invalid(fmt::format("'{}': placeholder {{{}}} in the message names no argument", p.name,
-                                   piece.text));
+        return invalid(fmt::format("'{}': placeholder {{{}}} in the message names no argument", p.name, piece.text));
       }
       std::string s = to_string(*v);
       if (v->type == Value::Type::String && !is_token(s)) {
-        return invalid(fmt::format("'{}' argument '{}' must be one word (no spaces or control "
-                                   "characters) to go into the message, not \"{}\"",
-                                   p.name, piece.text, s));
+        return invalid(
+            fmt::format("'{}' argument '{}' must be one word (no spaces or control "
+                        "characters) to go into the message, not \"{}\"",
+                        p.name, piece.text, s));
       }
       field += s;
       if (fields[f].pieces.size() == 1) whole = std::move(v);
@@ -162,8 +157,7 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
   return call;
 }
 
-core::Result<RenderedCall> advance_and_render(const Primitive& p, std::span<const Value> args,
-                                              DataCursor& cursor) {
+core::Result<RenderedCall> advance_and_render(const Primitive& p, std::span<const Value> args, DataCursor& cursor) {
   auto checked = check_args(p, args);
   if (!checked) return checked.error();
   if (p.data == DataSource::Setpoint) {

@@ -20,13 +20,13 @@
 namespace strata::tactical {
 
 struct RenderedCall {
-  std::string verb;               // "exec" | "ask" | "ood"; "" for report: nothing is sent
-  std::string name;               // the function's name on the wire ("setpoint" for next_setpt_data)
+  std::string verb;  // "exec" | "ask" | "ood"; "" for report: nothing is sent
+  std::string name;  // the function's name on the wire ("setpoint" for next_setpt_data)
   // The argument fields, filled. A field that is exactly one placeholder
   // keeps its argument's type (number or string); a field with literal text
   // around or instead of placeholders is a string. For report: { text }.
   std::vector<Value> args;
-  double timeout_s = 0;           // the reply timeout for this call (timeout_s + timeout_plus_arg)
+  double timeout_s = 0;  // the reply timeout for this call (timeout_s + timeout_plus_arg)
 
   bool to_vehicle() const { return !verb.empty(); }
   // "exec sleep 1": verb, name and args (to_string) joined by single spaces;
@@ -44,8 +44,7 @@ core::Result<std::vector<Value>> check_args(const Primitive& primitive, std::spa
 // cursor already (see advance_and_render). String values that go into a
 // message field must be one token: non-empty, no spaces or control
 // characters. Errors are InvalidInput and name the primitive.
-core::Result<RenderedCall> render(const Primitive& primitive, std::span<const Value> args,
-                                  const DataCursor* cursor);
+core::Result<RenderedCall> render(const Primitive& primitive, std::span<const Value> args, const DataCursor* cursor);
 
 // What the Tactical level does for a call: checks the arguments, advances the
 // cursor if the primitive reads a setpoint (so a bad call consumes nothing),

@@ -61,16 +61,13 @@ TEST(Render, SeparatesTheFieldsForTheProtocol) {
 
 TEST(Render, RejectsBadArguments) {
   EXPECT_EQ("'sleep' takes 1 argument (seconds), but 0 given", error_of("sleep", {}));
-  EXPECT_EQ("'sleep' takes 1 argument (seconds), but 2 given",
-            error_of("sleep", {Value::of(1.0), Value::of(2.0)}));
+  EXPECT_EQ("'sleep' takes 1 argument (seconds), but 2 given", error_of("sleep", {Value::of(1.0), Value::of(2.0)}));
   EXPECT_EQ("'submerge' takes no arguments, but 1 given", error_of("submerge", {Value::of(1.0)}));
   EXPECT_EQ("'sleep' argument 'seconds' must be a number, not the string \"soon\"",
             error_of("sleep", {Value::of("soon")}));
   EXPECT_EQ("'sleep' argument 'seconds' is 0 s, below the minimum 0.1 s", error_of("sleep", {Value::of(0.0)}));
-  EXPECT_EQ("'sleep' argument 'seconds' is 4000 s, above the maximum 3600 s",
-            error_of("sleep", {Value::of(4000.0)}));
-  EXPECT_EQ("'sleep' argument 'seconds' must be a finite number",
-            error_of("sleep", {Value::of(std::nan(""))}));
+  EXPECT_EQ("'sleep' argument 'seconds' is 4000 s, above the maximum 3600 s", error_of("sleep", {Value::of(4000.0)}));
+  EXPECT_EQ("'sleep' argument 'seconds' must be a finite number", error_of("sleep", {Value::of(std::nan(""))}));
   EXPECT_EQ("'report' argument 'text' must be a string, not the number 3", error_of("report", {Value::of(3.0)}));
 }
 
@@ -101,8 +98,7 @@ TEST(Render, NextSetpointDataReadsTheCursor) {
     ASSERT_EQ(2u, r.value().args.size());
     EXPECT_EQ(Value::Type::Number, r.value().args[0].type);
   }
-  EXPECT_EQ((std::vector<std::string>{"exec setpoint 0.6 30", "exec setpoint 1.5 45", "exec setpoint 0 60"}),
-            sent);
+  EXPECT_EQ((std::vector<std::string>{"exec setpoint 0.6 30", "exec setpoint 1.5 45", "exec setpoint 0 60"}), sent);
   auto past = advance_and_render(p, {}, cursor);
   ASSERT_FALSE(past.ok());
   EXPECT_EQ("mission data has 3 setpoints; next_setpt_data was called a 4th time", past.error().message);
@@ -138,9 +134,10 @@ TEST(Render, StringArgumentsAndDefaults) {
   std::vector<Value> spaced = {Value::of("two words")};
   auto bad = render(p, spaced, nullptr);
   ASSERT_FALSE(bad.ok());
-  EXPECT_EQ("'light' argument 'mode' must be one word (no spaces or control characters) to go into "
-            "the message, not \"two words\"",
-            bad.error().message);
+  EXPECT_EQ(
+      "'light' argument 'mode' must be one word (no spaces or control characters) to go into "
+      "the message, not \"two words\"",
+      bad.error().message);
   std::vector<Value> empty = {Value::of("")};
   EXPECT_FALSE(render(p, empty, nullptr).ok());
 }

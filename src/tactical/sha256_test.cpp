@@ -18,8 +18,7 @@ TEST(Sha256, KnownVectors) {
   EXPECT_EQ("cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1",
             sha256_hex("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnopjklmnopq"
                        "klmnopqrlmnopqrsmnopqrstnopqrstu"));
-  EXPECT_EQ("cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0",
-            sha256_hex(std::string(1000000, 'a')));
+  EXPECT_EQ("cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0", sha256_hex(std::string(1000000, 'a')));
 }
 
 TEST(Sha256, PaddingBoundaries) {

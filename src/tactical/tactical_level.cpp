@@ -10,9 +10,7 @@ namespace strata::tactical {
 
 protocol::Request to_request(const RenderedCall& call) {
   protocol::Request r;
-  r.verb = call.verb == "ask" ? protocol::Verb::Ask
-         : call.verb == "ood" ? protocol::Verb::Ood
-                              : protocol::Verb::Exec;
+  r.verb = call.verb == "ask" ? protocol::Verb::Ask : call.verb == "ood" ? protocol::Verb::Ood : protocol::Verb::Exec;
   r.name = call.name;
   for (const auto& v : call.args) {
     if (v.type == Value::Type::String) {
@@ -27,8 +25,8 @@ protocol::Request to_request(const RenderedCall& call) {
   return r;
 }
 
-TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
-                             std::shared_ptr<VehicleLink> link, DataCursor* cursor, MissionLog* log)
+TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
+                             DataCursor* cursor, MissionLog* log)
     : io_(io), catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
   if (!link_) return;
   link_->on_telemetry([this](const protocol::Telemetry& t) {
@@ -58,8 +56,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue,
   });
 }
 
-void TacticalLevel::finish(const CallRecord& record, CallHandler& done,
-                           core::Result<CallOutcome> outcome) {
+void TacticalLevel::finish(const CallRecord& record, CallHandler& done, core::Result<CallOutcome> outcome) {
   --in_flight_;
   if (on_call_) {
     CallRecord r = record;
@@ -96,9 +93,9 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   core::Result<RenderedCall> rendered =
       p->data == DataSource::Setpoint
           ? (cursor_ ? advance_and_render(*p, args, *cursor_)
-                     : core::Result<RenderedCall>(core::make_error(
-                           core::ErrorCode::InvalidInput,
-                           fmt::format("'{}' needs mission data, and the mission names none", name))))
+                     : core::Result<RenderedCall>(
+                           core::make_error(core::ErrorCode::InvalidInput,
+                                            fmt::format("'{}' needs mission data, and the mission names none", name))))
           : render(*p, args, cursor_);
   if (!rendered) {
     fail_later(record, std::move(done), rendered.error());
@@ -123,8 +120,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     return;
   }
   protocol::Request request = to_request(rc);
-  auto timeout = std::chrono::milliseconds(
-      static_cast<std::int64_t>(std::ceil(rc.timeout_s * wall_per_sim_ * 1000.0)));
+  auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(rc.timeout_s * wall_per_sim_ * 1000.0)));
   // The catalogue's timeout is in simulated seconds; in lockstep the vehicle
   // answers at once, so the link's own (wall) timeout is the stricter bound.
   auto id = std::make_shared<std::uint64_t>(0);
@@ -147,8 +143,8 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
         } else {
           record.error = "unexpected reply";
           if (log_) log_->reply(*id, {{"error", "unexpected reply"}}, sim_time_s_);
-          finish(record, done, core::make_error(core::ErrorCode::Protocol,
-                                                fmt::format("unexpected reply to `{}`", record.message)));
+          finish(record, done,
+                 core::make_error(core::ErrorCode::Protocol, fmt::format("unexpected reply to `{}`", record.message)));
           return;
         }
         sim_time_s_ = std::max(sim_time_s_, out.sim_time_s);

@@ -53,8 +53,8 @@ class TacticalLevel {
   // Outcomes are delivered on io. link may be null for a run that only
   // reports (tests). cursor and log may be null (no mission data; no log).
   // All must outlive this object.
-  TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
-                DataCursor* cursor, MissionLog* log);
+  TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link, DataCursor* cursor,
+                MissionLog* log);
 
   // On the wall clock at speed K, a call that may take T simulated seconds
   // takes T/K wall seconds: set 1/K here so reply timeouts stretch to match.

@@ -50,8 +50,7 @@ struct Mission {
       if (yes("depth_reached")) return true;
       if (yes("time_out") || yes("system_problem")) {
         EXPECT_TRUE(yes("surface"));
-        for (int j = 0; j < 2000 && !yes("surface_reached"); ++j) {
-        }
+        for (int j = 0; j < 2000 && !yes("surface_reached"); ++j) {}
         return false;
       }
     }
@@ -78,8 +77,8 @@ TEST(TacticalLevel, Figure10Phase2ReachesDepthInNominal) {
 }
 
 TEST(TacticalLevel, Figure10Phase2TimesOutWithWeakThrusters) {
-  auto scenario = vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) +
-                                         "/missions/tank/scenarios/weak_thrusters.toml");
+  auto scenario =
+      vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) + "/missions/tank/scenarios/weak_thrusters.toml");
   ASSERT_TRUE(scenario.ok());
   Rig rig(scenario.value());
   Mission m(rig);

@@ -63,7 +63,8 @@ struct Rig {
   core::Result<VehicleMessage> call(VehicleLink& link, protocol::Request r,
                                     std::optional<std::chrono::milliseconds> timeout = std::nullopt) {
     std::optional<core::Result<VehicleMessage>> reply;
-    link.send(std::move(r), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, timeout);
+    link.send(
+        std::move(r), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, timeout);
     EXPECT_TRUE(run_until(io, [&] { return reply.has_value(); }));
     if (!reply) return core::make_error(core::ErrorCode::Internal, "no reply in the test's bound");
     return std::move(*reply);
@@ -131,12 +132,14 @@ struct LineClient {
   bool has(const std::string& prefix) const { return !starting(prefix).empty(); }
 
   // Runs io until a line starting with prefix has arrived (bounded).
-  bool wait_for(asio::io_context& io, const std::string& prefix,
-                std::chrono::milliseconds bound = 5000ms) {
-    return run_until(io, [&] {
-      poll();
-      return has(prefix);
-    }, bound);
+  bool wait_for(asio::io_context& io, const std::string& prefix, std::chrono::milliseconds bound = 5000ms) {
+    return run_until(
+        io,
+        [&] {
+          poll();
+          return has(prefix);
+        },
+        bound);
   }
 
   asio::ip::tcp::socket socket;

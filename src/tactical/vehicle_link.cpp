@@ -61,9 +61,7 @@ VehicleLink::Hold VehicleLink::hold() {
   return Hold(weak_from_this());
 }
 
-VehicleLink::~VehicleLink() {
-  drop_connection("the link is gone");
-}
+VehicleLink::~VehicleLink() { drop_connection("the link is gone"); }
 
 void VehicleLink::drop_connection(const std::string& why) {
   asio::error_code ignored;
@@ -94,9 +92,9 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
   connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
     if (e || *finished) return;
     *finished = true;
-    auto error = make_error(ErrorCode::Timeout,
-                            fmt::format("no answer from the vehicle at {}:{} within {} ms",
-                                        options_.host, options_.port, options_.connect_timeout.count()));
+    auto error =
+        make_error(ErrorCode::Timeout, fmt::format("no answer from the vehicle at {}:{} within {} ms", options_.host,
+                                                   options_.port, options_.connect_timeout.count()));
     abandon(error);
     done(error);
   });
@@ -105,8 +103,8 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     if (e) {
       *finished = true;
       connect_timer_.cancel();
-      done(make_error(ErrorCode::Io, fmt::format("cannot reach the vehicle at {}:{}: {}",
-                                                 options_.host, options_.port, e.message())));
+      done(make_error(ErrorCode::Io,
+                      fmt::format("cannot reach the vehicle at {}:{}: {}", options_.host, options_.port, e.message())));
       return;
     }
     asio::ip::tcp::no_delay nodelay(true);
@@ -114,52 +112,52 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     socket_.set_option(nodelay, ignored);
     connected_ = true;
     std::weak_ptr<VehicleLink> weak = self;
-    connection_ = protocol::LineConnection::create(
-        std::move(socket_), link_options(),
-        {[weak](protocol::LineConnection&, const protocol::Frame& frame) {
-           if (auto link = weak.lock()) link->handle_line(frame);
-         },
-         [weak](protocol::LineConnection& c, const protocol::CloseReason& why) {
-           if (auto link = weak.lock()) link->connection_closed(c, why);
-         }});
+    connection_ =
+        protocol::LineConnection::create(std::move(socket_), link_options(),
+                                         {[weak](protocol::LineConnection&, const protocol::Frame& frame) {
+                                            if (auto link = weak.lock()) link->handle_line(frame);
+                                          },
+                                          [weak](protocol::LineConnection& c, const protocol::CloseReason& why) {
+                                            if (auto link = weak.lock()) link->connection_closed(c, why);
+                                          }});
     connection_->start();
     // This handler is kept in pending_, inside the link: it must not hold
     // `self`, or the link would own itself.
     protocol::Request hello = protocol::make_hello(0, options_.client_name);
     hello.version = options_.protocol_version;
-    send(std::move(hello),
-         [this, finished, done](core::Result<protocol::VehicleMessage> r) {
-           if (*finished) return;
-           *finished = true;
-           connect_timer_.cancel();
-           // A hello that fails ends this connection: a refused or foreign
-           // vehicle is not a lost link to reconnect to.
-           auto refuse = [&](core::Error error) {
-             abandon(error);
-             done(std::move(error));
-           };
-           if (!r) {
-             refuse(r.error());
-             return;
-           }
-           if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
-             // The session's version: the one asked for, or an older one
-             // we speak (a version-1 vehicle says 1 whatever it is asked).
-             if (!protocol::speaks_version(w->version) || w->version > options_.protocol_version) {
-               refuse(make_error(ErrorCode::Protocol,
-                                 fmt::format("vehicle speaks protocol {}, we asked for {} (we speak {})",
-                                             w->version, options_.protocol_version,
-                                             protocol::spoken_versions())));
-               return;
-             }
-             session_version_ = w->version;
-             barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
-             done(*w);
-             return;
-           }
-           refuse(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
-         },
-         options_.connect_timeout);
+    send(
+        std::move(hello),
+        [this, finished, done](core::Result<protocol::VehicleMessage> r) {
+          if (*finished) return;
+          *finished = true;
+          connect_timer_.cancel();
+          // A hello that fails ends this connection: a refused or foreign
+          // vehicle is not a lost link to reconnect to.
+          auto refuse = [&](core::Error error) {
+            abandon(error);
+            done(std::move(error));
+          };
+          if (!r) {
+            refuse(r.error());
+            return;
+          }
+          if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
+            // The session's version: the one asked for, or an older one
+            // we speak (a version-1 vehicle says 1 whatever it is asked).
+            if (!protocol::speaks_version(w->version) || w->version > options_.protocol_version) {
+              refuse(make_error(ErrorCode::Protocol,
+                                fmt::format("vehicle speaks protocol {}, we asked for {} (we speak {})", w->version,
+                                            options_.protocol_version, protocol::spoken_versions())));
+              return;
+            }
+            session_version_ = w->version;
+            barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
+            done(*w);
+            return;
+          }
+          refuse(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
+        },
+        options_.connect_timeout);
   });
 }
 
@@ -188,8 +186,7 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   p.timer->async_wait([this, self, id, wait, what](const asio::error_code& e) {
     if (e) return;
     complete(id, make_error(ErrorCode::Timeout,
-                            fmt::format("no reply to `{}` (request {}) within {} ms", what, id,
-                                        wait.count())));
+                            fmt::format("no reply to `{}` (request {}) within {} ms", what, id, wait.count())));
   });
   pending_.emplace(id, std::move(p));
   write(protocol::encode(request));
@@ -281,18 +278,10 @@ void VehicleLink::connection_closed(protocol::LineConnection& c, const protocol:
   if (&c != connection_.get()) return;
   using Why = protocol::CloseReason::Why;
   switch (why.why) {
-    case Why::PeerClosed:
-      lost("the vehicle closed the link");
-      return;
-    case Why::ReadError:
-      lost(fmt::format("link to the vehicle failed: {}", why.error.message()));
-      return;
-    case Why::WriteError:
-      lost(fmt::format("cannot write to the vehicle: {}", why.error.message()));
-      return;
-    default:
-      lost(fmt::format("link to the vehicle closed: {}", why.message));
-      return;
+    case Why::PeerClosed: lost("the vehicle closed the link"); return;
+    case Why::ReadError: lost(fmt::format("link to the vehicle failed: {}", why.error.message())); return;
+    case Why::WriteError: lost(fmt::format("cannot write to the vehicle: {}", why.error.message())); return;
+    default: lost(fmt::format("link to the vehicle closed: {}", why.message)); return;
   }
 }
 

@@ -130,7 +130,7 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   struct Pending {
     ReplyHandler handler;
     std::unique_ptr<asio::steady_timer> timer;
-    std::string what;  // "exec submerge" for messages
+    std::string what;    // "exec submerge" for messages
     bool timed = false;  // exec/ask/ood: needs simulated time, so an advance
     std::chrono::milliseconds wait{0};
   };

@@ -43,8 +43,8 @@ TEST(VehicleLink, EveryRequestCostsOneCycleInLockstep) {
 }
 
 // Sends ood, sleep 1, ask and ping at once; returns (id, what) in reply order.
-std::vector<std::pair<protocol::RequestId, std::string>> four_at_once(
-    Rig& rig, VehicleLink& link, std::vector<protocol::RequestId>& ids) {
+std::vector<std::pair<protocol::RequestId, std::string>> four_at_once(Rig& rig, VehicleLink& link,
+                                                                      std::vector<protocol::RequestId>& ids) {
   std::vector<std::pair<protocol::RequestId, std::string>> replies;
   auto record = [&](std::string what) {
     return [&replies, what](core::Result<VehicleMessage> m) {
@@ -134,8 +134,7 @@ bool figure10_phase2(Rig& rig, VehicleLink& link, double depth_m, double timeout
     if (rig.ask(link, "depth_reached")) return true;
     if (rig.ask(link, "time_out") || rig.ask(link, "system_problem")) {
       EXPECT_TRUE(rig.exec(link, "surface"));
-      for (int j = 0; j < 1000 && !rig.ask(link, "surface_reached"); ++j) {
-      }
+      for (int j = 0; j < 1000 && !rig.ask(link, "surface_reached"); ++j) {}
       return false;
     }
   }
@@ -203,7 +202,8 @@ TEST(VehicleLink, ARefusedHelloDoesNotReconnect) {
   second->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
   ASSERT_TRUE(run_until(rig.io, [&] { return welcome.has_value(); }));
   ASSERT_FALSE(welcome->ok());
-  run_until(rig.io, [] { return false; }, 200ms);  // time for any reconnect to happen
+  run_until(
+      rig.io, [] { return false; }, 200ms);  // time for any reconnect to happen
   EXPECT_FALSE(second->connected());
   EXPECT_EQ(1u, rig.server->clients_refused());
 }
@@ -215,10 +215,12 @@ TEST(VehicleServer, RepliesOwedToAClientThatLeftAreNotSentToTheNext) {
   {
     auto a = rig.connect();
     a->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(2)}), [](auto) {});
-    run_until(rig.io, [] { return false; }, 20ms);
+    run_until(
+        rig.io, [] { return false; }, 20ms);
     a->close();
   }
-  run_until(rig.io, [] { return false; }, 20ms);
+  run_until(
+      rig.io, [] { return false; }, 20ms);
   auto b = rig.connect();
   double start = rig.sim.time_s();
   // Same id as a's sleep (both links number from 1); a's would come first.
@@ -239,8 +241,7 @@ TEST(VehicleLink, ASilentVehicleIsATimeoutNotAHang) {
   auto r2 = rig.call(*link, protocol::make_ask(0, "depth_reached"), 200ms);
   ASSERT_FALSE(r2.ok());
   EXPECT_EQ(core::ErrorCode::Timeout, r2.error().code);
-  EXPECT_NE(std::string::npos, r2.error().message.find("no reply to `ask depth_reached`"))
-      << r2.error().message;
+  EXPECT_NE(std::string::npos, r2.error().message.find("no reply to `ask depth_reached`")) << r2.error().message;
 }
 
 TEST(VehicleLink, VehicleGoneMidRequestFailsThePendingRequest) {
@@ -303,8 +304,7 @@ TEST(VehicleServer, WatchdogSurfacesTheVehicleWhenTheClientDrops) {
 }
 
 TEST(VehicleServer, LinkLossSilencesTheVehicleAndItsWatchdogSurfacesIt) {
-  auto scenario = vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) +
-                                         "/missions/tank/scenarios/link_loss.toml");
+  auto scenario = vehicle::load_scenario(std::string(STRATA_SOURCE_DIR) + "/missions/tank/scenarios/link_loss.toml");
   ASSERT_TRUE(scenario.ok());
   double lost_at = *scenario.value().link_lost_at();
   Rig rig(scenario.value());
@@ -333,7 +333,8 @@ TEST(VehicleServer, ASilentClientTripsTheWatchdogInLockstep) {
   Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, params);
   auto link = rig.connect();
   ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
-  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 3000ms));
+  ASSERT_TRUE(run_until(
+      rig.io, [&] { return rig.sim.watchdog_tripped(); }, 3000ms));
   bool said_why = false;
   for (const auto& line : rig.vehicle_log) said_why |= line.find("link silent for 0.2 s") != std::string::npos;
   EXPECT_TRUE(said_why);
@@ -367,7 +368,8 @@ TEST(VehicleServer, OnTheWallClockASleepLongerThanTheWatchdogDoesNotTripIt) {
   EXPECT_FALSE(rig.sim.watchdog_tripped()) << ::testing::PrintToString(rig.vehicle_log);
   // Silent after the reply: it trips, watchdog_s after it.
   const double replied = std::get<protocol::Done>(r.value()).sim_time_s;
-  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 5000ms));
+  ASSERT_TRUE(run_until(
+      rig.io, [&] { return rig.sim.watchdog_tripped(); }, 5000ms));
   bool said = false;
   for (const auto& line : rig.vehicle_log) {
     if (line.find("link silent") == std::string::npos) continue;

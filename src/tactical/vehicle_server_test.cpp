@@ -54,8 +54,8 @@ TEST(VehicleServer, InProtocolTwoRequestsWaitForAdvanceAndAreAnsweredInIdOrder) 
   c.say("advance 10");
   c.say("ping 11");
   ASSERT_TRUE(c.wait_for(rig.io, "pong 11"));
-  EXPECT_EQ((std::vector<std::string>{"pong 4 0.0", "answer 2 1 0.1", "ok 5", "done 3 1 1.0", "ok 6",
-                                      "done 7 1 1.1", "answer 8 1 1.1", "ok 9", "ok 10", "pong 11 1.1"}),
+  EXPECT_EQ((std::vector<std::string>{"pong 4 0.0", "answer 2 1 0.1", "ok 5", "done 3 1 1.0", "ok 6", "done 7 1 1.1",
+                                      "answer 8 1 1.1", "ok 9", "ok 10", "pong 11 1.1"}),
             after(c, 1));
 }
 
@@ -108,8 +108,7 @@ TEST(VehicleServer, HelloWithAnUnsupportedVersionIsRefusedNamingTheVersionsSpoke
   LineClient c(rig.io, rig.server->port());
   c.say("hello 1 hand 99");
   ASSERT_TRUE(c.wait_for(rig.io, "err 1"));
-  EXPECT_EQ("err 1 bad_argument \"protocol version 99 is not spoken here; this vehicle speaks 1 and 2\"",
-            c.lines[0]);
+  EXPECT_EQ("err 1 bad_argument \"protocol version 99 is not spoken here; this vehicle speaks 1 and 2\"", c.lines[0]);
   // No session: other requests wait for a hello it accepts.
   c.say("ping 2");
   ASSERT_TRUE(c.wait_for(rig.io, "err 2"));
@@ -125,7 +124,8 @@ TEST(VehicleServer, AClientThatNeverSaysHelloIsDroppedAndTheNextIsServed) {
   Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, vehicle::default_params(),
           [](vehicle::ServerOptions& so) { so.hello_timeout_s = 0.3; });
   LineClient silent(rig.io, rig.server->port());
-  run_until(rig.io, [] { return false; }, 20ms);  // the vehicle accepts it
+  run_until(
+      rig.io, [] { return false; }, 20ms);  // the vehicle accepts it
 
   LinkOptions o;
   o.port = rig.server->port();
@@ -158,7 +158,8 @@ TEST(VehicleServer, TheHelloTimeoutEndsWithTheHello) {
   LineClient c(rig.io, rig.server->port());
   c.say("hello 1 hand 2");
   ASSERT_TRUE(c.wait_for(rig.io, "ok 1"));
-  run_until(rig.io, [] { return false; }, 300ms);  // past the hello timeout
+  run_until(
+      rig.io, [] { return false; }, 300ms);  // past the hello timeout
   c.say("ping 2");
   ASSERT_TRUE(c.wait_for(rig.io, "pong 2"));
   EXPECT_FALSE(c.closed);

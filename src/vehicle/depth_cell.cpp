@@ -13,9 +13,7 @@ std::optional<double> DepthCell::sample(double true_depth_m, bool dropped) {
 
 double DepthCell::standard_normal() {
   // Uniform deviates in (0, 1) from the top 53 bits; never 0, so log is finite.
-  auto uniform = [this] {
-    return (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53;
-  };
+  auto uniform = [this] { return (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53; };
   const double u1 = uniform();
   const double u2 = uniform();
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);

@@ -10,14 +10,18 @@ using protocol::Verb;
 
 const std::vector<FunctionSpec>& function_table() {
   static const std::vector<FunctionSpec> table = {
-      {Verb::Exec, "setpoint", {{"depth", "m"}, {"timeout", "s"}},
+      {Verb::Exec,
+       "setpoint",
+       {{"depth", "m"}, {"timeout", "s"}},
        "load the next depth setpoint and its time limit (sent by next_setpt_data)"},
       {Verb::Exec, "start_depth_filter", {}, "start the depth filter (depth and depth rate)"},
       {Verb::Exec, "submerge", {}, "engage the depth law toward the loaded setpoint"},
       {Verb::Exec, "start_timer", {}, "start the mission timer with the loaded setpoint's timeout"},
       {Verb::Exec, "sleep", {{"duration", "s"}}, "let the given time pass, then reply"},
       {Verb::Exec, "surface", {}, "drive to the surface"},
-      {Verb::Exec, "heading", {{"heading", "deg"}},
+      {Verb::Exec,
+       "heading",
+       {{"heading", "deg"}},
        "engage the heading law toward a compass heading (0 to 360), the short way round"},
       {Verb::Exec, "start_sonar", {}, "start the scanning sonar (pings to the sonar socket)"},
       {Verb::Exec, "stop_sonar", {}, "stop the scanning sonar"},
@@ -27,8 +31,7 @@ const std::vector<FunctionSpec>& function_table() {
       {Verb::Ask, "system_problem", {}, "is a system problem (leak) active?"},
       {Verb::Ask, "surface_reached", {}, "is the vehicle at the surface?"},
       {Verb::Ask, "heading_reached", {}, "is the vehicle settled on the commanded heading?"},
-      {Verb::Ask, "target_detected", {},
-       "does the sonar's last sweep show an object short of the walls?"},
+      {Verb::Ask, "target_detected", {}, "does the sonar's last sweep show an object short of the walls?"},
       {Verb::Ood, "start_network", {}, "open the vehicle network; commands are refused before"},
       {Verb::Ood, "shutdown_network", {}, "stop the thrusters and close the vehicle network"},
   };
@@ -90,8 +93,8 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
     auto n = request.args[i].number();
     if (!n || !std::isfinite(*n)) {
       return refuse(protocol::ErrorCode::BadArgument,
-                    fmt::format("'{}': argument {} ({}) must be a number of {}", spec->name, i + 1,
-                                spec->args[i].name, spec->args[i].unit));
+                    fmt::format("'{}': argument {} ({}) must be a number of {}", spec->name, i + 1, spec->args[i].name,
+                                spec->args[i].unit));
     }
     numbers.push_back(*n);
   }

@@ -33,9 +33,9 @@ struct Outcome {
   // Set when the request cannot be taken at all (unknown function, bad
   // arguments): the server answers `err ID CODE "message"`.
   std::optional<protocol::ErrorCode> refused;
-  bool value = false;       // done: executed; answer: the predicate
-  std::string message;      // why it was refused or failed
-  double sleep_s = 0.0;     // `sleep`: seconds the caller must let pass before replying
+  bool value = false;    // done: executed; answer: the predicate
+  std::string message;   // why it was refused or failed
+  double sleep_s = 0.0;  // `sleep`: seconds the caller must let pass before replying
 };
 
 // Runs request (exec, ask or ood) on sim at its current time. Does not step

@@ -43,10 +43,8 @@ TEST(Execution, HeadingTurnsTheVehicleAndHeadingReachedSaysWhenItIsThere) {
   EXPECT_FALSE(bad.value);
   EXPECT_EQ("heading 400 deg outside 0 to 360 deg", bad.message);
   EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "heading").refused);
-  EXPECT_EQ(protocol::ErrorCode::BadArgument,
-            exec(sim, "heading", {Value::string("east")}).refused);
-  EXPECT_EQ(protocol::ErrorCode::UnknownFunction,
-            execute(sim, protocol::make_ask(1, "heading")).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "heading", {Value::string("east")}).refused);
+  EXPECT_EQ(protocol::ErrorCode::UnknownFunction, execute(sim, protocol::make_ask(1, "heading")).refused);
 }
 
 TEST(Execution, TheSonarStartsStopsAndDetects) {
@@ -65,8 +63,7 @@ TEST(Execution, TheSonarStartsStopsAndDetects) {
 
 TEST(Execution, TheInterfaceListsTheNewFunctions) {
   const std::string text = interface_text();
-  for (const char* f : {"heading[deg]", "start_sonar", "stop_sonar", "heading_reached",
-                        "target_detected"}) {
+  for (const char* f : {"heading[deg]", "start_sonar", "stop_sonar", "heading_reached", "target_detected"}) {
     EXPECT_NE(std::string::npos, text.find(f)) << f;
   }
   ASSERT_NE(nullptr, find_function(protocol::Verb::Exec, "heading"));

@@ -5,8 +5,7 @@
 
 namespace strata::vehicle {
 
-HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n,
-                           HeaveState& s) {
+HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, HeaveState& s) {
   const double h = p.cycle_s / p.substeps;
   const double target = std::clamp(thrust_cmd_n, -thrust_limit_n, thrust_limit_n);
   // Exact step of tau dT/dt = target - T over h; a zero lag follows at once.

@@ -30,7 +30,6 @@ struct HeaveContact {
 // steps; the lag is integrated exactly per sub-step). thrust_cmd_n is the
 // controller's command, held over the cycle; thrust_limit_n (>= 0) is what
 // the thrusters can give now (nominal total times health) and clamps it.
-HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n,
-                           HeaveState& s);
+HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, HeaveState& s);
 
 }  // namespace strata::vehicle

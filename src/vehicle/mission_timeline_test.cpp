@@ -34,8 +34,7 @@ std::string describe(const MissionRun& m) {
   std::string out;
   for (const auto& p : m.phases) {
     char line[128];
-    std::snprintf(line, sizeof line, "phase %d %5.1f-%5.1f s %s\n", p.phase, p.start_s, p.end_s,
-                  p.why.c_str());
+    std::snprintf(line, sizeof line, "phase %d %5.1f-%5.1f s %s\n", p.phase, p.start_s, p.end_s, p.why.c_str());
     out += line;
   }
   return out + (m.completed ? "completed" : "aborted");

@@ -95,8 +95,7 @@ std::string range_text(const Field& f) {
   return lo + "value" + hi;
 }
 
-core::Result<void> set_field(std::string_view path, const Field& f, const toml::node& node,
-                             VehicleParams& p) {
+core::Result<void> set_field(std::string_view path, const Field& f, const toml::node& node, VehicleParams& p) {
   const std::string name = fmt::format("{}.{}", f.table, f.key);
   double v = 0.0;
   if (std::holds_alternative<int VehicleParams::*>(f.member)) {
@@ -112,10 +111,10 @@ core::Result<void> set_field(std::string_view path, const Field& f, const toml::
   const bool lo_ok = f.lo_open ? v > f.lo : v >= f.lo;
   if (!std::isfinite(v) || !lo_ok || v > f.hi) {
     return core::toml_error_at(path, node.source(),
-                            fmt::format("'{}' = {} is out of range ({})", name, v, range_text(f)));
+                               fmt::format("'{}' = {} is out of range ({})", name, v, range_text(f)));
   }
   if (auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
-    p.**m = static_cast<int>(v);
+    p.** m = static_cast<int>(v);
   } else {
     p.*std::get<double VehicleParams::*>(f.member) = v;
   }
@@ -126,19 +125,16 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
   VehicleParams p;
   for (auto&& [tname, tnode] : root) {
     if (!known_table(tname.str())) {
-      return core::toml_error_at(path, tname.source(),
-                              fmt::format("unknown table '{}'", tname.str()));
+      return core::toml_error_at(path, tname.source(), fmt::format("unknown table '{}'", tname.str()));
     }
     const toml::table* t = tnode.as_table();
     if (t == nullptr) {
-      return core::toml_error_at(path, tnode.source(),
-                              fmt::format("'{}' must be a table", tname.str()));
+      return core::toml_error_at(path, tnode.source(), fmt::format("'{}' must be a table", tname.str()));
     }
     for (auto&& [key, node] : *t) {
       const Field* f = find_field(tname.str(), key.str());
       if (f == nullptr) {
-        return core::toml_error_at(path, key.source(),
-                                fmt::format("unknown key '{}.{}'", tname.str(), key.str()));
+        return core::toml_error_at(path, key.source(), fmt::format("unknown key '{}.{}'", tname.str(), key.str()));
       }
       if (auto r = set_field(path, *f, node, p); !r) return r.error();
     }
@@ -150,8 +146,9 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
     }
   }
   if (p.surface_depth_m >= p.tank_depth_m) {
-    return core::toml_error_in(path, "detection.surface_depth_m must be less than "
-                                  "simulation.tank_depth_m");
+    return core::toml_error_in(path,
+                               "detection.surface_depth_m must be less than "
+                               "simulation.tank_depth_m");
   }
   return p;
 }

@@ -30,11 +30,11 @@ struct VehicleParams {
   double thruster_lag_s = 0.3;   // first-order time constant of the actual thrust
 
   // [depth_cell]
-  double depth_noise_m = 0.02;   // standard deviation of the white measurement noise
+  double depth_noise_m = 0.02;  // standard deviation of the white measurement noise
 
   // [filter] alpha-beta filter on depth, run once a cycle
-  double filter_alpha = 0.3;     // position gain, (0, 1]
-  double filter_beta = 0.05;     // rate gain, (0, 2)
+  double filter_alpha = 0.3;  // position gain, (0, 1]
+  double filter_beta = 0.05;  // rate gain, (0, 2)
 
   // [controller] sliding-mode depth law with a boundary layer
   double ctrl_lambda_per_s = 0.5;  // sliding surface slope: s = w + lambda * (z - z_d)
@@ -43,23 +43,23 @@ struct VehicleParams {
 
   // [yaw] two transverse thrusters, fore and aft, pushing opposite ways:
   //   (I + I_a) dr/dt = M - c r|r|,  tau dM/dt = M_c - M
-  double yaw_inertia_kgm2 = 66.0;         // hull: m L^2 / 12 = 175 * 2.13^2 / 12
-  double yaw_added_inertia_kgm2 = 60.0;   // entrained water
-  double yaw_drag_coeff = 40.0;           // N m per (rad/s)^2: moment = -c * r * |r|
-  double transverse_max_n = 9.0;          // per transverse thruster, either direction
-  double transverse_lever_m = 0.6;        // each thruster's distance from the yaw axis
-  double transverse_lag_s = 0.3;          // first-order time constant of the thrust
+  double yaw_inertia_kgm2 = 66.0;        // hull: m L^2 / 12 = 175 * 2.13^2 / 12
+  double yaw_added_inertia_kgm2 = 60.0;  // entrained water
+  double yaw_drag_coeff = 40.0;          // N m per (rad/s)^2: moment = -c * r * |r|
+  double transverse_max_n = 9.0;         // per transverse thruster, either direction
+  double transverse_lever_m = 0.6;       // each thruster's distance from the yaw axis
+  double transverse_lag_s = 0.3;         // first-order time constant of the thrust
 
   // [heading_controller] sliding-mode heading law with a boundary layer
-  double hdg_lambda_per_s = 0.5;  // sliding surface: s = r - r_d, r_d = -lambda * e ...
-  double hdg_max_rate_dps = 15.0; // ... capped at this turn rate
-  double hdg_gain_nm = 10.0;      // switching gain K
-  double hdg_phi_dps = 3.0;       // boundary layer half-width on s
+  double hdg_lambda_per_s = 0.5;   // sliding surface: s = r - r_d, r_d = -lambda * e ...
+  double hdg_max_rate_dps = 15.0;  // ... capped at this turn rate
+  double hdg_gain_nm = 10.0;       // switching gain K
+  double hdg_phi_dps = 3.0;        // boundary layer half-width on s
 
   // [simulation]
-  double cycle_s = 0.1;          // Execution-level cycle (10 Hz)
-  int substeps = 10;             // integration sub-steps per cycle
-  double tank_depth_m = 6.0;     // the tank bottom; depth is clamped to [0, tank_depth_m]
+  double cycle_s = 0.1;       // Execution-level cycle (10 Hz)
+  int substeps = 10;          // integration sub-steps per cycle
+  double tank_depth_m = 6.0;  // the tank bottom; depth is clamped to [0, tank_depth_m]
 
   // [tank] the horizontal extent (the vehicle hovers: it does not move in x, y)
   double tank_length_x_m = 12.0;
@@ -71,24 +71,24 @@ struct VehicleParams {
   double sonar_sector_half_deg = 60.0;  // sweeps back and forth over +-this about the bow
   double sonar_ping_period_s = 0.05;    // rounded to whole integration sub-steps
   double sonar_range_m = 10.0;
-  int sonar_bins = 200;                 // echo intensity bins (u8) over the range
-  double sonar_noise = 6.0;             // mean background intensity (exponential), counts
-  double sonar_wall_echo = 180.0;       // a wall at normal incidence, counts
-  double sonar_target_echo = 200.0;     // the target at normal incidence, counts
-  int sonar_buffer_pings = 1024;        // pings held for take_pings(); older ones dropped
+  int sonar_bins = 200;                  // echo intensity bins (u8) over the range
+  double sonar_noise = 6.0;              // mean background intensity (exponential), counts
+  double sonar_wall_echo = 180.0;        // a wall at normal incidence, counts
+  double sonar_target_echo = 200.0;      // the target at normal incidence, counts
+  int sonar_buffer_pings = 1024;         // pings held for take_pings(); older ones dropped
   double sonar_detect_threshold = 90.0;  // target_detected: a bin at least this ...
-  double sonar_detect_margin_m = 0.5;     // ... this much short of the wall ...
-  int sonar_detect_min_pings = 2;         // ... in this many pings of the last sweep
+  double sonar_detect_margin_m = 0.5;    // ... this much short of the wall ...
+  int sonar_detect_min_pings = 2;        // ... in this many pings of the last sweep
 
   // [detection]
-  double depth_tolerance_m = 0.1;  // depth_reached: |z - z_d| < this ...
-  double settle_rate_mps = 0.05;   // ... and |rate| < this
-  double surface_depth_m = 0.15;   // surface_reached: depth <= this
+  double depth_tolerance_m = 0.1;      // depth_reached: |z - z_d| < this ...
+  double settle_rate_mps = 0.05;       // ... and |rate| < this
+  double surface_depth_m = 0.15;       // surface_reached: depth <= this
   double heading_tolerance_deg = 3.0;  // heading_reached: |heading error| < this ...
   double heading_settle_dps = 2.0;     // ... and |yaw rate| < this
 
   // [watchdog]
-  double watchdog_s = 3.0;       // link silence after which the vehicle surfaces itself
+  double watchdog_s = 3.0;  // link silence after which the vehicle surfaces itself
 
   double total_mass_kg() const { return mass_kg + added_mass_kg; }
   // Largest total thrust both thrusters give at full health, N.

@@ -79,11 +79,9 @@ TEST(Params, TheNewTablesAreRequiredAndRangeChecked) {
   EXPECT_EQ("p.toml: missing key 'tank.width_y_m'", params_error_of(edited("width_y_m = 8.0", "")));
   const int line = line_of("bins = 200");
   EXPECT_EQ(0u, params_error_of(edited("bins = 200", "bins = 5000"))
-                    .find("p.toml:" + std::to_string(line) +
-                          ":8: 'sonar.bins' = 5000 is out of range"));
-  EXPECT_NE(std::string::npos,
-            params_error_of(edited("heading_tolerance_deg = 3.0", "heading_tolerance_deg = 0"))
-                .find("'detection.heading_tolerance_deg' = 0 is out of range"));
+                    .find("p.toml:" + std::to_string(line) + ":8: 'sonar.bins' = 5000 is out of range"));
+  EXPECT_NE(std::string::npos, params_error_of(edited("heading_tolerance_deg = 3.0", "heading_tolerance_deg = 0"))
+                                   .find("'detection.heading_tolerance_deg' = 0 is out of range"));
 }
 
 TEST(Params, SyntaxErrorCarriesLineAndColumn) {
@@ -106,7 +104,8 @@ TEST(Params, UnknownTableCarriesLineAndColumn) {
 TEST(Params, OutOfRangeValueCarriesLineAndColumn) {
   const int line = line_of("cycle_s = 0.1");
   const std::string e = params_error_of(edited("cycle_s = 0.1", "cycle_s = -0.1"));
-  EXPECT_EQ(0u, e.find("p.toml:" + std::to_string(line) + ":11: 'simulation.cycle_s' = -0.1 "
+  EXPECT_EQ(0u, e.find("p.toml:" + std::to_string(line) +
+                       ":11: 'simulation.cycle_s' = -0.1 "
                        "is out of range"))
       << e;
 }
@@ -114,8 +113,7 @@ TEST(Params, OutOfRangeValueCarriesLineAndColumn) {
 TEST(Params, IntegerKeyRejectsAFloat) {
   const int line = line_of("substeps = 10");
   const std::string e = params_error_of(edited("substeps = 10", "substeps = 10.5"));
-  EXPECT_EQ("p.toml:" + std::to_string(line) + ":12: 'simulation.substeps' must be an integer",
-            e);
+  EXPECT_EQ("p.toml:" + std::to_string(line) + ":12: 'simulation.substeps' must be an integer", e);
 }
 
 TEST(Params, NonNumberIsAnError) {

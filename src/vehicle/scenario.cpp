@@ -41,8 +41,7 @@ std::optional<double> Scenario::link_lost_at() const {
 namespace {
 
 std::optional<FaultKind> kind_from(std::string_view s) {
-  for (FaultKind k : {FaultKind::WeakThrusters, FaultKind::Leak, FaultKind::SensorDropout,
-                      FaultKind::LinkLoss}) {
+  for (FaultKind k : {FaultKind::WeakThrusters, FaultKind::Leak, FaultKind::SensorDropout, FaultKind::LinkLoss}) {
     if (to_string(k) == s) return k;
   }
   return std::nullopt;
@@ -59,14 +58,13 @@ bool allowed_key(FaultKind kind, std::string_view key) {
   return false;
 }
 
-core::Result<double> non_negative(std::string_view path, const toml::node& node,
-                                  std::string_view what, bool allow_zero) {
+core::Result<double> non_negative(std::string_view path, const toml::node& node, std::string_view what,
+                                  bool allow_zero) {
   auto v = core::toml_number_at(path, node, what);
   if (!v) return v;
   const double x = v.value();
   if (!std::isfinite(x) || x < 0.0 || (!allow_zero && x == 0.0)) {
-    return core::toml_error_at(path, node.source(),
-                            fmt::format("'{}' must be {}", what, allow_zero ? ">= 0" : "> 0"));
+    return core::toml_error_at(path, node.source(), fmt::format("'{}' must be {}", what, allow_zero ? ">= 0" : "> 0"));
   }
   return x;
 }
@@ -79,17 +77,16 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
   const auto kind = kind_from(*kind_text);
   if (!kind) {
     return core::toml_error_at(path, kind_node->source(),
-                            fmt::format("unknown fault kind '{}' (expected weak_thrusters, leak, "
-                                        "sensor_dropout or link_loss)",
-                                        *kind_text));
+                               fmt::format("unknown fault kind '{}' (expected weak_thrusters, leak, "
+                                           "sensor_dropout or link_loss)",
+                                           *kind_text));
   }
   Fault f;
   f.kind = *kind;
   for (auto&& [key, node] : t) {
     const std::string_view k = key.str();
     if (k == "kind" || k == "at_s" || allowed_key(*kind, k)) continue;
-    return core::toml_error_at(path, key.source(),
-                            fmt::format("unknown key '{}' for a {} fault", k, *kind_text));
+    return core::toml_error_at(path, key.source(), fmt::format("unknown key '{}' for a {} fault", k, *kind_text));
   }
 
   const toml::node* at = t.get("at_s");
@@ -119,20 +116,18 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
       const toml::node* forever = t.get("forever");
       if (forever != nullptr) {
         if (!forever->is_boolean() || !*forever->value<bool>()) {
-          return core::toml_error_at(path, forever->source(),
-                                  "'forever' must be true (omit it for a limited loss)");
+          return core::toml_error_at(path, forever->source(), "'forever' must be true (omit it for a limited loss)");
         }
         if (d != nullptr) {
-          return core::toml_error_at(path, d->source(),
-                                  "give either 'duration_s' or 'forever = true', not both");
+          return core::toml_error_at(path, d->source(), "give either 'duration_s' or 'forever = true', not both");
         }
         break;
       }
       if (d == nullptr) {
         return core::toml_error_at(path, t.source(),
-                                f.kind == FaultKind::LinkLoss
-                                    ? "link_loss fault needs 'duration_s' or 'forever = true'"
-                                    : "sensor_dropout fault without 'duration_s'");
+                                   f.kind == FaultKind::LinkLoss
+                                       ? "link_loss fault needs 'duration_s' or 'forever = true'"
+                                       : "sensor_dropout fault without 'duration_s'");
       }
       auto dur = non_negative(path, *d, "duration_s", false);
       if (!dur) return dur.error();
@@ -145,8 +140,7 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
 
 // The table under `name` (nullptr if absent); an error if it is not a table or
 // has a key outside `keys`.
-core::Result<const toml::table*> optional_table(std::string_view path, const toml::table& root,
-                                                std::string_view name,
+core::Result<const toml::table*> optional_table(std::string_view path, const toml::table& root, std::string_view name,
                                                 std::initializer_list<std::string_view> keys) {
   const toml::node* node = root.get(name);
   if (node == nullptr) return static_cast<const toml::table*>(nullptr);
@@ -156,8 +150,7 @@ core::Result<const toml::table*> optional_table(std::string_view path, const tom
   }
   for (auto&& [key, value] : *t) {
     if (std::find(keys.begin(), keys.end(), key.str()) == keys.end()) {
-      return core::toml_error_at(path, key.source(),
-                              fmt::format("unknown key '{}' in [{}]", key.str(), name));
+      return core::toml_error_at(path, key.source(), fmt::format("unknown key '{}' in [{}]", key.str(), name));
     }
   }
   return t;
@@ -194,8 +187,8 @@ core::Result<void> parse_target(std::string_view path, const toml::table& root, 
   if (t.value() == nullptr) return {};
   const toml::table& v = *t.value();
   Target target;
-  for (auto [key, out] : {std::pair{"x_m", &target.x_m}, std::pair{"y_m", &target.y_m},
-                          std::pair{"radius_m", &target.radius_m}}) {
+  for (auto [key, out] :
+       {std::pair{"x_m", &target.x_m}, std::pair{"y_m", &target.y_m}, std::pair{"radius_m", &target.radius_m}}) {
     const toml::node* n = v.get(key);
     if (n == nullptr) {
       return core::toml_error_at(path, v.source(), fmt::format("target without '{}'", key));
@@ -234,8 +227,7 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
   if (const toml::node* faults = root.get("fault")) {
     const toml::array* arr = faults->as_array();
     if (arr == nullptr || (!arr->empty() && !arr->is_array_of_tables())) {
-      return core::toml_error_at(path, faults->source(),
-                              "'fault' must be an array of tables ([[fault]])");
+      return core::toml_error_at(path, faults->source(), "'fault' must be an array of tables ([[fault]])");
     }
     for (const toml::node& n : *arr) {
       auto f = parse_fault(path, *n.as_table());

@@ -52,9 +52,9 @@ std::string_view to_string(FaultKind kind);
 
 struct Fault {
   FaultKind kind = FaultKind::Leak;
-  double at_s = 0.0;                     // simulation time the fault starts
-  double health = 1.0;                   // WeakThrusters only: fraction of nominal thrust
-  std::optional<double> duration_s;      // SensorDropout (always set), LinkLoss (unset = forever)
+  double at_s = 0.0;                 // simulation time the fault starts
+  double health = 1.0;               // WeakThrusters only: fraction of nominal thrust
+  std::optional<double> duration_s;  // SensorDropout (always set), LinkLoss (unset = forever)
 
   bool operator==(const Fault&) const = default;
 };
@@ -71,10 +71,10 @@ struct Target {
 struct Scenario {
   std::uint64_t seed = 1;
   std::string description;
-  std::vector<Fault> faults;  // in file order
+  std::vector<Fault> faults;          // in file order
   std::optional<double> vehicle_x_m;  // unset: the tank's centre
   std::optional<double> vehicle_y_m;
-  double vehicle_heading_deg = 0.0;   // compass, [0, 360)
+  double vehicle_heading_deg = 0.0;  // compass, [0, 360)
   std::optional<Target> target;
 
   // No faults.

@@ -36,8 +36,7 @@ TEST(Scenario, EveryShippedScenarioParses) {
     }
   }
   std::sort(names.begin(), names.end());
-  const std::vector<std::string> expected = {"leak_phase2.toml", "leak_phase3.toml",
-                                             "link_loss.toml", "nominal.toml",
+  const std::vector<std::string> expected = {"leak_phase2.toml", "leak_phase3.toml", "link_loss.toml", "nominal.toml",
                                              "weak_thrusters.toml"};
   EXPECT_EQ(expected, names);
 }
@@ -109,9 +108,10 @@ TEST(Scenario, LinkLossWindows) {
 }
 
 TEST(Scenario, UnknownKindCarriesLineAndColumn) {
-  EXPECT_EQ("s.toml:3:8: unknown fault kind 'flood' (expected weak_thrusters, leak, "
-            "sensor_dropout or link_loss)",
-            error_of("seed = 1\n[[fault]]\nkind = \"flood\"\nat_s = 1\n"));
+  EXPECT_EQ(
+      "s.toml:3:8: unknown fault kind 'flood' (expected weak_thrusters, leak, "
+      "sensor_dropout or link_loss)",
+      error_of("seed = 1\n[[fault]]\nkind = \"flood\"\nat_s = 1\n"));
 }
 
 TEST(Scenario, UnknownKeyCarriesLineAndColumn) {
@@ -121,8 +121,7 @@ TEST(Scenario, UnknownKeyCarriesLineAndColumn) {
 }
 
 TEST(Scenario, FieldErrorsCarryLineAndColumn) {
-  EXPECT_EQ("s.toml:4:8: 'at_s' must be >= 0",
-            error_of("seed = 1\n[[fault]]\nkind = \"leak\"\nat_s = -1\n"));
+  EXPECT_EQ("s.toml:4:8: 'at_s' must be >= 0", error_of("seed = 1\n[[fault]]\nkind = \"leak\"\nat_s = -1\n"));
   EXPECT_EQ("s.toml:5:10: 'health' must be in [0, 1]",
             error_of("seed = 1\n[[fault]]\nkind = \"weak_thrusters\"\nat_s = 0\nhealth = 2\n"));
   EXPECT_EQ("s.toml:1:8: 'seed' must be an integer >= 0", error_of("seed = -3\n"));
@@ -137,9 +136,8 @@ TEST(Scenario, FieldErrorsCarryLineAndColumn) {
 TEST(Scenario, MissingFieldsAreErrors) {
   EXPECT_EQ("s.toml: missing 'seed'", error_of("description = \"x\"\n"));
   EXPECT_EQ(0u, error_of("seed = 1\n[[fault]]\nkind = \"leak\"\n").find("s.toml:2:"));
-  EXPECT_NE(std::string::npos,
-            error_of("seed = 1\n[[fault]]\nkind = \"link_loss\"\nat_s = 1\n")
-                .find("link_loss fault needs 'duration_s' or 'forever = true'"));
+  EXPECT_NE(std::string::npos, error_of("seed = 1\n[[fault]]\nkind = \"link_loss\"\nat_s = 1\n")
+                                   .find("link_loss fault needs 'duration_s' or 'forever = true'"));
 }
 
 TEST(Scenario, VehiclePoseAndTargetAreOptional) {
@@ -149,9 +147,10 @@ TEST(Scenario, VehiclePoseAndTargetAreOptional) {
   EXPECT_EQ(0.0, plain.vehicle_heading_deg);
   EXPECT_FALSE(plain.target.has_value());
 
-  auto s = parse_scenario("seed = 2\n[vehicle]\nx_m = 3\ny_m = 2.5\nheading_deg = 270\n"
-                          "[target]\nx_m = 9.0\ny_m = 6\nradius_m = 0.25\n",
-                          "s.toml");
+  auto s = parse_scenario(
+      "seed = 2\n[vehicle]\nx_m = 3\ny_m = 2.5\nheading_deg = 270\n"
+      "[target]\nx_m = 9.0\ny_m = 6\nradius_m = 0.25\n",
+      "s.toml");
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_EQ(3.0, s.value().vehicle_x_m);
   EXPECT_EQ(2.5, s.value().vehicle_y_m);
@@ -165,25 +164,19 @@ TEST(Scenario, VehiclePoseAndTargetAreOptional) {
 }
 
 TEST(Scenario, VehicleAndTargetErrorsCarryLineAndColumn) {
-  EXPECT_EQ("s.toml:3:1: unknown key 'z_m' in [vehicle]",
-            error_of("seed = 1\n[vehicle]\nz_m = 1\n"));
+  EXPECT_EQ("s.toml:3:1: unknown key 'z_m' in [vehicle]", error_of("seed = 1\n[vehicle]\nz_m = 1\n"));
   EXPECT_EQ("s.toml:3:15: 'vehicle.heading_deg' must be in [0, 360)",
             error_of("seed = 1\n[vehicle]\nheading_deg = 360\n"));
   EXPECT_EQ("s.toml:3:7: 'vehicle.x_m' must be >= 0", error_of("seed = 1\n[vehicle]\nx_m = -1\n"));
-  EXPECT_EQ("s.toml:3:7: 'vehicle.y_m' must be a number",
-            error_of("seed = 1\n[vehicle]\ny_m = \"centre\"\n"));
+  EXPECT_EQ("s.toml:3:7: 'vehicle.y_m' must be a number", error_of("seed = 1\n[vehicle]\ny_m = \"centre\"\n"));
   EXPECT_EQ("s.toml:2:11: 'vehicle' must be a table", error_of("seed = 1\nvehicle = 3\n"));
   EXPECT_EQ("s.toml:5:12: 'target.radius_m' must be > 0",
             error_of("seed = 1\n[target]\nx_m = 1\ny_m = 1\nradius_m = 0\n"));
-  EXPECT_EQ(0u, error_of("seed = 1\n[target]\nx_m = 1\ny_m = 1\n")
-                    .find("s.toml:2:1: target without 'radius_m'"));
-  EXPECT_EQ("s.toml:3:1: unknown key 'r' in [target]",
-            error_of("seed = 1\n[target]\nr = 1\n"));
+  EXPECT_EQ(0u, error_of("seed = 1\n[target]\nx_m = 1\ny_m = 1\n").find("s.toml:2:1: target without 'radius_m'"));
+  EXPECT_EQ("s.toml:3:1: unknown key 'r' in [target]", error_of("seed = 1\n[target]\nr = 1\n"));
 }
 
-TEST(Scenario, SyntaxErrorCarriesLineAndColumn) {
-  EXPECT_EQ(0u, error_of("seed = 1\n[[fault]\n").find("s.toml:2:"));
-}
+TEST(Scenario, SyntaxErrorCarriesLineAndColumn) { EXPECT_EQ(0u, error_of("seed = 1\n[[fault]\n").find("s.toml:2:")); }
 
 }  // namespace
 }  // namespace strata::vehicle

@@ -31,8 +31,13 @@ protocol::LineConnectionOptions controller_options() {
 }  // namespace
 
 VehicleServer::VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options)
-    : io_(io), sim_(sim), options_(std::move(options)), acceptor_(io), tick_timer_(io),
-      silence_timer_(io), hello_timer_(io) {}
+    : io_(io),
+      sim_(sim),
+      options_(std::move(options)),
+      acceptor_(io),
+      tick_timer_(io),
+      silence_timer_(io),
+      hello_timer_(io) {}
 
 VehicleServer::~VehicleServer() { stop(); }
 
@@ -43,15 +48,16 @@ void VehicleServer::log(const std::string& line) {
 core::Result<void> VehicleServer::start() {
   asio::error_code ec;
   auto address = asio::ip::make_address(options_.address, ec);
-  if (ec) return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not an IP address", options_.address));
+  if (ec)
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not an IP address", options_.address));
   asio::ip::tcp::endpoint endpoint(address, options_.port);
   acceptor_.open(endpoint.protocol(), ec);
   if (!ec) acceptor_.set_option(asio::ip::tcp::acceptor::reuse_address(true), ec);
   if (!ec) acceptor_.bind(endpoint, ec);
   if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("cannot listen on {}:{}: {}",
-                                                             options_.address, options_.port, ec.message()));
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("cannot listen on {}:{}: {}", options_.address, options_.port, ec.message()));
   }
   port_ = acceptor_.local_endpoint().port();
   if (options_.sonar) {
@@ -165,18 +171,16 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
       telemetry_.set_rate(r.rate_hz, sim_.time_s());
       send(protocol::Ok{r.id});
       return;
-    case Verb::Ping:
-      send(protocol::Pong{r.id, wire_time(sim_.time_s())});
-      return;
+    case Verb::Ping: send(protocol::Pong{r.id, wire_time(sim_.time_s())}); return;
     case Verb::Bye:
       send(protocol::Ok{r.id});
       c.close_when_written("bye");
       return;
     case Verb::Advance:
       if (session_version_ < 2) {
-        send(protocol::Err{r.id, ErrorCode::UnknownVerb,
-                           fmt::format("'advance' is protocol 2; this session speaks {} (say hello ID NAME 2)",
-                                       session_version_)});
+        send(protocol::Err{
+            r.id, ErrorCode::UnknownVerb,
+            fmt::format("'advance' is protocol 2; this session speaks {} (say hello ID NAME 2)", session_version_)});
         return;
       }
       // On the wall clock time moves by itself: nothing to do.
@@ -186,9 +190,7 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
       }
       advance(r.id);
       return;
-    default:
-      on_call(r);
-      return;
+    default: on_call(r); return;
   }
 }
 
@@ -226,8 +228,7 @@ void VehicleServer::on_call(const protocol::Request& r) {
   if (running_alone_) {
     // The watchdog has the vehicle; stepping for a client too would make the
     // run depend on how the two interleave.
-    send(protocol::Err{r.id, ErrorCode::NotReady,
-                       "the watchdog tripped: the vehicle is surfacing on its own"});
+    send(protocol::Err{r.id, ErrorCode::NotReady, "the watchdog tripped: the vehicle is surfacing on its own"});
     return;
   }
   if (in_flight(r.id)) {
@@ -247,8 +248,8 @@ void VehicleServer::on_call(const protocol::Request& r) {
   }
   if (options_.clock == protocol::ClockMode::Lockstep) {
     // A request costs at least one cycle; sleep costs its duration.
-    const auto cycles = std::max<std::uint64_t>(
-        1, static_cast<std::uint64_t>(std::llround(out.sleep_s / sim_.params().cycle_s)));
+    const auto cycles =
+        std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(out.sleep_s / sim_.params().cycle_s)));
     waiting_.push_back(Waiting{r, out.value, sim_.cycle() + cycles});
     // Protocol 1 has no advance: the request moves time itself, alone.
     if (session_version_ < 2) advance(std::nullopt);

@@ -66,7 +66,7 @@ struct ServerOptions {
   std::string address = "127.0.0.1";
   std::uint16_t port = 0;  // 0: a free port, see VehicleServer::port()
   protocol::ClockMode clock = protocol::ClockMode::Lockstep;
-  double speed = 1.0;       // wall clock: simulated seconds per wall second
+  double speed = 1.0;  // wall clock: simulated seconds per wall second
   std::string vehicle_name = "phoenix-sim";
   // Where the vehicle's own log lines go ("12.3 s: watchdog: ..."), and
   // every line received and sent when trace is on.

@@ -99,9 +99,7 @@ void VehicleServer::flush_events() {
   }
 }
 
-void VehicleServer::reply_later(protocol::RequestId id, double until_s) {
-  deferred_.push_back({id, until_s});
-}
+void VehicleServer::reply_later(protocol::RequestId id, double until_s) { deferred_.push_back({id, until_s}); }
 
 void VehicleServer::tick() {
   auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(

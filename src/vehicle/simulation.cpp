@@ -22,9 +22,7 @@ std::string_view to_string(ControlMode mode) {
 
 namespace {
 
-core::Error refused(std::string message) {
-  return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
-}
+core::Error refused(std::string message) { return core::make_error(core::ErrorCode::InvalidInput, std::move(message)); }
 
 }  // namespace
 
@@ -46,13 +44,13 @@ void Simulation::place_vehicle() {
   x_m_ = std::clamp(want_x, 0.0, params_.tank_length_x_m);
   y_m_ = std::clamp(want_y, 0.0, params_.tank_width_y_m);
   if (x_m_ != want_x || y_m_ != want_y) {
-    event(fmt::format("scenario: vehicle at ({}, {}) m is outside the {} x {} m tank: placed at "
-                      "({}, {}) m",
-                      want_x, want_y, params_.tank_length_x_m, params_.tank_width_y_m, x_m_, y_m_));
+    event(
+        fmt::format("scenario: vehicle at ({}, {}) m is outside the {} x {} m tank: placed at "
+                    "({}, {}) m",
+                    want_x, want_y, params_.tank_length_x_m, params_.tank_width_y_m, x_m_, y_m_));
   }
   yaw_.heading_deg = wrap_heading_deg(scenario_.vehicle_heading_deg);
-  if (const auto& t = scenario_.target;
-      t && std::hypot(x_m_ - t->x_m, y_m_ - t->y_m) <= t->radius_m) {
+  if (const auto& t = scenario_.target; t && std::hypot(x_m_ - t->x_m, y_m_ - t->y_m) <= t->radius_m) {
     event("scenario: the vehicle is inside the target: the sonar cannot see it");
   }
 }
@@ -79,8 +77,7 @@ core::Result<void> Simulation::shutdown_network() {
 core::Result<void> Simulation::set_setpoint(double depth_m, double timeout_s) {
   if (auto r = require_network(); !r) return r;
   if (!std::isfinite(depth_m) || depth_m < 0.0 || depth_m > params_.tank_depth_m) {
-    return refused(fmt::format("setpoint depth {} m outside the tank (0 to {} m)", depth_m,
-                               params_.tank_depth_m));
+    return refused(fmt::format("setpoint depth {} m outside the tank (0 to {} m)", depth_m, params_.tank_depth_m));
   }
   if (!std::isfinite(timeout_s) || timeout_s <= 0.0) {
     return refused(fmt::format("setpoint timeout {} s must be positive", timeout_s));
@@ -161,14 +158,11 @@ bool Simulation::depth_reached() const {
 
 bool Simulation::heading_reached() const {
   if (!heading_target_deg_) return false;
-  return std::abs(heading_error_deg(yaw_.heading_deg, *heading_target_deg_)) <
-             params_.heading_tolerance_deg &&
+  return std::abs(heading_error_deg(yaw_.heading_deg, *heading_target_deg_)) < params_.heading_tolerance_deg &&
          std::abs(yaw_.rate_dps) < params_.heading_settle_dps;
 }
 
-bool Simulation::time_out() const {
-  return timer_ && time_reached(time_s(), timer_->start_s + timer_->timeout_s);
-}
+bool Simulation::time_out() const { return timer_ && time_reached(time_s(), timer_->start_s + timer_->timeout_s); }
 
 bool Simulation::surface_reached() const {
   const auto z = depth_estimate();
@@ -186,8 +180,7 @@ double Simulation::control() const {
     case ControlMode::Idle: return 0.0;
     case ControlMode::Depth:
       if (!filter_.ready() || !active_setpoint_m_) return 0.0;
-      return sliding_mode_thrust(params_, filter_.depth_m(), filter_.rate_mps(),
-                                 *active_setpoint_m_);
+      return sliding_mode_thrust(params_, filter_.depth_m(), filter_.rate_mps(), *active_setpoint_m_);
     case ControlMode::Surface: return surface_thrust(params_, depth_estimate());
   }
   return 0.0;
@@ -197,8 +190,8 @@ void Simulation::step() {
   thrust_cmd_n_ = control();
   // The Execution level's own model of its thrusters: the lag, at nominal
   // strength (it cannot know they are weak).
-  thrust_model_n_ += (thrust_cmd_n_ - thrust_model_n_) *
-                     (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
+  thrust_model_n_ +=
+      (thrust_cmd_n_ - thrust_model_n_) * (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
   const double limit = params_.max_total_thrust_n() * faults_.thrust_health;
   const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, heave_);
   advance_yaw_and_sonar();
@@ -216,15 +209,12 @@ void Simulation::step() {
 // cycle already; the sonar does not depend on depth.)
 void Simulation::advance_yaw_and_sonar() {
   moment_cmd_nm_ =
-      heading_target_deg_
-          ? heading_moment(params_, yaw_.heading_deg, yaw_.rate_dps, *heading_target_deg_)
-          : 0.0;
+      heading_target_deg_ ? heading_moment(params_, yaw_.heading_deg, yaw_.rate_dps, *heading_target_deg_) : 0.0;
   const double limit = params_.max_yaw_moment_nm() * faults_.thrust_health;
   const double h = params_.cycle_s / params_.substeps;
   for (int i = 1; i <= params_.substeps; ++i) {
     advance_yaw(params_, moment_cmd_nm_, limit, h, yaw_);
-    const double t = (static_cast<double>(cycle_) + static_cast<double>(i) / params_.substeps) *
-                     params_.cycle_s;
+    const double t = (static_cast<double>(cycle_) + static_cast<double>(i) / params_.substeps) * params_.cycle_s;
     sonar_.substep(t, pose());
   }
 }
@@ -245,8 +235,7 @@ void Simulation::apply_faults() {
     switch (f.kind) {
       case FaultKind::WeakThrusters:
         faults_.thrust_health = f.health;
-        event(fmt::format("fault: thrusters weakened to {:.0f}% of nominal thrust",
-                          100.0 * f.health));
+        event(fmt::format("fault: thrusters weakened to {:.0f}% of nominal thrust", 100.0 * f.health));
         break;
       case FaultKind::Leak:
         faults_.leak = true;
@@ -284,8 +273,7 @@ void Simulation::sense() {
 double Simulation::expected_accel_mps2() const {
   if (!filter_.ready()) return 0.0;
   const double w = filter_.rate_mps();
-  return (thrust_model_n_ - params_.buoyancy_n - params_.drag_coeff * w * std::abs(w)) /
-         params_.total_mass_kg();
+  return (thrust_model_n_ - params_.buoyancy_n - params_.drag_coeff * w * std::abs(w)) / params_.total_mass_kg();
 }
 
 void Simulation::event(std::string text) { events_.push_back({time_s(), std::move(text)}); }

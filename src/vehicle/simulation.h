@@ -90,18 +90,18 @@ struct FaultState {
 
 struct Telemetry {
   double time_s = 0.0;
-  double depth_m = 0.0;                     // true depth
-  double w_mps = 0.0;                       // true heave rate
-  std::optional<double> measured_depth_m;   // last depth cell reading (none in a dropout)
-  std::optional<double> filtered_depth_m;   // filter output (none while off or not ready)
-  std::optional<double> rate_mps;           // filtered depth rate
-  double thrust_n = 0.0;                    // actual total thrust
-  double thrust_cmd_n = 0.0;                // commanded total thrust
-  std::optional<double> setpoint_m;         // the depth the controller drives to (0 when surfacing)
-  double heading_deg = 0.0;                 // true compass heading, [0, 360)
-  double yaw_rate_dps = 0.0;                // true yaw rate, clockwise positive
-  double yaw_moment_nm = 0.0;               // actual moment of the transverse thrusters
-  double yaw_moment_cmd_nm = 0.0;           // commanded moment
+  double depth_m = 0.0;                        // true depth
+  double w_mps = 0.0;                          // true heave rate
+  std::optional<double> measured_depth_m;      // last depth cell reading (none in a dropout)
+  std::optional<double> filtered_depth_m;      // filter output (none while off or not ready)
+  std::optional<double> rate_mps;              // filtered depth rate
+  double thrust_n = 0.0;                       // actual total thrust
+  double thrust_cmd_n = 0.0;                   // commanded total thrust
+  std::optional<double> setpoint_m;            // the depth the controller drives to (0 when surfacing)
+  double heading_deg = 0.0;                    // true compass heading, [0, 360)
+  double yaw_rate_dps = 0.0;                   // true yaw rate, clockwise positive
+  double yaw_moment_nm = 0.0;                  // actual moment of the transverse thrusters
+  double yaw_moment_cmd_nm = 0.0;              // commanded moment
   std::optional<double> heading_setpoint_deg;  // the heading law's target (none: idle)
   bool sonar_on = false;
   bool filter_on = false;

@@ -109,17 +109,23 @@ TEST(Simulation, FilteredDiveToTwoMetresReachesItsSetpointWithoutMuchOvershoot) 
     ASSERT_TRUE(sim.set_setpoint(2.0, 60.0).ok());
     ASSERT_TRUE(sim.submerge().ok());
     double max_depth = 0.0;
-    const double t = run_until(sim, [&] {
-      max_depth = std::max(max_depth, sim.heave().depth_m);
-      return sim.depth_reached();
-    }, 16.0);
+    const double t = run_until(
+        sim,
+        [&] {
+          max_depth = std::max(max_depth, sim.heave().depth_m);
+          return sim.depth_reached();
+        },
+        16.0);
     EXPECT_GT(t, 10.0);  // no faster than physics allows
     EXPECT_LT(0.0, t) << "not reached within 16 s";
     // Keep holding for a while: the overshoot and the hold stay small.
-    (void)run_until(sim, [&] {
-      max_depth = std::max(max_depth, sim.heave().depth_m);
-      return false;
-    }, 20.0);
+    (void)run_until(
+        sim,
+        [&] {
+          max_depth = std::max(max_depth, sim.heave().depth_m);
+          return false;
+        },
+        20.0);
     EXPECT_LT(max_depth, 2.0 + 0.2);
     EXPECT_NEAR(2.0, sim.heave().depth_m, 0.1);
     EXPECT_EQ(2.0, sim.telemetry().setpoint_m);
@@ -134,10 +140,13 @@ TEST(Simulation, WeakThrustersCannotReachPointSixMetresInThirtySeconds) {
   ASSERT_TRUE(sim.submerge().ok());
   ASSERT_TRUE(sim.start_timer().ok());
   double max_depth = 0.0;
-  const double t = run_until(sim, [&] {
-    max_depth = std::max(max_depth, sim.heave().depth_m);
-    return sim.depth_reached() || sim.time_out();
-  }, 31.0);
+  const double t = run_until(
+      sim,
+      [&] {
+        max_depth = std::max(max_depth, sim.heave().depth_m);
+        return sim.depth_reached() || sim.time_out();
+      },
+      31.0);
   EXPECT_NEAR(30.0, t, 1e-9);
   EXPECT_TRUE(sim.time_out());
   EXPECT_FALSE(sim.depth_reached());
@@ -152,12 +161,14 @@ TEST(Simulation, SurfaceBringsTheVehicleBackInBoundedTime) {
   get_ready(sim);
   ASSERT_TRUE(sim.set_setpoint(2.0, 60.0).ok());
   ASSERT_TRUE(sim.submerge().ok());
-  ASSERT_LT(0.0, run_until(sim, [&] { return sim.depth_reached(); }, 20.0));
+  ASSERT_LT(0.0, run_until(
+                     sim, [&] { return sim.depth_reached(); }, 20.0));
   ASSERT_FALSE(sim.surface_reached());
   ASSERT_TRUE(sim.surface().ok());
   EXPECT_EQ(ControlMode::Surface, sim.telemetry().mode);
   EXPECT_EQ(0.0, sim.telemetry().setpoint_m);
-  const double t = run_until(sim, [&] { return sim.surface_reached(); }, 12.0);
+  const double t = run_until(
+      sim, [&] { return sim.surface_reached(); }, 12.0);
   EXPECT_GT(t, 6.0);
   EXPECT_LT(0.0, t) << "not at the surface within 12 s";
   EXPECT_FALSE(sim.depth_reached());
@@ -173,14 +184,16 @@ TEST(Simulation, ALoadedSetpointWaitsForSubmerge) {
   get_ready(sim);
   ASSERT_TRUE(sim.set_setpoint(0.6, 30.0).ok());
   ASSERT_TRUE(sim.submerge().ok());
-  ASSERT_LT(0.0, run_until(sim, [&] { return sim.depth_reached(); }, 20.0));
+  ASSERT_LT(0.0, run_until(
+                     sim, [&] { return sim.depth_reached(); }, 20.0));
   ASSERT_TRUE(sim.set_setpoint(1.5, 45.0).ok());
   sim.advance(5.0);
   EXPECT_NEAR(0.6, sim.heave().depth_m, 0.1);
   EXPECT_TRUE(sim.depth_reached());
   ASSERT_TRUE(sim.submerge().ok());
   EXPECT_FALSE(sim.depth_reached());
-  EXPECT_LT(0.0, run_until(sim, [&] { return sim.depth_reached(); }, 20.0));
+  EXPECT_LT(0.0, run_until(
+                     sim, [&] { return sim.depth_reached(); }, 20.0));
   EXPECT_NEAR(1.5, sim.heave().depth_m, 0.1);
 }
 
@@ -227,9 +240,9 @@ TEST(Simulation, AWatchdogTripSurfacesTheVehicle) {
   sim.watchdog_trip("again");  // recorded once
   EXPECT_TRUE(sim.watchdog_tripped());
   EXPECT_EQ(ControlMode::Surface, sim.telemetry().mode);
-  EXPECT_EQ((std::vector<Event>{{trip_s, "watchdog: link silent for 3.0 s: surfacing"}}),
-            sim.events());
-  EXPECT_LT(0.0, run_until(sim, [&] { return sim.surface_reached(); }, 12.0));
+  EXPECT_EQ((std::vector<Event>{{trip_s, "watchdog: link silent for 3.0 s: surfacing"}}), sim.events());
+  EXPECT_LT(0.0, run_until(
+                     sim, [&] { return sim.surface_reached(); }, 12.0));
   // No diving again until the network is restarted.
   auto r = sim.submerge();
   ASSERT_FALSE(r.ok());
@@ -254,7 +267,8 @@ TEST(Simulation, ShutdownStopsTheThrustersAndTheVehicleFloatsUp) {
   EXPECT_FALSE(sim.telemetry().setpoint_m.has_value());
   EXPECT_FALSE(sim.depth_reached());
   // 5 N of buoyancy: about 0.1 m/s up.
-  EXPECT_LT(0.0, run_until(sim, [&] { return sim.heave().depth_m == 0.0; }, 30.0));
+  EXPECT_LT(0.0, run_until(
+                     sim, [&] { return sim.heave().depth_m == 0.0; }, 30.0));
 }
 
 // While the depth cell is silent the filter only predicts, with the heave
@@ -279,22 +293,21 @@ TEST(Simulation, ASensorDropoutLeavesTheFilterPredicting) {
     EXPECT_FALSE(sim.telemetry().measured_depth_m.has_value());
     worst = std::max(worst, std::abs(sim.heave().depth_m - *sim.telemetry().filtered_depth_m));
   }
-  EXPECT_LT(worst, 0.05);  // a plain alpha-beta filter drifts ~0.14 m here
+  EXPECT_LT(worst, 0.05);              // a plain alpha-beta filter drifts ~0.14 m here
   EXPECT_GT(sim.heave().w_mps, 0.15);  // still diving
   sim.step();
   t = sim.telemetry();
   EXPECT_FALSE(t.faults.sensor_dropout);
   EXPECT_TRUE(t.measured_depth_m.has_value());
-  EXPECT_EQ((std::vector<std::string>{"fault: depth cell dropout for 2.0 s",
-                                      "fault: depth cell readings back"}),
+  EXPECT_EQ((std::vector<std::string>{"fault: depth cell dropout for 2.0 s", "fault: depth cell readings back"}),
             texts(sim.events()));
-  EXPECT_LT(0.0, run_until(sim, [&] { return sim.depth_reached(); }, 20.0));
+  EXPECT_LT(0.0, run_until(
+                     sim, [&] { return sim.depth_reached(); }, 20.0));
 }
 
 TEST(Simulation, LinkLossIsReportedNotActedOn) {
   Simulation sim(default_params(),
-                 with(1, {{FaultKind::LinkLoss, 3.0, 1.0, 2.0},
-                          {FaultKind::LinkLoss, 8.0, 1.0, std::nullopt}}));
+                 with(1, {{FaultKind::LinkLoss, 3.0, 1.0, 2.0}, {FaultKind::LinkLoss, 8.0, 1.0, std::nullopt}}));
   EXPECT_EQ(3.0, sim.link_lost_at());
   sim.advance(2.9);
   EXPECT_FALSE(sim.link_lost());
@@ -306,9 +319,9 @@ TEST(Simulation, LinkLossIsReportedNotActedOn) {
   sim.advance(3.0);
   EXPECT_TRUE(sim.link_lost());
   EXPECT_FALSE(sim.watchdog_tripped());
-  EXPECT_EQ((std::vector<std::string>{"fault: link lost for 2.0 s", "fault: link restored",
-                                      "fault: link lost for good"}),
-            texts(sim.take_events()));
+  EXPECT_EQ(
+      (std::vector<std::string>{"fault: link lost for 2.0 s", "fault: link restored", "fault: link lost for good"}),
+      texts(sim.take_events()));
   EXPECT_TRUE(sim.events().empty());
 }
 
@@ -317,8 +330,7 @@ std::vector<Telemetry> scripted_run(std::uint64_t seed) {
   Simulation sim(default_params(), with(seed, {{FaultKind::SensorDropout, 4.0, 1.0, 1.0}}));
   std::vector<Telemetry> out;
   const auto record = [&](double seconds) {
-    for (std::uint64_t i = 0, n = static_cast<std::uint64_t>(std::lround(seconds * 10)); i < n;
-         ++i) {
+    for (std::uint64_t i = 0, n = static_cast<std::uint64_t>(std::lround(seconds * 10)); i < n; ++i) {
       sim.step();
       out.push_back(sim.telemetry());
     }

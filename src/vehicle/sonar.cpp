@@ -19,9 +19,7 @@ namespace {
 // half the width off it (-3 dB), 1/16 at the full width.
 constexpr int kRays = 13;
 
-double ray_offset_deg(const VehicleParams& p, int j) {
-  return (2.0 * j / (kRays - 1) - 1.0) * p.sonar_beam_width_deg;
-}
+double ray_offset_deg(const VehicleParams& p, int j) { return (2.0 * j / (kRays - 1) - 1.0) * p.sonar_beam_width_deg; }
 
 struct BeamPattern {
   double weight[kRays];
@@ -103,8 +101,7 @@ Sonar::Sonar(const VehicleParams& p, std::uint64_t seed, std::optional<Target> t
       rng_(sonar_seed(seed)),
       step_deg_(p.sonar_step_deg),
       max_step_(static_cast<int>(std::floor(p.sonar_sector_half_deg / p.sonar_step_deg + 1e-9))),
-      substeps_per_ping_(std::max(
-          1, static_cast<int>(std::lround(p.sonar_ping_period_s * p.substeps / p.cycle_s)))) {}
+      substeps_per_ping_(std::max(1, static_cast<int>(std::lround(p.sonar_ping_period_s * p.substeps / p.cycle_s)))) {}
 
 void Sonar::start() {
   if (on_) return;

@@ -94,8 +94,8 @@ class Sonar {
 
   // The pings made since the last call, oldest first.
   std::vector<protocol::SonarPing> take_pings();
-  std::uint32_t pings() const { return next_seq_; }  // made so far (the next seq)
-  std::uint64_t dropped() const { return dropped_; }   // lost to a full buffer
+  std::uint32_t pings() const { return next_seq_; }   // made so far (the next seq)
+  std::uint64_t dropped() const { return dropped_; }  // lost to a full buffer
   bool target_detected() const;
   // The head's bearing from the bow for the next ping, deg.
   double bearing_deg() const { return step_ * step_deg_; }
@@ -116,12 +116,12 @@ class Sonar {
   std::optional<Target> target_;
   std::mt19937_64 rng_;
   double step_deg_;
-  int max_step_;           // K
+  int max_step_;  // K
   int substeps_per_ping_;
   bool on_ = false;
-  int step_ = 0;           // the head's position, in steps from the bow
-  int direction_ = 1;      // +1: to starboard
-  int countdown_ = 1;      // sub-steps until the next ping
+  int step_ = 0;       // the head's position, in steps from the bow
+  int direction_ = 1;  // +1: to starboard
+  int countdown_ = 1;  // sub-steps until the next ping
   std::uint32_t next_seq_ = 0;
   std::uint64_t dropped_ = 0;
   std::deque<protocol::SonarPing> buffer_;

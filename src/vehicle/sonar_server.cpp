@@ -80,9 +80,8 @@ core::Result<void> SonarServer::start() {
   if (!ec) acceptor_.bind(endpoint, ec);
   if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) {
-    return core::Error{core::ErrorCode::Io,
-                       "sonar: cannot listen on " + options_.address + ":" + std::to_string(options_.port) + ": " +
-                           ec.message()};
+    return core::Error{core::ErrorCode::Io, "sonar: cannot listen on " + options_.address + ":" +
+                                                std::to_string(options_.port) + ": " + ec.message()};
   }
   port_ = acceptor_.local_endpoint().port();
   accept();
@@ -125,8 +124,8 @@ void SonarServer::status(double time_s, bool on) {
   // A copy: a reader that fails while being sent to leaves the list.
   auto readers = readers_;
   for (auto& r : readers) {
-    r->send(std::make_shared<const std::string>(
-                protocol::encode_sonar(protocol::SonarStatus{time_s, on, pings_, static_cast<std::uint32_t>(r->dropped())})),
+    r->send(std::make_shared<const std::string>(protocol::encode_sonar(
+                protocol::SonarStatus{time_s, on, pings_, static_cast<std::uint32_t>(r->dropped())})),
             false);
   }
 }

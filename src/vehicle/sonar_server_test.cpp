@@ -26,7 +26,9 @@ protocol::SonarPing ping(std::uint32_t seq) {
 // A blocking reader on its own io_context: connects, reads frames.
 class TestReader {
  public:
-  explicit TestReader(std::uint16_t port) : socket_(io_) { socket_.connect({asio::ip::make_address("127.0.0.1"), port}); }
+  explicit TestReader(std::uint16_t port) : socket_(io_) {
+    socket_.connect({asio::ip::make_address("127.0.0.1"), port});
+  }
   // Reads until n frames or end of stream (at most `limit` reads).
   std::vector<protocol::SonarFrame> read(std::size_t n, int limit = 100000) {
     std::vector<protocol::SonarFrame> out;

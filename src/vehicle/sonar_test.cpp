@@ -24,8 +24,7 @@ int strongest_in(const protocol::SonarPing& ping, int lo, int hi) {
   return *std::max_element(ping.bins.begin() + lo, ping.bins.begin() + hi + 1);
 }
 
-Scenario placed(double x_m, double y_m, double heading_deg, std::optional<Target> target,
-                std::uint64_t seed = 1) {
+Scenario placed(double x_m, double y_m, double heading_deg, std::optional<Target> target, std::uint64_t seed = 1) {
   Scenario s = Scenario::nominal(seed);
   s.vehicle_x_m = x_m;
   s.vehicle_y_m = y_m;
@@ -60,7 +59,7 @@ TEST(SonarGeometry, RaysMeetTheWallsAndTheCylinder) {
   EXPECT_FALSE(cylinder_hit(t, 6.0, 3.0, 180.0));  // behind
   EXPECT_FALSE(cylinder_hit(t, 6.0, 3.0, 15.0));   // beside: asin(0.5 / 3) = 9.6 deg
   EXPECT_TRUE(cylinder_hit(t, 6.0, 3.0, 9.0));
-  EXPECT_FALSE(cylinder_hit(t, 6.0, 5.8, 0.0));    // inside
+  EXPECT_FALSE(cylinder_hit(t, 6.0, 5.8, 0.0));  // inside
 }
 
 TEST(SonarGeometry, TheVehicleHoversWhereTheScenarioSaysOrAtTheCentre) {
@@ -75,8 +74,7 @@ TEST(SonarGeometry, TheVehicleHoversWhereTheScenarioSaysOrAtTheCentre) {
   Simulation out(kSonarP, placed(20.0, 3.0, 0.0, std::nullopt));
   EXPECT_EQ(12.0, out.pose().x_m);
   ASSERT_EQ(1u, out.events().size());
-  EXPECT_EQ("scenario: vehicle at (20, 3) m is outside the 12 x 8 m tank: placed at (12, 3) m",
-            out.events()[0].text);
+  EXPECT_EQ("scenario: vehicle at (20, 3) m is outside the 12 x 8 m tank: placed at (12, 3) m", out.events()[0].text);
 }
 
 TEST(SonarPings, TheWallAheadIsStrongestInItsBin) {
@@ -94,8 +92,8 @@ TEST(SonarPings, TheWallAheadIsStrongestInItsBin) {
   EXPECT_EQ(10.0f, p.range_m);
   ASSERT_EQ(200u, p.bins.size());
   EXPECT_NEAR(4.07 / kBin_m, strongest_bin(p), 1.0);
-  EXPECT_GT(p.bins[81], 150);  // 180 counts head on
-  EXPECT_LT(strongest_in(p, 0, 75), 90);   // water: noise only
+  EXPECT_GT(p.bins[81], 150);               // 180 counts head on
+  EXPECT_LT(strongest_in(p, 0, 75), 90);    // water: noise only
   EXPECT_LT(strongest_in(p, 87, 199), 90);  // beyond the wall: nothing
 }
 

@@ -101,9 +101,7 @@ class TankMissionDriver {
     }
     if (!p.completed) {
       (void)call([&] { return sim_.surface().ok(); });
-      for (int guard = 0; guard < 10000 && !call([&] { return sim_.surface_reached(); });
-           ++guard) {
-      }
+      for (int guard = 0; guard < 10000 && !call([&] { return sim_.surface_reached(); }); ++guard) {}
     }
     p.end_s = sim_.time_s();
     return p;

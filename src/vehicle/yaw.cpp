@@ -20,8 +20,7 @@ double heading_error_deg(double heading_deg, double target_deg) {
   return wrap_heading_deg(heading_deg - target_deg + 180.0) - 180.0;
 }
 
-void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s,
-                 YawState& s) {
+void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, YawState& s) {
   const double target = std::clamp(moment_cmd_nm, -moment_limit_nm, moment_limit_nm);
   const double lag = p.transverse_lag_s > 0.0 ? 1.0 - std::exp(-h_s / p.transverse_lag_s) : 1.0;
   s.moment_nm += (target - s.moment_nm) * lag;
@@ -31,8 +30,7 @@ void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_lim
   s.heading_deg = wrap_heading_deg(s.heading_deg + h_s * s.rate_dps);
 }
 
-double heading_moment(const VehicleParams& p, double heading_deg, double rate_dps,
-                      double target_deg) {
+double heading_moment(const VehicleParams& p, double heading_deg, double rate_dps, double target_deg) {
   const double r = rate_dps * kRadPerDeg;
   const double e = heading_error_deg(heading_deg, target_deg) * kRadPerDeg;
   // The rate the surface asks for, -lambda e, capped at the turn rate.

@@ -45,12 +45,10 @@ double heading_error_deg(double heading_deg, double target_deg);
 // Advances s by one integration sub-step of h_s (semi-implicit Euler; the lag
 // exactly). moment_cmd_nm is the law's command; moment_limit_nm (>= 0) is
 // what the thrusters can give now and clamps it.
-void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s,
-                 YawState& s);
+void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, YawState& s);
 
 // The heading law's moment command toward target_deg, clamped to the nominal
 // moment of both thrusters.
-double heading_moment(const VehicleParams& p, double heading_deg, double rate_dps,
-                      double target_deg);
+double heading_moment(const VehicleParams& p, double heading_deg, double rate_dps, double target_deg);
 
 }  // namespace strata::vehicle

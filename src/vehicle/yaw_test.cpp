@@ -26,8 +26,8 @@ struct Turn {
   double reached_s = -1.0;
   double overshoot_deg = 0.0;
   double max_rate_dps = 0.0;
-  double max_error_deg = 0.0;     // |error| over the whole run
-  bool stayed_reached = true;     // heading_reached() never lost once held
+  double max_error_deg = 0.0;  // |error| over the whole run
+  bool stayed_reached = true;  // heading_reached() never lost once held
 };
 
 Turn turn(double from, double to, double limit_s = 40.0) {
@@ -52,7 +52,7 @@ TEST(Heading, AnglesWrapToCompassDegrees) {
   EXPECT_EQ(0.0, wrap_heading_deg(360.0));
   EXPECT_EQ(350.0, wrap_heading_deg(-10.0));
   EXPECT_EQ(10.0, wrap_heading_deg(730.0));
-  EXPECT_EQ(0.0, wrap_heading_deg(-1e-17));  // not 360
+  EXPECT_EQ(0.0, wrap_heading_deg(-1e-17));          // not 360
   EXPECT_EQ(-20.0, heading_error_deg(350.0, 10.0));  // turn 20 deg clockwise
   EXPECT_EQ(20.0, heading_error_deg(10.0, 350.0));
   EXPECT_EQ(-90.0, heading_error_deg(0.0, 90.0));

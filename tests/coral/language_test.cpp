@@ -76,8 +76,7 @@ const CheckOptions& check_options() {
       return found ? found : builtin.primitive(name);
     };
     both.primitive_names = builtin.primitive_names;
-    both.primitive_names.insert(both.primitive_names.end(), tests.primitive_names.begin(),
-                                tests.primitive_names.end());
+    both.primitive_names.insert(both.primitive_names.end(), tests.primitive_names.begin(), tests.primitive_names.end());
     return both;
   }();
   return options;
@@ -122,12 +121,11 @@ class FailFile : public ::testing::TestWithParam<std::string> {};
 TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
   const std::string& path = GetParam();
   std::vector<std::string> expected;
-  static const std::regex annotation(
-      R"(//\s*(error|warning):\s*([^\s:]+:)?(\d+):(\d+)\s*\[(\w+)\])");
+  static const std::regex annotation(R"(//\s*(error|warning):\s*([^\s:]+:)?(\d+):(\d+)\s*\[(\w+)\])");
   std::string text = read(path);
   for (std::sregex_iterator it(text.begin(), text.end(), annotation), end; it != end; ++it) {
-    expected.push_back(fmt::format("{} {}{}:{} [{}]", (*it)[1].str(), (*it)[2].str(),
-                                   (*it)[3].str(), (*it)[4].str(), (*it)[5].str()));
+    expected.push_back(
+        fmt::format("{} {}{}:{} [{}]", (*it)[1].str(), (*it)[2].str(), (*it)[3].str(), (*it)[4].str(), (*it)[5].str()));
   }
   ASSERT_FALSE(expected.empty()) << path << " has no // error: or // warning: annotation";
   auto r = compile(path);
@@ -139,11 +137,10 @@ TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
       continue;
     }
     const std::string& where = r->sources.path(d.span.file);
-    std::string prefix =
-        where == path ? "" : fs::path(where).lexically_relative(dir).generic_string() + ":";
+    std::string prefix = where == path ? "" : fs::path(where).lexically_relative(dir).generic_string() + ":";
     auto lc = r->sources.line_col(d.span.file, d.span.offset);
-    got.push_back(fmt::format("{} {}{}:{} [{}]", core::severity_name(d.severity), prefix, lc.line,
-                              lc.col, core::kind_name(d.kind)));
+    got.push_back(fmt::format("{} {}{}:{} [{}]", core::severity_name(d.severity), prefix, lc.line, lc.col,
+                              core::kind_name(d.kind)));
   }
   std::sort(expected.begin(), expected.end());
   std::sort(got.begin(), got.end());

@@ -92,7 +92,7 @@ struct PhaseEndLine {
 struct ParsedLog {
   std::string text;
   std::vector<json> lines;
-  std::vector<Call> calls;  // in request order
+  std::vector<Call> calls;               // in request order
   std::vector<PhaseEndLine> phase_ends;  // depth 1 only
   std::vector<std::string> started;      // depth-1 phases, in start order
   std::vector<std::size_t> report_lines;
@@ -212,7 +212,7 @@ inline MissionRun run_logged(RunOptions o) {
 }
 
 inline MissionRun run_tank(const std::string& scenario, std::optional<std::uint64_t> seed = std::nullopt,
-             const std::string& vehicle = "") {
+                           const std::string& vehicle = "") {
   RunOptions o;
   o.mission = kMission;
   o.scenario = scenario;

@@ -39,7 +39,8 @@ std::optional<std::string> brotli(const std::string& in) {
   if (size == 0) size = in.size() + 1024;
   std::string out(size, '\0');
   if (!BrotliEncoderCompress(BROTLI_MAX_QUALITY, BROTLI_DEFAULT_WINDOW, BROTLI_MODE_TEXT, in.size(),
-                             reinterpret_cast<const uint8_t*>(in.data()), &size, reinterpret_cast<uint8_t*>(out.data()))) {
+                             reinterpret_cast<const uint8_t*>(in.data()), &size,
+                             reinterpret_cast<uint8_t*>(out.data()))) {
     return std::nullopt;
   }
   out.resize(size);
