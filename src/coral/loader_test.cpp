@@ -9,6 +9,7 @@
 #include "coral/lexer.h"
 #include "coral/loader.h"
 #include "coral/test_support.h"
+#include "core/test_fifo.h"
 
 namespace strata::coral {
 namespace {
@@ -62,19 +63,8 @@ TEST(Loader, OversizedFileIsReportedNotParsed) {
   EXPECT_EQ((std::vector<std::string>{"1:1 FileTooLarge"}), c->kinds());
 }
 
-// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
-// unless the reader refuses what is not a regular file.
-std::filesystem::path make_fifo(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  if (::mkfifo(path.c_str(), 0600) != 0) return {};
-  return path;
-}
-
 TEST(Loader, AFifoGivenAsASourceIsAnErrorNotAHang) {
-  const auto fifo = make_fifo("mission.coral");
+  const auto fifo = core::testing::make_fifo("mission.coral");
   ASSERT_FALSE(fifo.empty());
   DiskFileProvider disk;
   auto r = disk.read(fifo.string());

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "petri/dump.h"
+#include "core/test_fifo.h"
 
 namespace strata::petri {
 namespace {
@@ -338,19 +339,8 @@ TEST(PnmlCorpus, MccModelsMatchTheirAnswersAndRoundTrip) {
   EXPECT_EQ(23, models);
 }
 
-// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
-// unless the reader refuses what is not a regular file.
-std::filesystem::path make_fifo(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  if (::mkfifo(path.c_str(), 0600) != 0) return {};
-  return path;
-}
-
 TEST(PnmlRead, AFifoGivenAsInputIsAnErrorNotAHang) {
-  const auto fifo = make_fifo("net.pnml");
+  const auto fifo = core::testing::make_fifo("net.pnml");
   ASSERT_FALSE(fifo.empty());
   auto r = read_pnml(fifo.string());
   std::filesystem::remove_all(fifo.parent_path());

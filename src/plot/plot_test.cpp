@@ -13,6 +13,7 @@
 
 #include "plot/gnuplot.h"
 #include "plot/plot_log.h"
+#include "core/test_fifo.h"
 
 namespace strata::plot {
 namespace {
@@ -376,19 +377,8 @@ TEST(Render, KeepFolderLeavesTheScript) {
   fs::remove_all(r.kept_folder);
 }
 
-// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
-// unless the reader refuses what is not a regular file.
-std::filesystem::path make_fifo(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  if (::mkfifo(path.c_str(), 0600) != 0) return {};
-  return path;
-}
-
 TEST(ReadLog, AFifoGivenAsTheLogIsAnErrorNotAHang) {
-  const auto fifo = make_fifo("mission.jsonl");
+  const auto fifo = core::testing::make_fifo("mission.jsonl");
   ASSERT_FALSE(fifo.empty());
   auto r = read_log_file(fifo.string());
   std::filesystem::remove_all(fifo.parent_path());

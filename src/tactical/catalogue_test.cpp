@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "tactical/catalogue_print.h"
+#include "core/test_fifo.h"
 
 namespace strata::tactical {
 namespace {
@@ -216,19 +217,8 @@ TEST(CataloguePrint, Json) {
   EXPECT_FALSE(j["primitives"][18].contains("message"));
 }
 
-// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
-// unless the reader refuses what is not a regular file.
-std::filesystem::path make_fifo(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  if (::mkfifo(path.c_str(), 0600) != 0) return {};
-  return path;
-}
-
 TEST(Catalogue, AFifoGivenAsTheCatalogueIsAnErrorNotAHang) {
-  const auto fifo = make_fifo("primitives.toml");
+  const auto fifo = core::testing::make_fifo("primitives.toml");
   ASSERT_FALSE(fifo.empty());
   auto r = Catalogue::load(fifo.string());
   std::filesystem::remove_all(fifo.parent_path());

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/test_fifo.h"
+
 namespace strata::vehicle {
 namespace {
 
@@ -140,19 +142,8 @@ TEST(Params, MissingFileIsAnIoError) {
   EXPECT_EQ("/nonexistent/phoenix.toml: cannot open file", p.error().message);
 }
 
-// A FIFO with no writer in a fresh folder: opening it to read blocks for ever
-// unless the reader refuses what is not a regular file.
-std::filesystem::path make_fifo(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  if (::mkfifo(path.c_str(), 0600) != 0) return {};
-  return path;
-}
-
 TEST(Params, AFifoGivenAsTheParametersIsAnErrorNotAHang) {
-  const auto fifo = make_fifo("phoenix.toml");
+  const auto fifo = core::testing::make_fifo("phoenix.toml");
   ASSERT_FALSE(fifo.empty());
   auto r = load_params(fifo.string());
   std::filesystem::remove_all(fifo.parent_path());
