@@ -30,6 +30,10 @@ bool run_until(asio::io_context& io, Pred pred) {
 // port), and a plain socket as its peer; both on one io_context. The peer
 // reads everything that arrives into `received`.
 class Loopback {
+  // First, so that it is destroyed last: the connection and the sockets must
+  // go before the io_context whose services they use.
+  asio::io_context io_;
+
  public:
   explicit Loopback(LineConnectionOptions options = {}) : acceptor_(io_), peer_(io_) {
     acceptor_.open(tcp::v4());
@@ -93,7 +97,6 @@ class Loopback {
     });
   }
 
-  asio::io_context io_;
   tcp::acceptor acceptor_;
   tcp::socket peer_;
   std::array<char, 4096> buf_{};
