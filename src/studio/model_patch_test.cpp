@@ -121,5 +121,23 @@ TEST_F(StudioServerTest, AnEditOfTheModelAPageHoldsIsAnsweredWithAPatch) {
   EXPECT_TRUE(d.contains("nets") && !d.contains("patch")) << "base a is of another text";
 }
 
+TEST_F(StudioServerTest, AnEditWhoseBaseIsNotAStringIsRefusedWith400) {
+  auto c = client();
+  auto opened = c.Get("/api/mission?path=tank/tank.coral");
+  ASSERT_TRUE(opened && opened->status == 200);
+  const json m = json::parse(opened->body);
+  const json op = {{"op", "add_place"}, {"net", "tank"}, {"name", "extra"}};
+  for (const json& base : {json(42), json::array({m["rev"]}), json::object({{"rev", m["rev"]}}), json(nullptr)}) {
+    const json body = {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", base}};
+    auto r = c.Post("/api/edit", body.dump(), "application/json");
+    ASSERT_TRUE(r) << base.dump();
+    EXPECT_EQ(400, r->status) << base.dump() << ": " << r->body;
+    const json answer = json::parse(r->body, nullptr, false);
+    EXPECT_TRUE(answer.is_object() && answer.contains("error")) << r->body;
+  }
+  // The server still answers an edit after them.
+  EXPECT_TRUE(post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}}).contains("nets"));
+}
+
 }  // namespace
 }  // namespace strata::studio
