@@ -9,6 +9,8 @@
 #include <csignal>
 #include <iostream>
 #include <memory>
+#include <new>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -17,26 +19,40 @@
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "coral/verify_report.h"
+#include "core/memory.h"
 #include "petri/explorer.h"
 #include "petri/pnml.h"
 
 namespace strata::cli {
 namespace {
 
+std::string yes_no_text(bool b) { return b ? "yes" : "no"; }
+
 struct VerifyOptions {
   std::string mission;
   std::string catalogue;
-  std::uint64_t max_states = 1'000'000;
+  std::uint64_t max_states = 1'000'000;  // MISSION; --pnml: none unless given
+  bool max_states_given = false;
   std::string pnml;
   std::string format = "text";
-  std::size_t max_memory_mb = 0;
+  std::size_t max_memory_mb = coral::kDefaultVerifyMemoryBytes >> 20;  // MISSION; --pnml: none unless given
+  bool max_memory_given = false;
+  double time_limit_s = 0;  // 0: none
   bool no_liveness = false;
 };
 
+std::chrono::steady_clock::time_point deadline_after(double seconds) {
+  if (seconds <= 0) return std::chrono::steady_clock::time_point::max();
+  return std::chrono::steady_clock::now() +
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+// A verdict that a partial exploration may not have settled: null in JSON.
+nlohmann::ordered_json verdict(std::optional<bool> v) { return v ? nlohmann::ordered_json(*v) : nullptr; }
+std::string verdict_text(std::optional<bool> v) { return v ? yes_no_text(*v) : "not decided"; }
+
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_interrupt(int) { g_interrupted = true; }
-
-const char* yes_no(bool b) { return b ? "yes" : "no"; }
 
 std::string human(double n) {
   if (n >= 1e9) return fmt::format("{:.2f} G", n / 1e9);
@@ -55,7 +71,10 @@ int run_verify_pnml(const VerifyOptions& o) {
   const bool tty = isatty(STDERR_FILENO) == 1;
 
   petri::ExploreOptions eo;
-  eo.max_memory_bytes = o.max_memory_mb << 20;
+  // The limit is on the process: what it holds already (the net) counts.
+  eo.max_memory_bytes = o.max_memory_given ? core::memory_left(o.max_memory_mb << 20) : 0;
+  eo.max_states = o.max_states_given ? o.max_states : 0;
+  eo.deadline = deadline_after(o.time_limit_s);
   eo.liveness = !o.no_liveness;
   const auto start = std::chrono::steady_clock::now();
   g_interrupted = false;
@@ -75,34 +94,51 @@ int run_verify_pnml(const VerifyOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (tty) std::cerr << "\r" << std::string(70, ' ') << "\r" << std::flush;
 
+  // What a partial exploration settles: a witness found (a deadlock, two
+  // tokens, every transition fired); the rest is not decided.
+  const std::optional<bool> deadlock = r.deadlock   ? std::optional(true)
+                                       : r.complete ? std::optional(false)
+                                                    : std::nullopt;
+  const std::optional<bool> one_safe = !r.one_safe  ? std::optional(false)
+                                       : r.complete ? std::optional(true)
+                                                    : std::nullopt;
+  const std::optional<bool> quasi_live = r.quasi_live ? std::optional(true)
+                                         : r.complete ? std::optional(false)
+                                                      : std::nullopt;
   if (o.format == "json") {
     nlohmann::ordered_json j;
     j["states"] = r.states;
     j["edges"] = r.edges;
     j["max_tokens_in_place"] = r.max_tokens_in_place;
     j["max_tokens_per_marking"] = r.max_tokens_per_marking;
-    j["deadlock"] = r.deadlock;
-    j["one_safe"] = r.one_safe;
-    j["quasi_live"] = r.quasi_live;
-    j["live"] = r.live.value_or(false);
+    j["deadlock"] = verdict(deadlock);
+    j["one_safe"] = verdict(one_safe);
+    j["quasi_live"] = verdict(quasi_live);
+    j["live"] = verdict(r.live);
     if (!r.complete || !r.live) {
-      // A partial report: the values so far, and why it stopped.
+      // A partial report: the counts so far, null for what is not decided,
+      // and why.
       j["complete"] = r.complete;
       j["live_decided"] = r.live.has_value();
       if (!r.complete) j["stopped"] = r.stopped_why;
+      if (r.complete && !r.live) j["live_not_decided"] = r.live_why;
     }
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << fmt::format("{} ({}): {} places, {} transitions, {} arcs\n", pn.name, o.pnml, pn.net.place_count(),
                              pn.net.transition_count(), pn.net.arc_count());
-    std::cout << fmt::format("  states                  {}\n", r.states);
-    std::cout << fmt::format("  edges                   {}\n", r.edges);
-    std::cout << fmt::format("  max tokens in a place   {}\n", r.max_tokens_in_place);
-    std::cout << fmt::format("  max tokens per marking  {}\n", r.max_tokens_per_marking);
-    std::cout << fmt::format("  deadlock                {}\n", yes_no(r.deadlock));
-    std::cout << fmt::format("  1-safe                  {}\n", yes_no(r.one_safe));
-    std::cout << fmt::format("  quasi-live              {}\n", yes_no(r.quasi_live));
-    std::cout << fmt::format("  live                    {}\n", r.live ? yes_no(*r.live) : "not decided");
+    const char* so_far = r.complete ? "" : " (so far)";
+    std::cout << fmt::format("  states                  {}{}\n", r.states, so_far);
+    std::cout << fmt::format("  edges                   {}{}\n", r.edges, so_far);
+    std::cout << fmt::format("  max tokens in a place   {}{}\n", r.max_tokens_in_place, so_far);
+    std::cout << fmt::format("  max tokens per marking  {}{}\n", r.max_tokens_per_marking, so_far);
+    std::cout << fmt::format("  deadlock                {}\n", verdict_text(deadlock));
+    std::cout << fmt::format("  1-safe                  {}\n", verdict_text(one_safe));
+    std::cout << fmt::format("  quasi-live              {}\n", verdict_text(quasi_live));
+    std::cout << fmt::format("  live                    {}\n", r.live ? yes_no_text(*r.live)
+                                                               : r.complete && !r.live_why.empty()
+                                                                   ? "not decided: " + r.live_why
+                                                                   : "not decided");
     std::cout << fmt::format("  explored in {:.3f} s ({} states/s), {:.1f} bytes/state ({} word{} per marking)\n",
                              seconds, human(seconds > 0 ? static_cast<double>(r.states) / seconds : 0.0),
                              r.states ? static_cast<double>(r.memory_bytes) / static_cast<double>(r.states) : 0.0,
@@ -129,6 +165,8 @@ int run_verify_mission(const VerifyOptions& o) {
   if (!load.program) return load.exit_code;
   coral::VerifyOptions vo;
   vo.max_states = o.max_states;
+  vo.max_memory_bytes = o.max_memory_mb << 20;
+  vo.time_limit_s = o.time_limit_s;
   const coral::VerifyReport report = coral::verify_program(*load.program, vo);
   if (o.format == "json") {
     std::cout << coral::verify_json(report).dump(2) << "\n";
@@ -152,27 +190,40 @@ Runner add_verify_command(CLI::App& app) {
   pnml->excludes(mission);
   cmd->add_option("--catalogue", o->catalogue, "MISSION: primitive catalogue (default: built in)");
   cmd->add_option("--max-states", o->max_states,
-                  "MISSION: stop exploring a net after this many markings (its whole-graph properties are then "
-                  "not decided)")
+                  "Stop exploring a net after this many markings (what needs the whole graph is then not decided; "
+                  "default for --pnml: no limit)")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}))
       ->capture_default_str();
   cmd->add_option("--format", o->format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
-  cmd->add_option(
-         "--max-memory", o->max_memory_mb,
-         "--pnml: stop with a partial report when the markings and their index would need more MB (0: no limit)")
+  cmd->add_option("--max-memory", o->max_memory_mb,
+                  "Stop each analysis step before the process would hold more than this many MB (what is not "
+                  "settled is then not decided; 0: no limit; default for --pnml: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--time-limit", o->time_limit_s,
+                  "Stop after this many seconds in all (what is not settled is then not decided; 0: none)")
+      ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
   cmd->footer(
-      "Exit, MISSION: 0 when every property of every net holds; 65 when one fails or is not decided, or the "
-      "mission does not compile; 74 for a file it cannot open.\n"
+      "Exit, MISSION: 0 when the mission may run (every property that blocks `strata run` holds; one_safe and "
+      "no_dead are warnings); 65 when one fails or is not decided, or the mission does not compile; 74 for a "
+      "file it cannot open.\n"
       "Exit, --pnml: 0 when the graph was explored in full; 1 when a limit or Ctrl-C stopped it (a partial "
       "report); 65 for a net Strata cannot read; 74 for a file it cannot open.");
-  return [o] {
+  return [o, cmd] {
+    o->max_states_given = cmd->count("--max-states") > 0;
+    o->max_memory_given = cmd->count("--max-memory") > 0;
     if (o->mission.empty() && o->pnml.empty()) {
       std::cerr << "strata verify: give a mission (.coral) or --pnml FILE\n";
       return static_cast<int>(kExitUsage);
     }
-    return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);
+    try {
+      return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);
+    } catch (const std::bad_alloc&) {
+      // Each analysis step catches its own; this is reading or compiling.
+      std::cerr << "strata verify: out of memory before the analysis could start; nothing decided\n";
+      return static_cast<int>(o->pnml.empty() ? kExitInvalid : kExitAbort);
+    }
   };
 }
 

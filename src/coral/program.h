@@ -24,6 +24,12 @@ struct ActionSpec {
   core::SourceSpan span;
 };
 
+// How deep PHASE calls may nest when a mission runs: the mission net is at
+// depth 0, a phase it calls at 1. The CORAL Engine stops a run that would go
+// deeper (a phase that runs itself would recurse for ever); `strata verify`
+// checks the same limit (phase_depth) before a run starts.
+inline constexpr std::size_t kMaxPhaseDepth = 64;
+
 struct CompiledNet {
   std::string name;
   ast::Net::Kind kind = ast::Net::Kind::Phase;

@@ -1,7 +1,11 @@
 #include "coral/verifier.h"
 
 #include <algorithm>
+#include <chrono>
 #include <functional>
+#include <new>
+#include <optional>
+#include <string_view>
 
 #include "coral/verifier_internal.h"
 #include "petri/invariants.h"
@@ -9,23 +13,53 @@
 namespace strata::coral {
 namespace {
 
+// A property decided within the limits: Undecided when the time is up
+// before it starts or the memory runs out while it works.
+template <class Decide>
+Property within_limits(std::string key, const detail::StepLimits& limits, bool blocking, Decide decide) {
+  Property p;
+  if (limits.past_deadline()) {
+    p.status = Property::Status::Undecided;
+    p.message = "not decided: the time limit passed before this step";
+  } else {
+    try {
+      p = decide();
+    } catch (const std::bad_alloc&) {
+      p = Property{};
+      p.status = Property::Status::Undecided;
+      p.message = "not decided: out of memory";
+    }
+  }
+  p.key = std::move(key);
+  p.blocking = blocking;
+  return p;
+}
+
 // Explores one net and reports on it.
 class NetVerifier {
  public:
   NetVerifier(const Program& program, const CompiledNet& cn, const std::vector<PhaseExits>& known,
-              const VerifyOptions& options)
-      : x_(program, cn, known, options) {}
+              const detail::StepLimits& limits)
+      : program_(program), cn_(cn), known_(known), limits_(limits) {}
 
   NetVerification run() {
-    const CompiledNet& cn = x_.cn;
-    const AnalysisNet& an = x_.an;
-    const petri::ReachGraph& g = x_.graph;
+    const CompiledNet& cn = cn_;
     NetVerification v;
     v.name = cn.name;
     v.kind = cn.kind == ast::Net::Kind::Mission ? "mission" : "phase";
     v.file = cn.source_file;
     v.places = cn.net.place_count();
     v.transitions = cn.net.transition_count();
+    std::optional<detail::ExploredNet> explored;
+    try {
+      explored.emplace(program_, cn, known_, limits_);
+    } catch (const std::bad_alloc&) {
+      explored.reset();
+    }
+    if (!explored) return out_of_memory(std::move(v));
+    const detail::ExploredNet& x = *explored;
+    const AnalysisNet& an = x.an;
+    const petri::ReachGraph& g = x.graph;
     v.in_flight_places = an.net.place_count() - v.places;
     v.outcomes = an.net.transition_count() - v.transitions;
     v.states = g.state_count();
@@ -33,7 +67,7 @@ class NetVerifier {
     v.complete = g.complete();
     v.stopped_why = g.stopped_why();
 
-    const std::vector<std::uint64_t>& bounds = x_.bounds;
+    const std::vector<std::uint64_t>& bounds = x.bounds;
     for (petri::PlaceId p = 0; p < an.net.place_count(); ++p) {
       v.bounds.push_back({std::string(an.net.place_name(p)), bounds[p], !an.places[p].place.has_value()});
     }
@@ -42,32 +76,75 @@ class NetVerifier {
       v.exit_reachable.push_back(bounds[cn.exits[e]] > 0);
     }
 
-    v.properties.push_back(detail::bounded(x_));
-    v.properties.push_back(detail::one_safe(x_));
-    v.properties.push_back(detail::no_dead(x_));
-    v.properties.push_back(detail::no_deadlock(x_));
-    v.properties.push_back(detail::can_always_end(x_));
-    v.properties.push_back(detail::no_busy_cycle(x_));
-    v.properties.push_back(detail::exits_exclusive(x_));
+    auto add = [&](std::string key, bool blocking, Property (*decide)(const detail::ExploredNet&)) {
+      v.properties.push_back(within_limits(std::move(key), limits_, blocking, [&] { return decide(x); }));
+    };
+    add("bounded", true, detail::bounded);
+    add("one_safe", false, detail::one_safe);
+    add("no_dead", false, detail::no_dead);
+    add("no_deadlock", true, detail::no_deadlock);
+    add("can_always_end", true, detail::can_always_end);
+    add("no_busy_cycle", true, detail::no_busy_cycle);
+    add("exits_exclusive", true, detail::exits_exclusive);
+    v.properties.push_back(
+        within_limits("phase_depth", limits_, true, [&] { return detail::phase_depth(program_, cn); }));
 
-    petri::Semiflows flows = petri::p_semiflows(an.net);
-    v.invariants_complete = flows.complete;
-    for (const auto& f : flows.flows) {
-      Invariant inv;
-      inv.constant = f.constant;
-      for (auto [p, w] : f.weights) inv.weights.emplace_back(std::string(an.net.place_name(p)), w);
-      v.invariants.push_back(std::move(inv));
-    }
-    if (flows.complete) {
-      for (petri::PlaceId p = 0; p < an.net.place_count(); ++p) {
-        if (!flows.covered[p]) v.uncovered.emplace_back(an.net.place_name(p));
-      }
-    }
+    invariants(an.net, v);
     return v;
   }
 
  private:
-  detail::ExploredNet x_;
+  // The graph could not even be built: every property not decided.
+  NetVerification out_of_memory(NetVerification v) const {
+    v.complete = false;
+    v.stopped_why = "out of memory";
+    for (const char* key :
+         {"bounded", "one_safe", "no_dead", "no_deadlock", "can_always_end", "no_busy_cycle", "exits_exclusive"}) {
+      Property p;
+      p.key = key;
+      p.blocking = std::string_view(key) != "one_safe" && std::string_view(key) != "no_dead";
+      p.status = Property::Status::Undecided;
+      p.message = "not decided: out of memory";
+      v.properties.push_back(std::move(p));
+    }
+    v.properties.push_back(
+        within_limits("phase_depth", limits_, true, [&] { return detail::phase_depth(program_, cn_); }));
+    v.invariants_complete = false;
+    v.invariants_skipped = "out of memory";
+    return v;
+  }
+
+  void invariants(const petri::Net& net, NetVerification& v) const {
+    petri::SemiflowLimits sl;
+    sl.max_memory_bytes = limits_.memory_for_step();
+    sl.deadline = limits_.deadline;
+    petri::Semiflows flows;
+    try {
+      flows = petri::p_semiflows(net, sl);
+    } catch (const std::bad_alloc&) {
+      flows = petri::Semiflows{};
+      flows.complete = false;
+      flows.stopped_why = "out of memory";
+    }
+    v.invariants_complete = flows.complete;
+    v.invariants_skipped = flows.stopped_why;
+    for (const auto& f : flows.flows) {
+      Invariant inv;
+      inv.constant = f.constant;
+      for (auto [p, w] : f.weights) inv.weights.emplace_back(std::string(net.place_name(p)), w);
+      v.invariants.push_back(std::move(inv));
+    }
+    if (flows.complete) {
+      for (petri::PlaceId p = 0; p < net.place_count(); ++p) {
+        if (!flows.covered[p]) v.uncovered.emplace_back(net.place_name(p));
+      }
+    }
+  }
+
+  const Program& program_;
+  const CompiledNet& cn_;
+  const std::vector<PhaseExits>& known_;
+  const detail::StepLimits& limits_;
 };
 
 // Nets in an order that puts every phase before the nets that call it (a
@@ -102,6 +179,11 @@ std::vector<std::size_t> callee_first(const Program& program, bool mission_only)
 
 bool NetVerification::ok() const {
   return std::all_of(properties.begin(), properties.end(),
+                     [](const Property& p) { return !p.blocking || p.status == Property::Status::Holds; });
+}
+
+bool NetVerification::all_hold() const {
+  return std::all_of(properties.begin(), properties.end(),
                      [](const Property& p) { return p.status == Property::Status::Holds; });
 }
 
@@ -109,12 +191,24 @@ bool VerifyReport::ok() const {
   return std::all_of(nets.begin(), nets.end(), [](const NetVerification& n) { return n.ok(); });
 }
 
+bool VerifyReport::all_hold() const {
+  return std::all_of(nets.begin(), nets.end(), [](const NetVerification& n) { return n.all_hold(); });
+}
+
 VerifyReport verify_program(const Program& program, const VerifyOptions& options) {
   VerifyReport report;
   std::vector<PhaseExits> known;
+  detail::StepLimits limits;
+  limits.max_states = options.max_states;
+  limits.max_memory_bytes = options.max_memory_bytes;
+  if (options.time_limit_s > 0) {
+    limits.deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                               std::chrono::duration<double>(options.time_limit_s));
+  }
   for (std::size_t i : callee_first(program, options.mission_only)) {
     const CompiledNet& cn = program.nets[i];
-    NetVerification v = NetVerifier(program, cn, known, options).run();
+    NetVerification v = NetVerifier(program, cn, known, limits).run();
     if (v.complete) known.push_back({cn.name, v.exit_reachable});
     report.nets.push_back(std::move(v));
   }

@@ -14,6 +14,18 @@
 //   no_busy_cycle    no cycle of firings that issue nothing to wait for
 //                    (the engine could fire round it for ever)
 //   exits_exclusive  no marking holds two different exits
+//   phase_depth      the PHASE calls below the net nest no deeper than the
+//                    engine allows (kMaxPhaseDepth)
+//
+// One set of rules for verify and run: a property that would make a run
+// unsafe (bounded, no_deadlock, can_always_end, no_busy_cycle,
+// exits_exclusive, phase_depth) blocks `strata run` when it fails or is not
+// decided; one_safe and no_dead are information (warnings).
+//
+// Limits: each step (the graph, each property, the P-semiflows) stops at
+// max_states, at max_memory_bytes (the process's resident memory, counted
+// from what it holds when the step starts) and at the time limit, and out
+// of memory; what it could not decide is then Undecided, never Fails.
 //
 // Each failed property carries the shortest firing sequence that shows it,
 // in the mission's own names. Place bounds, the exits reachable and the
@@ -31,8 +43,14 @@
 
 namespace strata::coral {
 
+// The memory verification may use by default (the whole process's resident
+// memory), for `strata verify` and `strata run` alike.
+inline constexpr std::size_t kDefaultVerifyMemoryBytes = std::size_t{768} << 20;
+
 struct VerifyOptions {
-  std::uint64_t max_states = 1'000'000;  // per net
+  std::uint64_t max_states = 1'000'000;                      // per net
+  std::size_t max_memory_bytes = kDefaultVerifyMemoryBytes;  // 0: no limit
+  double time_limit_s = 0;                                   // for the whole verification; 0: none
   // Only the mission net and the phases it calls, directly or not (what a
   // run can reach); otherwise every net of the load.
   bool mission_only = false;
@@ -59,6 +77,9 @@ struct Property {
   enum class Status { Holds, Fails, Undecided };
   std::string key;  // bounded, one_safe, ...
   Status status = Status::Holds;
+  // True for a property whose failure makes a run unsafe; false for one that
+  // only informs (one_safe, no_dead).
+  bool blocking = true;
   std::string message;  // for people: what holds, or what goes wrong
   std::optional<Counterexample> counterexample;
 };
@@ -89,14 +110,19 @@ struct NetVerification {
   std::vector<Property> properties;  // in the order listed above
   std::vector<Invariant> invariants;
   bool invariants_complete = true;
+  std::string invariants_skipped;      // when not complete: why ("more than 2000 rows")
   std::vector<std::string> uncovered;  // places no P-semiflow covers
 
+  // No blocking property fails or is undecided: the net may run.
   bool ok() const;
+  // Every property holds, warnings included.
+  bool all_hold() const;
 };
 
 struct VerifyReport {
   std::vector<NetVerification> nets;  // phases before their callers
-  bool ok() const;
+  bool ok() const;                    // every net may run
+  bool all_hold() const;
 };
 
 VerifyReport verify_program(const Program& program, const VerifyOptions& options = {});

@@ -2,6 +2,7 @@
 // Internal to the verifier (verifier.cpp runs it, verifier_properties.cpp
 // decides each property, verifier_trace.cpp turns states into counterexamples
 // and names for people): one net's analysis net and its explored state space.
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <set>
@@ -20,11 +21,22 @@ using petri::StateId;
 
 std::string join(const std::vector<std::string>& items, std::string_view sep = ", ");
 
+// The limits of one verification, as each step applies them.
+struct StepLimits {
+  std::uint64_t max_states = 0;
+  std::size_t max_memory_bytes = 0;  // the process's resident memory; 0: none
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+
+  // What a step starting now may allocate (0: no limit).
+  std::size_t memory_for_step() const;
+  bool past_deadline() const { return std::chrono::steady_clock::now() > deadline; }
+};
+
 struct ExploredNet {
   // Builds the analysis net of cn (with the exits of the phases in `known`)
-  // and explores it, up to options.max_states.
+  // and explores it, within the limits (out of memory: what was explored).
   ExploredNet(const Program& program, const CompiledNet& cn, const std::vector<PhaseExits>& known,
-              const VerifyOptions& options);
+              const StepLimits& limits);
 
   const Program& program;
   const CompiledNet& cn;
@@ -65,5 +77,8 @@ Property no_deadlock(const ExploredNet& x);
 Property can_always_end(const ExploredNet& x);
 Property no_busy_cycle(const ExploredNet& x);
 Property exits_exclusive(const ExploredNet& x);
+// Structural: the deepest chain of PHASE calls from cn, against
+// kMaxPhaseDepth (a mission net runs at depth 0, a phase at 1 at least).
+Property phase_depth(const Program& program, const CompiledNet& cn);
 
 }  // namespace strata::coral::detail

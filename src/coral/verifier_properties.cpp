@@ -249,3 +249,96 @@ Property exits_exclusive(const ExploredNet& x) {
 }
 
 }  // namespace strata::coral::detail
+
+namespace strata::coral::detail {
+
+Property phase_depth(const Program& program, const CompiledNet& cn) {
+  Property p = named("phase_depth");
+  // below[i]: how many PHASE calls deep net i goes; next[i]: the net its
+  // deepest call runs. Iterative (a chain of phases may be long); a cycle,
+  // which the checker reports, counts as past the limit.
+  constexpr std::size_t kUnknown = static_cast<std::size_t>(-1), kCycle = static_cast<std::size_t>(-2);
+  const std::size_t n = program.nets.size();
+  std::vector<std::size_t> below(n, kUnknown), next(n, kUnknown);
+  std::vector<bool> on_path(n, false);
+  auto index_of = [&](const CompiledNet* net) { return static_cast<std::size_t>(net - program.nets.data()); };
+  auto callees = [&](std::size_t i) {
+    std::vector<std::size_t> out;
+    for (const auto& actions : program.nets[i].actions) {
+      for (const auto& a : actions) {
+        if (a.kind != ActionSpec::Kind::Phase) continue;
+        if (const CompiledNet* target = program.find(a.target)) out.push_back(index_of(target));
+      }
+    }
+    return out;
+  };
+  const std::size_t root = index_of(&cn);
+  std::vector<std::pair<std::size_t, std::vector<std::size_t>>> stack;
+  stack.emplace_back(root, callees(root));
+  on_path[root] = true;
+  below[root] = 0;
+  while (!stack.empty()) {
+    auto& [i, todo] = stack.back();
+    if (todo.empty()) {
+      on_path[i] = false;
+      const std::size_t done = i;
+      stack.pop_back();
+      if (!stack.empty()) {
+        const std::size_t caller = stack.back().first;
+        const std::size_t d = below[done] == kCycle ? kCycle : below[done] + 1;
+        if (below[caller] != kCycle && (d == kCycle || d > below[caller])) {
+          below[caller] = d;
+          next[caller] = done;
+        }
+      }
+      continue;
+    }
+    const std::size_t j = todo.back();
+    todo.pop_back();
+    if (on_path[j]) {
+      below[i] = kCycle;
+      next[i] = j;
+      continue;
+    }
+    if (below[j] != kUnknown) {
+      const std::size_t d = below[j] == kCycle ? kCycle : below[j] + 1;
+      if (below[i] != kCycle && (d == kCycle || d > below[i])) {
+        below[i] = d;
+        next[i] = j;
+      }
+      continue;
+    }
+    below[j] = 0;
+    on_path[j] = true;
+    std::vector<std::size_t> c = callees(j);
+    stack.emplace_back(j, std::move(c));
+  }
+  const std::size_t start = cn.kind == ast::Net::Kind::Mission ? 0 : 1;
+  const bool cycle = below[root] == kCycle;
+  const std::size_t deepest = cycle ? kCycle : start + below[root];
+  if (!cycle && deepest <= kMaxPhaseDepth) {
+    p.message = below[root] == 0
+                    ? fmt::format("calls no phase (the engine's limit: {} deep)", kMaxPhaseDepth)
+                    : fmt::format("phases nest at most {} deep (the engine's limit: {})", deepest, kMaxPhaseDepth);
+    return p;
+  }
+  // The chain of calls, shortened in the middle.
+  std::vector<std::string> chain;
+  std::size_t at = root;
+  for (std::size_t k = 0; k <= n && at != kUnknown; ++k, at = next[at]) {
+    chain.push_back(program.nets[at].name);
+    if (below[at] == 0) break;
+  }
+  if (chain.size() > 8) {
+    const std::size_t total = chain.size();
+    chain.erase(chain.begin() + 4, chain.end() - 3);
+    chain.insert(chain.begin() + 4, fmt::format("... {} more ...", total - 7));
+  }
+  p.status = Status::Fails;
+  p.message = cycle ? fmt::format("a cycle of PHASE calls nests without end ({})", join(chain, " -> "))
+                    : fmt::format("would nest phases {} deep, past the engine's limit of {} ({})", deepest,
+                                  kMaxPhaseDepth, join(chain, " -> "));
+  return p;
+}
+
+}  // namespace strata::coral::detail

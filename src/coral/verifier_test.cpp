@@ -7,6 +7,7 @@
 #include "coral/export.h"
 #include "coral/test_support.h"
 #include "coral/verify_report.h"
+#include "core/memory.h"
 #include "petri/dump.h"
 #include "petri/pnml.h"
 
@@ -241,6 +242,132 @@ TEST(Verifier, TwoTokensInAPlaceBreakOneSafety) {
   EXPECT_EQ(Status::Holds, property(r.nets[0], "bounded").status);
 }
 
+// A chain mission of n places, as scripts/chain-mission writes it.
+std::string chain_mission(std::size_t n) {
+  std::string text = "mission chain { place p0 = 1";
+  for (std::size_t i = 1; i < n; ++i) text += fmt::format(", p{}", i);
+  text += ";\n";
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    text += fmt::format("  transition t{} {{ wait {{ p{} }} signal {{ p{} }} }}\n", i, i, i + 1);
+  return text + "}\n";
+}
+
+bool nothing_fails(const NetVerification& n) {
+  return std::none_of(n.properties.begin(), n.properties.end(),
+                      [](const Property& p) { return p.status == Status::Fails; });
+}
+
+// Regression: a 10,000-place chain took 3.1 GB in the P-semiflow step
+// whatever --max-states said, and was said to have "too many minimal
+// P-semiflows" where it has exactly one.
+TEST(Verifier, AChainOfTenThousandPlacesHasItsOneSemiflowWithinTheStateLimit) {
+  auto c = compile_text(chain_mission(10'000));
+  ASSERT_TRUE(c->program);
+  VerifyOptions o;
+  o.max_states = 100;
+  VerifyReport r = verify_program(*c->program, o);
+  ASSERT_EQ(1u, r.nets.size());
+  const NetVerification& n = r.nets[0];
+  EXPECT_FALSE(n.complete);
+  EXPECT_TRUE(nothing_fails(n)) << verify_text(r);
+  ASSERT_TRUE(n.invariants_complete) << n.invariants_skipped;
+  ASSERT_EQ(1u, n.invariants.size());
+  EXPECT_EQ(10'000u, n.invariants[0].weights.size());
+  EXPECT_EQ(1u, n.invariants[0].constant);
+  EXPECT_TRUE(n.uncovered.empty());
+}
+
+// Regression: the memory limit did not bound the mission's analysis steps.
+// A limit just above what the process holds stops the graph early: what it
+// did not settle is not decided, never failed.
+TEST(Verifier, AMemoryLimitLeavesPropertiesUndecidedNeverFailed) {
+  auto c = compile_text(chain_mission(2'000));
+  ASSERT_TRUE(c->program);
+  VerifyOptions o;
+  o.max_memory_bytes = core::resident_bytes() + (std::size_t{1} << 20);
+  VerifyReport r = verify_program(*c->program, o);
+  const NetVerification& n = r.nets[0];
+  EXPECT_FALSE(n.complete);
+  EXPECT_NE(std::string::npos, n.stopped_why.find("over the memory limit")) << n.stopped_why;
+  EXPECT_LT(n.states, 2'000u);
+  EXPECT_TRUE(nothing_fails(n)) << verify_text(r);
+  EXPECT_EQ(Status::Undecided, property(n, "can_always_end").status);
+  EXPECT_FALSE(r.ok());
+}
+
+TEST(Verifier, ATimeLimitLeavesPropertiesUndecidedNeverFailed) {
+  auto c = compile_text(chain_mission(3'000));
+  ASSERT_TRUE(c->program);
+  VerifyOptions o;
+  o.time_limit_s = 1e-9;
+  VerifyReport r = verify_program(*c->program, o);
+  const NetVerification& n = r.nets[0];
+  EXPECT_TRUE(nothing_fails(n)) << verify_text(r);
+  EXPECT_EQ(Status::Undecided, property(n, "can_always_end").status);
+  EXPECT_FALSE(r.ok());
+}
+
+// Regression: `strata run` refused any mission whose places may hold two
+// tokens (one_safe) or with a dead transition; those are warnings now.
+TEST(Verifier, OneSafetyAndDeadTransitionsAreWarningsThatDoNotBlockARun) {
+  VerifyReport r = verify_text_mission(
+      "mission counting { place bolts = 4, nuts = 4, pairs, spare;\n"
+      "  exit done;\n"
+      "  transition pair { wait { bolts, nuts } signal { pairs } }\n"
+      "  transition finish { wait { pairs*4 } signal { done } }\n"
+      "  transition never { wait { spare } signal { done } } }");
+  const NetVerification& n = r.nets[0];
+  EXPECT_EQ(Status::Fails, property(n, "one_safe").status);
+  EXPECT_FALSE(property(n, "one_safe").blocking);
+  EXPECT_EQ(Status::Fails, property(n, "no_dead").status);
+  EXPECT_FALSE(property(n, "no_dead").blocking);
+  EXPECT_TRUE(property(n, "no_deadlock").blocking);
+  EXPECT_TRUE(r.ok()) << verify_text(r);
+  EXPECT_FALSE(r.all_hold());
+  EXPECT_NE(std::string::npos, verify_text(r).find("  warn  one_safe ")) << verify_text(r);
+}
+
+// Regression: 70 nested phases passed verify and failed at run ("would nest
+// phases 65 deep (limit 64)").
+TEST(Verifier, PhasesNestedPastTheEnginesLimitFailPhaseDepth) {
+  std::string text;
+  constexpr std::size_t kDepth = 70;
+  for (std::size_t i = 0; i < kDepth; ++i) {
+    text += i + 1 < kDepth
+                ? fmt::format(
+                      "net ph{} {{ place s = 1, back; exit done;\n"
+                      "  transition go {{ wait {{ s }} action {{ PHASE(ph{}, back) }} }}\n"
+                      "  transition up {{ wait {{ back }} signal {{ done }} }} }}\n",
+                      i, i + 1)
+                : fmt::format(
+                      "net ph{} {{ place s = 1; exit done; transition go {{ wait {{ s }} signal {{ done }} }} }}\n", i);
+  }
+  text +=
+      "mission deep { place begin = 1, back; exit closed;\n"
+      "  transition go { wait { begin } action { PHASE(ph0, back) } }\n"
+      "  transition end { wait { back } signal { closed } } }\n";
+  auto c = compile_text(text);
+  ASSERT_TRUE(c->program);
+  VerifyOptions o;
+  o.mission_only = true;
+  VerifyReport r = verify_program(*c->program, o);
+  ASSERT_EQ(kDepth + 1, r.nets.size());
+  const NetVerification& mission = r.nets.back();
+  const Property& p = property(mission, "phase_depth");
+  EXPECT_EQ(Status::Fails, p.status);
+  EXPECT_TRUE(p.blocking);
+  EXPECT_EQ(
+      "would nest phases 70 deep, past the engine's limit of 64 (deep -> ph0 -> ph1 -> ph2 -> ... 64 more ... -> "
+      "ph67 -> ph68 -> ph69)",
+      p.message);
+  EXPECT_FALSE(r.ok());
+  // Phases come callees first (ph69 ... ph0). A phase runs at depth 1 at
+  // least: ph5 calls 64 more (65 deep), ph6 calls 63 (64 deep, the limit).
+  EXPECT_EQ(Status::Fails, property(r.nets[kDepth - 1 - 5], "phase_depth").status);
+  EXPECT_EQ("phases nest at most 64 deep (the engine's limit: 64)",
+            property(r.nets[kDepth - 1 - 6], "phase_depth").message);
+}
+
 TEST(Verifier, ADeadTransitionSaysWhichInputIsNeverMarked) {
   VerifyReport r = verify_text_mission(
       "net n { place s = 1, never; exit e;\n"
@@ -289,7 +416,10 @@ TEST(Verifier, TheMissionOnlyOptionLeavesUnusedPhasesOut) {
       "mission m { place begin = 1; exit closed; transition go { wait { begin } signal { closed } } }");
   ASSERT_TRUE(c->program);
   EXPECT_FALSE(verify_program(*c->program).ok());
-  VerifyReport r = verify_program(*c->program, VerifyOptions{1000, true});
+  VerifyOptions o;
+  o.max_states = 1000;
+  o.mission_only = true;
+  VerifyReport r = verify_program(*c->program, o);
   ASSERT_EQ(1u, r.nets.size());
   EXPECT_TRUE(r.ok());
 }
@@ -309,7 +439,9 @@ TEST(Verifier, TheStateLimitLeavesWholeGraphPropertiesUndecided) {
       "  transition t { wait { s } signal { a, b, c, d } }\n"
       "  transition ta { wait { a } action { TACTIC(EXEC, sleep(1), e) } } }");
   ASSERT_TRUE(c->program);
-  VerifyReport r = verify_program(*c->program, VerifyOptions{2});
+  VerifyOptions o;
+  o.max_states = 2;
+  VerifyReport r = verify_program(*c->program, o);
   EXPECT_FALSE(r.nets[0].complete);
   EXPECT_EQ(Status::Undecided, property(r.nets[0], "can_always_end").status);
   EXPECT_FALSE(r.ok());

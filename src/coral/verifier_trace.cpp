@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "coral/verifier_internal.h"
+#include "core/memory.h"
 
 namespace strata::coral::detail {
 
@@ -15,12 +16,16 @@ std::string join(const std::vector<std::string>& items, std::string_view sep) {
   return s;
 }
 
+std::size_t StepLimits::memory_for_step() const { return core::memory_left(max_memory_bytes); }
+
 ExploredNet::ExploredNet(const Program& of_program, const CompiledNet& net, const std::vector<PhaseExits>& known,
-                         const VerifyOptions& options)
+                         const StepLimits& limits)
     : program(of_program), cn(net), an(build_analysis_net(of_program, net, known)) {
   petri::ReachOptions ro;
   ro.terminal_places = net.exits;
-  ro.max_states = options.max_states;
+  ro.max_states = limits.max_states;
+  ro.max_memory_bytes = limits.memory_for_step();
+  ro.deadline = limits.deadline;
   graph = petri::build_reach_graph(an.net, ro);
   bounds.assign(an.net.place_count(), 0);
   for (StateId s = 0; s < graph.state_count(); ++s) {

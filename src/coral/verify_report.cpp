@@ -33,8 +33,8 @@ std::string counterexample_text(const Counterexample& cx, std::string_view inden
 // net printed the same one (`shown` keeps those, by text).
 std::string property_line(const Property& p, std::vector<std::pair<std::string, std::string>>& shown) {
   const char* tag = p.status == Property::Status::Holds   ? "ok  "
-                    : p.status == Property::Status::Fails ? "FAIL"
-                                                          : "??  ";
+                    : p.status == Property::Status::Fails ? (p.blocking ? "FAIL" : "warn")
+                                                          : (p.blocking ? "??  " : "?   ");
   std::string out = fmt::format("  {}  {:<16} {}\n", tag, p.key, p.message);
   if (!p.counterexample) return out;
   const Counterexample& cx = *p.counterexample;
@@ -84,7 +84,7 @@ std::string bounds_text(const NetVerification& n) {
 }
 
 std::string invariants_text(const NetVerification& n) {
-  if (!n.invariants_complete) return "  P-invariants: too many minimal P-semiflows to list\n";
+  if (!n.invariants_complete) return fmt::format("  P-invariants: skipped: {}\n", n.invariants_skipped);
   std::string cover = n.uncovered.empty() ? ", covering every place"
                       : n.uncovered.size() == n.bounds.size()
                           ? ""
@@ -119,12 +119,19 @@ std::string invariants_text(const NetVerification& n) {
 }
 
 std::string summary(const VerifyReport& r) {
-  std::size_t failing = 0;
-  for (const auto& n : r.nets) failing += n.ok() ? 0 : 1;
-  if (failing == 0)
-    return fmt::format("verified {} net{}: every property holds\n", r.nets.size(), r.nets.size() == 1 ? "" : "s");
-  return fmt::format("verified {} net{}: {} with a property that fails or is not decided\n", r.nets.size(),
-                     r.nets.size() == 1 ? "" : "s", failing);
+  std::size_t failing = 0, warned = 0;
+  for (const auto& n : r.nets) {
+    failing += n.ok() ? 0 : 1;
+    warned += n.ok() && !n.all_hold() ? 1 : 0;
+  }
+  const char* nets = r.nets.size() == 1 ? "" : "s";
+  if (failing == 0 && warned == 0) return fmt::format("verified {} net{}: every property holds\n", r.nets.size(), nets);
+  if (failing == 0) {
+    return fmt::format("verified {} net{}: safe to run; {} with a warning (one_safe or no_dead)\n", r.nets.size(), nets,
+                       warned);
+  }
+  return fmt::format("verified {} net{}: {} with a property that fails or is not decided and blocks a run\n",
+                     r.nets.size(), nets, failing);
 }
 
 }  // namespace
@@ -167,7 +174,7 @@ std::string verify_text(const VerifyReport& report) {
 std::string verify_failures_text(const VerifyReport& report) {
   std::string out;
   for (const auto& n : report.nets) {
-    if (n.ok()) continue;
+    if (n.all_hold()) continue;
     out += net_heading(n);
     std::vector<std::pair<std::string, std::string>> shown;
     for (const auto& p : n.properties) {
@@ -185,6 +192,7 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     j["kind"] = n.kind;
     j["file"] = n.file;
     j["ok"] = n.ok();
+    j["all_hold"] = n.all_hold();
     j["places"] = n.places;
     j["transitions"] = n.transitions;
     j["in_flight_places"] = n.in_flight_places;
@@ -195,7 +203,8 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     if (!n.complete) j["stopped"] = n.stopped_why;
     j["properties"] = nlohmann::ordered_json::array();
     for (const auto& p : n.properties) {
-      nlohmann::ordered_json pj{{"key", p.key}, {"status", status_name(p.status)}, {"message", p.message}};
+      nlohmann::ordered_json pj{
+          {"key", p.key}, {"status", status_name(p.status)}, {"blocking", p.blocking}, {"message", p.message}};
       if (p.counterexample) {
         nlohmann::ordered_json steps = nlohmann::ordered_json::array();
         for (const auto& s : p.counterexample->steps) {
@@ -227,6 +236,7 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
       j["bounds"].push_back({{"place", b.name}, {"bound", b.bound}, {"in_flight", b.in_flight}});
     }
     j["invariants_complete"] = n.invariants_complete;
+    if (!n.invariants_complete) j["invariants_skipped"] = n.invariants_skipped;
     j["invariants"] = nlohmann::ordered_json::array();
     for (const auto& inv : n.invariants) {
       nlohmann::ordered_json w = nlohmann::ordered_json::object();
@@ -236,7 +246,7 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     j["uncovered"] = n.uncovered;
     nets.push_back(std::move(j));
   }
-  return {{"ok", report.ok()}, {"nets", nets}};
+  return {{"ok", report.ok()}, {"all_hold", report.all_hold()}, {"nets", nets}};
 }
 
 }  // namespace strata::coral

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstring>
 #include <new>
+#include <string>
 #include <utility>
 
 #if defined(__linux__)
@@ -79,14 +80,27 @@ ExploreResult Explorer::run() {
   queue_.assign(kInitialQueue * words_, 0);
   queue_slots_ = kInitialQueue;
   std::vector<std::uint64_t> initial = pack_initial();
-  insert<0>(initial.data(), hash<0>(initial.data()));
-  breadth_first();
+  bool out_of_memory = false;
+  try {
+    insert<0>(initial.data(), hash<0>(initial.data()));
+    breadth_first();
+  } catch (const std::bad_alloc&) {
+    // The table may be half grown: counts so far, and no liveness pass.
+    stop(fmt::format("stopped at {} states: out of memory", count_));
+    out_of_memory = true;
+  }
   r_.states = count_;
   r_.one_safe = r_.max_tokens_in_place <= 1;
   r_.quasi_live = std::all_of(r_.transition_fired.begin(), r_.transition_fired.end(), [](bool b) { return b; });
   r_.memory_bytes = memory();
   r_.words_per_state = words_;
-  decide_liveness();
+  if (out_of_memory) return std::move(r_);
+  try {
+    decide_liveness();
+  } catch (const std::bad_alloc&) {
+    r_.live.reset();
+    r_.live_why = "the liveness pass ran out of memory";
+  }
   return std::move(r_);
 }
 
@@ -190,8 +204,8 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::uint32_t old_words = words_;
   bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
   layout();
-  if (words_ != old_words &&
-      !fits(Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) + queue_slots_ * words_ * sizeof(std::uint64_t))) {
+  if (words_ != old_words && !fits(memory() + Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) +
+                                   queue_slots_ * words_ * sizeof(std::uint64_t))) {
     return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
   }
   std::vector<std::uint64_t> m(words_);
@@ -244,7 +258,8 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     return stop(fmt::format("stopped at {} states (the limit)", count_));
   if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
   if ((count_ + 1) * 4 > slots_ * 3) {
-    const std::size_t need = Words::rounded(table_.size() * 16) + queue_.size() * 8;
+    // The old table stays while the new one fills.
+    const std::size_t need = table_.bytes() + Words::rounded(table_.size() * 16) + queue_.size() * 8;
     if (slots_ * 2 > std::size_t{1} << 31) return stop(fmt::format("stopped at {} states: the table's limit", count_));
     if (!fits(need)) return full(need);
     Words old = std::move(table_);
@@ -256,7 +271,7 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     while (table_[i * words] != kEmpty) i = (i + 1) & (slots_ - 1);
   }
   if (queue_size_ == queue_slots_) {
-    const std::size_t need = table_.bytes() + queue_.size() * 16;
+    const std::size_t need = table_.bytes() + queue_.size() * 24;  // the old ring and the new
     if (!fits(need)) return full(need);
     std::vector<std::uint64_t> bigger(queue_.size() * 2);
     const std::size_t first = queue_slots_ - queue_head_;  // entries before the wrap
@@ -372,6 +387,7 @@ bool Explorer::breadth_first() {
     queue_head_ = (queue_head_ + 1) & (queue_slots_ - 1);
     --queue_size_;
     ++explored_;
+    if (past_deadline()) return stop(fmt::format("stopped at {} states: the time limit", count_));
     if (opt_.progress && explored_ >= next_progress_) {
       next_progress_ += opt_.progress_every;
       if (!opt_.progress({count_, explored_, r_.edges, memory()})) {

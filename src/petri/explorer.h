@@ -26,6 +26,7 @@
 // freed when it ends and not counted in memory_bytes.
 //
 // Threads: one.
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -45,8 +46,13 @@ struct ExploreProgress {
 
 struct ExploreOptions {
   // Stop (complete = false) once the hash table (the markings) and the
-  // queue would need more. 0: no limit.
+  // queue would need more, counting the old and the new arrays while one
+  // grows; the liveness pass is not run (live unset) when its arrays would
+  // not fit beside the table. 0: no limit.
   std::size_t max_memory_bytes = 0;
+  // Stop (complete = false; or live unset, in the liveness pass) once the
+  // clock passes it.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   // Stop after this many states (0: no limit).
   std::uint64_t max_states = 0;
   // Decide liveness (a second pass) when it is not already known.
@@ -68,6 +74,7 @@ struct ExploreResult {
   bool one_safe = true;                         // no reachable marking has 2 tokens in a place
   bool quasi_live = false;                      // every transition fires somewhere
   std::optional<bool> live;                     // every transition can always fire again; unset if not decided
+  std::string live_why;                         // when live is unset after a complete exploration: why
   std::vector<Tokens> place_bounds;             // by PlaceId: the most tokens seen there
   std::vector<bool> transition_fired;           // by TransitionId
   std::optional<std::uint64_t> first_deadlock;  // the state index (BFS order) of a deadlock

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -180,6 +181,13 @@ class Explorer {
 
   bool stop(std::string why);
 
+  // True (now and then: the clock is read every 1024 calls) once the
+  // deadline has passed.
+  bool past_deadline() {
+    if (opt_.deadline == std::chrono::steady_clock::time_point::max() || (++clock_calls_ & 1023) != 0) return false;
+    return std::chrono::steady_clock::now() > opt_.deadline;
+  }
+
   // ---- breadth first: the queue holds copies of the markings not explored yet --
   void breadth_first();
 
@@ -221,7 +229,7 @@ class Explorer {
   // predecessors of m by t are m - Post(t) + Pre(t) when that is a stored
   // marking. True when it reaches every state.
   template <unsigned W>
-  bool all_reach_initial();
+  std::optional<bool> all_reach_initial();  // nullopt: the deadline passed
 
   // The predecessors of m, m - Post(t) + Pre(t) for each t where that is a
   // marking (stored or not), into b, hashed, their slots prefetched.
@@ -230,7 +238,7 @@ class Explorer {
 
   // Tarjan's strongly connected components over the table slots, successors
   // recomputed: true when every bottom component enables every transition.
-  bool bottom_components_enable_all();
+  std::optional<bool> bottom_components_enable_all();  // nullopt: the deadline passed
 
   const Net& net_;
   ExploreOptions opt_;
@@ -265,6 +273,7 @@ class Explorer {
   std::vector<std::uint64_t> queue_;
   std::size_t queue_slots_ = 0, queue_head_ = 0, queue_size_ = 0;
   std::uint64_t explored_ = 0;
+  std::uint64_t clock_calls_ = 0;
   std::uint64_t next_progress_ = opt_.progress_every;
   // The successors (predecessors, going backwards) of this state and the
   // next one.

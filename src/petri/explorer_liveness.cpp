@@ -1,7 +1,10 @@
 // The liveness pass of the explorer (explorer_internal.h).
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "petri/explorer_internal.h"
 
@@ -32,22 +35,48 @@ void Explorer::decide_liveness() {
     r_.live = false;
     return;
   }
-  if (!opt_.liveness) return;
+  if (!opt_.liveness) {
+    r_.live_why = "the liveness pass was not asked for";
+    return;
+  }
+  // The passes' arrays beside the table: a bit per slot and 4 bytes per
+  // state for the backward search; for Tarjan 8 bytes and 2 bits per slot,
+  // and its stacks (up to 12 bytes per state, doubled while they grow).
+  const std::size_t backward = slots_ / 8 + count_ * 4;
+  const std::size_t tarjan = slots_ * 8 + slots_ / 4 + count_ * 24;
+  if (!fits(memory() + backward)) {
+    r_.live_why = fmt::format("the liveness pass needs {} MB more, over the memory limit", backward >> 20);
+    return;
+  }
   // Every transition fires somewhere: when every state reaches the initial
   // one, the graph is one component, bottom, and the net is live.
-  const bool strongly_connected = words_ == 1   ? all_reach_initial<1>()
-                                  : words_ == 2 ? all_reach_initial<2>()
-                                                : all_reach_initial<0>();
-  r_.live = strongly_connected || bottom_components_enable_all();
+  const std::optional<bool> strongly_connected = words_ == 1   ? all_reach_initial<1>()
+                                                 : words_ == 2 ? all_reach_initial<2>()
+                                                               : all_reach_initial<0>();
+  if (!strongly_connected) {
+    r_.live_why = "the time limit, in the liveness pass";
+    return;
+  }
+  if (*strongly_connected) {
+    r_.live = true;
+    return;
+  }
+  if (!fits(memory() + tarjan)) {
+    r_.live_why = fmt::format("the liveness pass needs {} MB more, over the memory limit", tarjan >> 20);
+    return;
+  }
+  r_.live = bottom_components_enable_all();
+  if (!r_.live) r_.live_why = "the time limit, in the liveness pass";
 }
 
 template <unsigned W>
-bool Explorer::all_reach_initial() {
+std::optional<bool> Explorer::all_reach_initial() {
   const std::uint32_t words = W ? W : words_;
   std::vector<std::uint64_t> seen((slots_ + 63) / 64, 0);
   // Slots to visit, breadth first; the markings a few places ahead are
   // prefetched.
   std::vector<std::uint32_t> queue;
+  queue.reserve(count_);
   constexpr std::size_t kAhead = 8;
   const std::vector<std::uint64_t> initial = pack_initial();
   const std::uint32_t root = find<W>(initial.data(), hash<W>(initial.data()));
@@ -58,6 +87,7 @@ bool Explorer::all_reach_initial() {
   Batch* next = &batches_[1];
   expand_back<W>(marking(root), *now);
   for (std::size_t head = 0; head < queue.size(); ++head) {
+    if (past_deadline()) return std::nullopt;
     // Pipelined as breadth_first: the next state's predecessors first.
     if (head + kAhead < queue.size()) __builtin_prefetch(marking(queue[head + kAhead]));
     const bool ahead = head + 1 < queue.size();
@@ -106,7 +136,7 @@ void Explorer::expand_back(const std::uint64_t* m, Batch& b) {
   b.n = n;
 }
 
-bool Explorer::bottom_components_enable_all() {
+std::optional<bool> Explorer::bottom_components_enable_all() {
   const std::size_t transitions = net_.transition_count();
   const std::uint32_t n = static_cast<std::uint32_t>(slots_);
   std::vector<std::uint32_t> index(n, kNone), low(n, 0);
@@ -130,6 +160,7 @@ bool Explorer::bottom_components_enable_all() {
     if (index[root] != kNone || *marking(root) == kEmpty) continue;
     visit(root);
     while (!calls.empty()) {
+      if (past_deadline()) return std::nullopt;
       Frame& f = calls.back();
       const std::uint32_t v = f.v;
       const std::uint64_t* m = marking(v);

@@ -36,8 +36,7 @@ bool sf_support_within(const SfRow& a, const SfRow& b) {
 }
 
 // ka * a + kb * b over sorted entries, zeros dropped; false on overflow.
-bool sf_lin(const SfEntries& a, std::int64_t ka, const SfEntries& b, std::int64_t kb, SfEntries& out,
-            std::int64_t& g) {
+bool sf_lin(const SfEntries& a, std::int64_t ka, const SfEntries& b, std::int64_t kb, SfEntries& out, std::int64_t& g) {
   out.clear();
   out.reserve(a.size() + b.size());
   std::size_t i = 0, j = 0;
@@ -95,7 +94,8 @@ struct SfUnionFind {
 // Farkas over the rows of one component, against the limits.
 class SfFarkas {
  public:
-  SfFarkas(const SemiflowLimits& limits, std::size_t transitions) : limits_(limits), pos_(transitions, 0), neg_(transitions, 0) {}
+  SfFarkas(const SemiflowLimits& limits, std::size_t transitions)
+      : limits_(limits), pos_(transitions, 0), neg_(transitions, 0) {}
 
   // Eliminates every column of rows; the minimal semiflows are left in
   // rows. False (with why()) when a limit stopped it.

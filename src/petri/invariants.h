@@ -48,9 +48,9 @@ struct Semiflows {
 };
 
 struct SemiflowLimits {
-  std::size_t max_rows = 2000;             // rows of one component at one step
-  std::uint64_t max_work = 200'000'000;    // matrix entries touched
-  std::size_t max_memory_bytes = 0;        // the rows' bytes (0: no limit)
+  std::size_t max_rows = 2000;           // rows of one component at one step
+  std::uint64_t max_work = 200'000'000;  // matrix entries touched
+  std::size_t max_memory_bytes = 0;      // the rows' bytes (0: no limit)
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 

@@ -21,6 +21,7 @@
 // one, unexplored: no successors, not to be taken for a deadlock.
 //
 // Threads: none; build_reach_graph is a pure function.
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -38,6 +39,13 @@ struct ReachOptions {
   std::vector<PlaceId> terminal_places;
   // Stop (complete = false) after this many markings.
   std::uint64_t max_states = 1'000'000;
+  // Stop before the graph would need more bytes (0: no limit). Counted: the
+  // markings, parents, edges and index as allocated, a vector's old and new
+  // arrays while it grows, and what a verifier's passes over the graph add
+  // (predecessor lists: 8 bytes per edge and 16 per state).
+  std::size_t max_memory_bytes = 0;
+  // Stop once the clock passes it.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 struct ReachEdge {
@@ -54,6 +62,8 @@ class ReachGraph {
  public:
   std::size_t state_count() const { return parent_.size(); }
   std::size_t edge_count() const { return edges_.size(); }
+  // Bytes held, as counted against max_memory_bytes (passes excluded).
+  std::size_t memory_bytes() const;
   std::span<const Tokens> marking(StateId s) const { return {markings_.data() + std::size_t{s} * places_, places_}; }
   // Successors of an explored state (none for a terminal or unexplored one).
   std::span<const ReachEdge> successors(StateId s) const;

@@ -89,7 +89,12 @@ int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   coral::VerifyOptions vo;
   vo.mission_only = true;  // what this run can reach
   loaded.verification = coral::verify_program(*loaded.program, vo);
-  if (loaded.verification->ok()) return kExitOk;
+  if (loaded.verification->ok()) {
+    // one_safe, no_dead: information, not a veto.
+    if (!loaded.verification->all_hold())
+      err << "strata run: warning:\n" << coral::verify_failures_text(*loaded.verification);
+    return kExitOk;
+  }
   err << coral::verify_failures_text(*loaded.verification);
   if (!o.unverified) {
     err << fmt::format(
@@ -195,17 +200,19 @@ tactical::RunInfo run_info(const RunOptions& o, const LoadedMission& loaded) {
 }
 
 nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified) {
-  nlohmann::json failed = nlohmann::json::array();
+  nlohmann::json failed = nlohmann::json::array(), warnings = nlohmann::json::array();
   std::uint64_t states = 0;
   for (const auto& n : v.nets) {
     states += n.states;
     for (const auto& p : n.properties) {
       if (p.status == coral::Property::Status::Holds) continue;
-      failed.push_back(
-          {{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)}, {"message", p.message}});
+      (p.blocking ? failed : warnings)
+          .push_back(
+              {{"net", n.name}, {"property", p.key}, {"status", coral::status_name(p.status)}, {"message", p.message}});
     }
   }
   nlohmann::json j{{"event", "verification"}, {"ok", v.ok()}, {"nets", v.nets.size()}, {"states", states}};
+  if (!warnings.empty()) j["warnings"] = std::move(warnings);
   if (!v.ok()) {
     j["failed"] = std::move(failed);
     j["run_anyway"] = unverified;

@@ -49,8 +49,9 @@ struct EngineOptions {
   // Firings allowed while handling one message before the net is judged to
   // be cycling without acting.
   std::uint64_t max_firings_per_event = 100'000;
-  // How deep PHASE may nest (a phase that runs itself would recurse forever).
-  std::size_t max_phase_depth = 64;
+  // How deep PHASE may nest (a phase that runs itself would recurse forever);
+  // the verifier checks the same limit (coral::kMaxPhaseDepth).
+  std::size_t max_phase_depth = coral::kMaxPhaseDepth;
 };
 
 class CoralEngine final : public Executor {
