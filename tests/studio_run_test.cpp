@@ -290,8 +290,9 @@ TEST_F(StudioRunTest, AnInputSwappedForALinkAfterTheCheckIsStillRefused) {
 }
 
 TEST_F(StudioRunTest, AMissionThatFailsVerificationEndsWithTheReason) {
-  fs::copy_file(fs::path(STRATA_SOURCE_DIR) / "tests/verify/dead_branch.coral", studio() / "tank/dead_branch.coral");
-  ASSERT_TRUE(runner_->start(request(10.0, "tank/dead_branch.coral")).ok());
+  fs::copy_file(fs::path(STRATA_SOURCE_DIR) / "tests/verify/exits_together.coral",
+                studio() / "tank/exits_together.coral");
+  ASSERT_TRUE(runner_->start(request(10.0, "tank/exits_together.coral")).ok());
   ASSERT_TRUE(ended(30s));
   EXPECT_NE(std::string::npos, hub_.snapshot()["ended"]["reason"].get<std::string>().find("fails verification"));
   // A run that never started leaves no log behind.
