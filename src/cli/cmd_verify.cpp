@@ -148,28 +148,48 @@ int run_verify_pnml(const VerifyOptions& o) {
   return r.complete ? kExitOk : kExitAbort;
 }
 
+// --format json: one document on stdout whatever happens; a mission that
+// does not get as far as verification has no nets and says why.
+void print_unverified_json(const std::string& error, const nlohmann::json& diagnostics) {
+  nlohmann::ordered_json j{{"ok", false}, {"all_hold", false}};
+  if (!error.empty()) j["error"] = error;
+  j["diagnostics"] = diagnostics.is_array() ? diagnostics : nlohmann::json::array();
+  j["nets"] = nlohmann::ordered_json::array();
+  std::cout << j.dump(2) << "\n";
+}
+
 int run_verify_mission(const VerifyOptions& o) {
+  const bool json = o.format == "json";
   if (!o.mission.ends_with(".coral")) {
-    std::cerr << fmt::format(
-        "strata verify: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets (`strata run` checks them "
-        "at load, docs/prolog.md), and a PNML net needs --pnml\n",
+    const std::string error = fmt::format(
+        "'{}' is not a CORAL mission (.coral); PROLOG rules are not nets (`strata run` checks them at load, "
+        "docs/prolog.md), and a PNML net needs --pnml",
         o.mission);
+    std::cerr << "strata verify: " << error << "\n";
+    if (json) print_unverified_json(error, nullptr);
     return kExitUsage;
   }
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata verify: " << catalogue.error().message << "\n";
+    if (json) print_unverified_json(catalogue.error().message, nullptr);
     return exit_code_for_input(catalogue.error());
   }
   run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value(), std::cerr, "strata verify");
-  if (!load.program) return load.exit_code;
+  if (!load.program) {
+    if (json) print_unverified_json("the mission does not compile", load.diagnostics);
+    return load.exit_code;
+  }
   coral::VerifyOptions vo;
   vo.max_states = o.max_states;
   vo.max_memory_bytes = o.max_memory_mb << 20;
   vo.time_limit_s = o.time_limit_s;
+  vo.sources = &load.sources;
   const coral::VerifyReport report = coral::verify_program(*load.program, vo);
-  if (o.format == "json") {
-    std::cout << coral::verify_json(report).dump(2) << "\n";
+  if (json) {
+    nlohmann::ordered_json j = coral::verify_json(report);
+    j["diagnostics"] = load.diagnostics;  // warnings
+    std::cout << j.dump(2) << "\n";
   } else {
     std::cout << coral::verify_text(report);
   }
@@ -222,6 +242,7 @@ Runner add_verify_command(CLI::App& app) {
     } catch (const std::bad_alloc&) {
       // Each analysis step catches its own; this is reading or compiling.
       std::cerr << "strata verify: out of memory before the analysis could start; nothing decided\n";
+      if (o->format == "json" && o->pnml.empty()) print_unverified_json("out of memory", nullptr);
       return static_cast<int>(o->pnml.empty() ? kExitInvalid : kExitAbort);
     }
   };

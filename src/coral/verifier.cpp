@@ -39,8 +39,8 @@ Property within_limits(std::string key, const detail::StepLimits& limits, bool b
 class NetVerifier {
  public:
   NetVerifier(const Program& program, const CompiledNet& cn, const std::vector<PhaseExits>& known,
-              const detail::StepLimits& limits)
-      : program_(program), cn_(cn), known_(known), limits_(limits) {}
+              const detail::StepLimits& limits, const core::SourceManager* sources)
+      : program_(program), cn_(cn), known_(known), limits_(limits), sources_(sources) {}
 
   NetVerification run() {
     const CompiledNet& cn = cn_;
@@ -48,6 +48,7 @@ class NetVerifier {
     v.name = cn.name;
     v.kind = cn.kind == ast::Net::Kind::Mission ? "mission" : "phase";
     v.file = cn.source_file;
+    v.at = locate(cn.span, "net", cn.name);
     v.places = cn.net.place_count();
     v.transitions = cn.net.transition_count();
     std::optional<detail::ExploredNet> explored;
@@ -69,7 +70,8 @@ class NetVerifier {
 
     const std::vector<std::uint64_t>& bounds = x.bounds;
     for (petri::PlaceId p = 0; p < an.net.place_count(); ++p) {
-      v.bounds.push_back({std::string(an.net.place_name(p)), bounds[p], !an.places[p].place.has_value()});
+      v.bounds.push_back(
+          {place_location(an, p), std::string(an.net.place_name(p)), bounds[p], !an.places[p].place.has_value()});
     }
     for (std::size_t e = 0; e < cn.exits.size(); ++e) {
       v.exits.emplace_back(cn.net.place_name(cn.exits[e]));
@@ -89,6 +91,15 @@ class NetVerifier {
     v.properties.push_back(
         within_limits("phase_depth", limits_, true, [&] { return detail::phase_depth(program_, cn); }));
 
+    for (Property& p : v.properties) {
+      if (p.about == Property::About::Place && p.about_id < an.net.place_count()) {
+        p.at = place_location(an, p.about_id);
+      } else if (p.about == Property::About::Transition && p.about_id < cn.net.transition_count()) {
+        p.at = transition_location(p.about_id);
+      } else {
+        p.at = v.at;
+      }
+    }
     invariants(an.net, v);
     return v;
   }
@@ -111,7 +122,36 @@ class NetVerifier {
         within_limits("phase_depth", limits_, true, [&] { return detail::phase_depth(program_, cn_); }));
     v.invariants_complete = false;
     v.invariants_skipped = "out of memory";
+    for (Property& p : v.properties) p.at = v.at;
     return v;
+  }
+
+  Location locate(const core::SourceSpan& span, std::string kind, std::string_view name) const {
+    Location at;
+    at.file = cn_.source_file;
+    at.kind = std::move(kind);
+    at.name = name;
+    if (sources_ && span.file < sources_->size()) {
+      at.file = sources_->path(span.file);
+      const core::LineCol lc = sources_->line_col(span.file, span.offset);
+      at.line = lc.line;
+      at.col = lc.col;
+    }
+    return at;
+  }
+
+  Location transition_location(petri::TransitionId t) const {
+    const core::SourceSpan span = t < cn_.transition_spans.size() ? cn_.transition_spans[t] : cn_.span;
+    return locate(span, "transition", cn_.net.transition_name(t));
+  }
+
+  // A mission place where it is declared; an in-flight place at the
+  // transition whose action it waits for.
+  Location place_location(const AnalysisNet& an, petri::PlaceId p) const {
+    const auto& origin = an.places[p];
+    if (!origin.place) return transition_location(origin.transition);
+    const core::SourceSpan span = *origin.place < cn_.place_spans.size() ? cn_.place_spans[*origin.place] : cn_.span;
+    return locate(span, "place", cn_.net.place_name(*origin.place));
   }
 
   void invariants(const petri::Net& net, NetVerification& v) const {
@@ -145,6 +185,7 @@ class NetVerifier {
   const CompiledNet& cn_;
   const std::vector<PhaseExits>& known_;
   const detail::StepLimits& limits_;
+  const core::SourceManager* sources_;
 };
 
 // Nets in an order that puts every phase before the nets that call it (a
@@ -208,7 +249,7 @@ VerifyReport verify_program(const Program& program, const VerifyOptions& options
   }
   for (std::size_t i : callee_first(program, options.mission_only)) {
     const CompiledNet& cn = program.nets[i];
-    NetVerification v = NetVerifier(program, cn, known, limits).run();
+    NetVerification v = NetVerifier(program, cn, known, limits, options.sources).run();
     if (v.complete) known.push_back({cn.name, v.exit_reachable});
     report.nets.push_back(std::move(v));
   }

@@ -40,12 +40,21 @@
 
 #include "coral/analysis.h"
 #include "coral/program.h"
+#include "core/source.h"
 
 namespace strata::coral {
 
 // The memory verification may use by default (the whole process's resident
 // memory), for `strata verify` and `strata run` alike.
 inline constexpr std::size_t kDefaultVerifyMemoryBytes = std::size_t{768} << 20;
+
+// Where a result is about, in the mission's text (line 0: not known).
+struct Location {
+  std::string file;
+  std::uint32_t line = 0, col = 0;
+  std::string kind;  // "net", "place" or "transition"
+  std::string name;
+};
 
 struct VerifyOptions {
   std::uint64_t max_states = 1'000'000;                      // per net
@@ -54,6 +63,8 @@ struct VerifyOptions {
   // Only the mission net and the phases it calls, directly or not (what a
   // run can reach); otherwise every net of the load.
   bool mission_only = false;
+  // Resolves the results' locations to line and column (null: file only).
+  const core::SourceManager* sources = nullptr;
 };
 
 // One step of a counterexample.
@@ -80,11 +91,17 @@ struct Property {
   // True for a property whose failure makes a run unsafe; false for one that
   // only informs (one_safe, no_dead).
   bool blocking = true;
-  std::string message;  // for people: what holds, or what goes wrong
+  // What the property is about: the place or the (mission) transition that
+  // shows the failure, else the net.
+  enum class About { Net, Place, Transition } about = About::Net;
+  std::uint32_t about_id = 0;  // a PlaceId of the analysis net, or a mission TransitionId
+  Location at;                 // resolved from `about`
+  std::string message;         // for people: what holds, or what goes wrong
   std::optional<Counterexample> counterexample;
 };
 
 struct PlaceBound {
+  Location at;
   std::string name;
   std::uint64_t bound = 0;
   bool in_flight = false;  // an in-flight place of the analysis net
@@ -99,6 +116,7 @@ struct NetVerification {
   std::string name;
   std::string kind;  // "phase" or "mission"
   std::string file;
+  Location at;                                     // the `net NAME` / `mission NAME` head
   std::size_t places = 0, transitions = 0;         // of the mission's net
   std::size_t in_flight_places = 0, outcomes = 0;  // added by the analysis
   std::uint64_t states = 0, edges = 0;

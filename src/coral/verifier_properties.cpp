@@ -33,7 +33,12 @@ Property bounded(const ExploredNet& x) {
     std::vector<std::string> grows;
     auto m = x.graph.marking(u->state), a = x.graph.marking(u->ancestor);
     for (std::size_t i = 0; i < m.size(); ++i) {
-      if (m[i] > a[i]) grows.push_back(x.place_label(static_cast<petri::PlaceId>(i)));
+      if (m[i] <= a[i]) continue;
+      if (grows.empty()) {
+        p.about = Property::About::Place;
+        p.about_id = static_cast<std::uint32_t>(i);
+      }
+      grows.push_back(x.place_label(static_cast<petri::PlaceId>(i)));
     }
     p.status = Status::Fails;
     p.message = fmt::format("unbounded: {} can grow without limit; the steps from step {} on can repeat for ever",
@@ -54,6 +59,8 @@ Property one_safe(const ExploredNet& x) {
     for (std::size_t i = 0; i < m.size(); ++i) {
       if (m[i] < 2) continue;
       p.status = Status::Fails;
+      p.about = Property::About::Place;
+      p.about_id = static_cast<std::uint32_t>(i);
       p.message = fmt::format("{} can hold {} tokens", x.place_label(static_cast<petri::PlaceId>(i)), m[i]);
       p.counterexample = x.trace_to(s);
       return p;
@@ -78,6 +85,10 @@ Property no_dead(const ExploredNet& x) {
   std::vector<std::string> dead;
   for (petri::TransitionId t = 0; t < x.cn.net.transition_count(); ++t) {
     if (fired[t]) continue;
+    if (dead.empty()) {
+      p.about = Property::About::Transition;
+      p.about_id = t;
+    }
     std::string why;
     for (const petri::Arc& a : x.cn.net.inputs(t)) {
       if (x.bounds[a.node] < a.weight) {
@@ -215,6 +226,10 @@ Property no_busy_cycle(const ExploredNet& x) {
     walk.push_back(at);
   }
   for (std::size_t i = repeat_from; i < path.size(); ++i) cycle.insert(x.step_label(path[i]));
+  if (repeat_from < path.size()) {
+    p.about = Property::About::Transition;
+    p.about_id = x.an.steps[path[repeat_from]].transition;
+  }
   p.status = Status::Fails;
   p.message = fmt::format(
       "busy cycle: {} can fire for ever without waiting for the vehicle, from step {} on (the engine stops such "
@@ -239,6 +254,13 @@ Property exits_exclusive(const ExploredNet& x) {
     }
     if (marked.size() < 2) continue;
     p.status = Status::Fails;
+    p.about = Property::About::Place;
+    for (petri::PlaceId e : x.cn.exits) {
+      if (m[e] > 0) {
+        p.about_id = e;  // the first exit marked (mission places keep their ids in the analysis net)
+        break;
+      }
+    }
     p.message = fmt::format("exits {} are marked together (the engine takes the first declared)", join(marked));
     p.counterexample = x.trace_to(s);
     return p;

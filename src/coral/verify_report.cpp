@@ -7,6 +7,16 @@
 namespace strata::coral {
 namespace {
 
+nlohmann::ordered_json location_json(const Location& at) {
+  nlohmann::ordered_json j{{"file", at.file}};
+  if (at.line > 0) {
+    j["line"] = at.line;
+    j["col"] = at.col;
+  }
+  j[at.kind.empty() ? "net" : at.kind] = at.name;
+  return j;
+}
+
 constexpr std::size_t kInvariantsShown = 8;
 constexpr std::size_t kWidth = 100;
 
@@ -36,6 +46,9 @@ std::string property_line(const Property& p, std::vector<std::pair<std::string, 
                     : p.status == Property::Status::Fails ? (p.blocking ? "FAIL" : "warn")
                                                           : (p.blocking ? "??  " : "?   ");
   std::string out = fmt::format("  {}  {:<16} {}\n", tag, p.key, p.message);
+  if (p.status != Property::Status::Holds && p.at.line > 0 && p.at.kind != "net") {
+    out += fmt::format("        at {}:{}:{} ({} {})\n", p.at.file, p.at.line, p.at.col, p.at.kind, p.at.name);
+  }
   if (!p.counterexample) return out;
   const Counterexample& cx = *p.counterexample;
   std::string text = counterexample_text(cx, "        ");
@@ -191,6 +204,7 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     j["name"] = n.name;
     j["kind"] = n.kind;
     j["file"] = n.file;
+    j["at"] = location_json(n.at);
     j["ok"] = n.ok();
     j["all_hold"] = n.all_hold();
     j["places"] = n.places;
@@ -203,8 +217,11 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     if (!n.complete) j["stopped"] = n.stopped_why;
     j["properties"] = nlohmann::ordered_json::array();
     for (const auto& p : n.properties) {
-      nlohmann::ordered_json pj{
-          {"key", p.key}, {"status", status_name(p.status)}, {"blocking", p.blocking}, {"message", p.message}};
+      nlohmann::ordered_json pj{{"key", p.key},
+                                {"status", status_name(p.status)},
+                                {"blocking", p.blocking},
+                                {"at", location_json(p.at)},
+                                {"message", p.message}};
       if (p.counterexample) {
         nlohmann::ordered_json steps = nlohmann::ordered_json::array();
         for (const auto& s : p.counterexample->steps) {
@@ -233,7 +250,8 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
     }
     j["bounds"] = nlohmann::ordered_json::array();
     for (const auto& b : n.bounds) {
-      j["bounds"].push_back({{"place", b.name}, {"bound", b.bound}, {"in_flight", b.in_flight}});
+      j["bounds"].push_back(
+          {{"place", b.name}, {"bound", b.bound}, {"in_flight", b.in_flight}, {"at", location_json(b.at)}});
     }
     j["invariants_complete"] = n.invariants_complete;
     if (!n.invariants_complete) j["invariants_skipped"] = n.invariants_skipped;

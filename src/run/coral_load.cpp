@@ -17,6 +17,7 @@ CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& ca
   load.program =
       coral::compile_file(path, files ? *files : disk, load.sources, sink, strategic::coral_check_options(catalogue));
   sink.sort();
+  load.diagnostics = core::diagnostics_to_json(load.sources, sink.diagnostics());
   bool unreadable_root = false;
   for (const auto& d : sink.diagnostics()) {
     core::print_diagnostic(err, load.sources, d);

@@ -5,6 +5,8 @@
 #include <ostream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "coral/loader.h"
 #include "coral/program.h"
 #include "core/source.h"
@@ -15,6 +17,7 @@ namespace strata::run {
 struct CoralLoad {
   core::SourceManager sources;
   std::optional<coral::Program> program;  // unset when it does not compile
+  nlohmann::json diagnostics;             // every diagnostic, as `strata check --format json` prints them
   int exit_code = 0;                      // 65 invalid, 74 unreadable, else 0
 };
 

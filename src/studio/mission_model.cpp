@@ -162,7 +162,8 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
     }
   }
   SandboxProvider files(sandbox, path, source);
-  core::SourceManager sources;
+  out.sources = std::make_shared<core::SourceManager>();
+  core::SourceManager& sources = *out.sources;
   core::DiagnosticSink sink;
   out.program = coral::compile_file(path, files, sources, sink, strategic::coral_check_options(catalogue));
   out.escaped = files.escaped();

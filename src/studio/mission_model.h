@@ -2,6 +2,7 @@
 // The mission model of docs/studio.md: a .coral file compiled as `strata
 // check` does, as JSON for the page (nets with their places, transitions,
 // arcs and actions, each with its line; diagnostics).
+#include <memory>
 #include <optional>
 #include <filesystem>
 #include <string>
@@ -12,16 +13,18 @@
 
 #include "coral/edit.h"
 #include "coral/program.h"
+#include "core/source.h"
 #include "studio/sandbox.h"
 #include "tactical/catalogue.h"
 
 namespace strata::studio {
 
 struct CompiledMission {
-  nlohmann::json model;                   // the mission model
-  std::optional<coral::Program> program;  // when it compiles
-  std::string etag;                       // of the file as read from disk ("" when text was given or unreadable)
-  bool escaped = false;                   // an import left the folder (refused, not read)
+  nlohmann::json model;                          // the mission model
+  std::optional<coral::Program> program;         // when it compiles
+  std::shared_ptr<core::SourceManager> sources;  // the text of the load (locations of the program's spans)
+  std::string etag;                              // of the file as read from disk ("" when text was given or unreadable)
+  bool escaped = false;                          // an import left the folder (refused, not read)
 };
 
 // The version of a file's bytes, as an HTTP entity tag (quotes included).

@@ -289,7 +289,17 @@ void StudioServer::routes() {
     CompiledMission m = compile_mission(sandbox_, path, text, catalogue);
     if (!m.program)
       return send_json(res, {{"error", "the mission does not compile"}, {"diagnostics", m.model["diagnostics"]}}, 422);
-    send_json(res, coral::verify_json(coral::verify_program(*m.program)));
+    coral::VerifyOptions vo;
+    vo.sources = m.sources.get();
+    coral::VerifyReport report = coral::verify_program(*m.program, vo);
+    // Locations relative to the studio's folder, as everywhere else.
+    auto relative = [this](coral::Location& at) { at.file = sandbox_.relative(fs::weakly_canonical(at.file)); };
+    for (auto& n : report.nets) {
+      relative(n.at);
+      for (auto& p : n.properties) relative(p.at);
+      for (auto& b : n.bounds) relative(b.at);
+    }
+    send_json(res, coral::verify_json(report));
   });
 
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
