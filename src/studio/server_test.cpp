@@ -3,8 +3,10 @@
 #include "studio/server.h"
 
 #include <stdlib.h>
+#include <sys/stat.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -259,6 +261,49 @@ TEST_F(StudioServerTest, ImportsOutsideTheFolderAreRefusedWithoutReadingThem) {
   ASSERT_TRUE(run);
   EXPECT_EQ(403, run->status) << run->body;
   EXPECT_TRUE(runs_.empty());
+}
+
+// Regression: an import of a FIFO (or any file that never ends) could block
+// the worker for ever; it is refused at once, with the import's location.
+TEST_F(StudioServerTest, AFifoImportIsRefusedAtOnceByCheckAndVerify) {
+  ASSERT_EQ(0, ::mkfifo((base_ / "root/tank/fifo_lib.coral").c_str(), 0600));
+  const std::string text =
+      "import \"fifo_lib.coral\";\nmission m { place a = 1; exit e; transition t { wait { a } signal { e } } }\n";
+  std::ofstream(base_ / "root/tank/imports_fifo.coral") << text;
+  auto c = client();
+  const auto started = std::chrono::steady_clock::now();
+  auto check =
+      c.Post("/api/check", json({{"path", "tank/imports_fifo.coral"}, {"text", text}}).dump(), "application/json");
+  ASSERT_TRUE(check);
+  ASSERT_EQ(200, check->status) << check->body;
+  const json diagnostics = json::parse(check->body)["diagnostics"];
+  ASSERT_EQ(1u, diagnostics.size()) << check->body;
+  EXPECT_EQ("FileUnreadable", diagnostics[0]["kind"]);
+  EXPECT_EQ(1, diagnostics[0]["line"]);
+  EXPECT_NE(std::string::npos, diagnostics[0]["message"].get<std::string>().find("not a regular file"))
+      << diagnostics[0].dump();
+  auto verify = c.Post("/api/verify", R"({"path": "tank/imports_fifo.coral"})", "application/json");
+  ASSERT_TRUE(verify);
+  EXPECT_EQ(422, verify->status) << verify->body;
+  EXPECT_NE(std::string::npos, verify->body.find("not a regular file")) << verify->body;
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
+}
+
+TEST_F(StudioServerTest, VerifyResultsCarryTheirLocationInTheFolder) {
+  std::ofstream(base_ / "root/tank/dead.coral") << "mission m { place a = 1, never; exit e;\n"
+                                                   "  transition t { wait { a } signal { e } }\n"
+                                                   "  transition u { wait { never } signal { e } } }\n";
+  auto c = client();
+  auto v = c.Post("/api/verify", R"({"path": "tank/dead.coral"})", "application/json");
+  ASSERT_TRUE(v);
+  ASSERT_EQ(200, v->status) << v->body;
+  const json r = json::parse(v->body);
+  EXPECT_TRUE(r["ok"].get<bool>());  // a dead transition is a warning
+  EXPECT_FALSE(r["all_hold"].get<bool>());
+  for (const json& p : r["nets"][0]["properties"]) {
+    if (p["key"] != "no_dead") continue;
+    EXPECT_EQ(json({{"file", "tank/dead.coral"}, {"line", 3}, {"col", 3}, {"transition", "u"}}), p["at"]) << p.dump();
+  }
 }
 
 TEST_F(StudioServerTest, AMissionWhoseDataFileIsOutsideIsNotRun) {
