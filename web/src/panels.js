@@ -179,11 +179,17 @@ export function createPanels(store, fx) {
     if (!res) return;
     if (res.pending) { body.replaceChildren(el('div', { class: 'muted' }, 'verifying…')); return; }
     if (res.error) { body.replaceChildren(el('div', { class: 'error' }, res.error)); return; }
-    body.replaceChildren(el('div', { class: res.ok ? 'ok' : 'error', id: 'verify-summary' }, res.ok ? 'all properties hold' : 'some properties fail'));
+    // ok: nothing blocks a run; all_hold: not even a warning (one_safe, no_dead).
+    const allHold = res.all_hold ?? res.ok;
+    const summary = allHold ? 'all properties hold' : res.ok ? 'safe to run, with warnings' : 'some properties fail';
+    body.replaceChildren(el('div', { class: res.ok ? 'ok' : 'error', id: 'verify-summary' }, summary));
     for (const net of res.nets || []) {
       const ul = el('ul', { class: 'list small props' });
       for (const p of net.properties || []) {
-        const li = el('li', { class: `prop ${p.status}`, 'data-key': p.key }, el('b', {}, p.status === 'holds' ? '✓ ' : p.status === 'fails' ? '✗ ' : '? '), `${p.key}: `, p.message || '');
+        const warning = p.blocking === false && p.status !== 'holds';
+        const where = p.at && p.at.line ? `${p.at.file}:${p.at.line}:${p.at.col}` : '';
+        const li = el('li', { class: `prop ${p.status}${warning ? ' warning' : ''}`, 'data-key': p.key, title: where },
+          el('b', {}, p.status === 'holds' ? '✓ ' : warning ? '! ' : p.status === 'fails' ? '✗ ' : '? '), `${p.key}: `, p.message || '');
         if (p.counterexample && (p.counterexample.steps || []).length) {
           li.append(' ', el('button', { class: 'small play-cex', onclick: () => {
             if (!displayNets(getState()).some((n) => n.name === net.name)) { fx.say(`net ${net.name} is not in this load`, true); return; }
