@@ -99,7 +99,9 @@ TEST(VerifyProcess, MaxMemoryEndsItWithAPartialReport) {
   ASSERT_FALSE(j.is_discarded()) << f.out;
   EXPECT_FALSE(j.at("complete").get<bool>());
   EXPECT_NE(std::string::npos, j.at("stopped").get<std::string>().find("--max-memory")) << f.out;
-  EXPECT_GT(j.at("states").get<std::uint64_t>(), 100'000u);
+  // The limit is on the whole process (what it holds at the start counts)
+  // and a growing table counts twice: tens of thousands of states, not more.
+  EXPECT_GT(j.at("states").get<std::uint64_t>(), 10'000u);
   EXPECT_LT(j.at("states").get<std::uint64_t>(), 3'000'000u);
 }
 
