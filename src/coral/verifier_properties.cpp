@@ -25,6 +25,18 @@ Property undecided(const ExploredNet& x, Property p) {
   return p;
 }
 
+// A result about a marking points at its first marked mission place (where
+// a stalled or trapped run is left), if any.
+void about_marking(const ExploredNet& x, StateId s, Property& p) {
+  auto m = x.graph.marking(s);
+  for (petri::PlaceId q = 0; q < m.size(); ++q) {
+    if (m[q] == 0 || !x.an.places[q].place) continue;
+    p.about = Property::About::Place;
+    p.about_id = q;
+    return;
+  }
+}
+
 }  // namespace
 
 Property bounded(const ExploredNet& x) {
@@ -120,6 +132,7 @@ Property no_deadlock(const ExploredNet& x) {
   for (StateId s = 0; s < x.graph.state_count(); ++s) {
     if (!x.graph.explored(s) || x.graph.terminal(s) || !x.graph.successors(s).empty()) continue;
     p.status = Status::Fails;
+    about_marking(x, s, p);
     p.counterexample = x.trace_to(s);
     p.message = p.counterexample->in_flight.empty()
                     ? "deadlock: nothing enabled, nothing in flight and no exit marked (the engine reports a stall)"
@@ -173,6 +186,7 @@ Property can_always_end(const ExploredNet& x) {
     p.message = fmt::format("trapped: from here {} can no longer be reached; only {} can still happen", goal,
                             join(x.labels(x.reachable_steps(bad))));
   }
+  about_marking(x, bad, p);
   p.counterexample = x.trace_to(bad);
   return p;
 }
