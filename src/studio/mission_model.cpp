@@ -44,7 +44,12 @@ class SandboxProvider final : public coral::FileProvider {
     // The loader's kinds: InvalidInput is a file too large, anything else a
     // file it cannot read (an escape among them).
     if (r.error().code == core::ErrorCode::InvalidInput) {
-      escaped_ = true;
+      // Refused: an escape, unless it is a FIFO, device or folder inside
+      // the folder (not read either, but nothing left the folder).
+      std::error_code ec;
+      const bool not_a_file = sandbox_.lexically_inside(path) && !fs::is_symlink(path, ec) && fs::exists(path, ec) &&
+                              !fs::is_regular_file(path, ec);
+      if (!not_a_file) escaped_ = true;
       return core::Error{core::ErrorCode::Io, r.error().message};
     }
     if (r.error().code == core::ErrorCode::Overflow)
