@@ -1,6 +1,7 @@
 #include "petri/explorer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -158,6 +159,30 @@ TEST(Explorer, LimitsStopWithAPartialResult) {
   EXPECT_FALSE(rp.complete);
   EXPECT_EQ(3, calls);
   EXPECT_NE(std::string::npos, rp.stopped_why.find("interrupted")) << rp.stopped_why;
+}
+
+// Regression (issue 19): no time limit; and the memory count left out the
+// old table while a new one filled, so the peak passed --max-memory.
+TEST(Explorer, ATimeLimitStopsItWithAPartialResult) {
+  ExploreOptions o;
+  o.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  ExploreResult r = explore(dining_philosophers(10), o);
+  EXPECT_FALSE(r.complete);
+  EXPECT_LT(r.states, pow3(10));
+  EXPECT_NE(std::string::npos, r.stopped_why.find("the time limit")) << r.stopped_why;
+  EXPECT_FALSE(r.live.has_value());
+}
+
+TEST(Explorer, AGrowingTableCountsItsOldCopyAgainstTheMemoryLimit) {
+  constexpr std::size_t kLimit = std::size_t{1} << 20;
+  ExploreOptions m;
+  m.max_memory_bytes = kLimit;
+  ExploreResult r = explore(dining_philosophers(10), m);
+  EXPECT_FALSE(r.complete);
+  // What it holds at the end, and the doubling that did not happen: the
+  // old table (r.memory_bytes) and a new one twice its size, over the limit.
+  EXPECT_LE(r.memory_bytes, kLimit);
+  EXPECT_GT(r.memory_bytes * 3, kLimit) << "stopped far too early";
 }
 
 TEST(Explorer, FieldsWidenWhenNoSemiflowBoundsThePlace) {
