@@ -16,6 +16,7 @@
 #include "cli/commands.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
+#include "cli/verify_question.h"
 #include "coral/verify_report.h"
 #include "petri/explorer.h"
 #include "petri/pnml.h"
@@ -162,14 +163,24 @@ Runner add_verify_command(CLI::App& app) {
          "--pnml: stop with a partial report when the markings and their index would need more MB (0: no limit)")
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
+  auto q = std::make_shared<QuestionFlags>();
+  add_question_options(*cmd, *q);
   cmd->footer(
       "Exit, MISSION: 0 when every property of every net holds; 65 when one fails or is not decided, or the "
       "mission does not compile; 74 for a file it cannot open.\n"
       "Exit, --pnml: 0 when the graph was explored in full; 1 when a limit or Ctrl-C stopped it (a partial "
       "report); 65 for a net Strata cannot read; 74 for a file it cannot open.");
-  return [o] {
+  return [o, q, cmd] {
     if (o->mission.empty() && o->pnml.empty()) {
       std::cerr << "strata verify: give a mission (.coral) or --pnml FILE\n";
+      return static_cast<int>(kExitUsage);
+    }
+    if (question_requested(*q) && !o->pnml.empty()) {
+      const std::uint64_t max_states = cmd->get_option("--max-states")->count() ? o->max_states : 0;
+      return run_pnml_question(o->pnml, *q, o->format, {max_states, o->max_memory_mb});
+    }
+    if (question_requested(*q)) {
+      std::cerr << "strata verify: --question and --replay need --pnml FILE\n";
       return static_cast<int>(kExitUsage);
     }
     return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);

@@ -11,6 +11,11 @@
 // the firing sequence from the initial marking to the marking found (the
 // path of the search: not the shortest); replay() checks it.
 //
+// The deadlock question with reduction: when the stubborn sets have pruned
+// nothing in the first 256 markings, the full exploration (explorer.h),
+// several times faster per marking, decides it instead (by_exploration);
+// when it finds a deadlock, the search goes on for the witness.
+//
 // Limits: max_states, max_memory_bytes and the progress callback stop the
 // search; the answer is then NotDecided, never a yes or no it has not seen.
 //
@@ -53,6 +58,7 @@ struct QuestionResult {
   std::vector<TransitionId> witness;
   Marking witness_marking;
   std::string structural_reason;  // set when structure alone answered
+  bool by_exploration = false;    // the full exploration decided (see above); states are its count
   std::string stopped_why;        // when NotDecided
   std::uint64_t states = 0;       // markings visited (stored)
   std::uint64_t edges = 0;        // transitions fired by the search

@@ -93,8 +93,9 @@ void StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<const Trans
   for (std::size_t k = 0; k < tries && best_size > 1; ++k) {
     next_generation();
     add(enabled[k]);
-    // A set with as many enabled members as the best so far is no better.
-    if (!close(m, is_enabled, out, found ? best_size - 1 : best_size)) continue;
+    // A set with as many enabled members as the best so far (or as all
+    // of them) is no better.
+    if (!close(m, is_enabled, out, best_size - 1)) continue;
     best_.swap(out);
     best_size = best_.size();
     found = true;
