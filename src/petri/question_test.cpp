@@ -173,6 +173,55 @@ TEST(QuestionDeadlock, InitialDeadlockHasAnEmptyWitness) {
   EXPECT_TRUE(r.witness.empty());
 }
 
+// n counters sharing a lock (read, not taken: pre = post = 1), each
+// filled k times: every enabled transition conflicts with every other, so
+// stubborn sets prune nothing; (k+1)^n markings, one deadlock (all full).
+Net locked_counters(unsigned n, Tokens k) {
+  NetBuilder b;
+  PlaceId lock = b.add_place("lock", 1);
+  for (unsigned i = 0; i < n; ++i) {
+    PlaceId budget = b.add_place("budget" + std::to_string(i), k);
+    PlaceId count = b.add_place("count" + std::to_string(i), 0);
+    TransitionId t = b.add_transition("inc" + std::to_string(i));
+    b.add_input(t, lock);
+    b.add_output(t, lock);
+    b.add_input(t, budget);
+    b.add_output(t, count);
+  }
+  return std::move(b).build();
+}
+
+TEST(QuestionDeadlock, WhenStubbornSetsPruneNothingTheExplorerDecidesAndTheWitnessIsStillFound) {
+  const Net with_deadlock = locked_counters(4, 4);  // 625 markings
+  const Question q = ask(with_deadlock, "deadlock");
+  const QuestionResult r = answer_question(with_deadlock, q);
+  EXPECT_EQ(Answer::Yes, r.answer);
+  EXPECT_FALSE(r.by_exploration);
+  expect_witness_replays(with_deadlock, q, r);
+  // The same lock around a ring: no deadlock, decided by the explorer.
+  NetBuilder b;
+  PlaceId lock = b.add_place("lock", 1);
+  std::vector<PlaceId> p;
+  for (unsigned i = 0; i < 7; ++i) p.push_back(b.add_place("r" + std::to_string(i), i == 0 ? 5 : 0));
+  for (unsigned i = 0; i < 7; ++i) {
+    TransitionId t = b.add_transition("step" + std::to_string(i));
+    b.add_input(t, lock);
+    b.add_output(t, lock);
+    b.add_input(t, p[i]);
+    b.add_output(t, p[(i + 1) % 7]);
+  }
+  const Net free = std::move(b).build();  // C(11, 5) = 462 markings
+  const QuestionResult full = answer_question(free, ask(free, "deadlock"));
+  EXPECT_EQ(Answer::No, full.answer);
+  EXPECT_TRUE(full.by_exploration);
+  EXPECT_EQ(462u, full.states);
+  QuestionOptions limited;
+  limited.max_states = 300;
+  const QuestionResult stopped = answer_question(free, ask(free, "deadlock"), limited);
+  EXPECT_EQ(Answer::NotDecided, stopped.answer);
+  EXPECT_TRUE(stopped.by_exploration);
+}
+
 TEST(QuestionReach, RandomPredicatesOnFamiliesAgreeWithEveryMarking) {
   check_random_predicates(dining_philosophers(4), 1, 40);
   check_random_predicates(referendum(5), 2, 40);
