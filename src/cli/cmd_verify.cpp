@@ -175,13 +175,10 @@ Runner add_verify_command(CLI::App& app) {
       std::cerr << "strata verify: give a mission (.coral) or --pnml FILE\n";
       return static_cast<int>(kExitUsage);
     }
-    if (question_requested(*q) && !o->pnml.empty()) {
-      const std::uint64_t max_states = cmd->get_option("--max-states")->count() ? o->max_states : 0;
-      return run_pnml_question(o->pnml, *q, o->format, {max_states, o->max_memory_mb});
-    }
     if (question_requested(*q)) {
-      std::cerr << "strata verify: --question and --replay need --pnml FILE\n";
-      return static_cast<int>(kExitUsage);
+      const QuestionLimits limits{cmd->get_option("--max-states")->count() ? o->max_states : 0, o->max_memory_mb};
+      return o->pnml.empty() ? run_mission_question(o->mission, o->catalogue, *q, o->format, limits)
+                             : run_pnml_question(o->pnml, *q, o->format, limits);
     }
     return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);
   };

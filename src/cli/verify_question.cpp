@@ -11,7 +11,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "coral/verify_question.h"
+#include "run/coral_load.h"
 #include "core/file.h"
 #include "petri/pnml.h"
 #include "petri/question.h"
@@ -91,8 +94,9 @@ bool is_witness(const petri::Question& q, bool deadlock, const petri::Marking& m
   return q.kind == petri::QuestionKind::Deadlock ? deadlock : q.target.holds(m);
 }
 
-int run_replay(const petri::PnmlNet& pn, const std::string& path, const QuestionFlags& f,
-               const std::optional<petri::Question>& q, const std::string& format) {
+int run_replay(const petri::Net& net, const std::string& header, const QuestionFlags& f,
+               const std::optional<petri::Question>& q, const std::string& format,
+               const std::vector<petri::PlaceId>& terminal) {
   std::string text = f.replay;
   std::string flag = "--replay";
   if (!f.replay_file.empty()) {
@@ -104,7 +108,7 @@ int run_replay(const petri::PnmlNet& pn, const std::string& path, const Question
     text = std::move(read).value();
     flag = "--replay-file";
   }
-  auto seq = petri::parse_sequence(text, pn.net);
+  auto seq = petri::parse_sequence(text, net);
   if (!seq) {
     if (flag == "--replay") {
       print_text_error(flag, text, seq.error().message);
@@ -113,7 +117,9 @@ int run_replay(const petri::PnmlNet& pn, const std::string& path, const Question
     std::cerr << fmt::format("strata verify: {}: {}\n", f.replay_file, seq.error().message);
     return kExitInvalid;
   }
-  const petri::ReplayResult r = petri::replay(pn.net, seq.value());
+  petri::ReplayResult r = petri::replay(net, seq.value());
+  // A marking at an exit ends the phase: nothing fires there, and it is no deadlock.
+  for (petri::PlaceId p : terminal) r.deadlock = r.deadlock && r.marking[p] == 0;
   const bool answers = q && r.complete && is_witness(*q, r.deadlock, r.marking);
   if (format == "json") {
     nlohmann::ordered_json j;
@@ -121,7 +127,7 @@ int run_replay(const petri::PnmlNet& pn, const std::string& path, const Question
     j["fired"] = r.fired;
     j["length"] = seq.value().size();
     if (!r.complete) j["error"] = r.error;
-    j["marking"] = marking_json(pn.net, r.marking);
+    j["marking"] = marking_json(net, r.marking);
     j["deadlock"] = r.deadlock;
     if (q) {
       j["question"] = f.question;
@@ -129,13 +135,13 @@ int run_replay(const petri::PnmlNet& pn, const std::string& path, const Question
     }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << fmt::format("{} ({}): replay of {} transitions\n", pn.name, path, seq.value().size());
+    std::cout << fmt::format("{}: replay of {} transitions\n", header, seq.value().size());
     if (r.complete) {
       std::cout << fmt::format("  fired      all {}\n", r.fired);
     } else {
       std::cout << fmt::format("  STOPPED    {}\n", r.error);
     }
-    std::cout << fmt::format("  marking    {}\n", marking_text(pn.net, r.marking));
+    std::cout << fmt::format("  marking    {}\n", marking_text(net, r.marking));
     std::cout << fmt::format("  deadlock   {}\n", r.deadlock ? "yes: it enables no transition" : "no");
     if (q && q->kind != petri::QuestionKind::Deadlock) {
       std::cout << fmt::format("  predicate  {}\n", q->predicate.holds(r.marking) ? "holds" : "does not hold");
@@ -148,21 +154,32 @@ int run_replay(const petri::PnmlNet& pn, const std::string& path, const Question
   return !q || answers ? kExitOk : kExitAbort;
 }
 
+petri::QuestionOptions question_options(const QuestionFlags& f, const QuestionLimits& limits) {
+  petri::QuestionOptions qo;
+  qo.reduction = !f.no_reduction;
+  qo.max_states = limits.max_states;
+  qo.max_memory_bytes = limits.max_memory_mb << 20;
+  return qo;
+}
+
 }  // namespace
 
 void add_question_options(CLI::App& verify, QuestionFlags& f) {
   auto* question =
       verify.add_option("--question", f.question,
-                        "--pnml: answer one question and stop at the first witness: 'deadlock', 'EF <predicate>' "
+                        "answer one question and stop at the first witness: 'deadlock', 'EF <predicate>' "
                         "(some reachable marking satisfies it) or 'AG <predicate>' (every one does); predicates "
                         "compare places and integers: 'p1 >= 2 && !(p3 == 0)' (docs/verification.md, Questions)");
   auto* replay = verify.add_option("--replay", f.replay,
-                                   "--pnml: fire these transitions (ids, separated by spaces) from the initial "
+                                   "fire these transitions (ids, separated by spaces) from the initial "
                                    "marking and print the marking reached; with --question, check it is a witness");
   auto* replay_file =
-      verify.add_option("--replay-file", f.replay_file, "--pnml: the same as --replay, the sequence read from a file");
+      verify.add_option("--replay-file", f.replay_file, "the same as --replay, the sequence read from a file");
   replay->excludes(replay_file);
   replay_file->excludes(replay);
+  verify.add_option("--net", f.net,
+                    "MISSION --question/--replay: the net to ask about (default: the mission net); places and "
+                    "transitions are its analysis net's (docs/verification.md)");
   auto* no_reduction = verify.add_flag("--no-reduction", f.no_reduction,
                                        "--question: search every interleaving (no stubborn sets); the same answer");
   no_reduction->needs(question);
@@ -172,30 +189,24 @@ bool question_requested(const QuestionFlags& f) {
   return !f.question.empty() || !f.replay.empty() || !f.replay_file.empty();
 }
 
-int run_pnml_question(const std::string& path, const QuestionFlags& f, const std::string& format,
-                      const QuestionLimits& limits) {
-  auto loaded = petri::read_pnml(path);
-  if (!loaded) {
-    std::cerr << "strata verify: " << loaded.error().message << "\n";
-    return exit_code_for_input(loaded.error());
-  }
-  const petri::PnmlNet& pn = loaded.value();
+namespace {
+
+// The question or the replay of `f` on one net; header names it (the first
+// line of the text output).
+int ask_net(const petri::Net& net, const std::string& header, const std::vector<std::string>* labels,
+            const QuestionFlags& f, const std::string& format, petri::QuestionOptions qo) {
   std::optional<petri::Question> q;
   if (!f.question.empty()) {
-    auto parsed = petri::parse_question(f.question, petri::net_place_resolver(pn.net, &pn.place_labels));
+    auto parsed = petri::parse_question(f.question, petri::net_place_resolver(net, labels));
     if (!parsed) {
       print_text_error("--question", f.question, parsed.error().message);
       return kExitUsage;
     }
     q = std::move(parsed).value();
   }
-  if (!f.replay.empty() || !f.replay_file.empty()) return run_replay(pn, path, f, q, format);
+  if (!f.replay.empty() || !f.replay_file.empty()) return run_replay(net, header, f, q, format, qo.terminal_places);
 
   const bool tty = isatty(STDERR_FILENO) == 1;
-  petri::QuestionOptions qo;
-  qo.reduction = !f.no_reduction;
-  qo.max_states = limits.max_states;
-  qo.max_memory_bytes = limits.max_memory_mb << 20;
   const auto start = std::chrono::steady_clock::now();
   g_question_interrupted = false;
   auto previous = std::signal(SIGINT, on_question_interrupt);
@@ -203,7 +214,8 @@ int run_pnml_question(const std::string& path, const QuestionFlags& f, const std
     if (tty) std::cerr << fmt::format("\r  {} markings, {} MB   ", p.states, p.memory_bytes >> 20) << std::flush;
     return !g_question_interrupted.load();
   };
-  const petri::QuestionResult r = petri::answer_question(pn.net, *q, qo);
+  const petri::QuestionResult r = petri::answer_question(net, *q, qo);
+  const bool reduced = qo.reduction && qo.terminal_places.empty();
   std::signal(SIGINT, previous);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (tty && r.states >= qo.progress_every) std::cerr << "\r" << std::string(40, ' ') << "\r" << std::flush;
@@ -218,34 +230,74 @@ int run_pnml_question(const std::string& path, const QuestionFlags& f, const std
     if (r.answer == petri::Answer::NotDecided) j["stopped"] = r.stopped_why;
     if (r.has_witness) {
       nlohmann::ordered_json w = nlohmann::ordered_json::array();
-      for (petri::TransitionId t : r.witness) w.push_back(std::string(pn.net.transition_name(t)));
+      for (petri::TransitionId t : r.witness) w.push_back(std::string(net.transition_name(t)));
       j["witness"] = std::move(w);
-      j["marking"] = marking_json(pn.net, r.witness_marking);
+      j["marking"] = marking_json(net, r.witness_marking);
     }
     j["markings_visited"] = r.states;
     j["transitions_fired"] = r.edges;
-    j["reduction"] = qo.reduction;
+    j["reduction"] = reduced;
     j["seconds"] = seconds;
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << fmt::format("{} ({}): {} places, {} transitions, {} arcs\n", pn.name, path, pn.net.place_count(),
-                             pn.net.transition_count(), pn.net.arc_count());
+    std::cout << header << "\n";
     std::cout << fmt::format("  question   {}\n", f.question);
     std::cout << fmt::format("  answer     {}: {}\n", answer_word(r.answer), answer_meaning(*q, r.answer));
     if (!r.structural_reason.empty()) std::cout << fmt::format("  by         structure: {}\n", r.structural_reason);
     if (r.answer == petri::Answer::NotDecided) std::cout << fmt::format("  stopped    {}\n", r.stopped_why);
     if (r.has_witness) {
       std::cout << fmt::format("  witness    {} transitions: {}\n", r.witness.size(),
-                               r.witness.empty() ? "(the initial marking)" : sequence_text(pn.net, r.witness));
-      std::cout << fmt::format("  marking    {}\n", marking_text(pn.net, r.witness_marking));
+                               r.witness.empty() ? "(the initial marking)" : sequence_text(net, r.witness));
+      std::cout << fmt::format("  marking    {}\n", marking_text(net, r.witness_marking));
     }
     if (r.structural_reason.empty()) {
       std::cout << fmt::format("  searched   {} markings, {} firings, {}{} in {:.3f} s\n", r.states, r.edges,
-                               qo.reduction ? "stubborn sets" : "no reduction",
+                               reduced ? "stubborn sets" : "no reduction",
                                r.by_exploration ? " (they pruned nothing: explored in full)" : "", seconds);
     }
   }
   return r.answer == petri::Answer::NotDecided ? kExitAbort : kExitOk;
+}
+
+}  // namespace
+
+int run_pnml_question(const std::string& path, const QuestionFlags& f, const std::string& format,
+                      const QuestionLimits& limits) {
+  auto loaded = petri::read_pnml(path);
+  if (!loaded) {
+    std::cerr << "strata verify: " << loaded.error().message << "\n";
+    return exit_code_for_input(loaded.error());
+  }
+  const petri::PnmlNet& pn = loaded.value();
+  return ask_net(pn.net,
+                 fmt::format("{} ({}): {} places, {} transitions, {} arcs", pn.name, path, pn.net.place_count(),
+                             pn.net.transition_count(), pn.net.arc_count()),
+                 &pn.place_labels, f, format, question_options(f, limits));
+}
+
+int run_mission_question(const std::string& mission, const std::string& catalogue_option, const QuestionFlags& f,
+                         const std::string& format, const QuestionLimits& limits) {
+  auto catalogue = load_catalogue_option(catalogue_option);
+  if (!catalogue) {
+    std::cerr << "strata verify: " << catalogue.error().message << "\n";
+    return exit_code_for_input(catalogue.error());
+  }
+  run::CoralLoad load = run::load_coral_file(mission, catalogue.value(), std::cerr, "strata verify");
+  if (!load.program) return load.exit_code;
+  petri::QuestionOptions qo = question_options(f, limits);
+  auto an = coral::question_analysis_net(*load.program, f.net, qo);
+  if (!an) {
+    std::cerr << "strata verify: " << an.error().message << "\n";
+    return kExitUsage;
+  }
+  qo.terminal_places = an.value().exits;
+  const petri::Net& net = an.value().net;
+  return ask_net(net,
+                 fmt::format("{} {} ({}): analysis net, {} places, {} transitions{}",
+                             an.value().source->kind == coral::ast::Net::Kind::Mission ? "mission" : "phase",
+                             an.value().source->name, an.value().source->source_file, net.place_count(),
+                             net.transition_count(), qo.terminal_places.empty() ? "" : ", ends at its exits"),
+                 nullptr, f, format, qo);
 }
 
 }  // namespace strata::cli

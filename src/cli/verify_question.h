@@ -1,5 +1,6 @@
 #pragma once
-// `strata verify --pnml FILE --question Q` and `--replay SEQ`: one question
+// `strata verify --pnml FILE --question Q` and `--replay SEQ` (and the
+// same on a mission: `strata verify MISSION --question Q`): one question
 // about a P/T net (petri/question.h), answered with a witness, and a firing
 // sequence replayed and checked (docs/verification.md, "Questions"). The
 // options are registered on the verify command; cmd_verify.cpp dispatches
@@ -15,6 +16,7 @@ struct QuestionFlags {
   std::string question;     // --question: deadlock | EF φ | AG φ
   std::string replay;       // --replay: transition names
   std::string replay_file;  // --replay-file: the same in a file
+  std::string net;          // --net: MISSION only, the net asked about
   bool no_reduction = false;
 };
 
@@ -37,5 +39,11 @@ struct QuestionLimits {
 // Strata cannot read; 74 a file it cannot open.
 int run_pnml_question(const std::string& path, const QuestionFlags& flags, const std::string& format,
                       const QuestionLimits& limits);
+
+// The same on the analysis net of one net of a CORAL mission
+// (coral/verify_question.h), names as the mission writes them. Exit as
+// above; 65 for a mission that does not compile; 64 for an unknown --net.
+int run_mission_question(const std::string& mission, const std::string& catalogue, const QuestionFlags& flags,
+                         const std::string& format, const QuestionLimits& limits);
 
 }  // namespace strata::cli

@@ -69,6 +69,15 @@ std::string predicate_place_text(std::string_view name) {
 
 Predicate::Predicate() : nodes_{PredicateNode{}}, root_{0} {}
 
+Predicate Predicate::compare(Term lhs, CompareOp op, Term rhs) {
+  Predicate p;
+  p.nodes_[0].kind = PredicateNode::Kind::Compare;
+  p.nodes_[0].lhs = lhs;
+  p.nodes_[0].op = op;
+  p.nodes_[0].rhs = rhs;
+  return p;
+}
+
 bool Predicate::holds(std::uint32_t i, std::span<const Tokens> m) const {
   const PredicateNode& n = nodes_[i];
   switch (n.kind) {

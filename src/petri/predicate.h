@@ -52,6 +52,8 @@ struct PredicateNode {
 class Predicate {
  public:
   Predicate();  // true
+  // One comparison.
+  static Predicate compare(Term lhs, CompareOp op, Term rhs);
   bool holds(std::span<const Tokens> m) const { return holds(root_, m); }
   bool holds(std::uint32_t node, std::span<const Tokens> m) const;
   const PredicateNode& node(std::uint32_t i) const { return nodes_[i]; }

@@ -271,10 +271,14 @@ class QuestionSearch {
 
   bool at_goal(const Marking& m) {
     enabled_.clear();
-    for (TransitionId t = 0; t < net_.transition_count(); ++t) {
-      if (missing_[t] == 0) enabled_.push_back(t);
+    bool terminal = false;
+    for (PlaceId p : o_.terminal_places) terminal = terminal || m[p] > 0;
+    if (!terminal) {
+      for (TransitionId t = 0; t < net_.transition_count(); ++t) {
+        if (missing_[t] == 0) enabled_.push_back(t);
+      }
     }
-    if (q_.kind == QuestionKind::Deadlock) return enabled_.empty();
+    if (q_.kind == QuestionKind::Deadlock) return !terminal && enabled_.empty();
     return q_.target.holds(m);
   }
 
@@ -287,7 +291,7 @@ class QuestionSearch {
   }
   void choose(const Marking& m) {
     ++visited_;
-    if (!o_.reduction || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
+    if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
       account(enabled_.size(), enabled_.size());
       return;
@@ -310,7 +314,7 @@ class QuestionSearch {
   // question whole. True when it did (no deadlock, or a limit); when it
   // found a deadlock, the search goes on for the witness.
   bool hand_over_to_explorer(QuestionResult& r) {
-    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !o_.reduction || total_pruned_ > 0 ||
+    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 ||
         store_.size() < kExplorerAfter) {
       return false;
     }
@@ -341,7 +345,7 @@ class QuestionSearch {
     window_pruned_ += enabled - kept;
     total_pruned_ += enabled - kept;
     if (visited_ % kReductionWindow != 0) return;
-    if (o_.reduction) reducing_ = window_pruned_ > 0;
+    if (reduce_) reducing_ = window_pruned_ > 0;
     window_pruned_ = 0;
   }
 
@@ -405,6 +409,7 @@ class QuestionSearch {
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
   std::uint64_t visited_ = 0, window_pruned_ = 0, total_pruned_ = 0;
+  bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;
   bool handed_over_ = false;
 };

@@ -44,6 +44,11 @@ struct QuestionOptions {
   // Called about every progress_every new markings; false stops the search.
   std::function<bool(const ExploreProgress&)> progress;
   std::uint64_t progress_every = 1u << 20;
+  // Markings with a token in one of these have no successors (a mission
+  // phase ends at its exits: docs/verification.md) and are no deadlocks.
+  // With terminal places the search uses no stubborn sets: a transition
+  // marking one would disable every other, which their rules do not see.
+  std::vector<PlaceId> terminal_places;
 };
 
 enum class Answer { Yes, No, NotDecided };
