@@ -135,7 +135,8 @@ int run_replay(const petri::Net& net, const std::string& header, const QuestionF
     }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << fmt::format("{}: replay of {} transitions\n", header, seq.value().size());
+    std::cout << fmt::format("{}: replay of {} transition{}\n", header, seq.value().size(),
+                             seq.value().size() == 1 ? "" : "s");
     if (r.complete) {
       std::cout << fmt::format("  fired      all {}\n", r.fired);
     } else {
@@ -246,14 +247,14 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
     if (!r.structural_reason.empty()) std::cout << fmt::format("  by         structure: {}\n", r.structural_reason);
     if (r.answer == petri::Answer::NotDecided) std::cout << fmt::format("  stopped    {}\n", r.stopped_why);
     if (r.has_witness) {
-      std::cout << fmt::format("  witness    {} transitions: {}\n", r.witness.size(),
+      std::cout << fmt::format("  witness    {} transition{}: {}\n", r.witness.size(), r.witness.size() == 1 ? "" : "s",
                                r.witness.empty() ? "(the initial marking)" : sequence_text(net, r.witness));
       std::cout << fmt::format("  marking    {}\n", marking_text(net, r.witness_marking));
     }
     if (r.structural_reason.empty()) {
-      std::cout << fmt::format("  searched   {} markings, {} firings, {}{} in {:.3f} s\n", r.states, r.edges,
+      std::cout << fmt::format("  searched   {} markings, {} firings ({}{}) in {:.3f} s\n", r.states, r.edges,
                                reduced ? "stubborn sets" : "no reduction",
-                               r.by_exploration ? " (they pruned nothing: explored in full)" : "", seconds);
+                               r.by_exploration ? ", which pruned nothing: explored in full" : "", seconds);
     }
   }
   return r.answer == petri::Answer::NotDecided ? kExitAbort : kExitOk;
