@@ -116,10 +116,9 @@ std::optional<StructuralAnswer> reachable_by_structure(const Net& net, const Pre
     bounds += ranges[p].high ? fmt::format("{} in [{}, {}]", net.place_name(p), ranges[p].low, *ranges[p].high)
                              : fmt::format("{} >= {}", net.place_name(p), ranges[p].low);
   }
-  return StructuralAnswer{false,
-                          fmt::format("no reachable marking satisfies it: by P-invariants and the places no transition "
-                                      "raises or lowers, {}",
-                                      bounds.empty() ? "it is constant" : bounds)};
+  return StructuralAnswer{false, fmt::format("{} never holds within the bounds from P-invariants and from the "
+                                             "places no transition raises or lowers: {}",
+                                             target.to_string(net), bounds.empty() ? "(no place)" : bounds)};
 }
 
 }  // namespace strata::petri
