@@ -20,7 +20,7 @@ Net three_places() {
   return std::move(b).build();
 }
 
-std::string error_of(std::string_view text, const Net& net) {
+std::string question_error_of(std::string_view text, const Net& net) {
   auto q = parse_question(text, net_place_resolver(net));
   return q ? std::string("ok") : q.error().message;
 }
@@ -117,30 +117,31 @@ TEST(Question, Kinds) {
 
 TEST(Question, ErrorsGiveTheColumn) {
   const Net net = three_places();
-  EXPECT_EQ("column 4: no place 'p9'", error_of("EF p9 >= 1", net));
-  EXPECT_EQ("column 7: '=' is not a comparison: write '=='", error_of("EF p1 = 1", net));
+  EXPECT_EQ("column 4: no place 'p9'", question_error_of("EF p9 >= 1", net));
+  EXPECT_EQ("column 7: '=' is not a comparison: write '=='", question_error_of("EF p1 = 1", net));
   EXPECT_EQ("column 20: expected ')' to close the '(' at column 4, found 'end of text'",
-            error_of("EF (p1 >= 1 &&p2==0", net));
-  EXPECT_EQ("column 12: unmatched ')'", error_of("EF p1 >= 1 )", net));
-  EXPECT_EQ("column 3: expected a predicate", error_of("EF", net));
+            question_error_of("EF (p1 >= 1 &&p2==0", net));
+  EXPECT_EQ("column 12: unmatched ')'", question_error_of("EF p1 >= 1 )", net));
+  EXPECT_EQ("column 3: expected a predicate", question_error_of("EF", net));
   EXPECT_EQ("column 1: a question is 'deadlock', 'EF <predicate>' or 'AG <predicate>', not 'EG'",
-            error_of("EG p1 >= 1", net));
-  EXPECT_EQ("column 10: nothing may follow 'deadlock'", error_of("deadlock p1", net));
-  EXPECT_EQ("column 7: expected a comparison (== != < <= > >=) after 'p1', found '&&'", error_of("EF p1 && p2", net));
+            question_error_of("EG p1 >= 1", net));
+  EXPECT_EQ("column 10: nothing may follow 'deadlock'", question_error_of("deadlock p1", net));
+  EXPECT_EQ("column 7: expected a comparison (== != < <= > >=) after 'p1', found '&&'",
+            question_error_of("EF p1 && p2", net));
   EXPECT_EQ("column 10: negative numbers are not allowed: a place holds 0 or more tokens",
-            error_of("EF p1 >= -1", net));
-  EXPECT_EQ("column 10: number too large (at most 2^62)", error_of("EF p1 >= 99999999999999999999", net));
-  EXPECT_EQ("column 4: unterminated quoted place name", error_of("EF \"p1 >= 1", net));
-  EXPECT_EQ("column 12: unexpected 'p2' after the predicate", error_of("EF p1 >= 1 p2", net));
-  EXPECT_EQ("column 10: expected a place name or a number, found '?'", error_of("EF p1 >= ?", net));
+            question_error_of("EF p1 >= -1", net));
+  EXPECT_EQ("column 10: number too large (at most 2^62)", question_error_of("EF p1 >= 99999999999999999999", net));
+  EXPECT_EQ("column 4: unterminated quoted place name", question_error_of("EF \"p1 >= 1", net));
+  EXPECT_EQ("column 12: unexpected 'p2' after the predicate", question_error_of("EF p1 >= 1 p2", net));
+  EXPECT_EQ("column 10: expected a place name or a number, found '?'", question_error_of("EF p1 >= ?", net));
 }
 
 TEST(Question, DeepNestingIsAnErrorNotACrash) {
   const Net net = three_places();
   std::string deep = "EF " + std::string(5000, '(') + "true" + std::string(5000, ')');
-  EXPECT_NE(std::string::npos, error_of(deep, net).find("nested more than"));
+  EXPECT_NE(std::string::npos, question_error_of(deep, net).find("nested more than"));
   std::string nots = "EF " + std::string(5000, '!') + "true";
-  EXPECT_NE(std::string::npos, error_of(nots, net).find("nested more than"));
+  EXPECT_NE(std::string::npos, question_error_of(nots, net).find("nested more than"));
 }
 
 }  // namespace
