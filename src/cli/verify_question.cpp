@@ -264,6 +264,10 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
 
 int run_pnml_question(const std::string& path, const QuestionFlags& f, const std::string& format,
                       const QuestionLimits& limits) {
+  if (!f.net.empty()) {
+    std::cerr << "strata verify: --net names a net of a mission; a PNML file holds one net\n";
+    return kExitUsage;
+  }
   auto loaded = petri::read_pnml(path);
   if (!loaded) {
     std::cerr << "strata verify: " << loaded.error().message << "\n";
