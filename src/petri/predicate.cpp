@@ -292,12 +292,13 @@ class PredicateParser {
     if (std::isdigit(static_cast<unsigned char>(peek()))) {
       std::int64_t v = 0;
       while (std::isdigit(static_cast<unsigned char>(peek()))) {
-        v = v * 10 + (peek() - '0');
-        ++pos_;
-        if (v > kMaxPredicateConstant) {
+        const int digit = peek() - '0';
+        if (v > (kMaxPredicateConstant - digit) / 10) {
           fail(start, "number too large (at most 2^62)");
           return false;
         }
+        v = v * 10 + digit;
+        ++pos_;
       }
       if (is_name_char(peek())) {
         fail(start, fmt::format("'{}' is neither a number nor a place name", s_.substr(start, pos_ + 1 - start)));
