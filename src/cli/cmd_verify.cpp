@@ -18,6 +18,7 @@
 #include "cli/commands.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
+#include "cli/verify_question.h"
 #include "coral/verify_report.h"
 #include "core/memory.h"
 #include "petri/explorer.h"
@@ -224,13 +225,15 @@ Runner add_verify_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
+  auto q = std::make_shared<QuestionFlags>();
+  add_question_options(*cmd, *q);
   cmd->footer(
       "Exit, MISSION: 0 when the mission may run (every property that blocks `strata run` holds; one_safe and "
       "no_dead are warnings); 65 when one fails or is not decided, or the mission does not compile; 74 for a "
       "file it cannot open.\n"
       "Exit, --pnml: 0 when the graph was explored in full; 1 when a limit or Ctrl-C stopped it (a partial "
       "report); 65 for a net Strata cannot read; 74 for a file it cannot open.");
-  return [o, cmd] {
+  return [o, q, cmd] {
     o->max_states_given = cmd->count("--max-states") > 0;
     o->max_memory_given = cmd->count("--max-memory") > 0;
     if (o->mission.empty() && o->pnml.empty()) {
@@ -238,11 +241,19 @@ Runner add_verify_command(CLI::App& app) {
       return static_cast<int>(kExitUsage);
     }
     try {
+      if (question_requested(*q)) {
+        const bool mission = o->pnml.empty();
+        const QuestionLimits limits{o->max_states_given ? o->max_states : 0,
+                                    mission || o->max_memory_given ? o->max_memory_mb : 0};
+        return mission ? run_mission_question(o->mission, o->catalogue, *q, o->format, limits)
+                       : run_pnml_question(o->pnml, *q, o->format, limits);
+      }
       return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);
     } catch (const std::bad_alloc&) {
       // Each analysis step catches its own; this is reading or compiling.
       std::cerr << "strata verify: out of memory before the analysis could start; nothing decided\n";
-      if (o->format == "json" && o->pnml.empty()) print_unverified_json("out of memory", nullptr);
+      if (o->format == "json" && o->pnml.empty() && !question_requested(*q))
+        print_unverified_json("out of memory", nullptr);
       return static_cast<int>(o->pnml.empty() ? kExitInvalid : kExitAbort);
     }
   };

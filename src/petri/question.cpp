@@ -1,0 +1,508 @@
+#include "petri/question.h"
+
+#include <cstring>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "petri/stubborn.h"
+#include "petri/structural.h"
+
+namespace strata::petri {
+
+namespace {
+
+std::uint64_t question_mix(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// The visited markings: packed one byte per place while every count is
+// under 256, else four. The current marking is kept encoded beside them
+// (set() per place changed), so a lookup encodes nothing, and so is its
+// hash: sum of tokens(p) * key(p) (random odd keys, mod 2^64), mixed,
+// updated by one multiply per place changed. The table holds (32 bits of
+// hash, index) pairs: a probe that misses rarely reads a marking.
+class MarkingStore {
+ public:
+  explicit MarkingStore(const Marking& initial) : places_(initial.size()) {
+    table_.assign(1024, kEmptySlot);
+    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+    keys_.resize(places_);
+    for (std::uint64_t& k : keys_) k = question_mix(seed += 0x9E3779B97F4A7C15ULL) | 1;
+    for (Tokens v : initial) width_ = v > 255 ? 4 : width_;
+    cur_.assign(places_ * width_, 0);
+    for (PlaceId p = 0; p < places_; ++p) set(p, initial[p]);
+  }
+
+  std::uint64_t size() const { return count_; }
+  std::size_t memory_bytes() const { return arena_.capacity() + table_.capacity() * 8 + cur_.capacity(); }
+
+  // Place p of the current marking now holds v.
+  void set(PlaceId p, Tokens v) {
+    sum_ += (std::uint64_t{v} - get(cur_.data(), p)) * keys_[p];
+    if (width_ == 1) {
+      if (v > 255) {
+        widen();
+      } else {
+        cur_[p] = static_cast<std::uint8_t>(v);
+        return;
+      }
+    }
+    std::memcpy(&cur_[std::size_t{p} * 4], &v, 4);
+  }
+
+  // The key of place p (a transition's hash change is sum of change(p) * key(p)).
+  std::uint64_t key(PlaceId p) const { return keys_[p]; }
+  // Brings the table slot of the current marking changed by hash_change into the cache.
+  void prefetch(std::uint64_t hash_change) const {
+    __builtin_prefetch(&table_[question_mix(sum_ + hash_change) & (table_.size() - 1)]);
+  }
+
+  bool contains_current() const {
+    const std::size_t bytes = cur_.size();
+    const std::uint64_t h = question_mix(sum_);
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+      const std::uint64_t e = table_[i];
+      if (e == kEmptySlot) return false;
+      if ((e >> 32) == (h >> 32) && std::memcmp(&arena_[(e & 0xffffffffu) * bytes], cur_.data(), bytes) == 0) {
+        return true;
+      }
+    }
+  }
+
+  // Adds the current marking when absent. Returns whether it was new.
+  bool insert_current() {
+    if ((count_ + 1) * 2 > table_.size()) rehash(table_.size() * 2);
+    const std::size_t bytes = cur_.size();
+    const std::uint64_t h = question_mix(sum_);
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+      const std::uint64_t e = table_[i];
+      if (e == kEmptySlot) {
+        table_[i] = (h & 0xffffffff00000000ULL) | count_++;
+        arena_.insert(arena_.end(), cur_.begin(), cur_.end());
+        return true;
+      }
+      if ((e >> 32) == (h >> 32) && std::memcmp(&arena_[(e & 0xffffffffu) * bytes], cur_.data(), bytes) == 0) {
+        return false;
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint64_t kEmptySlot = ~0ULL;
+
+  std::uint64_t get(const std::uint8_t* m, PlaceId p) const {
+    if (width_ == 1) return m[p];
+    std::uint32_t v;
+    std::memcpy(&v, m + std::size_t{p} * 4, 4);
+    return v;
+  }
+  std::uint64_t hash_of(const std::uint8_t* m) const {
+    std::uint64_t sum = 0;
+    for (PlaceId p = 0; p < places_; ++p) sum += get(m, p) * keys_[p];
+    return sum;
+  }
+  static std::vector<std::uint8_t> wide(const std::vector<std::uint8_t>& narrow) {
+    std::vector<std::uint8_t> out(narrow.size() * 4);
+    for (std::size_t i = 0; i < narrow.size(); ++i) {
+      const std::uint32_t v = narrow[i];
+      std::memcpy(&out[i * 4], &v, 4);
+    }
+    return out;
+  }
+  void widen() {
+    arena_ = wide(arena_);
+    cur_ = wide(cur_);
+    width_ = 4;
+    rehash(table_.size());
+  }
+  void rehash(std::size_t slots) {
+    table_.assign(slots, kEmptySlot);
+    const std::size_t bytes = cur_.size();
+    const std::size_t mask = slots - 1;
+    for (std::uint64_t k = 0; k < count_; ++k) {
+      const std::uint64_t h = question_mix(hash_of(&arena_[k * bytes]));
+      std::size_t i = h & mask;
+      while (table_[i] != kEmptySlot) i = (i + 1) & mask;
+      table_[i] = (h & 0xffffffff00000000ULL) | k;
+    }
+  }
+
+  std::size_t places_;
+  std::size_t width_ = 1;
+  std::vector<std::uint8_t> arena_;
+  std::vector<std::uint64_t> table_;
+  std::vector<std::uint8_t> cur_;
+  std::vector<std::uint64_t> keys_;
+  std::uint64_t sum_ = 0;  // the current marking's
+  std::uint64_t count_ = 0;
+};
+
+// The largest number of markings (indexes are 32 bits).
+constexpr std::uint64_t kMaxQuestionMarkings = 0xfffffff0ULL;
+
+// Every kReductionWindow markings, the search checks what the stubborn sets
+// pruned in the window: when nothing, it stops computing them (every
+// enabled transition is a stubborn set too) and tries them again on one
+// marking in kReductionRetry. Each marking may use any stubborn set: the
+// argument in stubborn.h holds marking by marking.
+constexpr std::uint64_t kReductionWindow = 256;
+constexpr std::uint64_t kReductionRetry = 64;
+// See QuestionSearch::hand_over_to_explorer.
+constexpr std::uint64_t kExplorerAfter = 256;
+
+class QuestionSearch {
+ public:
+  QuestionSearch(const Net& net, const Question& q, const QuestionOptions& o)
+      : net_(net),
+        q_(q),
+        o_(o),
+        store_(net.initial_marking()),
+        stubborn_(net),
+        is_enabled_(net.transition_count(), 0),
+        missing_(net.transition_count(), 0) {
+    delta_begin_.push_back(0);
+    for (TransitionId t = 0; t < net.transition_count(); ++t) {
+      for (const Arc& a : net.inputs(t)) {
+        const std::int64_t c = net.incidence(a.node, t);
+        if (c != 0) deltas_.push_back({a.node, c});
+      }
+      for (const Arc& a : net.outputs(t)) {
+        if (net.pre_weight(a.node, t) == 0) deltas_.push_back({a.node, std::int64_t{a.weight}});
+      }
+      delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
+      std::uint64_t h = 0;
+      for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
+        h += static_cast<std::uint64_t>(deltas_[i].change) * store_.key(deltas_[i].place);
+      }
+      hash_change_.push_back(h);
+    }
+  }
+
+  void run(QuestionResult& r) {
+    Marking m = net_.initial_marking();
+    for (TransitionId t = 0; t < net_.transition_count(); ++t) {
+      for (const Arc& a : net_.inputs(t)) missing_[t] += m[a.node] < a.weight ? 1 : 0;
+    }
+    store_.insert_current();
+    if (at_goal(m)) {
+      found(r, m);
+      return;
+    }
+    frames_.emplace_back(0, kNoTransition);
+    candidates(m);
+    std::uint64_t next_progress = o_.progress_every;
+    const std::uint64_t max_states =
+        o_.max_states ? std::min(o_.max_states, kMaxQuestionMarkings) : kMaxQuestionMarkings;
+    while (!frames_.empty()) {
+      Frame& f = frames_.back();
+      if (f.next == cand_.size()) {
+        cand_.resize(f.begin);
+        const TransitionId via = f.via;
+        frames_.pop_back();
+        if (!frames_.empty()) {
+          apply(m, via, -1);
+          update_missing(m, via, -1);
+        }
+        continue;
+      }
+      const TransitionId t = cand_[f.next++];
+      if (!fits(m, t)) {
+        stop(r, fmt::format("a place would hold more than {} tokens after firing '{}'", kMaxTokens,
+                            net_.transition_name(t)));
+        return;
+      }
+      apply(m, t, +1);
+      ++r.edges;
+      if (store_.size() >= max_states) {
+        // Only a new marking would pass the limit.
+        if (!store_.contains_current()) {
+          stop(r, fmt::format("stopped at {} markings (the limit)", store_.size()));
+          return;
+        }
+        apply(m, t, -1);
+        continue;
+      }
+      if (!store_.insert_current()) {
+        apply(m, t, -1);
+        continue;
+      }
+      update_missing(m, t, +1);
+      if (o_.max_memory_bytes && store_.memory_bytes() > o_.max_memory_bytes) {
+        stop(r, fmt::format("stopped at {} markings: the store needs more than --max-memory", store_.size()));
+        return;
+      }
+      if (o_.progress && store_.size() >= next_progress) {
+        next_progress += o_.progress_every;
+        if (!o_.progress({store_.size(), store_.size() - frames_.size(), r.edges, store_.memory_bytes()})) {
+          stop(r, fmt::format("interrupted after {} markings", store_.size()));
+          return;
+        }
+      }
+      if (hand_over_to_explorer(r)) return;
+      frames_.emplace_back(static_cast<std::uint32_t>(cand_.size()), t);
+      if (at_goal(m)) {
+        for (std::size_t k = 1; k < frames_.size(); ++k) r.witness.push_back(frames_[k].via);
+        found(r, m);
+        return;
+      }
+      candidates(m);
+    }
+    r.answer = q_.kind == QuestionKind::Invariant ? Answer::Yes : Answer::No;
+    finish(r);
+  }
+
+ private:
+  static constexpr TransitionId kNoTransition = std::numeric_limits<TransitionId>::max();
+  struct Frame {
+    std::uint32_t begin = 0;  // its candidates: cand_[begin, end of cand_)
+    TransitionId via = 0;     // fired to get here
+    std::uint32_t next = 0;
+    Frame(std::uint32_t b, TransitionId v) : begin(b), via(v), next(b) {}
+  };
+  struct PlaceDelta {
+    PlaceId place;
+    std::int64_t change;
+  };
+
+  bool at_goal(const Marking& m) {
+    enabled_.clear();
+    bool terminal = false;
+    for (PlaceId p : o_.terminal_places) terminal = terminal || m[p] > 0;
+    if (!terminal) {
+      for (TransitionId t = 0; t < net_.transition_count(); ++t) {
+        if (missing_[t] == 0) enabled_.push_back(t);
+      }
+    }
+    if (q_.kind == QuestionKind::Deadlock) return !terminal && enabled_.empty();
+    return q_.target.holds(m);
+  }
+
+  // Appends the transitions to try from m (enabled_ is m's enabled set),
+  // their successors' table slots prefetched.
+  void candidates(const Marking& m) {
+    const std::size_t first = cand_.size();
+    choose(m);
+    for (std::size_t k = first; k < cand_.size(); ++k) store_.prefetch(hash_change_[cand_[k]]);
+  }
+  void choose(const Marking& m) {
+    ++visited_;
+    if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
+      cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
+      account(enabled_.size(), enabled_.size());
+      return;
+    }
+    for (TransitionId t : enabled_) is_enabled_[t] = 1;
+    if (q_.kind == QuestionKind::Deadlock) {
+      stubborn_.for_deadlock(m, enabled_, is_enabled_, set_);
+    } else {
+      stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
+    }
+    for (TransitionId t : enabled_) is_enabled_[t] = 0;
+    cand_.insert(cand_.end(), set_.begin(), set_.end());
+    if (set_.size() < enabled_.size()) reducing_ = true;
+    account(set_.size(), enabled_.size());
+  }
+
+  // The deadlock question, when the stubborn sets have pruned nothing in
+  // the first kExplorerAfter markings: the breadth-first explorer walks
+  // markings several times faster than this search, and decides the
+  // question whole. True when it did (no deadlock, or a limit); when it
+  // found a deadlock, the search goes on for the witness.
+  bool hand_over_to_explorer(QuestionResult& r) {
+    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 ||
+        store_.size() < kExplorerAfter) {
+      return false;
+    }
+    handed_over_ = true;
+    ExploreOptions eo;
+    eo.liveness = false;
+    eo.max_states = o_.max_states;
+    eo.max_memory_bytes = o_.max_memory_bytes;
+    eo.progress = o_.progress;
+    eo.progress_every = o_.progress_every;
+    const ExploreResult full = explore(net_, eo);
+    if (full.complete && full.deadlock) return false;
+    r.by_exploration = true;
+    r.edges += full.edges;
+    if (!full.complete) {
+      stop(r, full.stopped_why);
+    } else {
+      r.answer = Answer::No;
+      finish(r);
+    }
+    r.states = full.states;
+    r.memory_bytes = full.memory_bytes;
+    return true;
+  }
+
+  // The adaptive switch (kReductionWindow).
+  void account(std::size_t kept, std::size_t enabled) {
+    window_pruned_ += enabled - kept;
+    total_pruned_ += enabled - kept;
+    if (visited_ % kReductionWindow != 0) return;
+    if (reduce_) reducing_ = window_pruned_ > 0;
+    window_pruned_ = 0;
+  }
+
+  bool fits(const Marking& m, TransitionId t) const {
+    for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
+      const PlaceDelta& d = deltas_[i];
+      if (d.change > 0 && std::int64_t{m[d.place]} + d.change > std::int64_t{kMaxTokens}) return false;
+    }
+    return true;
+  }
+  // Fires t (sign +1; enabled, and fits) or takes it back (-1), in m and
+  // in the store's current marking.
+  void apply(Marking& m, TransitionId t, int sign) {
+    for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
+      const PlaceDelta& d = deltas_[i];
+      m[d.place] = static_cast<Tokens>(std::int64_t{m[d.place]} + sign * d.change);
+      store_.set(d.place, m[d.place]);
+    }
+  }
+  // The input arcs not satisfied, after t fired (+1) or was taken back
+  // (-1): only the readers of the places t changes are looked at.
+  void update_missing(const Marking& m, TransitionId t, int sign) {
+    for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
+      const PlaceDelta& d = deltas_[i];
+      const std::int64_t after = m[d.place];
+      const std::int64_t before = after - sign * d.change;
+      for (const Arc& r : net_.readers(d.place)) {
+        const bool was = before >= r.weight, is = after >= r.weight;
+        if (was && !is) ++missing_[r.node];
+        if (!was && is) --missing_[r.node];
+      }
+    }
+  }
+
+  void found(QuestionResult& r, const Marking& m) {
+    r.has_witness = true;
+    r.witness_marking = m;
+    r.answer = q_.kind == QuestionKind::Invariant ? Answer::No : Answer::Yes;
+    finish(r);
+  }
+  void stop(QuestionResult& r, std::string why) {
+    r.answer = Answer::NotDecided;
+    r.stopped_why = std::move(why);
+    finish(r);
+  }
+  void finish(QuestionResult& r) const {
+    r.states = store_.size();
+    r.memory_bytes = store_.memory_bytes();
+  }
+
+  const Net& net_;
+  const Question& q_;
+  const QuestionOptions& o_;
+  MarkingStore store_;
+  StubbornSets stubborn_;
+  std::vector<char> is_enabled_;
+  std::vector<std::uint32_t> missing_;  // by transition: input arcs not satisfied
+  std::vector<std::uint32_t> delta_begin_;
+  std::vector<PlaceDelta> deltas_;          // by transition: the places it changes
+  std::vector<std::uint64_t> hash_change_;  // by transition
+  std::vector<TransitionId> enabled_, set_, cand_;
+  std::vector<Frame> frames_;
+  std::uint64_t visited_ = 0, window_pruned_ = 0, total_pruned_ = 0;
+  bool reduce_ = o_.reduction && o_.terminal_places.empty();
+  bool reducing_ = true;
+  bool handed_over_ = false;
+};
+
+}  // namespace
+
+QuestionResult answer_question(const Net& net, const Question& question, const QuestionOptions& options) {
+  QuestionResult r;
+  if (options.structural) {
+    std::optional<StructuralAnswer> s;
+    if (question.kind == QuestionKind::Deadlock) {
+      s = deadlock_by_structure(net);
+    } else {
+      s = reachable_by_structure(net, question.target, structural_ranges(net));
+    }
+    if (s) {
+      // s->yes: the search target is reachable; only "no" is proved here.
+      const bool target_reachable = s->yes;
+      r.answer = (question.kind == QuestionKind::Invariant) != target_reachable ? Answer::Yes : Answer::No;
+      r.structural_reason = std::move(s->reason);
+      return r;
+    }
+  }
+  QuestionSearch(net, question, options).run(r);
+  return r;
+}
+
+ReplayResult replay(const Net& net, std::span<const TransitionId> sequence) {
+  ReplayResult r;
+  r.marking = net.initial_marking();
+  for (TransitionId t : sequence) {
+    if (!is_enabled(net, r.marking, t)) {
+      std::string missing;
+      for (const Arc& a : net.inputs(t)) {
+        if (r.marking[a.node] < a.weight) {
+          missing += fmt::format("{}{} has {} of {}", missing.empty() ? "" : ", ", net.place_name(a.node),
+                                 r.marking[a.node], a.weight);
+        }
+      }
+      r.error = fmt::format("step {}: '{}' is not enabled ({})", r.fired + 1, net.transition_name(t), missing);
+      break;
+    }
+    for (const Arc& a : net.outputs(t)) {
+      const std::uint64_t v = std::uint64_t{r.marking[a.node]} - net.pre_weight(a.node, t) + a.weight;
+      if (v > kMaxTokens) {
+        r.error = fmt::format("step {}: firing '{}' puts more than {} tokens in '{}'", r.fired + 1,
+                              net.transition_name(t), kMaxTokens, net.place_name(a.node));
+        break;
+      }
+    }
+    if (!r.error.empty()) break;
+    for (const Arc& a : net.inputs(t)) r.marking[a.node] -= a.weight;
+    for (const Arc& a : net.outputs(t)) r.marking[a.node] += a.weight;
+    ++r.fired;
+  }
+  r.complete = r.error.empty();
+  r.deadlock = true;
+  for (TransitionId t = 0; t < net.transition_count() && r.deadlock; ++t) r.deadlock = !is_enabled(net, r.marking, t);
+  return r;
+}
+
+core::Result<std::vector<TransitionId>> parse_sequence(std::string_view text, const Net& net) {
+  std::vector<TransitionId> out;
+  const bool lines = text.find('\n') != std::string_view::npos;
+  std::size_t line = 1, line_start = 0;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = ++i;
+      continue;
+    }
+    if (c == ' ' || c == '\t' || c == '\r' || c == ',') {
+      ++i;
+      continue;
+    }
+    if (c == '#') {
+      while (i < text.size() && text[i] != '\n') ++i;
+      continue;
+    }
+    const std::size_t start = i;
+    while (i < text.size() && std::string_view(" \t\r\n,#").find(text[i]) == std::string_view::npos) ++i;
+    const std::string_view name = text.substr(start, i - start);
+    auto t = net.find_transition(name);
+    if (!t) {
+      const std::size_t column = start - line_start + 1;
+      return core::Error{core::ErrorCode::InvalidInput,
+                         lines ? fmt::format("line {}, column {}: no transition '{}'", line, column, name)
+                               : fmt::format("column {}: no transition '{}'", column, name)};
+    }
+    out.push_back(*t);
+  }
+  return out;
+}
+
+}  // namespace strata::petri
