@@ -242,11 +242,11 @@ Runner add_verify_command(CLI::App& app) {
     }
     try {
       if (question_requested(*q)) {
-        const bool mission = o->pnml.empty();
+        const bool is_mission = o->pnml.empty();
         const QuestionLimits limits{o->max_states_given ? o->max_states : 0,
-                                    mission || o->max_memory_given ? o->max_memory_mb : 0};
-        return mission ? run_mission_question(o->mission, o->catalogue, *q, o->format, limits)
-                       : run_pnml_question(o->pnml, *q, o->format, limits);
+                                    is_mission || o->max_memory_given ? o->max_memory_mb : 0};
+        return is_mission ? run_mission_question(o->mission, o->catalogue, *q, o->format, limits)
+                          : run_pnml_question(o->pnml, *q, o->format, limits);
       }
       return o->pnml.empty() ? run_verify_mission(*o) : run_verify_pnml(*o);
     } catch (const std::bad_alloc&) {
