@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/socket.h>
+
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <thread>
@@ -139,7 +142,17 @@ TEST(SonarServer, WhatAReaderSendsIsIgnoredAndAReaderThatLeavesIsForgotten) {
     ASSERT_TRUE(run_until(io, [&] { return server.readers() == 1; }));
     asio::write(reader.socket(), asio::buffer(std::string("garbage\n\xA5SNR\x01\x01 junk")));
     server.ping(ping(0));
-    auto frames = reader.read(2);
+    // Read on a thread while the server's loop runs: its writes complete
+    // only there (a blocking read on this thread hung when the status frame's
+    // write had not completed before the ping was queued behind it).
+    std::atomic<bool> done{false};
+    std::vector<protocol::SonarFrame> frames;
+    std::thread t([&] {
+      frames = reader.read(2);
+      done = true;
+    });
+    if (!run_until(io, [&] { return done.load(); })) ::shutdown(reader.socket().native_handle(), SHUT_RDWR);
+    t.join();
     EXPECT_EQ(2u, frames.size());
   }
   ASSERT_TRUE(run_until(io, [&] { return server.readers() == 0; }));
