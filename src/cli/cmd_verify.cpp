@@ -244,7 +244,7 @@ Runner add_verify_command(CLI::App& app) {
       if (question_requested(*q)) {
         const bool is_mission = o->pnml.empty();
         const QuestionLimits limits{o->max_states_given ? o->max_states : 0,
-                                    is_mission || o->max_memory_given ? o->max_memory_mb : 0};
+                                    is_mission || o->max_memory_given ? o->max_memory_mb : 0, o->time_limit_s};
         return is_mission ? run_mission_question(o->mission, o->catalogue, *q, o->format, limits)
                           : run_pnml_question(o->pnml, *q, o->format, limits);
       }

@@ -160,6 +160,9 @@ petri::QuestionOptions question_options(const QuestionFlags& f, const QuestionLi
   qo.reduction = !f.no_reduction;
   qo.max_states = limits.max_states;
   qo.max_memory_bytes = limits.max_memory_mb << 20;
+  if (limits.time_limit_s > 0)  // from now: it covers a mission's phase questions too
+    qo.deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                         std::chrono::duration<double>(limits.time_limit_s));
   return qo;
 }
 

@@ -25,10 +25,11 @@ void add_question_options(CLI::App& verify, QuestionFlags& flags);
 
 bool question_requested(const QuestionFlags& flags);
 
-// Limits: max_states 0 = none; max_memory_mb 0 = none.
+// Limits: max_states 0 = none; max_memory_mb 0 = none; time_limit_s 0 = none.
 struct QuestionLimits {
   std::uint64_t max_states = 0;
   std::size_t max_memory_mb = 0;
+  double time_limit_s = 0;
 };
 
 // The question (or the replay) on the PNML net at `path`, printed as text or

@@ -236,6 +236,10 @@ class QuestionSearch {
         stop(r, fmt::format("stopped at {} markings: the store needs more than --max-memory", store_.size()));
         return;
       }
+      if (store_.size() % 4096 == 0 && std::chrono::steady_clock::now() >= o_.deadline) {
+        stop(r, fmt::format("the time limit was reached after {} markings", store_.size()));
+        return;
+      }
       if (o_.progress && store_.size() >= next_progress) {
         next_progress += o_.progress_every;
         if (!o_.progress({store_.size(), store_.size() - frames_.size(), r.edges, store_.memory_bytes()})) {
@@ -323,6 +327,7 @@ class QuestionSearch {
     eo.liveness = false;
     eo.max_states = o_.max_states;
     eo.max_memory_bytes = o_.max_memory_bytes;
+    eo.deadline = o_.deadline;
     eo.progress = o_.progress;
     eo.progress_every = o_.progress_every;
     const ExploreResult full = explore(net_, eo);

@@ -16,13 +16,14 @@
 // several times faster per marking, decides it instead (by_exploration);
 // when it finds a deadlock, the search goes on for the witness.
 //
-// Limits: max_states, max_memory_bytes and the progress callback stop the
+// Limits: max_states, max_memory_bytes, deadline and the progress callback stop the
 // search; the answer is then NotDecided, never a yes or no it has not seen.
 //
 // Storage: every visited marking, one byte per place while every count
 // fits (else 4 bytes per place: the store is re-packed once), in an
 // open-addressing hash table of 4-byte indexes, and the search stack.
 // Threads: one.
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -41,6 +42,8 @@ struct QuestionOptions {
   bool structural = true;            // try structural.h first
   std::uint64_t max_states = 0;      // 0: no limit
   std::size_t max_memory_bytes = 0;  // markings and their index; 0: no limit
+  // Past it the search stops (checked every 4,096 new markings).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   // Called about every progress_every new markings; false stops the search.
   std::function<bool(const ExploreProgress&)> progress;
   std::uint64_t progress_every = 1u << 20;

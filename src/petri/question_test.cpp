@@ -261,6 +261,20 @@ TEST(QuestionLimits, MaxStatesGivesNotDecided) {
   EXPECT_EQ("stopped at 100 markings (the limit)", r.stopped_why);
 }
 
+TEST(QuestionLimits, APassedDeadlineGivesNotDecided) {
+  const Net net = ring(3, 300);  // 45 451 markings: the deadline is checked every 4,096
+  QuestionOptions o = with_reduction(false);
+  o.deadline = std::chrono::steady_clock::now();
+  const QuestionResult r = answer_question(net, ask(net, "EF r2 == 301"), [&] {
+    QuestionOptions copy = o;
+    copy.structural = false;
+    return copy;
+  }());
+  EXPECT_EQ(Answer::NotDecided, r.answer);
+  EXPECT_FALSE(r.has_witness);
+  EXPECT_EQ("the time limit was reached after 4096 markings", r.stopped_why);
+}
+
 TEST(QuestionLimits, ProgressCanInterrupt) {
   const Net net = ring(8, 6);
   QuestionOptions o = with_reduction(false);
