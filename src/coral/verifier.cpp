@@ -188,9 +188,11 @@ class NetVerifier {
   const core::SourceManager* sources_;
 };
 
-// Nets in an order that puts every phase before the nets that call it (a
-// cycle of PHASE calls, which the checker reports, is cut where found).
-std::vector<std::size_t> callee_first(const Program& program, bool mission_only) {
+}  // namespace
+
+namespace detail {
+
+std::vector<std::size_t> callees_first(const Program& program, std::optional<std::size_t> root) {
   std::vector<int> state(program.nets.size(), 0);  // 0 new, 1 on the path, 2 done
   std::vector<std::size_t> order;
   std::function<void(std::size_t)> visit = [&](std::size_t i) {
@@ -206,8 +208,8 @@ std::vector<std::size_t> callee_first(const Program& program, bool mission_only)
     state[i] = 2;
     order.push_back(i);
   };
-  if (mission_only && program.mission) {
-    visit(*program.mission);
+  if (root) {
+    visit(*root);
     return order;
   }
   for (std::size_t i = 0; i < program.nets.size(); ++i) {
@@ -216,7 +218,7 @@ std::vector<std::size_t> callee_first(const Program& program, bool mission_only)
   return order;
 }
 
-}  // namespace
+}  // namespace detail
 
 bool NetVerification::ok() const {
   return std::all_of(properties.begin(), properties.end(),
@@ -247,7 +249,7 @@ VerifyReport verify_program(const Program& program, const VerifyOptions& options
         std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                std::chrono::duration<double>(options.time_limit_s));
   }
-  for (std::size_t i : callee_first(program, options.mission_only)) {
+  for (std::size_t i : detail::callees_first(program, options.mission_only ? program.mission : std::nullopt)) {
     const CompiledNet& cn = program.nets[i];
     NetVerification v = NetVerifier(program, cn, known, limits, options.sources).run();
     if (v.complete) known.push_back({cn.name, v.exit_reachable});

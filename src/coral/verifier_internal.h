@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
@@ -16,6 +17,11 @@
 #include "petri/reach_graph.h"
 
 namespace strata::coral::detail {
+
+// The nets `root` calls through PHASE, directly or not, each before its
+// callers, and `root` last; without a root, every net of the program. A cycle
+// of calls, which the checker reports, is cut where found.
+std::vector<std::size_t> callees_first(const Program& program, std::optional<std::size_t> root);
 
 using petri::StateId;
 

@@ -1,36 +1,10 @@
 #include "coral/verify_question.h"
 
-#include <functional>
-
 #include <fmt/format.h>
 
+#include "coral/verifier_internal.h"
+
 namespace strata::coral {
-
-namespace {
-
-// The phases `root` calls, directly or not, each before its callers (a
-// cycle of calls, which the checker reports, is cut where found).
-std::vector<std::size_t> question_callees_first(const Program& program, std::size_t root) {
-  std::vector<int> state(program.nets.size(), 0);  // 0 new, 1 on the path, 2 done
-  std::vector<std::size_t> order;
-  std::function<void(std::size_t)> visit = [&](std::size_t i) {
-    state[i] = 1;
-    for (const auto& actions : program.nets[i].actions) {
-      for (const auto& a : actions) {
-        if (a.kind != ActionSpec::Kind::Phase) continue;
-        for (std::size_t j = 0; j < program.nets.size(); ++j) {
-          if (program.nets[j].name == a.target && state[j] == 0) visit(j);
-        }
-      }
-    }
-    state[i] = 2;
-    order.push_back(i);
-  };
-  visit(root);
-  return order;
-}
-
-}  // namespace
 
 core::Result<AnalysisNet> question_analysis_net(const Program& program, std::string_view name,
                                                 const petri::QuestionOptions& limits) {
@@ -50,7 +24,7 @@ core::Result<AnalysisNet> question_analysis_net(const Program& program, std::str
                                     : fmt::format("no net '{}' (there are: {})", name, names)};
   }
   std::vector<PhaseExits> known;
-  for (std::size_t i : question_callees_first(program, *root)) {
+  for (std::size_t i : detail::callees_first(program, *root)) {
     const CompiledNet& cn = program.nets[i];
     if (i == *root) return build_analysis_net(program, cn, known);
     AnalysisNet phase = build_analysis_net(program, cn, known);
