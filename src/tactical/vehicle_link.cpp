@@ -388,7 +388,7 @@ void VehicleLink::try_reconnect(const std::string& why) {
   auto timer = std::make_shared<asio::steady_timer>(io_, options_.reconnect_delay);
   timer->async_wait([this, self, timer, why](const asio::error_code& e) {
     if (e || closing_) return;
-    start_connect([this, self, why](core::Result<protocol::Welcome> r) {
+    start_connect([this, self, why](const core::Result<protocol::Welcome>& r) {
       if (r) {
         reconnects_left_ = options_.reconnect_attempts;
       } else {

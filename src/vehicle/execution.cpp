@@ -54,7 +54,7 @@ Outcome refuse(protocol::ErrorCode code, std::string message) {
   return o;
 }
 
-Outcome from(core::Result<void> r) {
+Outcome from(const core::Result<void>& r) {
   Outcome o;
   o.value = r.ok();
   if (!r) o.message = r.error().message;
