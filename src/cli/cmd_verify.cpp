@@ -49,8 +49,19 @@ std::chrono::steady_clock::time_point deadline_after(double seconds) {
 }
 
 // A verdict that a partial exploration may not have settled: null in JSON.
-nlohmann::ordered_json verdict(std::optional<bool> v) { return v ? nlohmann::ordered_json(*v) : nullptr; }
-std::string verdict_text(std::optional<bool> v) { return v ? yes_no_text(*v) : "not decided"; }
+// (Plain bools, not std::optional<bool>: GCC 12 at -O2 warns that an
+// optional<bool> built by a conditional may be used uninitialized.)
+struct Verdict {
+  bool decided = false;
+  bool value = false;
+};
+// A witness (a deadlock, two tokens, a transition fired) settles it as
+// `if_witnessed`; a complete exploration without one settles it the other way.
+Verdict settle(bool witnessed, bool if_witnessed, bool complete) {
+  return witnessed ? Verdict{true, if_witnessed} : Verdict{complete, !if_witnessed};
+}
+nlohmann::ordered_json verdict(Verdict v) { return v.decided ? nlohmann::ordered_json(v.value) : nullptr; }
+std::string verdict_text(Verdict v) { return v.decided ? yes_no_text(v.value) : "not decided"; }
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_interrupt(int) { g_interrupted = true; }
@@ -97,15 +108,9 @@ int run_verify_pnml(const VerifyOptions& o) {
 
   // What a partial exploration settles: a witness found (a deadlock, two
   // tokens, every transition fired); the rest is not decided.
-  const std::optional<bool> deadlock = r.deadlock   ? std::optional(true)
-                                       : r.complete ? std::optional(false)
-                                                    : std::nullopt;
-  const std::optional<bool> one_safe = !r.one_safe  ? std::optional(false)
-                                       : r.complete ? std::optional(true)
-                                                    : std::nullopt;
-  const std::optional<bool> quasi_live = r.quasi_live ? std::optional(true)
-                                         : r.complete ? std::optional(false)
-                                                      : std::nullopt;
+  const Verdict deadlock = settle(r.deadlock, true, r.complete);
+  const Verdict one_safe = settle(!r.one_safe, false, r.complete);
+  const Verdict quasi_live = settle(r.quasi_live, true, r.complete);
   if (o.format == "json") {
     nlohmann::ordered_json j;
     j["states"] = r.states;
@@ -115,7 +120,7 @@ int run_verify_pnml(const VerifyOptions& o) {
     j["deadlock"] = verdict(deadlock);
     j["one_safe"] = verdict(one_safe);
     j["quasi_live"] = verdict(quasi_live);
-    j["live"] = verdict(r.live);
+    j["live"] = verdict(Verdict{r.live.has_value(), r.live.value_or(false)});
     if (!r.complete || !r.live) {
       // A partial report: the counts so far, null for what is not decided,
       // and why.
