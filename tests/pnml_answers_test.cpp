@@ -17,64 +17,23 @@
 
 #include "petri/explorer.h"
 #include "petri/pnml.h"
+#include "petri/test_corpus.h"
 
 namespace strata::petri {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kShared = fs::path(STRATA_SOURCE_DIR) / ".." / "shared" / "pnml";
+const fs::path& kShared = corpus::kCorpusDir;
 constexpr std::uint64_t kCiStates = 1'000'000;
 
-struct Answer {
-  std::string model;
-  std::map<std::string, std::string> values;  // column -> text
-  std::uint64_t number(const std::string& column) const { return std::stoull(values.at(column)); }
-  bool verdict(const std::string& column) const { return values.at(column) == "TRUE"; }
-};
-
-std::vector<Answer> answers() {
-  std::vector<Answer> out;
-  std::ifstream in(kShared / "answers.csv");
-  std::string line;
-  std::vector<std::string> header;
-  auto split = [](const std::string& s) {
-    std::vector<std::string> cells;
-    std::stringstream ss(s);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    return cells;
-  };
-  if (!std::getline(in, line)) return out;
-  header = split(line);
-  while (std::getline(in, line)) {
-    auto cells = split(line);
-    if (cells.size() != header.size()) continue;
-    Answer a{cells[0], {}};
-    for (std::size_t i = 0; i < header.size(); ++i) a.values[header[i]] = cells[i];
-    out.push_back(std::move(a));
-  }
-  return out;
-}
-
-// The models in answers.csv, read once (none when the folder is absent).
-const std::vector<Answer>& all_answers() {
-  static const std::vector<Answer> a = fs::exists(kShared / "answers.csv") ? answers() : std::vector<Answer>{};
-  return a;
-}
-
-std::vector<std::string> model_names() {
-  std::vector<std::string> names;
-  for (const auto& a : all_answers()) names.push_back(a.model);
-  if (names.empty()) names.push_back("absent");  // one test, which skips
-  return names;
-}
+using corpus::CorpusAnswer;
 
 class MccModel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MccModel, ExplorerAgreesWithThePublishedAnswers) {
   if (!fs::exists(kShared / "answers.csv")) GTEST_SKIP() << "skipped: ../shared/pnml not present";
-  const Answer* a = nullptr;
-  for (const auto& x : all_answers()) a = x.model == GetParam() ? &x : a;
+  const CorpusAnswer* a = corpus::corpus_answer(GetParam());
   ASSERT_NE(nullptr, a);
   const char* long_tests = std::getenv("STRATA_LONG_TESTS");
   if (a->number("states") > kCiStates && !(long_tests && std::string(long_tests) == "1")) {
@@ -136,12 +95,7 @@ TEST_P(MccModel, ListedPSemiflowsAreInvariantsOfTheImportedNet) {
   EXPECT_GT(checked, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Shared, MccModel, ::testing::ValuesIn(model_names()),
-                         [](const ::testing::TestParamInfo<std::string>& p) {
-                           std::string name = p.param;
-                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Shared, MccModel, ::testing::ValuesIn(corpus::corpus_model_names()), corpus::corpus_test_name);
 
 }  // namespace
 }  // namespace strata::petri

@@ -19,13 +19,12 @@
 #include "petri/pnml.h"
 #include "petri/reach_graph.h"
 #include "petri/structural.h"
+#include "petri/test_corpus.h"
 
 namespace strata::petri {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kCorpus = fs::path(STRATA_SOURCE_DIR) / ".." / "shared" / "pnml";
 
 Question ask(const Net& net, std::string_view text) {
   auto q = parse_question(text, net_place_resolver(net));
@@ -332,38 +331,14 @@ struct CorpusNet {
   bool deadlock = false;
 };
 
-std::vector<CorpusNet> corpus() {
-  std::vector<CorpusNet> out;
-  std::ifstream in(kCorpus / "answers.csv");
-  std::string line;
-  std::getline(in, line);  // header: model,places,transitions,arcs,max_arc_weight,states,edges,...,deadlock,...
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (cells.size() < 10) continue;
-    out.push_back({cells[0], std::stoull(cells[5]), cells[9] == "TRUE"});
-  }
-  return out;
-}
-
-std::vector<std::string> corpus_models() {
-  std::vector<std::string> names;
-  if (fs::exists(kCorpus / "answers.csv")) {
-    for (const CorpusNet& c : corpus()) names.push_back(c.model);
-  }
-  if (names.empty()) names.emplace_back("absent");
-  return names;
-}
-
 class CorpusQuestion : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    if (!fs::exists(kCorpus / "answers.csv")) GTEST_SKIP() << "skipped: ../shared/pnml not present";
-    for (const CorpusNet& c : corpus()) {
-      if (c.model == GetParam()) answer_ = c;
-    }
-    auto loaded = read_pnml((kCorpus / GetParam() / "model.pnml").string());
+    if (!corpus::corpus_present()) GTEST_SKIP() << "skipped: ../shared/pnml not present";
+    const corpus::CorpusAnswer* a = corpus::corpus_answer(GetParam());
+    ASSERT_NE(nullptr, a) << GetParam();
+    answer_ = {a->model, a->number("states"), a->verdict("deadlock")};
+    auto loaded = read_pnml(a->pnml().string());
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
     net_ = std::move(loaded).value().net;
   }
@@ -400,12 +375,8 @@ TEST_P(CorpusQuestion, RandomPredicatesAgreeWithEveryMarking) {
   check_random_predicates(net_, 7, 12);
 }
 
-INSTANTIATE_TEST_SUITE_P(Shared, CorpusQuestion, ::testing::ValuesIn(corpus_models()),
-                         [](const ::testing::TestParamInfo<std::string>& p) {
-                           std::string name = p.param;
-                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Shared, CorpusQuestion, ::testing::ValuesIn(corpus::corpus_model_names()),
+                         corpus::corpus_test_name);
 
 }  // namespace
 }  // namespace strata::petri
