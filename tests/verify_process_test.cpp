@@ -198,5 +198,20 @@ TEST(VerifyProcess, AFifoImportIsRefusedAtOnceByCheckAndVerify) {
   std::filesystem::remove_all(fifo.parent_path());
 }
 
+// A witness read from a FIFO (or any file that never ends) is refused at
+// once, not waited for.
+TEST(VerifyProcess, AFifoReplayFileIsRefusedAtOnce) {
+  TempDir dir;
+  const auto fifo = core::testing::make_fifo("witness.txt");
+  ASSERT_FALSE(fifo.empty());
+  const std::string net = std::string(STRATA_SOURCE_DIR) + "/tests/verify/mutex.pnml";
+  const auto started = std::chrono::steady_clock::now();
+  Finished f = run_strata(dir, {"verify", "--pnml", net, "--replay-file", fifo.string()}, [](pid_t) {});
+  ASSERT_TRUE(WIFEXITED(f.status)) << "ended by a signal: " << f.status;
+  EXPECT_EQ(74, WEXITSTATUS(f.status)) << f.out;
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
+  std::filesystem::remove_all(fifo.parent_path());
+}
+
 }  // namespace
 }  // namespace strata::cli::run_testing
