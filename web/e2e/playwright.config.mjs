@@ -29,7 +29,7 @@ export default defineConfig({
     headless: true,
     viewport: { width: 1500, height: 950 },
     actionTimeout: 15_000,
-    navigationTimeout: 60_000,   // the server compresses the page on each request: seconds under load
+    navigationTimeout: 60_000,   // an ASan strata on a loaded machine
     launchOptions: {
       executablePath: process.env.STRATA_CHROMIUM || '/usr/bin/chromium',
       args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run'],
