@@ -146,11 +146,11 @@ void bm_chain_edit(benchmark::State& state) {
     auto open = c.Get("/api/mission?path=chain.coral");
     if (!open || open->status != 200) return state.SkipWithError("GET /api/mission failed");
     const std::string rev = nlohmann::json::parse(open->body).value("rev", "");
-    const std::string body = nlohmann::json{{"path", "chain.coral"},
-                                            {"text", studio().chain()},
-                                            {"op", {{"op", "add_place"}, {"net", "chain"}, {"name", "extra"}}},
-                                            {"base", rev}}
-                                 .dump();
+    const std::string body = nlohmann::json{
+        {"path", "chain.coral"},
+        {"text", studio().chain()},
+        {"op", {{"op", "add_place"}, {"net", "chain"}, {"name", "extra"}}},
+        {"base", rev}}.dump();
     state.ResumeTiming();
     auto r = c.Post("/api/edit", headers, body, "application/json");
     if (!r || r->status != 200) return state.SkipWithError("POST /api/edit failed");

@@ -35,6 +35,9 @@ Runner add_plot_command(CLI::App& app);
 Runner add_primitives_command(CLI::App& app);
 // `strata sonar`.
 Runner add_sonar_command(CLI::App& app);
+// `strata completion SHELL` and the hidden `strata manpages DIR`: one
+// runner for both (cli_docs.h). version: as --version prints it.
+Runner add_docs_commands(CLI::App& app, std::string version);
 
 // Shared with the run library (run/inputs.h).
 using run::load_catalogue_option;

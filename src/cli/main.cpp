@@ -7,12 +7,14 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "strata_version.h"
 
 int main(int argc, char** argv) {
   using namespace strata;
   using namespace strata::cli;
   CLI::App app{"Strata: strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)", "strata"};
-  app.set_version_flag("--version", "strata 0.1.0");
+  const std::string version = STRATA_VERSION " (" STRATA_REVISION ")";
+  app.set_version_flag("--version", "strata " + version);
   app.require_subcommand(1);
   app.footer(exit_code_help());
 
@@ -28,6 +30,7 @@ int main(int argc, char** argv) {
   runners["primitives"] = add_primitives_command(app);
   runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
+  runners["completion"] = runners["manpages"] = add_docs_commands(app, version);
 
   try {
     app.parse(argc, argv);

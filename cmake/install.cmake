@@ -1,0 +1,41 @@
+# `cmake --install` and the Debian package (CPack). Standard prefixes
+# (GNUInstallDirs): the binary in bin/, man pages written from the CLI's own
+# help in share/man/man1/, bash and zsh completion, the example missions in
+# share/strata/missions/, the docs, LICENSE and NOTICE in share/doc/strata/.
+include(GNUInstallDirs)
+
+# The man pages and completion scripts: written by the built strata after
+# each link (src/cli/CMakeLists.txt), into:
+set(STRATA_GEN_DIR ${PROJECT_BINARY_DIR}/generated)
+
+install(TARGETS strata RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY ${STRATA_GEN_DIR}/man/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1")
+install(FILES ${STRATA_GEN_DIR}/completion/strata.bash
+        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/bash-completion/completions RENAME strata)
+install(FILES ${STRATA_GEN_DIR}/completion/_strata DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/zsh/vendor-completions)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/missions/ DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/missions
+        PATTERN "*.layout.json" EXCLUDE PATTERN "runs" EXCLUDE)
+install(FILES ${PROJECT_SOURCE_DIR}/config/phoenix.toml ${PROJECT_SOURCE_DIR}/config/primitives.toml
+        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/config)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/NOTICE
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+
+# The Debian package: `cpack -G DEB` in a build folder (docs/install.md).
+set(CPACK_PACKAGE_NAME strata)
+set(CPACK_PACKAGE_VENDOR "The Strata authors")
+set(CPACK_PACKAGE_CONTACT "The Strata authors <strata@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Strategic-level mission control for AUVs (CORAL Petri nets and PROLOG rules)")
+set(CPACK_PACKAGE_DESCRIPTION
+    "Strata runs AUV missions written as CORAL Petri nets or PROLOG rules against a simulated NPS Phoenix or a real vehicle speaking its protocol, verifies them before they run, and shows them live in a browser studio.")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)          # library packages from the binary (dpkg-shlibdeps)
+set(CPACK_STRIP_FILES ON)
+set(CPACK_DEBIAN_COMPRESSION_TYPE xz)
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "gnuplot-nox, chromium")
+set(CPACK_GENERATOR DEB)
+include(CPack)

@@ -1,0 +1,123 @@
+# The package as a user gets it (issue 22): installed into a scratch root,
+# the tank mission runs from there; the man pages render without warnings;
+# the completion scripts complete. MODE=install: `cmake --install` with
+# DESTDIR; MODE=deb: the Debian package built with CPack, unpacked with
+# dpkg-deb into a scratch root.
+#   cmake -DMODE=install|deb -DBUILD_DIR=... -DWORK_DIR=... -P package_install.cmake
+cmake_minimum_required(VERSION 3.25)
+
+function(fail what)
+  message(FATAL_ERROR "package (${MODE}): ${what}")
+endfunction()
+
+set(root ${WORK_DIR}/${MODE}-root)
+file(REMOVE_RECURSE ${root})
+file(MAKE_DIRECTORY ${root})
+
+if(MODE STREQUAL "install")
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env DESTDIR=${root} ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix /usr
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    fail("cmake --install: ${rc}\n${out}${err}")
+  endif()
+elseif(MODE STREQUAL "deb")
+  find_program(DPKG_DEB dpkg-deb)
+  if(NOT DPKG_DEB)
+    message("skipped: dpkg-deb is missing (scripts/setup installs it)")
+    return()
+  endif()
+  set(pkgdir ${WORK_DIR}/deb-out)
+  file(REMOVE_RECURSE ${pkgdir})
+  # Uncompressed: the test checks the package's contents, not xz.
+  execute_process(COMMAND cpack -G DEB -B ${pkgdir} --config ${BUILD_DIR}/CPackConfig.cmake
+                          -D CPACK_DEBIAN_COMPRESSION_TYPE=none
+                  WORKING_DIRECTORY ${BUILD_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  file(GLOB debs ${pkgdir}/*.deb)
+  list(LENGTH debs n)
+  if(NOT rc EQUAL 0 OR NOT n EQUAL 1)
+    fail("cpack -G DEB: ${rc}, ${n} package(s)\n${out}${err}")
+  endif()
+  execute_process(COMMAND ${DPKG_DEB} --field ${debs} Package Depends RESULT_VARIABLE rc OUTPUT_VARIABLE fields)
+  if(NOT rc EQUAL 0 OR NOT fields MATCHES "Package: strata" OR NOT fields MATCHES "libswipl|swi-prolog")
+    fail("the package's control fields: ${fields}")
+  endif()
+  execute_process(COMMAND ${DPKG_DEB} -x ${debs} ${root} RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    fail("dpkg-deb -x: ${err}")
+  endif()
+else()
+  fail("MODE is install or deb")
+endif()
+
+# What must be there, at the standard places.
+set(strata ${root}/usr/bin/strata)
+foreach(f usr/bin/strata usr/share/man/man1/strata.1 usr/share/man/man1/strata-run.1
+          usr/share/man/man1/strata-verify.1 usr/share/bash-completion/completions/strata
+          usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
+          usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE)
+  if(NOT EXISTS ${root}/${f})
+    fail("${f} is not installed")
+  endif()
+endforeach()
+
+# The main job, from the installed files only.
+execute_process(COMMAND ${strata} run ${root}/usr/share/strata/missions/tank/tank.coral --log ${root}/tank.jsonl
+                WORKING_DIRECTORY ${root} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${root}/tank.jsonl OR NOT out MATCHES "completed")
+  fail("strata run of the installed tank mission: exit ${rc}\n${out}${err}")
+endif()
+execute_process(COMMAND ${strata} --version OUTPUT_VARIABLE version)
+if(NOT version MATCHES "^strata [0-9]+\\.[0-9]+\\.[0-9]+ \\([^)]+\\)")
+  fail("--version: '${version}'")
+endif()
+
+if(MODE STREQUAL "deb")
+  return()   # the pages and scripts are the same files as MODE=install's
+endif()
+
+# One page per subcommand, each rendering without a warning.
+execute_process(COMMAND ${strata} --help OUTPUT_VARIABLE help)
+string(REGEX MATCHALL "\n  [a-z]+ " commands "${help}")
+list(LENGTH commands ncommands)
+if(ncommands LESS 10)
+  fail("only ${ncommands} subcommands found in --help:\n${help}")
+endif()
+foreach(c IN LISTS commands)
+  string(STRIP "${c}" c)
+  if(NOT EXISTS ${root}/usr/share/man/man1/strata-${c}.1)
+    fail("no man page for `strata ${c}`")
+  endif()
+endforeach()
+file(GLOB pages ${root}/usr/share/man/man1/*.1)
+find_program(GROFF groff)
+if(GROFF)
+  foreach(page IN LISTS pages)
+    execute_process(COMMAND ${GROFF} -man -ww -z ${page} RESULT_VARIABLE rc ERROR_VARIABLE warnings)
+    if(NOT rc EQUAL 0 OR NOT warnings STREQUAL "")
+      fail("groff on ${page}: ${warnings}")
+    endif()
+  endforeach()
+else()
+  message("note: groff is missing: the pages' rendering is not checked")
+endif()
+
+# bash completes a subcommand and a subcommand's options.
+set(script [=[
+source "$1"
+COMP_WORDS=(strata ver); COMP_CWORD=1; _strata; echo "1:${COMPREPLY[*]}"
+COMP_WORDS=(strata verify --max-s); COMP_CWORD=2; _strata; echo "2:${COMPREPLY[*]}"
+]=])
+execute_process(COMMAND bash -c "${script}" bash ${root}/usr/share/bash-completion/completions/strata
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "1:verify\n" OR NOT out MATCHES "2:--max-states\n")
+  fail("bash completion: exit ${rc}: ${out}${err}")
+endif()
+find_program(ZSH zsh)
+if(ZSH)
+  execute_process(COMMAND ${ZSH} -n ${root}/usr/share/zsh/vendor-completions/_strata RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    fail("zsh -n _strata: ${err}")
+  endif()
+else()
+  message("note: zsh is missing: the zsh script's syntax is not checked")
+endif()
