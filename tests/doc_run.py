@@ -1,0 +1,150 @@
+#!/usr/bin/env python3
+"""Runs a Markdown document as written: its files and its commands.
+
+The document is read top to bottom, in a scratch folder holding a copy of the
+repository's missions/ (as a clone has them), with strata first on PATH:
+
+  ```coral file=first/first.coral      a file block: written to that path
+  ...                                  (any language; the path is relative
+  ```                                  to the scratch folder, never outside)
+
+  ```sh                                a command block: each `$ ` line runs
+  $ strata check first/first.coral     in bash; the lines after it, up to the
+  first/first.coral: ok ...            next `$ `, are output it must print,
+  ```                                  in order (other lines may come between;
+                                       `...` in a line matches any text). A
+                                       command that must fail ends with
+                                       `# exit N`.
+
+Blocks of any other kind (```console for what cannot run here, such as the
+studio) are shown to the reader and not run. Exit 0 when every command gave
+its exit code and its output; else each failure with its line in the
+document, exit 1.
+
+  doc_run.py DOC --strata BIN --source REPO --work DIR
+"""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+FENCE = re.compile(r"^```(\S*)(.*)$")
+EXIT = re.compile(r"#\s*exit\s+(\d+)\s*$")
+
+
+def blocks(lines):
+    """(line number of the fence, info string, body lines) for each fenced block."""
+    i = 0
+    while i < len(lines):
+        m = FENCE.match(lines[i])
+        if not m:
+            i += 1
+            continue
+        start, lang, rest = i + 1, m.group(1), m.group(2).strip()
+        body = []
+        i += 1
+        while i < len(lines) and not lines[i].startswith("```"):
+            body.append(lines[i])
+            i += 1
+        if i >= len(lines):
+            raise SystemExit(f"line {start}: the block is not closed")
+        i += 1
+        yield start, lang, rest, body
+
+
+def expected_regex(line):
+    parts = [re.escape(p) for p in line.strip().split("...")]
+    return re.compile(".*".join(parts))
+
+
+def check_output(out, expected):
+    """The first expected line not found in order in out, or None."""
+    got = out.splitlines()
+    j = 0
+    for e in expected:
+        if not e.strip():
+            continue
+        rx = expected_regex(e)
+        while j < len(got) and not rx.search(got[j]):
+            j += 1
+        if j == len(got):
+            return e
+        j += 1
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser(description="Run a Markdown document's files and commands")
+    ap.add_argument("doc")
+    ap.add_argument("--strata", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--timeout", type=float, default=120.0, help="seconds per command")
+    a = ap.parse_args()
+
+    work = os.path.abspath(a.work)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    shutil.copytree(os.path.join(a.source, "missions"), os.path.join(work, "missions"),
+                    ignore=shutil.ignore_patterns("runs", "*.layout.json"))
+    env = dict(os.environ)
+    env["PATH"] = os.path.dirname(os.path.abspath(a.strata)) + os.pathsep + env.get("PATH", "")
+
+    with open(a.doc, encoding="utf-8") as f:
+        lines = f.read().split("\n")
+    name = os.path.basename(a.doc)
+    failures, commands, files = [], 0, 0
+    for start, lang, rest, body in blocks(lines):
+        fm = re.match(r"file=(\S+)$", rest)
+        if fm:
+            rel = os.path.normpath(fm.group(1))
+            if rel.startswith("..") or os.path.isabs(rel):
+                raise SystemExit(f"{name}:{start}: a file block's path must stay inside the folder: {rel}")
+            path = os.path.join(work, rel)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            with open(path, "w", encoding="utf-8") as out:
+                out.write("\n".join(body) + "\n")
+            files += 1
+            continue
+        if lang != "sh":
+            continue
+        k = 0
+        while k < len(body):
+            if not body[k].startswith("$ "):
+                k += 1
+                continue
+            cmd, line_no = body[k][2:], start + 1 + k
+            k += 1
+            expected = []
+            while k < len(body) and not body[k].startswith("$ "):
+                expected.append(body[k])
+                k += 1
+            em = EXIT.search(cmd)
+            want = int(em.group(1)) if em else 0
+            commands += 1
+            try:
+                r = subprocess.run(["bash", "-c", cmd], cwd=work, env=env, capture_output=True, text=True,
+                                   timeout=a.timeout)
+            except subprocess.TimeoutExpired:
+                failures.append(f"{name}:{line_no}: `{cmd}` did not end in {a.timeout:.0f} s")
+                continue
+            out = r.stdout + r.stderr
+            if r.returncode != want:
+                failures.append(f"{name}:{line_no}: `{cmd}` exited {r.returncode}, the document says {want}\n{out[-2000:]}")
+                continue
+            missing = check_output(out, expected)
+            if missing is not None:
+                failures.append(f"{name}:{line_no}: `{cmd}` did not print, in order: {missing.strip()}\n{out[-2000:]}")
+    for f in failures:
+        print(f, file=sys.stderr)
+    print(f"{name}: {commands} commands, {files} files, {len(failures)} failed")
+    if commands == 0:
+        print(f"{name}: no commands to run", file=sys.stderr)
+        return 1
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
