@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/mission_files.h"
 #include "cli/rule_load_flags.h"
 #include "coral/compiler.h"
 #include "strategic/prolog_mission.h"
@@ -80,6 +81,12 @@ int run_check(const CheckOptions& o) {
   std::vector<std::string> summaries;
   std::size_t rule_errors = 0, rule_warnings = 0;
   bool rules_unreadable = false;
+  for (const auto& file : o.files) {
+    if (auto why = not_a_mission(file, {".coral", ".pl"})) {
+      std::cerr << "strata check: " << *why << "\n";
+      return kExitUsage;
+    }
+  }
   for (const auto& file : o.files) {
     if (file.ends_with(".pl")) {
       // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
@@ -156,6 +163,15 @@ int run_check(const CheckOptions& o) {
 }
 
 int run_dump(const CheckOptions& o) {
+  if (o.files.front().ends_with(".pl")) {
+    std::cerr << "strata dump: '" << o.files.front() << "' holds PROLOG rules, not nets: dump prints a CORAL "
+              << "mission's nets (`strata check` checks rules)\n";
+    return kExitUsage;
+  }
+  if (auto why = not_a_mission(o.files.front(), {".coral"})) {
+    std::cerr << "strata dump: " << *why << "\n";
+    return kExitUsage;
+  }
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {
     std::cerr << "strata dump: " << catalogue.error().message << "\n";
@@ -178,7 +194,8 @@ int run_dump(const CheckOptions& o) {
   if (!o.net.empty()) {
     const auto* n = program->find(o.net);
     if (!n) {
-      std::cerr << fmt::format("strata dump: no net '{}' in {}\n", o.net, o.files.front());
+      std::cerr << fmt::format("strata dump: no net '{}' in {}; its nets: {}\n", o.net, o.files.front(),
+                               net_names(*program));
       return kExitUsage;
     }
     std::cout << coral::dump_net(*n);

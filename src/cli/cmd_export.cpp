@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
+#include "cli/mission_files.h"
 #include "coral/export.h"
 #include "coral/verifier.h"
 
@@ -57,7 +58,8 @@ int run_export(const ExportOptions& o) {
   if (!o.net.empty()) {
     const coral::CompiledNet* n = program.find(o.net);
     if (!n) {
-      std::cerr << fmt::format("strata export: no net '{}' in {}\n", o.net, o.mission);
+      std::cerr << fmt::format("strata export: no net '{}' in {}; its nets: {}\n", o.net, o.mission,
+                               net_names(program));
       return kExitUsage;
     }
     nets.push_back(n);

@@ -1,5 +1,7 @@
 #include "cli/exit_codes.h"
 
+#include <string_view>
+
 namespace strata::cli {
 
 const char* exit_code_help() {
@@ -7,6 +9,36 @@ const char* exit_code_help() {
          "halted, a limit reached), 64 usage, 65 invalid mission, 69 unavailable (gnuplot missing; strata sonar:\n"
          "the vehicle unreachable or gone), 70 internal error, 74 I/O error (a file or the vehicle cannot be\n"
          "reached), 128+N ended by signal N (129 SIGHUP, 130 SIGINT, 143 SIGTERM; a run surfaces first).";
+}
+
+const char* exit_codes_of(std::string_view command) {
+  if (command == "dump") {
+    return "Exit 0 when the mission compiled and was printed; 64 usage (an unknown --net: the nets are listed);\n"
+           "65 when the mission does not compile; 74 when a file cannot be read.";
+  }
+  if (command == "run") {
+    return "Exit 0 when the mission completed; 1 when it did not (aborted, failed, halted, a limit reached;\n"
+           "the vehicle is surfaced first); 64 usage; 65 invalid mission, data or scenario; 70 internal error;\n"
+           "74 a file or the vehicle cannot be reached; 128+N ended by signal N (129 SIGHUP, 130 SIGINT,\n"
+           "143 SIGTERM), the vehicle surfaced first.";
+  }
+  if (command == "compare") {
+    return "Exit 0 when the two traces are identical; 1 when they differ; 64 usage; 65 invalid mission or\n"
+           "scenario; 70 internal error; 74 a file cannot be read.";
+  }
+  if (command == "export") {
+    return "Exit 0 when written; 64 usage (PROLOG rules, an unknown --net); 65 when the mission does not\n"
+           "compile; 74 when a file cannot be read or written.";
+  }
+  if (command == "vehicle") {
+    return "Exit 0 after Ctrl-C or SIGTERM; 64 usage (a bad --listen); 65 invalid parameters or scenario;\n"
+           "74 when it cannot listen or read a file.";
+  }
+  if (command == "primitives") {
+    return "Exit 0 when printed; 64 usage; 65 an invalid catalogue; 74 when the catalogue cannot be read.";
+  }
+  if (command == "completion") return "Exit 0 when printed; 64 for a shell other than bash or zsh.";
+  return nullptr;
 }
 
 }  // namespace strata::cli

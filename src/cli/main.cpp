@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/usage_hints.h"
 #include "strata_version.h"
 
 int main(int argc, char** argv) {
@@ -32,10 +33,20 @@ int main(int argc, char** argv) {
   runners["plot"] = add_plot_command(app);
   runners["completion"] = runners["manpages"] = add_docs_commands(app, version);
 
+  // Each command's --help ends with its own exit codes, not the program's.
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_footer().empty() || sub->get_footer() == app.get_footer()) {
+      if (const char* codes = exit_codes_of(sub->get_name())) sub->footer(codes);
+    }
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
+    if (code != 0) {
+      for (const auto& hint : usage_hints(app, argc, argv)) std::cerr << hint << "\n";
+    }
     return code == 0 ? kExitOk : kExitUsage;
   }
   try {

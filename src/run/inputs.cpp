@@ -1,10 +1,13 @@
 #include "run/inputs.h"
 
+#include <algorithm>
+
 #include <cstdlib>
 #include <filesystem>
 
 #include <asio.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace strata::run {
 
@@ -52,8 +55,16 @@ core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario
   if (!mission.empty()) {
     fs::path beside = fs::path(mission).parent_path() / "scenarios" / (scenario + ".toml");
     if (fs::is_regular_file(beside, ec)) return vehicle::load_scenario(beside.string());
+    // The names there, so that a typo is one look away.
+    std::vector<std::string> names;
+    for (fs::directory_iterator it(beside.parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
+      if (it->path().extension() == ".toml" && it->is_regular_file(ec)) names.push_back(it->path().stem().string());
+    }
+    std::sort(names.begin(), names.end());
     return core::make_error(core::ErrorCode::Io,
-                            fmt::format("no scenario '{}': neither a file nor {}", scenario, beside.string()));
+                            fmt::format("no scenario '{}': neither a file nor {}; {}", scenario, beside.string(),
+                                        names.empty() ? "that folder has no scenarios"
+                                                      : fmt::format("its scenarios: {}", fmt::join(names, ", "))));
   }
   return core::make_error(core::ErrorCode::Io, fmt::format("no scenario file '{}' (give a path, or --mission to look "
                                                            "in the mission's scenarios/ folder)",

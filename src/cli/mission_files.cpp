@@ -1,0 +1,44 @@
+#include "cli/mission_files.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+namespace strata::cli {
+
+std::optional<std::string> not_a_mission(const std::string& path, std::initializer_list<std::string_view> extensions) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  bool known = false;
+  std::string wanted;
+  for (auto e : extensions) {
+    known = known || ext == e;
+    wanted +=
+        fmt::format("{}{} ({})", wanted.empty() ? "" : " or ", e, e == ".pl" ? "PROLOG rules" : "a CORAL mission");
+  }
+  if (!known) {
+    std::string what = ext == ".toml"    ? " (a scenario, parameter, catalogue or mission-data file?)"
+                       : ext == ".jsonl" ? " (a mission log?)"
+                       : ext == ".pnml"  ? " (a P/T net: `strata verify --pnml`)"
+                                         : "";
+    return fmt::format("'{}' is not a mission file{}: this command takes {}", path, what, wanted);
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;  // the parser says what it is
+  std::ifstream in(path, std::ios::binary);
+  char head[4096];
+  in.read(head, sizeof head);
+  const std::string_view bytes(head, static_cast<std::size_t>(in.gcount()));
+  if (bytes.find('\0') != std::string_view::npos) {
+    return fmt::format("'{}' is not text (it holds NUL bytes): not a mission file", path);
+  }
+  return std::nullopt;
+}
+
+std::string net_names(const coral::Program& program) {
+  std::string out;
+  for (const auto& n : program.nets) out += (out.empty() ? "" : ", ") + n.name;
+  return out;
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,22 @@
+#pragma once
+// What the commands ask of a mission file before they parse it, and the
+// names an "unknown name" error lists.
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "coral/program.h"
+
+namespace strata::cli {
+
+// Why `path` is not a mission file for a command that takes the given
+// extensions (".coral", ".pl"): a wrong extension (a scenario, a log), or
+// bytes that are not text (a NUL in its first 4 KB). nullopt when it may
+// be; a file that cannot be opened is left to the parser's own error.
+std::optional<std::string> not_a_mission(const std::string& path, std::initializer_list<std::string_view> extensions);
+
+// "tank, initialize, dive_from_surface": the program's nets, in order.
+std::string net_names(const coral::Program& program);
+
+}  // namespace strata::cli
