@@ -151,7 +151,8 @@ int run_verify_pnml(const VerifyOptions& o) {
                              r.words_per_state, r.words_per_state == 1 ? "" : "s");
     if (!r.complete) std::cout << "  PARTIAL: " << r.stopped_why << "\n";
   }
-  return r.complete ? kExitOk : kExitAbort;
+  // Ctrl-C in the liveness pass: the graph is whole, the report is not.
+  return r.complete && !g_interrupted.load() ? kExitOk : kExitAbort;
 }
 
 // --format json: one document on stdout whatever happens; a mission that

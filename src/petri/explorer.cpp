@@ -387,7 +387,10 @@ bool Explorer::breadth_first() {
     queue_head_ = (queue_head_ + 1) & (queue_slots_ - 1);
     --queue_size_;
     ++explored_;
-    if (past_deadline()) return stop(fmt::format("stopped at {} states: the time limit", count_));
+    if (past_deadline()) {
+      return stop(interrupted_ ? fmt::format("interrupted after {} states", count_)
+                               : fmt::format("stopped at {} states: the time limit", count_));
+    }
     if (opt_.progress && explored_ >= next_progress_) {
       next_progress_ += opt_.progress_every;
       if (!opt_.progress({count_, explored_, r_.edges, memory()})) {

@@ -182,10 +182,24 @@ class Explorer {
   bool stop(std::string why);
 
   // True (now and then: the clock is read every 1024 calls) once the
-  // deadline has passed.
+  // deadline has passed, or once the progress callback, asked at least
+  // every kProgressInterval whatever the count of states, says stop
+  // (interrupted_): a Ctrl-C is prompt even where states come slowly (a
+  // sanitizer build, a wide net) and in the liveness pass, which counts none.
+  static constexpr auto kProgressInterval = std::chrono::milliseconds(100);
   bool past_deadline() {
-    if (opt_.deadline == std::chrono::steady_clock::time_point::max() || (++clock_calls_ & 1023) != 0) return false;
-    return std::chrono::steady_clock::now() > opt_.deadline;
+    if ((++clock_calls_ & 1023) != 0) return false;
+    if (opt_.deadline == std::chrono::steady_clock::time_point::max() && !opt_.progress) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now > opt_.deadline) return true;
+    if (opt_.progress && now - last_progress_ >= kProgressInterval) {
+      last_progress_ = now;
+      if (!opt_.progress({count_, explored_, r_.edges, memory()})) {
+        interrupted_ = true;
+        return true;
+      }
+    }
+    return false;
   }
 
   // ---- breadth first: the queue holds copies of the markings not explored yet --
@@ -274,6 +288,8 @@ class Explorer {
   std::size_t queue_slots_ = 0, queue_head_ = 0, queue_size_ = 0;
   std::uint64_t explored_ = 0;
   std::uint64_t clock_calls_ = 0;
+  std::chrono::steady_clock::time_point last_progress_ = std::chrono::steady_clock::now();
+  bool interrupted_ = false;  // the progress callback said stop
   std::uint64_t next_progress_ = opt_.progress_every;
   // The successors (predecessors, going backwards) of this state and the
   // next one.

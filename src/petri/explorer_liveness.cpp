@@ -53,8 +53,9 @@ void Explorer::decide_liveness() {
   const std::optional<bool> strongly_connected = words_ == 1   ? all_reach_initial<1>()
                                                  : words_ == 2 ? all_reach_initial<2>()
                                                                : all_reach_initial<0>();
+  const char* stopped = "the time limit, in the liveness pass";
   if (!strongly_connected) {
-    r_.live_why = "the time limit, in the liveness pass";
+    r_.live_why = interrupted_ ? "interrupted, in the liveness pass" : stopped;
     return;
   }
   if (*strongly_connected) {
@@ -66,7 +67,7 @@ void Explorer::decide_liveness() {
     return;
   }
   r_.live = bottom_components_enable_all();
-  if (!r_.live) r_.live_why = "the time limit, in the liveness pass";
+  if (!r_.live) r_.live_why = interrupted_ ? "interrupted, in the liveness pass" : stopped;
 }
 
 template <unsigned W>

@@ -196,6 +196,7 @@ class QuestionSearch {
     frames_.emplace_back(0, kNoTransition);
     candidates(m);
     std::uint64_t next_progress = o_.progress_every;
+    auto last_progress = std::chrono::steady_clock::now();
     const std::uint64_t max_states =
         o_.max_states ? std::min(o_.max_states, kMaxQuestionMarkings) : kMaxQuestionMarkings;
     while (!frames_.empty()) {
@@ -236,12 +237,21 @@ class QuestionSearch {
         stop(r, fmt::format("stopped at {} markings: the store needs more than --max-memory", store_.size()));
         return;
       }
-      if (store_.size() % 4096 == 0 && std::chrono::steady_clock::now() >= o_.deadline) {
-        stop(r, fmt::format("the time limit was reached after {} markings", store_.size()));
-        return;
+      // Every 4096 markings: the clock, for the deadline and for the
+      // progress callback, asked at least every tenth of a second whatever
+      // the count (Ctrl-C stays prompt where markings come slowly).
+      bool progress_due = o_.progress && store_.size() >= next_progress;
+      if (store_.size() % 4096 == 0) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= o_.deadline) {
+          stop(r, fmt::format("the time limit was reached after {} markings", store_.size()));
+          return;
+        }
+        if (now - last_progress >= std::chrono::milliseconds(100)) progress_due = o_.progress != nullptr;
       }
-      if (o_.progress && store_.size() >= next_progress) {
-        next_progress += o_.progress_every;
+      if (progress_due) {
+        last_progress = std::chrono::steady_clock::now();
+        if (store_.size() >= next_progress) next_progress += o_.progress_every;
         if (!o_.progress({store_.size(), store_.size() - frames_.size(), r.edges, store_.memory_bytes()})) {
           stop(r, fmt::format("interrupted after {} markings", store_.size()));
           return;
