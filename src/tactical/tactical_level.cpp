@@ -1,5 +1,6 @@
 #include "tactical/tactical_level.h"
 
+#include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -42,6 +43,18 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
       put("thrust_n", t.thrust_n);
       put("setpoint_m", t.setpoint_m);
       put("heading_deg", t.heading_deg);
+      // The horizontal plane, when the vehicle sends it (open water): the
+      // estimated and true position, its 1-sigma, speed and altitude. Absent
+      // keys stay absent, so a tank log reads as it always did.
+      for (auto [wire, logged] : {std::pair{"x", "x_m"}, std::pair{"y", "y_m"}, std::pair{"true_x", "true_x_m"},
+                                  std::pair{"true_y", "true_y_m"}, std::pair{"pos_sd", "position_sd_m"},
+                                  std::pair{"speed", "speed_mps"}, std::pair{"alt", "altitude_m"}}) {
+        const auto it = t.extras.find(wire);
+        if (it == t.extras.end()) continue;
+        double v = 0.0;
+        const char* end = it->second.data() + it->second.size();
+        if (std::from_chars(it->second.data(), end, v).ptr == end && std::isfinite(v)) put(logged, v);
+      }
       log_->telemetry(t.sim_time_s, fields);
     }
     if (on_telemetry_) on_telemetry_(t);
