@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "vehicle/leg_trial.h"
 #include "vehicle/simulation.h"
 
 namespace strata::vehicle {
@@ -282,6 +283,35 @@ TEST(OpenWater, SameInputsGiveTheSameTrajectoryBitForBit) {
     sim->advance(100.0);
   }
   EXPECT_EQ(a.telemetry(), b.telemetry());
+}
+
+// Issue 20's targets (bench/open_water_bench.cpp prints the figures): RMS
+// cross-track error of the true position along a 200 m leg after the turn,
+// <= 2 m with no current and <= 5 m with a 0.2 m/s cross current, at the
+// surface and at 5 m after two minutes of fixes at the surface.
+TEST(CrossTrack, AStraightLegMeetsTheTargetsWithAndWithoutACrossCurrent) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    for (bool submerged : {false, true}) {
+      const double calibration_s = submerged ? 120.0 : 0.0;
+      const auto calm = trial::run_leg({0.0, submerged, calibration_s, seed});
+      const auto cross = trial::run_leg({0.2, submerged, calibration_s, seed});
+      ASSERT_GT(calm.samples, 1000);
+      ASSERT_GT(cross.samples, 1000);
+      EXPECT_LE(calm.rms_m, 2.0) << "seed " << seed << (submerged ? " submerged" : " at the surface");
+      EXPECT_LE(cross.rms_m, 5.0) << "seed " << seed << (submerged ? " submerged" : " at the surface");
+    }
+  }
+}
+
+// Diving with the current unknown, dead reckoning cannot hold the line
+// against it, and the estimate says so: the truth drifts off the line and
+// the position's 1-sigma grows past the limit.
+TEST(CrossTrack, AnUncalibratedDiveInACurrentDriftsAndKnowsItIsUncertain) {
+  const auto r = trial::run_leg({0.2, true, 0.0, 1});
+  EXPECT_GT(r.rms_m, 5.0);
+  EXPECT_GT(r.final_sd_m, default_params().position_limit_m);
+  const auto calibrated = trial::run_leg({0.2, true, 120.0, 1});
+  EXPECT_LT(calibrated.final_sd_m, r.final_sd_m);
 }
 
 }  // namespace
