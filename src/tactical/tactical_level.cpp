@@ -107,7 +107,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     return;
   }
   core::Result<RenderedCall> rendered =
-      p->data == DataSource::Setpoint
+      p->data != DataSource::None
           ? (cursor_ ? advance_and_render(*p, args, *cursor_)
                      : core::Result<RenderedCall>(
                            core::make_error(core::ErrorCode::InvalidInput,
