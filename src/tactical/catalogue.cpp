@@ -369,6 +369,9 @@ class CatalogueReader {
         if (is_setpoint_field(piece.text) && p.data != DataSource::Setpoint) {
           hint += "; setpoint fields need data = \"setpoint\"";
         }
+        if (is_waypoint_field(piece.text) && p.data != DataSource::Waypoint) {
+          hint += "; waypoint fields need data = \"waypoint\"";
+        }
         errors_.add(where, fmt::format("{}: placeholder {{{}}} in the message names no argument ({})", owner,
                                        piece.text, hint));
         ok = false;

@@ -35,9 +35,9 @@ struct Guidance {
 };
 
 struct GuidanceInput {
-  double x_m = 0.0, y_m = 0.0;                    // estimated position
+  double x_m = 0.0, y_m = 0.0;                      // estimated position
   double current_x_mps = 0.0, current_y_mps = 0.0;  // estimated current
-  double speed_mps = 0.0;                         // water speed the vehicle will hold
+  double speed_mps = 0.0;                           // water speed the vehicle will hold
 };
 
 // The compass heading to hold, [0, 360). mode must not be None.

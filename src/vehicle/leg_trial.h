@@ -32,7 +32,7 @@ struct LegResult {
   double rms_m = 0.0;
   double max_m = 0.0;
   int samples = 0;
-  double time_s = 0.0;  // simulated, from the start of the leg to its end
+  double time_s = 0.0;      // simulated, from the start of the leg to its end
   double final_sd_m = 0.0;  // the estimate's horizontal 1-sigma at the end
 };
 

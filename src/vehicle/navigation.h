@@ -41,7 +41,7 @@ class Navigator {
   double current_sd_mps() const;
 
  private:
-  double walk_;  // current random walk, (m/s)^2 per s
+  double walk_;       // current random walk, (m/s)^2 per s
   double speed_var_;  // dead-reckoning velocity error, (m/s)^2
   double x_, y_, cx_ = 0.0, cy_ = 0.0;
   double ppp_, ppc_ = 0.0, pcc_;  // covariance: position, cross, current (per axis)

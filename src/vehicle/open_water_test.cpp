@@ -40,7 +40,8 @@ double true_distance(const Simulation& sim, double x_m, double y_m) {
 TEST(Surge, ASpeedStepRisesLikeAFirstOrderLagWithNoOvershoot) {
   Simulation sim = started(open_water());
   ASSERT_TRUE(sim.set_speed(0.8).ok());
-  const double t63 = run_until(sim, [&] { return sim.surge().speed_mps >= 0.63 * 0.8; }, 30.0);
+  const double t63 = run_until(
+      sim, [&] { return sim.surge().speed_mps >= 0.63 * 0.8; }, 30.0);
   // From rest u = u_d tanh(t c u_d / (m + m_a)): 63% at 0.74 * 195 / (24 * 0.8)
   // = 7.5 s, plus about the motors' lag, 0.5 s.
   EXPECT_NEAR(8.0, t63, 0.3);
@@ -69,7 +70,8 @@ TEST(Guidance, GotoXyConvergesToTheWaypoint) {
   Simulation sim = started(open_water());
   ASSERT_TRUE(sim.goto_xy(60.0, -40.0).ok());
   EXPECT_FALSE(sim.waypoint_reached());
-  const double t = run_until(sim, [&] { return sim.waypoint_reached(); }, 200.0);
+  const double t = run_until(
+      sim, [&] { return sim.waypoint_reached(); }, 200.0);
   ASSERT_GT(t, 0.0);
   // 72 m at 0.8 m/s after the turn; the truth is within the GPS noise of the estimate.
   EXPECT_LT(t, 120.0);
@@ -84,7 +86,8 @@ TEST(Guidance, TrackFollowingConvergesToTheLineAndReachesItsEnd) {
   sim.advance(120.0);
   EXPECT_LT(std::abs(cross_track_m(sim.guidance(), sim.pose().x_m, sim.pose().y_m)), 5.0);
   EXPECT_NEAR(90.0, sim.pose().heading_deg, 8.0);
-  const double t = run_until(sim, [&] { return sim.waypoint_reached(); }, 400.0);
+  const double t = run_until(
+      sim, [&] { return sim.waypoint_reached(); }, 400.0);
   ASSERT_GT(t, 0.0);
   EXPECT_GT(sim.pose().x_m, 290.0);
 }
@@ -115,7 +118,8 @@ TEST(Navigation, GpsFixesComeOnlyAtTheSurfaceAndResetTheEstimate) {
   sim.advance(5.0);  // at the surface: fixes once a second
   EXPECT_LT(sim.navigator().position_sd_m(), 3.0);
   ASSERT_TRUE(sim.goto_depth(4.0).ok());
-  ASSERT_TRUE(run_until(sim, [&] { return sim.heave().depth_m > 1.0; }, 30.0) > 0.0);
+  ASSERT_TRUE(run_until(
+                  sim, [&] { return sim.heave().depth_m > 1.0; }, 30.0) > 0.0);
   EXPECT_FALSE(sim.gps_fix().ok());
   double sd = sim.navigator().position_sd_m();
   for (int i = 0; i < 600; ++i) {  // a minute under water: uncertainty only grows
@@ -124,7 +128,9 @@ TEST(Navigation, GpsFixesComeOnlyAtTheSurfaceAndResetTheEstimate) {
     sd = sim.navigator().position_sd_m();
   }
   ASSERT_TRUE(sim.surface().ok());
-  ASSERT_GT(run_until(sim, [&] { return sim.heave().depth_m <= 0.3; }, 60.0), 0.0);
+  ASSERT_GT(run_until(
+                sim, [&] { return sim.heave().depth_m <= 0.3; }, 60.0),
+            0.0);
   sim.advance(3.0);
   EXPECT_LT(sim.navigator().position_sd_m(), 0.5 * sd);
   EXPECT_LT(std::hypot(sim.navigator().x_m() - sim.pose().x_m, sim.navigator().y_m() - sim.pose().y_m), 5.0);
@@ -171,7 +177,9 @@ TEST(Altimeter, AltitudeLowWhenTheSeabedRisesUnderTheVehicle) {
   ASSERT_TRUE(sim.set_altitude_floor(4.0).ok());
   ASSERT_TRUE(sim.goto_xy(200.0, 0.0).ok());
   EXPECT_FALSE(sim.altitude_low());
-  ASSERT_GT(run_until(sim, [&] { return sim.altitude_low(); }, 200.0), 0.0);
+  ASSERT_GT(run_until(
+                sim, [&] { return sim.altitude_low(); }, 200.0),
+            0.0);
   // Floor 4 m under a 6 m depth: the seabed is at ~10 m, x ~ 50 m.
   EXPECT_NEAR(50.0, sim.pose().x_m, 4.0);
   EXPECT_FALSE(sim.set_altitude_floor(-1.0).ok());
@@ -218,8 +226,8 @@ TEST(Faults, ACompassBiasTurnsTheTrueHeadingAndDeadReckoningDoesNotNotice) {
   const auto target = sim.telemetry().heading_setpoint_deg;
   ASSERT_TRUE(target.has_value());
   EXPECT_NEAR(0.0, heading_error_deg(sim.pose().heading_deg + 20.0, *target), 2.0);
-  EXPECT_LT(std::abs(sim.navigator().x_m()), 3.0);   // the estimate is on the line ...
-  EXPECT_LT(sim.pose().x_m, -15.0);                  // ... the vehicle is well west of it
+  EXPECT_LT(std::abs(sim.navigator().x_m()), 3.0);  // the estimate is on the line ...
+  EXPECT_LT(sim.pose().x_m, -15.0);                 // ... the vehicle is well west of it
 }
 
 TEST(Faults, ADeadAltimeterGivesNoReadingAndAltitudeLowUnderWater) {
@@ -238,7 +246,9 @@ TEST(Faults, NoGpsMeansNoFixAndThePositionBecomesUncertain) {
   Simulation sim = started(open_water("[[fault]]\nkind = \"no_gps\"\nat_s = 0\n"));
   EXPECT_FALSE(sim.gps_fix().ok());
   EXPECT_FALSE(sim.position_uncertain());  // the launch position: 10 m per axis
-  ASSERT_GT(run_until(sim, [&] { return sim.position_uncertain(); }, 600.0), 0.0);
+  ASSERT_GT(run_until(
+                sim, [&] { return sim.position_uncertain(); }, 600.0),
+            0.0);
 }
 
 TEST(Faults, ACurrentStrongerThanTopSpeedCarriesTheVehicleAway) {

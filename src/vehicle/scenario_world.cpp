@@ -41,8 +41,7 @@ core::Result<const toml::table*> table_with(std::string_view path, const toml::t
   return t;
 }
 
-core::Result<std::size_t> count_in(std::string_view path, const toml::table& t, std::string_view key,
-                                   std::size_t hi) {
+core::Result<std::size_t> count_in(std::string_view path, const toml::table& t, std::string_view key, std::size_t hi) {
   const toml::node* n = t.get(key);
   if (n == nullptr) return core::toml_error_at(path, t.source(), fmt::format("grid seabed without '{}'", key));
   if (!n->is_integer() || *n->value<std::int64_t>() < 2 || *n->value<std::int64_t>() > static_cast<std::int64_t>(hi)) {
@@ -101,8 +100,9 @@ core::Result<void> parse_grid(std::string_view path, const toml::table& t, Seabe
 }
 
 core::Result<void> parse_seabed(std::string_view path, const toml::table& root, Scenario& s) {
-  auto found = table_with(path, root, "seabed",
-                          {"kind", "depth_m", "slope_x", "slope_y", "x0_m", "y0_m", "spacing_m", "nx", "ny", "depths_m"});
+  auto found =
+      table_with(path, root, "seabed",
+                 {"kind", "depth_m", "slope_x", "slope_y", "x0_m", "y0_m", "spacing_m", "nx", "ny", "depths_m"});
   if (!found) return found.error();
   if (found.value() == nullptr) return {};
   const toml::table& t = *found.value();

@@ -91,7 +91,8 @@ TEST(ScenarioWorld, OpenWaterKeysInTheTankAreErrors) {
             error_of("seed = 1\n[world]\ncurrent_x_mps = 0.2\n"));
   EXPECT_EQ("s.toml:2:1: [seabed] needs open water ([world] kind = \"open_water\")",
             error_of("seed = 1\n[seabed]\nkind = \"flat\"\ndepth_m = 5\n"));
-  EXPECT_EQ("s.toml:3:8: 'world.kind' must be \"tank\" or \"open_water\"", error_of("seed = 1\n[world]\nkind = \"sea\"\n"));
+  EXPECT_EQ("s.toml:3:8: 'world.kind' must be \"tank\" or \"open_water\"",
+            error_of("seed = 1\n[world]\nkind = \"sea\"\n"));
   EXPECT_EQ("s.toml:6:1: 'slope_x' is not a key of a flat seabed",
             error_of(kOpen + "[seabed]\nkind = \"flat\"\nslope_x = 0.1\n"));
   EXPECT_EQ("s.toml:4:1: unknown key 'tide' in [world]", error_of(kOpen + "tide = 1\n"));

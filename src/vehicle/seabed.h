@@ -26,10 +26,10 @@ struct Seabed {
   double depth_m = 30.0;  // flat; slope: at (0, 0)
   double slope_x = 0.0;   // slope: depth change per metre of x (m/m)
   double slope_y = 0.0;
-  double x0_m = 0.0;      // grid: the first node
+  double x0_m = 0.0;  // grid: the first node
   double y0_m = 0.0;
   double spacing_m = 1.0;
-  std::size_t nx = 0;     // grid: columns (along x) and rows (along y)
+  std::size_t nx = 0;  // grid: columns (along x) and rows (along y)
   std::size_t ny = 0;
   std::vector<double> depths_m;  // grid: row-major, ny * nx, row j is y0_m + j * spacing_m
 

@@ -39,15 +39,15 @@ core::Result<void> Simulation::check_goal(double x_m, double y_m) const {
   if (!std::isfinite(x_m) || !std::isfinite(y_m)) return refused("waypoint coordinates must be finite numbers");
   if (!open_water()) {
     if (x_m < 0.0 || x_m > params_.tank_length_x_m || y_m < 0.0 || y_m > params_.tank_width_y_m) {
-      return refused(fmt::format("waypoint ({}, {}) m is outside the {} x {} m tank", x_m, y_m,
-                                 params_.tank_length_x_m, params_.tank_width_y_m));
+      return refused(fmt::format("waypoint ({}, {}) m is outside the {} x {} m tank", x_m, y_m, params_.tank_length_x_m,
+                                 params_.tank_width_y_m));
     }
     return {};
   }
   const double d = std::hypot(x_m - nav_.x_m(), y_m - nav_.y_m());
   if (!(d <= kMaxLegM)) {
-    return refused(fmt::format("waypoint ({}, {}) m is {:.0f} m away: farther than the longest leg, {:.0f} m", x_m,
-                               y_m, d, kMaxLegM));
+    return refused(fmt::format("waypoint ({}, {}) m is {:.0f} m away: farther than the longest leg, {:.0f} m", x_m, y_m,
+                               d, kMaxLegM));
   }
   return {};
 }
@@ -130,8 +130,8 @@ void Simulation::guide() {
   if (guidance_.mode == GuidanceMode::None) return;
   if (!reached_ && guidance_reached(params_, guidance_, nav_.x_m(), nav_.y_m())) {
     reached_ = true;
-    event(fmt::format("guidance: {} reached at ({:.1f}, {:.1f}) m (estimated)", to_string(guidance_.mode),
-                      nav_.x_m(), nav_.y_m()));
+    event(fmt::format("guidance: {} reached at ({:.1f}, {:.1f}) m (estimated)", to_string(guidance_.mode), nav_.x_m(),
+                      nav_.y_m()));
   }
   if (reached_) return;  // run on along the last heading
   GuidanceInput in{nav_.x_m(), nav_.y_m(), nav_.current_x_mps(), nav_.current_y_mps(),
