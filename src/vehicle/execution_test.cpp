@@ -3,6 +3,10 @@
 #include "vehicle/execution.h"
 
 #include <cmath>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -129,6 +133,22 @@ TEST(Execution, TheInterfaceListsTheOpenWaterFunctions) {
                         "waypoint_reached", "altitude_low", "position_uncertain"}) {
     EXPECT_NE(std::string::npos, text.find(f)) << f;
   }
+}
+
+// docs/protocol.md §8 lists the function table: every row names a function
+// the vehicle has, under its verb, and every function has its row.
+TEST(Execution, TheProtocolDocumentListsExactlyTheFunctionTable) {
+  std::ifstream in(std::string(STRATA_SOURCE_DIR) + "/docs/protocol.md");
+  ASSERT_TRUE(in.good());
+  std::set<std::string> documented;
+  const std::regex row(R"(^\| (exec|ask|ood) \| `([a-z_]+))");
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, row)) documented.insert(m[1].str() + " " + m[2].str());
+  }
+  std::set<std::string> table;
+  for (const auto& f : function_table()) table.insert(std::string(protocol::verb_name(f.verb)) + " " + f.name);
+  EXPECT_EQ(table, documented);
 }
 
 }  // namespace
