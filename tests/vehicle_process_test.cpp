@@ -1,6 +1,9 @@
 // The Tactical level against a real `strata vehicle` process on a free
 // loopback port: what a user runs, not an in-process stand-in.
 #include <asio.hpp>
+#include <fstream>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "support/child_process.h"
@@ -56,8 +59,12 @@ TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
   auto link = connect(io, v.port, welcome);
   ASSERT_TRUE(welcome && welcome->ok());
   EXPECT_EQ("phoenix-sim", welcome->value().vehicle_name);
-  auto data = MissionData::load(std::string(STRATA_SOURCE_DIR) + "/missions/tank/setpoints.toml");
-  ASSERT_TRUE(data.ok());
+  // The tank's setpoints and a waypoint inside the tank, for next_waypoint.
+  std::ifstream in(std::string(STRATA_SOURCE_DIR) + "/missions/tank/setpoints.toml");
+  std::stringstream text;
+  text << in.rdbuf() << "\n[[waypoint]]\nx_m = 5\ny_m = 4\n";
+  auto data = MissionData::parse(text.str(), "setpoints.toml");
+  ASSERT_TRUE(data.ok()) << data.error().message;
   DataCursor cursor(data.value());
   TacticalLevel t(io, Catalogue::builtin(), link, &cursor, nullptr);
   std::vector<std::string> answered;
@@ -66,6 +73,11 @@ TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
     if (p.name == "sleep") args.push_back(Value::of(1.0));
     if (p.name == "heading") args.push_back(Value::of(90.0));
     if (p.name == "report") args.push_back(Value::of("hello"));
+    if (p.name == "goto_depth") args.push_back(Value::of(1.0));
+    if (p.name == "set_speed") args.push_back(Value::of(0.5));
+    if (p.name == "set_altitude_floor") args.push_back(Value::of(1.0));
+    if (p.name == "goto_xy") args = {Value::of(6.0), Value::of(4.0)};
+    if (p.name == "track") args = {Value::of(2.0), Value::of(4.0), Value::of(10.0), Value::of(4.0)};
     if (p.name == "shutdown_network") continue;  // last, below
     auto r = call(io, t, p.name, args);
     EXPECT_TRUE(r.ok()) << p.name << ": " << (r.ok() ? "" : r.error().message);

@@ -20,8 +20,24 @@ namespace {
 constexpr std::string_view kBuiltinSource = "<builtin>/config/primitives.toml";
 constexpr std::string_view kSetpointFields[] = {"depth_m", "timeout_s"};
 
+constexpr std::string_view kWaypointFields[] = {"x_m", "y_m"};
+
 bool is_setpoint_field(std::string_view name) {
   return std::find(std::begin(kSetpointFields), std::end(kSetpointFields), name) != std::end(kSetpointFields);
+}
+
+bool is_waypoint_field(std::string_view name) {
+  return std::find(std::begin(kWaypointFields), std::end(kWaypointFields), name) != std::end(kWaypointFields);
+}
+
+// Is name a field of the data this primitive reads?
+bool is_data_field(DataSource data, std::string_view name) {
+  switch (data) {
+    case DataSource::None: return false;
+    case DataSource::Setpoint: return is_setpoint_field(name);
+    case DataSource::Waypoint: return is_waypoint_field(name);
+  }
+  return false;
 }
 
 std::string list_names(const std::vector<std::string>& names) { return fmt::format("{}", fmt::join(names, ", ")); }
@@ -135,9 +151,12 @@ class CatalogueReader {
     if (const toml::node* data = string_node(t, "data", owner)) {
       if (str(*data) == "setpoint") {
         p.data = DataSource::Setpoint;
+      } else if (str(*data) == "waypoint") {
+        p.data = DataSource::Waypoint;
       } else {
-        errors_.add(*data,
-                    fmt::format("{}: unknown data source '{}': the only one is \"setpoint\"", owner, str(*data)));
+        errors_.add(*data, fmt::format("{}: unknown data source '{}': the known ones are \"setpoint\" and "
+                                       "\"waypoint\"",
+                                       owner, str(*data)));
         ok = false;
       }
     }
@@ -235,8 +254,9 @@ class CatalogueReader {
       errors_.add(*name, fmt::format("{}: argument '{}' is declared twice", owner, a.name));
       return false;
     }
-    if (p.data == DataSource::Setpoint && is_setpoint_field(a.name)) {
-      errors_.add(*name, fmt::format("{}: argument '{}' hides the setpoint field of that name", owner, a.name));
+    if (is_data_field(p.data, a.name)) {
+      errors_.add(*name, fmt::format("{}: argument '{}' hides the {} field of that name", owner, a.name,
+                                     p.data == DataSource::Setpoint ? "setpoint" : "waypoint"));
       ok = false;
     }
     const std::string what = fmt::format("{}, argument '{}'", owner, a.name);
@@ -335,16 +355,22 @@ class CatalogueReader {
     if (p.data == DataSource::Setpoint) {
       for (auto f : kSetpointFields) known.emplace_back(f);
     }
+    if (p.data == DataSource::Waypoint) {
+      for (auto f : kWaypointFields) known.emplace_back(f);
+    }
     for (std::size_t i = 2; i < fields.size(); ++i) {
       for (const auto& piece : fields[i].pieces) {
         if (!piece.is_placeholder) continue;
         used.insert(piece.text);
         if (p.find_arg(piece.text)) continue;
-        if (p.data == DataSource::Setpoint && is_setpoint_field(piece.text)) continue;
+        if (is_data_field(p.data, piece.text)) continue;
         std::string hint =
             known.empty() ? std::string("it has no arguments") : fmt::format("it knows: {}", list_names(known));
         if (is_setpoint_field(piece.text) && p.data != DataSource::Setpoint) {
           hint += "; setpoint fields need data = \"setpoint\"";
+        }
+        if (is_waypoint_field(piece.text) && p.data != DataSource::Waypoint) {
+          hint += "; waypoint fields need data = \"waypoint\"";
         }
         errors_.add(where, fmt::format("{}: placeholder {{{}}} in the message names no argument ({})", owner,
                                        piece.text, hint));

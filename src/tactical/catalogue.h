@@ -28,6 +28,7 @@ std::optional<Kind> kind_from_name(std::string_view name);
 enum class DataSource {
   None,
   Setpoint,  // each call advances the mission data cursor; {depth_m}, {timeout_s}
+  Waypoint,  // each call advances the waypoint cursor; {x_m}, {y_m}
 };
 
 struct Argument {

@@ -107,6 +107,7 @@ nlohmann::ordered_json catalogue_json(const Catalogue& catalogue) {
     if (p.kind != Kind::Report) j["timeout_s"] = p.timeout_s;
     if (!p.timeout_plus_arg.empty()) j["timeout_plus_arg"] = p.timeout_plus_arg;
     if (p.data == DataSource::Setpoint) j["data"] = "setpoint";
+    if (p.data == DataSource::Waypoint) j["data"] = "waypoint";
     j["prolog"] = p.prolog_predicate();
     j["doc"] = p.doc;
     if (p.kind != Kind::Report) j["message"] = p.message;

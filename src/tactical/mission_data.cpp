@@ -13,16 +13,19 @@ namespace {
 std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits, core::TomlErrors& errors) {
   std::vector<Setpoint> out;
   for (auto&& [key, node] : root) {
-    if (key.str() != "setpoint") {
+    if (key.str() != "setpoint" && key.str() != "waypoint") {
       errors.add(key, fmt::format("unknown key '{}' at the top level: mission data holds only "
-                                  "[[setpoint]] tables",
+                                  "[[setpoint]] and [[waypoint]] tables",
                                   key.str()));
     }
   }
   const toml::node* list = root.get("setpoint");
   if (!list) {
-    errors.add(toml::source_region{{1, 1}, {1, 1}, nullptr},
-               "no setpoints: add [[setpoint]] tables with depth_m and timeout_s");
+    if (!root.get("waypoint")) {
+      errors.add(toml::source_region{{1, 1}, {1, 1}, nullptr},
+                 "no setpoints: add [[setpoint]] tables with depth_m and timeout_s (or [[waypoint]] tables "
+                 "with x_m and y_m)");
+    }
     return out;
   }
   const toml::array* array = list->as_array();
@@ -87,6 +90,59 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
   return out;
 }
 
+std::vector<Waypoint> read_waypoints(const toml::table& root, core::TomlErrors& errors) {
+  std::vector<Waypoint> out;
+  const toml::node* list = root.get("waypoint");
+  if (!list) return out;
+  const toml::array* array = list->as_array();
+  if (array && array->empty()) {
+    errors.add(*list, "the waypoint list is empty");
+    return out;
+  }
+  if (!array || !array->is_array_of_tables()) {
+    errors.add(*list, "'waypoint' must be an array of tables: write each as [[waypoint]]");
+    return out;
+  }
+  std::size_t index = 0;
+  for (const toml::node& node : *array) {
+    ++index;
+    const toml::table& t = *node.as_table();
+    Waypoint wp;
+    wp.line = t.source().begin.line;
+    const std::string owner = fmt::format("waypoint {}", index);
+    for (auto&& [key, value] : t) {
+      const std::string_view k = key.str();
+      if (k != "name" && k != "x_m" && k != "y_m") {
+        errors.add(key, fmt::format("{}: unknown key '{}' (known: name, x_m, y_m)", owner, k));
+      }
+    }
+    if (const toml::node* name = t.get("name")) {
+      if (const auto* s = name->as_string()) {
+        wp.name = s->get();
+      } else {
+        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, core::toml_type_phrase(*name)));
+      }
+    }
+    for (auto [key, out_v] : {std::pair{"x_m", &wp.x_m}, std::pair{"y_m", &wp.y_m}}) {
+      const toml::node* n = t.get(key);
+      if (!n) {
+        errors.add(t, fmt::format("{} has no {}", owner, key));
+        continue;
+      }
+      auto v = core::toml_number(*n);
+      if (!v) {
+        errors.add(*n, fmt::format("{}: {} must be a number of metres, not {}", owner, key, core::toml_type_phrase(*n)));
+      } else if (!std::isfinite(*v) || std::abs(*v) > kMaxWaypointM) {
+        errors.add(*n, fmt::format("{}: {} is {} m; it must lie within +-{} m", owner, key, *v, kMaxWaypointM));
+      } else {
+        *out_v = *v;
+      }
+    }
+    out.push_back(std::move(wp));
+  }
+  return out;
+}
+
 }  // namespace
 
 core::Result<MissionData> MissionData::parse(std::string_view text, const std::string& source_name,
@@ -95,10 +151,12 @@ core::Result<MissionData> MissionData::parse(std::string_view text, const std::s
   if (!root) return root.error();
   core::TomlErrors errors(source_name);
   std::vector<Setpoint> setpoints = read_setpoints(root.value(), limits, errors);
+  std::vector<Waypoint> waypoints = read_waypoints(root.value(), errors);
   if (!errors.empty()) return errors.error();
   MissionData data;
   data.path_ = source_name;
   data.setpoints_ = std::move(setpoints);
+  data.waypoints_ = std::move(waypoints);
   return data;
 }
 
@@ -118,6 +176,21 @@ core::Result<const Setpoint*> DataCursor::next() {
                                         all.size(), all.size() == 1 ? "" : "s", ordinal(calls_)));
   }
   return &all[position_++];
+}
+
+core::Result<const Waypoint*> DataCursor::next_waypoint() {
+  ++waypoint_calls_;
+  const auto& all = data_->waypoints();
+  if (waypoint_position_ >= all.size()) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("mission data has {} waypoint{}; next_waypoint was called a {} time",
+                                        all.size(), all.size() == 1 ? "" : "s", ordinal(waypoint_calls_)));
+  }
+  return &all[waypoint_position_++];
+}
+
+const Waypoint* DataCursor::current_waypoint() const {
+  return waypoint_position_ == 0 ? nullptr : &data_->waypoints()[waypoint_position_ - 1];
 }
 
 const Setpoint* DataCursor::current() const { return position_ == 0 ? nullptr : &data_->setpoints()[position_ - 1]; }

@@ -1,14 +1,21 @@
 #pragma once
 // The mission data file (setpoints.toml) and the cursor that serves it to
-// next_setpt_data. The file is a list of [[setpoint]] tables:
+// next_setpt_data and next_waypoint. The file holds [[setpoint]] tables,
+// [[waypoint]] tables, or both (at least one of either):
 //
 //   [[setpoint]]
 //   name = "working depth"   # optional
 //   depth_m = 1.5            # positive down, 0 .. DataLimits::max_depth_m
 //   timeout_s = 45           # above 0: the manoeuvre's time limit
 //
+//   [[waypoint]]             # open water: a plan from a planner, in order
+//   name = "leg 1 start"     # optional
+//   x_m = 0.0                # east, m, |x| <= 100 km (the catalogue's goto_xy range)
+//   y_m = 100.0              # north, m, likewise
+//
 // Any other key, an empty list or a value of the wrong type is an error,
-// located as "path:line:col: message".
+// located as "path:line:col: message". Setpoints and waypoints have cursors
+// of their own.
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -25,6 +32,15 @@ struct Setpoint {
   std::uint32_t line = 0;  // where its [[setpoint]] starts
 };
 
+struct Waypoint {
+  std::string name;  // "" when the file gives none
+  double x_m = 0;
+  double y_m = 0;
+  std::uint32_t line = 0;  // where its [[waypoint]] starts
+};
+
+inline constexpr double kMaxWaypointM = 100000.0;
+
 struct DataLimits {
   // The deepest setpoint accepted. The default is tank_depth_m of
   // config/phoenix.toml (an estimate, not NPS data); the vehicle's parameters
@@ -40,11 +56,13 @@ class MissionData {
                                          const DataLimits& limits = {});
 
   const std::vector<Setpoint>& setpoints() const { return setpoints_; }
+  const std::vector<Waypoint>& waypoints() const { return waypoints_; }
   const std::string& path() const { return path_; }
 
  private:
   std::string path_;
   std::vector<Setpoint> setpoints_;
+  std::vector<Waypoint> waypoints_;
 };
 
 // Reads the setpoints in order, one per next_setpt_data call. Holds a
@@ -61,12 +79,19 @@ class DataCursor {
   const Setpoint* current() const;
   // How many setpoints next() has handed out (0 .. size).
   std::size_t position() const { return position_; }
+  // The same for the waypoints, one per next_waypoint call ("mission data has
+  // 2 waypoints; next_waypoint was called a 3rd time" past the last).
+  core::Result<const Waypoint*> next_waypoint();
+  const Waypoint* current_waypoint() const;
+  std::size_t waypoint_position() const { return waypoint_position_; }
   const MissionData& data() const { return *data_; }
 
  private:
   const MissionData* data_;
   std::size_t position_ = 0;
   std::size_t calls_ = 0;
+  std::size_t waypoint_position_ = 0;
+  std::size_t waypoint_calls_ = 0;
 };
 
 // "1st", "2nd", "3rd", "4th", "11th", "21st", ...

@@ -70,7 +70,10 @@ TEST(MissionData, EveryErrorIsReportedInFileOrder) {
 }
 
 TEST(MissionData, EmptyAndMisshapenFiles) {
-  EXPECT_EQ("data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s", error_of(""));
+  EXPECT_EQ(
+      "data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s (or [[waypoint]] tables "
+      "with x_m and y_m)",
+      error_of(""));
   EXPECT_EQ("data.toml:1:12: the setpoint list is empty", error_of("setpoint = []\n"));
   EXPECT_EQ("data.toml:1:12: 'setpoint' must be an array of tables: write each as [[setpoint]]",
             error_of("setpoint = [1]\n"));
@@ -78,8 +81,9 @@ TEST(MissionData, EmptyAndMisshapenFiles) {
             error_of("setpoint = 1\n"));
   EXPECT_EQ(
       "data.toml:1:1: unknown key 'depth_m' at the top level: mission data holds only "
-      "[[setpoint]] tables\n"
-      "data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s",
+      "[[setpoint]] and [[waypoint]] tables\n"
+      "data.toml:1:1: no setpoints: add [[setpoint]] tables with depth_m and timeout_s (or [[waypoint]] tables "
+      "with x_m and y_m)",
       error_of("depth_m = 1\n"));
 }
 
@@ -132,6 +136,38 @@ TEST(DataCursor, Ordinals) {
   EXPECT_EQ("21st", ordinal(21));
   EXPECT_EQ("102nd", ordinal(102));
   EXPECT_EQ("111th", ordinal(111));
+}
+
+TEST(MissionData, WaypointsAloneMakeMissionData) {
+  auto d = MissionData::parse("[[waypoint]]\nname = \"start\"\nx_m = 0\ny_m = -20.5\n[[waypoint]]\nx_m = 200\ny_m = 0\n",
+                              "data.toml");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_TRUE(d.value().setpoints().empty());
+  ASSERT_EQ(2u, d.value().waypoints().size());
+  EXPECT_EQ("start", d.value().waypoints()[0].name);
+  EXPECT_EQ(-20.5, d.value().waypoints()[0].y_m);
+  EXPECT_EQ(5u, d.value().waypoints()[1].line);
+  DataCursor cursor(d.value());
+  EXPECT_EQ(nullptr, cursor.current_waypoint());
+  ASSERT_TRUE(cursor.next_waypoint().ok());
+  ASSERT_TRUE(cursor.next_waypoint().ok());
+  EXPECT_EQ(200.0, cursor.current_waypoint()->x_m);
+  auto past = cursor.next_waypoint();
+  ASSERT_FALSE(past.ok());
+  EXPECT_EQ("mission data has 2 waypoints; next_waypoint was called a 3rd time", past.error().message);
+  EXPECT_EQ(200.0, cursor.current_waypoint()->x_m);
+  EXPECT_EQ(0u, cursor.position());  // the setpoint cursor is its own
+}
+
+TEST(MissionData, WaypointErrorsCarryLineAndColumn) {
+  EXPECT_EQ("data.toml:2:7: waypoint 1: x_m is inf m; it must lie within +-100000 m",
+            error_of("[[waypoint]]\nx_m = inf\ny_m = 0\n"));
+  EXPECT_EQ("data.toml:3:7: waypoint 1: y_m is 1e+300 m; it must lie within +-100000 m",
+            error_of("[[waypoint]]\nx_m = 0\ny_m = 1e300\n"));
+  EXPECT_EQ("data.toml:1:1: waypoint 1 has no y_m", error_of("[[waypoint]]\nx_m = 1\n"));
+  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'z_m' (known: name, x_m, y_m)",
+            error_of("[[waypoint]]\nz_m = 1\nx_m = 0\ny_m = 0\n"));
+  EXPECT_EQ("data.toml:1:12: the waypoint list is empty", error_of("waypoint = []\n"));
 }
 
 }  // namespace

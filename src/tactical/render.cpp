@@ -116,6 +116,13 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
       return invalid(fmt::format("'{}' reads the mission data, but no setpoint has been read", p.name));
     }
   }
+  const Waypoint* waypoint = nullptr;
+  if (p.data == DataSource::Waypoint) {
+    waypoint = cursor ? cursor->current_waypoint() : nullptr;
+    if (!waypoint) {
+      return invalid(fmt::format("'{}' reads the mission data, but no waypoint has been read", p.name));
+    }
+  }
 
   auto parsed = parse_message_template(p.message);
   if (!parsed) return invalid(fmt::format("'{}': {}", p.name, parsed.error().message));
@@ -139,6 +146,8 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
       }
       if (!v && setpoint && piece.text == "depth_m") v = Value::of(setpoint->depth_m);
       if (!v && setpoint && piece.text == "timeout_s") v = Value::of(setpoint->timeout_s);
+      if (!v && waypoint && piece.text == "x_m") v = Value::of(waypoint->x_m);
+      if (!v && waypoint && piece.text == "y_m") v = Value::of(waypoint->y_m);
       if (!v) {
         return invalid(fmt::format("'{}': placeholder {{{}}} in the message names no argument", p.name, piece.text));
       }
@@ -162,6 +171,10 @@ core::Result<RenderedCall> advance_and_render(const Primitive& p, std::span<cons
   if (!checked) return checked.error();
   if (p.data == DataSource::Setpoint) {
     auto next = cursor.next();
+    if (!next) return next.error();
+  }
+  if (p.data == DataSource::Waypoint) {
+    auto next = cursor.next_waypoint();
     if (!next) return next.error();
   }
   return render(p, args, &cursor);

@@ -142,6 +142,28 @@ TEST(Render, StringArgumentsAndDefaults) {
   EXPECT_FALSE(render(p, empty, nullptr).ok());
 }
 
+TEST(Render, TheOpenWaterPrimitives) {
+  EXPECT_EQ("exec goto_depth 2.5", text_of("goto_depth", {Value::of(2.5)}));
+  EXPECT_EQ("exec track 0 0 200 -50.5",
+            text_of("track", {Value::of(0.0), Value::of(0.0), Value::of(200.0), Value::of(-50.5)}));
+  EXPECT_EQ("ask position_uncertain", text_of("position_uncertain"));
+  EXPECT_NE(std::string::npos, error_of("set_speed", {Value::of(3.0)}).find("3"));
+  EXPECT_FALSE(error_of("goto_xy", {Value::of(std::nan("")), Value::of(0.0)}).empty());
+}
+
+TEST(Render, NextWaypointReadsTheWaypointCursor) {
+  auto d = MissionData::parse("[[waypoint]]\nx_m = 10\ny_m = -20\n", "data.toml");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  DataCursor cursor(d.value());
+  const Primitive& p = builtin("next_waypoint");
+  EXPECT_EQ(DataSource::Waypoint, p.data);
+  EXPECT_FALSE(render(p, {}, &cursor).ok());  // none read yet
+  auto r = advance_and_render(p, {}, cursor);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ("exec goto_xy 10 -20", r.value().text());
+  EXPECT_FALSE(advance_and_render(p, {}, cursor).ok());
+}
+
 TEST(Value, NumbersUseTheShortestRoundTripForm) {
   EXPECT_EQ("1", to_string(Value::of(1.0)));
   EXPECT_EQ("0.1", to_string(Value::of(0.1)));

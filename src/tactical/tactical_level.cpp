@@ -1,5 +1,6 @@
 #include "tactical/tactical_level.h"
 
+#include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -25,6 +26,30 @@ protocol::Request to_request(const RenderedCall& call) {
   return r;
 }
 
+nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
+  nlohmann::ordered_json fields;
+  auto put = [&](const char* key, const std::optional<double>& v) {
+    if (v) fields[key] = log_time(*v);  // to the microsecond, like every logged number
+  };
+  put("depth_m", t.depth_m);
+  put("filtered_depth_m", t.filtered_depth_m);
+  put("rate_mps", t.rate_mps);
+  put("thrust_n", t.thrust_n);
+  put("setpoint_m", t.setpoint_m);
+  put("heading_deg", t.heading_deg);
+  for (auto [wire, logged] : {std::pair{"x", "x_m"}, std::pair{"y", "y_m"}, std::pair{"true_x", "true_x_m"},
+                              std::pair{"true_y", "true_y_m"}, std::pair{"pos_sd", "position_sd_m"},
+                              std::pair{"speed", "speed_mps"}, std::pair{"alt", "altitude_m"}}) {
+    const auto it = t.extras.find(wire);
+    if (it == t.extras.end()) continue;
+    double v = 0.0;
+    const char* end = it->second.data() + it->second.size();
+    const auto [ptr, ec] = std::from_chars(it->second.data(), end, v);
+    if (ec == std::errc{} && ptr == end && std::isfinite(v)) put(logged, v);
+  }
+  return fields;
+}
+
 TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
                              DataCursor* cursor, MissionLog* log)
     : io_(io), catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
@@ -32,16 +57,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
   link_->on_telemetry([this](const protocol::Telemetry& t) {
     sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
     if (log_) {
-      nlohmann::ordered_json fields;
-      auto put = [&](const char* key, const std::optional<double>& v) {
-        if (v) fields[key] = log_time(*v);  // to the microsecond, like every logged number
-      };
-      put("depth_m", t.depth_m);
-      put("filtered_depth_m", t.filtered_depth_m);
-      put("rate_mps", t.rate_mps);
-      put("thrust_n", t.thrust_n);
-      put("setpoint_m", t.setpoint_m);
-      put("heading_deg", t.heading_deg);
+      const nlohmann::ordered_json fields = telemetry_log_fields(t);
       log_->telemetry(t.sim_time_s, fields);
     }
     if (on_telemetry_) on_telemetry_(t);
@@ -91,7 +107,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     return;
   }
   core::Result<RenderedCall> rendered =
-      p->data == DataSource::Setpoint
+      p->data != DataSource::None
           ? (cursor_ ? advance_and_render(*p, args, *cursor_)
                      : core::Result<RenderedCall>(
                            core::make_error(core::ErrorCode::InvalidInput,

@@ -102,4 +102,12 @@ class TacticalLevel {
 // A protocol request for a rendered call (verb, name and typed arguments).
 protocol::Request to_request(const RenderedCall& call);
 
+// The fields a telemetry line gives the mission log's "telemetry" record, in
+// its order: depth_m, filtered_depth_m, rate_mps, thrust_n, setpoint_m,
+// heading_deg, then, when the vehicle sends them (open water: docs/protocol.md),
+// x_m, y_m (estimated), true_x_m, true_y_m, position_sd_m, speed_mps,
+// altitude_m. A field the line lacks, or a non-number, is left out, so a
+// tank run's log reads as before.
+nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t);
+
 }  // namespace strata::tactical

@@ -25,6 +25,22 @@ const std::vector<FunctionSpec>& function_table() {
        "engage the heading law toward a compass heading (0 to 360), the short way round"},
       {Verb::Exec, "start_sonar", {}, "start the scanning sonar (pings to the sonar socket)"},
       {Verb::Exec, "stop_sonar", {}, "stop the scanning sonar"},
+      {Verb::Exec,
+       "goto_depth",
+       {{"depth", "m"}},
+       "start the depth filter if off and engage the depth law toward a depth, with no time limit"},
+      {Verb::Exec, "set_speed", {{"speed", "m/s"}}, "hold a speed through the water (0 to the top speed)"},
+      {Verb::Exec,
+       "goto_xy",
+       {{"x", "m"}, {"y", "m"}},
+       "line-of-sight guidance to a waypoint (x east, y north); cruise speed unless a speed was set"},
+      {Verb::Exec,
+       "track",
+       {{"x0", "m"}, {"y0", "m"}, {"x1", "m"}, {"y1", "m"}},
+       "line-of-sight guidance along the line from (x0, y0) to (x1, y1)"},
+      {Verb::Exec, "stop", {}, "stop the propulsion motors and the guidance; hold the heading"},
+      {Verb::Exec, "gps_fix", {}, "take a GPS fix now (only at the surface, in open water); resets the estimate"},
+      {Verb::Exec, "set_altitude_floor", {{"floor", "m"}}, "the altitude below which altitude_low is true"},
       {Verb::Ask, "depth_filter_off", {}, "is the depth filter off?"},
       {Verb::Ask, "depth_reached", {}, "is the vehicle settled at the setpoint?"},
       {Verb::Ask, "time_out", {}, "has the mission timer run out?"},
@@ -32,6 +48,9 @@ const std::vector<FunctionSpec>& function_table() {
       {Verb::Ask, "surface_reached", {}, "is the vehicle at the surface?"},
       {Verb::Ask, "heading_reached", {}, "is the vehicle settled on the commanded heading?"},
       {Verb::Ask, "target_detected", {}, "does the sonar's last sweep show an object short of the walls?"},
+      {Verb::Ask, "waypoint_reached", {}, "has the guidance reached its waypoint or the end of its track line?"},
+      {Verb::Ask, "altitude_low", {}, "is the altitude below the floor (or the altimeter dead under water)?"},
+      {Verb::Ask, "position_uncertain", {}, "is the position estimate's 1-sigma above the limit?"},
       {Verb::Ood, "start_network", {}, "open the vehicle network; commands are refused before"},
       {Verb::Ood, "shutdown_network", {}, "stop the thrusters and close the vehicle network"},
   };
@@ -107,6 +126,13 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "heading") return from(sim.set_heading(numbers[0]));
   if (f == "start_sonar") return from(sim.start_sonar());
   if (f == "stop_sonar") return from(sim.stop_sonar());
+  if (f == "goto_depth") return from(sim.goto_depth(numbers[0]));
+  if (f == "set_speed") return from(sim.set_speed(numbers[0]));
+  if (f == "goto_xy") return from(sim.goto_xy(numbers[0], numbers[1]));
+  if (f == "track") return from(sim.track(numbers[0], numbers[1], numbers[2], numbers[3]));
+  if (f == "stop") return from(sim.stop());
+  if (f == "gps_fix") return from(sim.gps_fix());
+  if (f == "set_altitude_floor") return from(sim.set_altitude_floor(numbers[0]));
   if (f == "sleep") {
     if (numbers[0] < 0 || numbers[0] > 3600) {
       return refuse(protocol::ErrorCode::BadArgument, "'sleep' takes 0 to 3600 s");
@@ -122,6 +148,9 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "surface_reached") return answer(sim.surface_reached());
   if (f == "heading_reached") return answer(sim.heading_reached());
   if (f == "target_detected") return answer(sim.target_detected());
+  if (f == "waypoint_reached") return answer(sim.waypoint_reached());
+  if (f == "altitude_low") return answer(sim.altitude_low());
+  if (f == "position_uncertain") return answer(sim.position_uncertain());
   if (f == "start_network") return from(sim.start_network());
   if (f == "shutdown_network") return from(sim.shutdown_network());
   return refuse(protocol::ErrorCode::UnknownFunction, "function table and dispatch disagree: " + f);
@@ -143,7 +172,8 @@ std::string interface_text() {
       "emits (vehicle -> client):\n"
       "  ok, done, answer, pong         replies, carrying the request's id\n"
       "  err ID CODE \"MESSAGE\"          a request that could not be taken (ID 0: unreadable)\n"
-      "  tlm SIM_TIME_S depth= fdepth= rate= thrust= setpoint= ...   telemetry\n"
+      "  tlm SIM_TIME_S depth= fdepth= rate= thrust= setpoint= ...   telemetry; extras in open water:\n"
+      "                                 x= y= true_x= true_y= pos_sd= speed= alt=\n"
       "  hb SIM_TIME_S                  heartbeat (wall clock mode, once a second)\n"
       "  event SIM_TIME_S \"TEXT\"        the vehicle's own log: faults, watchdog, failures\n\n"
       "functions:\n";

@@ -2,6 +2,12 @@
 // sonar functions as the wire names them.
 #include "vehicle/execution.h"
 
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 namespace strata::vehicle {
@@ -68,6 +74,81 @@ TEST(Execution, TheInterfaceListsTheNewFunctions) {
   }
   ASSERT_NE(nullptr, find_function(protocol::Verb::Exec, "heading"));
   EXPECT_EQ(1u, find_function(protocol::Verb::Exec, "heading")->args.size());
+}
+
+Scenario open_water() {
+  Scenario s = Scenario::nominal();
+  s.world.open_water = true;
+  return s;
+}
+
+TEST(Execution, OpenWaterFunctionsDriveTheVehicleAndTheAsksAnswer) {
+  Simulation sim(default_params(), open_water());
+  ASSERT_TRUE(execute(sim, protocol::make_ood(1, "start_network")).value);
+  EXPECT_TRUE(exec(sim, "gps_fix").value);  // at the surface
+  sim.advance(120.0);  // fixes at the surface learn the current (none here)
+  EXPECT_TRUE(exec(sim, "set_altitude_floor", {Value::integer(3)}).value);
+  EXPECT_TRUE(exec(sim, "goto_depth", {Value::real(2.5)}).value);
+  EXPECT_TRUE(exec(sim, "set_speed", {Value::real(0.6)}).value);
+  EXPECT_TRUE(exec(sim, "goto_xy", {Value::integer(30), Value::integer(40)}).value);
+  EXPECT_FALSE(ask(sim, "waypoint_reached"));
+  sim.advance(150.0);
+  EXPECT_TRUE(ask(sim, "waypoint_reached"));
+  EXPECT_FALSE(ask(sim, "altitude_low"));  // 30 m flat seabed
+  EXPECT_FALSE(ask(sim, "position_uncertain"));
+  EXPECT_NEAR(2.5, sim.heave().depth_m, 0.2);
+  EXPECT_NEAR(0.6, sim.surge().speed_mps, 0.02);
+  const Outcome below = exec(sim, "gps_fix");
+  EXPECT_FALSE(below.value);
+  EXPECT_EQ(0u, below.message.find("no GPS fix at 2."));
+  EXPECT_TRUE(exec(sim, "track", {Value::integer(30), Value::integer(40), Value::integer(30), Value::integer(400)}).value);
+  EXPECT_FALSE(ask(sim, "waypoint_reached"));
+  EXPECT_TRUE(exec(sim, "stop").value);
+  EXPECT_EQ(GuidanceMode::None, sim.guidance().mode);
+}
+
+TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {
+  Simulation sim(default_params(), open_water());
+  ASSERT_TRUE(execute(sim, protocol::make_ood(1, "start_network")).value);
+  const double nan = std::nan("");
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "goto_xy", {Value::real(nan), Value::integer(0)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "set_speed", {Value::real(INFINITY)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "track", {Value::integer(1)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "goto_depth", {Value::string("deep")}).refused);
+  const Outcome far = exec(sim, "goto_xy", {Value::real(1e300), Value::real(-1e300)});
+  EXPECT_FALSE(far.refused.has_value());
+  EXPECT_FALSE(far.value);
+  EXPECT_NE(std::string::npos, far.message.find("farther than the longest leg"));
+  EXPECT_FALSE(exec(sim, "set_speed", {Value::real(1e9)}).value);
+  EXPECT_FALSE(exec(sim, "goto_depth", {Value::real(-1)}).value);
+  EXPECT_FALSE(exec(sim, "set_altitude_floor", {Value::real(1e18)}).value);
+  EXPECT_EQ(GuidanceMode::None, sim.guidance().mode);
+  EXPECT_EQ(ControlMode::Idle, sim.telemetry().mode);
+}
+
+TEST(Execution, TheInterfaceListsTheOpenWaterFunctions) {
+  const std::string text = interface_text();
+  for (const char* f : {"goto_depth depth[m]", "set_speed speed[m/s]", "goto_xy x[m] y[m]",
+                        "track x0[m] y0[m] x1[m] y1[m]", "stop ", "gps_fix", "set_altitude_floor floor[m]",
+                        "waypoint_reached", "altitude_low", "position_uncertain"}) {
+    EXPECT_NE(std::string::npos, text.find(f)) << f;
+  }
+}
+
+// docs/protocol.md §8 lists the function table: every row names a function
+// the vehicle has, under its verb, and every function has its row.
+TEST(Execution, TheProtocolDocumentListsExactlyTheFunctionTable) {
+  std::ifstream in(std::string(STRATA_SOURCE_DIR) + "/docs/protocol.md");
+  ASSERT_TRUE(in.good());
+  std::set<std::string> documented;
+  const std::regex row(R"(^\| (exec|ask|ood) \| `([a-z_]+))");
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, row)) documented.insert(m[1].str() + " " + m[2].str());
+  }
+  std::set<std::string> table;
+  for (const auto& f : function_table()) table.insert(std::string(protocol::verb_name(f.verb)) + " " + f.name);
+  EXPECT_EQ(table, documented);
 }
 
 }  // namespace

@@ -6,6 +6,11 @@
 namespace strata::vehicle {
 
 HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, HeaveState& s) {
+  return advance_heave(p, thrust_cmd_n, thrust_limit_n, p.tank_depth_m, s);
+}
+
+HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double bottom_m,
+                           HeaveState& s) {
   const double h = p.cycle_s / p.substeps;
   const double target = std::clamp(thrust_cmd_n, -thrust_limit_n, thrust_limit_n);
   // Exact step of tau dT/dt = target - T over h; a zero lag follows at once.
@@ -22,8 +27,8 @@ HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double t
       s.depth_m = 0.0;
       s.w_mps = std::max(s.w_mps, 0.0);
       contact.surface = true;
-    } else if (s.depth_m >= p.tank_depth_m) {
-      s.depth_m = p.tank_depth_m;
+    } else if (s.depth_m >= bottom_m) {
+      s.depth_m = bottom_m;
       s.w_mps = std::min(s.w_mps, 0.0);
       contact.bottom = true;
     }

@@ -31,5 +31,9 @@ struct HeaveContact {
 // controller's command, held over the cycle; thrust_limit_n (>= 0) is what
 // the thrusters can give now (nominal total times health) and clamps it.
 HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, HeaveState& s);
+// The same over a bottom at bottom_m (>= 0) instead of the tank's floor: the
+// seabed under the vehicle in open water.
+HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double bottom_m,
+                           HeaveState& s);
 
 }  // namespace strata::vehicle

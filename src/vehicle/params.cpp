@@ -54,6 +54,25 @@ const Field kFields[] = {
     {"simulation", "tank_depth_m", &VehicleParams::tank_depth_m, 0.0, true, kInf},
     {"tank", "length_x_m", &VehicleParams::tank_length_x_m, 0.0, true, kInf},
     {"tank", "width_y_m", &VehicleParams::tank_width_y_m, 0.0, true, kInf},
+    {"surge", "added_mass_kg", &VehicleParams::surge_added_mass_kg, 0.0, false, kInf},
+    {"surge", "drag_coeff", &VehicleParams::surge_drag_coeff, 0.0, true, kInf},
+    {"surge", "motor_max_n", &VehicleParams::motor_max_n, 0.0, false, kInf},
+    {"surge", "lag_s", &VehicleParams::motor_lag_s, 0.0, false, kInf},
+    {"navigation", "gps_noise_m", &VehicleParams::gps_noise_m, 0.0, true, kInf},
+    {"navigation", "gps_period_s", &VehicleParams::gps_period_s, 0.0, true, 3600.0},
+    {"navigation", "gps_max_depth_m", &VehicleParams::gps_max_depth_m, 0.0, false, kInf},
+    {"navigation", "initial_sd_m", &VehicleParams::nav_initial_sd_m, 0.0, true, kInf},
+    {"navigation", "speed_sd_mps", &VehicleParams::nav_speed_sd_mps, 0.0, false, kInf},
+    {"navigation", "current_sd_mps", &VehicleParams::nav_current_sd_mps, 0.0, true, kInf},
+    {"navigation", "current_walk_mps", &VehicleParams::nav_current_walk_mps, 0.0, false, kInf},
+    {"navigation", "position_limit_m", &VehicleParams::position_limit_m, 0.0, true, kInf},
+    {"guidance", "lookahead_m", &VehicleParams::los_lookahead_m, 0.0, true, kInf},
+    {"guidance", "waypoint_radius_m", &VehicleParams::waypoint_radius_m, 0.0, true, kInf},
+    {"guidance", "cruise_speed_mps", &VehicleParams::cruise_speed_mps, 0.0, true, kInf},
+    {"guidance", "max_depth_m", &VehicleParams::max_depth_m, 0.0, true, 11000.0},
+    {"altimeter", "range_m", &VehicleParams::altimeter_range_m, 0.0, true, kInf},
+    {"altimeter", "noise_m", &VehicleParams::altimeter_noise_m, 0.0, false, kInf},
+    {"altimeter", "floor_m", &VehicleParams::altitude_floor_m, 0.0, false, kInf},
     {"sonar", "beam_width_deg", &VehicleParams::sonar_beam_width_deg, 0.0, true, 90.0},
     {"sonar", "step_deg", &VehicleParams::sonar_step_deg, 0.0, true, 90.0},
     {"sonar", "sector_half_deg", &VehicleParams::sonar_sector_half_deg, 0.0, false, 180.0},
@@ -149,6 +168,11 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
     return core::toml_error_in(path,
                                "detection.surface_depth_m must be less than "
                                "simulation.tank_depth_m");
+  }
+  if (p.cruise_speed_mps > p.top_speed_mps()) {
+    return core::toml_error_in(path, fmt::format("guidance.cruise_speed_mps must not exceed the top speed, {:.3g} m/s "
+                                                 "(surge.motor_max_n and surge.drag_coeff)",
+                                                 p.top_speed_mps()));
   }
   return p;
 }

@@ -1,6 +1,7 @@
 #pragma once
-// Parameters of the simulated NPS Phoenix in a test tank (heave, yaw and a
-// scanning sonar), with units in the names. The values are ESTIMATES
+// Parameters of the simulated NPS Phoenix in a test tank or in open water
+// (heave, yaw, surge, navigation, a scanning sonar and a sonar altimeter),
+// with units in the names. The values are ESTIMATES
 // (design.md §2.7), not Phoenix data: config/phoenix.toml carries the same
 // values, commented.
 //
@@ -11,7 +12,10 @@
 // the thrusters stop. Headings are compass degrees of the bow: 0 = tank +y,
 // 90 = tank +x, clockwise seen from above, in [0, 360); yaw rate and yaw
 // moment are positive clockwise (to starboard). The tank is the box
-// [0, tank_length_x_m] x [0, tank_width_y_m] x [0, tank_depth_m].
+// [0, tank_length_x_m] x [0, tank_width_y_m] x [0, tank_depth_m]. In open
+// water (scenario.h) the same axes hold: x is east, y is north, in metres
+// from the scenario's origin; the seabed replaces the tank's floor.
+#include <cmath>
 #include <string_view>
 
 #include "core/result.h"
@@ -65,6 +69,34 @@ struct VehicleParams {
   double tank_length_x_m = 12.0;
   double tank_width_y_m = 8.0;
 
+  // [surge] two propulsion motors, aft, pushing together:
+  //   (m + m_a) du/dt = T - c u|u|,  tau dT/dt = T_c - T
+  double surge_added_mass_kg = 20.0;  // surge added mass (slender body: small)
+  double surge_drag_coeff = 24.0;     // N per (m/s)^2: drag = -c * u * |u|
+  double motor_max_n = 12.0;          // per propulsion motor, ahead or astern
+  double motor_lag_s = 0.5;           // first-order time constant of the thrust
+
+  // [navigation] dead reckoning from water speed and compass, GPS at the surface
+  double gps_noise_m = 1.5;            // standard deviation of a fix, per axis
+  double gps_period_s = 1.0;           // one fix per period while the antenna is dry
+  double gps_max_depth_m = 0.3;        // the antenna is dry at or above this depth
+  double nav_initial_sd_m = 10.0;      // open water: the launch position, per axis
+  double nav_speed_sd_mps = 0.05;      // dead reckoning error rate (speed, heading), per axis
+  double nav_current_sd_mps = 0.3;     // the current before any fix, per axis
+  double nav_current_walk_mps = 0.002; // how fast the current may change, per sqrt(s)
+  double position_limit_m = 25.0;      // position_uncertain: horizontal 1-sigma above this
+
+  // [guidance] line of sight to a waypoint or along a track line
+  double los_lookahead_m = 8.0;     // the aim point this far ahead along the line
+  double waypoint_radius_m = 3.0;   // waypoint_reached: estimated distance below this
+  double cruise_speed_mps = 0.8;    // goto_xy / track when no speed was set
+  double max_depth_m = 50.0;        // open water: deepest goto_depth / setpoint accepted
+
+  // [altimeter] downward sonar altimeter
+  double altimeter_range_m = 30.0;    // no echo farther than this
+  double altimeter_noise_m = 0.05;    // standard deviation of a reading
+  double altitude_floor_m = 2.0;      // altitude_low: a reading below this (default floor)
+
   // [sonar] forward-looking mechanically scanned sonar (ST1000-like)
   double sonar_beam_width_deg = 1.8;    // one conical beam
   double sonar_step_deg = 1.8;          // head step per ping
@@ -96,6 +128,13 @@ struct VehicleParams {
   double total_yaw_inertia_kgm2() const { return yaw_inertia_kgm2 + yaw_added_inertia_kgm2; }
   // Largest yaw moment of both transverse thrusters at full health, N m.
   double max_yaw_moment_nm() const { return 2.0 * transverse_max_n * transverse_lever_m; }
+  double total_surge_mass_kg() const { return mass_kg + surge_added_mass_kg; }
+  // Largest total thrust of both propulsion motors at full health, N.
+  double max_surge_thrust_n() const { return 2.0 * motor_max_n; }
+  // Steady speed at full thrust, m/s: where drag equals thrust.
+  double top_speed_mps() const {
+    return surge_drag_coeff > 0.0 ? std::sqrt(max_surge_thrust_n() / surge_drag_coeff) : max_surge_thrust_n();
+  }
 
   bool operator==(const VehicleParams&) const = default;
 };

@@ -154,3 +154,20 @@ TEST(Params, AFifoGivenAsTheParametersIsAnErrorNotAHang) {
 
 }  // namespace
 }  // namespace strata::vehicle
+
+namespace strata::vehicle {
+namespace {
+
+TEST(Params, TheOpenWaterTablesAreRequiredAndTheCruiseSpeedWithinTheTopSpeed) {
+  EXPECT_EQ("p.toml: missing key 'surge.motor_max_n'", params_error_of(edited("motor_max_n = 12.0", "")));
+  EXPECT_EQ("p.toml: missing key 'navigation.gps_noise_m'", params_error_of(edited("gps_noise_m = 1.5", "")));
+  EXPECT_EQ(
+      "p.toml: guidance.cruise_speed_mps must not exceed the top speed, 0.707 m/s (surge.motor_max_n and "
+      "surge.drag_coeff)",
+      params_error_of(edited("motor_max_n = 12.0", "motor_max_n = 6.0")));
+  EXPECT_EQ("p.toml:" + std::to_string(line_of("drag_coeff = 24.0")) + ":14: 'surge.drag_coeff' = 0 is out of range (0 < value)",
+            params_error_of(edited("drag_coeff = 24.0", "drag_coeff = 0.0")));
+}
+
+}  // namespace
+}  // namespace strata::vehicle

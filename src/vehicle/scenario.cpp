@@ -9,6 +9,7 @@
 
 #include "vehicle/time_compare.h"
 #include "core/toml_reader.h"
+#include "vehicle/scenario_world.h"
 
 namespace strata::vehicle {
 
@@ -18,6 +19,9 @@ std::string_view to_string(FaultKind kind) {
     case FaultKind::Leak: return "leak";
     case FaultKind::SensorDropout: return "sensor_dropout";
     case FaultKind::LinkLoss: return "link_loss";
+    case FaultKind::CompassBias: return "compass_bias";
+    case FaultKind::AltimeterDead: return "altimeter_dead";
+    case FaultKind::NoGps: return "no_gps";
   }
   return "?";
 }
@@ -41,7 +45,8 @@ std::optional<double> Scenario::link_lost_at() const {
 namespace {
 
 std::optional<FaultKind> kind_from(std::string_view s) {
-  for (FaultKind k : {FaultKind::WeakThrusters, FaultKind::Leak, FaultKind::SensorDropout, FaultKind::LinkLoss}) {
+  for (FaultKind k : {FaultKind::WeakThrusters, FaultKind::Leak, FaultKind::SensorDropout, FaultKind::LinkLoss,
+                      FaultKind::CompassBias, FaultKind::AltimeterDead, FaultKind::NoGps}) {
     if (to_string(k) == s) return k;
   }
   return std::nullopt;
@@ -54,6 +59,9 @@ bool allowed_key(FaultKind kind, std::string_view key) {
     case FaultKind::Leak: return false;
     case FaultKind::SensorDropout: return key == "duration_s";
     case FaultKind::LinkLoss: return key == "duration_s" || key == "forever";
+    case FaultKind::CompassBias: return key == "bias_deg";
+    case FaultKind::AltimeterDead:
+    case FaultKind::NoGps: return false;
   }
   return false;
 }
@@ -78,7 +86,7 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
   if (!kind) {
     return core::toml_error_at(path, kind_node->source(),
                                fmt::format("unknown fault kind '{}' (expected weak_thrusters, leak, "
-                                           "sensor_dropout or link_loss)",
+                                           "sensor_dropout, link_loss, compass_bias, altimeter_dead or no_gps)",
                                            *kind_text));
   }
   Fault f;
@@ -109,7 +117,20 @@ core::Result<Fault> parse_fault(std::string_view path, const toml::table& t) {
       f.health = health.value();
       break;
     }
-    case FaultKind::Leak: break;
+    case FaultKind::Leak:
+    case FaultKind::AltimeterDead:
+    case FaultKind::NoGps: break;
+    case FaultKind::CompassBias: {
+      const toml::node* b = t.get("bias_deg");
+      if (b == nullptr) return core::toml_error_at(path, t.source(), "compass_bias fault without 'bias_deg'");
+      auto bias = core::toml_number_at(path, *b, "bias_deg");
+      if (!bias) return bias.error();
+      if (!std::isfinite(bias.value()) || std::abs(bias.value()) > 180.0) {
+        return core::toml_error_at(path, b->source(), "'bias_deg' must be in [-180, 180]");
+      }
+      f.bias_deg = bias.value();
+      break;
+    }
     case FaultKind::SensorDropout:
     case FaultKind::LinkLoss: {
       const toml::node* d = t.get("duration_s");
@@ -163,11 +184,21 @@ core::Result<void> parse_vehicle(std::string_view path, const toml::table& root,
   if (t.value() == nullptr) return {};
   const toml::table& v = *t.value();
   for (auto [key, out] : {std::pair{"x_m", &s.vehicle_x_m}, std::pair{"y_m", &s.vehicle_y_m}}) {
-    if (const toml::node* n = v.get(key)) {
-      auto x = non_negative(path, *n, fmt::format("vehicle.{}", key), true);
+    const toml::node* n = v.get(key);
+    if (n == nullptr) continue;
+    if (s.world.open_water) {
+      auto x = core::toml_number_at(path, *n, fmt::format("vehicle.{}", key));
       if (!x) return x.error();
+      if (!std::isfinite(x.value()) || std::abs(x.value()) > kMaxPlanM) {
+        return core::toml_error_at(path, n->source(),
+                                   fmt::format("'vehicle.{}' must be within +-{} m of the origin", key, kMaxPlanM));
+      }
       *out = x.value();
+      continue;
     }
+    auto x = non_negative(path, *n, fmt::format("vehicle.{}", key), true);
+    if (!x) return x.error();
+    *out = x.value();
   }
   if (const toml::node* n = v.get("heading_deg")) {
     auto h = non_negative(path, *n, "vehicle.heading_deg", true);
@@ -206,7 +237,8 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
   Scenario s;
   for (auto&& [key, node] : root) {
     const std::string_view k = key.str();
-    if (k != "seed" && k != "description" && k != "fault" && k != "vehicle" && k != "target") {
+    if (k != "seed" && k != "description" && k != "fault" && k != "vehicle" && k != "target" && k != "world" &&
+        k != "seabed") {
       return core::toml_error_at(path, key.source(), fmt::format("unknown key '{}'", k));
     }
   }
@@ -235,6 +267,7 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
       s.faults.push_back(f.value());
     }
   }
+  if (auto r = parse_world(path, root, s); !r) return r.error();
   if (auto r = parse_vehicle(path, root, s); !r) return r.error();
   if (auto r = parse_target(path, root, s); !r) return r.error();
   return s;

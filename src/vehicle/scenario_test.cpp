@@ -110,7 +110,7 @@ TEST(Scenario, LinkLossWindows) {
 TEST(Scenario, UnknownKindCarriesLineAndColumn) {
   EXPECT_EQ(
       "s.toml:3:8: unknown fault kind 'flood' (expected weak_thrusters, leak, "
-      "sensor_dropout or link_loss)",
+      "sensor_dropout, link_loss, compass_bias, altimeter_dead or no_gps)",
       error_of("seed = 1\n[[fault]]\nkind = \"flood\"\nat_s = 1\n"));
 }
 

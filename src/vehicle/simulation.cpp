@@ -32,6 +32,13 @@ Simulation::Simulation(VehicleParams params, Scenario scenario)
       cell_(params_.depth_noise_m, scenario_.seed),
       filter_(params_.filter_alpha, params_.filter_beta, params_.cycle_s),
       sonar_(params_, scenario_.seed, scenario_.target),
+      nav_(params_, 0.0, 0.0, 0.0),
+      // Noise streams of their own, so the depth cell's and the sonar's
+      // sequences are the same as before the horizontal plane existed.
+      gps_x_noise_(params_.gps_noise_m, scenario_.seed ^ 0x9e3779b97f4a7c15ULL),
+      gps_y_noise_(params_.gps_noise_m, scenario_.seed ^ 0xbf58476d1ce4e5b9ULL),
+      altimeter_noise_(params_.altimeter_noise_m, scenario_.seed ^ 0x94d049bb133111ebULL),
+      altitude_floor_m_(params_.altitude_floor_m),
       fault_applied_(scenario_.faults.size(), false) {
   place_vehicle();
   apply_faults();
@@ -39,6 +46,13 @@ Simulation::Simulation(VehicleParams params, Scenario scenario)
 }
 
 void Simulation::place_vehicle() {
+  yaw_.heading_deg = wrap_heading_deg(scenario_.vehicle_heading_deg);
+  if (open_water()) {
+    x_m_ = scenario_.vehicle_x_m.value_or(0.0);
+    y_m_ = scenario_.vehicle_y_m.value_or(0.0);
+    nav_ = Navigator(params_, x_m_, y_m_, params_.nav_initial_sd_m);
+    return;
+  }
   const double want_x = scenario_.vehicle_x_m.value_or(params_.tank_length_x_m / 2.0);
   const double want_y = scenario_.vehicle_y_m.value_or(params_.tank_width_y_m / 2.0);
   x_m_ = std::clamp(want_x, 0.0, params_.tank_length_x_m);
@@ -49,7 +63,7 @@ void Simulation::place_vehicle() {
                     "({}, {}) m",
                     want_x, want_y, params_.tank_length_x_m, params_.tank_width_y_m, x_m_, y_m_));
   }
-  yaw_.heading_deg = wrap_heading_deg(scenario_.vehicle_heading_deg);
+  nav_ = Navigator(params_, x_m_, y_m_, 0.0);
   if (const auto& t = scenario_.target; t && std::hypot(x_m_ - t->x_m, y_m_ - t->y_m) <= t->radius_m) {
     event("scenario: the vehicle is inside the target: the sonar cannot see it");
   }
@@ -70,14 +84,18 @@ core::Result<void> Simulation::shutdown_network() {
   network_up_ = false;
   mode_ = ControlMode::Idle;
   heading_target_deg_.reset();
+  speed_target_mps_.reset();
+  guidance_ = {};
   sonar_.stop();
   return {};
 }
 
 core::Result<void> Simulation::set_setpoint(double depth_m, double timeout_s) {
   if (auto r = require_network(); !r) return r;
-  if (!std::isfinite(depth_m) || depth_m < 0.0 || depth_m > params_.tank_depth_m) {
-    return refused(fmt::format("setpoint depth {} m outside the tank (0 to {} m)", depth_m, params_.tank_depth_m));
+  const double deepest = open_water() ? params_.max_depth_m : params_.tank_depth_m;
+  if (!std::isfinite(depth_m) || depth_m < 0.0 || depth_m > deepest) {
+    return refused(fmt::format("setpoint depth {} m outside the {} (0 to {} m)", depth_m,
+                               open_water() ? "vehicle's range" : "tank", deepest));
   }
   if (!std::isfinite(timeout_s) || timeout_s <= 0.0) {
     return refused(fmt::format("setpoint timeout {} s must be positive", timeout_s));
@@ -145,6 +163,8 @@ void Simulation::watchdog_trip(std::string_view reason) {
   active_setpoint_m_ = 0.0;
   mode_ = ControlMode::Surface;
   heading_target_deg_.reset();
+  speed_target_mps_.reset();
+  guidance_ = {};
   if (watchdog_tripped_) return;
   watchdog_tripped_ = true;
   event(fmt::format("watchdog: {}: surfacing", reason));
@@ -193,11 +213,15 @@ void Simulation::step() {
   thrust_model_n_ +=
       (thrust_cmd_n_ - thrust_model_n_) * (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
   const double limit = params_.max_total_thrust_n() * faults_.thrust_health;
-  const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, heave_);
+  const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, bottom_m(), heave_);
+  guide();
   advance_yaw_and_sonar();
   ++cycle_;
+  navigate();
   if (contact.bottom && !at_bottom_) {
-    event(fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
+    event(open_water() ? fmt::format("seabed: vehicle on the bottom at {:.2f} m, ({:.1f}, {:.1f}) m", heave_.depth_m,
+                                     x_m_, y_m_)
+                       : fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
   }
   at_bottom_ = contact.bottom;
   apply_faults();
@@ -209,11 +233,12 @@ void Simulation::step() {
 // cycle already; the sonar does not depend on depth.)
 void Simulation::advance_yaw_and_sonar() {
   moment_cmd_nm_ =
-      heading_target_deg_ ? heading_moment(params_, yaw_.heading_deg, yaw_.rate_dps, *heading_target_deg_) : 0.0;
+      heading_target_deg_ ? heading_moment(params_, compass_deg(), yaw_.rate_dps, *heading_target_deg_) : 0.0;
   const double limit = params_.max_yaw_moment_nm() * faults_.thrust_health;
   const double h = params_.cycle_s / params_.substeps;
   for (int i = 1; i <= params_.substeps; ++i) {
     advance_yaw(params_, moment_cmd_nm_, limit, h, yaw_);
+    move_substep(h);
     const double t = (static_cast<double>(cycle_) + static_cast<double>(i) / params_.substeps) * params_.cycle_s;
     sonar_.substep(t, pose());
   }
@@ -250,6 +275,18 @@ void Simulation::apply_faults() {
         event(f.duration_s ? fmt::format("fault: link lost for {:.1f} s", *f.duration_s)
                            : std::string("fault: link lost for good"));
         break;
+      case FaultKind::CompassBias:
+        faults_.compass_bias_deg = f.bias_deg;
+        event(fmt::format("fault: compass reads {:+.1f} deg off", f.bias_deg));
+        break;
+      case FaultKind::AltimeterDead:
+        faults_.altimeter_dead = true;
+        event("fault: altimeter dead");
+        break;
+      case FaultKind::NoGps:
+        faults_.no_gps = true;
+        event("fault: no GPS fix");
+        break;
     }
   }
   if (dropout_until_s_ && time_reached(t, *dropout_until_s_)) {
@@ -265,6 +302,9 @@ void Simulation::apply_faults() {
 void Simulation::sense() {
   reading_m_ = cell_.sample(heave_.depth_m, faults_.sensor_dropout);
   filter_.update(reading_m_, expected_accel_mps2());
+  const double altitude = bottom_m() - heave_.depth_m;
+  const auto echo = altimeter_noise_.sample(altitude, faults_.altimeter_dead || altitude > params_.altimeter_range_m);
+  altitude_m_ = echo ? std::optional<double>(std::max(0.0, *echo)) : std::nullopt;
 }
 
 // The filter's prediction uses the heave model (heave.h) under the thrust
@@ -298,6 +338,16 @@ Telemetry Simulation::telemetry() const {
   t.yaw_moment_nm = yaw_.moment_nm;
   t.yaw_moment_cmd_nm = moment_cmd_nm_;
   t.heading_setpoint_deg = heading_target_deg_;
+  t.x_m = nav_.x_m();
+  t.y_m = nav_.y_m();
+  t.true_x_m = x_m_;
+  t.true_y_m = y_m_;
+  t.position_sd_m = nav_.position_sd_m();
+  t.speed_mps = surge_.speed_mps;
+  t.speed_setpoint_mps = speed_target_mps_;
+  t.altitude_m = altitude_m_;
+  t.guidance = guidance_.mode;
+  t.open_water = open_water();
   t.sonar_on = sonar_.on();
   t.filter_on = filter_.on();
   t.mode = mode_;

@@ -34,9 +34,36 @@
 // - Faults take effect in the step that reaches their at_s: a leak at 2.0 s
 //   makes system_problem() true from time_s() == 2.0. weak_thrusters limits
 //   the transverse thrusters too.
-// - Pose: the vehicle hovers at the scenario's (x, y) (default: the tank's
+// - Pose: the vehicle starts at the scenario's (x, y) (tank default: the
 //   centre; a position outside the tank is moved to its edge, with an
-//   event) and starts at the scenario's heading. It does not surge or sway.
+//   event; open water default: the origin) and at the scenario's heading.
+//   It surges only when a speed is set (set_speed, goto_xy, track), so the
+//   tank missions, which never ask, still hover. In the tank the walls stop
+//   it (the position is held inside the plan); in open water the current
+//   carries it on top of its own speed.
+// - Horizontal plane (simulation_horizontal.cpp): set_speed() holds a water
+//   speed in [0, top speed]; goto_xy() and track() engage line-of-sight
+//   guidance (guidance.h), which sets the heading law's target every cycle
+//   from the ESTIMATED position, and cruise at cruise_speed_mps unless a
+//   speed was set; stop() stops the motors and the guidance (the heading
+//   law holds the heading it had). waypoint_reached() is latched true once
+//   the guidance reaches its goal, until the next goto_xy/track/stop; the
+//   vehicle runs on along its last heading meanwhile. A waypoint more than
+//   kMaxLegM from the estimate, or outside the tank in the tank, is refused.
+// - Navigation (navigation.h): dead reckoning every cycle from the water
+//   speed and the compass (true heading + compass bias); in open water a GPS
+//   fix every gps_period_s while the true depth is <= gps_max_depth_m and
+//   the receiver works; gps_fix() takes one at once (refused below the
+//   surface or with no GPS). In the tank the estimate is the truth.
+//   position_uncertain(): the estimate's horizontal 1-sigma exceeds
+//   position_limit_m.
+// - Altimeter: the true altitude above the seabed (the tank's floor in the
+//   tank) plus noise, or none beyond altimeter_range_m or once dead.
+//   altitude_low(): a reading below the altitude floor, or a dead altimeter
+//   while submerged (a vehicle that cannot see the bottom must not go on).
+// - goto_depth(d): starts the depth filter if it is off, loads d with no
+//   time limit and engages the depth law, in one call. In open water depths
+//   go to max_depth_m (the tank: tank_depth_m); the seabed stops the vehicle.
 // - Heading (yaw.h): set_heading() engages the heading law toward its
 //   heading; the depth law runs independently. With no heading commanded the
 //   transverse thrusters are off. shutdown_network() and watchdog_trip()
@@ -56,10 +83,13 @@
 #include "core/result.h"
 #include "vehicle/depth_cell.h"
 #include "vehicle/depth_filter.h"
+#include "vehicle/guidance.h"
 #include "vehicle/heave.h"
+#include "vehicle/navigation.h"
 #include "vehicle/params.h"
 #include "vehicle/scenario.h"
 #include "vehicle/sonar.h"
+#include "vehicle/surge.h"
 #include "vehicle/yaw.h"
 
 namespace strata::vehicle {
@@ -84,6 +114,9 @@ struct FaultState {
   double thrust_health = 1.0;   // fraction of nominal thrust available
   bool sensor_dropout = false;  // the depth cell gives no reading now
   bool link_lost = false;       // the scenario says the link is silent now
+  double compass_bias_deg = 0.0;  // compass reading - true heading
+  bool altimeter_dead = false;
+  bool no_gps = false;
 
   bool operator==(const FaultState&) const = default;
 };
@@ -103,6 +136,14 @@ struct Telemetry {
   double yaw_moment_nm = 0.0;                  // actual moment of the transverse thrusters
   double yaw_moment_cmd_nm = 0.0;              // commanded moment
   std::optional<double> heading_setpoint_deg;  // the heading law's target (none: idle)
+  double x_m = 0.0, y_m = 0.0;                 // estimated position (navigation)
+  double true_x_m = 0.0, true_y_m = 0.0;       // true position
+  double position_sd_m = 0.0;                  // the estimate's horizontal 1-sigma
+  double speed_mps = 0.0;                      // true speed through the water
+  std::optional<double> speed_setpoint_mps;    // the speed law's target (none: motors off)
+  std::optional<double> altitude_m;            // altimeter reading (none: no echo, or dead)
+  GuidanceMode guidance = GuidanceMode::None;
+  bool open_water = false;
   bool sonar_on = false;
   bool filter_on = false;
   ControlMode mode = ControlMode::Idle;
@@ -132,6 +173,14 @@ class Simulation {
   core::Result<void> set_heading(double heading_deg);
   core::Result<void> start_sonar();
   core::Result<void> stop_sonar();
+  // Horizontal plane and navigation (see the decisions above).
+  core::Result<void> set_speed(double speed_mps);  // [0, top speed]
+  core::Result<void> goto_xy(double x_m, double y_m);
+  core::Result<void> track(double x0_m, double y0_m, double x1_m, double y1_m);
+  core::Result<void> stop();
+  core::Result<void> goto_depth(double depth_m);
+  core::Result<void> gps_fix();
+  core::Result<void> set_altitude_floor(double floor_m);  // [0, altimeter range]
   // Autonomous surface with an event "watchdog: <reason>: surfacing". The
   // protocol server calls it after watchdog_s of link silence. Repeated trips
   // record nothing new.
@@ -146,6 +195,14 @@ class Simulation {
   bool heading_reached() const;
   bool sonar_on() const { return sonar_.on(); }
   bool target_detected() const { return sonar_.target_detected(); }
+  bool waypoint_reached() const { return reached_; }
+  bool altitude_low() const;
+  bool position_uncertain() const { return nav_.position_sd_m() > params_.position_limit_m; }
+  std::optional<double> altitude_m() const { return altitude_m_; }
+  const Navigator& navigator() const { return nav_; }
+  const Guidance& guidance() const { return guidance_; }
+  const SurgeState& surge() const { return surge_; }
+  bool open_water() const { return scenario_.world.open_water; }
   bool network_up() const { return network_up_; }
   bool watchdog_tripped() const { return watchdog_tripped_; }
   // Link loss, for the protocol server (the simulation itself ignores it).
@@ -192,6 +249,14 @@ class Simulation {
   double expected_accel_mps2() const;
   void place_vehicle();
   void advance_yaw_and_sonar();
+  // simulation_horizontal.cpp
+  core::Result<void> check_goal(double x_m, double y_m) const;
+  core::Result<void> engage(Guidance g);
+  double compass_deg() const;
+  void guide();
+  void move_substep(double h_s);
+  void navigate();
+  double bottom_m() const;
   void apply_faults();
   void sense();
   void event(std::string text);
@@ -219,6 +284,16 @@ class Simulation {
   std::optional<double> heading_target_deg_;
   double moment_cmd_nm_ = 0.0;
 
+  SurgeState surge_;
+  std::optional<double> speed_target_mps_;
+  Guidance guidance_;
+  bool reached_ = false;
+  Navigator nav_;
+  DepthCell gps_x_noise_, gps_y_noise_, altimeter_noise_;
+  double next_gps_s_ = 0.0;
+  std::optional<double> altitude_m_;
+  double altitude_floor_m_;
+
   FaultState faults_;
   std::vector<bool> fault_applied_;
   std::optional<double> dropout_until_s_;
@@ -226,5 +301,8 @@ class Simulation {
 
   std::vector<Event> events_;
 };
+
+// The longest leg goto_xy and track accept, m: a farther goal is refused.
+inline constexpr double kMaxLegM = 20000.0;
 
 }  // namespace strata::vehicle

@@ -25,6 +25,18 @@ protocol::Telemetry telemetry_message(const Telemetry& t) {
   m.heading_deg = std::fmod(*round_to(t.heading_deg, 1e-2), 360.0);  // 359.996 -> 0, not 360
   m.extras["true_depth"] = fmt::format("{:.4f}", t.depth_m);
   m.extras["mode"] = std::string(to_string(t.mode));
+  // The horizontal plane, to the centimetre (mm/s for speed): the estimate
+  // the vehicle steers by, the truth for plots and tests, and how sure the
+  // estimate is. Open water only, so the tank's lines stay as they were.
+  if (t.open_water) {
+    m.extras["x"] = fmt::format("{:.2f}", t.x_m);
+    m.extras["y"] = fmt::format("{:.2f}", t.y_m);
+    m.extras["true_x"] = fmt::format("{:.2f}", t.true_x_m);
+    m.extras["true_y"] = fmt::format("{:.2f}", t.true_y_m);
+    m.extras["pos_sd"] = fmt::format("{:.2f}", t.position_sd_m);
+    m.extras["speed"] = fmt::format("{:.3f}", t.speed_mps);
+    if (t.altitude_m) m.extras["alt"] = fmt::format("{:.2f}", *t.altitude_m);
+  }
   return m;
 }
 

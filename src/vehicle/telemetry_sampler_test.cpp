@@ -50,5 +50,28 @@ TEST(TelemetrySampler, TheMessageIsRoundedToWhatTheInstrumentsResolve) {
   EXPECT_EQ("1.2346", m.extras.at("true_depth"));
 }
 
+TEST(TelemetryMessage, OpenWaterAddsThePlaneAndTheTankLineIsUnchanged) {
+  Telemetry t;
+  t.x_m = 12.345;
+  t.y_m = -3.0;
+  t.true_x_m = 13.0;
+  t.true_y_m = -2.5;
+  t.position_sd_m = 4.25;
+  t.speed_mps = 0.8004;
+  t.altitude_m = 7.5;
+  EXPECT_EQ(0u, telemetry_message(t).extras.count("x"));  // the tank: as before
+  t.open_water = true;
+  const auto m = telemetry_message(t);
+  EXPECT_EQ("12.35", m.extras.at("x"));
+  EXPECT_EQ("-3.00", m.extras.at("y"));
+  EXPECT_EQ("13.00", m.extras.at("true_x"));
+  EXPECT_EQ("-2.50", m.extras.at("true_y"));
+  EXPECT_EQ("4.25", m.extras.at("pos_sd"));
+  EXPECT_EQ("0.800", m.extras.at("speed"));
+  EXPECT_EQ("7.50", m.extras.at("alt"));
+  t.altitude_m.reset();
+  EXPECT_EQ(0u, telemetry_message(t).extras.count("alt"));
+}
+
 }  // namespace
 }  // namespace strata::vehicle
