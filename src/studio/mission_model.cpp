@@ -81,15 +81,16 @@ nlohmann::json action_json(const coral::CompiledNet& cn, const coral::ActionSpec
   nlohmann::json outcomes = nlohmann::json::array();
   for (auto p : a.outcomes) outcomes.push_back(cn.net.place_name(p));
   nlohmann::json out = nlohmann::json::object();
+  nlohmann::json args = nlohmann::json::array();
+  for (const auto& l : a.args) args.push_back(l.text);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     out["kind"] = "PHASE";
     out["target"] = a.target;
+    out["args"] = std::move(args);  // the phase's parameters as written: "100", "x1"
     out["outcomes"] = std::move(outcomes);
     out["label"] = coral::action_text(a);
     return out;
   }
-  nlohmann::json args = nlohmann::json::array();
-  for (const auto& l : a.args) args.push_back(l.text);
   out["kind"] = "TACTIC";
   out["type"] = coral::tactic_type_name(a.tactic);
   out["target"] = a.target;
@@ -144,6 +145,11 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
     nlohmann::json net = nlohmann::json::object();
     net["name"] = cn.name;
     net["kind"] = cn.kind == coral::ast::Net::Kind::Mission ? "mission" : "phase";
+    nlohmann::json params = nlohmann::json::array();
+    for (const auto& p : cn.params) {
+      params.push_back({{"name", p.name.text}, {"type", p.type == coral::ast::ParamType::Number ? "number" : "string"}});
+    }
+    net["params"] = std::move(params);
     net["file"] = sandbox.relative(file);
     net["editable"] = file == own;
     net["exits"] = std::move(exits);
@@ -338,7 +344,7 @@ namespace {
 std::string action_source(const coral::CompiledNet& cn, const coral::ActionSpec& a) {
   std::string out;
   if (a.kind == coral::ActionSpec::Kind::Phase) {
-    out = "PHASE(" + a.target;
+    out = "PHASE(" + coral::phase_call_text(a);
   } else {
     out = fmt::format("TACTIC({}, {}", coral::tactic_type_name(a.tactic), a.target);
     if (!a.args.empty()) {
