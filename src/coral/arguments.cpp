@@ -191,7 +191,8 @@ void check_number(core::DiagnosticSink& sink, const ast::Literal& a, const std::
   std::string bound = below ? fmt::format("below the minimum {}", with_unit(*lo, unit))
                             : fmt::format("above the maximum {}", with_unit(*hi, unit));
   if (!what.empty()) bound += " of " + what;
-  auto* d = sink.report(DiagnosticKind::ArgumentOutOfRange, a.span, fmt::format("{} is {}, {}", subject, a.text, bound));
+  auto* d =
+      sink.report(DiagnosticKind::ArgumentOutOfRange, a.span, fmt::format("{} is {}, {}", subject, a.text, bound));
   const core::SourceSpan* use = below ? use_lo : use_hi;
   if (use) core::add_note(d, *use, fmt::format("it is passed to {} here", what));
 }
@@ -209,9 +210,9 @@ void ArgumentChecker::check_primitive_args(const ast::Net& net, const ast::Call&
       if (!j) continue;  // check_names reports it
       const ast::Param& p = net.params[*j];
       if ((p.type == ast::ParamType::Number) != s.is_number) {
-        auto* d = sink_.report(DiagnosticKind::ArgumentType, a.span,
-                               fmt::format("{} is a {}, but '{}' is a {} parameter", subject, wanted, a.text,
-                                           type_name(p.type)));
+        auto* d = sink_.report(
+            DiagnosticKind::ArgumentType, a.span,
+            fmt::format("{} is a {}, but '{}' is a {} parameter", subject, wanted, a.text, type_name(p.type)));
         core::add_note(d, p.span, "declared here");
       }
     } else if (a.kind == ast::Literal::Kind::String) {
@@ -251,8 +252,8 @@ void ArgumentChecker::check_phase_args(const ast::Net& caller, const ast::Phase&
       const ast::Param& mine = caller.params[*j];
       if (mine.type != p.type) {
         auto* d = sink_.report(DiagnosticKind::ArgumentType, a.span,
-                               fmt::format("{} is a {}, but '{}' is a {} parameter", subject, type_name(p.type),
-                                           a.text, type_name(mine.type)));
+                               fmt::format("{} is a {}, but '{}' is a {} parameter", subject, type_name(p.type), a.text,
+                                           type_name(mine.type)));
         core::add_note(d, p.span, "declared here");
       }
     } else if ((a.kind == ast::Literal::Kind::String) != (p.type == ast::ParamType::String)) {

@@ -73,7 +73,7 @@ struct Phase {
   Name phase;
   std::vector<Literal> args;  // `PHASE(leg(0, 0, 100, 0), ...)`: the phase's parameters, in order
   bool has_parens = false;    // `PHASE(leg(), ...)`
-  std::vector<Name> places;  // one per exit of the phase, in exit order
+  std::vector<Name> places;   // one per exit of the phase, in exit order
   core::SourceSpan span;
 };
 

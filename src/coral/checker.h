@@ -18,10 +18,10 @@ namespace strata::coral {
 // in the Tactical level; the checker sees it only through this lookup.
 struct ArgumentSignature {
   std::string name;
-  bool is_number = true;       // false: a string
-  std::string unit;            // "m", "deg"; "" for none
-  std::optional<double> min;   // inclusive; numbers only
-  std::optional<double> max;   // inclusive; numbers only
+  bool is_number = true;      // false: a string
+  std::string unit;           // "m", "deg"; "" for none
+  std::optional<double> min;  // inclusive; numbers only
+  std::optional<double> max;  // inclusive; numbers only
 };
 
 struct PrimitiveSignature {

@@ -116,8 +116,7 @@ class Parser : private TokenCursor {
         if (first->text == "string") {
           param.type = ast::ParamType::String;
         } else if (first->text != "number") {
-          error_at(prev_, fmt::format("unknown parameter type '{}': a parameter is a number or a string",
-                                      first->text));
+          error_at(prev_, fmt::format("unknown parameter type '{}': a parameter is a number or a string", first->text));
           recover(TK::RParen);
           return;
         }

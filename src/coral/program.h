@@ -15,12 +15,12 @@ struct ActionSpec {
   enum class Kind { Tactic, Phase };
   Kind kind = Kind::Tactic;
   ast::TacticType tactic = ast::TacticType::Unknown;  // Kind::Tactic only
-  std::string target;              // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
   // The arguments of the primitive, or of the PHASE call (the phase's
   // parameters, in order). In a parameterised net an argument may be
   // Kind::Parameter: the engine substitutes the value the phase was run with.
   std::vector<ast::Literal> args;
-  std::string text;                // REPORT only
+  std::string text;  // REPORT only
   // Places marked by the outcome: EXEC/OOD [done]; ASK [true, false];
   // REPORT []; PHASE one per exit of the phase, in exit order.
   std::vector<petri::PlaceId> outcomes;

@@ -335,10 +335,9 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
   std::weak_ptr<CoralEngine*> self = self_;
-  tactics_.call(primitive_of(a), arguments(inst, t, index),
-                [self, id](core::Result<tactical::CallOutcome> outcome) {
-                  if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
-                });
+  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](core::Result<tactical::CallOutcome> outcome) {
+    if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
+  });
 }
 
 void CoralEngine::mark(InstanceId id, petri::PlaceId p, petri::Tokens n) {

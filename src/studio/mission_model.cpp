@@ -147,7 +147,8 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
     net["kind"] = cn.kind == coral::ast::Net::Kind::Mission ? "mission" : "phase";
     nlohmann::json params = nlohmann::json::array();
     for (const auto& p : cn.params) {
-      params.push_back({{"name", p.name.text}, {"type", p.type == coral::ast::ParamType::Number ? "number" : "string"}});
+      params.push_back(
+          {{"name", p.name.text}, {"type", p.type == coral::ast::ParamType::Number ? "number" : "string"}});
     }
     net["params"] = std::move(params);
     net["file"] = sandbox.relative(file);
