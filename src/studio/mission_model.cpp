@@ -274,26 +274,27 @@ core::Result<std::string> action_text_of(const nlohmann::json& a) {
     for (const auto& n : a.value(key, nlohmann::json::array())) out += ", " + n.get<std::string>();
     return out;
   };
+  // `f` or `f(1, "a", x)`: arguments as written (a JSON number as a number).
+  auto call_of = [&](std::string call) {
+    const auto args = a.value("args", nlohmann::json::array());
+    if (args.empty()) return call;
+    call += "(";
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string arg = args[i].is_string() ? args[i].get<std::string>() : args[i].dump();
+      call += (i ? ", " : "") + arg;
+    }
+    return call + ")";
+  };
   const std::string kind = a.value("kind", "");
   const std::string target = a.value("target", "");
-  if (kind == "PHASE") return fmt::format("PHASE({}{})", target, names("outcomes"));
+  if (kind == "PHASE") return fmt::format("PHASE({}{})", call_of(target), names("outcomes"));
   if (kind != "TACTIC") return core::Error{core::ErrorCode::InvalidInput, "an action's kind is TACTIC or PHASE"};
   const std::string type = a.value("type", "");
   if (type == "REPORT") return fmt::format("TACTIC(REPORT, {})", coral::escape(a.value("text", "")));
   if (type != "EXEC" && type != "ASK" && type != "OOD") {
     return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not a TACTIC type", type)};
   }
-  std::string call = target;
-  const auto args = a.value("args", nlohmann::json::array());
-  if (!args.empty()) {
-    call += "(";
-    for (std::size_t i = 0; i < args.size(); ++i) {
-      const std::string arg = args[i].is_string() ? args[i].get<std::string>() : args[i].dump();
-      call += (i ? ", " : "") + arg;
-    }
-    call += ")";
-  }
-  return fmt::format("TACTIC({}, {}{})", type, call, names("outcomes"));
+  return fmt::format("TACTIC({}, {}{})", type, call_of(target), names("outcomes"));
 }
 
 }  // namespace
