@@ -102,6 +102,7 @@ int run_check(const CheckOptions& o) {
                                {"column", m.column},
                                {"severity", m.error ? "error" : "warning"},
                                {"message", m.text}});
+        if (!m.kind.empty()) diagnostics.back()["kind"] = m.kind;
       }
       if (!rules && errors == 0) {  // the messages say why, when there are any
         errors = 1;

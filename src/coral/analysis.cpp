@@ -27,7 +27,7 @@ std::vector<std::string> outcome_suffixes(const Program& program, const ActionSp
 }  // namespace
 
 std::string action_text(const ActionSpec& a) {
-  if (a.kind == ActionSpec::Kind::Phase) return "PHASE " + a.target;
+  if (a.kind == ActionSpec::Kind::Phase) return "PHASE " + phase_call_text(a);
   if (a.tactic == ast::TacticType::Report) {
     std::string text;
     for (char c : a.text) {

@@ -16,12 +16,31 @@ struct Name {
   core::SourceSpan span;
 };
 
+// An argument as written: a literal, or (in a parameterised net) the name of
+// one of the net's parameters, whose value the PHASE call that runs the net
+// gives (Kind::Parameter).
 struct Literal {
-  enum class Kind { Integer, Float, String };
+  enum class Kind { Integer, Float, String, Parameter };
   Kind kind = Kind::Integer;
-  std::string text;   // as written (strings: with quotes and escapes)
-  std::string value;  // strings: unescaped; numbers: same as text
+  std::string text;   // as written (strings: with quotes and escapes; parameters: the name)
+  std::string value;  // strings: unescaped; numbers and parameters: same as text
   core::SourceSpan span;
+};
+
+// The value a Kind::Integer or Kind::Float literal reads as; nullopt for a
+// string, a parameter, or a number that is not finite as a double (1e999).
+std::optional<double> number_value(const Literal& literal);
+
+// A parameter of a phase net: `net leg(x0, y0, string label)`. Parameters are
+// data, not structure: each is a number (the default) or a string, given by
+// the PHASE call (`PHASE(leg(0, 0, "a"), ...)`) and used as an argument of a
+// primitive or of a nested PHASE call.
+enum class ParamType { Number, String };
+
+struct Param {
+  Name name;
+  ParamType type = ParamType::Number;
+  core::SourceSpan span;  // `string label` or `x0`
 };
 
 // A primitive as named in a TACTIC: `sleep(1)`, `next_setpt_data`.
@@ -52,7 +71,9 @@ struct Tactic {
 
 struct Phase {
   Name phase;
-  std::vector<Name> places;  // one per exit of the phase, in exit order
+  std::vector<Literal> args;  // `PHASE(leg(0, 0, 100, 0), ...)`: the phase's parameters, in order
+  bool has_parens = false;    // `PHASE(leg(), ...)`
+  std::vector<Name> places;   // one per exit of the phase, in exit order
   core::SourceSpan span;
 };
 
@@ -80,6 +101,7 @@ struct Net {
   enum class Kind { Phase, Mission };
   Kind kind = Kind::Phase;
   Name name;
+  std::vector<Param> params;      // phase nets only: `net leg(x0, y0) { ... }`
   std::vector<PlaceDecl> places;  // `place` and `exit` declarations, in order
   std::vector<Name> exits;        // exit places in declaration order
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)

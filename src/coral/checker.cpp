@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "coral/arguments.h"
 #include "coral/program.h"
 
 namespace strata::coral {
@@ -40,11 +41,12 @@ std::string_view expected_places_text(ast::TacticType type) {
 class NetChecker {
  public:
   NetChecker(const ast::Net& net, const std::unordered_map<std::string, NetRef>& library, core::DiagnosticSink& sink,
-             const CheckOptions& options)
-      : net_(net), library_(library), sink_(sink), options_(options) {}
+             const CheckOptions& options, ArgumentChecker& args)
+      : net_(net), library_(library), sink_(sink), options_(options), args_(args) {}
 
   void run() {
     std::size_t errors_before = sink_.error_count();
+    args_.check_params(net_);
     declare_places();
     check_data();
     std::map<std::string, const ast::Transition*> transitions;
@@ -144,6 +146,7 @@ class NetChecker {
         core::add_note(d, "ASK marks its first place when the predicate is true, its second when false");
       }
     }
+    if (a.function) args_.check_names(net_, a.function->args);
     if (a.function && options_.primitive) check_primitive(a);
   }
 
@@ -172,10 +175,12 @@ class NetChecker {
                        : fmt::format("'{}' takes {} to {} arguments, but {} given", call.name.text, sig->min_args,
                                      sig->max_args, call.args.size()));
     }
+    args_.check_primitive_args(net_, call, *sig);
   }
 
   void check_phase(const ast::Phase& a) {
     for (const auto& p : a.places) resolve(p);
+    args_.check_names(net_, a.args);
     auto it = library_.find(a.phase.text);
     if (it == library_.end()) {
       auto* d = sink_.report(DiagnosticKind::UnknownPhase, a.phase.span,
@@ -208,6 +213,7 @@ class NetChecker {
           d, phase.span,
           exits.empty() ? std::string("the phase declares no exit") : fmt::format("its exits, in order: {}", exits));
     }
+    args_.check_phase_args(net_, a, phase);
   }
 
   // Warnings: transitions without input, places nothing touches, and
@@ -315,6 +321,7 @@ class NetChecker {
   const std::unordered_map<std::string, NetRef>& library_;
   core::DiagnosticSink& sink_;
   const CheckOptions& options_;
+  ArgumentChecker& args_;
   std::unordered_map<std::string, const ast::PlaceDecl*> places_;
   std::vector<std::string> place_names_;
 };
@@ -397,8 +404,11 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
       }
     }
   }
+  NetLibrary nets;
+  for (const auto& [name, ref] : library) nets.emplace(name, ref.net);
+  ArgumentChecker args(nets, sink, options);
   for (const auto& file : load.files) {
-    for (const auto& net : file.tree.nets) NetChecker(net, library, sink, options).run();
+    for (const auto& net : file.tree.nets) NetChecker(net, library, sink, options, args).run();
   }
   check_phase_recursion(library, sink);
 }

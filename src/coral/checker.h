@@ -16,10 +16,21 @@ namespace strata::coral {
 
 // What the checker needs to know of a vehicle primitive. The catalogue lives
 // in the Tactical level; the checker sees it only through this lookup.
+struct ArgumentSignature {
+  std::string name;
+  bool is_number = true;      // false: a string
+  std::string unit;           // "m", "deg"; "" for none
+  std::optional<double> min;  // inclusive; numbers only
+  std::optional<double> max;  // inclusive; numbers only
+};
+
 struct PrimitiveSignature {
   ast::TacticType kind = ast::TacticType::Exec;
   std::size_t min_args = 0;
   std::size_t max_args = 0;
+  // One per argument, in call order (max_args of them), or empty when the
+  // lookup does not know them: then only the count is checked.
+  std::vector<ArgumentSignature> args;
 };
 
 struct CheckOptions {

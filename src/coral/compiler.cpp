@@ -10,6 +10,7 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
   CompiledNet out;
   out.name = src.name.text;
   out.kind = src.kind;
+  out.params = src.params;
   out.source_file = file.path;
   out.span = src.span;
   if (!src.data.empty()) {
@@ -53,6 +54,7 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
         const auto& phase = std::get<ast::Phase>(action);
         spec.kind = ActionSpec::Kind::Phase;
         spec.target = phase.phase.text;
+        spec.args = phase.args;
         for (const auto& p : phase.places) spec.outcomes.push_back(id(p.text));
         spec.span = phase.span;
       }

@@ -66,6 +66,7 @@ class Parser : private TokenCursor {
     }
     net.name = *n;
     net.span = join(head.span, n->span);
+    if (match(TK::LParen)) parse_params(net);
     // A missing '{' is reported, then the body is parsed as if it were there.
     bool opened = expect(TK::LBrace, "to open the net body");
     while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) && !at(TK::KwImport)) {
@@ -93,6 +94,45 @@ class Parser : private TokenCursor {
       advance();
     }
     file_.nets.push_back(std::move(net));
+  }
+
+  // After `net NAME (`: `[number | string] NAME {, ...} )`. The type words
+  // are not keywords: a parameter may be called `number`.
+  void parse_params(ast::Net& net) {
+    if (net.kind == ast::Net::Kind::Mission) {
+      error_at(prev_, fmt::format("mission '{}' cannot take parameters: only a phase net does", net.name.text));
+      recover(TK::RParen);
+      return;
+    }
+    if (match(TK::RParen)) return;
+    do {
+      auto first = name("a parameter name");
+      if (!first) {
+        recover(TK::RParen);
+        return;
+      }
+      ast::Param param{*first, ast::ParamType::Number, first->span};
+      if (at(TK::Identifier)) {  // `TYPE NAME`
+        if (first->text == "string") {
+          param.type = ast::ParamType::String;
+        } else if (first->text != "number") {
+          error_at(prev_, fmt::format("unknown parameter type '{}': a parameter is a number or a string", first->text));
+          recover(TK::RParen);
+          return;
+        }
+        param.name = {std::string(tok_.text), tok_.span};
+        param.span = join(first->span, tok_.span);
+        advance();
+      }
+      if (net.params.size() == kMaxArguments) {
+        sink_.report(DiagnosticKind::TooManyArguments, param.span,
+                     fmt::format("net '{}' declares more than {} parameters", net.name.text, kMaxArguments));
+        recover(TK::RParen);
+        return;
+      }
+      net.params.push_back(std::move(param));
+    } while (match(TK::Comma));
+    if (!expect(TK::RParen, "to close the parameters")) recover(TK::RParen);
   }
 
   void parse_places(ast::Net& net, bool is_exit) {
@@ -300,6 +340,10 @@ class Parser : private TokenCursor {
     auto n = name("a phase name");
     if (!n) return std::nullopt;
     a.phase = *n;
+    if (match(TK::LParen)) {
+      a.has_parens = true;
+      if (!arguments(a.args, n->text)) return std::nullopt;
+    }
     while (match(TK::Comma)) {
       auto p = name("a place name");
       if (!p) return std::nullopt;
@@ -317,21 +361,33 @@ class Parser : private TokenCursor {
     call.span = call.name.span;
     if (match(TK::LParen)) {
       call.has_parens = true;
-      if (!at(TK::RParen)) {
-        do {
-          if (!at(TK::Integer) && !at(TK::Float) && !at(TK::String)) {
-            error_here("expected a literal argument (a number or a string)");
-            return std::nullopt;
-          }
-          call.args.push_back(literal());
-        } while (match(TK::Comma));
-      }
-      if (!expect(TK::RParen, fmt::format("to close the arguments of '{}'", call.name.text))) {
-        return std::nullopt;
-      }
+      if (!arguments(call.args, call.name.text)) return std::nullopt;
       call.span = join(call.name.span, prev_.span);
     }
     return call;
+  }
+
+  // After `f(`: literals or parameter names, then ')'. At most kMaxArguments.
+  bool arguments(std::vector<ast::Literal>& out, const std::string& callee) {
+    if (match(TK::RParen)) return true;
+    do {
+      if (at(TK::Identifier)) {
+        out.push_back({ast::Literal::Kind::Parameter, std::string(tok_.text), std::string(tok_.text), tok_.span});
+        advance();
+      } else if (at(TK::Integer) || at(TK::Float) || at(TK::String)) {
+        out.push_back(literal());
+      } else {
+        error_here("expected an argument (a number, a string or a parameter's name)");
+        return false;
+      }
+      if (out.size() > kMaxArguments) {
+        sink_.report(DiagnosticKind::TooManyArguments, out.back().span,
+                     fmt::format("'{}' is given more than {} arguments", callee, kMaxArguments));
+        recover(TK::RParen);
+        return false;
+      }
+    } while (match(TK::Comma));
+    return expect(TK::RParen, fmt::format("to close the arguments of '{}'", callee));
   }
 
   ast::File file_;

@@ -38,7 +38,7 @@ std::string places(const petri::Net& net, const std::vector<petri::PlaceId>& ids
 
 std::string describe(const petri::Net& net, const ActionSpec& a) {
   if (a.kind == ActionSpec::Kind::Phase) {
-    return fmt::format("PHASE({}) -> [{}]", a.target, places(net, a.outcomes));
+    return fmt::format("PHASE({}) -> [{}]", phase_call_text(a), places(net, a.outcomes));
   }
   std::string what;
   if (a.tactic == ast::TacticType::Report) {
@@ -56,8 +56,24 @@ std::string describe(const petri::Net& net, const ActionSpec& a) {
 
 }  // namespace
 
+std::string phase_call_text(const ActionSpec& a) {
+  if (a.args.empty()) return a.target;
+  std::string args;
+  for (const auto& l : a.args) args += (args.empty() ? "" : ", ") + l.text;
+  return a.target + "(" + args + ")";
+}
+
+std::string net_head_text(const CompiledNet& n) {
+  if (n.params.empty()) return n.name;
+  std::string params;
+  for (const auto& p : n.params) {
+    params += (params.empty() ? "" : ", ") + (p.type == ast::ParamType::String ? "string " + p.name.text : p.name.text);
+  }
+  return n.name + "(" + params + ")";
+}
+
 std::string dump_net(const CompiledNet& n) {
-  std::string out = fmt::format("{} {}\n", n.kind == ast::Net::Kind::Mission ? "mission" : "net", n.name);
+  std::string out = fmt::format("{} {}\n", n.kind == ast::Net::Kind::Mission ? "mission" : "net", net_head_text(n));
   if (!n.data_file.empty()) out += fmt::format("data {}\n", escape(n.data_as_written));
   if (!n.exits.empty()) out += fmt::format("exits [{}]\n", places(n.net, n.exits));
   out += petri::dump_net(n.net);

@@ -15,9 +15,12 @@ struct ActionSpec {
   enum class Kind { Tactic, Phase };
   Kind kind = Kind::Tactic;
   ast::TacticType tactic = ast::TacticType::Unknown;  // Kind::Tactic only
-  std::string target;              // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
-  std::vector<ast::Literal> args;  // literal arguments of the primitive
-  std::string text;                // REPORT only
+  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  // The arguments of the primitive, or of the PHASE call (the phase's
+  // parameters, in order). In a parameterised net an argument may be
+  // Kind::Parameter: the engine substitutes the value the phase was run with.
+  std::vector<ast::Literal> args;
+  std::string text;  // REPORT only
   // Places marked by the outcome: EXEC/OOD [done]; ASK [true, false];
   // REPORT []; PHASE one per exit of the phase, in exit order.
   std::vector<petri::PlaceId> outcomes;
@@ -33,6 +36,7 @@ inline constexpr std::size_t kMaxPhaseDepth = 64;
 struct CompiledNet {
   std::string name;
   ast::Net::Kind kind = ast::Net::Kind::Phase;
+  std::vector<ast::Param> params;  // phase nets: the parameters, in order
   petri::Net net;
   std::vector<std::vector<ActionSpec>> actions;  // indexed by TransitionId
   std::vector<petri::PlaceId> exits;             // in declaration order
@@ -52,6 +56,12 @@ struct Program {
 };
 
 std::string_view tactic_type_name(ast::TacticType type);
+
+// "leg(0, 0, 100, 0)" for a PHASE action with arguments, "leg" without:
+// how dumps, exports and the studio show the call.
+std::string phase_call_text(const ActionSpec& action);
+// "leg(x0, y0, string label)", or the bare name of a net without parameters.
+std::string net_head_text(const CompiledNet& net);
 
 // Stable text of a compiled net or of a whole program, for golden tests and
 // `strata dump`.

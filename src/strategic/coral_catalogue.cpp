@@ -23,7 +23,11 @@ coral::CheckOptions coral_check_options(const tactical::Catalogue& catalogue) {
   auto signatures = std::make_shared<Signatures>();
   coral::CheckOptions options;
   for (const auto& p : catalogue.all()) {
-    signatures->emplace(p.name, coral::PrimitiveSignature{tactic_type(p.kind), p.min_args(), p.max_args()});
+    coral::PrimitiveSignature sig{tactic_type(p.kind), p.min_args(), p.max_args(), {}};
+    for (const auto& a : p.args) {
+      sig.args.push_back({a.name, a.type == tactical::Value::Type::Number, a.unit, a.min, a.max});
+    }
+    signatures->emplace(p.name, std::move(sig));
     options.primitive_names.push_back(p.name);
   }
   options.primitive = [signatures = std::shared_ptr<const Signatures>(std::move(signatures))](

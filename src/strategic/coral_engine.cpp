@@ -48,6 +48,7 @@ struct CoralEngine::Instance {
   std::optional<InstanceId> parent;
   const coral::ActionSpec* caller = nullptr;  // the PHASE action that started it
   std::vector<InstanceId> children;
+  std::vector<tactical::Value> params;  // the values of the net's parameters, in order
   std::size_t depth = 0;
   bool dirty = false;
 };
@@ -57,19 +58,31 @@ CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, Engine
   assert(program_.mission.has_value());
   if (options_.seed) rng_.emplace(*options_.seed);
   args_.resize(program_.nets.size());
+  params_.resize(program_.nets.size());
   is_exit_.resize(program_.nets.size());
   for (std::size_t n = 0; n < program_.nets.size(); ++n) {
     const coral::CompiledNet& net = program_.nets[n];
     args_[n].resize(net.actions.size());
+    params_[n].resize(net.actions.size());
     for (std::size_t t = 0; t < net.actions.size(); ++t) {
       for (const coral::ActionSpec& a : net.actions[t]) {
         std::vector<tactical::Value> values;
+        std::vector<std::pair<std::size_t, std::size_t>> slots;
         if (a.kind == coral::ActionSpec::Kind::Tactic && a.tactic == coral::ast::TacticType::Report) {
           values.push_back(tactical::Value::of(a.text));
         } else {
-          for (const auto& literal : a.args) values.push_back(value_of(literal));
+          for (const auto& literal : a.args) {
+            if (literal.kind == coral::ast::Literal::Kind::Parameter) {
+              auto p = std::find_if(net.params.begin(), net.params.end(),
+                                    [&](const coral::ast::Param& x) { return x.name.text == literal.text; });
+              assert(p != net.params.end() && "the checker guarantees a parameter is declared");
+              slots.emplace_back(values.size(), static_cast<std::size_t>(p - net.params.begin()));
+            }
+            values.push_back(value_of(literal));
+          }
         }
         args_[n][t].push_back(std::move(values));
+        params_[n][t].push_back(std::move(slots));
       }
     }
     is_exit_[n].assign(net.net.place_count(), false);
@@ -99,9 +112,21 @@ void CoralEngine::cancel(std::string reason) {
   if (running_) fail(std::move(reason));
 }
 
+std::vector<tactical::Value> CoralEngine::arguments(const Instance& inst, petri::TransitionId t,
+                                                    std::size_t index) const {
+  std::vector<tactical::Value> values = args_[inst.net_index][t][index];
+  for (const auto& [arg, param] : params_[inst.net_index][t][index]) {
+    assert(param < inst.params.size() && "the checker guarantees a PHASE gives every parameter");
+    values[arg] = inst.params[param];
+  }
+  return values;
+}
+
 InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optional<InstanceId> parent,
-                                       const coral::ActionSpec* caller_action, std::string_view caller) {
+                                       const coral::ActionSpec* caller_action, std::string_view caller,
+                                       std::vector<tactical::Value> params) {
   auto inst = std::make_unique<Instance>();
+  inst->params = std::move(params);
   inst->id = static_cast<InstanceId>(instances_.size());
   inst->net = &net;
   inst->net_index = net_index(net);
@@ -300,20 +325,19 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
                        inst.net->name, inst.depth + 1, options_.max_phase_depth));
       return;
     }
-    start_instance(*phase, inst.id, &a, transition);
+    start_instance(*phase, inst.id, &a, transition, arguments(inst, t, index));
     return;
   }
   if (a.tactic == coral::ast::TacticType::Report) {
     // A REPORT marks nothing and waits for nothing: sent, not tracked.
-    tactics_.call(primitive_of(a), args_[inst.net_index][t][index], [](const core::Result<tactical::CallOutcome>&) {});
+    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const core::Result<tactical::CallOutcome>&) {});
     return;
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
   std::weak_ptr<CoralEngine*> self = self_;
-  tactics_.call(primitive_of(a), args_[inst.net_index][t][index],
-                [self, id](core::Result<tactical::CallOutcome> outcome) {
-                  if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
-                });
+  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](core::Result<tactical::CallOutcome> outcome) {
+    if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
+  });
 }
 
 void CoralEngine::mark(InstanceId id, petri::PlaceId p, petri::Tokens n) {

@@ -13,7 +13,11 @@
 // The mission library: a PHASE(name, p_1..p_k) action starts a new instance
 // of phase net `name` at its initial marking. When its i-th exit is marked
 // the instance ends (with every phase it started, and its replies still in
-// flight are ignored) and p_i is marked in the calling instance. The mission
+// flight are ignored) and p_i is marked in the calling instance. A phase net
+// with parameters (`net leg(x0, y0)`) runs with the values its PHASE call
+// gives (`PHASE(leg(0, 100), ...)`): the engine substitutes them into the
+// instance's primitive calls and nested PHASE calls when they are issued, so
+// the EXEC a leg sends carries the numbers of that call. The mission
 // ends when an exit of the mission net is marked: the first exit completes
 // it, a later one aborts it. A mission net with no exits completes when
 // nothing is enabled and nothing is in flight.
@@ -98,7 +102,10 @@ class CoralEngine final : public Executor {
     core::Result<tactical::CallOutcome> outcome;
   };
   // Arguments of each action, converted once: [net][transition][action].
+  // An argument naming a parameter holds a placeholder there, and its
+  // (argument index, parameter index) is in the ParamTable.
   using ArgTable = std::vector<std::vector<std::vector<std::vector<tactical::Value>>>>;
+  using ParamTable = std::vector<std::vector<std::vector<std::vector<std::pair<std::size_t, std::size_t>>>>>;
 
   void drain();
   void handle(Message& message);
@@ -108,7 +115,11 @@ class CoralEngine final : public Executor {
   void fire(Instance& inst, petri::TransitionId t);
   void issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a);
   InstanceId start_instance(const coral::CompiledNet& net, std::optional<InstanceId> parent,
-                            const coral::ActionSpec* caller_action, std::string_view caller);
+                            const coral::ActionSpec* caller_action, std::string_view caller,
+                            std::vector<tactical::Value> params = {});
+  // The arguments of action `index` of transition t as inst issues them: its
+  // parameters replaced by inst's values.
+  std::vector<tactical::Value> arguments(const Instance& inst, petri::TransitionId t, std::size_t index) const;
   // Adds n tokens to p in inst; ends the instance if p is an exit.
   void mark(InstanceId id, petri::PlaceId p, petri::Tokens n);
   void check_exits(InstanceId id, petri::PlaceId p);
@@ -123,6 +134,7 @@ class CoralEngine final : public Executor {
   EngineOptions options_;
   std::vector<Observer*> observers_;
   ArgTable args_;
+  ParamTable params_;
   std::vector<std::vector<bool>> is_exit_;  // [net][place]
   std::vector<std::unique_ptr<Instance>> instances_;
   std::unordered_map<ActionId, InFlight> in_flight_;

@@ -192,6 +192,39 @@ TEST(CoralEngine, NestedPhasesStartAndEndInOrderAndMarkTheirCallers) {
   EXPECT_EQ(1, h.recorder.ended);
 }
 
+// Issue 20: a phase net with parameters runs with the values of the PHASE
+// call that started it; the calls it issues carry those numbers, through a
+// nested PHASE too, and two instances of one net running at once keep their
+// own values.
+TEST(CoralEngine, PhaseArgumentsAreSubstitutedIntoTheCallsTheInstanceIssues) {
+  Harness h(R"(
+    net leg(x0, y0, string label) { place s = 1, said; exit done;
+      transition say { wait { s } action { TACTIC(OOD, note(label), said) } }
+      transition go  { wait { said } action { TACTIC(EXEC, track(x0, y0, 100, y0), done) } } }
+    net there_and_back(y) { place s = 1, out; exit done;
+      transition one { wait { s } action { PHASE(leg(0, y, "out"), out) } }
+      transition two { wait { out } action { PHASE(leg(100, -5.5, "back"), done) } } }
+    mission m { place s = 1, a, b; exit completed;
+      transition both { wait { s } action { PHASE(there_and_back(20), a), PHASE(leg(7, 8, "side"), b) } }
+      transition end  { wait { a, b } signal { completed } } }
+  )");
+  h.start();
+  // leg(7, 8) is started by the mission itself, leg(0, 20) a phase deeper:
+  // the first calls of the side leg come first.
+  EXPECT_EQ("note(side) note(out)", h.tactics.names());
+  h.tactics.answer(true);  // note(side)
+  h.tactics.answer(true);  // note(out)
+  EXPECT_EQ("note(side) note(out) track(7,8,100,8) track(0,20,100,20)", h.tactics.names());
+  h.tactics.answer(true);
+  h.tactics.answer(true);
+  h.tactics.answer(true);  // note(back)
+  h.tactics.answer(true);
+  EXPECT_EQ("note(side) note(out) track(7,8,100,8) track(0,20,100,20) note(back) track(100,-5.5,100,-5.5)",
+            h.tactics.names());
+  ASSERT_TRUE(h.on_end_result);
+  EXPECT_EQ(Outcome::Completed, h.on_end_result->outcome);
+}
+
 TEST(CoralEngine, ReplyForAnUnknownIdIsNoticedAndIgnored) {
   Harness h(R"(mission m { place s = 1; exit done;
     transition t { wait { s } action { TACTIC(EXEC, f, done) } } })");

@@ -12,7 +12,9 @@
 #include <fmt/format.h>
 
 #include "core/file.h"
+#include "core/diagnostic.h"
 #include "strategic/prolog_driver.h"
+#include "strategic/prolog_rules_args.h"
 #include "prolog/interrupt.h"
 
 namespace strata::prolog {
@@ -91,7 +93,7 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
   if (!checked || !checked.value()) {
     messages.push_back(
         {true, mission.path(), 0, 0,
-         "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
+         "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message), ""});
   } else {
     term_t head = PL_new_term_ref();
     term_t arg = PL_new_term_ref();
@@ -167,7 +169,8 @@ std::string format_message(const Message& m) {
   std::string where = m.file;
   if (!where.empty() && m.line > 0) where += fmt::format(":{}", m.line);
   if (!where.empty() && m.line > 0 && m.column > 0) where += fmt::format(":{}", m.column);
-  return fmt::format("{}{}{}: {}", where, where.empty() ? "" : ": ", m.error ? "error" : "warning", m.text);
+  return fmt::format("{}{}{}: {}{}", where, where.empty() ? "" : ": ", m.error ? "error" : "warning", m.text,
+                     m.kind.empty() ? "" : " [" + m.kind + "]");
 }
 
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, const tactical::Catalogue& catalogue,
@@ -177,7 +180,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
     messages.push_back(
         {true, path, 0, 0,
-         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes)});
+         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes), ""});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
   detail::set_max_rules_bytes(limits.max_bytes);
@@ -222,19 +225,30 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
   if (!loaded && loaded.error().message != "'$aborted'") {
-    messages.push_back({true, path, 0, 0, loaded.error().message});
+    messages.push_back({true, path, 0, 0, loaded.error().message, ""});
   }
 
   // Rules that did not load whole are not checked: what is missing would
   // only echo the load errors.
   const bool load_errors =
       !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
-  if (!load_errors) check_rules(*mission, messages);
+  if (!load_errors) {
+    check_rules(*mission, messages);
+    // Literal numbers out of the catalogue's ranges, as CORAL's check finds
+    // them: in the mission's own file (the files it loads are its library).
+    if (auto text = core::read_regular_file(path, limits.max_bytes)) {
+      for (auto& p : scan_primitive_arguments(text.value(), catalogue)) {
+        messages.push_back({true, path, static_cast<std::uint32_t>(p.line), static_cast<std::uint32_t>(p.column),
+                            std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::ArgumentOutOfRange))});
+      }
+    }
+  }
   if (time_limit.expired() &&
       std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {
     messages.push_back({true, path, 0, 0,
                         fmt::format("loading and checking took longer than their time limit ({} ms, --load-time-limit)",
-                                    limits.time.count())});
+                                    limits.time.count()),
+                        ""});
   }
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {

@@ -34,8 +34,9 @@ struct Message {
   std::uint32_t line = 0;
   std::uint32_t column = 0;  // 0 when unknown
   std::string text;
+  std::string kind;  // a diagnostic kind (core/diagnostic_kind.def) when Strata's own check found it, or ""
 };
-// "file:line:col: error: text", as the CORAL checker prints its diagnostics.
+// "file:line:col: error: text [Kind]", as the CORAL checker prints its diagnostics.
 std::string format_message(const Message& message);
 
 // What the rules reach while they run. The executor implements it.

@@ -81,15 +81,16 @@ nlohmann::json action_json(const coral::CompiledNet& cn, const coral::ActionSpec
   nlohmann::json outcomes = nlohmann::json::array();
   for (auto p : a.outcomes) outcomes.push_back(cn.net.place_name(p));
   nlohmann::json out = nlohmann::json::object();
+  nlohmann::json args = nlohmann::json::array();
+  for (const auto& l : a.args) args.push_back(l.text);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     out["kind"] = "PHASE";
     out["target"] = a.target;
+    out["args"] = std::move(args);  // the phase's parameters as written: "100", "x1"
     out["outcomes"] = std::move(outcomes);
     out["label"] = coral::action_text(a);
     return out;
   }
-  nlohmann::json args = nlohmann::json::array();
-  for (const auto& l : a.args) args.push_back(l.text);
   out["kind"] = "TACTIC";
   out["type"] = coral::tactic_type_name(a.tactic);
   out["target"] = a.target;
@@ -144,6 +145,12 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
     nlohmann::json net = nlohmann::json::object();
     net["name"] = cn.name;
     net["kind"] = cn.kind == coral::ast::Net::Kind::Mission ? "mission" : "phase";
+    nlohmann::json params = nlohmann::json::array();
+    for (const auto& p : cn.params) {
+      params.push_back(
+          {{"name", p.name.text}, {"type", p.type == coral::ast::ParamType::Number ? "number" : "string"}});
+    }
+    net["params"] = std::move(params);
     net["file"] = sandbox.relative(file);
     net["editable"] = file == own;
     net["exits"] = std::move(exits);
@@ -267,26 +274,27 @@ core::Result<std::string> action_text_of(const nlohmann::json& a) {
     for (const auto& n : a.value(key, nlohmann::json::array())) out += ", " + n.get<std::string>();
     return out;
   };
+  // `f` or `f(1, "a", x)`: arguments as written (a JSON number as a number).
+  auto call_of = [&](std::string call) {
+    const auto args = a.value("args", nlohmann::json::array());
+    if (args.empty()) return call;
+    call += "(";
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string arg = args[i].is_string() ? args[i].get<std::string>() : args[i].dump();
+      call += (i ? ", " : "") + arg;
+    }
+    return call + ")";
+  };
   const std::string kind = a.value("kind", "");
   const std::string target = a.value("target", "");
-  if (kind == "PHASE") return fmt::format("PHASE({}{})", target, names("outcomes"));
+  if (kind == "PHASE") return fmt::format("PHASE({}{})", call_of(target), names("outcomes"));
   if (kind != "TACTIC") return core::Error{core::ErrorCode::InvalidInput, "an action's kind is TACTIC or PHASE"};
   const std::string type = a.value("type", "");
   if (type == "REPORT") return fmt::format("TACTIC(REPORT, {})", coral::escape(a.value("text", "")));
   if (type != "EXEC" && type != "ASK" && type != "OOD") {
     return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not a TACTIC type", type)};
   }
-  std::string call = target;
-  const auto args = a.value("args", nlohmann::json::array());
-  if (!args.empty()) {
-    call += "(";
-    for (std::size_t i = 0; i < args.size(); ++i) {
-      const std::string arg = args[i].is_string() ? args[i].get<std::string>() : args[i].dump();
-      call += (i ? ", " : "") + arg;
-    }
-    call += ")";
-  }
-  return fmt::format("TACTIC({}, {}{})", type, call, names("outcomes"));
+  return fmt::format("TACTIC({}, {}{})", type, call_of(target), names("outcomes"));
 }
 
 }  // namespace
@@ -338,7 +346,7 @@ namespace {
 std::string action_source(const coral::CompiledNet& cn, const coral::ActionSpec& a) {
   std::string out;
   if (a.kind == coral::ActionSpec::Kind::Phase) {
-    out = "PHASE(" + a.target;
+    out = "PHASE(" + coral::phase_call_text(a);
   } else {
     out = fmt::format("TACTIC({}, {}", coral::tactic_type_name(a.tactic), a.target);
     if (!a.args.empty()) {

@@ -2,6 +2,8 @@
 // says for the usual edits, and when the server answers the whole model.
 #include "studio/model_patch.h"
 
+#include <map>
+
 #include "studio/server_test_support.h"
 
 namespace strata::studio {
@@ -119,6 +121,67 @@ TEST_F(StudioServerTest, AnEditOfTheModelAPageHoldsIsAnsweredWithAPatch) {
   EXPECT_TRUE(d.contains("nets") && !d.contains("patch"));
   d = post_edit(c, {{"path", "tank/tank.coral"}, {"text", m["text"]}, {"op", op}, {"base", a["rev"]}});
   EXPECT_TRUE(d.contains("nets") && !d.contains("patch")) << "base a is of another text";
+}
+
+// Issue 20: the model shows a phase's parameters and a PHASE call's
+// arguments (in its label too), and an edit of the actions keeps them.
+TEST_F(StudioServerTest, APhaseWithParametersShowsAndKeepsItsArguments) {
+  auto c = client();
+  const std::string text = R"(// The box of docs/language.md ("phase parameters"), for the export round trip:
+// a parameterised phase is exported once, with its calls' arguments on the
+// DOT labels.
+// One net for a turn and a hold, run with different arguments: a box of
+// four headings. deg and hold_s are numbers, the default type.
+net turn_and_hold(deg, hold_s) {
+  place start = 1, turned;
+  exit done;
+
+  transition turn { wait { start } action { TACTIC(EXEC, heading(deg), turned) } }
+  transition hold { wait { turned } action { TACTIC(EXEC, sleep(hold_s), done) } }
+}
+
+// A parameter may be passed on to a nested PHASE.
+net side(deg) {
+  place start = 1;
+  exit done;
+
+  transition go { wait { start } action { PHASE(turn_and_hold(deg, 5), done) } }
+}
+
+mission box {
+  place begin = 1, up, north, east, south, west;
+  exit completed;
+
+  transition start { wait { begin } action { TACTIC(OOD, start_network, up) } }
+  transition one   { wait { up } action { PHASE(side(0), north) } }
+  transition two   { wait { north } action { PHASE(side(90), east) } }
+  transition three { wait { east }  action { PHASE(side(180), south) } }
+  transition four  { wait { south } action { PHASE(turn_and_hold(270, 2.5), west) } }
+  transition stop  { wait { west } action { TACTIC(OOD, shutdown_network, completed) } }
+}
+)";
+  auto put = c.Put("/api/file?path=tank/box.coral", text, "text/plain");
+  ASSERT_TRUE(put && put->status < 300) << (put ? put->body : "no answer");
+  const json op = {
+      {"op", "set_actions"},
+      {"net", "box"},
+      {"transition", "four"},
+      {"actions", {{{"kind", "PHASE"}, {"target", "turn_and_hold"}, {"args", {"270", "3"}}, {"outcomes", {"west"}}}}}};
+  const json m = post_edit(c, {{"path", "tank/box.coral"}, {"text", text}, {"op", op}});
+  ASSERT_TRUE(m.contains("nets")) << m.dump().substr(0, 300);
+  EXPECT_NE(std::string::npos, m["text"].get<std::string>().find("PHASE(turn_and_hold(270, 3), west)"))
+      << m["text"].get<std::string>();
+  EXPECT_TRUE(m["diagnostics"].empty()) << m["diagnostics"].dump();
+  std::map<std::string, json> nets;
+  for (const auto& n : m["nets"]) nets[n["name"]] = n;
+  EXPECT_EQ(json::parse(R"([{"name": "deg", "type": "number"}, {"name": "hold_s", "type": "number"}])"),
+            nets["turn_and_hold"]["params"]);
+  EXPECT_EQ(json::array(), nets["box"]["params"]);
+  std::map<std::string, json> actions;
+  for (const auto& t : nets["box"]["transitions"]) actions[t["name"]] = t["actions"][0];
+  EXPECT_EQ(json::parse(R"(["90"])"), actions["two"]["args"]);
+  EXPECT_EQ("PHASE side(90)", actions["two"]["label"]);
+  EXPECT_EQ(json::parse(R"(["270", "3"])"), actions["four"]["args"]);
 }
 
 TEST_F(StudioServerTest, AnEditWhoseBaseIsNotAStringIsRefusedWith400) {

@@ -38,15 +38,17 @@ json prolog_model(const Sandbox& sandbox, const tactical::Catalogue& catalogue, 
   const std::string absolute = (sandbox.root() / relative).string();
   const bool checked = PrologThread::instance().try_run([&] {
     auto loaded = prolog::Mission::load(absolute, catalogue, messages);
-    if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message});
+    if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message, ""});
   });
   if (!checked) {
     model["check"] = "busy";
     return model;
   }
   for (const auto& m : messages) {
-    json d = {
-        {"severity", m.error ? "error" : "warning"}, {"kind", "Prolog"}, {"message", m.text}, {"notes", json::array()}};
+    json d = {{"severity", m.error ? "error" : "warning"},
+              {"kind", m.kind.empty() ? std::string("Prolog") : m.kind},
+              {"message", m.text},
+              {"notes", json::array()}};
     if (!m.file.empty()) {
       d["file"] = sandbox.lexically_inside(m.file) ? sandbox.relative(fs::path(m.file).lexically_normal()) : m.file;
     }

@@ -150,5 +150,41 @@ TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
 INSTANTIATE_TEST_SUITE_P(Coral, FailFile, ::testing::ValuesIn(files(kRoot, "fail_")), test_name);
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(FailFile);
 
+// Every ```coral block of docs/language.md checks without a diagnostic, with
+// the catalogue the language tests use (an `import "lib/X.coral"` reads
+// tests/coral/ok/lib/X.coral). The example of phase parameters says it runs
+// with the built-in catalogue alone: so it must check with that alone.
+TEST(DocsExamples, EveryCoralBlockOfTheLanguageReferenceChecksClean) {
+  const std::string doc = read(fs::path(STRATA_SOURCE_DIR) / "docs" / "language.md");
+  const std::string open = "```coral\n", close = "```";
+  std::size_t count = 0;
+  for (std::size_t at = doc.find(open); at != std::string::npos; at = doc.find(open, at)) {
+    at += open.size();
+    const std::size_t stop = doc.find(close, at);
+    ASSERT_NE(std::string::npos, stop) << "an unclosed ```coral block";
+    const std::string text = doc.substr(at, stop - at);
+    at = stop + close.size();
+    ++count;
+    auto check_with = [&](const CheckOptions& options) {
+      MemoryFileProvider provider;
+      provider.add("docs/example.coral", text);
+      for (const auto& lib : files(kRoot / "ok" / "lib", "")) {
+        provider.add("docs/lib/" + fs::path(lib).filename().string(), read(lib));
+      }
+      core::SourceManager sources;
+      core::DiagnosticSink sink;
+      auto program = compile_file("docs/example.coral", provider, sources, sink, options);
+      std::ostringstream out;
+      core::print_diagnostics(out, sources, sink.diagnostics());
+      EXPECT_TRUE(program && sink.diagnostics().empty()) << "example " << count << ":\n" << text << out.str();
+    };
+    check_with(check_options());
+    if (text.find("net turn_and_hold") != std::string::npos) {
+      check_with(strategic::coral_check_options(tactical::Catalogue::builtin()));
+    }
+  }
+  EXPECT_GE(count, 14u) << "the examples of docs/language.md were not found";
+}
+
 }  // namespace
 }  // namespace strata::coral

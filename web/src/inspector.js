@@ -100,7 +100,9 @@ export function createInspector(store, fx, canvas) {
   const OUTCOMES = { EXEC: ['done →'], OOD: ['done →'], ASK: ['yes (1) →', 'no (0) →'], REPORT: [] };
 
   function actionForOp(a) {
-    if (a.kind === 'PHASE') return { kind: 'PHASE', target: a.target, outcomes: (a.outcomes || []).slice() };
+    // A PHASE keeps its arguments (a phase with parameters): an edit of the
+    // transition must not drop them.
+    if (a.kind === 'PHASE') return { kind: 'PHASE', target: a.target, args: (a.args || []).map(String), outcomes: (a.outcomes || []).slice() };
     return { kind: 'TACTIC', type: a.type, target: a.target ?? '', args: (a.args || []).map(String), text: a.text ?? '', outcomes: (a.outcomes || []).slice() };
   }
 

@@ -1,0 +1,24 @@
+#pragma once
+// Literal numbers in the primitive calls of PROLOG rules, checked against
+// the catalogue's ranges before the rules run (docs/prolog.md, section 4):
+// `exec_heading(400, X)` is reported at check with its line and column, as
+// CORAL's `heading(400)` is (ArgumentOutOfRange). The scan reads the rule
+// text itself (quoted text and comments skipped), so it sees the numbers as
+// written; an argument that is not a literal number (a variable, an
+// expression, a term) is the rules' business and is checked when the call
+// is made.
+#include <string_view>
+#include <vector>
+
+#include "strategic/prolog_rules_scan.h"
+#include "tactical/catalogue.h"
+
+namespace strata::prolog {
+
+// Every literal number given to exec_<name>(...) or ask_<name>(...) (a
+// primitive of that kind in catalogue) outside the range of its argument,
+// or not finite; in text order. A call with more arguments than the
+// primitive takes is left to the check of arities.
+std::vector<RulesScanProblem> scan_primitive_arguments(std::string_view text, const tactical::Catalogue& catalogue);
+
+}  // namespace strata::prolog
