@@ -92,8 +92,8 @@ TEST(Checker, ChainDeclaredAgainstTheFlowIsLive) {
 TEST(Checker, PrimitivesAreCheckedAgainstTheCatalogueWhenGiven) {
   CheckOptions options;
   options.primitive = [](std::string_view name) -> std::optional<PrimitiveSignature> {
-    if (name == "depth_reached") return PrimitiveSignature{ast::TacticType::Ask, 0, 0};
-    if (name == "sleep") return PrimitiveSignature{ast::TacticType::Exec, 1, 1};
+    if (name == "depth_reached") return PrimitiveSignature{ast::TacticType::Ask, 0, 0, {}};
+    if (name == "sleep") return PrimitiveSignature{ast::TacticType::Exec, 1, 1, {}};
     return std::nullopt;
   };
   options.primitive_names = {"depth_reached", "sleep"};
