@@ -96,9 +96,11 @@ TEST(Catalogue, CheckOptionsRejectAWrongKind) {
 
 TEST(Catalogue, CheckOptionsOutliveTheCatalogue) {
   coral::CheckOptions options;
+  std::size_t primitives = 0;
   {
     auto c = Catalogue::load(kSourceDir + "/config/primitives.toml");
     ASSERT_TRUE(c.ok());
+    primitives = c.value().all().size();
     options = coral_check_options(c.value());
   }
   auto sig = options.primitive("sleep");
@@ -107,7 +109,7 @@ TEST(Catalogue, CheckOptionsOutliveTheCatalogue) {
   EXPECT_EQ(1u, sig->min_args);
   EXPECT_EQ(1u, sig->max_args);
   EXPECT_FALSE(options.primitive("nope"));
-  EXPECT_EQ(19u, options.primitive_names.size());
+  EXPECT_EQ(primitives, options.primitive_names.size());
 }
 
 TEST(Catalogue, OptionalArgumentsWidenTheSignature) {
