@@ -1,14 +1,54 @@
 #include "tactical/mission_data.h"
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/toml_reader.h"
 
 namespace strata::tactical {
 
 namespace {
+
+// The [[kind]] tables of root: nullptr (with an error) when the key holds
+// something else or an empty list; nullptr alone when it is absent.
+const toml::array* table_list(const toml::table& root, std::string_view kind, core::TomlErrors& errors) {
+  const toml::node* list = root.get(kind);
+  if (!list) return nullptr;
+  const toml::array* array = list->as_array();
+  if (array && array->empty()) {
+    errors.add(*list, fmt::format("the {} list is empty", kind));
+    return nullptr;
+  }
+  if (!array || !array->is_array_of_tables()) {
+    errors.add(*list, fmt::format("'{}' must be an array of tables: write each as [[{}]]", kind, kind));
+    return nullptr;
+  }
+  return array;
+}
+
+// One table's keys against the known ones (listed in the error as given),
+// and its optional name.
+void check_entry(const toml::table& t, const std::string& owner, std::initializer_list<std::string_view> known,
+                 std::string& name, core::TomlErrors& errors) {
+  for (auto&& [key, value] : t) {
+    const std::string_view k = key.str();
+    if (std::find(known.begin(), known.end(), k) == known.end()) {
+      errors.add(key, fmt::format("{}: unknown key '{}' (known: {})", owner, k, fmt::join(known, ", ")));
+    }
+  }
+  if (const toml::node* n = t.get("name")) {
+    if (const auto* str = n->as_string()) {
+      name = str->get();
+    } else {
+      errors.add(*n, fmt::format("{}: name must be a string, not {}", owner, core::toml_type_phrase(*n)));
+    }
+  }
+}
 
 std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& limits, core::TomlErrors& errors) {
   std::vector<Setpoint> out;
@@ -28,15 +68,8 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
     }
     return out;
   }
-  const toml::array* array = list->as_array();
-  if (array && array->empty()) {
-    errors.add(*list, "the setpoint list is empty");
-    return out;
-  }
-  if (!array || !array->is_array_of_tables()) {
-    errors.add(*list, "'setpoint' must be an array of tables: write each as [[setpoint]]");
-    return out;
-  }
+  const toml::array* array = table_list(root, "setpoint", errors);
+  if (!array) return out;
   std::size_t index = 0;
   for (const toml::node& node : *array) {
     ++index;
@@ -44,19 +77,7 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
     Setpoint sp;
     sp.line = t.source().begin.line;
     const std::string owner = fmt::format("setpoint {}", index);
-    for (auto&& [key, value] : t) {
-      const std::string_view k = key.str();
-      if (k != "name" && k != "depth_m" && k != "timeout_s") {
-        errors.add(key, fmt::format("{}: unknown key '{}' (known: depth_m, name, timeout_s)", owner, k));
-      }
-    }
-    if (const toml::node* name = t.get("name")) {
-      if (const auto* s = name->as_string()) {
-        sp.name = s->get();
-      } else {
-        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, core::toml_type_phrase(*name)));
-      }
-    }
+    check_entry(t, owner, {"depth_m", "name", "timeout_s"}, sp.name, errors);
     if (const toml::node* depth = t.get("depth_m")) {
       auto v = core::toml_number(*depth);
       if (!v) {
@@ -92,17 +113,8 @@ std::vector<Setpoint> read_setpoints(const toml::table& root, const DataLimits& 
 
 std::vector<Waypoint> read_waypoints(const toml::table& root, core::TomlErrors& errors) {
   std::vector<Waypoint> out;
-  const toml::node* list = root.get("waypoint");
-  if (!list) return out;
-  const toml::array* array = list->as_array();
-  if (array && array->empty()) {
-    errors.add(*list, "the waypoint list is empty");
-    return out;
-  }
-  if (!array || !array->is_array_of_tables()) {
-    errors.add(*list, "'waypoint' must be an array of tables: write each as [[waypoint]]");
-    return out;
-  }
+  const toml::array* array = table_list(root, "waypoint", errors);
+  if (!array) return out;
   std::size_t index = 0;
   for (const toml::node& node : *array) {
     ++index;
@@ -110,19 +122,7 @@ std::vector<Waypoint> read_waypoints(const toml::table& root, core::TomlErrors& 
     Waypoint wp;
     wp.line = t.source().begin.line;
     const std::string owner = fmt::format("waypoint {}", index);
-    for (auto&& [key, value] : t) {
-      const std::string_view k = key.str();
-      if (k != "name" && k != "x_m" && k != "y_m") {
-        errors.add(key, fmt::format("{}: unknown key '{}' (known: name, x_m, y_m)", owner, k));
-      }
-    }
-    if (const toml::node* name = t.get("name")) {
-      if (const auto* s = name->as_string()) {
-        wp.name = s->get();
-      } else {
-        errors.add(*name, fmt::format("{}: name must be a string, not {}", owner, core::toml_type_phrase(*name)));
-      }
-    }
+    check_entry(t, owner, {"name", "x_m", "y_m"}, wp.name, errors);
     for (auto [key, out_v] : {std::pair{"x_m", &wp.x_m}, std::pair{"y_m", &wp.y_m}}) {
       const toml::node* n = t.get(key);
       if (!n) {
@@ -131,7 +131,8 @@ std::vector<Waypoint> read_waypoints(const toml::table& root, core::TomlErrors& 
       }
       auto v = core::toml_number(*n);
       if (!v) {
-        errors.add(*n, fmt::format("{}: {} must be a number of metres, not {}", owner, key, core::toml_type_phrase(*n)));
+        errors.add(*n,
+                   fmt::format("{}: {} must be a number of metres, not {}", owner, key, core::toml_type_phrase(*n)));
       } else if (!std::isfinite(*v) || std::abs(*v) > kMaxWaypointM) {
         errors.add(*n, fmt::format("{}: {} is {} m; it must lie within +-{} m", owner, key, *v, kMaxWaypointM));
       } else {
