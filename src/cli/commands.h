@@ -35,6 +35,8 @@ Runner add_plot_command(CLI::App& app);
 Runner add_primitives_command(CLI::App& app);
 // `strata sonar`.
 Runner add_sonar_command(CLI::App& app);
+// `strata campaign`.
+Runner add_campaign_command(CLI::App& app);
 
 // Shared with the run library (run/inputs.h).
 using run::load_catalogue_option;

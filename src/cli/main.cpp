@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   runners["primitives"] = add_primitives_command(app);
   runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
+  runners["campaign"] = add_campaign_command(app);
 
   try {
     app.parse(argc, argv);
