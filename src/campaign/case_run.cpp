@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <sstream>
 
@@ -36,6 +37,18 @@ class CaseWatcher final : public run::RunObserver {
       surfaced_at_s = t.sim_time_s;
     }
   }
+  // The vehicle's own word that it reached the surface ("13.0 s: at the
+  // surface; holding"): with the link gone, the run passes on the vehicle's
+  // log lines from after it last heard from it as notes ("vehicle: ...").
+  void vehicle_event(const std::string& text, double sim_time_s) override { surfaced_line(text, sim_time_s); }
+  void note(const std::string& text, std::optional<double> sim_time_s) override {
+    if (!text.starts_with("vehicle: ")) return;
+    const char* start = text.c_str() + 9;
+    char* end = nullptr;
+    const double t = std::strtod(start, &end);
+    if (end == start) return;
+    surfaced_line(text, sim_time_s.value_or(t));
+  }
   void fired(const strategic::Firing& f) override { fired_.insert(fmt::format("{}.{}", f.net, f.transition_name)); }
   void action_started(const strategic::ActionStart& a) override {
     if (a.kind == "ask") asks_[a.id] = std::string(a.primitive);
@@ -55,9 +68,16 @@ class CaseWatcher final : public run::RunObserver {
   }
 
   std::optional<double> max_depth_m;
-  std::optional<double> surfaced_at_s;
+  std::optional<double> surfaced_at_s;  // from telemetry
+  std::optional<double> logged_surface_s;  // from the vehicle's log
 
  private:
+  void surfaced_line(const std::string& text, double t) {
+    if (fault_at_s_ && !logged_surface_s && t >= *fault_at_s_ - 1e-9 && text.find("at the surface") != std::string::npos) {
+      logged_surface_s = t;
+    }
+  }
+
   std::optional<double> fault_at_s_;
   double surface_depth_m_;
   std::set<std::string> fired_, answers_, exits_;
@@ -124,6 +144,9 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
     if (watcher.surfaced_at_s) {
       o.time_to_surface_s = tidy_s(std::max(0.0, *watcher.surfaced_at_s - c.fault->at_s));
       o.surface_seen = "telemetry";
+    } else if (watcher.logged_surface_s) {
+      o.time_to_surface_s = tidy_s(std::max(0.0, *watcher.logged_surface_s - c.fault->at_s));
+      o.surface_seen = "vehicle log";
     } else if (o.fault_reached && report.final_depth_m && *report.final_depth_m <= surface_depth_m &&
                report.final_time_s) {
       o.time_to_surface_s = tidy_s(std::max(0.0, *report.final_time_s - c.fault->at_s));

@@ -28,10 +28,11 @@ struct Observation {
   bool fault_reached = false;
   // Seconds from the fault's start to the first sign of the vehicle at the
   // surface (depth <= the vehicle's surface_depth_m): a depth-cell reading
-  // in telemetry, or, when telemetry stopped (a lost link), the vehicle's
-  // final state after the run, which bounds it from above.
+  // in telemetry; when telemetry stopped (a lost link), the vehicle's own
+  // log line "at the surface"; failing that, the vehicle's final state after
+  // the run, which bounds it from above.
   std::optional<double> time_to_surface_s;
-  std::string surface_seen;  // "telemetry", "final state", or ""
+  std::string surface_seen;  // "telemetry", "vehicle log", "final state", or ""
   int refused_execs = 0;     // EXECs the vehicle refused or answered 0
   std::string first_refused;
 };
