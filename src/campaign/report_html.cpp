@@ -39,8 +39,9 @@ std::string heat_colour(std::uint64_t done, std::uint64_t failed) {
 void counts(std::string& out, const Json& r) {
   const Json& c = r["cases"];
   out += fmt::format("<p><span class=big>{} cases</span><span class='big pass'>{} passed</span>"
-                     "<span class='big fail'>{} failed</span></p>\n",
-                     c["done"].get<std::uint64_t>(), c["passed"].get<std::uint64_t>(), c["failed"].get<std::uint64_t>());
+                     "<span class='big {}'>{} failed</span></p>\n",
+                     c["done"].get<std::uint64_t>(), c["passed"].get<std::uint64_t>(),
+                     c["failed"].get<std::uint64_t>() > 0 ? "fail" : "muted", c["failed"].get<std::uint64_t>());
   if (r["interrupted"].get<bool>()) {
     out += fmt::format("<p class=fail>Interrupted: {} of the {} planned cases ran.</p>\n", c["done"].get<std::uint64_t>(),
                        c["planned"].get<std::uint64_t>());
@@ -106,8 +107,8 @@ std::string histogram_svg(const Json& h, double limit_s) {
   }
   const double lx = pad + limit_s / bin * bw;
   s += fmt::format("<line x1='{0:.1f}' x2='{0:.1f}' y1='0' y2='{1}' stroke='#c62828' stroke-dasharray='4 3'/>"
-                   "<text x='{2:.1f}' y='12' font-size='11' fill='#c62828'>T = {3} s</text>",
-                   lx, hgt, lx + 3, limit_s);
+                   "<text x='{2:.1f}' y='12' font-size='11' fill='#c62828' text-anchor='end'>T = {3} s</text>",
+                   lx, hgt, lx - 3, limit_s);
   s += fmt::format("<line x1='{0}' x2='{1}' y1='{2}' y2='{2}' stroke='#999'/>"
                    "<text x='{0}' y='{3}' font-size='11'>0 s</text><text x='{1}' y='{3}' font-size='11' "
                    "text-anchor='end'>{4:.1f} s</text><text x='2' y='12' font-size='11'>{5}</text></svg>",
@@ -118,7 +119,7 @@ std::string histogram_svg(const Json& h, double limit_s) {
 void surfacing(std::string& out, const Json& r) {
   if (r["time_to_surface"].empty()) return;
   out += "<h2>Time to surface after the fault</h2>\n<p class=muted>From the fault's start to the first depth reading "
-         "at the surface (or, with the link gone, the vehicle's final state). Only families whose expectations set "
+         "at the surface (with the link gone: the vehicle's own log line, else its final state). Only families whose expectations set "
          "surface_within_s.</p>\n";
   for (const Json& s : r["time_to_surface"]) {
     out += fmt::format("<h3>{} (T = {} s)</h3>\n<p>{} measured, {} over T, {} never seen at the surface. "
