@@ -11,6 +11,7 @@
 
 #include "campaign/campaign_run.h"
 #include "campaign/cases.h"
+#include "campaign/compare.h"
 #include "campaign/case_run.h"
 #include "campaign/spec.h"
 #include "cli/commands.h"
@@ -46,6 +47,7 @@ struct CampaignFlags {
   std::string keep_logs = "failed";
   std::uint64_t max_cases = campaign::kDefaultMaxCases;
   double case_wall_limit_s = 120.0;
+  std::vector<std::string> compare;
 };
 
 int list_cases(const campaign::Spec& spec, const std::vector<std::uint64_t>& indices) {
@@ -86,7 +88,11 @@ Runner add_campaign_command(CLI::App& app) {
       "Run every case of a campaign spec (missions x faults x injection times x seeds) against the simulated "
       "vehicle, check each against the spec's expectations, and write results.jsonl, report.json and "
       "report.html into --out. Exit 0: every case met its expectations; 1: some did not");
-  cmd->add_option("spec", f->spec, "The campaign spec (TOML; docs/campaign.md)")->required();
+  cmd->add_option("spec", f->spec, "The campaign spec (TOML; docs/campaign.md)");
+  cmd->add_option("--compare", f->compare,
+                  "Compare two campaigns' results.jsonl (A B): cases newly failing or passing, outcomes and figures "
+                  "that changed; exit 1 when a verdict or an outcome changed")
+      ->expected(2);
   cmd->add_option("--out", f->out, "The results folder (created; never written through a symbolic link)");
   cmd->add_option("-j,--jobs", f->jobs, "Worker processes (default: one per core)")->check(CLI::Range(1, 1024));
   cmd->add_flag("--list", f->list, "Print the cases, one a line (index, mission, family, fault, seed); run nothing");
@@ -103,6 +109,23 @@ Runner add_campaign_command(CLI::App& app) {
       ->check(CLI::Range(0.1, 86'400.0))
       ->capture_default_str();
   return [f, cmd] {
+    if (!f->compare.empty()) {
+      if (!f->spec.empty()) {
+        std::cerr << "strata campaign: --compare takes two results files and no spec\n";
+        return static_cast<int>(kExitUsage);
+      }
+      auto r = campaign::compare_results(f->compare[0], f->compare[1]);
+      if (!r) {
+        std::cerr << "strata campaign: " << r.error().message << "\n";
+        return exit_code_for_input(r.error());
+      }
+      std::cout << campaign::compare_text(r.value(), f->compare[0], f->compare[1]);
+      return static_cast<int>(r.value().differs() ? kExitAbort : kExitOk);
+    }
+    if (f->spec.empty()) {
+      std::cerr << "strata campaign: a spec is needed (or --compare A.jsonl B.jsonl)\n";
+      return static_cast<int>(kExitUsage);
+    }
     auto spec = campaign::load_spec(f->spec, {f->max_cases});
     if (!spec) {
       std::cerr << spec.error().message << "\n";
