@@ -94,8 +94,8 @@ std::optional<std::vector<double>> parse_table(core::TomlErrors& errors, const t
     // an integer up to rounding.
     const double span = (*to - *from) / *step;
     if (!(span < static_cast<double>(r.max_values))) {
-      errors.add(*step_node, fmt::format("'{}' makes more than {} values (from {} to {} by {})", r.what,
-                                         r.max_values, *from, *to, *step));
+      errors.add(*step_node, fmt::format("'{}' makes more than {} values (from {} to {} by {})", r.what, r.max_values,
+                                         *from, *to, *step));
       return std::nullopt;
     }
     const auto n = static_cast<std::uint64_t>(std::floor(span + 1e-9)) + 1;

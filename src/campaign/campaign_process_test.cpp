@@ -56,9 +56,11 @@ int run(const std::vector<std::string>& args, const TempDir& dir) {
 }
 
 std::string spec(const std::string& nominal_max_depth_m, const std::string& leak_times) {
-  return "missions = [\"" + testing::kTankDir + "/tank.coral\"]\n[expect.nominal]\nmax_depth_m = " +
-         nominal_max_depth_m + "\n[[family]]\nfault = \"none\"\nexpect = \"nominal\"\n[[family]]\nfault = \"leak\"\n"
-         "at_s = " + leak_times + "\n";
+  return "missions = [\"" + testing::kTankDir +
+         "/tank.coral\"]\n[expect.nominal]\nmax_depth_m = " + nominal_max_depth_m +
+         "\n[[family]]\nfault = \"none\"\nexpect = \"nominal\"\n[[family]]\nfault = \"leak\"\n"
+         "at_s = " +
+         leak_times + "\n";
 }
 
 TEST(CampaignProcess, ExitsZeroWhenEveryCaseMeetsItsExpectationsAndOneWhenSomeDoNot) {

@@ -24,8 +24,8 @@ class Progress {
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
-    const std::string line = fmt::format("campaign: {}/{} cases, {:.1f} cases/s, {} failed", done, total_, rate,
-                                         failed);
+    const std::string line =
+        fmt::format("campaign: {}/{} cases, {:.1f} cases/s, {} failed", done, total_, rate, failed);
     if (tty_) {
       if (!force && now - last_ < std::chrono::milliseconds(100)) return;
       *out_ << "\r\033[K" << line << std::flush;
@@ -89,8 +89,8 @@ core::Result<CampaignOutcome> run_campaign(const Spec& spec, const std::vector<s
   };
   pool.on_tick = [&] { progress.update(summary.done(), summary.failed()); };
   const auto start = Clock::now();
-  const PoolOutcome ran = options.jobs == 0 ? run_inline(spec, indices, config, pool)
-                                            : run_pool(spec, indices, config, pool);
+  const PoolOutcome ran =
+      options.jobs == 0 ? run_inline(spec, indices, config, pool) : run_pool(spec, indices, config, pool);
   progress.finish(summary.done(), summary.failed());
   CampaignOutcome out;
   out.planned = indices.size();

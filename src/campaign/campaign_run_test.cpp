@@ -35,7 +35,8 @@ at_s = [4, 14]
 expect = "leak"
 )";
 }
-const std::string kNominalOk = "[expect.nominal]\noutcomes = [\"completed\"]\nmax_depth_m = 1.8\nno_refused_exec = true\n";
+const std::string kNominalOk =
+    "[expect.nominal]\noutcomes = [\"completed\"]\nmax_depth_m = 1.8\nno_refused_exec = true\n";
 const std::string kNominalTooDeep = "[expect.nominal]\noutcomes = [\"completed\"]\nmax_depth_m = 1.0\n";
 
 Spec load(const TempDir& dir, const std::string& text) {
@@ -132,7 +133,8 @@ TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReprod
     EXPECT_FALSE(depth["pass"].get<bool>());
     EXPECT_GT(depth["figure"].get<double>(), 1.4);
     EXPECT_TRUE(fs::is_regular_file(dir.file("out/" + l["log"].get<std::string>())));
-    EXPECT_NE(std::string::npos, testing::read_text(dir.file("out/" + l["log"].get<std::string>())).find("mission_end"));
+    EXPECT_NE(std::string::npos,
+              testing::read_text(dir.file("out/" + l["log"].get<std::string>())).find("mission_end"));
     // The scenario file is the case: it reads back as the same run.
     const std::string scenario = testing::read_text(dir.file("out/" + l["scenario"].get<std::string>()));
     EXPECT_EQ(scenario_toml(spec, case_at(spec, i)), scenario);
@@ -168,6 +170,22 @@ TEST(CampaignRun, ACaseOverItsWallTimeIsACrashedCaseAndTheCampaignGoesOn) {
   }
   EXPECT_EQ(6u, seen.size());
   EXPECT_GE(crashed, 1);
+}
+
+TEST(CampaignRun, CoverageNamesTheTransitionsNoCaseFired) {
+  TempDir dir;
+  // Nominal runs only: the mission completes, so its abort path never fires.
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + "/tank.coral\"]\n[[family]]\nfault = \"none\"\n");
+  run(spec, dir.file("out"), 0);
+  const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
+  const auto& cov = report["coverage"][testing::kTankDir + "/tank.coral"];
+  const auto never = cov["never_fired"].get<std::vector<std::string>>();
+  EXPECT_NE(never.end(), std::find(never.begin(), never.end(), "tank.abort_mission"));
+  EXPECT_EQ(never.end(), std::find(never.begin(), never.end(), "tank.shutdown"));
+  EXPECT_EQ(1, cov["fired"]["tank.shutdown"].get<int>());
+  EXPECT_EQ(cov["transitions"].get<std::size_t>(), cov["fired"].size() + never.size());
+  EXPECT_EQ(1, cov["exits"]["tank.closed"].get<int>());
+  EXPECT_FALSE(cov["exits"].contains("tank.closed_after_abort"));
 }
 
 TEST(CampaignRun, TheOutputFolderIsNeverALink) {

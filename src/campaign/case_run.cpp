@@ -63,17 +63,16 @@ class CaseWatcher final : public run::RunObserver {
     if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit));
   }
 
-  nlohmann::ordered_json coverage() const {
-    return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}};
-  }
+  nlohmann::ordered_json coverage() const { return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}}; }
 
   std::optional<double> max_depth_m;
-  std::optional<double> surfaced_at_s;  // from telemetry
+  std::optional<double> surfaced_at_s;     // from telemetry
   std::optional<double> logged_surface_s;  // from the vehicle's log
 
  private:
   void surfaced_line(const std::string& text, double t) {
-    if (fault_at_s_ && !logged_surface_s && t >= *fault_at_s_ - 1e-9 && text.find("at the surface") != std::string::npos) {
+    if (fault_at_s_ && !logged_surface_s && t >= *fault_at_s_ - 1e-9 &&
+        text.find("at the surface") != std::string::npos) {
       logged_surface_s = t;
     }
   }

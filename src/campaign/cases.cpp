@@ -49,8 +49,10 @@ std::string scenario_toml(const Spec& spec, const Case& c) {
     const vehicle::Fault& f = *c.fault;
     out += fmt::format("\n[[fault]]\nkind = \"{}\"\nat_s = {}\n", vehicle::to_string(f.kind), f.at_s);
     if (f.kind == vehicle::FaultKind::WeakThrusters) out += fmt::format("health = {}\n", f.health);
-    if (f.duration_s) out += fmt::format("duration_s = {}\n", *f.duration_s);
-    else if (f.kind == vehicle::FaultKind::LinkLoss) out += "forever = true\n";
+    if (f.duration_s)
+      out += fmt::format("duration_s = {}\n", *f.duration_s);
+    else if (f.kind == vehicle::FaultKind::LinkLoss)
+      out += "forever = true\n";
   }
   return out;
 }
@@ -64,8 +66,10 @@ nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c) {
     fault["kind"] = vehicle::to_string(c.fault->kind);
     fault["at_s"] = c.fault->at_s;
     if (c.fault->kind == vehicle::FaultKind::WeakThrusters) fault["health"] = c.fault->health;
-    if (c.fault->duration_s) fault["duration_s"] = *c.fault->duration_s;
-    else if (c.fault->kind == vehicle::FaultKind::LinkLoss) fault["forever"] = true;
+    if (c.fault->duration_s)
+      fault["duration_s"] = *c.fault->duration_s;
+    else if (c.fault->kind == vehicle::FaultKind::LinkLoss)
+      fault["forever"] = true;
   } else {
     fault["kind"] = "none";
   }
@@ -80,8 +84,10 @@ std::string fault_text(const Case& c) {
   std::string s(vehicle::to_string(f.kind));
   if (f.kind == vehicle::FaultKind::WeakThrusters) s += fmt::format(" health {}", f.health);
   s += fmt::format(" at {} s", f.at_s);
-  if (f.duration_s) s += fmt::format(" for {} s", *f.duration_s);
-  else if (f.kind == vehicle::FaultKind::LinkLoss) s += " for good";
+  if (f.duration_s)
+    s += fmt::format(" for {} s", *f.duration_s);
+  else if (f.kind == vehicle::FaultKind::LinkLoss)
+    s += " for good";
   return s;
 }
 

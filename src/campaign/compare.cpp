@@ -48,7 +48,8 @@ std::string name(const Json& j) {
 std::string failed_checks(const Json& j) {
   std::string out;
   for (const Json& c : j["checks"]) {
-    if (!c.value("pass", true)) out += fmt::format("{}{} {}", out.empty() ? "" : ", ", c.value("name", ""), c["figure"].dump());
+    if (!c.value("pass", true))
+      out += fmt::format("{}{} {}", out.empty() ? "" : ", ", c.value("name", ""), c["figure"].dump());
   }
   return out;
 }
@@ -71,11 +72,12 @@ core::Result<CompareReport> compare_results(const std::string& a_path, const std
     ++r.matched;
     const std::string label = fmt::format("{} -> {}: {}", x["index"].dump(), y["index"].dump(), name(x));
     const bool pa = x["pass"].get<bool>(), pb = y["pass"].get<bool>();
-    if (pa && !pb) r.newly_failing.push_back(fmt::format("{} ({}; {})", label, y.value("outcome", ""), failed_checks(y)));
-    if (!pa && pb) r.newly_passing.push_back(fmt::format("{} (was {}; {})", label, x.value("outcome", ""), failed_checks(x)));
+    if (pa && !pb)
+      r.newly_failing.push_back(fmt::format("{} ({}; {})", label, y.value("outcome", ""), failed_checks(y)));
+    if (!pa && pb)
+      r.newly_passing.push_back(fmt::format("{} (was {}; {})", label, x.value("outcome", ""), failed_checks(x)));
     if (x.value("outcome", "") != y.value("outcome", "")) {
-      r.outcome_changed.push_back(
-          fmt::format("{}: {} -> {}", label, x.value("outcome", ""), y.value("outcome", "")));
+      r.outcome_changed.push_back(fmt::format("{}: {} -> {}", label, x.value("outcome", ""), y.value("outcome", "")));
     }
     if (pa == pb) {
       // The same verdict, a different figure: how far each moved.
@@ -100,10 +102,11 @@ core::Result<CompareReport> compare_results(const std::string& a_path, const std
 }
 
 std::string compare_text(const CompareReport& r, const std::string& a_path, const std::string& b_path) {
-  std::string out = fmt::format("A {}\nB {}\n{} cases in both; {} newly failing, {} newly passing, {} with another "
-                                "outcome, {} with another figure; {} only in A, {} only in B\n",
-                                a_path, b_path, r.matched, r.newly_failing.size(), r.newly_passing.size(),
-                                r.outcome_changed.size(), r.figure_changed.size(), r.only_a.size(), r.only_b.size());
+  std::string out = fmt::format(
+      "A {}\nB {}\n{} cases in both; {} newly failing, {} newly passing, {} with another "
+      "outcome, {} with another figure; {} only in A, {} only in B\n",
+      a_path, b_path, r.matched, r.newly_failing.size(), r.newly_passing.size(), r.outcome_changed.size(),
+      r.figure_changed.size(), r.only_a.size(), r.only_b.size());
   const auto section = [&out](const char* title, const std::vector<std::string>& lines) {
     if (lines.empty()) return;
     out += fmt::format("{}:\n", title);

@@ -10,7 +10,11 @@ namespace {
 
 std::string line(int index, double at_s, bool pass, const std::string& outcome, double t) {
   return nlohmann::json{{"index", index},
-                        {"inputs", {{"mission", "tank.coral"}, {"family", "leak"}, {"fault", {{"kind", "leak"}, {"at_s", at_s}}}, {"seed", 1}}},
+                        {"inputs",
+                         {{"mission", "tank.coral"},
+                          {"family", "leak"},
+                          {"fault", {{"kind", "leak"}, {"at_s", at_s}}},
+                          {"seed", 1}}},
                         {"outcome", outcome},
                         {"pass", pass},
                         {"checks", {{{"name", "surface_within_s"}, {"pass", pass}, {"figure", t}}}}}

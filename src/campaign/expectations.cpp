@@ -27,8 +27,8 @@ std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) 
     } else {
       c.figure = *seen.time_to_surface_s;
       c.pass = *seen.time_to_surface_s <= *set.surface_within_s;
-      c.note = seen.surface_seen == "final state" ? "at most: seen at the surface only in the vehicle's final state"
-                                                  : "";
+      c.note =
+          seen.surface_seen == "final state" ? "at most: seen at the surface only in the vehicle's final state" : "";
     }
     checks.push_back(std::move(c));
   }

@@ -91,7 +91,7 @@ struct Worker {
   int cmd_fd = -1;  // ours to write
   int res_fd = -1;  // ours to read
   std::string inbuf;
-  std::deque<std::uint64_t> batch;     // handed over, no result yet
+  std::deque<std::uint64_t> batch;       // handed over, no result yet
   std::optional<std::uint64_t> current;  // started, no result yet
   Clock::time_point started;
   std::string killed_why;  // set when we killed it
@@ -221,9 +221,8 @@ class Pool {
     }
     if (w.current) {
       std::erase(w.batch, *w.current);
-      const std::string why = !w.killed_why.empty() ? w.killed_why
-                                                    : fmt::format("the worker (pid {}) died: {}", w.pid,
-                                                                  death_text(status));
+      const std::string why =
+          !w.killed_why.empty() ? w.killed_why : fmt::format("the worker (pid {}) died: {}", w.pid, death_text(status));
       deliver(crashed_case(spec_, case_at(spec_, *w.current), why));
     }
     // The rest of its list goes back to the front of the queue.

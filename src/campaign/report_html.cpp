@@ -38,39 +38,44 @@ std::string heat_colour(std::uint64_t done, std::uint64_t failed) {
 
 void counts(std::string& out, const Json& r) {
   const Json& c = r["cases"];
-  out += fmt::format("<p><span class=big>{} cases</span><span class='big pass'>{} passed</span>"
-                     "<span class='big {}'>{} failed</span></p>\n",
-                     c["done"].get<std::uint64_t>(), c["passed"].get<std::uint64_t>(),
-                     c["failed"].get<std::uint64_t>() > 0 ? "fail" : "muted", c["failed"].get<std::uint64_t>());
+  out += fmt::format(
+      "<p><span class=big>{} cases</span><span class='big pass'>{} passed</span>"
+      "<span class='big {}'>{} failed</span></p>\n",
+      c["done"].get<std::uint64_t>(), c["passed"].get<std::uint64_t>(),
+      c["failed"].get<std::uint64_t>() > 0 ? "fail" : "muted", c["failed"].get<std::uint64_t>());
   if (r["interrupted"].get<bool>()) {
-    out += fmt::format("<p class=fail>Interrupted: {} of the {} planned cases ran.</p>\n", c["done"].get<std::uint64_t>(),
-                       c["planned"].get<std::uint64_t>());
+    out += fmt::format("<p class=fail>Interrupted: {} of the {} planned cases ran.</p>\n",
+                       c["done"].get<std::uint64_t>(), c["planned"].get<std::uint64_t>());
   }
   const Json& t = r["timings"];
-  out += fmt::format("<p class=muted>{} worker(s), {:.1f} s of wall time, {:.1f} cases/s; a case took {:.1f} ms "
-                     "(median), {:.1f} ms at most. Outcomes: ",
-                     t["workers"].get<int>(), t["wall_s"].get<double>(), t["cases_per_s"].get<double>(),
-                     1000 * t["case_wall_p50_s"].get<double>(), 1000 * t["case_wall_max_s"].get<double>());
+  out += fmt::format(
+      "<p class=muted>{} worker(s), {:.1f} s of wall time, {:.1f} cases/s; a case took {:.1f} ms "
+      "(median), {:.1f} ms at most. Outcomes: ",
+      t["workers"].get<int>(), t["wall_s"].get<double>(), t["cases_per_s"].get<double>(),
+      1000 * t["case_wall_p50_s"].get<double>(), 1000 * t["case_wall_max_s"].get<double>());
   bool first = true;
   for (const auto& [k, v] : r["outcomes"].items()) {
     out += fmt::format("{}{} {}", first ? "" : ", ", html_escape(k), v.get<std::uint64_t>());
     first = false;
   }
-  out += ".</p>\n<table><tr><th class=l>family</th><th class=l>fault</th><th class=l>expectations</th>"
-         "<th>cases</th><th>failed</th></tr>\n";
+  out +=
+      ".</p>\n<table><tr><th class=l>family</th><th class=l>fault</th><th class=l>expectations</th>"
+      "<th>cases</th><th>failed</th></tr>\n";
   for (const Json& f : r["families"]) {
-    out += fmt::format("<tr><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td>{}</td><td class={}>{}</td>"
-                       "</tr>\n",
-                       esc(f["name"]), esc(f["fault"]), esc(f["expect"]), f["done"].get<std::uint64_t>(),
-                       f["failed"].get<std::uint64_t>() ? "fail" : "pass", f["failed"].get<std::uint64_t>());
+    out += fmt::format(
+        "<tr><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td>{}</td><td class={}>{}</td>"
+        "</tr>\n",
+        esc(f["name"]), esc(f["fault"]), esc(f["expect"]), f["done"].get<std::uint64_t>(),
+        f["failed"].get<std::uint64_t>() ? "fail" : "pass", f["failed"].get<std::uint64_t>());
   }
   out += "</table>\n";
 }
 
 void heat_map(std::string& out, const Json& r) {
-  out += "<h2>Outcome matrix: family × injection time</h2>\n<p class=muted>Each cell: the cases failed of the cases "
-         "run with the fault starting at that time (s); green: none failed, red: all failed. Hover for the outcomes."
-         "</p>\n";
+  out +=
+      "<h2>Outcome matrix: family × injection time</h2>\n<p class=muted>Each cell: the cases failed of the cases "
+      "run with the fault starting at that time (s); green: none failed, red: all failed. Hover for the outcomes."
+      "</p>\n";
   for (const Json& row : r["matrix"]) {
     out += fmt::format("<h3>{} · {}</h3>\n<table class=heat><tr><th class=l>at_s</th>", esc(row["mission"]),
                        esc(row["family"]));
@@ -100,47 +105,55 @@ std::string histogram_svg(const Json& h, double limit_s) {
     const double n = counts[i].get<double>();
     const double bh = n / static_cast<double>(top) * (hgt - 20);
     const bool over = bin * static_cast<double>(i) >= limit_s;
-    s += fmt::format("<rect x='{:.1f}' y='{:.1f}' width='{:.1f}' height='{:.1f}' fill='{}'><title>{:.2f}–{:.2f} s: "
-                     "{}</title></rect>",
-                     pad + bw * static_cast<double>(i), hgt - bh, bw - 1, bh, over ? "#e57373" : "#64b5f6",
-                     bin * static_cast<double>(i), bin * static_cast<double>(i + 1), counts[i].get<std::uint64_t>());
+    s += fmt::format(
+        "<rect x='{:.1f}' y='{:.1f}' width='{:.1f}' height='{:.1f}' fill='{}'><title>{:.2f}–{:.2f} s: "
+        "{}</title></rect>",
+        pad + bw * static_cast<double>(i), hgt - bh, bw - 1, bh, over ? "#e57373" : "#64b5f6",
+        bin * static_cast<double>(i), bin * static_cast<double>(i + 1), counts[i].get<std::uint64_t>());
   }
   const double lx = pad + limit_s / bin * bw;
-  s += fmt::format("<line x1='{0:.1f}' x2='{0:.1f}' y1='0' y2='{1}' stroke='#c62828' stroke-dasharray='4 3'/>"
-                   "<text x='{2:.1f}' y='12' font-size='11' fill='#c62828' text-anchor='end'>T = {3} s</text>",
-                   lx, hgt, lx - 3, limit_s);
-  s += fmt::format("<line x1='{0}' x2='{1}' y1='{2}' y2='{2}' stroke='#999'/>"
-                   "<text x='{0}' y='{3}' font-size='11'>0 s</text><text x='{1}' y='{3}' font-size='11' "
-                   "text-anchor='end'>{4:.1f} s</text><text x='2' y='12' font-size='11'>{5}</text></svg>",
-                   pad, w - pad, hgt, hgt + 15, bin * static_cast<double>(counts.size()), top);
+  s += fmt::format(
+      "<line x1='{0:.1f}' x2='{0:.1f}' y1='0' y2='{1}' stroke='#c62828' stroke-dasharray='4 3'/>"
+      "<text x='{2:.1f}' y='12' font-size='11' fill='#c62828' text-anchor='end'>T = {3} s</text>",
+      lx, hgt, lx - 3, limit_s);
+  s += fmt::format(
+      "<line x1='{0}' x2='{1}' y1='{2}' y2='{2}' stroke='#999'/>"
+      "<text x='{0}' y='{3}' font-size='11'>0 s</text><text x='{1}' y='{3}' font-size='11' "
+      "text-anchor='end'>{4:.1f} s</text><text x='2' y='12' font-size='11'>{5}</text></svg>",
+      pad, w - pad, hgt, hgt + 15, bin * static_cast<double>(counts.size()), top);
   return s;
 }
 
 void surfacing(std::string& out, const Json& r) {
   if (r["time_to_surface"].empty()) return;
-  out += "<h2>Time to surface after the fault</h2>\n<p class=muted>From the fault's start to the first depth reading "
-         "at the surface (with the link gone: the vehicle's own log line, else its final state). Only families whose expectations set "
-         "surface_within_s.</p>\n";
+  out +=
+      "<h2>Time to surface after the fault</h2>\n<p class=muted>From the fault's start to the first depth reading "
+      "at the surface (with the link gone: the vehicle's own log line, else its final state). Only families whose "
+      "expectations set "
+      "surface_within_s.</p>\n";
   for (const Json& s : r["time_to_surface"]) {
-    out += fmt::format("<h3>{} (T = {} s)</h3>\n<p>{} measured, {} over T, {} never seen at the surface. "
-                       "p50 {} s, p90 {} s, p99 {} s, max {} s.</p>\n",
-                       esc(s["family"]), s["limit_s"].get<double>(), s["measured"].get<std::uint64_t>(),
-                       s.value("over_limit", std::uint64_t{0}), s["never_surfaced"].get<std::uint64_t>(),
-                       number(s.value("p50_s", Json())), number(s.value("p90_s", Json())),
-                       number(s.value("p99_s", Json())), number(s.value("max_s", Json())));
+    out += fmt::format(
+        "<h3>{} (T = {} s)</h3>\n<p>{} measured, {} over T, {} never seen at the surface. "
+        "p50 {} s, p90 {} s, p99 {} s, max {} s.</p>\n",
+        esc(s["family"]), s["limit_s"].get<double>(), s["measured"].get<std::uint64_t>(),
+        s.value("over_limit", std::uint64_t{0}), s["never_surfaced"].get<std::uint64_t>(),
+        number(s.value("p50_s", Json())), number(s.value("p90_s", Json())), number(s.value("p99_s", Json())),
+        number(s.value("max_s", Json())));
     if (s.contains("histogram")) out += histogram_svg(s["histogram"], s["limit_s"].get<double>()) + "\n";
   }
 }
 
 void coverage(std::string& out, const Json& r) {
-  out += "<h2>Coverage</h2>\n<p class=muted>Across every case: the transitions that fired, and those no case "
-         "fired (never exercised here — compare with what <code>strata verify</code> proves dead); the answers "
-         "each ASK gave; the phase exits taken.</p>\n";
+  out +=
+      "<h2>Coverage</h2>\n<p class=muted>Across every case: the transitions that fired, and those no case "
+      "fired (never exercised here — compare with what <code>strata verify</code> proves dead); the answers "
+      "each ASK gave; the phase exits taken.</p>\n";
   for (const auto& [mission, c] : r["coverage"].items()) {
     out += fmt::format("<h3>{}</h3>\n", html_escape(mission));
     if (c.contains("transitions")) {
-      out += fmt::format("<p>{} of {} transitions fired.", c["transitions"].get<std::size_t>() - c["never_fired"].size(),
-                         c["transitions"].get<std::size_t>());
+      out +=
+          fmt::format("<p>{} of {} transitions fired.", c["transitions"].get<std::size_t>() - c["never_fired"].size(),
+                      c["transitions"].get<std::size_t>());
       if (!c["never_fired"].empty()) {
         out += " Never fired: ";
         bool first = true;
@@ -169,12 +182,14 @@ void failures(std::string& out, const Json& r) {
     out += "<p class=pass>None.</p>\n";
     return;
   }
-  out += "<table class=failures><tr><th>case</th><th class=l>mission · family · fault</th><th class=l>outcome</th>"
-         "<th class=l>failed expectations</th><th class=l>reproduce</th></tr>\n";
+  out +=
+      "<table class=failures><tr><th>case</th><th class=l>mission · family · fault</th><th class=l>outcome</th>"
+      "<th class=l>failed expectations</th><th class=l>reproduce</th></tr>\n";
   for (const Json& f : r["failures"]) {
     const Json& in = f["inputs"];
     std::string fault;
-    for (const auto& [k, v] : in["fault"].items()) fault += fmt::format("{}={} ", k, v.is_string() ? v.get<std::string>() : v.dump());
+    for (const auto& [k, v] : in["fault"].items())
+      fault += fmt::format("{}={} ", k, v.is_string() ? v.get<std::string>() : v.dump());
     std::string checks;
     for (const Json& c : f["failed_checks"]) {
       checks += fmt::format("{}: {}{}<br>", esc(c["name"]), esc(c["figure"]),
@@ -183,10 +198,11 @@ void failures(std::string& out, const Json& r) {
     std::string repro = fmt::format("<code>{}</code>", esc(f["repro"]));
     if (f.contains("repro_run")) repro += fmt::format("<br><code>{}</code>", esc(f["repro_run"]));
     if (f.contains("log")) repro += fmt::format("<br>log: <code>{}</code>", esc(f["log"]));
-    out += fmt::format("<tr><td>{}</td><td class=l>{} · {} · {}seed={}</td><td class=l>{}<br><span class=muted>{}"
-                       "</span></td><td class=l>{}</td><td class=l>{}</td></tr>\n",
-                       f["index"].get<std::uint64_t>(), esc(in["mission"]), esc(in["family"]), html_escape(fault),
-                       in["seed"].get<std::uint64_t>(), esc(f["outcome"]), esc(f["reason"]), checks, repro);
+    out += fmt::format(
+        "<tr><td>{}</td><td class=l>{} · {} · {}seed={}</td><td class=l>{}<br><span class=muted>{}"
+        "</span></td><td class=l>{}</td><td class=l>{}</td></tr>\n",
+        f["index"].get<std::uint64_t>(), esc(in["mission"]), esc(in["family"]), html_escape(fault),
+        in["seed"].get<std::uint64_t>(), esc(f["outcome"]), esc(f["reason"]), checks, repro);
   }
   out += "</table>\n";
   if (r["failures_not_listed"].get<std::uint64_t>() > 0) {
@@ -214,9 +230,10 @@ std::string html_escape(const std::string& text) {
 }
 
 std::string report_html(const Json& r) {
-  std::string out = fmt::format("<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>Campaign {}</title>"
-                                "<style>{}</style></head><body>\n<h1>Campaign {}</h1>\n<p class=muted>{}</p>\n",
-                                esc(r["campaign"]), kStyle, esc(r["campaign"]), esc(r["command"]));
+  std::string out = fmt::format(
+      "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>Campaign {}</title>"
+      "<style>{}</style></head><body>\n<h1>Campaign {}</h1>\n<p class=muted>{}</p>\n",
+      esc(r["campaign"]), kStyle, esc(r["campaign"]), esc(r["command"]));
   counts(out, r);
   failures(out, r);
   heat_map(out, r);

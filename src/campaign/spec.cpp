@@ -36,14 +36,12 @@ bool needs_duration(vehicle::FaultKind k) {
 
 class SpecReader {
  public:
-  SpecReader(const std::string& path, const SpecLimits& limits) : errors_(path), limits_(limits) {
-    spec_.path = path;
-  }
+  SpecReader(const std::string& path, const SpecLimits& limits) : errors_(path), limits_(limits) { spec_.path = path; }
 
   core::Result<Spec> read(const toml::table& root) {
     for (auto&& [key, node] : root) {
-      static constexpr std::string_view kKeys[] = {"name",     "description", "missions",       "seeds", "sample_seed",
-                                                   "max_sim_time_s", "expect", "family"};
+      static constexpr std::string_view kKeys[] = {"name",        "description",    "missions", "seeds",
+                                                   "sample_seed", "max_sim_time_s", "expect",   "family"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
         errors_.add(key, fmt::format("unknown key '{}' (expected name, description, missions, seeds, sample_seed, "
                                      "max_sim_time_s, [expect.NAME] or [[family]])",
@@ -51,16 +49,20 @@ class SpecReader {
       }
     }
     if (const toml::node* n = root.get("name")) {
-      if (auto s = n->value<std::string>()) spec_.name = *s;
-      else errors_.add(*n, "'name' must be a string");
+      if (auto s = n->value<std::string>())
+        spec_.name = *s;
+      else
+        errors_.add(*n, "'name' must be a string");
     }
     if (const toml::node* n = root.get("description"); n && !n->is_string()) {
       errors_.add(*n, "'description' must be a string");
     }
     if (const toml::node* n = root.get("sample_seed")) {
       const auto* i = n->as_integer();
-      if (i == nullptr || i->get() < 0) errors_.add(*n, "'sample_seed' must be an integer >= 0");
-      else spec_.sample_seed = static_cast<std::uint64_t>(i->get());
+      if (i == nullptr || i->get() < 0)
+        errors_.add(*n, "'sample_seed' must be an integer >= 0");
+      else
+        spec_.sample_seed = static_cast<std::uint64_t>(i->get());
     }
     if (const toml::node* n = root.get("max_sim_time_s")) {
       auto v = core::toml_number(*n);
@@ -79,8 +81,7 @@ class SpecReader {
     if (n > limits_.max_cases) {
       errors_.add(root.get("family") ? root.get("family")->source() : root.source(),
                   fmt::format("the spec makes {} cases, over the limit of {} (--max-cases raises it)",
-                              n == kSaturated ? std::string("more than 2^64") : std::to_string(n),
-                              limits_.max_cases));
+                              n == kSaturated ? std::string("more than 2^64") : std::to_string(n), limits_.max_cases));
       return errors_.error();
     }
     return std::move(spec_);
@@ -139,8 +140,10 @@ class SpecReader {
       }
       for (const toml::node& item : *a) {
         const auto* i = item.as_integer();
-        if (i == nullptr || i->get() < 0) errors_.add(item, "a seed must be an integer >= 0");
-        else spec_.seeds.push_back(static_cast<std::uint64_t>(i->get()));
+        if (i == nullptr || i->get() < 0)
+          errors_.add(item, "a seed must be an integer >= 0");
+        else
+          spec_.seeds.push_back(static_cast<std::uint64_t>(i->get()));
       }
       return;
     }
@@ -241,7 +244,8 @@ class SpecReader {
   void read_family(const toml::table& t) {
     Family f;
     for (auto&& [key, node] : t) {
-      static constexpr std::string_view kKeys[] = {"name", "fault", "at_s", "health", "duration_s", "forever", "expect"};
+      static constexpr std::string_view kKeys[] = {"name",       "fault",   "at_s",  "health",
+                                                   "duration_s", "forever", "expect"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
         errors_.add(key, fmt::format("unknown key '{}' in a family (expected name, fault, at_s, health, duration_s, "
                                      "forever, expect)",
@@ -267,8 +271,10 @@ class SpecReader {
     f.name = *fault_text;
     if (const toml::node* n = t.get("name")) {
       auto s = n->value<std::string>();
-      if (!s || s->empty()) errors_.add(*n, "'name' must be a non-empty string");
-      else f.name = *s;
+      if (!s || s->empty())
+        errors_.add(*n, "'name' must be a non-empty string");
+      else
+        f.name = *s;
     }
     if (std::any_of(spec_.families.begin(), spec_.families.end(), [&](const Family& g) { return g.name == f.name; })) {
       errors_.add(t.get("name") ? t.get("name")->source() : t.source(),
@@ -277,9 +283,12 @@ class SpecReader {
     f.expect = "default";
     if (const toml::node* n = t.get("expect")) {
       auto s = n->value<std::string>();
-      if (!s) errors_.add(*n, "'expect' must name an [expect.NAME] table");
-      else if (!spec_.expectations.contains(*s)) errors_.add(*n, fmt::format("no [expect.{}] in this spec", *s));
-      else f.expect = *s;
+      if (!s)
+        errors_.add(*n, "'expect' must name an [expect.NAME] table");
+      else if (!spec_.expectations.contains(*s))
+        errors_.add(*n, fmt::format("no [expect.{}] in this spec", *s));
+      else
+        f.expect = *s;
     } else if (!spec_.expectations.contains("default")) {
       ExpectationSet any;  // nothing checked but that it ran
       any.name = "default";
@@ -324,10 +333,14 @@ class SpecReader {
       return;
     }
     if (forever != nullptr) {
-      if (*kind != vehicle::FaultKind::LinkLoss) refuse(forever, "forever");
-      else if (!forever->is_boolean() || !*forever->value<bool>()) errors_.add(*forever, "'forever' must be true");
-      else if (duration != nullptr) errors_.add(*duration, "give either 'duration_s' or 'forever = true', not both");
-      else f.forever = true;
+      if (*kind != vehicle::FaultKind::LinkLoss)
+        refuse(forever, "forever");
+      else if (!forever->is_boolean() || !*forever->value<bool>())
+        errors_.add(*forever, "'forever' must be true");
+      else if (duration != nullptr)
+        errors_.add(*duration, "give either 'duration_s' or 'forever = true', not both");
+      else
+        f.forever = true;
       return;
     }
     if (duration == nullptr) {

@@ -59,12 +59,12 @@ health = [0.5, 0.9]
     const Case c = case_at(spec.value(), i);
     got.push_back(fault_text(c) + " seed " + std::to_string(c.seed));
   }
-  EXPECT_EQ((std::vector<std::string>{
-                "weak_thrusters health 0.5 at 1 s seed 7", "weak_thrusters health 0.5 at 1 s seed 8",
-                "weak_thrusters health 0.9 at 1 s seed 7", "weak_thrusters health 0.9 at 1 s seed 8",
-                "weak_thrusters health 0.5 at 5 s seed 7", "weak_thrusters health 0.5 at 5 s seed 8",
-                "weak_thrusters health 0.9 at 5 s seed 7", "weak_thrusters health 0.9 at 5 s seed 8"}),
-            got);
+  EXPECT_EQ(
+      (std::vector<std::string>{"weak_thrusters health 0.5 at 1 s seed 7", "weak_thrusters health 0.5 at 1 s seed 8",
+                                "weak_thrusters health 0.9 at 1 s seed 7", "weak_thrusters health 0.9 at 1 s seed 8",
+                                "weak_thrusters health 0.5 at 5 s seed 7", "weak_thrusters health 0.5 at 5 s seed 8",
+                                "weak_thrusters health 0.9 at 5 s seed 7", "weak_thrusters health 0.9 at 5 s seed 8"}),
+      got);
 }
 
 TEST(CampaignSpec, SampledAxesAreTheSameEveryTimeAndMoveWithTheSampleSeed) {
@@ -135,10 +135,14 @@ helth = 0.5
 }
 
 TEST(CampaignSpec, ImpossibleRangesAreRefused) {
-  const auto family = [](const std::string& at) { return spec_text("[[family]]\nfault = \"leak\"\nat_s = " + at + "\n"); };
-  EXPECT_NE(std::string::npos, error_of(family("{ from = 0, to = 5, step = -1 }")).find("c.toml:4:35: 'at_s.step' must "
-                                                                                       "be a number > 0"));
-  EXPECT_NE(std::string::npos, error_of(family("{ from = 0, to = 5, step = 0 }")).find("'at_s.step' must be a number > 0"));
+  const auto family = [](const std::string& at) {
+    return spec_text("[[family]]\nfault = \"leak\"\nat_s = " + at + "\n");
+  };
+  EXPECT_NE(std::string::npos, error_of(family("{ from = 0, to = 5, step = -1 }"))
+                                   .find("c.toml:4:35: 'at_s.step' must "
+                                         "be a number > 0"));
+  EXPECT_NE(std::string::npos,
+            error_of(family("{ from = 0, to = 5, step = 0 }")).find("'at_s.step' must be a number > 0"));
   EXPECT_NE(std::string::npos, error_of(family("{ from = 5, to = 1, step = 1 }")).find("'at_s.to' (1) is below"));
   EXPECT_NE(std::string::npos, error_of(family("nan")).find("c.toml:4:8: 'at_s' must be in [0, 86400] (it is nan)"));
   EXPECT_NE(std::string::npos, error_of(family("{ from = 0, to = inf, step = 1 }")).find("'at_s.to' must be in"));
@@ -150,8 +154,8 @@ TEST(CampaignSpec, ImpossibleRangesAreRefused) {
   EXPECT_NE(std::string::npos, health.find("c.toml:5:10: 'health' must be in [0, 1] (it is 1.5)")) << health;
   EXPECT_NE(std::string::npos, error_of(spec_text("[[family]]\nfault = \"leak\"\nat_s = 1\nhealth = 0.5\n"))
                                    .find("'health' does not apply to a leak family"));
-  EXPECT_NE(std::string::npos, error_of(spec_text("[[family]]\nfault = \"sensor_dropout\"\nat_s = 1\n"))
-                                   .find("needs 'duration_s'"));
+  EXPECT_NE(std::string::npos,
+            error_of(spec_text("[[family]]\nfault = \"sensor_dropout\"\nat_s = 1\n")).find("needs 'duration_s'"));
 }
 
 TEST(CampaignSpec, AHugeGridIsRefusedBeforeAnythingIsMade) {
@@ -159,8 +163,9 @@ TEST(CampaignSpec, AHugeGridIsRefusedBeforeAnythingIsMade) {
       error_of(spec_text("[[family]]\nfault = \"leak\"\nat_s = { from = 0, to = 1e4, step = 1e-300 }\n"));
   EXPECT_NE(std::string::npos, e.find("c.toml:4:37: 'at_s' makes more than 100000 values")) << e;
   // Axes within the limit whose product is over it: the count, and how to raise the limit.
-  const std::string body = "seeds = { from = 0, count = 100 }\n[[family]]\nfault = \"weak_thrusters\"\n"
-                           "at_s = { from = 0, to = 99, step = 1 }\nhealth = { from = 0, to = 1, step = 0.01 }\n";
+  const std::string body =
+      "seeds = { from = 0, count = 100 }\n[[family]]\nfault = \"weak_thrusters\"\n"
+      "at_s = { from = 0, to = 99, step = 1 }\nhealth = { from = 0, to = 1, step = 0.01 }\n";
   const std::string over = error_of(spec_text(body));
   EXPECT_NE(std::string::npos, over.find("the spec makes 1010000 cases, over the limit of 100000 (--max-cases raises "
                                          "it)"))
@@ -174,11 +179,12 @@ TEST(CampaignSpec, AHugeGridIsRefusedBeforeAnythingIsMade) {
 TEST(CampaignSpec, MissionsAreCheckedWhereTheSpecNamesThem) {
   TempDir dir;
   dir.write("own.coral", "// only needs to exist for the spec\n");
-  const std::string ok = dir.write("ok.toml", "missions = [\"own.coral\", \"../" +
-                                                  std::filesystem::relative(testing::kTankDir + "/tank.pl",
-                                                                            std::filesystem::path(dir.path()).parent_path())
-                                                      .string() +
-                                                  "\"]\n[[family]]\nfault = \"none\"\n");
+  const std::string ok = dir.write(
+      "ok.toml",
+      "missions = [\"own.coral\", \"../" +
+          std::filesystem::relative(testing::kTankDir + "/tank.pl", std::filesystem::path(dir.path()).parent_path())
+              .string() +
+          "\"]\n[[family]]\nfault = \"none\"\n");
   auto spec = load_spec(ok);
   ASSERT_TRUE(spec.ok()) << spec.error().message;
   EXPECT_EQ(dir.file("own.coral"), spec.value().missions[0].resolved);
@@ -207,8 +213,9 @@ expect = "lenient"
   EXPECT_NE(std::string::npos, e.find("c.toml:4:20: 'surface_within_s' must be a number >= 0")) << e;
   EXPECT_NE(std::string::npos, e.find("c.toml:5:12: 'no_stall' must be true or false")) << e;
   EXPECT_NE(std::string::npos, e.find("c.toml:8:10: no [expect.lenient] in this spec")) << e;
-  EXPECT_NE(std::string::npos,
-            error_of(spec_text("[[family]]\nfault = \"none\"\n[[family]]\nfault = \"none\"\n")).find("a second family"));
+  EXPECT_NE(
+      std::string::npos,
+      error_of(spec_text("[[family]]\nfault = \"none\"\n[[family]]\nfault = \"none\"\n")).find("a second family"));
 }
 
 TEST(CampaignSpec, IndexRangesStayInsideTheCampaign) {

@@ -82,8 +82,10 @@ void Summary::add(const nlohmann::ordered_json& line) {
   for (const auto& check : line["checks"]) {
     if (check.value("name", "") != "surface_within_s") continue;
     Surfacing& s = surfacing_[family];
-    if (check["figure"].is_number()) s.times_s.push_back(check["figure"].get<double>());
-    else if (!check.value("pass", true)) ++s.never;
+    if (check["figure"].is_number())
+      s.times_s.push_back(check["figure"].get<double>());
+    else if (!check.value("pass", true))
+      ++s.never;
   }
   if (!pass) {
     if (failures_.size() < kMaxListedFailures) {
@@ -149,8 +151,8 @@ nlohmann::ordered_json Summary::to_json(const CampaignRun& run) const {
   for (const Family& f : spec_.families) {
     const Surfacing& s = surfacing_.at(f.name);
     if (!s.limit_s) continue;
-    nlohmann::ordered_json e{{"family", f.name}, {"limit_s", *s.limit_s}, {"measured", s.times_s.size()},
-                             {"never_surfaced", s.never}};
+    nlohmann::ordered_json e{
+        {"family", f.name}, {"limit_s", *s.limit_s}, {"measured", s.times_s.size()}, {"never_surfaced", s.never}};
     if (!s.times_s.empty()) {
       e["p50_s"] = percentile(s.times_s, 50);
       e["p90_s"] = percentile(s.times_s, 90);

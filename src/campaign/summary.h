@@ -70,8 +70,8 @@ class Summary {
   std::uint64_t done_ = 0, passed_ = 0, failed_ = 0;
   std::map<std::string, std::uint64_t> outcomes_;
   std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> families_;  // done, failed
-  std::vector<Row> rows_;                                                   // mission-major, family-minor
-  std::map<std::string, Surfacing> surfacing_;                              // by family
+  std::vector<Row> rows_;                                                    // mission-major, family-minor
+  std::map<std::string, Surfacing> surfacing_;                               // by family
   std::vector<nlohmann::ordered_json> failures_;
   std::map<std::string, std::map<std::string, std::uint64_t>> coverage_;  // mission -> item -> cases
   std::vector<double> case_wall_s_;

@@ -53,8 +53,8 @@ struct CampaignFlags {
 int list_cases(const campaign::Spec& spec, const std::vector<std::uint64_t>& indices) {
   for (std::uint64_t i : indices) {
     const campaign::Case c = campaign::case_at(spec, i);
-    std::cout << fmt::format("{}\t{}\t{}\t{}\tseed {}\n", i, spec.missions[c.mission].path, spec.families[c.family].name,
-                             campaign::fault_text(c), c.seed);
+    std::cout << fmt::format("{}\t{}\t{}\t{}\tseed {}\n", i, spec.missions[c.mission].path,
+                             spec.families[c.family].name, campaign::fault_text(c), c.seed);
   }
   return static_cast<int>(kExitOk);
 }
@@ -175,7 +175,8 @@ Runner add_campaign_command(CLI::App& app) {
     const campaign::CampaignOutcome& r = ran.value();
     std::cout << fmt::format("campaign {}: {} of {} cases ran, {} passed, {} failed ({:.1f} s, {:.1f} cases/s)\n",
                              spec.value().name.empty() ? f->spec : spec.value().name, r.done, r.planned,
-                             r.done - r.failed, r.failed, r.wall_s, r.wall_s > 0 ? static_cast<double>(r.done) / r.wall_s : 0.0);
+                             r.done - r.failed, r.failed, r.wall_s,
+                             r.wall_s > 0 ? static_cast<double>(r.done) / r.wall_s : 0.0);
     std::cout << fmt::format("  results: {0}/results.jsonl, report: {0}/report.html\n", f->out);
     if (r.interrupted) {
       std::cout << fmt::format("  interrupted by {}: the finished cases are kept\n", signal_name(g_last_signal));
