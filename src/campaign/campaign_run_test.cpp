@@ -10,6 +10,7 @@
 #include "campaign/campaign_test_support.h"
 #include "campaign/cases.h"
 #include "campaign/case_run.h"
+#include "campaign/merge.h"
 
 namespace strata::campaign {
 namespace {
@@ -186,6 +187,40 @@ TEST(CampaignRun, CoverageNamesTheTransitionsNoCaseFired) {
   EXPECT_EQ(cov["transitions"].get<std::size_t>(), cov["fired"].size() + never.size());
   EXPECT_EQ(1, cov["exits"]["tank.closed"].get<int>());
   EXPECT_FALSE(cov["exits"].contains("tank.closed_after_abort"));
+}
+
+TEST(CampaignRun, ShardsMergedGiveTheResultsAndReportOfOneRun) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalTooDeep));  // two failing cases: their logs travel too
+  run(spec, dir.file("whole"), 2);
+  for (int shard = 0; shard < 3; ++shard) {
+    auto picked = shard_indices(std::to_string(shard) + "/3", spec.case_count());
+    ASSERT_TRUE(picked.ok());
+    EXPECT_EQ(2u, picked.value().size());
+    CampaignOptions o;
+    o.out_dir = dir.file("shard" + std::to_string(shard));
+    o.jobs = 1;
+    ASSERT_TRUE(run_campaign(spec, picked.value(), o).ok());
+  }
+  auto merged =
+      merge_campaigns(spec, {dir.file("shard0"), dir.file("shard1"), dir.file("shard2")}, dir.file("merged"), "test");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  EXPECT_EQ(6u, merged.value().done);
+  EXPECT_EQ(2u, merged.value().failed);
+  EXPECT_EQ(by_index(testing::read_results(dir.file("whole/results.jsonl"))),
+            by_index(testing::read_results(dir.file("merged/results.jsonl"))));
+  auto whole = nlohmann::json::parse(testing::read_text(dir.file("whole/report.json")));
+  auto joined = nlohmann::json::parse(testing::read_text(dir.file("merged/report.json")));
+  for (const char* key : {"cases", "outcomes", "families", "matrix", "time_to_surface", "coverage"}) {
+    EXPECT_EQ(whole[key], joined[key]) << key;
+  }
+  for (const auto& l : testing::read_results(dir.file("merged/results.jsonl"))) {
+    if (l.contains("log")) {
+      EXPECT_TRUE(fs::is_regular_file(dir.file("merged/" + l["log"].get<std::string>())));
+    }
+  }
+  EXPECT_FALSE(shard_indices("3/3", 6).ok());
+  EXPECT_FALSE(shard_indices("1", 6).ok());
 }
 
 TEST(CampaignRun, TheOutputFolderIsNeverALink) {

@@ -12,6 +12,7 @@
 #include "campaign/campaign_run.h"
 #include "campaign/cases.h"
 #include "campaign/compare.h"
+#include "campaign/merge.h"
 #include "campaign/case_run.h"
 #include "campaign/spec.h"
 #include "cli/commands.h"
@@ -48,6 +49,8 @@ struct CampaignFlags {
   std::uint64_t max_cases = campaign::kDefaultMaxCases;
   double case_wall_limit_s = 120.0;
   std::vector<std::string> compare;
+  std::string shard;
+  std::vector<std::string> merge;
 };
 
 int list_cases(const campaign::Spec& spec, const std::vector<std::uint64_t>& indices) {
@@ -98,6 +101,10 @@ Runner add_campaign_command(CLI::App& app) {
   cmd->add_flag("--list", f->list, "Print the cases, one a line (index, mission, family, fault, seed); run nothing");
   cmd->add_option("--case", f->one_case, "Run case I alone (in this process; with --out, into that folder)");
   cmd->add_option("--cases", f->cases, "Run the cases A-B (inclusive) only");
+  cmd->add_option("--shard", f->shard, "Run every N-th case from the I-th (I/N, 0 <= I < N): one of N pieces");
+  cmd->add_option("--merge", f->merge,
+                  "Join the folders of runs of this spec's pieces (--shard, --cases) into --out: one results.jsonl "
+                  "and one report, as a single run would give");
   cmd->add_option("--keep-logs", f->keep_logs, "Mission logs kept in DIR/logs: all, failed or none")
       ->check(CLI::IsMember({"all", "failed", "none"}))
       ->capture_default_str();
@@ -132,8 +139,37 @@ Runner add_campaign_command(CLI::App& app) {
       return exit_code_for_input(spec.error());
     }
     const std::uint64_t count = spec.value().case_count();
+    if (!f->merge.empty()) {
+      if (f->out.empty()) {
+        std::cerr << "strata campaign: --merge needs --out DIR\n";
+        return static_cast<int>(kExitUsage);
+      }
+      auto merged = campaign::merge_campaigns(spec.value(), f->merge, f->out,
+                                              fmt::format("strata campaign {} --merge ... --out {}", f->spec, f->out));
+      if (!merged) {
+        std::cerr << "strata campaign: " << merged.error().message << "\n";
+        return exit_code_for_input(merged.error());
+      }
+      const auto& m = merged.value();
+      std::cout << fmt::format("campaign {}: merged {} folders: {} of {} cases, {} passed, {} failed{}\n", f->spec,
+                               f->merge.size(), m.done, m.planned, m.done - m.failed, m.failed,
+                               m.duplicates ? fmt::format(" ({} duplicates dropped)", m.duplicates) : "");
+      if (m.done < m.planned) std::cout << fmt::format("  {} cases missing\n", m.planned - m.done);
+      return static_cast<int>(m.failed == 0 && m.done == m.planned ? kExitOk : kExitAbort);
+    }
     std::vector<std::uint64_t> indices;
-    if (f->one_case || !f->cases.empty()) {
+    if (!f->shard.empty()) {
+      if (f->one_case || !f->cases.empty()) {
+        std::cerr << "strata campaign: --shard picks its own cases; not with --case or --cases\n";
+        return static_cast<int>(kExitUsage);
+      }
+      auto picked = campaign::shard_indices(f->shard, count);
+      if (!picked) {
+        std::cerr << "strata campaign: " << picked.error().message << "\n";
+        return static_cast<int>(kExitUsage);
+      }
+      indices = std::move(picked).value();
+    } else if (f->one_case || !f->cases.empty()) {
       if (f->one_case && !f->cases.empty()) {
         std::cerr << "strata campaign: give --case or --cases, not both\n";
         return static_cast<int>(kExitUsage);
