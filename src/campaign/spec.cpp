@@ -40,11 +40,11 @@ class SpecReader {
 
   core::Result<Spec> read(const toml::table& root) {
     for (auto&& [key, node] : root) {
-      static constexpr std::string_view kKeys[] = {"name",        "description",    "missions", "seeds",
-                                                   "sample_seed", "max_sim_time_s", "expect",   "family"};
+      static constexpr std::string_view kKeys[] = {"name",           "description",  "missions", "seeds", "sample_seed",
+                                                   "max_sim_time_s", "telemetry_hz", "expect",   "family"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
         errors_.add(key, fmt::format("unknown key '{}' (expected name, description, missions, seeds, sample_seed, "
-                                     "max_sim_time_s, [expect.NAME] or [[family]])",
+                                     "max_sim_time_s, telemetry_hz, [expect.NAME] or [[family]])",
                                      key.str()));
       }
     }
@@ -70,6 +70,14 @@ class SpecReader {
         errors_.add(*n, fmt::format("'max_sim_time_s' must be a number in [1, {}]", kMaxSimTimeLimitS));
       } else {
         spec_.max_sim_time_s = *v;
+      }
+    }
+    if (const toml::node* n = root.get("telemetry_hz")) {
+      auto v = core::toml_number(*n);
+      if (!v || !std::isfinite(*v) || *v < 0.1 || *v > 100.0) {
+        errors_.add(*n, "'telemetry_hz' must be a number in [0.1, 100]");
+      } else {
+        spec_.telemetry_hz = *v;
       }
     }
     read_missions(root);

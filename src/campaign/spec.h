@@ -7,6 +7,7 @@
 //   seeds = [1, 2, 3]                   # or { from = 1, count = 8 }
 //   sample_seed = 7                     # the seed of every `sampled` axis
 //   max_sim_time_s = 300                # each case's simulated-time limit
+//   telemetry_hz = 10                   # how often the depth is sampled
 //   [expect.NAME]                       # a named expectation set
 //   outcomes = ["completed", "aborted"]
 //   surface_within_s = 15.0             # at the surface within T s of the fault
@@ -84,7 +85,10 @@ struct Spec {
   std::map<std::string, ExpectationSet> expectations;
   std::uint64_t sample_seed = 1;
   double max_sim_time_s = 600.0;
-  double telemetry_hz = 10.0;  // how often the vehicle's depth is sampled for the expectations
+  // How often the vehicle's depth is sampled for the expectations, per
+  // simulated second: the resolution of time-to-surface, and a cost (at 10 Hz
+  // telemetry is about a third of a tank case's CPU).
+  double telemetry_hz = 10.0;
 
   // missions x (sum of family combinations) x seeds.
   std::uint64_t case_count() const;

@@ -218,6 +218,19 @@ expect = "lenient"
       error_of(spec_text("[[family]]\nfault = \"none\"\n[[family]]\nfault = \"none\"\n")).find("a second family"));
 }
 
+TEST(CampaignSpec, TopLevelLimitsAreBounded) {
+  const std::string family = "[[family]]\nfault = \"none\"\n";
+  EXPECT_NE(std::string::npos,
+            error_of(spec_text("telemetry_hz = 0\n" + family)).find("c.toml:2:16: 'telemetry_hz' must"));
+  EXPECT_NE(std::string::npos, error_of(spec_text("max_sim_time_s = 1e9\n" + family)).find("'max_sim_time_s' must"));
+  EXPECT_NE(std::string::npos, error_of(spec_text("sample_seed = -1\n" + family)).find("'sample_seed' must"));
+  EXPECT_NE(std::string::npos, error_of(spec_text("seeds = { from = 1, count = 0 }\n" + family)).find("'seeds.count'"));
+  auto ok = parse(spec_text("telemetry_hz = 2\nmax_sim_time_s = 60\n" + family));
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  EXPECT_EQ(2.0, ok.value().telemetry_hz);
+  EXPECT_EQ(60.0, ok.value().max_sim_time_s);
+}
+
 TEST(CampaignSpec, IndexRangesStayInsideTheCampaign) {
   auto r = parse_range("3-7", 10);
   ASSERT_TRUE(r.ok());
