@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <filesystem>
 
+#include <signal.h>
+
 #include <gtest/gtest.h>
 
 #include "campaign/campaign_test_support.h"
 #include "campaign/cases.h"
 #include "campaign/case_run.h"
 #include "campaign/merge.h"
+#include "campaign/pool.h"
 
 namespace strata::campaign {
 namespace {
@@ -221,6 +224,40 @@ TEST(CampaignRun, ShardsMergedGiveTheResultsAndReportOfOneRun) {
   }
   EXPECT_FALSE(shard_indices("3/3", 6).ok());
   EXPECT_FALSE(shard_indices("1", 6).ok());
+}
+
+TEST(CampaignRun, AWorkerKilledFromOutsideCostsAtMostItsCaseAndIsReplaced) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  // Six cases on two workers; the first worker to answer is killed (as the
+  // OOM killer would) right after its first result.
+  const std::vector<std::uint64_t> indices = all(spec);
+  std::vector<nlohmann::ordered_json> lines;
+  PoolOptions o;
+  o.workers = 2;
+  long killed = 0;
+  o.on_result = [&](const nlohmann::ordered_json& line) {
+    lines.push_back(line);
+    if (killed == 0 && line["timings"].contains("pid")) {
+      killed = line["timings"]["pid"].get<long>();
+      ::kill(static_cast<pid_t>(killed), SIGKILL);
+    }
+  };
+  const PoolOutcome out = run_pool(spec, indices, CaseRunConfig{}, o);
+  EXPECT_EQ(6u, out.done) << "every case answered once, the killed worker's list run by others";
+  ASSERT_EQ(6u, lines.size());
+  std::set<long> pids;
+  std::set<std::uint64_t> seen;
+  for (const auto& l : lines) {
+    seen.insert(l["index"].get<std::uint64_t>());
+    if (l["outcome"] == "crashed") {
+      EXPECT_NE(std::string::npos, l["reason"].get<std::string>().find("died: signal 9")) << l.dump();
+    } else {
+      pids.insert(l["timings"]["pid"].get<long>());
+    }
+  }
+  EXPECT_EQ(6u, seen.size());
+  EXPECT_GE(pids.size(), 2u);
 }
 
 TEST(CampaignRun, TheOutputFolderIsNeverALink) {

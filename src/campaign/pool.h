@@ -43,6 +43,7 @@ struct PoolOutcome {
   bool stopped = false;    // a stop request ended it before every case ran
 };
 
+// indices: distinct case indices of the spec.
 PoolOutcome run_pool(const Spec& spec, const std::vector<std::uint64_t>& indices, const CaseRunConfig& config,
                      const PoolOptions& options);
 
