@@ -60,7 +60,8 @@ class CaseWatcher final : public run::RunObserver {
     asks_.erase(it);
   }
   void phase_ended(const strategic::PhaseEnd& e) override {
-    if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit));
+    // PROLOG rules that simply finish name no exit place.
+    if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit.empty() ? "(end)" : e.exit));
   }
 
   nlohmann::ordered_json coverage() const { return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}}; }
