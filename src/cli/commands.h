@@ -38,6 +38,8 @@ Runner add_sonar_command(CLI::App& app);
 // `strata completion SHELL` and the hidden `strata manpages DIR`: one
 // runner for both (cli_docs.h). version: as --version prints it.
 Runner add_docs_commands(CLI::App& app, std::string version);
+// `strata campaign`.
+Runner add_campaign_command(CLI::App& app);
 
 // Shared with the run library (run/inputs.h).
 using run::load_catalogue_option;

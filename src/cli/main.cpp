@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   runners["primitives"] = add_primitives_command(app);
   runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
+  runners["campaign"] = add_campaign_command(app);
   runners["completion"] = runners["manpages"] = add_docs_commands(app, version);
 
   // Each command's --help ends with its own exit codes, not the program's.

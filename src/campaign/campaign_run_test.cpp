@@ -1,0 +1,282 @@
+// Campaigns end to end, in this process: a few tank cases through the pool
+// of worker processes, results.jsonl and the reports checked.
+#include "campaign/campaign_run.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include "campaign/campaign_test_support.h"
+#include "campaign/cases.h"
+#include "campaign/case_run.h"
+#include "campaign/merge.h"
+#include "campaign/pool.h"
+
+namespace strata::campaign {
+namespace {
+
+using testing::TempDir;
+namespace fs = std::filesystem;
+
+// Six CORAL tank cases: nominal and a leak at 4 s and 14 s, two seeds each.
+std::string small_spec(const std::string& nominal_expect) {
+  return "name = \"small\"\nmissions = [\"" + testing::kTankDir + "/tank.coral\"]\nseeds = [1, 2]\n" + nominal_expect +
+         R"(
+[expect.leak]
+outcomes = ["aborted"]
+surface_within_s = 15
+max_depth_m = 1.8
+no_stall = true
+[[family]]
+fault = "none"
+expect = "nominal"
+[[family]]
+fault = "leak"
+at_s = [4, 14]
+expect = "leak"
+)";
+}
+const std::string kNominalOk =
+    "[expect.nominal]\noutcomes = [\"completed\"]\nmax_depth_m = 1.8\nno_refused_exec = true\n";
+const std::string kNominalTooDeep = "[expect.nominal]\noutcomes = [\"completed\"]\nmax_depth_m = 1.0\n";
+
+Spec load(const TempDir& dir, const std::string& text) {
+  auto spec = load_spec(dir.write("spec.toml", text));
+  EXPECT_TRUE(spec.ok()) << spec.error().message;
+  return spec.ok() ? std::move(spec).value() : Spec{};
+}
+
+std::vector<std::uint64_t> all(const Spec& spec) {
+  std::vector<std::uint64_t> v(spec.case_count());
+  for (std::uint64_t i = 0; i < v.size(); ++i) v[i] = i;
+  return v;
+}
+
+CampaignOutcome run(const Spec& spec, const std::string& out, int jobs, double wall_limit_s = 120.0) {
+  CampaignOptions o;
+  o.out_dir = out;
+  o.jobs = jobs;
+  o.case_wall_limit_s = wall_limit_s;
+  auto r = run_campaign(spec, all(spec), o);
+  EXPECT_TRUE(r.ok()) << (r ? "" : r.error().message);
+  return r ? r.value() : CampaignOutcome{};
+}
+
+// The lines by index, without what depends on the wall clock or the process.
+std::vector<nlohmann::json> by_index(std::vector<nlohmann::json> lines) {
+  for (auto& l : lines) {
+    l.erase("timings");
+    l.erase("repro_run");  // names the output folder
+  }
+  std::sort(lines.begin(), lines.end(), [](auto& a, auto& b) { return a["index"] < b["index"]; });
+  return lines;
+}
+
+TEST(CampaignRun, ASmallCampaignOnTwoWorkersWritesEveryCaseOnce) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  const CampaignOutcome out = run(spec, dir.file("out"), 2);
+  EXPECT_EQ(6u, out.done);
+  EXPECT_EQ(0u, out.failed);
+  EXPECT_FALSE(out.interrupted);
+  const auto lines = by_index(testing::read_results(dir.file("out/results.jsonl")));
+  ASSERT_EQ(6u, lines.size());
+  for (std::uint64_t i = 0; i < 6; ++i) {
+    const auto& l = lines[i];
+    EXPECT_EQ(i, l["index"].get<std::uint64_t>());
+    EXPECT_TRUE(l["pass"].get<bool>()) << l.dump();
+    EXPECT_EQ(i < 2 ? "none" : "leak", l["inputs"]["fault"]["kind"]);
+    EXPECT_EQ(i < 2 ? "completed" : "aborted", l["outcome"]) << l.dump();
+    if (i >= 2) {
+      const double t = l["figures"]["time_to_surface_s"].get<double>();
+      EXPECT_GE(t, 0.0);  // 0 when the vehicle was still at the surface at 4 s
+      EXPECT_LE(t, 15.0);
+    }
+  }
+  // Two workers shared the cases: results come from more than one process.
+  const auto raw = testing::read_results(dir.file("out/results.jsonl"));
+  std::set<long> pids;
+  for (const auto& l : raw) pids.insert(l["timings"]["pid"].get<long>());
+  EXPECT_EQ(2u, pids.size());
+  EXPECT_TRUE(fs::is_empty(dir.file("out/logs"))) << "logs are kept for failing cases only";
+
+  const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
+  EXPECT_EQ(6, report["cases"]["passed"]);
+  EXPECT_EQ(4, report["matrix"][1]["cells"][0]["done"].get<int>() + report["matrix"][1]["cells"][1]["done"].get<int>());
+  EXPECT_EQ(4u, report["time_to_surface"][0]["measured"].get<std::uint64_t>());
+  EXPECT_TRUE(report["coverage"]["" + testing::kTankDir + "/tank.coral"]["never_fired"].is_array());
+  const std::string html = testing::read_text(dir.file("out/report.html"));
+  EXPECT_NE(std::string::npos, html.find("6 cases"));
+  EXPECT_EQ(std::string::npos, html.find("http")) << "the report must not fetch anything";
+  EXPECT_EQ(std::string::npos, html.find("<script"));
+}
+
+TEST(CampaignRun, TheSameSpecGivesTheSameResultsInOneProcessOrTwoWorkers) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  run(spec, dir.file("a"), 2);
+  run(spec, dir.file("b"), 0);
+  EXPECT_EQ(by_index(testing::read_results(dir.file("a/results.jsonl"))),
+            by_index(testing::read_results(dir.file("b/results.jsonl"))));
+}
+
+TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReproducesIt) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalTooDeep));
+  const CampaignOutcome out = run(spec, dir.file("out"), 2);
+  EXPECT_EQ(2u, out.failed) << "both nominal cases dive to 1.5 m, deeper than 1.0";
+  for (const auto& l : testing::read_results(dir.file("out/results.jsonl"))) {
+    if (l["pass"].get<bool>()) continue;
+    const std::uint64_t i = l["index"].get<std::uint64_t>();
+    EXPECT_EQ("strata campaign " + spec.path + " --case " + std::to_string(i), l["repro"]);
+    const auto& depth = l["checks"][2];
+    EXPECT_EQ("max_depth_m", depth["name"]);
+    EXPECT_FALSE(depth["pass"].get<bool>());
+    EXPECT_GT(depth["figure"].get<double>(), 1.4);
+    EXPECT_TRUE(fs::is_regular_file(dir.file("out/" + l["log"].get<std::string>())));
+    EXPECT_NE(std::string::npos,
+              testing::read_text(dir.file("out/" + l["log"].get<std::string>())).find("mission_end"));
+    // The scenario file is the case: it reads back as the same run.
+    const std::string scenario = testing::read_text(dir.file("out/" + l["scenario"].get<std::string>()));
+    EXPECT_EQ(scenario_toml(spec, case_at(spec, i)), scenario);
+    // And the case run alone again fails the same way, with the same figure.
+    const auto again = run_case(spec, case_at(spec, i), CaseRunConfig{"", KeepLogs::None});
+    EXPECT_FALSE(again["pass"].get<bool>());
+    EXPECT_EQ(depth["figure"], again["checks"][2]["figure"]);
+  }
+  const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
+  ASSERT_EQ(2u, report["failures"].size());
+  const std::string html = testing::read_text(dir.file("out/report.html"));
+  EXPECT_NE(std::string::npos, html.find("--case 0"));
+}
+
+TEST(CampaignRun, ACaseOverItsWallTimeIsACrashedCaseAndTheCampaignGoesOn) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  // No tank case runs in a microsecond: every worker is killed in turn,
+  // every case is reported, none is lost, and the campaign ends.
+  const CampaignOutcome out = run(spec, dir.file("out"), 2, 1e-6);
+  EXPECT_EQ(6u, out.done);
+  const auto lines = testing::read_results(dir.file("out/results.jsonl"));
+  ASSERT_EQ(6u, lines.size());
+  std::set<std::uint64_t> seen;
+  int crashed = 0;
+  for (const auto& l : lines) {
+    seen.insert(l["index"].get<std::uint64_t>());
+    if (l["pass"].get<bool>()) continue;  // a case may finish before the parent looks
+    ++crashed;
+    EXPECT_EQ("crashed", l["outcome"]);
+    EXPECT_NE(std::string::npos, l["reason"].get<std::string>().find("wall time for one case")) << l.dump();
+    EXPECT_EQ("ran", l["checks"][0]["name"]);
+  }
+  EXPECT_EQ(6u, seen.size());
+  EXPECT_GE(crashed, 1);
+}
+
+TEST(CampaignRun, CoverageNamesTheTransitionsNoCaseFired) {
+  TempDir dir;
+  // Nominal runs only: the mission completes, so its abort path never fires.
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + "/tank.coral\"]\n[[family]]\nfault = \"none\"\n");
+  run(spec, dir.file("out"), 0);
+  const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
+  const auto& cov = report["coverage"][testing::kTankDir + "/tank.coral"];
+  const auto never = cov["never_fired"].get<std::vector<std::string>>();
+  EXPECT_NE(never.end(), std::find(never.begin(), never.end(), "tank.abort_mission"));
+  EXPECT_EQ(never.end(), std::find(never.begin(), never.end(), "tank.shutdown"));
+  EXPECT_EQ(1, cov["fired"]["tank.shutdown"].get<int>());
+  EXPECT_EQ(cov["transitions"].get<std::size_t>(), cov["fired"].size() + never.size());
+  EXPECT_EQ(1, cov["exits"]["tank.closed"].get<int>());
+  EXPECT_FALSE(cov["exits"].contains("tank.closed_after_abort"));
+}
+
+TEST(CampaignRun, ShardsMergedGiveTheResultsAndReportOfOneRun) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalTooDeep));  // two failing cases: their logs travel too
+  run(spec, dir.file("whole"), 2);
+  for (int shard = 0; shard < 3; ++shard) {
+    auto picked = shard_indices(std::to_string(shard) + "/3", spec.case_count());
+    ASSERT_TRUE(picked.ok());
+    EXPECT_EQ(2u, picked.value().size());
+    CampaignOptions o;
+    o.out_dir = dir.file("shard" + std::to_string(shard));
+    o.jobs = 1;
+    ASSERT_TRUE(run_campaign(spec, picked.value(), o).ok());
+  }
+  auto merged =
+      merge_campaigns(spec, {dir.file("shard0"), dir.file("shard1"), dir.file("shard2")}, dir.file("merged"), "test");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  EXPECT_EQ(6u, merged.value().done);
+  EXPECT_EQ(2u, merged.value().failed);
+  EXPECT_EQ(by_index(testing::read_results(dir.file("whole/results.jsonl"))),
+            by_index(testing::read_results(dir.file("merged/results.jsonl"))));
+  auto whole = nlohmann::json::parse(testing::read_text(dir.file("whole/report.json")));
+  auto joined = nlohmann::json::parse(testing::read_text(dir.file("merged/report.json")));
+  for (const char* key : {"cases", "outcomes", "families", "matrix", "time_to_surface", "coverage"}) {
+    EXPECT_EQ(whole[key], joined[key]) << key;
+  }
+  for (const auto& l : testing::read_results(dir.file("merged/results.jsonl"))) {
+    if (l.contains("log")) {
+      EXPECT_TRUE(fs::is_regular_file(dir.file("merged/" + l["log"].get<std::string>())));
+    }
+  }
+  EXPECT_FALSE(shard_indices("3/3", 6).ok());
+  EXPECT_FALSE(shard_indices("1", 6).ok());
+}
+
+TEST(CampaignRun, AWorkerKilledFromOutsideCostsAtMostItsCaseAndIsReplaced) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  // Six cases on two workers; the first worker to answer is killed (as the
+  // OOM killer would) right after its first result.
+  const std::vector<std::uint64_t> indices = all(spec);
+  std::vector<nlohmann::ordered_json> lines;
+  PoolOptions o;
+  o.workers = 2;
+  long killed = 0;
+  o.on_result = [&](const nlohmann::ordered_json& line) {
+    lines.push_back(line);
+    if (killed == 0 && line["timings"].contains("pid")) {
+      killed = line["timings"]["pid"].get<long>();
+      ::kill(static_cast<pid_t>(killed), SIGKILL);
+    }
+  };
+  const PoolOutcome out = run_pool(spec, indices, CaseRunConfig{}, o);
+  EXPECT_EQ(6u, out.done) << "every case answered once, the killed worker's list run by others";
+  ASSERT_EQ(6u, lines.size());
+  std::set<long> pids;
+  std::set<std::uint64_t> seen;
+  for (const auto& l : lines) {
+    seen.insert(l["index"].get<std::uint64_t>());
+    if (l["outcome"] == "crashed") {
+      EXPECT_NE(std::string::npos, l["reason"].get<std::string>().find("died: signal 9")) << l.dump();
+    } else {
+      pids.insert(l["timings"]["pid"].get<long>());
+    }
+  }
+  EXPECT_EQ(6u, seen.size());
+  EXPECT_GE(pids.size(), 2u);
+}
+
+TEST(CampaignRun, TheOutputFolderIsNeverALink) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalOk));
+  fs::create_directory(dir.file("real"));
+  fs::create_directory_symlink(dir.file("real"), dir.file("link"));
+  CampaignOptions o;
+  o.out_dir = dir.file("link");
+  auto r = run_campaign(spec, {0}, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(std::string::npos, r.error().message.find("a symbolic link; not writing through it"));
+  EXPECT_TRUE(fs::is_empty(dir.file("real")));
+  dir.write("real/notes.txt", "mine");
+  o.out_dir = dir.file("real");
+  auto r2 = run_campaign(spec, {0}, o);
+  ASSERT_FALSE(r2.ok()) << "a folder with other files in it is not ours to fill";
+  EXPECT_EQ("mine", testing::read_text(dir.file("real/notes.txt")));
+}
+
+}  // namespace
+}  // namespace strata::campaign

@@ -1,0 +1,267 @@
+#include "campaign/case_run.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/file.h"
+#include "run/observer.h"
+#include "run/session.h"
+#include "vehicle/params.h"
+
+namespace strata::campaign {
+namespace {
+
+// The scenario's name as the run sees it: never a file on disk, it is read
+// from memory through RunOptions::read_file.
+constexpr const char* kScenarioName = "campaign-case.toml";
+constexpr std::size_t kMaxMissionFileBytes = std::size_t{16} << 20;
+
+// Gathers what the expectations and the coverage need, as the run goes.
+class CaseWatcher final : public run::RunObserver {
+ public:
+  CaseWatcher(std::optional<double> fault_at_s, double surface_depth_m)
+      : fault_at_s_(fault_at_s), surface_depth_m_(surface_depth_m) {}
+
+  void telemetry(const protocol::Telemetry& t) override {
+    if (!t.depth_m) return;  // a sensor dropout
+    max_depth_m = std::max(max_depth_m.value_or(*t.depth_m), *t.depth_m);
+    if (fault_at_s_ && !surfaced_at_s && t.sim_time_s >= *fault_at_s_ - 1e-9 && *t.depth_m <= surface_depth_m_) {
+      surfaced_at_s = t.sim_time_s;
+    }
+  }
+  // The vehicle's own word that it reached the surface ("13.0 s: at the
+  // surface; holding"): with the link gone, the run passes on the vehicle's
+  // log lines from after it last heard from it as notes ("vehicle: ...").
+  void vehicle_event(const std::string& text, double sim_time_s) override { surfaced_line(text, sim_time_s); }
+  void note(const std::string& text, std::optional<double> sim_time_s) override {
+    if (!text.starts_with("vehicle: ")) return;
+    const char* start = text.c_str() + 9;
+    char* end = nullptr;
+    const double t = std::strtod(start, &end);
+    if (end == start) return;
+    surfaced_line(text, sim_time_s.value_or(t));
+  }
+  void fired(const strategic::Firing& f) override { fired_.insert(fmt::format("{}.{}", f.net, f.transition_name)); }
+  void action_started(const strategic::ActionStart& a) override {
+    if (a.kind == "ask") asks_[a.id] = std::string(a.primitive);
+  }
+  void action_finished(const strategic::ActionFinish& a) override {
+    auto it = asks_.find(a.id);
+    if (it == asks_.end()) return;
+    answers_.insert(fmt::format("{}={}", it->second, a.value ? 1 : 0));
+    asks_.erase(it);
+  }
+  void phase_ended(const strategic::PhaseEnd& e) override {
+    // PROLOG rules that simply finish name no exit place.
+    if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit.empty() ? "(end)" : e.exit));
+  }
+
+  nlohmann::ordered_json coverage() const { return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}}; }
+
+  std::optional<double> max_depth_m;
+  std::optional<double> surfaced_at_s;     // from telemetry
+  std::optional<double> logged_surface_s;  // from the vehicle's log
+
+ private:
+  void surfaced_line(const std::string& text, double t) {
+    if (fault_at_s_ && !logged_surface_s && t >= *fault_at_s_ - 1e-9 &&
+        text.find("at the surface") != std::string::npos) {
+      logged_surface_s = t;
+    }
+  }
+
+  std::optional<double> fault_at_s_;
+  double surface_depth_m_;
+  std::set<std::string> fired_, answers_, exits_;
+  std::map<strategic::ActionId, std::string> asks_;
+};
+
+// Written whole, never through a link (the folder was checked when made).
+bool write_new_file(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  return ::close(fd) == 0 && done == text.size();
+}
+
+std::string shell_quote(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./-=:,+@%") ==
+                        std::string::npos) {
+    return s;
+  }
+  std::string out = "'";
+  for (char ch : s) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return out + "'";
+}
+
+// Times from the vehicle's clock, to the microsecond: 3.4, not 3.4000000000000004.
+double tidy_s(double t) { return std::round(t * 1e6) / 1e6; }
+
+// The last line of what the run said on err: why it did not start.
+std::string last_line(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == '\n') t.pop_back();
+  const auto nl = t.rfind('\n');
+  std::string line = nl == std::string::npos ? t : t.substr(nl + 1);
+  if (line.size() > 500) line.resize(500);
+  return line;
+}
+
+Observation observe(const run::RunReport& report, const CaseWatcher& watcher, const Case& c, double surface_depth_m,
+                    const std::string& err) {
+  Observation o;
+  if (!report.result) {
+    o.outcome = "error";
+    o.reason = last_line(err);
+    return o;
+  }
+  const strategic::MissionResult& r = *report.result;
+  o.outcome = std::string(strategic::to_string(r.outcome));
+  o.reason = r.reason;
+  o.stopped_by = report.stopped_by;
+  o.stalled = r.reason.starts_with("mission stalled");
+  const double end_s = std::max(report.sim_time_s, report.final_time_s.value_or(0.0));
+  o.sim_time_s = end_s;
+  o.max_depth_m = watcher.max_depth_m;
+  if (report.final_depth_m) o.max_depth_m = std::max(o.max_depth_m.value_or(0.0), *report.final_depth_m);
+  if (c.fault) {
+    o.fault_at_s = c.fault->at_s;
+    o.fault_reached = end_s >= c.fault->at_s;
+    if (watcher.surfaced_at_s) {
+      o.time_to_surface_s = tidy_s(std::max(0.0, *watcher.surfaced_at_s - c.fault->at_s));
+      o.surface_seen = "telemetry";
+    } else if (watcher.logged_surface_s) {
+      o.time_to_surface_s = tidy_s(std::max(0.0, *watcher.logged_surface_s - c.fault->at_s));
+      o.surface_seen = "vehicle log";
+    } else if (o.fault_reached && report.final_depth_m && *report.final_depth_m <= surface_depth_m &&
+               report.final_time_s) {
+      o.time_to_surface_s = tidy_s(std::max(0.0, *report.final_time_s - c.fault->at_s));
+      o.surface_seen = "final state";
+    }
+  }
+  for (const tactical::CallRecord& call : report.trace) {
+    if (!call.message.starts_with("exec ")) continue;
+    const bool refused = call.error.starts_with("vehicle error") || (call.error.empty() && call.value == false);
+    if (!refused) continue;
+    if (o.refused_execs++ == 0) {
+      o.first_refused = fmt::format("{} at {:.1f} s{}", call.message, call.sim_time_s,
+                                    call.error.empty() ? ": answered 0" : ": " + call.error);
+    }
+  }
+  if (!report.vehicle_reason.empty() && !o.first_refused.empty()) o.first_refused += " (" + report.vehicle_reason + ")";
+  return o;
+}
+
+nlohmann::ordered_json result_line(const Spec& spec, const Case& c, const Observation& seen) {
+  nlohmann::ordered_json j;
+  j["index"] = c.index;
+  j["inputs"] = case_inputs(spec, c);
+  j["outcome"] = seen.outcome;
+  j["reason"] = seen.reason;
+  if (!seen.stopped_by.empty()) j["stopped_by"] = seen.stopped_by;
+  const std::vector<Check> checks = evaluate(spec.expectations.at(spec.families[c.family].expect), seen);
+  bool pass = true;
+  nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+  for (const Check& check : checks) {
+    pass = pass && check.pass;
+    arr.push_back(to_json(check));
+  }
+  j["pass"] = pass;
+  j["expect"] = spec.families[c.family].expect;
+  j["checks"] = std::move(arr);
+  nlohmann::ordered_json figures;
+  figures["sim_time_s"] = seen.sim_time_s;
+  figures["max_depth_m"] = seen.max_depth_m ? nlohmann::ordered_json(*seen.max_depth_m) : nullptr;
+  figures["time_to_surface_s"] = seen.time_to_surface_s ? nlohmann::ordered_json(*seen.time_to_surface_s) : nullptr;
+  if (!seen.surface_seen.empty()) figures["surface_seen"] = seen.surface_seen;
+  figures["refused_execs"] = seen.refused_execs;
+  j["figures"] = std::move(figures);
+  return j;
+}
+
+}  // namespace
+
+std::string repro_command(const Spec& spec, const Case& c) {
+  return fmt::format("strata campaign {} --case {}", shell_quote(spec.path), c.index);
+}
+
+nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunConfig& config) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::string scenario = scenario_toml(spec, c);
+  const Mission& mission = spec.missions[c.mission];
+  run::RunOptions o;
+  o.mission = mission.resolved;
+  o.scenario = kScenarioName;
+  o.read_file = [&scenario](const std::string& path) -> core::Result<std::string> {
+    if (path == kScenarioName) return scenario;
+    return core::read_regular_file(path, kMaxMissionFileBytes);
+  };
+  o.max_sim_time_s = spec.max_sim_time_s;
+  o.telemetry_hz = spec.telemetry_hz;
+  o.trace = true;
+  std::ostringstream log;
+  const std::string log_name = fmt::format("case-{}.jsonl", c.index);
+  if (config.keep_logs != KeepLogs::None && !config.out_dir.empty()) {
+    o.log_stream = &log;
+    o.log = "logs/" + log_name;
+  }
+  const double surface_depth_m = vehicle::default_params().surface_depth_m;
+  CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
+  std::ostringstream err;
+  run::RunSession session(std::move(o));
+  session.add_observer(watcher);
+  const run::RunReport report = session.run(err);
+  const Observation seen = observe(report, watcher, c, surface_depth_m, err.str());
+
+  nlohmann::ordered_json j = result_line(spec, c, seen);
+  if (report.result) j["exit"] = report.result->exit;
+  j["phases"] = report.phases;
+  j["coverage"] = watcher.coverage();
+  const bool pass = j["pass"].get<bool>();
+  if (!config.out_dir.empty()) {
+    const bool keep = config.keep_logs == KeepLogs::All || (config.keep_logs == KeepLogs::Failed && !pass);
+    if (keep && report.result && write_new_file(config.out_dir + "/logs/" + log_name, log.str())) {
+      j["log"] = "logs/" + log_name;
+    }
+    if (!pass) {
+      const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
+      if (write_new_file(config.out_dir + "/" + file, scenario)) {
+        j["scenario"] = file;
+        j["repro_run"] = fmt::format("strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}",
+                                     shell_quote(mission.resolved), shell_quote(config.out_dir + "/" + file),
+                                     spec.max_sim_time_s, spec.telemetry_hz);
+      }
+    }
+  }
+  if (!pass) j["repro"] = repro_command(spec, c);
+  j["timings"] = {{"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count()},
+                  {"run_wall_s", report.wall_time_s},
+                  {"pid", static_cast<long>(::getpid())}};
+  return j;
+}
+
+nlohmann::ordered_json crashed_case(const Spec& spec, const Case& c, const std::string& why) {
+  Observation seen;
+  seen.outcome = "crashed";
+  seen.reason = why;
+  nlohmann::ordered_json j = result_line(spec, c, seen);
+  j["repro"] = repro_command(spec, c);
+  j["timings"] = {{"wall_s", nullptr}};
+  return j;
+}
+
+}  // namespace strata::campaign

@@ -1,0 +1,39 @@
+#pragma once
+// One case, run in this process: a run::RunSession in lockstep against the
+// embedded vehicle, its scenario handed over in memory, watched by an
+// observer that gathers the expectations' figures and the coverage. Nothing
+// is started per case but the run itself (no process, no file read but the
+// mission's own).
+#include <atomic>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "campaign/cases.h"
+#include "campaign/expectations.h"
+#include "campaign/spec.h"
+
+namespace strata::campaign {
+
+enum class KeepLogs { All, Failed, None };
+
+struct CaseRunConfig {
+  // The campaign's folder ("" none): mission logs go to DIR/logs/case-I.jsonl
+  // and a failing case's scenario to DIR/scenarios/case-I.toml.
+  std::string out_dir;
+  KeepLogs keep_logs = KeepLogs::Failed;
+};
+
+// The case's line of results.jsonl: index, inputs, outcome, reason, phases,
+// pass, each check with its figure, figures, coverage, timings, and the
+// files kept. Never throws for a mission that goes wrong: that is a result.
+nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunConfig& config);
+
+// The line for a case that never gave its own (its worker died): outcome
+// "crashed" with why, every expectation failed through "ran".
+nlohmann::ordered_json crashed_case(const Spec& spec, const Case& c, const std::string& why);
+
+// The command that runs the case alone again.
+std::string repro_command(const Spec& spec, const Case& c);
+
+}  // namespace strata::campaign

@@ -1,0 +1,119 @@
+#include "campaign/cases.h"
+
+#include <cassert>
+#include <charconv>
+
+#include <fmt/format.h>
+
+namespace strata::campaign {
+
+Case case_at(const Spec& spec, std::uint64_t index) {
+  assert(index < spec.case_count());
+  Case c;
+  c.index = index;
+  const std::uint64_t seeds = spec.seeds.size();
+  c.seed = spec.seeds[index % seeds];
+  std::uint64_t rest = index / seeds;  // the fault combination within the missions
+  std::uint64_t per_mission = 0;
+  for (const Family& f : spec.families) per_mission += f.combinations();
+  c.mission = static_cast<std::size_t>(rest / per_mission);
+  rest %= per_mission;
+  for (std::size_t i = 0; i < spec.families.size(); ++i) {
+    const Family& f = spec.families[i];
+    if (rest >= f.combinations()) {
+      rest -= f.combinations();
+      continue;
+    }
+    c.family = i;
+    if (!f.fault) return c;
+    vehicle::Fault fault;
+    fault.kind = *f.fault;
+    const std::uint64_t nd = f.duration_s.empty() ? 1 : f.duration_s.size();
+    const std::uint64_t nh = f.health.empty() ? 1 : f.health.size();
+    if (!f.duration_s.empty()) fault.duration_s = f.duration_s[rest % nd];
+    rest /= nd;
+    if (!f.health.empty()) fault.health = f.health[rest % nh];
+    rest /= nh;
+    fault.at_s = f.at_s[rest];
+    c.fault = fault;
+    return c;
+  }
+  assert(false && "index past the families");
+  return c;
+}
+
+std::string scenario_toml(const Spec& spec, const Case& c) {
+  std::string out = fmt::format("# campaign {} case {}: {}\ndescription = \"{}\"\nseed = {}\n", spec.path, c.index,
+                                spec.missions[c.mission].path, fault_text(c), c.seed);
+  if (c.fault) {
+    const vehicle::Fault& f = *c.fault;
+    out += fmt::format("\n[[fault]]\nkind = \"{}\"\nat_s = {}\n", vehicle::to_string(f.kind), f.at_s);
+    if (f.kind == vehicle::FaultKind::WeakThrusters) out += fmt::format("health = {}\n", f.health);
+    if (f.duration_s)
+      out += fmt::format("duration_s = {}\n", *f.duration_s);
+    else if (f.kind == vehicle::FaultKind::LinkLoss)
+      out += "forever = true\n";
+  }
+  return out;
+}
+
+nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c) {
+  nlohmann::ordered_json j;
+  j["mission"] = spec.missions[c.mission].path;
+  j["family"] = spec.families[c.family].name;
+  nlohmann::ordered_json fault;
+  if (c.fault) {
+    fault["kind"] = vehicle::to_string(c.fault->kind);
+    fault["at_s"] = c.fault->at_s;
+    if (c.fault->kind == vehicle::FaultKind::WeakThrusters) fault["health"] = c.fault->health;
+    if (c.fault->duration_s)
+      fault["duration_s"] = *c.fault->duration_s;
+    else if (c.fault->kind == vehicle::FaultKind::LinkLoss)
+      fault["forever"] = true;
+  } else {
+    fault["kind"] = "none";
+  }
+  j["fault"] = std::move(fault);
+  j["seed"] = c.seed;
+  return j;
+}
+
+std::string fault_text(const Case& c) {
+  if (!c.fault) return "none";
+  const vehicle::Fault& f = *c.fault;
+  std::string s(vehicle::to_string(f.kind));
+  if (f.kind == vehicle::FaultKind::WeakThrusters) s += fmt::format(" health {}", f.health);
+  s += fmt::format(" at {} s", f.at_s);
+  if (f.duration_s)
+    s += fmt::format(" for {} s", *f.duration_s);
+  else if (f.kind == vehicle::FaultKind::LinkLoss)
+    s += " for good";
+  return s;
+}
+
+namespace {
+
+std::optional<std::uint64_t> parse_index(std::string_view s) {
+  std::uint64_t v = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+core::Result<IndexRange> parse_range(const std::string& text, std::uint64_t count) {
+  const auto dash = text.find('-');
+  const auto first = parse_index(std::string_view(text).substr(0, dash));
+  const auto last = dash == std::string::npos ? first : parse_index(std::string_view(text).substr(dash + 1));
+  if (!first || !last) {
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("'{}' is not an index or a range A-B", text));
+  }
+  if (*first > *last || *last >= count) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("'{}' is outside the campaign's cases 0-{}", text, count - 1));
+  }
+  return IndexRange{*first, *last};
+}
+
+}  // namespace strata::campaign

@@ -1,0 +1,64 @@
+#include "campaign/expectations.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace strata::campaign {
+
+std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) {
+  std::vector<Check> checks;
+  const bool ran = seen.outcome != "error" && seen.outcome != "crashed";
+  checks.push_back({"ran", ran, seen.outcome, nullptr, ran ? "" : seen.reason});
+  if (!ran) return checks;
+  if (!set.outcomes.empty()) {
+    const bool ok = std::find(set.outcomes.begin(), set.outcomes.end(), seen.outcome) != set.outcomes.end();
+    checks.push_back({"outcome", ok, seen.outcome, set.outcomes, ok ? "" : seen.reason});
+  }
+  if (set.surface_within_s) {
+    Check c{"surface_within_s", true, nullptr, *set.surface_within_s, ""};
+    if (!seen.fault_at_s) {
+      c.note = "no fault in this case";
+    } else if (!seen.fault_reached) {
+      c.note = fmt::format("the run ended ({:.1f} s) before the fault", seen.sim_time_s);
+    } else if (!seen.time_to_surface_s) {
+      c.pass = false;
+      c.note = "the vehicle was not seen at the surface after the fault";
+    } else {
+      c.figure = *seen.time_to_surface_s;
+      c.pass = *seen.time_to_surface_s <= *set.surface_within_s;
+      c.note =
+          seen.surface_seen == "final state" ? "at most: seen at the surface only in the vehicle's final state" : "";
+    }
+    checks.push_back(std::move(c));
+  }
+  if (set.max_depth_m) {
+    Check c{"max_depth_m", true, nullptr, *set.max_depth_m, ""};
+    if (seen.max_depth_m) {
+      c.figure = *seen.max_depth_m;
+      c.pass = *seen.max_depth_m <= *set.max_depth_m;
+    } else {
+      c.note = "no depth was heard";
+    }
+    checks.push_back(std::move(c));
+  }
+  if (set.no_stall) {
+    checks.push_back({"no_stall", !seen.stalled, seen.stalled, false, seen.stalled ? seen.reason : ""});
+  }
+  if (set.no_refused_exec) {
+    checks.push_back({"no_refused_exec", seen.refused_execs == 0, seen.refused_execs, 0, seen.first_refused});
+  }
+  return checks;
+}
+
+nlohmann::ordered_json to_json(const Check& check) {
+  nlohmann::ordered_json j;
+  j["name"] = check.name;
+  j["pass"] = check.pass;
+  j["figure"] = check.figure;
+  if (!check.limit.is_null()) j["limit"] = check.limit;
+  if (!check.note.empty()) j["note"] = check.note;
+  return j;
+}
+
+}  // namespace strata::campaign

@@ -1,0 +1,54 @@
+#pragma once
+// What one case's run showed, and the expectations checked against it. Each
+// check keeps its figure (the number or word it judged) beside pass/fail,
+// so a reader sees how far a case was from its limit.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "campaign/spec.h"
+
+namespace strata::campaign {
+
+// The outcome words of a case: the mission's outcome ("completed",
+// "aborted", "failed"), or "error" (the mission never started: a load
+// error) or "crashed" (the worker running it died or overran its time).
+struct Observation {
+  std::string outcome;
+  std::string reason;      // the mission's reason, or the error
+  std::string stopped_by;  // "limit" when the simulated-time limit ended it
+  bool stalled = false;    // CORAL: no transition enabled, no action in flight
+  double sim_time_s = 0.0;
+  std::optional<double> max_depth_m;  // deepest depth-cell reading or final depth
+  // The fault, when the case has one: its start, and whether the run
+  // lasted that long (a fault after the end of the run never happened).
+  std::optional<double> fault_at_s;
+  bool fault_reached = false;
+  // Seconds from the fault's start to the first sign of the vehicle at the
+  // surface (depth <= the vehicle's surface_depth_m): a depth-cell reading
+  // in telemetry; when telemetry stopped (a lost link), the vehicle's own
+  // log line "at the surface"; failing that, the vehicle's final state after
+  // the run, which bounds it from above.
+  std::optional<double> time_to_surface_s;
+  std::string surface_seen;  // "telemetry", "vehicle log", "final state", or ""
+  int refused_execs = 0;     // EXECs the vehicle refused or answered 0
+  std::string first_refused;
+};
+
+struct Check {
+  std::string name;  // the expectation: "outcome", "surface_within_s", ...
+  bool pass = false;
+  nlohmann::json figure;  // what was measured (null: nothing to measure)
+  nlohmann::json limit;   // what was allowed
+  std::string note;       // why it passed without a figure, or how it failed
+};
+
+// Every expectation the set holds, in a fixed order. A case that crashed or
+// never started fails "ran" first, whatever the set.
+std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen);
+
+nlohmann::ordered_json to_json(const Check& check);
+
+}  // namespace strata::campaign

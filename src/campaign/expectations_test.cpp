@@ -1,0 +1,112 @@
+// Expectations: each check's verdict, figure and note.
+#include "campaign/expectations.h"
+
+#include <gtest/gtest.h>
+
+#include "campaign/campaign_test_support.h"
+#include "campaign/case_run.h"
+#include "campaign/cases.h"
+
+namespace strata::campaign {
+namespace {
+
+ExpectationSet all_checks() {
+  ExpectationSet e;
+  e.name = "all";
+  e.outcomes = {"aborted"};
+  e.surface_within_s = 10.0;
+  e.max_depth_m = 1.0;
+  e.no_stall = true;
+  e.no_refused_exec = true;
+  return e;
+}
+
+Observation aborted_after_leak() {
+  Observation o;
+  o.outcome = "aborted";
+  o.sim_time_s = 20.0;
+  o.max_depth_m = 0.8;
+  o.fault_at_s = 5.0;
+  o.fault_reached = true;
+  o.time_to_surface_s = 4.0;
+  o.surface_seen = "telemetry";
+  return o;
+}
+
+std::string verdicts(const std::vector<Check>& checks) {
+  std::string s;
+  for (const Check& c : checks) s += (s.empty() ? "" : " ") + c.name + (c.pass ? ":pass" : ":FAIL");
+  return s;
+}
+
+TEST(CampaignExpectations, EveryCheckPassesForAGoodRunAndKeepsItsFigure) {
+  const auto checks = evaluate(all_checks(), aborted_after_leak());
+  EXPECT_EQ("ran:pass outcome:pass surface_within_s:pass max_depth_m:pass no_stall:pass no_refused_exec:pass",
+            verdicts(checks));
+  EXPECT_EQ(4.0, checks[2].figure.get<double>());
+  EXPECT_EQ(10.0, checks[2].limit.get<double>());
+  EXPECT_EQ(0.8, checks[3].figure.get<double>());
+}
+
+TEST(CampaignExpectations, EachLimitFailsOnItsOwn) {
+  Observation o = aborted_after_leak();
+  o.outcome = "completed";
+  o.time_to_surface_s = 12.5;
+  o.max_depth_m = 1.2;
+  o.stalled = true;
+  o.refused_execs = 2;
+  o.first_refused = "exec submerge at 3.0 s: answered 0";
+  const auto checks = evaluate(all_checks(), o);
+  EXPECT_EQ("ran:pass outcome:FAIL surface_within_s:FAIL max_depth_m:FAIL no_stall:FAIL no_refused_exec:FAIL",
+            verdicts(checks));
+  EXPECT_EQ(2, checks[5].figure.get<int>());
+  EXPECT_EQ("exec submerge at 3.0 s: answered 0", checks[5].note);
+}
+
+TEST(CampaignExpectations, SurfacingIsJudgedOnlyWhenTheFaultHappened) {
+  Observation o = aborted_after_leak();
+  o.fault_reached = false;  // the run ended first
+  o.time_to_surface_s.reset();
+  auto checks = evaluate(all_checks(), o);
+  EXPECT_TRUE(checks[2].pass);
+  EXPECT_TRUE(checks[2].figure.is_null());
+  EXPECT_EQ("the run ended (20.0 s) before the fault", checks[2].note);
+  o.fault_reached = true;  // it happened, and the vehicle was never seen at the surface
+  checks = evaluate(all_checks(), o);
+  EXPECT_FALSE(checks[2].pass);
+  EXPECT_EQ("the vehicle was not seen at the surface after the fault", checks[2].note);
+  o.time_to_surface_s = 9.0;
+  o.surface_seen = "final state";
+  checks = evaluate(all_checks(), o);
+  EXPECT_TRUE(checks[2].pass);
+  EXPECT_NE(std::string::npos, checks[2].note.find("at most"));
+}
+
+TEST(CampaignExpectations, ARunThatNeverStartedFailsRanAndNothingElse) {
+  Observation o;
+  o.outcome = "error";
+  o.reason = "tank.coral:3:1: error: ...";
+  const auto checks = evaluate(all_checks(), o);
+  EXPECT_EQ("ran:FAIL", verdicts(checks));
+  EXPECT_EQ("tank.coral:3:1: error: ...", checks[0].note);
+}
+
+TEST(CampaignExpectations, AnExecTheVehicleAnswersZeroIsCountedInARealRun) {
+  testing::TempDir dir;
+  const std::string spec_path = dir.write(
+      "spec.toml", "missions = [\"" + std::string(STRATA_SOURCE_DIR) +
+                       "/src/campaign/testdata/exec_too_soon.coral\"]\n[expect.strict]\nno_refused_exec = true\n"
+                       "[[family]]\nfault = \"none\"\nexpect = \"strict\"\n");
+  auto spec = load_spec(spec_path);
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  const auto line = run_case(spec.value(), case_at(spec.value(), 0), CaseRunConfig{"", KeepLogs::None});
+  EXPECT_FALSE(line["pass"].get<bool>()) << line.dump();
+  const auto& check = line["checks"][1];
+  EXPECT_EQ("no_refused_exec", check["name"]);
+  EXPECT_EQ(1, check["figure"].get<int>());
+  EXPECT_NE(std::string::npos, check["note"].get<std::string>().find("exec start_depth_filter at 0.1 s: answered 0"))
+      << check.dump();
+}
+
+}  // namespace
+}  // namespace strata::campaign

@@ -1,0 +1,111 @@
+#include "campaign/output.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <regex>
+
+#include <fmt/format.h>
+
+namespace strata::campaign {
+namespace {
+
+namespace fs = std::filesystem;
+
+core::Error io_error(const std::string& what) {
+  return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
+}
+
+bool write_fd(int fd, const std::string& text) {
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+// A folder we may write into: a real folder, not a link to one.
+core::Result<void> make_dir(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0) {
+    if (S_ISLNK(st.st_mode)) {
+      return core::make_error(core::ErrorCode::Io, fmt::format("{}: a symbolic link; not writing through it", path));
+    }
+    if (!S_ISDIR(st.st_mode)) {
+      return core::make_error(core::ErrorCode::Io, fmt::format("{}: exists and is not a folder", path));
+    }
+    return {};
+  }
+  if (::mkdir(path.c_str(), 0755) != 0) return io_error(fmt::format("cannot create {}", path));
+  return {};
+}
+
+// Removes the earlier campaign's files in sub (case-N.ext), nothing else.
+void clear_cases(const std::string& sub, const std::regex& name) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(sub, ec)) {
+    if (e.is_regular_file(ec) && !e.is_symlink(ec) && std::regex_match(e.path().filename().string(), name)) {
+      fs::remove(e.path(), ec);
+    }
+  }
+}
+
+}  // namespace
+
+core::Result<void> prepare_out_dir(const std::string& dir) {
+  std::error_code ec;
+  const bool existed = fs::exists(fs::symlink_status(dir, ec));
+  if (auto r = make_dir(dir); !r) return r;
+  if (existed && !fs::is_empty(dir, ec) && !fs::exists(fs::symlink_status(fs::path(dir) / "results.jsonl", ec))) {
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("{}: a folder that is not empty and holds no results.jsonl; not writing "
+                                        "a campaign into it",
+                                        dir));
+  }
+  for (const char* sub : {"logs", "scenarios"}) {
+    if (auto r = make_dir((fs::path(dir) / sub).string()); !r) return r;
+  }
+  clear_cases((fs::path(dir) / "logs").string(), std::regex(R"(case-\d+\.jsonl)"));
+  clear_cases((fs::path(dir) / "scenarios").string(), std::regex(R"(case-\d+\.toml)"));
+  for (const char* f : {"report.json", "report.html"}) {
+    const fs::path p = fs::path(dir) / f;
+    if (fs::is_regular_file(fs::symlink_status(p, ec))) fs::remove(p, ec);
+  }
+  return {};
+}
+
+core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = (fs::path(dir) / name).string();
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return io_error(fmt::format("cannot write {}", path));
+  const bool ok = write_fd(fd, text);
+  if (::close(fd) != 0 || !ok) return io_error(fmt::format("cannot write {}", path));
+  return {};
+}
+
+core::Result<ResultsFile> ResultsFile::create(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "results.jsonl").string();
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return io_error(fmt::format("cannot write {}", path));
+  return ResultsFile(fd);
+}
+
+ResultsFile::~ResultsFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+core::Result<void> ResultsFile::append(const nlohmann::ordered_json& line) {
+  // One write per line: the file never holds half a line that a later
+  // line's write could follow.
+  if (!write_fd(fd_, line.dump() + "\n")) return io_error("cannot write results.jsonl");
+  return {};
+}
+
+}  // namespace strata::campaign

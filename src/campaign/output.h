@@ -1,0 +1,39 @@
+#pragma once
+// The campaign's folder (--out DIR): results.jsonl, report.json,
+// report.html, logs/case-I.jsonl and scenarios/case-I.toml. Nothing is
+// written through a symbolic link: DIR itself must not be one, and every
+// file is opened with O_NOFOLLOW.
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+
+namespace strata::campaign {
+
+// Creates DIR with logs/ and scenarios/ in it. An existing DIR must be a
+// folder (not a link) that is empty or holds an earlier campaign (a
+// results.jsonl): that campaign's files are removed first, nothing else.
+core::Result<void> prepare_out_dir(const std::string& dir);
+
+// Writes text to DIR/name whole (O_NOFOLLOW); Io error on failure.
+core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text);
+
+// results.jsonl, a line per case as each arrives, flushed at once so that
+// whatever ends the campaign keeps every finished case.
+class ResultsFile {
+ public:
+  static core::Result<ResultsFile> create(const std::string& dir);
+  ResultsFile(ResultsFile&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+  ResultsFile& operator=(ResultsFile&&) = delete;
+  ~ResultsFile();
+
+  core::Result<void> append(const nlohmann::ordered_json& line);
+
+ private:
+  explicit ResultsFile(int fd) : fd_(fd) {}
+  int fd_ = -1;
+};
+
+}  // namespace strata::campaign
