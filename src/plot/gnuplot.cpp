@@ -20,6 +20,7 @@
 
 #include "core/file.h"
 #include "plot/script_parts.h"
+#include "plot/track_script.h"
 
 extern char** environ;
 
@@ -47,11 +48,13 @@ core::Result<void> write_data(const MissionPlot& plot, const fs::path& folder) {
     auto written = write_series(folder / name, *series, series == &plot.heading_deg);
     if (!written) return written;
   }
+  if (plot.has_track()) return write_track_data(plot, folder);
   return {};
 }
 
 std::string gnuplot_script(const MissionPlot& plot, Format format, const fs::path& data_folder,
                            const fs::path& output) {
+  if (plot.has_track()) return open_water_script(plot, format, data_folder, output);
   const bool heading = !plot.heading_deg.empty();
   const int height = heading ? 800 : 600;
   std::string s = "# Written by `strata plot`; run it again with `gnuplot plot.gp`.\n";
