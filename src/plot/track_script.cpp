@@ -131,7 +131,7 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   // The time panels share their left and right edges, so their axes line up.
   s += "\n# Against time.\n";
   s += "set lmargin at screen 0.50\nset rmargin at screen 0.80\n";
-  s += "set key outside right top\n";
+  s += "set key default\nset key outside right top\n";
   const double span = plot.last_s > plot.first_s ? plot.last_s - plot.first_s : 1.0;
   s += fmt::format("set xrange [{}:{}]\n", num(plot.first_s), num(plot.first_s + span * 1.02));
   const double lower = heading ? 0.26 : 0.0;  // the heading panel's share
