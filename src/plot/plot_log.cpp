@@ -87,8 +87,8 @@ core::Result<void> read_pair(const json& e, const char* x_key, const char* y_key
   if (!y) return y.error();
   if (!x.value() && !y.value()) return {};
   if (!x.value() || !y.value()) {
-    note(plot, at, fmt::format("telemetry: {} without {}: skipped", x.value() ? x_key : y_key,
-                               x.value() ? y_key : x_key));
+    note(plot, at,
+         fmt::format("telemetry: {} without {}: skipped", x.value() ? x_key : y_key, x.value() ? y_key : x_key));
     return {};
   }
   for (auto [key, v] : {std::pair{x_key, *x.value()}, std::pair{y_key, *y.value()}}) {
@@ -110,8 +110,14 @@ std::optional<Pending> guidance_call(std::string_view message, double t, const P
   Pending call;
   call.time_s = t;
   if (!(words >> verb >> call.name) || verb != "exec") return std::nullopt;
-  const std::size_t arity = call.name == "goto_xy" ? 2 : call.name == "track" ? 4 : call.name == "gps_fix" ? 0 : 9;
-  if (arity == 9) return std::nullopt;
+  std::size_t arity = 0;
+  if (call.name == "goto_xy") {
+    arity = 2;
+  } else if (call.name == "track") {
+    arity = 4;
+  } else if (call.name != "gps_fix") {
+    return std::nullopt;
+  }
   std::string word;
   while (words >> word) {
     char* end = nullptr;
@@ -183,12 +189,13 @@ core::Result<void> read_event(const json& e, const Place& at, MissionPlot& plot,
     auto altitude = number(e, "altitude_m", at);
     if (!altitude) return altitude.error();
     if (altitude.value() && !drawable(*altitude.value())) {
-      note(plot, at, fmt::format("telemetry: altitude_m {} is beyond {} km: skipped", *altitude.value(),
-                                 kMaxCoordinate_m / 1000));
+      note(
+          plot, at,
+          fmt::format("telemetry: altitude_m {} is beyond {} km: skipped", *altitude.value(), kMaxCoordinate_m / 1000));
     } else if (altitude.value()) {
       plot.altitude_m.time_s.push_back(t.value());
       plot.altitude_m.value.push_back(*altitude.value());
-      auto depth = number(e, "depth_m", at);
+      auto depth = number(e, "depth_m", at);  // its type was checked above
       if (depth.value() && drawable(*depth.value())) {
         plot.seabed_m.time_s.push_back(t.value());
         plot.seabed_m.value.push_back(*depth.value() + *altitude.value());

@@ -22,7 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace testing;
 
-
 core::Result<MissionPlot> read_text(const std::string& text) {
   std::istringstream in(text);
   return read_log(in, "x.jsonl");
@@ -42,7 +41,6 @@ std::string dump(const std::vector<AbortMark>& marks) {
   for (const auto& m : marks) out += fmt::format("{} {}{}\n", m.time_s, m.label, m.mission ? " [mission]" : "");
   return out;
 }
-
 
 // PATH replaced for one test, then put back.
 class ScopedPath {
@@ -223,7 +221,6 @@ TEST(Render, GnuplotThatHangsIsStopped) {
   EXPECT_EQ(RenderStatus::GnuplotFailed, r.status);
   EXPECT_EQ("gnuplot was still running after 300 ms and was stopped", r.message);
 }
-
 
 TEST(Svg, KnownLogShowsItsPhasesAbortsAndDepthCurve) {
   SKIP_WITHOUT_GNUPLOT();

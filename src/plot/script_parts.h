@@ -22,7 +22,6 @@ inline constexpr const char* kFailedBandColour = "#ee6677";
 inline constexpr const char* kNestedBandColour = "#555555";
 inline constexpr double kNestedStrip = 0.03;  // graph height of one nesting level's strip
 
-
 // A gnuplot single-quoted string: nothing is special inside but the quote,
 // written twice.
 std::string gp_string(std::string_view text);

@@ -63,9 +63,9 @@ core::Result<void> write_track_data(const MissionPlot& plot, const fs::path& fol
   for (const PlannedLeg& leg : plot.plan) waypoints += xy(leg.to);
   std::string fixes;
   for (const Fix& f : plot.fixes) fixes += xy(f.at);
-  for (const auto& [name, text] : {std::pair{"track_lines.dat", lines(plot, true)},
-                                   std::pair{"goto_lines.dat", lines(plot, false)},
-                                   std::pair{"waypoints.dat", waypoints}, std::pair{"fixes.dat", fixes}}) {
+  for (const auto& [name, text] :
+       {std::pair{"track_lines.dat", lines(plot, true)}, std::pair{"goto_lines.dat", lines(plot, false)},
+        std::pair{"waypoints.dat", waypoints}, std::pair{"fixes.dat", fixes}}) {
     if (text.empty()) continue;
     auto written = write_text(folder / name, text);
     if (!written) return written;
