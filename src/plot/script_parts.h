@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "core/result.h"
 #include "plot/plot_log.h"
@@ -37,8 +38,14 @@ core::Result<void> write_series(const std::filesystem::path& file, const Series&
 // the strips of deeper phases (the depth panel only).
 void bands(std::string& s, const MissionPlot& plot, bool nested);
 
-// Abort lines (every time panel) and, with `labels`, their text.
-void aborts(std::string& s, const MissionPlot& plot, bool labels);
+// Abort lines (every time panel) and, with `labels`, their text; with
+// `wrap`, in lines of at most that many characters (a word longer stays
+// whole), for a narrow panel.
+void aborts(std::string& s, const MissionPlot& plot, bool labels, std::size_t wrap = 0);
+
+// `text` in lines of at most `width` characters, broken at spaces; one line
+// with width 0.
+std::vector<std::string> wrapped(const std::string& text, std::size_t width);
 
 // The names of the depth-1 phases above the depth panel.
 void phase_labels(std::string& s, const MissionPlot& plot);

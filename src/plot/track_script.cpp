@@ -18,6 +18,7 @@ constexpr const char* kPlanColour = "#ee7733";
 constexpr const char* kFixColour = "#cc3311";
 constexpr const char* kSeabedColour = "#8c510a";
 constexpr const char* kAltitudeColour = "#aa3377";
+constexpr std::size_t kAbortWrap = 34;  // characters: an abort label fits half a time panel
 
 core::Result<void> write_text(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
@@ -144,7 +145,7 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   s += "set tmargin 3.5\nset ylabel 'depth (m)'\n";
   bands(s, plot, true);
   phase_labels(s, plot);
-  aborts(s, plot, true);
+  aborts(s, plot, true, kAbortWrap);
   s += fmt::format("plot {} using 1:2 with lines lw 2 lc rgb '{}' title 'depth'", file(data_folder, "depth.dat"),
                    kDepthColour);
   if (!plot.setpoint_m.empty()) {

@@ -11,6 +11,7 @@
 #include "plot/gnuplot.h"
 #include "plot/plot_log.h"
 #include "plot/plot_test_support.h"
+#include "plot/script_parts.h"
 
 namespace strata::plot {
 namespace {
@@ -105,6 +106,11 @@ TEST(Script, OpenWaterHasTheXyPanelAndItsData) {
         "set ylabel 'depth (m)'\n", "set size noratio\n"}) {
     EXPECT_NE(std::string::npos, s.find(wanted)) << wanted << "\n" << s;
   }
+  // The mission's abort, in lines that fit the narrow time panel.
+  EXPECT_NE(std::string::npos,
+            s.find("set label 'mission failed: exec gps_fix was'.\"\\n\".'not executed: the vehicle answered'."
+                   "\"\\n\".'0 at 61.4 s' at first 61.4, graph 0.04 right offset -0.6,2 "))
+      << s;
   // The x-y panel comes first, before any time axis is set.
   EXPECT_LT(s.find("x east"), s.find("set xrange"));
 
@@ -118,6 +124,12 @@ TEST(Script, OpenWaterHasTheXyPanelAndItsData) {
   EXPECT_EQ("0 0.05\n", slurp(dir.path() / "true_track.dat").substr(0, 7));
   EXPECT_EQ("0.5 19.99\n", slurp(dir.path() / "altitude.dat").substr(0, 10));
   EXPECT_TRUE(fs::exists(dir.path() / "depth.dat"));
+}
+
+TEST(Script, WrappedBreaksAtSpaces) {
+  EXPECT_EQ((std::vector<std::string>{"ab cd", "efghijk", "l"}), script::wrapped("ab cd efghijk l", 5));
+  EXPECT_EQ((std::vector<std::string>{"ab cd efghijk l"}), script::wrapped("ab  cd efghijk l", 0));
+  EXPECT_EQ((std::vector<std::string>{""}), script::wrapped("", 5));
 }
 
 TEST(Script, WithoutPlansOrFixesTheirCurvesAreLeftOut) {
