@@ -206,21 +206,24 @@ core::Result<void> read_event(const json& e, const Place& at, MissionPlot& plot,
     auto truth = read_pair(e, "true_x_m", "true_y_m", t.value(), at, plot, plot.truth);
     if (!truth) return truth;
   } else if (event == "request") {
+    // Only the calls the plot draws are read: a tank log's requests, or
+    // their oddities, change nothing.
+    auto message = e.find("message");
+    if (message == e.end() || !message->is_string()) return {};
+    auto call = guidance_call(message->get_ref<const std::string&>(), time.value().value_or(0.0), at, plot);
+    if (!call) return {};
     auto t = need_time();
     if (!t) return t.error();
     auto id = count(e, "id", at);
     if (!id) return id.error();
-    auto message = text(e, "message", at);
-    if (!message) return message.error();
-    auto call = guidance_call(message.value(), t.value(), at, plot);
-    if (call) state.pending[id.value()] = std::move(*call);
+    state.pending[id.value()] = std::move(*call);
   } else if (event == "reply") {
+    auto id = e.find("id");
+    if (id == e.end() || !id->is_number_unsigned()) return {};
+    auto it = state.pending.find(id->get<std::uint64_t>());
+    if (it == state.pending.end()) return {};
     auto t = need_time();
     if (!t) return t.error();
-    auto id = count(e, "id", at);
-    if (!id) return id.error();
-    auto it = state.pending.find(id.value());
-    if (it == state.pending.end()) return {};
     const Pending call = std::move(it->second);
     state.pending.erase(it);
     auto result = e.find("result");

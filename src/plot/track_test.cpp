@@ -201,6 +201,21 @@ TEST(ReadTrack, HugeOrOddValuesAreSkippedWithTheirLine) {
   EXPECT_EQ(4u, p.depth_m.size());
 }
 
+TEST(ReadTrack, OtherRequestsAreNotCheckedButAGuidanceCallIs) {
+  const std::string start = telemetry(0, "\"x_m\":0,\"y_m\":0");
+  // As before the track was read: a request the plot does not draw, even
+  // an odd one, is ignored.
+  EXPECT_TRUE(read_text(start + "{\"event\":\"request\",\"message\":\"exec surface\"}\n"));
+  EXPECT_TRUE(read_text(start + "{\"event\":\"request\",\"message\":7}\n{\"event\":\"reply\",\"id\":-1}\n"));
+  auto no_id = read_text(start + "{\"event\":\"request\",\"message\":\"exec gps_fix\",\"sim_time\":1}\n");
+  ASSERT_FALSE(no_id);
+  EXPECT_EQ("x.jsonl:2: request: 'id' is missing or not a count", no_id.error().message);
+  auto no_time = read_text(start + "{\"event\":\"request\",\"id\":3,\"message\":\"exec gps_fix\",\"sim_time\":1}\n" +
+                           "{\"event\":\"reply\",\"id\":3,\"result\":1}\n");
+  ASSERT_FALSE(no_time);
+  EXPECT_EQ("x.jsonl:3: reply: no 'sim_time'", no_time.error().message);
+}
+
 TEST(ReadTrack, NotesStopAtTheirLimitAndAreCounted) {
   std::string log;
   for (int i = 0; i < 30; ++i) log += telemetry(i, "\"x_m\":1e7,\"y_m\":0");
