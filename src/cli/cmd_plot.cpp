@@ -39,6 +39,10 @@ int run_plot(const PlotOptions& o) {
     std::cerr << "strata plot: " << log.error().message << "\n";
     return exit_code_for_input(log.error());
   }
+  for (const std::string& note : log.value().notes) std::cerr << "strata plot: " << note << "\n";
+  if (log.value().skipped_notes > 0) {
+    std::cerr << fmt::format("strata plot: and {} more lines skipped in part\n", log.value().skipped_notes);
+  }
   plot::RenderOptions options;
   options.format = *format;
   options.output = output;

@@ -19,116 +19,15 @@
 #include <fmt/format.h>
 
 #include "core/file.h"
+#include "plot/script_parts.h"
+#include "plot/track_script.h"
 
 extern char** environ;
 
 namespace strata::plot {
-namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kDepthColour = "#0044aa";
-constexpr const char* kFilteredColour = "#33bbee";
-constexpr const char* kSetpointColour = "#ee7733";
-constexpr const char* kHeadingColour = "#009988";
-constexpr const char* kAbortColour = "#cc0000";
-constexpr const char* kBandColours[] = {"#4477aa", "#228833"};
-constexpr const char* kFailedBandColour = "#ee6677";
-constexpr const char* kNestedBandColour = "#555555";
-constexpr double kNestedStrip = 0.03;  // graph height of one nesting level's strip
-
-// A gnuplot single-quoted string: nothing is special inside but the quote,
-// written twice.
-std::string gp_string(std::string_view text) {
-  std::string out = "'";
-  for (char c : text) {
-    out += c;
-    if (c == '\'') out += '\'';
-  }
-  return out + "'";
-}
-
-// Numbers in the script: enough digits for a microsecond in a day.
-std::string num(double v) { return fmt::format("{:.12g}", v); }
-
-core::Result<void> write_series(const fs::path& file, const Series& s, bool break_at_wrap) {
-  std::ofstream out(file, std::ios::binary);
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    // A blank line lifts the pen: a heading crossing north is no sweep
-    // across the whole panel.
-    if (break_at_wrap && i > 0 && std::abs(s.value[i] - s.value[i - 1]) > 180.0) out << "\n";
-    out << fmt::format("{} {}\n", s.time_s[i], s.value[i]);
-  }
-  out.close();
-  if (!out) return core::make_error(core::ErrorCode::Io, fmt::format("cannot write '{}'", file.string()));
-  return {};
-}
-
-bool completed(const PhaseBand& b) { return b.ended && b.result == "completed"; }
-
-// The rectangles of the depth-1 bands (every panel), and with `nested` the
-// strips of deeper phases (the depth panel only).
-void bands(std::string& s, const MissionPlot& plot, bool nested) {
-  std::size_t shade = 0;
-  for (const PhaseBand& b : plot.phases) {
-    if (b.depth == 1) {
-      const char* colour = completed(b) ? kBandColours[shade++ % 2] : kFailedBandColour;
-      s += fmt::format(
-          "set object rect from first {}, graph 0 to first {}, graph 1 fc rgb '{}' "
-          "fs solid 0.15 noborder behind\n",
-          num(b.start_s), num(b.end_s), colour);
-    } else if (nested) {
-      const double top = 1.0 - kNestedStrip * (b.depth - 2);
-      s += fmt::format(
-          "set object rect from first {}, graph {} to first {}, graph {} fc rgb '{}' "
-          "fs solid 0.45 noborder behind\n",
-          num(b.start_s), num(top - kNestedStrip * 0.8), num(b.end_s), num(top), kNestedBandColour);
-    }
-  }
-}
-
-// Abort lines (every panel) and, with `labels`, their text in rows from the
-// bottom, on the side of the line nearer the middle of the run.
-void aborts(std::string& s, const MissionPlot& plot, bool labels) {
-  const double middle = (plot.first_s + plot.last_s) / 2;
-  std::size_t row = 0;
-  for (const AbortMark& m : plot.aborts) {
-    s += fmt::format("set arrow from first {0}, graph 0 to first {0}, graph 1 nohead lc rgb '{1}' {2} front\n",
-                     num(m.time_s), kAbortColour, m.mission ? "dt 1 lw 2.5" : "dt 2 lw 1.5");
-    if (!labels) continue;
-    const bool right_half = m.time_s > middle;
-    s += fmt::format("set label {} at first {}, graph {} {} offset {},0 tc rgb '{}' front\n", gp_string(m.label),
-                     num(m.time_s), num(0.04 + 0.06 * static_cast<double>(row++)), right_half ? "right" : "left",
-                     right_half ? "-0.6" : "0.6", kAbortColour);
-  }
-}
-
-// The names of the depth-1 phases above the depth panel, where they hide no
-// data, in two rows taken in turn so that a short phase's name does not run
-// into the next one's.
-void phase_labels(std::string& s, const MissionPlot& plot) {
-  std::size_t row = 0;
-  for (const PhaseBand& b : plot.phases) {
-    if (b.depth != 1) continue;
-    s += fmt::format("set label {} at first {}, graph 1 left offset 0.4,{} front\n", gp_string(b.net), num(b.start_s),
-                     row++ % 2 == 0 ? "0.6" : "1.7");
-  }
-}
-
-std::pair<double, double> depth_range(const MissionPlot& plot) {
-  double lo = 0.0;  // the surface is always shown
-  double hi = 0.0;
-  for (const Series* s : {&plot.depth_m, &plot.filtered_depth_m, &plot.setpoint_m}) {
-    for (double v : s->value) {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-  }
-  const double pad = std::max(0.05 * (hi - lo), 0.05);
-  return {lo - pad, hi + pad};
-}
-
-}  // namespace
+using namespace script;  // the pieces shared with track_script.cpp
 
 std::optional<Format> format_for(const fs::path& file) {
   std::string ext = file.extension().string();
@@ -149,11 +48,13 @@ core::Result<void> write_data(const MissionPlot& plot, const fs::path& folder) {
     auto written = write_series(folder / name, *series, series == &plot.heading_deg);
     if (!written) return written;
   }
+  if (plot.has_track()) return write_track_data(plot, folder);
   return {};
 }
 
 std::string gnuplot_script(const MissionPlot& plot, Format format, const fs::path& data_folder,
                            const fs::path& output) {
+  if (plot.has_track()) return open_water_script(plot, format, data_folder, output);
   const bool heading = !plot.heading_deg.empty();
   const int height = heading ? 800 : 600;
   std::string s = "# Written by `strata plot`; run it again with `gnuplot plot.gp`.\n";

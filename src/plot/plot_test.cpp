@@ -14,19 +14,13 @@
 #include "plot/gnuplot.h"
 #include "plot/plot_log.h"
 #include "core/test_fifo.h"
+#include "plot/plot_test_support.h"
 
 namespace strata::plot {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string fixture(const char* name) { return std::string(STRATA_SOURCE_DIR) + "/tests/plot/" + name; }
-
-MissionPlot read_fixture(const char* name) {
-  auto r = read_log_file(fixture(name));
-  if (!r) ADD_FAILURE() << r.error().message;
-  return r ? r.value() : MissionPlot{};
-}
+using namespace testing;
 
 core::Result<MissionPlot> read_text(const std::string& text) {
   std::istringstream in(text);
@@ -47,22 +41,6 @@ std::string dump(const std::vector<AbortMark>& marks) {
   for (const auto& m : marks) out += fmt::format("{} {}{}\n", m.time_s, m.label, m.mission ? " [mission]" : "");
   return out;
 }
-
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "plot_test-XXXXXX").string();
-    path_ = mkdtemp(pattern.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // PATH replaced for one test, then put back.
 class ScopedPath {
@@ -243,52 +221,6 @@ TEST(Render, GnuplotThatHangsIsStopped) {
   EXPECT_EQ(RenderStatus::GnuplotFailed, r.status);
   EXPECT_EQ("gnuplot was still running after 300 ms and was stopped", r.message);
 }
-
-// The points of each subpath of an SVG path's d (gnuplot writes only M and L).
-std::vector<std::vector<std::pair<double, double>>> subpaths(const std::string& d) {
-  std::vector<std::vector<std::pair<double, double>>> out;
-  std::istringstream in(d);
-  char command = 0;
-  while (in >> command) {
-    if (command != 'M' && command != 'L') continue;
-    double x = 0, y = 0;
-    char comma = 0;
-    if (!(in >> x >> comma >> y)) break;
-    if (command == 'M' || out.empty()) out.emplace_back();
-    out.back().emplace_back(x, y);
-  }
-  return out;
-}
-
-struct Svg {
-  pugi::xml_document doc;
-  std::vector<std::string> texts;
-  // A plotted curve's points, by the title in its key.
-  std::vector<std::vector<std::pair<double, double>>> curve(const std::string& title) const {
-    for (auto g : doc.select_nodes("//*[local-name()='g'][starts-with(@id, 'gnuplot_plot_')]")) {
-      const auto key = g.node().select_node(".//*[local-name()='text']");
-      if (!key || key.node().child_value() != title) continue;
-      const auto path = g.node().select_node(".//*[local-name()='path']");
-      if (path) return subpaths(path.node().attribute("d").value());
-    }
-    return {};
-  }
-  bool has_text(const std::string& t) const { return std::find(texts.begin(), texts.end(), t) != texts.end(); }
-};
-
-// Draws a fixture into an SVG and parses it.
-bool draw(const char* name, Svg& svg, TempDir& dir) {
-  const fs::path out = dir.path() / "out.svg";
-  Rendered r = render(read_fixture(name), {Format::Svg, out});
-  EXPECT_TRUE(r.ok()) << r.message;
-  auto parsed = svg.doc.load_file(out.c_str());
-  EXPECT_TRUE(parsed) << parsed.description();
-  for (auto t : svg.doc.select_nodes("//*[local-name()='text']")) svg.texts.emplace_back(t.node().child_value());
-  return r.ok() && parsed;
-}
-
-#define SKIP_WITHOUT_GNUPLOT() \
-  if (!find_on_path("gnuplot")) GTEST_SKIP() << "gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)"
 
 TEST(Svg, KnownLogShowsItsPhasesAbortsAndDepthCurve) {
   SKIP_WITHOUT_GNUPLOT();
