@@ -210,7 +210,7 @@ std::vector<GeneratedFile> man_pages(const CLI::App& root, std::string_view vers
 }
 
 std::string bash_completion(const CLI::App& root) {
-  const std::string name = root.get_name();
+  const std::string& name = root.get_name();
   std::string commands;
   for (const CLI::App* s : subcommands(root)) commands += (commands.empty() ? "" : " ") + s->get_name();
   std::string cases;
@@ -239,7 +239,7 @@ std::string bash_completion(const CLI::App& root) {
 }
 
 std::string zsh_completion(const CLI::App& root) {
-  const std::string name = root.get_name();
+  const std::string& name = root.get_name();
   std::string described;
   for (const CLI::App* s : subcommands(root)) {
     described += fmt::format("    '{}:{}'\n", s->get_name(), zsh_escape(s->get_description()));

@@ -139,8 +139,8 @@ TEST(DataCursor, Ordinals) {
 }
 
 TEST(MissionData, WaypointsAloneMakeMissionData) {
-  auto d = MissionData::parse("[[waypoint]]\nname = \"start\"\nx_m = 0\ny_m = -20.5\n[[waypoint]]\nx_m = 200\ny_m = 0\n",
-                              "data.toml");
+  auto d = MissionData::parse(
+      "[[waypoint]]\nname = \"start\"\nx_m = 0\ny_m = -20.5\n[[waypoint]]\nx_m = 200\ny_m = 0\n", "data.toml");
   ASSERT_TRUE(d.ok()) << d.error().message;
   EXPECT_TRUE(d.value().setpoints().empty());
   ASSERT_EQ(2u, d.value().waypoints().size());

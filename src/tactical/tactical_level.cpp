@@ -37,9 +37,9 @@ nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
   put("thrust_n", t.thrust_n);
   put("setpoint_m", t.setpoint_m);
   put("heading_deg", t.heading_deg);
-  for (auto [wire, logged] : {std::pair{"x", "x_m"}, std::pair{"y", "y_m"}, std::pair{"true_x", "true_x_m"},
-                              std::pair{"true_y", "true_y_m"}, std::pair{"pos_sd", "position_sd_m"},
-                              std::pair{"speed", "speed_mps"}, std::pair{"alt", "altitude_m"}}) {
+  for (auto [wire, logged] :
+       {std::pair{"x", "x_m"}, std::pair{"y", "y_m"}, std::pair{"true_x", "true_x_m"}, std::pair{"true_y", "true_y_m"},
+        std::pair{"pos_sd", "position_sd_m"}, std::pair{"speed", "speed_mps"}, std::pair{"alt", "altitude_m"}}) {
     const auto it = t.extras.find(wire);
     if (it == t.extras.end()) continue;
     double v = 0.0;

@@ -160,12 +160,11 @@ TEST(TelemetryLogFields, OpenWaterAddsThePlaneAfterTheTankFields) {
   t.depth_m = 2.0;
   t.heading_deg = 90.0;
   EXPECT_EQ(R"({"depth_m":2.0,"heading_deg":90.0})", telemetry_log_fields(t).dump());
-  t.extras = {{"x", "12.35"}, {"y", "-3.00"}, {"true_x", "13.00"}, {"true_y", "-2.50"}, {"pos_sd", "4.25"},
-              {"speed", "0.800"}, {"alt", "7.50"}, {"mode", "depth"}};
-  EXPECT_EQ(
-      R"({"depth_m":2.0,"heading_deg":90.0,"x_m":12.35,"y_m":-3.0,"true_x_m":13.0,"true_y_m":-2.5,)"
-      R"("position_sd_m":4.25,"speed_mps":0.8,"altitude_m":7.5})",
-      telemetry_log_fields(t).dump());
+  t.extras = {{"x", "12.35"},     {"y", "-3.00"},     {"true_x", "13.00"}, {"true_y", "-2.50"},
+              {"pos_sd", "4.25"}, {"speed", "0.800"}, {"alt", "7.50"},     {"mode", "depth"}};
+  EXPECT_EQ(R"({"depth_m":2.0,"heading_deg":90.0,"x_m":12.35,"y_m":-3.0,"true_x_m":13.0,"true_y_m":-2.5,)"
+            R"("position_sd_m":4.25,"speed_mps":0.8,"altitude_m":7.5})",
+            telemetry_log_fields(t).dump());
   t.extras = {{"x", "nan"}, {"y", "1e999"}, {"alt", "7.5m"}};  // garbage from a vehicle: left out
   EXPECT_EQ(R"({"depth_m":2.0,"heading_deg":90.0})", telemetry_log_fields(t).dump());
 }

@@ -86,7 +86,7 @@ TEST(Execution, OpenWaterFunctionsDriveTheVehicleAndTheAsksAnswer) {
   Simulation sim(default_params(), open_water());
   ASSERT_TRUE(execute(sim, protocol::make_ood(1, "start_network")).value);
   EXPECT_TRUE(exec(sim, "gps_fix").value);  // at the surface
-  sim.advance(120.0);  // fixes at the surface learn the current (none here)
+  sim.advance(120.0);                       // fixes at the surface learn the current (none here)
   EXPECT_TRUE(exec(sim, "set_altitude_floor", {Value::integer(3)}).value);
   EXPECT_TRUE(exec(sim, "goto_depth", {Value::real(2.5)}).value);
   EXPECT_TRUE(exec(sim, "set_speed", {Value::real(0.6)}).value);
@@ -101,7 +101,8 @@ TEST(Execution, OpenWaterFunctionsDriveTheVehicleAndTheAsksAnswer) {
   const Outcome below = exec(sim, "gps_fix");
   EXPECT_FALSE(below.value);
   EXPECT_EQ(0u, below.message.find("no GPS fix at 2."));
-  EXPECT_TRUE(exec(sim, "track", {Value::integer(30), Value::integer(40), Value::integer(30), Value::integer(400)}).value);
+  EXPECT_TRUE(
+      exec(sim, "track", {Value::integer(30), Value::integer(40), Value::integer(30), Value::integer(400)}).value);
   EXPECT_FALSE(ask(sim, "waypoint_reached"));
   EXPECT_TRUE(exec(sim, "stop").value);
   EXPECT_EQ(GuidanceMode::None, sim.guidance().mode);
@@ -128,9 +129,9 @@ TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {
 
 TEST(Execution, TheInterfaceListsTheOpenWaterFunctions) {
   const std::string text = interface_text();
-  for (const char* f : {"goto_depth depth[m]", "set_speed speed[m/s]", "goto_xy x[m] y[m]",
-                        "track x0[m] y0[m] x1[m] y1[m]", "stop ", "gps_fix", "set_altitude_floor floor[m]",
-                        "waypoint_reached", "altitude_low", "position_uncertain"}) {
+  for (const char* f :
+       {"goto_depth depth[m]", "set_speed speed[m/s]", "goto_xy x[m] y[m]", "track x0[m] y0[m] x1[m] y1[m]", "stop ",
+        "gps_fix", "set_altitude_floor floor[m]", "waypoint_reached", "altitude_low", "position_uncertain"}) {
     EXPECT_NE(std::string::npos, text.find(f)) << f;
   }
 }

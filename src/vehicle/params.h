@@ -77,25 +77,25 @@ struct VehicleParams {
   double motor_lag_s = 0.5;           // first-order time constant of the thrust
 
   // [navigation] dead reckoning from water speed and compass, GPS at the surface
-  double gps_noise_m = 1.5;            // standard deviation of a fix, per axis
-  double gps_period_s = 1.0;           // one fix per period while the antenna is dry
-  double gps_max_depth_m = 0.3;        // the antenna is dry at or above this depth
-  double nav_initial_sd_m = 10.0;      // open water: the launch position, per axis
-  double nav_speed_sd_mps = 0.05;      // dead reckoning error rate (speed, heading), per axis
-  double nav_current_sd_mps = 0.3;     // the current before any fix, per axis
-  double nav_current_walk_mps = 0.002; // how fast the current may change, per sqrt(s)
-  double position_limit_m = 25.0;      // position_uncertain: horizontal 1-sigma above this
+  double gps_noise_m = 1.5;             // standard deviation of a fix, per axis
+  double gps_period_s = 1.0;            // one fix per period while the antenna is dry
+  double gps_max_depth_m = 0.3;         // the antenna is dry at or above this depth
+  double nav_initial_sd_m = 10.0;       // open water: the launch position, per axis
+  double nav_speed_sd_mps = 0.05;       // dead reckoning error rate (speed, heading), per axis
+  double nav_current_sd_mps = 0.3;      // the current before any fix, per axis
+  double nav_current_walk_mps = 0.002;  // how fast the current may change, per sqrt(s)
+  double position_limit_m = 25.0;       // position_uncertain: horizontal 1-sigma above this
 
   // [guidance] line of sight to a waypoint or along a track line
-  double los_lookahead_m = 8.0;     // the aim point this far ahead along the line
-  double waypoint_radius_m = 3.0;   // waypoint_reached: estimated distance below this
-  double cruise_speed_mps = 0.8;    // goto_xy / track when no speed was set
-  double max_depth_m = 50.0;        // open water: deepest goto_depth / setpoint accepted
+  double los_lookahead_m = 8.0;    // the aim point this far ahead along the line
+  double waypoint_radius_m = 3.0;  // waypoint_reached: estimated distance below this
+  double cruise_speed_mps = 0.8;   // goto_xy / track when no speed was set
+  double max_depth_m = 50.0;       // open water: deepest goto_depth / setpoint accepted
 
   // [altimeter] downward sonar altimeter
-  double altimeter_range_m = 30.0;    // no echo farther than this
-  double altimeter_noise_m = 0.05;    // standard deviation of a reading
-  double altitude_floor_m = 2.0;      // altitude_low: a reading below this (default floor)
+  double altimeter_range_m = 30.0;  // no echo farther than this
+  double altimeter_noise_m = 0.05;  // standard deviation of a reading
+  double altitude_floor_m = 2.0;    // altitude_low: a reading below this (default floor)
 
   // [sonar] forward-looking mechanically scanned sonar (ST1000-like)
   double sonar_beam_width_deg = 1.8;    // one conical beam

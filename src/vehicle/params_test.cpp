@@ -165,7 +165,8 @@ TEST(Params, TheOpenWaterTablesAreRequiredAndTheCruiseSpeedWithinTheTopSpeed) {
       "p.toml: guidance.cruise_speed_mps must not exceed the top speed, 0.707 m/s (surge.motor_max_n and "
       "surge.drag_coeff)",
       params_error_of(edited("motor_max_n = 12.0", "motor_max_n = 6.0")));
-  EXPECT_EQ("p.toml:" + std::to_string(line_of("drag_coeff = 24.0")) + ":14: 'surge.drag_coeff' = 0 is out of range (0 < value)",
+  EXPECT_EQ("p.toml:" + std::to_string(line_of("drag_coeff = 24.0")) +
+                ":14: 'surge.drag_coeff' = 0 is out of range (0 < value)",
             params_error_of(edited("drag_coeff = 24.0", "drag_coeff = 0.0")));
 }
 

@@ -219,9 +219,9 @@ void Simulation::step() {
   ++cycle_;
   navigate();
   if (contact.bottom && !at_bottom_) {
-    event(open_water() ? fmt::format("seabed: vehicle on the bottom at {:.2f} m, ({:.1f}, {:.1f}) m", heave_.depth_m,
-                                     x_m_, y_m_)
-                       : fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
+    event(open_water()
+              ? fmt::format("seabed: vehicle on the bottom at {:.2f} m, ({:.1f}, {:.1f}) m", heave_.depth_m, x_m_, y_m_)
+              : fmt::format("tank: vehicle on the bottom at {:.2f} m", heave_.depth_m));
   }
   at_bottom_ = contact.bottom;
   apply_faults();

@@ -111,9 +111,9 @@ struct Event {
 
 struct FaultState {
   bool leak = false;
-  double thrust_health = 1.0;   // fraction of nominal thrust available
-  bool sensor_dropout = false;  // the depth cell gives no reading now
-  bool link_lost = false;       // the scenario says the link is silent now
+  double thrust_health = 1.0;     // fraction of nominal thrust available
+  bool sensor_dropout = false;    // the depth cell gives no reading now
+  bool link_lost = false;         // the scenario says the link is silent now
   double compass_bias_deg = 0.0;  // compass reading - true heading
   bool altimeter_dead = false;
   bool no_gps = false;
