@@ -1,5 +1,5 @@
 #pragma once
-// A campaign spec (docs/campaign.md): the missions, the fault space, the
+// A campaign spec (docs/campaigns.md): the missions, the fault space, the
 // seeds and the expectations every run must meet, read from TOML.
 //
 //   name = "tank"                       # optional: a title for the report

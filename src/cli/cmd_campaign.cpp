@@ -1,4 +1,4 @@
-// `strata campaign SPEC`: every case of a campaign spec (docs/campaign.md),
+// `strata campaign SPEC`: every case of a campaign spec (docs/campaigns.md),
 // run by a pool of worker processes, into a results folder.
 #include <unistd.h>
 
@@ -91,7 +91,7 @@ Runner add_campaign_command(CLI::App& app) {
       "Run every case of a campaign spec (missions x faults x injection times x seeds) against the simulated "
       "vehicle, check each against the spec's expectations, and write results.jsonl, report.json and "
       "report.html into --out. Exit 0: every case met its expectations; 1: some did not");
-  cmd->add_option("spec", f->spec, "The campaign spec (TOML; docs/campaign.md)");
+  cmd->add_option("spec", f->spec, "The campaign spec (TOML; docs/campaigns.md)");
   cmd->add_option("--compare", f->compare,
                   "Compare two campaigns' results.jsonl (A B): cases newly failing or passing, outcomes and figures "
                   "that changed; exit 1 when a verdict or an outcome changed")
