@@ -7,24 +7,24 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "campaign/output.h"
 #include "core/file.h"
 
 namespace strata::campaign {
 namespace {
 
-using Json = nlohmann::json;
-constexpr std::size_t kMaxResultsBytes = std::size_t{1} << 30;
+using ResultLine = nlohmann::json;
 
 // Inputs as text (keys sorted by nlohmann::json) -> the case's line.
-core::Result<std::map<std::string, Json>> read_results(const std::string& path) {
+core::Result<std::map<std::string, ResultLine>> read_results(const std::string& path) {
   auto text = core::read_regular_file(path, kMaxResultsBytes);
   if (!text) return text.error();
-  std::map<std::string, Json> cases;
+  std::map<std::string, ResultLine> cases;
   std::istringstream in(text.value());
   std::string line;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
     if (line.empty()) continue;
-    Json j = Json::parse(line, nullptr, false);
+    ResultLine j = ResultLine::parse(line, nullptr, false);
     if (j.is_discarded() || !j.is_object() || !j.contains("inputs") || !j.contains("pass") || !j.contains("index")) {
       return core::make_error(core::ErrorCode::InvalidInput,
                               fmt::format("{}:{}: not a line of a campaign's results.jsonl", path, n));
@@ -35,8 +35,8 @@ core::Result<std::map<std::string, Json>> read_results(const std::string& path) 
   return cases;
 }
 
-std::string name(const Json& j) {
-  const Json& in = j["inputs"];
+std::string name(const ResultLine& j) {
+  const ResultLine& in = j["inputs"];
   std::string fault;
   for (const auto& [k, v] : in["fault"].items()) {
     if (k != "kind") fault += fmt::format(" {}={}", k, v.dump());
@@ -45,9 +45,9 @@ std::string name(const Json& j) {
                      in["fault"].value("kind", ""), fault, in.value("seed", 0));
 }
 
-std::string failed_checks(const Json& j) {
+std::string failed_checks(const ResultLine& j) {
   std::string out;
-  for (const Json& c : j["checks"]) {
+  for (const ResultLine& c : j["checks"]) {
     if (!c.value("pass", true))
       out += fmt::format("{}{} {}", out.empty() ? "" : ", ", c.value("name", ""), c["figure"].dump());
   }
@@ -68,7 +68,7 @@ core::Result<CompareReport> compare_results(const std::string& a_path, const std
       r.only_a.push_back(fmt::format("{}: {}", x["index"].dump(), name(x)));
       continue;
     }
-    const Json& y = it->second;
+    const ResultLine& y = it->second;
     ++r.matched;
     const std::string label = fmt::format("{} -> {}: {}", x["index"].dump(), y["index"].dump(), name(x));
     const bool pa = x["pass"].get<bool>(), pb = y["pass"].get<bool>();
@@ -81,9 +81,9 @@ core::Result<CompareReport> compare_results(const std::string& a_path, const std
     }
     if (pa == pb) {
       // The same verdict, a different figure: how far each moved.
-      std::map<std::string, Json> before;
-      for (const Json& c : x["checks"]) before[c.value("name", "")] = c["figure"];
-      for (const Json& c : y["checks"]) {
+      std::map<std::string, ResultLine> before;
+      for (const ResultLine& c : x["checks"]) before[c.value("name", "")] = c["figure"];
+      for (const ResultLine& c : y["checks"]) {
         auto b_it = before.find(c.value("name", ""));
         if (b_it == before.end() || b_it->second == c["figure"]) continue;
         if (b_it->second.is_number() && c["figure"].is_number() &&

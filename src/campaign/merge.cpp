@@ -18,7 +18,6 @@ namespace strata::campaign {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr std::size_t kMaxResultsBytes = std::size_t{1} << 30;
 constexpr std::size_t kMaxLogBytes = std::size_t{256} << 20;
 
 // A file a line names ("logs/case-3.jsonl") copied from one folder to the other.

@@ -3,6 +3,7 @@
 // report.html, logs/case-I.jsonl and scenarios/case-I.toml. Nothing is
 // written through a symbolic link: DIR itself must not be one, and every
 // file is opened with O_NOFOLLOW.
+#include <cstddef>
 #include <cstdio>
 #include <string>
 
@@ -11,6 +12,9 @@
 #include "core/result.h"
 
 namespace strata::campaign {
+
+// The largest results.jsonl or report.json read back (--merge, --compare).
+inline constexpr std::size_t kMaxResultsBytes = std::size_t{1} << 30;
 
 // Creates DIR with logs/ and scenarios/ in it. An existing DIR must be a
 // folder (not a link) that is empty or holds an earlier campaign (a

@@ -22,11 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace testing;
 
-core::Result<MissionPlot> read_text(const std::string& text) {
-  std::istringstream in(text);
-  return read_log(in, "x.jsonl");
-}
-
 std::string dump(const std::vector<PhaseBand>& phases) {
   std::string out;
   for (const auto& b : phases) {

@@ -22,6 +22,12 @@ namespace fs = std::filesystem;
 
 inline std::string fixture(const char* name) { return std::string(STRATA_SOURCE_DIR) + "/tests/plot/" + name; }
 
+// A log given as text, read as from a file named x.jsonl.
+inline core::Result<MissionPlot> read_text(const std::string& text) {
+  std::istringstream in(text);
+  return read_log(in, "x.jsonl");
+}
+
 inline MissionPlot read_fixture(const char* name) {
   auto r = read_log_file(fixture(name));
   if (!r) ADD_FAILURE() << r.error().message;

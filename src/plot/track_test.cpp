@@ -18,11 +18,6 @@ namespace {
 
 using namespace testing;
 
-core::Result<MissionPlot> read_text(const std::string& text) {
-  std::istringstream in(text);
-  return read_log(in, "x.jsonl");
-}
-
 std::string slurp(const fs::path& file) {
   std::ifstream in(file);
   std::stringstream text;

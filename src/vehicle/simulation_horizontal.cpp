@@ -6,15 +6,17 @@
 
 #include <fmt/format.h>
 
+#include "core/units.h"
 #include "vehicle/simulation.h"
 #include "vehicle/time_compare.h"
 
 namespace strata::vehicle {
 namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-
-core::Error refused(std::string message) { return core::make_error(core::ErrorCode::InvalidInput, std::move(message)); }
+// (simulation.cpp has its own `refused`: a distinct name keeps the unity build whole.)
+core::Error refused_here(std::string message) {
+  return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
+}
 
 }  // namespace
 
@@ -28,33 +30,33 @@ core::Result<void> Simulation::set_speed(double speed_mps) {
   if (auto r = require_network(); !r) return r;
   const double top = params_.top_speed_mps();
   if (!std::isfinite(speed_mps) || speed_mps < 0.0 || speed_mps > top) {
-    return refused(fmt::format("speed {} m/s outside 0 to {:.3g} m/s (the top speed)", speed_mps, top));
+    return refused_here(fmt::format("speed {} m/s outside 0 to {:.3g} m/s (the top speed)", speed_mps, top));
   }
-  if (watchdog_tripped_) return refused("watchdog tripped: surfacing until the network restarts");
+  if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
   speed_target_mps_ = speed_mps;
   return {};
 }
 
 core::Result<void> Simulation::check_goal(double x_m, double y_m) const {
-  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return refused("waypoint coordinates must be finite numbers");
+  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return refused_here("waypoint coordinates must be finite numbers");
   if (!open_water()) {
     if (x_m < 0.0 || x_m > params_.tank_length_x_m || y_m < 0.0 || y_m > params_.tank_width_y_m) {
-      return refused(fmt::format("waypoint ({}, {}) m is outside the {} x {} m tank", x_m, y_m, params_.tank_length_x_m,
-                                 params_.tank_width_y_m));
+      return refused_here(fmt::format("waypoint ({}, {}) m is outside the {} x {} m tank", x_m, y_m,
+                                      params_.tank_length_x_m, params_.tank_width_y_m));
     }
     return {};
   }
   const double d = std::hypot(x_m - nav_.x_m(), y_m - nav_.y_m());
   if (!(d <= kMaxLegM)) {
-    return refused(fmt::format("waypoint ({}, {}) m is {:.0f} m away: farther than the longest leg, {:.0f} m", x_m, y_m,
-                               d, kMaxLegM));
+    return refused_here(fmt::format("waypoint ({}, {}) m is {:.0f} m away: farther than the longest leg, {:.0f} m", x_m,
+                                    y_m, d, kMaxLegM));
   }
   return {};
 }
 
 core::Result<void> Simulation::engage(Guidance g) {
   if (auto r = require_network(); !r) return r;
-  if (watchdog_tripped_) return refused("watchdog tripped: surfacing until the network restarts");
+  if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
   guidance_ = g;
   reached_ = false;
   if (!speed_target_mps_ || *speed_target_mps_ == 0.0) speed_target_mps_ = params_.cruise_speed_mps;
@@ -71,7 +73,7 @@ core::Result<void> Simulation::track(double x0_m, double y0_m, double x1_m, doub
   if (auto r = check_goal(x0_m, y0_m); !r) return r;
   if (auto r = check_goal(x1_m, y1_m); !r) return r;
   if (std::hypot(x1_m - x0_m, y1_m - y0_m) < params_.waypoint_radius_m) {
-    return refused(fmt::format("track line shorter than the waypoint radius, {} m", params_.waypoint_radius_m));
+    return refused_here(fmt::format("track line shorter than the waypoint radius, {} m", params_.waypoint_radius_m));
   }
   return engage({GuidanceMode::Track, x0_m, y0_m, x1_m, y1_m});
 }
@@ -86,7 +88,7 @@ core::Result<void> Simulation::stop() {
 
 core::Result<void> Simulation::goto_depth(double depth_m) {
   if (auto r = require_network(); !r) return r;
-  if (watchdog_tripped_) return refused("watchdog tripped: surfacing until the network restarts");
+  if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
   const auto keep = loaded_;
   if (auto r = set_setpoint(depth_m, 1e9); !r) return r;
   if (auto r = start_depth_filter(); !r) return r;
@@ -99,10 +101,10 @@ core::Result<void> Simulation::goto_depth(double depth_m) {
 
 core::Result<void> Simulation::gps_fix() {
   if (auto r = require_network(); !r) return r;
-  if (!open_water()) return refused("no GPS in the tank");
-  if (faults_.no_gps) return refused("no GPS fix (the receiver hears no satellites)");
+  if (!open_water()) return refused_here("no GPS in the tank");
+  if (faults_.no_gps) return refused_here("no GPS fix (the receiver hears no satellites)");
   if (heave_.depth_m > params_.gps_max_depth_m) {
-    return refused(fmt::format("no GPS fix at {:.2f} m depth: the antenna is under water", heave_.depth_m));
+    return refused_here(fmt::format("no GPS fix at {:.2f} m depth: the antenna is under water", heave_.depth_m));
   }
   nav_.fix(gps_x_noise_.sample(x_m_, false).value_or(x_m_), gps_y_noise_.sample(y_m_, false).value_or(y_m_),
            params_.gps_noise_m);
@@ -113,8 +115,8 @@ core::Result<void> Simulation::gps_fix() {
 core::Result<void> Simulation::set_altitude_floor(double floor_m) {
   if (auto r = require_network(); !r) return r;
   if (!std::isfinite(floor_m) || floor_m < 0.0 || floor_m > params_.altimeter_range_m) {
-    return refused(fmt::format("altitude floor {} m outside 0 to {} m (the altimeter's range)", floor_m,
-                               params_.altimeter_range_m));
+    return refused_here(fmt::format("altitude floor {} m outside 0 to {} m (the altimeter's range)", floor_m,
+                                    params_.altimeter_range_m));
   }
   altitude_floor_m_ = floor_m;
   return {};
@@ -144,7 +146,7 @@ void Simulation::guide() {
 void Simulation::move_substep(double h_s) {
   const double thrust = speed_target_mps_ ? speed_thrust_n(params_, *speed_target_mps_) : 0.0;
   advance_surge(params_, thrust, params_.max_surge_thrust_n() * faults_.thrust_health, h_s, surge_);
-  const double psi = yaw_.heading_deg * kRadPerDeg;
+  const double psi = yaw_.heading_deg * core::kRadPerDeg;
   x_m_ += h_s * (surge_.speed_mps * std::sin(psi) + scenario_.world.current_x_mps);
   y_m_ += h_s * (surge_.speed_mps * std::cos(psi) + scenario_.world.current_y_mps);
   if (!open_water()) {
@@ -159,7 +161,7 @@ void Simulation::navigate() {
     nav_ = Navigator(params_, x_m_, y_m_, 0.0);  // the tank's positioning: the truth
     return;
   }
-  const double psi = compass_deg() * kRadPerDeg;
+  const double psi = compass_deg() * core::kRadPerDeg;
   nav_.predict(surge_.speed_mps * std::sin(psi), surge_.speed_mps * std::cos(psi), params_.cycle_s);
   if (faults_.no_gps || heave_.depth_m > params_.gps_max_depth_m) return;
   if (!time_reached(time_s(), next_gps_s_)) return;
