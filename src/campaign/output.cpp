@@ -20,17 +20,6 @@ core::Error io_error(const std::string& what) {
   return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
 }
 
-bool write_fd(int fd, const std::string& text) {
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<std::size_t>(n);
-  }
-  return true;
-}
-
 // A folder we may write into: a real folder, not a link to one.
 core::Result<void> make_dir(const std::string& path) {
   struct stat st {};
@@ -59,6 +48,17 @@ void clear_cases(const std::string& sub, const std::regex& name) {
 
 }  // namespace
 
+bool write_all_fd(int fd, const std::string& text) {
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
 core::Result<void> prepare_out_dir(const std::string& dir) {
   std::error_code ec;
   const bool existed = fs::exists(fs::symlink_status(dir, ec));
@@ -85,7 +85,7 @@ core::Result<void> write_out_file(const std::string& dir, const std::string& nam
   const std::string path = (fs::path(dir) / name).string();
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
   if (fd < 0) return io_error(fmt::format("cannot write {}", path));
-  const bool ok = write_fd(fd, text);
+  const bool ok = write_all_fd(fd, text);
   if (::close(fd) != 0 || !ok) return io_error(fmt::format("cannot write {}", path));
   return {};
 }
@@ -104,7 +104,7 @@ ResultsFile::~ResultsFile() {
 core::Result<void> ResultsFile::append(const nlohmann::ordered_json& line) {
   // One write per line: the file never holds half a line that a later
   // line's write could follow.
-  if (!write_fd(fd_, line.dump() + "\n")) return io_error("cannot write results.jsonl");
+  if (!write_all_fd(fd_, line.dump() + "\n")) return io_error("cannot write results.jsonl");
   return {};
 }
 

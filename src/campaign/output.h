@@ -16,6 +16,10 @@ namespace strata::campaign {
 // The largest results.jsonl or report.json read back (--merge, --compare).
 inline constexpr std::size_t kMaxResultsBytes = std::size_t{1} << 30;
 
+// Writes all of text to fd (a file, or a worker's pipe), through EINTR and
+// short writes; false on an error.
+bool write_all_fd(int fd, const std::string& text);
+
 // Creates DIR with logs/ and scenarios/ in it. An existing DIR must be a
 // folder (not a link) that is empty or holds an earlier campaign (a
 // results.jsonl): that campaign's files are removed first, nothing else.

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "campaign/cases.h"
+#include "campaign/output.h"
 
 namespace strata::campaign {
 namespace {
@@ -30,17 +31,6 @@ constexpr auto kStopGrace = std::chrono::seconds(5);
 
 volatile std::sig_atomic_t g_worker_stop = 0;
 extern "C" void on_worker_term(int) { g_worker_stop = 1; }
-
-bool write_all(int fd, const std::string& text) {
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<std::size_t>(n);
-  }
-  return true;
-}
 
 // The worker's life: read lists, run them, answer; exit on EOF or SIGTERM.
 [[noreturn]] void worker_main(const Spec& spec, const CaseRunConfig& config, int cmd_fd, int res_fd) {
@@ -69,9 +59,9 @@ bool write_all(int fd, const std::string& text) {
       const std::uint64_t index = std::strtoull(p, &end, 10);
       if (end == p) break;
       p = end;
-      if (!write_all(res_fd, fmt::format("S {}\n", index))) ::_exit(2);
+      if (!write_all_fd(res_fd, fmt::format("S {}\n", index))) ::_exit(2);
       const std::string result = run_case(spec, case_at(spec, index), config).dump();
-      if (!write_all(res_fd, "R " + result + "\n")) ::_exit(2);
+      if (!write_all_fd(res_fd, "R " + result + "\n")) ::_exit(2);
     }
   }
   ::_exit(0);
@@ -169,7 +159,7 @@ class Pool {
       line += fmt::format("{}{}", line.empty() ? "" : " ", queue_.front());
       queue_.pop_front();
     }
-    if (!write_all(w.cmd_fd, line + "\n")) {
+    if (!write_all_fd(w.cmd_fd, line + "\n")) {
       // It died already: its EOF will put the list back.
       ::close(w.cmd_fd);
       w.cmd_fd = -1;
