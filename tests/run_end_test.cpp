@@ -134,7 +134,7 @@ void expect_safe_end(const Ended& e, const std::string& signal, int exit_code) {
   EXPECT_EQ(exit_code, end["exit_code"]);
   ASSERT_TRUE(e.log.vehicle_final.has_value()) << e.out;
   EXPECT_LT(e.log.at(e.log.vehicle_final)["depth_m"].get<double>(), kSurfacedM) << e.out;
-  EXPECT_NE(std::string::npos, e.out.find("ABORTED: interrupted by " + signal)) << e.out;
+  EXPECT_NE(std::string::npos, e.out.find("failed: interrupted by " + signal)) << e.out;
 }
 
 const std::string kDived = R"("net":"dive_from_surface","exit":"complete")";
@@ -144,6 +144,14 @@ TEST(RunEnd, SigintDuringACoralMissionAtDepthSurfacesAndExits130) {
   expect_safe_end(e, "SIGINT", 130);
   EXPECT_NE(std::string::npos, e.out.find("after it: exec surface sent by strata run; the vehicle reached the surface"))
       << e.out;
+}
+
+// Regression: `run --studio` started the studio's HTTP threads before it
+// blocked the stop signals, so Ctrl-C during the run reached one of them and
+// killed the process: no safe end, no mission_end in the log.
+TEST(RunEnd, SigintDuringAStudioRunSurfacesAndExits130) {
+  Ended e = run_and_signal({kTests + "hold_at_depth.coral", "--studio", "--speed", "20"}, kDived, {SIGINT});
+  expect_safe_end(e, "SIGINT", 130);
 }
 
 TEST(RunEnd, SigtermDuringACoralMissionAtDepthSurfacesAndExits143) {
@@ -228,7 +236,7 @@ TEST(RunEnd, TheSimulatedTimeLimitEndsAMissionThatNeverEndsAndSurfaces) {
   MissionRun r = run_file(kTests + "hold_at_depth.coral", 120.0);
   EXPECT_EQ(1, r.report.exit_code) << r.out << r.err;
   EXPECT_EQ("limit", r.report.stopped_by);
-  EXPECT_NE(std::string::npos, r.out.find("ABORTED: a limit was reached")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("failed: a limit was reached")) << r.out;
   EXPECT_NE(std::string::npos, r.out.find("the simulated-time limit was reached (120 s; --max-sim-time sets it)"))
       << r.out;
   ASSERT_TRUE(r.report.result.has_value());

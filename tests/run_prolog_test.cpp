@@ -164,7 +164,7 @@ TEST(BadRules, AnEndlessLoopIsStoppedAndTheVehicleSurfaced) {
   EXPECT_EQ(1, r.report.exit_code);
   EXPECT_NE(std::string::npos, r.report.result->reason.find("1000000 inferences without calling a primitive"))
       << r.report.result->reason;
-  EXPECT_NE(std::string::npos, r.out.find("ABORTED: the Strategic level could not go on")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("failed: the Strategic level could not go on")) << r.out;
   EXPECT_TRUE(r.report.emergency_surface);
   EXPECT_TRUE(r.report.emergency_surfaced) << r.out;
   EXPECT_TRUE(r.report.emergency_shutdown);

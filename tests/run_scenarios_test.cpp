@@ -130,7 +130,7 @@ void expect_abort_path(const MissionRun& r, const std::string& phase, const std:
 
   ASSERT_TRUE(r.report.final_depth_m.has_value());
   EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m) << "the vehicle ends at the surface";
-  EXPECT_NE(std::string::npos, r.out.find("mission tank: ABORTED (exit closed_after_abort)")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("mission tank: aborted (exit closed_after_abort)")) << r.out;
 }
 
 // A leak at the scenario's time is seen at the next system_problem check of
@@ -287,7 +287,7 @@ TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
   EXPECT_TRUE(*result.call_error == core::ErrorCode::Timeout || *result.call_error == core::ErrorCode::Closed)
       << "Timeout or Closed: the link to the vehicle is gone";
   EXPECT_NE(std::string::npos, result.reason.find("no reply")) << result.reason;
-  EXPECT_NE(std::string::npos, r.out.find("mission tank: ABORTED: lost the link to the vehicle")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("mission tank: failed: lost the link to the vehicle")) << r.out;
   EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface cancelled"}), r.report.phases);
 
   // The vehicle answered nothing after the link went; the call in flight then failed.

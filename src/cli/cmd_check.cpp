@@ -12,6 +12,7 @@
 #include "cli/exit_codes.h"
 #include "cli/mission_files.h"
 #include "cli/rule_load_flags.h"
+#include "cli/verbosity.h"
 #include "coral/compiler.h"
 #include "strategic/prolog_mission.h"
 #include "run/loaded_mission.h"
@@ -27,6 +28,7 @@ struct CheckOptions {
   std::string format = "text";
   std::string net;
   run::RuleLoadLimits rule_load;
+  VerbosityFlags verbosity;
 };
 
 // Diagnostics of all roots, with a problem found through two roots (a phase
@@ -152,7 +154,10 @@ int run_check(const CheckOptions& o) {
     std::cout << core::dump_json(out) << "\n";
   } else {
     std::cerr << report.text();
-    for (const auto& s : summaries) std::cout << s << "\n";
+    // Quiet: the diagnostics and the totals, not a line per file.
+    if (o.verbosity.level() != Verbosity::Quiet) {
+      for (const auto& s : summaries) std::cout << s << "\n";
+    }
     if (report.errors() + report.warnings() + rule_errors + rule_warnings > 0) {
       std::cout << plural(report.errors() + rule_errors, "error") << ", "
                 << plural(report.warnings() + rule_warnings, "warning") << "\n";
@@ -223,6 +228,7 @@ Runner add_check_command(CLI::App& app) {
   cmd->footer(
       "Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"
       "74 when a file cannot be read.");
+  add_verbosity_flags(cmd, o->verbosity, "");
   return [o] { return run_check(*o); };
 }
 

@@ -6,12 +6,14 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
 #include "cli/rule_load_flags.h"
 #include "cli/trace_compare.h"
+#include "cli/verbosity.h"
 
 namespace strata::cli {
 namespace {
@@ -25,6 +27,8 @@ struct CompareOptions {
   std::uint64_t inference_limit = RunOptions{}.inference_limit;
   run::RuleLoadLimits rule_load;
   std::optional<std::size_t> context;
+  std::string format = "text";
+  VerbosityFlags verbosity;
 };
 
 std::string language(const std::string& path) { return path.ends_with(".pl") ? "PROLOG" : "CORAL"; }
@@ -34,6 +38,33 @@ std::string outcome_text(const RunReport& r) {
   std::string text(strategic::to_string(r.result->outcome));
   if (!r.result->reason.empty()) text += " (" + r.result->reason + ")";
   return text;
+}
+
+nlohmann::json row_json(const std::vector<TraceRow>& rows, std::size_t i) {
+  if (i >= rows.size()) return nullptr;
+  return {{"call", rows[i].call}, {"answer", rows[i].answer}, {"sim_time_s", rows[i].sim_time_s}};
+}
+
+// `--format json`: both runs, and where their traces part (docs/architecture.md).
+nlohmann::json comparison_json(const CompareOptions& o, const RunReport (&reports)[2], const std::vector<TraceRow>& a,
+                               const std::vector<TraceRow>& b, std::optional<std::size_t> diff) {
+  auto side = [](const std::string& path, const RunReport& r) {
+    return nlohmann::json{{"mission", path},
+                          {"language", language(path)},
+                          {"outcome", std::string(strategic::to_string(r.result->outcome))},
+                          {"reason", r.result->reason},
+                          {"calls", r.trace.size()},
+                          {"sim_time_s", r.sim_time_s}};
+  };
+  nlohmann::json j{{"a", side(o.a, reports[0])},
+                   {"b", side(o.b, reports[1])},
+                   {"scenario", o.scenario.empty() ? "nominal" : o.scenario},
+                   {"seed", o.seed ? nlohmann::json(*o.seed) : nlohmann::json(nullptr)},
+                   {"same_outcome", reports[0].result->outcome == reports[1].result->outcome},
+                   {"first_difference", nullptr}};
+  j["identical"] = !diff && j["same_outcome"].get<bool>();
+  if (diff) j["first_difference"] = {{"call", *diff + 1}, {"a", row_json(a, *diff)}, {"b", row_json(b, *diff)}};
+  return j;
 }
 
 int run_compare(const CompareOptions& o) {
@@ -60,18 +91,25 @@ int run_compare(const CompareOptions& o) {
   }
   const auto rows_a = trace_rows(reports[0].trace);
   const auto rows_b = trace_rows(reports[1].trace);
-  for (int i = 0; i < 2; ++i) {
+  const auto diff = first_difference(rows_a, rows_b);
+  const bool same_outcome = reports[0].result->outcome == reports[1].result->outcome;
+  const int exit = !diff && same_outcome ? kExitOk : kExitAbort;
+  if (o.format == "json") {
+    std::cout << comparison_json(o, reports, rows_a, rows_b, diff).dump(2) << "\n";
+    return exit;
+  }
+  const bool quiet = o.verbosity.level() == Verbosity::Quiet;
+  for (int i = 0; i < 2 && !quiet; ++i) {
     std::cout << fmt::format("{}: {} ({}): {}, {} calls, {:.1f} s simulated\n", i == 0 ? "A" : "B", *paths[i],
                              language(*paths[i]), outcome_text(reports[i]), reports[i].trace.size(),
                              reports[i].sim_time_s);
   }
-  std::cout << fmt::format("scenario {}{}\n\n", o.scenario.empty() ? "nominal" : o.scenario,
-                           o.seed ? fmt::format(", seed {}", *o.seed) : "");
-  SideBySideOptions table{"A: " + o.a, "B: " + o.b, o.context};
-  std::cout << side_by_side(rows_a, rows_b, table) << "\n";
-
-  const auto diff = first_difference(rows_a, rows_b);
-  const bool same_outcome = reports[0].result->outcome == reports[1].result->outcome;
+  if (!quiet) {
+    std::cout << fmt::format("scenario {}{}\n\n", o.scenario.empty() ? "nominal" : o.scenario,
+                             o.seed ? fmt::format(", seed {}", *o.seed) : "");
+    SideBySideOptions table{"A: " + o.a, "B: " + o.b, o.context};
+    std::cout << side_by_side(rows_a, rows_b, table) << "\n";
+  }
   if (!diff && same_outcome) {
     std::cout << fmt::format(
         "identical: {} primitive calls, the same answers at the same simulated times; "
@@ -87,7 +125,7 @@ int run_compare(const CompareOptions& o) {
     std::cout << fmt::format("different outcomes: A {}, B {}\n", strategic::to_string(reports[0].result->outcome),
                              strategic::to_string(reports[1].result->outcome));
   }
-  return kExitAbort;
+  return exit;
 }
 
 }  // namespace
@@ -112,6 +150,11 @@ Runner add_compare_command(CLI::App& app) {
   add_rule_load_flags(cmd, o->rule_load);
   cmd->add_option("--context", o->context,
                   "Show only this many calls around the first difference (default: every call)");
+  cmd->add_option("--format", o->format,
+                  "text, or json: both runs' outcomes and the first difference as one JSON document")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
+  add_verbosity_flags(cmd, o->verbosity, "");
   return [o] { return run_compare(*o); };
 }
 

@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/verbosity.h"
 #include "plot/gnuplot.h"
 #include "plot/plot_log.h"
 
@@ -24,6 +25,7 @@ struct PlotOptions {
   std::string log;
   std::string output;
   bool keep_script = false;
+  VerbosityFlags verbosity;
 };
 
 int run_plot(const PlotOptions& o) {
@@ -53,7 +55,9 @@ int run_plot(const PlotOptions& o) {
   }
   if (!r.warnings.empty()) std::cerr << "gnuplot: " << r.warnings << "\n";
   switch (r.status) {
-    case plot::RenderStatus::Ok: std::cerr << fmt::format("wrote {}\n", output.string()); return kExitOk;
+    case plot::RenderStatus::Ok:
+      if (o.verbosity.level() != Verbosity::Quiet) std::cerr << fmt::format("wrote {}\n", output.string());
+      return kExitOk;
     case plot::RenderStatus::GnuplotMissing: std::cerr << "strata plot: " << r.message << "\n"; return kExitUnavailable;
     case plot::RenderStatus::GnuplotFailed: std::cerr << "strata plot: " << r.message << "\n"; return kExitInternal;
     case plot::RenderStatus::Io: std::cerr << "strata plot: " << r.message << "\n"; return kExitIo;
@@ -83,6 +87,7 @@ Runner add_plot_command(CLI::App& app) {
       "Exit 0 when written; 65 for a log without telemetry or with a malformed line (named by its number);\n"
       "69 when gnuplot is not installed; 70 when gnuplot fails (its messages are shown); 74 when a file\n"
       "cannot be read or written.");
+  add_verbosity_flags(cmd, o->verbosity, "");
   return [o] { return run_plot(*o); };
 }
 

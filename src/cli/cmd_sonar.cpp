@@ -1,4 +1,4 @@
-// `strata sonar --vehicle HOST:PORT --out DIR`: the Sonar Manager (paper
+// `strata sonar --stream HOST:PORT --out DIR`: the Sonar Manager (paper
 // §2.2, docs/sonar.md) — the vehicle's sonar stream captured on its own
 // socket, drawn as scan images and searched for walls and a target.
 #include <pthread.h>
@@ -12,27 +12,40 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/verbosity.h"
 #include "sonar/manager.h"
 
 namespace strata::cli {
 namespace {
 
 struct SonarOptions {
-  std::string vehicle;
+  std::string stream;
+  std::string vehicle;  // the old spelling of --stream
   std::string out;
   int size_px = 400;
   double connect_timeout_s = 10.0;
-  bool verbose = false;
+  VerbosityFlags verbosity;
 };
 
 int run_sonar(const SonarOptions& o) {
-  auto endpoint = parse_listen(o.vehicle);
+  if (o.stream.empty() == o.vehicle.empty()) {
+    std::cerr << "strata sonar: "
+              << (o.stream.empty() ? "--stream ADDRESS:PORT is required"
+                                   : "give --stream alone (--vehicle is its old name)")
+              << "\n";
+    return kExitUsage;
+  }
+  if (!o.vehicle.empty()) {
+    std::cerr << "strata sonar: note: --vehicle is now --stream ADDRESS:PORT; the old name goes in a later release\n";
+  }
+  const std::string& address = o.stream.empty() ? o.vehicle : o.stream;
+  auto endpoint = parse_listen(address);
   if (!endpoint) {
-    std::cerr << "strata sonar: --vehicle: " << endpoint.error().message << "\n";
+    std::cerr << "strata sonar: --stream: " << endpoint.error().message << "\n";
     return kExitUsage;
   }
   if (endpoint.value().second == 0) {
-    std::cerr << "strata sonar: --vehicle needs the sonar stream's port (HOST:PORT or PORT)\n";
+    std::cerr << "strata sonar: --stream needs the sonar stream's port (ADDRESS:PORT or PORT)\n";
     return kExitUsage;
   }
   sonar::ManagerOptions mo;
@@ -41,7 +54,8 @@ int run_sonar(const SonarOptions& o) {
   mo.capture.connect_timeout_s = o.connect_timeout_s;
   mo.out_dir = o.out;
   mo.processor.image.size_px = o.size_px;
-  mo.verbose = o.verbose;
+  mo.verbose = o.verbosity.level() == Verbosity::Verbose;
+  mo.quiet = o.verbosity.level() == Verbosity::Quiet;
 
   // SIGINT and SIGTERM are taken by a watcher thread (blocked here before any
   // thread starts, so no other thread receives them): it asks the manager to
@@ -82,8 +96,10 @@ Runner add_sonar_command(CLI::App& app) {
       "sonar",
       "The Sonar Manager: capture the vehicle's sonar stream, write scan images (PNG) and the walls and target "
       "it sees (JSON lines) into a folder");
-  cmd->add_option("--vehicle", o->vehicle, "The vehicle's sonar stream: PORT or ADDRESS:PORT (ADDRESS 127.0.0.1)")
-      ->required();
+  cmd->add_option(
+      "--stream", o->stream,
+      "ADDRESS:PORT or PORT (address 127.0.0.1) of the vehicle's sonar stream (`strata vehicle` prints it)");
+  cmd->add_option("--vehicle", o->vehicle, "Old spelling of --stream")->group("");
   cmd->add_option("--out", o->out,
                   "Folder for scan_NNNNN.png (one per sweep), latest.png (the newest) and sonar.jsonl; made if missing")
       ->required();
@@ -94,10 +110,10 @@ Runner add_sonar_command(CLI::App& app) {
                   "Seconds to keep retrying while the vehicle refuses the connection")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
-  cmd->add_flag("--verbose", o->verbose, "A line on stderr for each frame written");
+  add_verbosity_flags(cmd, o->verbosity, "A line on stderr for each frame written");
   cmd->footer(
       "Example (the vehicle's sonar stream on port 7021; the studio shows sonar/latest.png):\n"
-      "  strata sonar --vehicle 127.0.0.1:7021 --out sonar/ --verbose\n"
+      "  strata sonar --stream 127.0.0.1:7021 --out sonar/ --verbose\n"
       "It prints a line when connected and a summary at the end (stderr); frames go to the folder.\n"
       "Exit: 0 when the vehicle ended the stream (also when the sonar never started); 69 when the vehicle "
       "could not be reached within --connect-timeout or went away without ending the stream; 74 when the "

@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <iostream>
+#include <cmath>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -15,6 +17,8 @@
 #include "cli/console.h"
 #include "cli/signal_watcher.h"
 #include "cli/studio_serve.h"
+#include "cli/user_config.h"
+#include "cli/verbosity.h"
 #include "studio/assets.h"
 #include "studio/server.h"
 #include "studio/studio_runner.h"
@@ -26,13 +30,26 @@ namespace fs = std::filesystem;
 
 struct StudioOptions {
   std::string dir = ".";
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 0;
+  std::string listen = "127.0.0.1:0";
+  std::optional<std::string> host;    // old spelling: --host ADDRESS
+  std::optional<std::uint16_t> port;  // old spelling: --port PORT
   std::string web_root;
   std::string catalogue;
   std::string sonar;
   bool no_sonar = false;
+  VerbosityFlags verbosity;
 };
+
+// --listen, or the old --host/--port (a note says so): the address to bind.
+core::Result<std::pair<std::string, std::uint16_t>> studio_endpoint(const StudioOptions& o, bool listen_given) {
+  if (!o.host && !o.port) return parse_listen(o.listen);
+  if (listen_given) {
+    return core::make_error(core::ErrorCode::InvalidInput, "give --listen alone (--host and --port are its old names)");
+  }
+  std::cerr << "strata studio: note: --host and --port are now --listen ADDRESS:PORT; the old names go in a later "
+               "release\n";
+  return parse_listen(fmt::format("{}:{}", o.host.value_or("127.0.0.1"), o.port.value_or(0)));
+}
 
 // SIGINT, SIGTERM and SIGHUP blocked in this thread and every thread it
 // starts after, so that sigwait() alone receives them (a closed terminal
@@ -47,8 +64,14 @@ sigset_t block_stop_signals() {
   return set;
 }
 
-int run_studio(const StudioOptions& o) {
+int run_studio(const StudioOptions& o, bool listen_given) {
   std::error_code ec;
+  auto endpoint = studio_endpoint(o, listen_given);
+  if (!endpoint) {
+    std::cerr << "strata studio: " << endpoint.error().message << "\n";
+    return kExitUsage;
+  }
+  const std::string host = endpoint.value().first;
   if (!fs::is_directory(o.dir, ec)) {
     std::cerr << fmt::format("strata studio: '{}' is not a folder\n", o.dir);
     return kExitIo;
@@ -68,8 +91,11 @@ int run_studio(const StudioOptions& o) {
   studio::Sandbox sandbox(o.dir);
   studio::StudioOptions so;
   so.root = o.dir;
-  so.host = o.host;
-  so.port = o.port;
+  so.host = host;
+  so.port = endpoint.value().second;
+  if (o.verbosity.level() == Verbosity::Verbose) {
+    so.request_log = [](const std::string& line) { std::cerr << ("strata studio: " + line + "\n") << std::flush; };
+  }
   so.web_root = o.web_root;
   so.catalogue = &catalogue.value();
   // Runs started from the page get a Sonar Manager writing here; the page
@@ -84,13 +110,16 @@ int run_studio(const StudioOptions& o) {
     std::cerr << "strata studio: " << port.error().message << "\n";
     return kExitIo;
   }
-  std::cout << fmt::format("http://{}:{}", o.host, port.value()) << std::endl;
-  std::cerr << fmt::format(
-      "strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
-      o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
+  std::cout << fmt::format("http://{}:{}", host, port.value()) << std::endl;
+  const bool quiet = o.verbosity.level() == Verbosity::Quiet;
+  if (!quiet) {
+    std::cerr << fmt::format(
+        "strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
+        o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
+  }
   int signal = 0;
   sigwait(&stop_signals, &signal);
-  std::cerr << "strata studio: stopping\n";
+  if (!quiet) std::cerr << "strata studio: stopping\n";
   server.stop();                                                         // a run going ends through its safe end first
   if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
   return kExitOk;
@@ -98,8 +127,12 @@ int run_studio(const StudioOptions& o) {
 
 }  // namespace
 
-RunReport serve_studio_run(RunOptions options, const std::string& host, std::uint16_t port, std::ostream& out,
-                           std::ostream& err) {
+RunReport serve_studio_run(RunOptions options, const std::string& host, std::uint16_t port, const StudioRunWait& wait,
+                           std::ostream& out, std::ostream& err) {
+  // Before the server's threads start, so that they inherit the mask and the
+  // SignalWatcher below alone takes Ctrl-C (else a signal during the run
+  // reaches an HTTP thread and ends the process with the vehicle at depth).
+  block_stop_signals();
   RunReport failed;
   failed.exit_code = kExitIo;
   const fs::path mission = fs::absolute(options.mission);
@@ -142,25 +175,36 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
     report = runner.run_here(request, options, {&console}, err);
   }
   out << run::summary_text(report);
-  if (isatty(STDIN_FILENO) == 1 && isatty(STDOUT_FILENO) == 1) {
+  if (wait.seconds ? *wait.seconds > 0 : wait.terminal) {
     const sigset_t stop_signals = block_stop_signals();
-    out << fmt::format("the run is over; still serving http://{}:{} (Ctrl-C to quit)", host, bound.value())
+    out << fmt::format("the run is over; still serving http://{}:{} ({}Ctrl-C to quit)", host, bound.value(),
+                       wait.seconds ? fmt::format("for {:g} s; ", *wait.seconds) : "")
         << std::endl;
-    int signal = 0;
-    sigwait(&stop_signals, &signal);
+    if (wait.seconds) {
+      const double whole = std::floor(*wait.seconds);
+      const timespec timeout{static_cast<time_t>(whole), static_cast<long>((*wait.seconds - whole) * 1e9)};
+      sigtimedwait(&stop_signals, nullptr, &timeout);
+    } else {
+      int signal = 0;
+      sigwait(&stop_signals, &signal);
+    }
   }
   server.stop();
   return report;
 }
 
-Runner add_studio_command(CLI::App& app) {
+Runner add_studio_command(CLI::App& app, const LoadedConfig& config) {
   auto o = std::make_shared<StudioOptions>();
+  o->listen = config.config.studio_listen.value;
   auto* cmd = app.add_subcommand("studio",
                                  "Serve the graphical mission editor and the live view of runs in the browser "
                                  "(prints http://127.0.0.1:PORT first)");
   cmd->add_option("dir", o->dir, "The folder whose missions it may read and write (default: the current one)");
-  cmd->add_option("--port", o->port, "Port to listen on (0: a free one)")->capture_default_str();
-  cmd->add_option("--host", o->host, "Address to listen on")->capture_default_str();
+  cmd->add_option("--listen", o->listen,
+                  "ADDRESS:PORT or PORT to listen on (0: a free port; the address is the first line printed)")
+      ->capture_default_str();
+  cmd->add_option("--port", o->port, "Old spelling of --listen PORT")->group("");
+  cmd->add_option("--host", o->host, "Old spelling of --listen ADDRESS:PORT")->group("");
   cmd->add_option("--web-root", o->web_root, "Serve the page from this folder (web/dist) instead of the built-in one");
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue (default: built in)");
   cmd->add_option("--sonar", o->sonar,
@@ -168,7 +212,11 @@ Runner add_studio_command(CLI::App& app) {
                   "the system's temporary folder)");
   cmd->add_flag("--no-sonar", o->no_sonar, "Runs started from the page get no Sonar Manager");
   cmd->footer("docs/studio.md has the page's API. Exit 0 after Ctrl-C; 74 when it cannot listen or read DIR.");
-  return [o] { return run_studio(*o); };
+  add_verbosity_flags(cmd, o->verbosity, "Also a line on stderr for each request answered");
+  return [o, cmd, &config] {
+    if (auto failed = config_failure(config, "studio")) return *failed;
+    return run_studio(*o, cmd->count("--listen") > 0);
+  };
 }
 
 }  // namespace strata::cli

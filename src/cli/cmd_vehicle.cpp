@@ -8,6 +8,8 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/user_config.h"
+#include "cli/verbosity.h"
 #include "vehicle/execution.h"
 #include "vehicle/params.h"
 #include "vehicle/scenario.h"
@@ -26,7 +28,8 @@ struct VehicleOptions {
   double speed = 1.0;
   double hello_timeout_s = vehicle::ServerOptions{}.hello_timeout_s;
   bool interface = false;
-  bool trace = false;
+  bool trace = false;  // the old spelling of -v
+  VerbosityFlags verbosity;
 };
 
 int run_vehicle(const VehicleOptions& o) {
@@ -63,8 +66,9 @@ int run_vehicle(const VehicleOptions& o) {
   so.clock = o.realtime ? protocol::ClockMode::Wall : protocol::ClockMode::Lockstep;
   so.speed = o.speed;
   so.hello_timeout_s = o.hello_timeout_s;
-  so.trace = o.trace;
+  so.trace = o.trace || o.verbosity.level() == Verbosity::Verbose;
   so.log = [](const std::string& line) { std::cerr << "vehicle: " << line << std::endl; };
+  const bool quiet = o.verbosity.level() == Verbosity::Quiet;
   vehicle::VehicleServer server(io, sim, so);
   if (auto r = server.start(); !r) {
     std::cerr << "strata vehicle: " << r.error().message << "\n";
@@ -72,18 +76,20 @@ int run_vehicle(const VehicleOptions& o) {
   }
   // The first line of stdout is the address, for scripts and tests.
   std::cout << so.address << ":" << server.port() << std::endl;
-  std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})", so.address,
-                           server.port(), o.realtime ? "wall" : "lockstep",
-                           o.realtime ? fmt::format(", speed {}", o.speed) : "", scenario.value().description,
-                           scenario.value().seed)
-            << std::endl;
-  std::cerr << fmt::format("vehicle: sonar socket on {}:{} (`strata sonar --vehicle {}:{} --out DIR` reads it)",
-                           so.address, server.sonar_port(), so.address, server.sonar_port())
-            << std::endl;
+  if (!quiet) {
+    std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})", so.address,
+                             server.port(), o.realtime ? "wall" : "lockstep",
+                             o.realtime ? fmt::format(", speed {}", o.speed) : "", scenario.value().description,
+                             scenario.value().seed)
+              << std::endl;
+    std::cerr << fmt::format("vehicle: sonar socket on {}:{} (`strata sonar --stream {}:{} --out DIR` reads it)",
+                             so.address, server.sonar_port(), so.address, server.sonar_port())
+              << std::endl;
+  }
   asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const asio::error_code& e, int) {
     if (e) return;
-    std::cerr << "vehicle: stopping" << std::endl;
+    if (!quiet) std::cerr << "vehicle: stopping" << std::endl;
     server.stop();
     io.stop();
   });
@@ -93,8 +99,9 @@ int run_vehicle(const VehicleOptions& o) {
 
 }  // namespace
 
-Runner add_vehicle_command(CLI::App& app) {
+Runner add_vehicle_command(CLI::App& app, const LoadedConfig& config) {
   auto o = std::make_shared<VehicleOptions>();
+  o->listen = config.config.vehicle_listen.value;
   auto* cmd = app.add_subcommand("vehicle", "Run the simulated Phoenix (Execution level) on a TCP port");
   cmd->add_option("--listen", o->listen,
                   "PORT or ADDRESS:PORT to listen on; 0 picks a free port (printed on the first line)")
@@ -113,8 +120,12 @@ Runner add_vehicle_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
   cmd->add_flag("--interface", o->interface, "Print every message the vehicle accepts and emits, and exit");
-  cmd->add_flag("--trace", o->trace, "Log every line received and sent");
-  return [o] { return run_vehicle(*o); };
+  cmd->add_flag("--trace", o->trace, "Old spelling of --verbose")->group("");
+  add_verbosity_flags(cmd, o->verbosity, "Log every line received and sent (stderr)");
+  return [o, &config] {
+    if (auto failed = config_failure(config, "vehicle")) return *failed;
+    return run_vehicle(*o);
+  };
 }
 
 }  // namespace strata::cli

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/verbosity.h"
 #include "cli/commands.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
@@ -40,7 +41,22 @@ struct VerifyOptions {
   bool max_memory_given = false;
   double time_limit_s = 0;  // 0: none
   bool no_liveness = false;
+  VerbosityFlags verbosity;
 };
+
+// Quiet: the report without its "ok" lines (what failed or is not decided,
+// and the facts around it).
+std::string without_ok_lines(const std::string& text) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    std::string_view line(text.data() + start, end - start);
+    if (!line.starts_with("  ok ")) out.append(line).push_back('\n');
+    start = end + 1;
+  }
+  return out;
+}
 
 std::chrono::steady_clock::time_point deadline_after(double seconds) {
   if (seconds <= 0) return std::chrono::steady_clock::time_point::max();
@@ -198,7 +214,8 @@ int run_verify_mission(const VerifyOptions& o) {
     j["diagnostics"] = load.diagnostics;  // warnings
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << coral::verify_text(report);
+    const std::string text = coral::verify_text(report);
+    std::cout << (o.verbosity.level() == Verbosity::Quiet ? without_ok_lines(text) : text);
   }
   return report.ok() ? kExitOk : kExitInvalid;
 }
@@ -231,6 +248,7 @@ Runner add_verify_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
+  add_verbosity_flags(cmd, o->verbosity, "");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);
   cmd->footer(

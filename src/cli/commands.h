@@ -17,16 +17,20 @@ using Runner = std::function<int()>;
 // `strata check FILE...` and `strata dump FILE`.
 Runner add_check_command(CLI::App& app);
 Runner add_dump_command(CLI::App& app);
+struct LoadedConfig;  // user_config.h: the operator's defaults, as main loaded them
+
 // `strata vehicle`.
-Runner add_vehicle_command(CLI::App& app);
+Runner add_vehicle_command(CLI::App& app, const LoadedConfig& config);
 // `strata run`.
-Runner add_run_command(CLI::App& app);
+Runner add_run_command(CLI::App& app, const LoadedConfig& config);
 // `strata compare`.
 Runner add_compare_command(CLI::App& app);
 // `strata verify`.
 Runner add_verify_command(CLI::App& app);
 // `strata studio`.
-Runner add_studio_command(CLI::App& app);
+Runner add_studio_command(CLI::App& app, const LoadedConfig& config);
+// `strata config show|path`.
+Runner add_config_command(CLI::App& app, const LoadedConfig& config);
 // `strata export`.
 Runner add_export_command(CLI::App& app);
 // `strata plot`.

@@ -68,12 +68,17 @@ void Console::action_started(const strategic::ActionStart& e) {
   if (e.kind == "phase" || e.kind == "report") return;
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
   action_ = fmt::format("{} {}", e.kind, e.primitive);
+  if (calls_) calls_in_flight_[e.id] = action_;
   draw_status(false);
 }
 
 void Console::action_finished(const strategic::ActionFinish& e) {
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
   action_.clear();
+  if (auto it = calls_in_flight_.find(e.id); calls_ && it != calls_in_flight_.end()) {
+    print(fmt::format("  {} -> {}", it->second, e.value ? 1 : 0), e.sim_time_s);
+    calls_in_flight_.erase(it);
+  }
 }
 
 void Console::notice(const strategic::Notice& e) { print("note: " + e.text, e.sim_time_s); }

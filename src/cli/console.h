@@ -19,7 +19,8 @@ namespace strata::cli {
 
 class Console final : public run::RunObserver {
  public:
-  Console(std::ostream& out, bool tty) : out_(out), tty_(tty) {}
+  // calls: also a line for each primitive call and its answer (-v).
+  Console(std::ostream& out, bool tty, bool calls = false) : out_(out), tty_(tty), calls_(calls) {}
 
   void phase_started(const strategic::PhaseStart& e) override;
   void phase_ended(const strategic::PhaseEnd& e) override;
@@ -43,6 +44,8 @@ class Console final : public run::RunObserver {
 
   std::ostream& out_;
   bool tty_;
+  bool calls_;
+  std::map<strategic::ActionId, std::string> calls_in_flight_;  // with calls_: "exec submerge" by action
   bool status_shown_ = false;
   double last_draw_s_ = -1.0;
   double sim_time_s_ = 0.0;

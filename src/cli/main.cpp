@@ -8,6 +8,8 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/usage_hints.h"
+#include "cli/user_config.h"
+#include "cli/verbosity.h"
 #include "strata_version.h"
 
 int main(int argc, char** argv) {
@@ -19,23 +21,36 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(exit_code_help());
 
+  // The operator's defaults (config.toml, STRATA_LOG_DIR): read once; a
+  // broken file stops only the commands that use it.
+  LoadedConfig config;
+  if (auto loaded = load_user_config()) {
+    config.config = loaded.value();
+  } else {
+    config.error = loaded.error();
+  }
   std::map<std::string, Runner> runners;
   runners["check"] = add_check_command(app);
   runners["dump"] = add_dump_command(app);
-  runners["run"] = add_run_command(app);
+  runners["run"] = add_run_command(app, config);
   runners["compare"] = add_compare_command(app);
   runners["verify"] = add_verify_command(app);
   runners["export"] = add_export_command(app);
-  runners["studio"] = add_studio_command(app);
-  runners["vehicle"] = add_vehicle_command(app);
+  runners["studio"] = add_studio_command(app, config);
+  runners["vehicle"] = add_vehicle_command(app, config);
   runners["primitives"] = add_primitives_command(app);
   runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
   runners["campaign"] = add_campaign_command(app);
+  runners["config"] = add_config_command(app, config);
   runners["completion"] = runners["manpages"] = add_docs_commands(app, version);
 
-  // Each command's --help ends with its own exit codes, not the program's.
+  // Each command's --help ends with its own exit codes, not the program's;
+  // each takes -q and -v (the commands with nothing to leave out or add
+  // accept them all the same).
+  VerbosityFlags unused;
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_option_no_throw("--quiet") == nullptr) add_verbosity_flags(sub, unused, "");
     if (sub->get_footer().empty() || sub->get_footer() == app.get_footer()) {
       if (const char* codes = exit_codes_of(sub->get_name())) sub->footer(codes);
     }

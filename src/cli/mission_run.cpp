@@ -18,14 +18,19 @@ void stop_on_signal(run::RunSession& session, int signal) {
 RunReport run_mission(const RunOptions& options, std::ostream& out, std::ostream& err,
                       const ConsoleOptions& console_options) {
   run::RunSession session(options);
-  Console console(out, console_options.tty);
-  session.add_observer(console);
+  const Verbosity verbosity = console_options.verbosity;
+  Console console(out, console_options.tty, verbosity == Verbosity::Verbose);
+  if (verbosity != Verbosity::Quiet && !console_options.json) session.add_observer(console);
   for (run::RunObserver* o : console_options.observers) session.add_observer(*o);
   std::optional<SignalWatcher> signals;
   if (console_options.handle_signals) signals.emplace([&session](int signal) { stop_on_signal(session, signal); });
   RunReport report = session.run(err);
   signals.reset();
-  out << run::summary_text(report);
+  if (console_options.json) {
+    out << run::summary_json(report).dump(2) << "\n";
+  } else {
+    out << run::summary_text(report);
+  }
   out.flush();
   if (report.exit_code == kExitInternal && !report.result) err << "strata run: the mission did not start\n";
   return report;

@@ -10,6 +10,7 @@
 #include "run/options.h"
 #include "run/report.h"
 #include "run/session.h"
+#include "cli/verbosity.h"
 
 namespace strata::cli {
 
@@ -20,6 +21,11 @@ struct ConsoleOptions {
   bool tty = false;                          // a live status line instead of plain event lines
   bool handle_signals = false;               // SIGINT, SIGTERM, SIGHUP stop the run (the CLI's main thread only)
   std::vector<run::RunObserver*> observers;  // told after the console
+  // Quiet: the summary alone (no event lines, no status line); verbose: a
+  // line for every primitive call and its answer too.
+  Verbosity verbosity = Verbosity::Normal;
+  // The summary as one JSON document (run::summary_json) and no event lines.
+  bool json = false;
 };
 
 // Runs the mission; console lines and the summary go to out, problems to err.

@@ -1,8 +1,10 @@
 #pragma once
 // `strata run MISSION --studio`: the run on the wall clock with the studio
 // serving the mission's folder, its first stdout line the page's address.
-// On a terminal it keeps serving after the run until Ctrl-C.
+// After the run it keeps serving: wait.seconds if given, else on a terminal
+// until Ctrl-C (a stop signal ends any wait).
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -10,7 +12,12 @@
 
 namespace strata::cli {
 
-RunReport serve_studio_run(RunOptions options, const std::string& host, std::uint16_t port, std::ostream& out,
-                           std::ostream& err);
+struct StudioRunWait {
+  std::optional<double> seconds;  // --studio-wait
+  bool terminal = false;          // stdin and stdout are a terminal
+};
+
+RunReport serve_studio_run(RunOptions options, const std::string& host, std::uint16_t port, const StudioRunWait& wait,
+                           std::ostream& out, std::ostream& err);
 
 }  // namespace strata::cli

@@ -16,12 +16,14 @@ std::string format_wall(double seconds) {
 std::string ending_text(const RunReport& r) {
   if (!r.result) return "did not start";
   if (r.result->outcome == Outcome::Completed) return "completed";
-  if (r.result->outcome == Outcome::Aborted) return "ABORTED";
-  if (r.stopped_by == "limit") return "ABORTED: a limit was reached";
-  if (r.stopped_by == "studio") return "ABORTED: stopped from the studio";
-  if (!r.stopped_by.empty()) return fmt::format("ABORTED: interrupted by {}", r.stopped_by);
-  if (r.link_lost) return "ABORTED: lost the link to the vehicle";
-  return "ABORTED: the Strategic level could not go on";
+  // The mission log's outcome word first ("aborted": the mission took its
+  // abort exit; "failed": something else ended it), then why.
+  if (r.result->outcome == Outcome::Aborted) return "aborted";
+  if (r.stopped_by == "limit") return "failed: a limit was reached";
+  if (r.stopped_by == "studio") return "failed: stopped from the studio";
+  if (!r.stopped_by.empty()) return fmt::format("failed: interrupted by {}", r.stopped_by);
+  if (r.link_lost) return "failed: lost the link to the vehicle";
+  return "failed: the Strategic level could not go on";
 }
 
 std::string summary_text(const RunReport& r) {
@@ -67,6 +69,47 @@ std::string summary_text(const RunReport& r) {
   if (r.hurried) line("  after it: cut short by a second stop request");
   if (!r.log_path.empty()) line(fmt::format("  log: {} ({} lines)", r.log_path, r.log_lines));
   return out;
+}
+
+nlohmann::json summary_json(const RunReport& r) {
+  using nlohmann::json;
+  json j{{"started", r.result.has_value()}, {"exit_code", r.exit_code}, {"mission", r.mission_name}};
+  if (!r.result) return j;
+  auto optional = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  j["outcome"] = std::string(strategic::to_string(r.result->outcome));
+  j["ending"] = ending_text(r);
+  j["exit"] = r.result->exit.empty() ? json(nullptr) : json(r.result->exit);
+  j["reason"] = r.result->reason;
+  j["stopped_by"] = r.stopped_by.empty() ? json(nullptr) : json(r.stopped_by);
+  j["stop_mode"] = r.stop_mode.empty() ? json(nullptr) : json(r.stop_mode);
+  j["link_lost"] = r.link_lost ? json(r.link_lost_why) : json(nullptr);
+  j["vehicle_reason"] = r.vehicle_reason.empty() ? json(nullptr) : json(r.vehicle_reason);
+  j["phases"] = r.phases;
+  j["primitive_calls"] = r.primitive_calls;
+  j["sim_time_s"] = r.sim_time_s;
+  j["wall_time_s"] = r.wall_time_s;
+  j["clock"] = r.lockstep ? "lockstep" : "wall";
+  json vehicle{{"depth_m", optional(r.final_depth_m)},
+               {"time_s", optional(r.final_time_s)},
+               {"watchdog_tripped", r.vehicle_watchdog_tripped},
+               {"from", r.final_depth_m    ? "embedded"
+                        : r.last_telemetry ? "last_telemetry"
+                                           : "none"}};
+  if (!r.final_depth_m && r.last_telemetry) {
+    vehicle["depth_m"] = optional(r.last_telemetry->depth_m);
+    vehicle["time_s"] = r.last_telemetry->sim_time_s;
+  }
+  j["vehicle"] = vehicle;
+  j["safe_end"] = {{"surface_sent", r.emergency_surface},
+                   {"surfaced", r.emergency_surfaced},
+                   {"shutdown_sent", r.emergency_shutdown},
+                   {"shutdown_error", r.shutdown_error.empty() ? json(nullptr) : json(r.shutdown_error)},
+                   {"hurried", r.hurried}};
+  j["sonar"] = r.sonar_exit || !r.sonar_summary.empty()
+                   ? json{{"exit", r.sonar_exit ? json(*r.sonar_exit) : json(nullptr)}, {"summary", r.sonar_summary}}
+                   : json(nullptr);
+  j["log"] = r.log_path.empty() ? json(nullptr) : json{{"path", r.log_path}, {"lines", r.log_lines}};
+  return j;
 }
 
 }  // namespace strata::run

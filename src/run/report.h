@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "protocol/message.h"
 #include "strategic/executor.h"
 #include "tactical/tactical_level.h"
@@ -53,13 +55,19 @@ struct RunReport {
   std::vector<tactical::CallRecord> trace;
 };
 
-// "completed", "aborted", "failed", "interrupted by SIGINT", ...: how the
-// run ended in a few words, for the summary's first line.
+// "completed", "aborted", "failed: interrupted by SIGINT", ...: how the run
+// ended in a few words, for the summary's first line; its first word is the
+// mission log's outcome.
 std::string ending_text(const RunReport& report);
 
 // The summary people read after a run (the CLI prints it): the ending, the
 // reason, phases, times, the vehicle's final state, what the safe end did,
 // the log.
 std::string summary_text(const RunReport& report);
+
+// The same as one JSON document (`strata run --format json`; its fields in
+// docs/architecture.md, "The run's summary as JSON"). A mission that never
+// started gives {"started": false, "exit_code": N}.
+nlohmann::json summary_json(const RunReport& report);
 
 }  // namespace strata::run

@@ -28,7 +28,7 @@ std::string self_executable() {
 
 core::Result<SonarChild> SonarChild::start(const std::string& host, std::uint16_t port, const std::string& dir,
                                            const std::string& log_path, const std::vector<std::string>& extra) {
-  std::vector<std::string> args = {self_executable(), "sonar", "--vehicle", host + ":" + std::to_string(port),
+  std::vector<std::string> args = {self_executable(), "sonar", "--stream", host + ":" + std::to_string(port),
                                    "--out",           dir};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> argv;

@@ -1,6 +1,6 @@
 #pragma once
 // `strata run --sonar DIR`: the Sonar Manager as a separate process, as in
-// the paper's Figure 1 — `strata sonar --vehicle HOST:PORT --out DIR`, the
+// the paper's Figure 1 — `strata sonar --stream HOST:PORT --out DIR`, the
 // same executable, started beside the run and waited for after it.
 #include <sys/types.h>
 
@@ -19,7 +19,7 @@ namespace strata::run {
 
 class SonarChild {
  public:
-  // Starts `<this executable> sonar --vehicle HOST:PORT --out DIR [extra...]`
+  // Starts `<this executable> sonar --stream HOST:PORT --out DIR [extra...]`
   // with its standard output and error going to `log_path` (appended).
   static core::Result<SonarChild> start(const std::string& host, std::uint16_t port, const std::string& dir,
                                         const std::string& log_path, const std::vector<std::string>& extra = {});

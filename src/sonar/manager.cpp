@@ -171,8 +171,9 @@ ManagerSummary run_sonar_manager(const ManagerOptions& o, std::stop_token stop) 
                       queue.capacity()));
     }
     if (std::holds_alternative<StreamConnected>(item->what)) {
-      log(fmt::format("sonar: connected to {}:{}, writing frames to {}", o.capture.host, o.capture.port,
-                      o.out_dir.string()));
+      if (!o.quiet)
+        log(fmt::format("sonar: connected to {}:{}, writing frames to {}", o.capture.host, o.capture.port,
+                        o.out_dir.string()));
     } else if (const auto* ping = std::get_if<protocol::SonarPing>(&item->what)) {
       if (o.before_ping) o.before_ping(*ping);
       s.last_time_s = ping->time_s;

@@ -28,6 +28,7 @@ struct ManagerOptions {
   ProcessorOptions processor;         // image size, display curve, detection thresholds
   std::size_t queue_capacity = 8192;  // pings waiting for processing before they are dropped
   bool verbose = false;               // a log line per frame written
+  bool quiet = false;                 // no "connected" line: only problems and the summary
   // Lines for people (no newline): one when connected, warnings, one at the
   // end; called on the thread that runs run_sonar_manager(). Default: stderr.
   std::function<void(const std::string&)> log;

@@ -73,6 +73,11 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
   // waits for the page's delayed ACK (40 ms a request on a kept-alive
   // connection).
   server_->set_tcp_nodelay(true);
+  if (options_.request_log) {
+    server_->set_logger([log = options_.request_log](const httplib::Request& req, const httplib::Response& res) {
+      log(req.method + " " + req.path + " " + std::to_string(res.status));
+    });
+  }
   watcher_ = std::make_unique<FileWatcher>(sandbox_, hub_, options_.watch_period);
   routes();
 }

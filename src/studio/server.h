@@ -87,6 +87,9 @@ struct StudioOptions {
   // How often the files open pages show are looked at for changes on disk
   // (FileWatcher; file_changed events).
   std::chrono::milliseconds watch_period{500};
+  // A line for each request answered ("GET /api/files 200"), from the
+  // server's threads (`strata studio -v`); null: none.
+  std::function<void(const std::string&)> request_log;
 };
 
 class StudioServer {

@@ -29,7 +29,7 @@ export function figure(name, value) {
 }
 
 async function startStudio(dir) {
-  const args = ['studio', dir, '--port', '0', ...(WEB_ROOT ? ['--web-root', WEB_ROOT] : [])];
+  const args = ['studio', dir, '--listen', '127.0.0.1:0', ...(WEB_ROOT ? ['--web-root', WEB_ROOT] : [])];
   const proc = spawn(STRATA, args, { stdio: ['ignore', 'pipe', 'pipe'] });
   let err = '';
   proc.stderr.on('data', (c) => { err += c; if (err.length > 20000) err = err.slice(-10000); });
