@@ -22,12 +22,14 @@ Exit 0 when every example holds, 1 with each failure (and its line).
   doc_examples.py DOC --strata BIN --source REPO --work DIR [--diagnostics]
 """
 import argparse
+import concurrent.futures
 import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+import threading
 
 FENCE = re.compile(r"^```(\S*)(.*)$")
 ROW = re.compile(r"^\| `([A-Za-z]+)` \| (error|warning) \|.*\| (.*) \|$")
@@ -56,10 +58,17 @@ class Checker:
         self.a, self.name = a, name
         self.failures, self.checked, self.skipped = [], 0, 0
         self.n = 0
+        self.lock = threading.Lock()
+
+    def count(self, what):
+        with self.lock:
+            setattr(self, what, getattr(self, what) + 1)
 
     def write(self, ext, text):
-        self.n += 1
-        path = os.path.join(self.a.work, f"example{self.n}.{ext}")
+        with self.lock:
+            self.n += 1
+            n = self.n
+        path = os.path.join(self.a.work, f"example{n}.{ext}")
         with open(path, "w", encoding="utf-8") as f:
             f.write(text)
         return os.path.basename(path)
@@ -86,15 +95,15 @@ class Checker:
     def check_diagnostic(self, line, kind, severity, cell):
         m = ONE_SPAN.match(cell.strip())
         if not m or "fragment" in cell:
-            self.skipped += 1
+            self.count("skipped")
             return
         text = m.group(1)
         if not re.match(r"^(net|mission|import)\b", text):
-            self.skipped += 1  # a command or words, not a file
+            self.count("skipped")  # a command or words, not a file
             return
         path = self.write("coral", text + "\n")
         r = self.strata("check", "--format", "json", path)
-        self.checked += 1
+        self.count("checked")
         try:
             report = json.loads(r.stdout)
         except json.JSONDecodeError:
@@ -139,11 +148,16 @@ def main():
             c.check_scenario(start, body)
     if a.diagnostics:
         rows = 0
+        jobs = []
         for i, line in enumerate(lines, 1):
             m = ROW.match(line)
             if m:
                 rows += 1
-                c.check_diagnostic(i, m.group(1), m.group(2), m.group(3))
+                jobs.append((i, m.group(1), m.group(2), m.group(3)))
+        # Two at a time: each is a strata process of its own.
+        with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+            list(pool.map(lambda job: c.check_diagnostic(*job), jobs))
+        c.failures.sort(key=lambda f: int(re.search(r":(\d+):", f).group(1)) if re.search(r":(\d+):", f) else 0)
         if rows == 0:
             c.failures.append(f"{name}: no table of diagnostic kinds")
     for f in c.failures:
