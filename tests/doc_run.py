@@ -2,7 +2,8 @@
 """Runs a Markdown document as written: its files and its commands.
 
 The document is read top to bottom, in a scratch folder holding a copy of the
-repository's missions/ (as a clone has them), with strata first on PATH:
+repository's missions/ (as a clone has them; --copy DIR adds another of its
+folders), with strata first on PATH:
 
   ```coral file=first/first.coral      a file block: written to that path
   ...                                  (any language; the path is relative
@@ -21,7 +22,7 @@ studio) are shown to the reader and not run. Exit 0 when every command gave
 its exit code and its output; else each failure with its line in the
 document, exit 1.
 
-  doc_run.py DOC --strata BIN --source REPO --work DIR
+  doc_run.py DOC --strata BIN --source REPO --work DIR [--copy DIR ...]
 """
 import argparse
 import os
@@ -82,6 +83,8 @@ def main():
     ap.add_argument("--source", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per command")
+    ap.add_argument("--copy", action="append", default=[], metavar="DIR",
+                    help="a folder of the repository to copy too (tests/verify, ...); repeatable")
     a = ap.parse_args()
 
     work = os.path.abspath(a.work)
@@ -89,6 +92,8 @@ def main():
     os.makedirs(work)
     shutil.copytree(os.path.join(a.source, "missions"), os.path.join(work, "missions"),
                     ignore=shutil.ignore_patterns("runs", "*.layout.json"))
+    for d in a.copy:
+        shutil.copytree(os.path.join(a.source, d), os.path.join(work, d))
     env = dict(os.environ)
     env["PATH"] = os.path.dirname(os.path.abspath(a.strata)) + os.pathsep + env.get("PATH", "")
 
