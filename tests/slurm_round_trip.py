@@ -18,6 +18,7 @@ usage: slurm_round_trip.py --strata PATH --source DIR
 """
 
 import argparse
+import ctypes
 import json
 import os
 import pwd
@@ -55,6 +56,11 @@ def tail(path, lines=15):
             return "".join(f.readlines()[-lines:])
     except OSError as e:
         return f"({path}: {e.strerror})"
+
+
+def die_with_parent():
+    """In a daemon before exec: SIGTERM when this script dies, however it dies."""
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
 
 
 def find(name):
@@ -152,7 +158,7 @@ PartitionName=strata-test Nodes={self.node} Default=YES MaxTime=INFINITE State=U
         out = open(os.path.join(self.root, "log", f"{name}.stdout"), "w")
         try:
             p = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT, env=self.env,
-                                 start_new_session=True)
+                                 start_new_session=True, preexec_fn=die_with_parent)
         except OSError as e:
             raise Skip(f"cannot start {name}: {e}")
         finally:
@@ -252,6 +258,9 @@ def main():
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
     args = ap.parse_args()
+    # ctest's timeout or a Ctrl-C: through the finally below, which stops the daemons.
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, lambda n, _: sys.exit(128 + n))
     started = time.monotonic()
     root = tempfile.mkdtemp(prefix="strata-slurm-")
     cluster = Cluster(root)

@@ -59,8 +59,8 @@ core::Result<void> check_options(const SlurmOptions& o) {
   }
   static const std::regex time_forms(R"(UNLIMITED|INFINITE|\d+(:\d+){0,2}|\d+-\d+(:\d+){0,2})");
   if (!o.time.empty() && !std::regex_match(o.time, time_forms)) {
-    return invalid(fmt::format(
-        "--time '{}': not a Slurm time (minutes, M:S, H:M:S, D-H, D-H:M, D-H:M:S or UNLIMITED)", o.time));
+    return invalid(
+        fmt::format("--time '{}': not a Slurm time (minutes, M:S, H:M:S, D-H, D-H:M, D-H:M:S or UNLIMITED)", o.time));
   }
   for (const std::string& a : o.sbatch_args) {
     if (a.size() < 2 || a[0] != '-' || has_control_char(a)) {
@@ -126,6 +126,7 @@ core::Result<Ran> run_captured(const std::vector<std::string>& args, double boun
   posix_spawn_file_actions_adddup2(&actions, err_pipe[1], STDERR_FILENO);
   std::vector<std::string> copy = args;
   std::vector<char*> argv;
+  argv.reserve(copy.size() + 1);
   for (std::string& a : copy) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = -1;
@@ -145,7 +146,8 @@ core::Result<Ran> run_captured(const std::vector<std::string>& args, double boun
   std::string* into[2] = {&ran.out, &ran.err};
   bool timed_out = false;
   while (fds[0].fd >= 0 || fds[1].fd >= 0) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
       timed_out = true;
       break;
@@ -169,8 +171,7 @@ core::Result<Ran> run_captured(const std::vector<std::string>& args, double boun
     if (f.fd >= 0) ::close(f.fd);
   }
   if (timed_out) ::kill(pid, SIGKILL);
-  while (::waitpid(pid, &ran.status, 0) < 0 && errno == EINTR) {
-  }
+  while (::waitpid(pid, &ran.status, 0) < 0 && errno == EINTR) {}
   if (timed_out) {
     return core::make_error(core::ErrorCode::Io,
                             fmt::format("{} did not end within {:g} s and was stopped", args[0], bound_s));
@@ -191,14 +192,13 @@ core::Result<std::string> sbatch_once(const std::vector<std::string>& args, doub
   if (!WIFEXITED(r.status) || WEXITSTATUS(r.status) != 0) {
     const std::string why = WIFEXITED(r.status) ? fmt::format("exit {}", WEXITSTATUS(r.status))
                                                 : fmt::format("signal {}", WTERMSIG(r.status));
-    return core::make_error(core::ErrorCode::Io, fmt::format("{} failed ({}){}{}", shown, why,
-                                                             r.err.empty() ? "" : ": ", trimmed(r.err)));
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("{} failed ({}){}{}", shown, why, r.err.empty() ? "" : ": ", trimmed(r.err)));
   }
   auto id = parse_sbatch_job_id(r.out);
   if (!id) {
-    return core::make_error(core::ErrorCode::Io,
-                            fmt::format("{}: {}{}{}", shown, id.error().message, r.err.empty() ? "" : "; stderr: ",
-                                        trimmed(r.err)));
+    return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}{}{}", shown, id.error().message,
+                                                             r.err.empty() ? "" : "; stderr: ", trimmed(r.err)));
   }
   return id;
 }
@@ -300,8 +300,9 @@ core::Result<void> write_slurm_scripts(const std::string& dir, const SlurmScript
   } else if (::mkdir(dir.c_str(), 0755) != 0) {
     return io_error(fmt::format("cannot create {}", dir));
   }
-  for (const auto& [name, text] : {std::pair{"campaign.sbatch", &scripts.array},
-                                   std::pair{"merge.sbatch", &scripts.merge}, std::pair{"submit.sh", &scripts.submit}}) {
+  for (const auto& [name, text] :
+       {std::pair{"campaign.sbatch", &scripts.array}, std::pair{"merge.sbatch", &scripts.merge},
+        std::pair{"submit.sh", &scripts.submit}}) {
     if (auto r = write_script(dir, name, *text); !r) return r;
   }
   return {};
@@ -323,9 +324,9 @@ core::Result<SlurmJobs> submit_slurm(const std::string& dir, const std::string& 
   auto array = sbatch_once({sbatch, "--parsable", chdir, (fs::path(dir) / "campaign.sbatch").string()}, bound_s);
   if (!array) return array.error();
   jobs.array_id = array.value();
-  auto merge = sbatch_once({sbatch, "--parsable", chdir, "--dependency=afterok:" + jobs.array_id,
-                            (fs::path(dir) / "merge.sbatch").string()},
-                           bound_s);
+  auto merge = sbatch_once(
+      {sbatch, "--parsable", chdir, "--dependency=afterok:" + jobs.array_id, (fs::path(dir) / "merge.sbatch").string()},
+      bound_s);
   if (!merge) {
     return core::make_error(core::ErrorCode::Io, fmt::format("the array job {} was submitted, its merge was not: {}",
                                                              jobs.array_id, merge.error().message));

@@ -36,9 +36,9 @@ struct SlurmOptions {
   std::string spec;    // the spec (absolute)
   std::string dir;     // the scripts, the shards, Slurm's output and merged/ (absolute)
   std::uint64_t shards = 16;
-  int cpus_per_task = 1;   // each task's -j
-  std::string partition;   // empty: the cluster's default
-  std::string time;        // each job's time limit; empty: the partition's default
+  int cpus_per_task = 1;  // each task's -j
+  std::string partition;  // empty: the cluster's default
+  std::string time;       // each job's time limit; empty: the partition's default
   std::string job_name = "strata-campaign";
   std::vector<std::string> sbatch_args;  // more #SBATCH options, e.g. "--account=ocean"
   std::vector<std::string> task_args;    // more arguments of each task (--keep-logs failed, ...)

@@ -103,9 +103,9 @@ TEST(CampaignSlurm, ATaskRunsItsShardWithThePathsAsTheyAre) {
 
   const std::string env = "FAKE_ARGS=" + shell_quote(f.args) + " SLURM_ARRAY_TASK_ID=1";
   EXPECT_EQ(0, run_sh(f.dir, env, f.dir + "/campaign.sbatch")) << testing::read_text(f.dir + "/sh.err");
-  const std::vector<std::string> expected{"campaign", f.spec,    "--shard",     "1/3",    "--out",
-                                          f.dir + "/shard-1",  "-j", "2", "--keep-logs", "failed",
-                                          "--max-cases", "50"};
+  const std::vector<std::string> expected{"campaign",         f.spec, "--shard", "1/3",         "--out",
+                                          f.dir + "/shard-1", "-j",   "2",       "--keep-logs", "failed",
+                                          "--max-cases",      "50"};
   EXPECT_EQ(expected, recorded(f.args));
   EXPECT_FALSE(fs::exists(f.dir + "/pwned")) << "a path ran as code";
   EXPECT_FALSE(fs::exists(f.dir + "/pwned2")) << "a path ran as code";
@@ -139,8 +139,8 @@ TEST(CampaignSlurm, TheMergeJoinsEveryShardIntoMerged) {
   EXPECT_EQ(0, run_sh(f.dir, "FAKE_ARGS=" + shell_quote(f.args), f.dir + "/merge.sbatch"))
       << testing::read_text(f.dir + "/sh.err");
   const std::vector<std::string> expected{
-      "campaign", f.spec, "--merge", f.dir + "/shard-0", f.dir + "/shard-1", f.dir + "/shard-2",
-      "--out",    f.dir + "/merged",    "--max-cases",  "50"};
+      "campaign",         f.spec,  "--merge",         f.dir + "/shard-0", f.dir + "/shard-1",
+      f.dir + "/shard-2", "--out", f.dir + "/merged", "--max-cases",      "50"};
   EXPECT_EQ(expected, recorded(f.args));
   EXPECT_EQ(7, run_sh(f.dir, "FAKE_EXIT=7 FAKE_ARGS=" + shell_quote(f.args), f.dir + "/merge.sbatch"))
       << "the merge's exit code is the job's";
@@ -163,15 +163,11 @@ TEST(CampaignSlurm, SubmitShAndSubmitSlurmMakeTheMergeDependOnTheArray) {
   fs::create_directories(bin);
   write_recorder(bin + "/sbatch");
 
-  const std::string env = "PATH=" + shell_quote(bin + ":/usr/bin:/bin") + " FAKE_ARGS=" + shell_quote(f.args) +
-                          " FAKE_OUT='4242;cluster'";
+  const std::string env =
+      "PATH=" + shell_quote(bin + ":/usr/bin:/bin") + " FAKE_ARGS=" + shell_quote(f.args) + " FAKE_OUT='4242;cluster'";
   EXPECT_EQ(0, run_sh(f.dir, env, f.dir + "/submit.sh")) << testing::read_text(f.dir + "/sh.err");
-  const std::vector<std::string> expected{"--parsable",
-                                          "--chdir=" + f.dir,
-                                          f.dir + "/campaign.sbatch",
-                                          "--parsable",
-                                          "--chdir=" + f.dir,
-                                          "--dependency=afterok:4242",
+  const std::vector<std::string> expected{"--parsable",           "--chdir=" + f.dir, f.dir + "/campaign.sbatch",
+                                          "--parsable",           "--chdir=" + f.dir, "--dependency=afterok:4242",
                                           f.dir + "/merge.sbatch"};
   EXPECT_EQ(expected, recorded(f.args));
 
