@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -14,10 +15,12 @@
 #include "campaign/compare.h"
 #include "campaign/merge.h"
 #include "campaign/case_run.h"
+#include "campaign/slurm.h"
 #include "campaign/spec.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/signal_watcher.h"
+#include "run/sonar_child.h"
 
 namespace strata::cli {
 namespace {
@@ -51,6 +54,13 @@ struct CampaignFlags {
   std::vector<std::string> compare;
   std::string shard;
   std::vector<std::string> merge;
+  bool slurm = false;
+  std::uint64_t shards = 16;
+  bool submit = false;
+  std::string partition;
+  std::string time;
+  std::vector<std::string> sbatch;
+  std::string strata;
 };
 
 int list_cases(const campaign::Spec& spec, const std::vector<std::uint64_t>& indices) {
@@ -80,6 +90,71 @@ int run_one_case(const campaign::Spec& spec, std::uint64_t index) {
   }
   std::cout << line.dump() << "\n";
   return static_cast<int>(line["pass"].get<bool>() ? kExitOk : kExitAbort);
+}
+
+// --slurm: the job array and its merge written into --out (and submitted).
+int write_slurm(const CampaignFlags& f, const CLI::App& cmd, std::uint64_t count) {
+  namespace fs = std::filesystem;
+  if (f.list || f.one_case || !f.cases.empty() || !f.shard.empty() || !f.merge.empty()) {
+    std::cerr << "strata campaign: --slurm picks the shards itself; not with --list, --case, --cases, --shard or "
+                 "--merge\n";
+    return static_cast<int>(kExitUsage);
+  }
+  if (f.out.empty()) {
+    std::cerr << "strata campaign: --slurm needs --out DIR (the scripts, the shards and merged/)\n";
+    return static_cast<int>(kExitUsage);
+  }
+  campaign::SlurmOptions o;
+  const bool shards_given = cmd.count("--shards") > 0;
+  o.shards = shards_given ? f.shards : std::min<std::uint64_t>(f.shards, count);
+  if (o.shards > count) {
+    std::cerr << fmt::format("strata campaign: --shards {}: more shards than the spec's {} cases\n", o.shards, count);
+    return static_cast<int>(kExitUsage);
+  }
+  std::error_code ec;
+  o.spec = fs::absolute(f.spec, ec).lexically_normal().string();
+  o.dir = fs::absolute(f.out, ec).lexically_normal().string();
+  while (o.dir.size() > 1 && o.dir.back() == '/') o.dir.pop_back();
+  o.strata = f.strata.empty() ? run::self_executable() : fs::absolute(f.strata, ec).lexically_normal().string();
+  o.cpus_per_task = cmd.count("--jobs") > 0 ? f.jobs : 1;
+  o.partition = f.partition;
+  o.time = f.time;
+  o.sbatch_args = f.sbatch;
+  o.task_args = {"--keep-logs", f.keep_logs, "--case-wall-limit", fmt::format("{:g}", f.case_wall_limit_s)};
+  if (cmd.count("--max-cases") > 0) o.spec_args = {"--max-cases", std::to_string(f.max_cases)};
+  auto scripts = campaign::slurm_scripts(o);
+  if (!scripts) {
+    std::cerr << "strata campaign: " << scripts.error().message << "\n";
+    return static_cast<int>(kExitUsage);
+  }
+  if (auto w = campaign::write_slurm_scripts(o.dir, scripts.value()); !w) {
+    std::cerr << "strata campaign: " << w.error().message << "\n";
+    return static_cast<int>(kExitIo);
+  }
+  std::cout << fmt::format("campaign {}: {} cases in {} Slurm array tasks ({} CPU{} each)\n", f.spec, count, o.shards,
+                           o.cpus_per_task, o.cpus_per_task == 1 ? "" : "s");
+  std::cout << fmt::format("  wrote {0}/campaign.sbatch, {0}/merge.sbatch, {0}/submit.sh\n", o.dir);
+  if (!f.submit) {
+    std::cout << fmt::format("  submit with: {}/submit.sh   (merged results: {}/merged)\n", o.dir, o.dir);
+    return static_cast<int>(kExitOk);
+  }
+  const std::string sbatch = campaign::find_on_path("sbatch");
+  if (sbatch.empty()) {
+    std::cerr << fmt::format(
+        "strata campaign: --submit: sbatch not found on PATH (install slurm-client, or run {}/submit.sh on a "
+        "machine that has it)\n",
+        o.dir);
+    return static_cast<int>(kExitUnavailable);
+  }
+  auto jobs = campaign::submit_slurm(o.dir, sbatch);
+  if (!jobs) {
+    std::cerr << "strata campaign: --submit: " << jobs.error().message << "\n";
+    return static_cast<int>(kExitUnavailable);
+  }
+  std::cout << fmt::format("  submitted: array job {} ({} tasks), merge job {} after it (afterok)\n",
+                           jobs.value().array_id, o.shards, jobs.value().merge_id);
+  std::cout << fmt::format("  merged results: {}/merged; Slurm's output: {}/slurm-*.out\n", o.dir, o.dir);
+  return static_cast<int>(kExitOk);
 }
 
 }  // namespace
@@ -115,6 +190,30 @@ Runner add_campaign_command(CLI::App& app) {
                   "Wall seconds one case may take before its worker is killed and the case reported crashed")
       ->check(CLI::Range(0.1, 86'400.0))
       ->capture_default_str();
+  auto* slurm = cmd->add_flag(
+      "--slurm", f->slurm,
+      "Write a Slurm job array (task I runs --shard I/N into DIR/shard-I) and a merge job into DIR/merged that "
+      "depends on it (afterok): DIR/campaign.sbatch, DIR/merge.sbatch, DIR/submit.sh, with DIR from --out; -j is "
+      "each task's CPUs (default 1); runs nothing here unless --submit");
+  cmd->add_option("--shards", f->shards, "With --slurm: array tasks, one shard each (default 16, at most the cases)")
+      ->check(CLI::Range(std::uint64_t{1}, campaign::kMaxSlurmShards))
+      ->needs(slurm);
+  cmd->add_flag("--submit", f->submit,
+                "With --slurm: submit the array and the merge with sbatch (from PATH) and print their job ids")
+      ->needs(slurm);
+  cmd->add_option("--partition", f->partition, "With --slurm: the partition of both jobs (default: the cluster's)")
+      ->needs(slurm);
+  cmd->add_option("--time", f->time,
+                  "With --slurm: each job's time limit, in Slurm's forms (minutes, H:M:S, D-H:M:S; default: the "
+                  "partition's)")
+      ->needs(slurm);
+  cmd->add_option("--sbatch", f->sbatch,
+                  "With --slurm: one more #SBATCH option for both jobs, e.g. --sbatch=--account=ocean (repeatable)")
+      ->allow_extra_args(false)
+      ->needs(slurm);
+  cmd->add_option("--strata", f->strata,
+                  "With --slurm: the strata executable the jobs run, as the nodes see it (default: this one)")
+      ->needs(slurm);
   return [f, cmd] {
     if (!f->compare.empty()) {
       if (!f->spec.empty()) {
@@ -139,6 +238,7 @@ Runner add_campaign_command(CLI::App& app) {
       return exit_code_for_input(spec.error());
     }
     const std::uint64_t count = spec.value().case_count();
+    if (f->slurm) return write_slurm(*f, *cmd, count);
     if (!f->merge.empty()) {
       if (f->out.empty()) {
         std::cerr << "strata campaign: --merge needs --out DIR\n";

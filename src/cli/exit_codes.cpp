@@ -7,9 +7,14 @@ namespace strata::cli {
 const char* exit_code_help() {
   return "Exit codes: 0 ok (a run: the mission completed), 1 the mission did not complete (aborted, failed,\n"
          "halted, a limit reached), 64 usage, 65 invalid mission, 69 unavailable (gnuplot missing; strata sonar:\n"
-         "the vehicle unreachable or gone), 70 internal error, 74 I/O error (a file or the vehicle cannot be\n"
-         "reached), 128+N ended by signal N (129 SIGHUP, 130 SIGINT, 143 SIGTERM; a run surfaces first).\n"
-         "Every command takes -q/--quiet (results and errors only) and -v/--verbose (more detail);\n"
+         "the vehicle unreachable or gone; campaign --submit: sbatch missing or failing), 70 internal error,
+"
+         "74 I/O error (a file or the vehicle cannot be reached), 128+N ended by signal N (129 SIGHUP,
+"
+         "130 SIGINT, 143 SIGTERM; a run surfaces first).
+"
+         "Every command takes -q/--quiet (results and errors only) and -v/--verbose (more detail);
+"
          "`strata COMMAND --help` lists its options and its own exit codes.";
 }
 
@@ -41,7 +46,8 @@ const char* exit_codes_of(std::string_view command) {
   }
   if (command == "campaign") {
     return "Exit 0 when every case met its expectations (--compare: no verdict or outcome changed); 1 when\n"
-           "some did not (--compare: one changed); 64 usage; 65 an invalid spec; 74 a file cannot be read or\n"
+           "some did not (--compare: one changed); 64 usage; 65 an invalid spec; 69 --submit: sbatch missing or\n"
+           "failing (the scripts are written); 74 a file cannot be read or\n"
            "the results folder written; 128+N ended by signal N (130 SIGINT, 143 SIGTERM): the finished cases\n"
            "are kept.";
   }
