@@ -2,7 +2,7 @@
 // marking and run classes; turns the user's gestures (drag a node, draw an
 // arc, click, double-click, zoom) into actions. It keeps no page state of
 // its own: positions and viewports go to the store.
-import { netElements, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
+import { netElements, createElementCache, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
 import { currentNet, editable, tokensFor, uniqueName } from './store.js';
 import { kLargeNet, windowBox, windowIds } from './netwindow.js';
@@ -356,9 +356,14 @@ export function createCanvas(container, store, fx) {
   // touches a few elements, and the selection and positions stay.
   const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome', 'weighted', 'pair'];
   let drawnEls = new Map();   // id -> the element spec drawn (netElements)
+  // The specs of the net drawn, kept across its renders (graph.js): an
+  // element an edit left alone is the same spec, compared by reference.
+  const specCache = createElementCache();
+  // Cytoscape keeps the data object it is given (and changes it): it gets copies.
+  const copy = (e) => ({ ...e, data: { ...e.data } });
   const byId = (els) => new Map(els.map((e) => [e.data.id, e]));
   function syncElements(s, net) {
-    const els = netElements(net, tokensFor(s, net.name));
+    const els = netElements(net, tokensFor(s, net.name), specCache);
     const want = byId(els);
     const gone = [];
     for (const id of drawnEls.keys()) if (!want.has(id)) gone.push(id);
@@ -367,9 +372,9 @@ export function createCanvas(container, store, fx) {
       for (const id of gone) { const e = cy.getElementById(id); if (e.nonempty()) e.remove(); }
       for (const w of els) {
         const d = drawnEls.get(w.data.id);
-        if (d && d.classes === w.classes && sameData(d.data, w.data)) continue;
+        if (d === w || (d && d.classes === w.classes && sameData(d.data, w.data))) continue;
         const e = cy.getElementById(w.data.id);
-        if (e.empty()) { if (!part) add.push(w); continue; }   // in parts: showWindow adds it
+        if (e.empty()) { if (!part) add.push(copy(w)); continue; }   // in parts: showWindow adds it
         for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
         const cls = new Set(w.classes.split(' '));
         for (const c of kBaseClasses) if (e.hasClass(c) !== cls.has(c)) e.toggleClass(c, cls.has(c));
@@ -398,7 +403,7 @@ export function createCanvas(container, store, fx) {
       part = null;
       drawnNet = net; drawnName = s.netName;
       if (net) {
-        const els = netElements(net, tokensFor(s, net.name));
+        const els = netElements(net, tokensFor(s, net.name), specCache);
         const large = els.length > kLargeNet;
         setLarge(large);
         // Nodes are added at their positions (each position set afterwards
@@ -412,9 +417,11 @@ export function createCanvas(container, store, fx) {
           part = { pos: {} };
           for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) part.pos[e.data.id] = { ...pos[e.data.id] };
         } else {
-          for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) e.position = { ...pos[e.data.id] };
-          cy.add(els);
-          for (const e of els) delete e.position;
+          cy.add(els.map((e) => {
+            const c = copy(e);
+            if (e.group === 'nodes' && pos[e.data.id]) c.position = { ...pos[e.data.id] };
+            return c;
+          }));
         }
         const vp = s.viewports[net.name];
         // (A dispatch from a view is applied after this render.)
