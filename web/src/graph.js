@@ -103,7 +103,10 @@ function placeSpec(p, n, isExit) {
 }
 
 // The node of t and its arcs (outcome arcs to every outcome; those to no
-// place are dropped by netElements with the other dangling edges).
+// place are dropped by netElements with the other dangling edges). Arcs that
+// join t to the same place (either way) are curved apart: 'pair' (every edge
+// joins a place and a transition, so only a transition's own edges can share
+// their two nodes; both are dropped, or neither, when the place is missing).
 function transitionSpecs(t) {
   const out = [{ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0 },
     classes: 'transition' }];
@@ -125,6 +128,12 @@ function transitionSpecs(t) {
         from: t.name, to: o, label: '' }, classes: 'outcome' });
     }
   });
+  if (out.length > 2) {
+    const count = new Map();
+    const other = (e) => (e.data.source === out[0].data.id ? e.data.target : e.data.source);
+    for (let i = 1; i < out.length; i++) { const k = other(out[i]); count.set(k, (count.get(k) || 0) + 1); }
+    for (let i = 1; i < out.length; i++) if (count.get(other(out[i])) > 1) out[i].classes += ' pair';
+  }
   return out;
 }
 
@@ -160,17 +169,7 @@ export function netElements(net, tokens, cache = null) {
   // outcome that is no place of the net).
   const ids = new Set();
   for (const e of els) if (e.group === 'nodes') ids.add(e.data.id);
-  const out = els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
-  // Edges that share their two nodes (either way) are curved apart: 'pair'
-  // (a copy: the cached spec is left as it is).
-  const key = (e) => (e.data.source < e.data.target ? `${e.data.source}|${e.data.target}` : `${e.data.target}|${e.data.source}`);
-  const count = new Map();
-  for (const e of out) if (e.group === 'edges') { const k = key(e); count.set(k, (count.get(k) || 0) + 1); }
-  for (let i = 0; i < out.length; i++) {
-    const e = out[i];
-    if (e.group === 'edges' && count.get(key(e)) > 1) out[i] = { ...e, classes: `${e.classes} pair` };
-  }
-  return out;
+  return els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
 }
 
 export { tokenSvg };

@@ -41,7 +41,7 @@ test('netElements with a cache: unchanged elements keep their specs, changed one
   assert.equal(byId(c).get('p:p3').data.tokens, 2);
 });
 
-test('netElements: outcomes to no place dropped, arcs sharing two nodes curved (copies, the cache left alone)', () => {
+test('netElements: outcomes to no place dropped, arcs sharing two nodes curved (once, also from the cache)', () => {
   const cache = createElementCache();
   const net = { name: 'n', exits: [], places: [place('a', 1), place('b')], transitions: [
     { ...tr('t', 'a', 'b', 3), actions: [{ kind: 'TACTIC', type: 'ASK', target: 'x', outcomes: ['b', 'nowhere'], label: 'ASK x' }] },
