@@ -2,8 +2,9 @@
 // run's phases as shaded bands (phase_start..phase_end) and, in a replay, a
 // cursor at the replay's time.
 //
-// uPlot is its own chunk, imported by load() (main.js: once the file list
-// and the views are shown): until then update() keeps the last data.
+// uPlot is its own chunk, imported by load(): main.js asks once the views
+// are shown and the page is idle, update() at once when it has something to
+// draw; until then update() keeps the last data.
 import 'uplot/dist/uPlot.min.css';
 
 const kBandColours = ['rgba(29, 95, 168, 0.10)', 'rgba(210, 105, 30, 0.12)', 'rgba(46, 125, 50, 0.12)', 'rgba(106, 27, 154, 0.10)'];
@@ -115,7 +116,12 @@ export class DepthChart {
   // {telemetry: [[t, depth, setpoint], ...], phases: [{net, parent, t0, t1}], cursor: t | null}
   // (an array alone is the telemetry).
   update(data) {
-    if (!this.ensure()) { this.pending = data; return; }
+    if (!this.ensure()) {
+      this.pending = data;
+      const d = Array.isArray(data) ? { telemetry: data } : data;
+      if ((d.telemetry && d.telemetry.length) || (d.phases && d.phases.length) || d.cursor != null) this.load();
+      return;
+    }
     const { telemetry: points, phases = [], cursor = null } = Array.isArray(data) ? { telemetry: data } : data;
     // Bands: the phases (not the mission net, which spans the whole run).
     const bands = phases.filter((p) => typeof p.t0 === 'number' && (p.depth != null ? p.depth > 0 : p.parent != null && p.parent !== p.instance));

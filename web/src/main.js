@@ -169,9 +169,11 @@ async function init() {
   fx.connect(EventSource);
   fx.startSonar();
   // The views after the list is drawn: their chunk is run while the user
-  // reads the list; the chart's library after them.
+  // reads the list.
   const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
-  loaded.then(() => panels.chart.load(), () => panels.chart.load());
+  // The chart's library once the page is idle (a run's data loads it at once).
+  const idle = (f) => (window.requestIdleCallback ? window.requestIdleCallback(f, { timeout: 3000 }) : setTimeout(f, 500));
+  loaded.then(() => idle(() => panels.chart.load()), () => idle(() => panels.chart.load()));
   await fx.loadPrimitives();
   await loaded;
   const want = new URLSearchParams(location.search).get('path');
