@@ -161,8 +161,10 @@ export function createCanvas(container, store, fx) {
   }
 
   // ------------------------------------------------------------ drawing
-  function placeNodes(s, net) {
-    if (part) { placeParts(s, net); return; }
+  // show: a net shown in parts shows the part in view again even when no
+  // position changed (its elements did).
+  function placeNodes(s, net, show = false) {
+    if (part) { placeParts(s, net, show); return; }
     const pos = s.positions[net.name] || {};
     const nodes = cy.nodes();
     const missing = [];
@@ -205,7 +207,7 @@ export function createCanvas(container, store, fx) {
   // placeNodes for a net shown in parts: part.pos follows the store, nodes
   // without a position are placed as placeNodes does, and what is shown
   // follows.
-  function placeParts(s, net) {
+  function placeParts(s, net, show) {
     const pos = s.positions[net.name] || {};
     const missing = [], moved = [];
     let nodes = 0;
@@ -247,7 +249,9 @@ export function createCanvas(container, store, fx) {
       }
       dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
     }
-    showWindow();
+    // (The positions this dispatched come back here: nothing moved, and
+    // the part in view is as it was.)
+    if (show || moved.length || missing.length) showWindow();
   }
 
   // The elements near the view brought into cytoscape, the others out (a
@@ -428,14 +432,14 @@ export function createCanvas(container, store, fx) {
         if (laid) dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
         else if (!large) placeNodes(s, net);
         if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
-        if (large && !laid) placeNodes(s, net);   // places what has no position, then shows the part in view
+        if (large && !laid) placeNodes(s, net, true);   // places what has no position, then shows the part in view
         else if (large) showWindow();
         applyDiagnostics(s, net);
       }
     } else if (changed) {
       drawnNet = net;
       syncElements(s, net);
-      placeNodes(s, net);
+      placeNodes(s, net, true);
       applyDiagnostics(s, net);
     } else if (net && prev && s.positions[net.name] !== prev.positions[net.name]) {
       placeNodes(s, net);
