@@ -2,7 +2,7 @@
 // marking and run classes; turns the user's gestures (drag a node, draw an
 // arc, click, double-click, zoom) into actions. It keeps no page state of
 // its own: positions and viewports go to the store.
-import { netElements, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
+import { netElements, createElementCache, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
 import { currentNet, editable, tokensFor, uniqueName } from './store.js';
 import { kLargeNet, windowBox, windowIds } from './netwindow.js';
@@ -161,8 +161,10 @@ export function createCanvas(container, store, fx) {
   }
 
   // ------------------------------------------------------------ drawing
-  function placeNodes(s, net) {
-    if (part) { placeParts(s, net); return; }
+  // show: a net shown in parts shows the part in view again even when no
+  // position changed (its elements did).
+  function placeNodes(s, net, show = false) {
+    if (part) { placeParts(s, net, show); return; }
     const pos = s.positions[net.name] || {};
     const nodes = cy.nodes();
     const missing = [];
@@ -205,7 +207,7 @@ export function createCanvas(container, store, fx) {
   // placeNodes for a net shown in parts: part.pos follows the store, nodes
   // without a position are placed as placeNodes does, and what is shown
   // follows.
-  function placeParts(s, net) {
+  function placeParts(s, net, show) {
     const pos = s.positions[net.name] || {};
     const missing = [], moved = [];
     let nodes = 0;
@@ -247,7 +249,9 @@ export function createCanvas(container, store, fx) {
       }
       dispatch({ type: 'positions/set', net: net.name, positions: out, placed: true });
     }
-    showWindow();
+    // (The positions this dispatched come back here: nothing moved, and
+    // the part in view is as it was.)
+    if (show || moved.length || missing.length) showWindow();
   }
 
   // The elements near the view brought into cytoscape, the others out (a
@@ -356,9 +360,14 @@ export function createCanvas(container, store, fx) {
   // touches a few elements, and the selection and positions stay.
   const kBaseClasses = ['place', 'exit', 'transition', 'arc', 'wait', 'signal', 'outcome', 'weighted', 'pair'];
   let drawnEls = new Map();   // id -> the element spec drawn (netElements)
+  // The specs of the net drawn, kept across its renders (graph.js): an
+  // element an edit left alone is the same spec, compared by reference.
+  const specCache = createElementCache();
+  // Cytoscape keeps the data object it is given (and changes it): it gets copies.
+  const copy = (e) => ({ ...e, data: { ...e.data } });
   const byId = (els) => new Map(els.map((e) => [e.data.id, e]));
   function syncElements(s, net) {
-    const els = netElements(net, tokensFor(s, net.name));
+    const els = netElements(net, tokensFor(s, net.name), specCache);
     const want = byId(els);
     const gone = [];
     for (const id of drawnEls.keys()) if (!want.has(id)) gone.push(id);
@@ -367,9 +376,9 @@ export function createCanvas(container, store, fx) {
       for (const id of gone) { const e = cy.getElementById(id); if (e.nonempty()) e.remove(); }
       for (const w of els) {
         const d = drawnEls.get(w.data.id);
-        if (d && d.classes === w.classes && sameData(d.data, w.data)) continue;
+        if (d === w || (d && d.classes === w.classes && sameData(d.data, w.data))) continue;
         const e = cy.getElementById(w.data.id);
-        if (e.empty()) { if (!part) add.push(w); continue; }   // in parts: showWindow adds it
+        if (e.empty()) { if (!part) add.push(copy(w)); continue; }   // in parts: showWindow adds it
         for (const [k, v] of Object.entries(w.data)) if (k !== 'id' && k !== 'source' && k !== 'target' && e.data(k) !== v) e.data(k, v);
         const cls = new Set(w.classes.split(' '));
         for (const c of kBaseClasses) if (e.hasClass(c) !== cls.has(c)) e.toggleClass(c, cls.has(c));
@@ -398,7 +407,7 @@ export function createCanvas(container, store, fx) {
       part = null;
       drawnNet = net; drawnName = s.netName;
       if (net) {
-        const els = netElements(net, tokensFor(s, net.name));
+        const els = netElements(net, tokensFor(s, net.name), specCache);
         const large = els.length > kLargeNet;
         setLarge(large);
         // Nodes are added at their positions (each position set afterwards
@@ -412,23 +421,25 @@ export function createCanvas(container, store, fx) {
           part = { pos: {} };
           for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) part.pos[e.data.id] = { ...pos[e.data.id] };
         } else {
-          for (const e of els) if (e.group === 'nodes' && pos[e.data.id]) e.position = { ...pos[e.data.id] };
-          cy.add(els);
-          for (const e of els) delete e.position;
+          cy.add(els.map((e) => {
+            const c = copy(e);
+            if (e.group === 'nodes' && pos[e.data.id]) c.position = { ...pos[e.data.id] };
+            return c;
+          }));
         }
         const vp = s.viewports[net.name];
         // (A dispatch from a view is applied after this render.)
         if (laid) dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
         else if (!large) placeNodes(s, net);
         if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
-        if (large && !laid) placeNodes(s, net);   // places what has no position, then shows the part in view
+        if (large && !laid) placeNodes(s, net, true);   // places what has no position, then shows the part in view
         else if (large) showWindow();
         applyDiagnostics(s, net);
       }
     } else if (changed) {
       drawnNet = net;
       syncElements(s, net);
-      placeNodes(s, net);
+      placeNodes(s, net, true);
       applyDiagnostics(s, net);
     } else if (net && prev && s.positions[net.name] !== prev.positions[net.name]) {
       placeNodes(s, net);

@@ -1,7 +1,10 @@
 // Depth and setpoint against time (uPlot), depth axis pointing down; the
 // run's phases as shaded bands (phase_start..phase_end) and, in a replay, a
 // cursor at the replay's time.
-import uPlot from 'uplot';
+//
+// uPlot is its own chunk, imported by load(): main.js asks once the views
+// are shown and the page is idle, update() at once when it has something to
+// draw; until then update() keeps the last data.
 import 'uplot/dist/uPlot.min.css';
 
 const kBandColours = ['rgba(29, 95, 168, 0.10)', 'rgba(210, 105, 30, 0.12)', 'rgba(46, 125, 50, 0.12)', 'rgba(106, 27, 154, 0.10)'];
@@ -15,10 +18,29 @@ export class DepthChart {
     this.phases = [];     // the bands drawn: {net, t0, t1}
     this.cursor = null;   // the time of the cursor, or null
     this.cursorX = null;  // where it was drawn (canvas px), for the tests
+    this.uPlot = null;    // the library, once loaded
+    this.loading = null;
+    this.pending = null;  // the data of update() before the library came
   }
 
+  // Imports uPlot (once) and draws what update() was given meanwhile.
+  load() {
+    if (!this.loading) {
+      this.loading = import('uplot').then((m) => {
+        this.uPlot = m.default;
+        const d = this.pending;
+        this.pending = null;
+        if (d) this.update(d);
+      });
+    }
+    return this.loading;
+  }
+
+  // Whether the plot exists (made on first use once uPlot is loaded).
   ensure() {
-    if (this.plot) return;
+    if (this.plot) return true;
+    if (!this.uPlot) return false;
+    const uPlot = this.uPlot;
     const w = Math.max(300, this.el.clientWidth || 600);
     const h = Math.max(100, (this.el.clientHeight || 200) - 40);
     this.plot = new uPlot({
@@ -42,6 +64,7 @@ export class DepthChart {
     }, [[], [], []], this.el);
     this.resizeObs = new ResizeObserver(() => this.resize());
     this.resizeObs.observe(this.el);
+    return true;
   }
 
   resize() {
@@ -93,7 +116,12 @@ export class DepthChart {
   // {telemetry: [[t, depth, setpoint], ...], phases: [{net, parent, t0, t1}], cursor: t | null}
   // (an array alone is the telemetry).
   update(data) {
-    this.ensure();
+    if (!this.ensure()) {
+      this.pending = data;
+      const d = Array.isArray(data) ? { telemetry: data } : data;
+      if ((d.telemetry && d.telemetry.length) || (d.phases && d.phases.length) || d.cursor != null) this.load();
+      return;
+    }
     const { telemetry: points, phases = [], cursor = null } = Array.isArray(data) ? { telemetry: data } : data;
     // Bands: the phases (not the mission net, which spans the whole run).
     const bands = phases.filter((p) => typeof p.t0 === 'number' && (p.depth != null ? p.depth > 0 : p.parent != null && p.parent !== p.instance));

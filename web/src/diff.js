@@ -34,3 +34,24 @@ export function lineDiff(a, b) {
   for (const text of A.slice(A.length - suf)) rows.push({ op: ' ', text });
   return rows;
 }
+
+// The length of the longest common prefix of a and b (a binary search of
+// native comparisons: a loop over each character of a large file runs
+// cold, once per edit, and took tens of ms).
+export function commonPrefix(a, b) {
+  let lo = 0, hi = Math.min(a.length, b.length);
+  while (lo < hi) {
+    const mid = (lo + hi + 1) >> 1;
+    if (a.startsWith(b.slice(lo, mid), lo)) lo = mid; else hi = mid - 1;
+  }
+  return lo;
+}
+// The same for a common suffix, at most max long.
+export function commonSuffix(a, b, max) {
+  let lo = 0, hi = Math.max(0, max);
+  while (lo < hi) {
+    const mid = (lo + hi + 1) >> 1;
+    if (a.endsWith(b.slice(b.length - mid, b.length - lo), a.length - lo)) lo = mid; else hi = mid - 1;
+  }
+  return lo;
+}

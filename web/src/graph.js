@@ -89,49 +89,87 @@ export function transitionLabel(t) {
   return [head, ...(t.actions || []).map((a) => a.label || `${a.kind === 'PHASE' ? 'PHASE' : a.type} ${a.target}`)].join('\n');
 }
 
-// Cytoscape elements of net (a mission-model net). tokens: place -> n, or null for the initial marking.
-export function netElements(net, tokens) {
+// A cache of element specs for netElements, kept by the canvas across
+// renders of one net: a place or transition whose fields are the ones last
+// seen gets the very spec objects of last time (an edit's patch keeps each
+// transition's inputs, outputs and actions arrays, also when its line
+// moved), so the canvas's diff of a large net compares references.
+// Specs are shared: never change them (cytoscape gets copies).
+export function createElementCache() { return { net: null, places: new Map(), transitions: new Map() }; }
+
+function placeSpec(p, n, isExit) {
+  return { group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, img: tokenSvg(n), initial: p.initial || 0, exit: isExit },
+    classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') };
+}
+
+// The node of t and its arcs (outcome arcs to every outcome; those to no
+// place are dropped by netElements with the other dangling edges). Arcs that
+// join t to the same place (either way) are curved apart: 'pair' (every edge
+// joins a place and a transition, so only a transition's own edges can share
+// their two nodes; both are dropped, or neither, when the place is missing).
+function transitionSpecs(t) {
+  const out = [{ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0 },
+    classes: 'transition' }];
+  for (const a of t.inputs || []) {
+    out.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),
+      from: a.place, to: t.name, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc wait weighted' : 'arc wait' });
+  }
+  for (const a of t.outputs || []) {
+    out.push({ group: 'edges', data: { id: `a:${transId(t.name)}>${placeId(a.place)}`, kind: 'arc', source: transId(t.name), target: placeId(a.place),
+      from: t.name, to: a.place, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc signal weighted' : 'arc signal' });
+  }
+  const seen = new Set();
+  (t.actions || []).forEach((act, i) => {
+    for (const o of act.outcomes || []) {
+      const key = `${i}:${o}`;
+      if (seen.has(key)) continue;
+      seen.add(key);
+      out.push({ group: 'edges', data: { id: `o:${transId(t.name)}>${placeId(o)}:${i}`, kind: 'outcome', source: transId(t.name), target: placeId(o),
+        from: t.name, to: o, label: '' }, classes: 'outcome' });
+    }
+  });
+  if (out.length > 2) {
+    const count = new Map();
+    const other = (e) => (e.data.source === out[0].data.id ? e.data.target : e.data.source);
+    for (let i = 1; i < out.length; i++) { const k = other(out[i]); count.set(k, (count.get(k) || 0) + 1); }
+    for (let i = 1; i < out.length; i++) if (count.get(other(out[i])) > 1) out[i].classes += ' pair';
+  }
+  return out;
+}
+
+// Cytoscape elements of net (a mission-model net). tokens: place -> n, or
+// null for the initial marking. cache: createElementCache(), or none.
+export function netElements(net, tokens, cache = null) {
   const els = [];
   const places = new Map();
   for (const p of net.places || []) places.set(p.name, p);
   for (const x of net.exits || []) if (!places.has(x)) places.set(x, { name: x, initial: 0, exit: true, line: null });
+  if (cache && cache.net !== net.name) { cache.net = net.name; cache.places = new Map(); cache.transitions = new Map(); }
+  const nextPlaces = cache ? new Map() : null, nextTransitions = cache ? new Map() : null;
+  const exits = new Set(net.exits || []);
   for (const p of places.values()) {
-    const isExit = p.exit || (net.exits || []).includes(p.name);
+    const isExit = !!(p.exit || exits.has(p.name));
     const n = tokens ? (tokens[p.name] || 0) : (p.initial || 0);
-    els.push({ group: 'nodes', data: { id: placeId(p.name), kind: 'place', name: p.name, tokens: n, img: tokenSvg(n), initial: p.initial || 0, exit: isExit },
-      classes: 'place' + (isExit ? ' exit' : '') + (n > 0 ? ' marked' : '') });
+    const initial = p.initial || 0;
+    const c = cache && cache.places.get(p.name);
+    const hit = c && c.n === n && c.isExit === isExit && c.initial === initial;
+    const e = hit ? c.el : placeSpec(p, n, isExit);
+    if (cache) nextPlaces.set(p.name, hit ? c : { n, isExit, initial, el: e });
+    els.push(e);
   }
   for (const t of net.transitions || []) {
-    els.push({ group: 'nodes', data: { id: transId(t.name), kind: 'transition', name: t.name, label: transitionLabel(t), priority: t.priority || 0 },
-      classes: 'transition' });
-    for (const a of t.inputs || []) {
-      els.push({ group: 'edges', data: { id: `a:${placeId(a.place)}>${transId(t.name)}`, kind: 'arc', source: placeId(a.place), target: transId(t.name),
-        from: a.place, to: t.name, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc wait weighted' : 'arc wait' });
-    }
-    for (const a of t.outputs || []) {
-      els.push({ group: 'edges', data: { id: `a:${transId(t.name)}>${placeId(a.place)}`, kind: 'arc', source: transId(t.name), target: placeId(a.place),
-        from: t.name, to: a.place, weight: a.weight ?? 1, label: (a.weight ?? 1) !== 1 ? String(a.weight) : '' }, classes: (a.weight ?? 1) !== 1 ? 'arc signal weighted' : 'arc signal' });
-    }
-    const seen = new Set();
-    (t.actions || []).forEach((act, i) => {
-      for (const o of act.outcomes || []) {
-        const key = `${i}:${o}`;
-        if (seen.has(key) || !places.has(o)) continue;
-        seen.add(key);
-        els.push({ group: 'edges', data: { id: `o:${transId(t.name)}>${placeId(o)}:${i}`, kind: 'outcome', source: transId(t.name), target: placeId(o),
-          from: t.name, to: o, label: '' }, classes: 'outcome' });
-      }
-    });
+    const c = cache && cache.transitions.get(t.name);
+    const hit = c && c.priority === t.priority && c.inputs === t.inputs && c.outputs === t.outputs && c.actions === t.actions;
+    const specs = hit ? c.els : transitionSpecs(t);
+    if (cache) nextTransitions.set(t.name, hit ? c : { priority: t.priority, inputs: t.inputs, outputs: t.outputs, actions: t.actions, els: specs });
+    for (const e of specs) els.push(e);
   }
-  // Drop edges to nodes that do not exist (a model of a broken text).
-  const ids = new Set(els.filter((e) => e.group === 'nodes').map((e) => e.data.id));
-  const out = els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
-  // Edges that share their two nodes (either way) are curved apart: 'pair'.
-  const key = (e) => (e.data.source < e.data.target ? `${e.data.source}|${e.data.target}` : `${e.data.target}|${e.data.source}`);
-  const count = new Map();
-  for (const e of out) if (e.group === 'edges') count.set(key(e), (count.get(key(e)) || 0) + 1);
-  for (const e of out) if (e.group === 'edges' && count.get(key(e)) > 1) e.classes += ' pair';
-  return out;
+  if (cache) { cache.places = nextPlaces; cache.transitions = nextTransitions; }
+  // Drop edges to nodes that do not exist (a model of a broken text; an
+  // outcome that is no place of the net).
+  const ids = new Set();
+  for (const e of els) if (e.group === 'nodes') ids.add(e.data.id);
+  return els.filter((e) => e.group === 'nodes' || (ids.has(e.data.source) && ids.has(e.data.target)));
 }
 
 export { tokenSvg };

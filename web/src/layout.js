@@ -102,13 +102,18 @@ export function layeredLayout(net) {
   const pos = new Float64Array(n);
   const renumber = (r) => ranks[r].forEach((v, i) => { pos[v] = i; });
   for (let r = 0; r < nranks; r++) renumber(r);
+  // (A rank of one node has nothing to order: a chain of 10,000 nodes made
+  // 80,000 maps here.)
+  const bary = new Float64Array(n);
   const sweep = (r, nb) => {
-    const bary = new Map();
+    if (ranks[r].length < 2) return;
     for (const v of ranks[r]) {
       const ns = nb[v];
-      bary.set(v, ns.length ? ns.reduce((a, w) => a + pos[w], 0) / ns.length : pos[v]);
+      let sum = 0;
+      for (const w of ns) sum += pos[w];
+      bary[v] = ns.length ? sum / ns.length : pos[v];
     }
-    ranks[r].sort((a, b) => bary.get(a) - bary.get(b));
+    ranks[r].sort((a, b) => bary[a] - bary[b]);
     renumber(r);
   };
   for (let it = 0; it < 4; it++) {

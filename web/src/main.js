@@ -149,14 +149,31 @@ window.__studio = {
 };
 
 // ---------------------------------------------------------------- start
+// The views' chunk (cytoscape, CodeMirror) is fetched from the start,
+// beside the file list, but only run once the list is shown: a
+// modulepreload fetches and compiles, it does not run.
+function preloadViews() {
+  if (!import.meta.env.PROD) return;   // vite's dev server serves the sources
+  const l = document.createElement('link');
+  l.rel = 'modulepreload';
+  l.href = new URL(/* @vite-ignore */ './app-views.js', import.meta.url).href;
+  document.head.append(l);
+}
+
 async function init() {
-  fx.connect(EventSource);
-  fx.startSonar();
+  preloadViews();
+  // The file list first: everything else (the event stream, sonar, the
+  // views, the chart's library) after it is drawn.
   await fx.loadFiles();
   window.__studio.filesAt = performance.now();   // page load to file list (the e2e report)
-  // The views after the list is drawn: their chunk is fetched, compiled and
-  // run while the user reads the list.
+  fx.connect(EventSource);
+  fx.startSonar();
+  // The views after the list is drawn: their chunk is run while the user
+  // reads the list.
   const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
+  // The chart's library once the page is idle (a run's data loads it at once).
+  const idle = (f) => (window.requestIdleCallback ? window.requestIdleCallback(f, { timeout: 3000 }) : setTimeout(f, 500));
+  loaded.then(() => idle(() => panels.chart.load()), () => idle(() => panels.chart.load()));
   await fx.loadPrimitives();
   await loaded;
   const want = new URLSearchParams(location.search).get('path');

@@ -8,12 +8,16 @@ import { defaultKeymap, indentWithTab } from '@codemirror/commands';
 import { syntaxHighlighting, defaultHighlightStyle, bracketMatching } from '@codemirror/language';
 import { setDiagnostics, lintGutter } from '@codemirror/lint';
 import { coral, lintDiagnostics } from './coral_lang.js';
+import { commonPrefix, commonSuffix } from './diff.js';
 
 const fromStore = Annotation.define();
 
 export function createTextPane(parent, store, fx) {
   const { getState } = store;
   const readOnly = new Compartment();
+  // The pane's text as a string, kept beside the editor's (its doc made
+  // into a string is a copy of the whole file at every render).
+  let docText = '';
   const view = new EditorView({
     parent,
     state: EditorState.create({
@@ -31,7 +35,8 @@ export function createTextPane(parent, store, fx) {
         readOnly.of(EditorState.readOnly.of(true)),
         EditorView.updateListener.of((u) => {
           if (!u.docChanged || u.transactions.some((t) => t.annotation(fromStore))) return;
-          fx.textTyped(u.state.doc.toString());
+          docText = u.state.doc.toString();
+          fx.textTyped(docText);
         }),
         EditorView.domEventHandlers({ blur: () => { fx.endTyping(); } }),
       ],
@@ -40,7 +45,7 @@ export function createTextPane(parent, store, fx) {
 
   function render(s, prev) {
     const text = s.text ?? '';
-    const doc = view.state.doc.toString();
+    const doc = docText;
     const effects = [];
     if (!prev || s.readOnly !== prev.readOnly || s.path !== prev.path) {
       effects.push(readOnly.reconfigure(EditorState.readOnly.of(s.path == null || s.readOnly)));
@@ -50,12 +55,10 @@ export function createTextPane(parent, store, fx) {
       const head = Math.min(view.state.selection.main.head, text.length);
       // Only the span that differs is replaced (an edit of a large file
       // changes a line or two of it).
-      let a = 0;
-      const n = Math.min(doc.length, text.length);
-      while (a < n && doc.charCodeAt(a) === text.charCodeAt(a)) a++;
-      let b = 0;
-      while (b < n - a && doc.charCodeAt(doc.length - 1 - b) === text.charCodeAt(text.length - 1 - b)) b++;
+      const a = commonPrefix(doc, text);
+      const b = commonSuffix(doc, text, Math.min(doc.length, text.length) - a);
       view.dispatch({ changes: { from: a, to: doc.length - b, insert: text.slice(a, text.length - b) }, selection: { anchor: head }, annotations: fromStore.of(true), effects });
+      docText = text;
     } else if (effects.length) view.dispatch({ effects });
     if (!prev || s.model !== prev.model || text !== doc) {
       // Marks only for the text the model is of (a typed text waits for its check).

@@ -3,7 +3,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { StringStream } from '@codemirror/language';
 import { coralStream, diagnosticRange, lintDiagnostics } from '../src/coral_lang.js';
-import { lineDiff, kMaxCells } from '../src/diff.js';
+import { lineDiff, kMaxCells, commonPrefix, commonSuffix } from '../src/diff.js';
 
 function tokens(line, st = coralStream.startState()) {
   const s = new StringStream(line, 2, 2);
@@ -66,4 +66,29 @@ test('line diff: a middle too large for the table is shown whole', () => {
   const rows = lineDiff(a, b);
   assert.equal(rows.filter((r) => r.op === '-').length, n);
   assert.equal(rows.filter((r) => r.op === '+').length, n);
+});
+
+test('the span an edit changed: common prefix and suffix, as a loop over characters finds them', () => {
+  const naive = (x, y) => {
+    let a = 0;
+    const n = Math.min(x.length, y.length);
+    while (a < n && x[a] === y[a]) a++;
+    let b = 0;
+    while (b < n - a && x[x.length - 1 - b] === y[y.length - 1 - b]) b++;
+    return [a, b];
+  };
+  let seed = 7;
+  const rnd = (k) => { seed = (seed * 1103515245 + 12345) % 2147483648; return seed % k; };
+  const word = () => Array.from({ length: rnd(12) }, () => 'ab\n'[rnd(3)]).join('');
+  for (let i = 0; i < 3000; i++) {
+    const x = word(), y = word();
+    const a = commonPrefix(x, y);
+    assert.deepEqual([a, commonSuffix(x, y, Math.min(x.length, y.length) - a)], naive(x, y), JSON.stringify([x, y]));
+  }
+  const lines = Array.from({ length: 5000 }, (_, i) => `  place p${i};`);
+  const before = lines.join('\n');
+  const after = [...lines.slice(0, 2500), '  place extra;', ...lines.slice(2500)].join('\n');
+  const a = commonPrefix(before, after);
+  const b = commonSuffix(before, after, before.length - a);
+  assert.equal(after.slice(a, after.length - b), 'extra;\n  place ');
 });
