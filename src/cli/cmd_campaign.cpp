@@ -17,6 +17,7 @@
 #include "campaign/case_run.h"
 #include "campaign/slurm.h"
 #include "campaign/spec.h"
+#include "cli/verbosity.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/signal_watcher.h"
@@ -42,6 +43,7 @@ void catch_stop_signals() {
 }
 
 struct CampaignFlags {
+  VerbosityFlags verbosity;
   std::string spec;
   std::string out;
   int jobs = 0;
@@ -214,6 +216,7 @@ Runner add_campaign_command(CLI::App& app) {
   cmd->add_option("--strata", f->strata,
                   "With --slurm: the strata executable the jobs run, as the nodes see it (default: this one)")
       ->needs(slurm);
+  add_verbosity_flags(cmd, f->verbosity, "");
   return [f, cmd] {
     if (!f->compare.empty()) {
       if (!f->spec.empty()) {
@@ -299,7 +302,7 @@ Runner add_campaign_command(CLI::App& app) {
                                            : campaign::KeepLogs::Failed;
     o.case_wall_limit_s = f->case_wall_limit_s;
     o.command = fmt::format("strata campaign {} --out {}", f->spec, f->out);
-    o.progress = &std::cerr;
+    o.progress = f->verbosity.level() == Verbosity::Quiet ? nullptr : &std::cerr;
     o.progress_tty = ::isatty(STDERR_FILENO) == 1;
     o.stop_requests = &g_stop_requests;
     catch_stop_signals();

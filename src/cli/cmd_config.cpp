@@ -11,10 +11,10 @@ namespace strata::cli {
 
 Runner add_config_command(CLI::App& app, const LoadedConfig& loaded) {
   auto* cmd = app.add_subcommand(
-      "config",
-      "Show the defaults strata takes from $XDG_CONFIG_HOME/strata/config.toml and the environment");
+      "config", "Show the defaults strata takes from $XDG_CONFIG_HOME/strata/config.toml and the environment");
   cmd->require_subcommand(1);
-  auto* show = cmd->add_subcommand("show", "Print every setting and where it comes from (file:line, environment, built in)");
+  auto* show =
+      cmd->add_subcommand("show", "Print every setting and where it comes from (file:line, environment, built in)");
   auto* path = cmd->add_subcommand("path", "Print the config file's path (it may not exist)");
   cmd->footer(
       "The file (TOML; every key optional):\n"

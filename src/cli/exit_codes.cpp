@@ -7,14 +7,10 @@ namespace strata::cli {
 const char* exit_code_help() {
   return "Exit codes: 0 ok (a run: the mission completed), 1 the mission did not complete (aborted, failed,\n"
          "halted, a limit reached), 64 usage, 65 invalid mission, 69 unavailable (gnuplot missing; strata sonar:\n"
-         "the vehicle unreachable or gone; campaign --submit: sbatch missing or failing), 70 internal error,
-"
-         "74 I/O error (a file or the vehicle cannot be reached), 128+N ended by signal N (129 SIGHUP,
-"
-         "130 SIGINT, 143 SIGTERM; a run surfaces first).
-"
-         "Every command takes -q/--quiet (results and errors only) and -v/--verbose (more detail);
-"
+         "the vehicle unreachable or gone; campaign --submit: sbatch missing or failing), 70 internal error,\n"
+         "74 I/O error (a file or the vehicle cannot be reached), 128+N ended by signal N (129 SIGHUP,\n"
+         "130 SIGINT, 143 SIGTERM; a run surfaces first).\n"
+         "Every command takes -q/--quiet (results and errors only) and -v/--verbose (more detail);\n"
          "`strata COMMAND --help` lists its options and its own exit codes.";
 }
 

@@ -74,9 +74,7 @@ class Reader {
   }
 
  private:
-  std::string origin(const toml::node& node) const {
-    return fmt::format("{}:{}", path_, node.source().begin.line);
-  }
+  std::string origin(const toml::node& node) const { return fmt::format("{}:{}", path_, node.source().begin.line); }
 
   std::optional<std::string> string_of(const toml::node& node, const std::string& name) {
     if (const auto* s = node.as_string()) return s->get();
@@ -230,12 +228,12 @@ core::Result<fs::path> create_dated_log(const fs::path& log_dir, const std::stri
       return path;
     }
     if (errno != EEXIST) {
-      return core::make_error(core::ErrorCode::Io,
-                              fmt::format("{}: cannot create the mission log: {}", path.string(), std::strerror(errno)));
+      return core::make_error(core::ErrorCode::Io, fmt::format("{}: cannot create the mission log: {}", path.string(),
+                                                               std::strerror(errno)));
     }
   }
-  return core::make_error(core::ErrorCode::Io,
-                          fmt::format("{}: 100 logs of '{}' in one second already; not logging", log_dir.string(), stem));
+  return core::make_error(core::ErrorCode::Io, fmt::format("{}: 100 logs of '{}' in one second already; not logging",
+                                                           log_dir.string(), stem));
 }
 
 }  // namespace strata::cli

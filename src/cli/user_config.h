@@ -33,8 +33,8 @@ struct Setting {
 };
 
 struct UserConfig {
-  std::string path;   // the file looked for ("" when there is no home to look in)
-  bool found = false; // it exists and was read
+  std::string path;    // the file looked for ("" when there is no home to look in)
+  bool found = false;  // it exists and was read
   Setting<std::string> run_vehicle{"embedded"};
   Setting<double> run_telemetry_hz{run::RunOptions{}.telemetry_hz};
   Setting<bool> run_log{true};

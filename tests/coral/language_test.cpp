@@ -152,7 +152,8 @@ GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(FailFile);
 
 // Every ```coral block of docs/language.md checks without a diagnostic, with
 // the catalogue the language tests use (an `import "lib/X.coral"` reads
-// tests/coral/ok/lib/X.coral). The example of phase parameters says it runs
+// tests/coral/ok/lib/X.coral, `import "missions/tank/X.coral"` the shipped
+// missions/tank/X.coral). The example of phase parameters says it runs
 // with the built-in catalogue alone: so it must check with that alone.
 TEST(DocsExamples, EveryCoralBlockOfTheLanguageReferenceChecksClean) {
   const std::string doc = read(fs::path(STRATA_SOURCE_DIR) / "docs" / "language.md");
@@ -170,6 +171,12 @@ TEST(DocsExamples, EveryCoralBlockOfTheLanguageReferenceChecksClean) {
       provider.add("docs/example.coral", text);
       for (const auto& lib : files(kRoot / "ok" / "lib", "")) {
         provider.add("docs/lib/" + fs::path(lib).filename().string(), read(lib));
+      }
+      // The import example names the tank mission's phase, relative to a
+      // file beside missions/.
+      for (const auto& phase : files(fs::path(STRATA_SOURCE_DIR) / "missions" / "tank", "")) {
+        if (phase.ends_with(".coral"))
+          provider.add("docs/missions/tank/" + fs::path(phase).filename().string(), read(phase));
       }
       core::SourceManager sources;
       core::DiagnosticSink sink;
