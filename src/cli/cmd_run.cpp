@@ -56,6 +56,9 @@ Runner add_run_command(CLI::App& app) {
   cmd->add_option("--vehicle", o->vehicle,
                   "HOST:PORT of a running vehicle (`strata vehicle`) instead of the embedded one");
   cmd->add_option("--log", o->log, "Write the mission log (JSON Lines) to this file");
+  cmd->add_option("--answers", o->answers,
+                  "Script the vehicle's answers from this file (`strata verify --witness-out` writes one): the run "
+                  "follows that witness, and a mission that fails verification runs (docs/verification.md)");
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
                   "it writes the scans (PNG) and sonar.jsonl into this folder");

@@ -19,6 +19,7 @@
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "cli/verify_question.h"
+#include "cli/witness_out.h"
 #include "coral/verify_report.h"
 #include "core/memory.h"
 #include "petri/explorer.h"
@@ -40,6 +41,8 @@ struct VerifyOptions {
   bool max_memory_given = false;
   double time_limit_s = 0;  // 0: none
   bool no_liveness = false;
+  std::string witness_out;  // MISSION: a counterexample as an answers file
+  std::string witness_net;  // ... from this net only ("" any)
 };
 
 std::chrono::steady_clock::time_point deadline_after(double seconds) {
@@ -200,6 +203,10 @@ int run_verify_mission(const VerifyOptions& o) {
   } else {
     std::cout << coral::verify_text(report);
   }
+  if (!o.witness_out.empty()) {
+    const int written = write_report_witness(report, o.mission, o.witness_net, o.witness_out);
+    if (written == kExitUsage || written == kExitIo) return written;
+  }
   return report.ok() ? kExitOk : kExitInvalid;
 }
 
@@ -233,6 +240,10 @@ Runner add_verify_command(CLI::App& app) {
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);
+  cmd->add_option("--witness-out", q->witness_out,
+                  "MISSION: write the counterexample of the first property that fails (in --net's net when given), "
+                  "or with --question its witness, as the vehicle answers the path needs: `strata run MISSION "
+                  "--answers FILE` follows it (docs/verification.md)");
   cmd->footer(
       "Exit, MISSION: 0 when the mission may run (every property that blocks `strata run` holds; one_safe and "
       "no_dead are warnings); 65 when one fails or is not decided, or the mission does not compile; 74 for a "
@@ -246,6 +257,13 @@ Runner add_verify_command(CLI::App& app) {
       std::cerr << "strata verify: give a mission (.coral) or --pnml FILE\n";
       return static_cast<int>(kExitUsage);
     }
+    if (!q->witness_out.empty() && (!o->pnml.empty() || !q->replay.empty() || !q->replay_file.empty())) {
+      std::cerr << "strata verify: --witness-out writes a mission's vehicle answers: it needs a MISSION, and not "
+                   "--pnml or --replay\n";
+      return static_cast<int>(kExitUsage);
+    }
+    o->witness_out = q->witness_out;
+    o->witness_net = q->net;
     try {
       if (question_requested(*q)) {
         const bool is_mission = o->pnml.empty();
