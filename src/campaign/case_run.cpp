@@ -249,10 +249,10 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
       const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
       if (write_new_file(config.out_dir + "/" + file, scenario)) {
         j["scenario"] = file;
-        j["repro_run"] = fmt::format("strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}{}",
-                                     shell_quote(mission.resolved), shell_quote(config.out_dir + "/" + file),
-                                     spec.max_sim_time_s, spec.telemetry_hz,
-                                     family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
+        j["repro_run"] = fmt::format(
+            "strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
+            shell_quote(config.out_dir + "/" + file), spec.max_sim_time_s, spec.telemetry_hz,
+            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
       }
     }
   }

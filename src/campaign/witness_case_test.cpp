@@ -51,8 +51,9 @@ TEST(CampaignWitness, AFamilyKeptToOneMissionCountsForItAlone) {
   const Spec& s = spec.value();
   // tank.coral: nominal, filter_on, dive_abort, system_problem; tank.pl: nominal, system_problem.
   ASSERT_EQ(6u, s.case_count());
-  const std::vector<std::pair<std::size_t, std::string>> expected{
-      {0, "nominal"}, {0, "filter_on"}, {0, "dive_abort"}, {0, "system_problem"}, {1, "nominal"}, {1, "system_problem"}};
+  const std::vector<std::pair<std::size_t, std::string>> expected{{0, "nominal"},    {0, "filter_on"},
+                                                                  {0, "dive_abort"}, {0, "system_problem"},
+                                                                  {1, "nominal"},    {1, "system_problem"}};
   for (std::uint64_t i = 0; i < s.case_count(); ++i) {
     const Case c = case_at(s, i);
     EXPECT_EQ(expected[i].first, c.mission) << i;

@@ -314,17 +314,16 @@ int run_mission_question(const std::string& mission, const std::string& catalogu
   }
   qo.terminal_places = an.value().exits;
   const petri::Net& net = an.value().net;
-  return ask_net(net,
-                 fmt::format("{} {} ({}): analysis net, {} places, {} transitions{}",
-                             an.value().source->kind == coral::ast::Net::Kind::Mission ? "mission" : "phase",
-                             an.value().source->name, an.value().source->source_file, net.place_count(),
-                             net.transition_count(), qo.terminal_places.empty() ? "" : ", ends at its exits"),
-                 nullptr, f, format, qo,
-                 f.witness_out.empty() ? WitnessSink()
-                                       : [&](const std::vector<petri::TransitionId>& path) {
-                                           return write_path_witness(*load.program, an.value(), path, mission,
-                                                                     f.question, f.witness_out);
-                                         });
+  return ask_net(
+      net,
+      fmt::format("{} {} ({}): analysis net, {} places, {} transitions{}",
+                  an.value().source->kind == coral::ast::Net::Kind::Mission ? "mission" : "phase",
+                  an.value().source->name, an.value().source->source_file, net.place_count(), net.transition_count(),
+                  qo.terminal_places.empty() ? "" : ", ends at its exits"),
+      nullptr, f, format, qo,
+      f.witness_out.empty() ? WitnessSink() : [&](const std::vector<petri::TransitionId>& path) {
+        return write_path_witness(*load.program, an.value(), path, mission, f.question, f.witness_out);
+      });
 }
 
 }  // namespace strata::cli

@@ -11,8 +11,7 @@
 namespace strata::cli {
 namespace {
 
-int write_json(const nlohmann::ordered_json& j, const std::string& file, const std::string& what,
-               std::size_t answers) {
+int write_json(const nlohmann::ordered_json& j, const std::string& file, const std::string& what, std::size_t answers) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out << j.dump(2) << "\n";
   out.close();
@@ -20,9 +19,10 @@ int write_json(const nlohmann::ordered_json& j, const std::string& file, const s
     std::cerr << fmt::format("strata verify: --witness-out: cannot write '{}'\n", file);
     return kExitIo;
   }
-  std::cerr << fmt::format("strata verify: {} written to {}: {} answer{} (`strata run MISSION --answers {}` "
-                           "follows it)\n",
-                           what, file, answers, answers == 1 ? "" : "s", file);
+  std::cerr << fmt::format(
+      "strata verify: {} written to {}: {} answer{} (`strata run MISSION --answers {}` "
+      "follows it)\n",
+      what, file, answers, answers == 1 ? "" : "s", file);
   return kExitOk;
 }
 
@@ -50,9 +50,10 @@ int write_report_witness(const coral::VerifyReport& report, const std::string& m
       }
     }
   }
-  std::cerr << fmt::format("strata verify: --witness-out: no property {}fails with a counterexample; nothing "
-                           "written\n",
-                           net.empty() ? "" : "of " + net + " ");
+  std::cerr << fmt::format(
+      "strata verify: --witness-out: no property {}fails with a counterexample; nothing "
+      "written\n",
+      net.empty() ? "" : "of " + net + " ");
   return kExitAbort;
 }
 
@@ -61,8 +62,8 @@ int write_path_witness(const coral::Program& program, const coral::AnalysisNet& 
                        const std::string& question, const std::string& file) {
   const auto steps = coral::trace_of(program, an, path);
   const std::string from = fmt::format("question '{}'", question);
-  return write_json(coral::witness_answers_json(mission, an.source->name, from, steps), file,
-                    "the witness of " + from, coral::answer_count(steps));
+  return write_json(coral::witness_answers_json(mission, an.source->name, from, steps), file, "the witness of " + from,
+                    coral::answer_count(steps));
 }
 
 }  // namespace strata::cli

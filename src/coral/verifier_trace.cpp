@@ -127,7 +127,8 @@ TraceStep trace_step(const Program& program, const AnalysisNet& an, petri::Trans
   if (a.kind == ActionSpec::Kind::Phase) {
     step.tactic = "phase";
   } else {
-    for (char c : tactic_type_name(a.tactic)) step.tactic += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char c : tactic_type_name(a.tactic))
+      step.tactic += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
   step.marks.emplace_back(cn.net.place_name(a.outcomes.at(st.answer)));
   return step;

@@ -21,11 +21,11 @@ std::size_t answer_count(const std::vector<TraceStep>& steps) {
       std::count_if(steps.begin(), steps.end(), [](const TraceStep& s) { return s.kind == TraceStep::Kind::Answer; }));
 }
 
-nlohmann::ordered_json witness_answers_json(const std::string& mission, const std::string& net,
-                                            const std::string& from, const std::vector<TraceStep>& steps) {
+nlohmann::ordered_json witness_answers_json(const std::string& mission, const std::string& net, const std::string& from,
+                                            const std::vector<TraceStep>& steps) {
   // Which firing issued each answered action: per (transition, action), the
   // firings not yet answered, earliest first.
-  std::map<std::string, std::vector<std::size_t>> fired;  // transition -> its firing steps
+  std::map<std::string, std::vector<std::size_t>> fired;                // transition -> its firing steps
   std::map<std::pair<std::string, std::string>, std::size_t> answered;  // (transition, action) -> answers so far
   struct Entry {
     std::size_t issued = 0, action = 0, step = 0;

@@ -40,8 +40,8 @@ std::vector<TraceStep> trace_of(const Program& program, const AnalysisNet& an,
 // transition still waiting for it), then by the action's place in the
 // transition: the order of the calls, which is the order a run meets them
 // in, whatever order the path answered calls in flight together.
-nlohmann::ordered_json witness_answers_json(const std::string& mission, const std::string& net,
-                                            const std::string& from, const std::vector<TraceStep>& steps);
+nlohmann::ordered_json witness_answers_json(const std::string& mission, const std::string& net, const std::string& from,
+                                            const std::vector<TraceStep>& steps);
 
 // How many answers the file of these steps holds.
 std::size_t answer_count(const std::vector<TraceStep>& steps);

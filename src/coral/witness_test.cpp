@@ -40,9 +40,8 @@ TEST(Witness, AStallCounterexampleGivesTheAnswersOfItsPath) {
   auto j = witness_answers_json("stuck.coral", "stuck", "no_deadlock counterexample", deadlock->counterexample->steps);
   EXPECT_EQ(1, j.at("strata_answers"));
   EXPECT_EQ("stuck", j.at("net"));
-  EXPECT_EQ(
-      "read_setpoint:exec:next_setpt_data=1@2 wait_a_second:exec:sleep=1@4 check_depth:ask:depth_reached=0@6",
-      summary(j.at("answers")));
+  EXPECT_EQ("read_setpoint:exec:next_setpt_data=1@2 wait_a_second:exec:sleep=1@4 check_depth:ask:depth_reached=0@6",
+            summary(j.at("answers")));
   ASSERT_EQ(6u, j.at("path").size());
   EXPECT_EQ("6. ASK depth_reached (check_depth) answers 0 -> not_reached", j.at("path")[5]);
   EXPECT_EQ(3u, answer_count(deadlock->counterexample->steps));
@@ -69,14 +68,14 @@ TraceStep answer(std::string t, std::string action, std::string tactic, std::str
 // meets them in the order they were called.
 TEST(Witness, AnswersAreInTheOrderTheirCallsWereIssued) {
   std::vector<TraceStep> steps{
-      fire("both", {"EXEC start_timer", "ASK time_out"}),             // 1
-      fire("other", {"ASK depth_reached"}),                           // 2
+      fire("both", {"EXEC start_timer", "ASK time_out"}),                 // 1
+      fire("other", {"ASK depth_reached"}),                               // 2
       answer("other", "ASK depth_reached", "ask", "depth_reached", "1"),  // 3
-      answer("both", "ASK time_out", "ask", "time_out", "0"),         // 4
-      fire("both", {"EXEC start_timer", "ASK time_out"}),             // 5
-      answer("both", "ASK time_out", "ask", "time_out", "1"),         // 6: the second firing's
-      answer("both", "EXEC start_timer", "exec", "start_timer", "1"),  // 7: the first firing's
-      answer("both", "EXEC start_timer", "exec", "start_timer", "1"),  // 8: the second's
+      answer("both", "ASK time_out", "ask", "time_out", "0"),             // 4
+      fire("both", {"EXEC start_timer", "ASK time_out"}),                 // 5
+      answer("both", "ASK time_out", "ask", "time_out", "1"),             // 6: the second firing's
+      answer("both", "EXEC start_timer", "exec", "start_timer", "1"),     // 7: the first firing's
+      answer("both", "EXEC start_timer", "exec", "start_timer", "1"),     // 8: the second's
   };
   auto j = witness_answers_json("m.coral", "n", "test", steps);
   EXPECT_EQ(

@@ -76,16 +76,18 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
   if (!j.is_object()) return invalid(fmt::format("{}: not an answers file: the top is not an object", path));
   for (const auto& [key, value] : j.items()) {
     if (!kTopKeys.contains(key)) {
-      return invalid(fmt::format("{}: unknown key \"{}\" (an answers file has strata_answers, mission, net, from, "
-                                 "answers, path)",
-                                 path, key));
+      return invalid(
+          fmt::format("{}: unknown key \"{}\" (an answers file has strata_answers, mission, net, from, "
+                      "answers, path)",
+                      path, key));
     }
   }
   auto version = j.find("strata_answers");
   if (version == j.end() || !version->is_number_integer()) {
-    return invalid(fmt::format("{}: not an answers file: no \"strata_answers\": 1 (`strata verify --witness-out` "
-                               "writes one)",
-                               path));
+    return invalid(
+        fmt::format("{}: not an answers file: no \"strata_answers\": 1 (`strata verify --witness-out` "
+                    "writes one)",
+                    path));
   }
   if (version->get<std::int64_t>() != 1) {
     return invalid(fmt::format("{}: \"strata_answers\": {} is a format this strata does not read (it reads 1)", path,
@@ -112,9 +114,10 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
     if (!e.is_object()) return invalid(where + ": not an object");
     for (const auto& [key, value] : e.items()) {
       if (!kEntryKeys.contains(key)) {
-        return invalid(fmt::format("{}: unknown key \"{}\" (an answer has step, net, transition, action, primitive, "
-                                   "answer)",
-                                   where, key));
+        return invalid(
+            fmt::format("{}: unknown key \"{}\" (an answer has step, net, transition, action, primitive, "
+                        "answer)",
+                        where, key));
       }
     }
     ScriptedAnswer a;
@@ -130,9 +133,10 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
       a.step = step->get<std::size_t>();
     }
     if (a.action != "exec" && a.action != "ask" && a.action != "ood" && a.action != "phase") {
-      return invalid(fmt::format("{}: \"action\": \"{}\" is not one of exec, ask, ood, phase (a report waits for no "
-                                 "answer)",
-                                 where, a.action));
+      return invalid(
+          fmt::format("{}: \"action\": \"{}\" is not one of exec, ask, ood, phase (a report waits for no "
+                      "answer)",
+                      where, a.action));
     }
     if (!a.transition.empty() && a.net.empty()) return invalid(where + ": a \"transition\" needs its \"net\"");
     auto answer = e.find("answer");
@@ -210,9 +214,8 @@ core::Result<void> check_answers(const AnswerScript& script, const tactical::Cat
     }
     if (a.action == "phase") {
       const coral::CompiledNet* phase = program->find(a.primitive);
-      const bool known = phase && std::any_of(phase->exits.begin(), phase->exits.end(), [&](petri::PlaceId p) {
-                           return phase->net.place_name(p) == a.exit;
-                         });
+      const bool known = phase && std::any_of(phase->exits.begin(), phase->exits.end(),
+                                              [&](petri::PlaceId p) { return phase->net.place_name(p) == a.exit; });
       if (!known) return invalid(fmt::format("{}: phase '{}' has no exit '{}'", where, a.primitive, a.exit));
     }
   }

@@ -4,9 +4,10 @@
 
 namespace strata::run {
 
-ScriptedTactics::ScriptedTactics(strategic::Tactics& inner, AnswerScript script, tactical::MissionLog* log,
-                                 std::function<void(const std::string&)> on_diverge)
+ScriptedTactics::ScriptedTactics(strategic::Tactics& inner, asio::io_context& io, AnswerScript script,
+                                 tactical::MissionLog* log, std::function<void(const std::string&)> on_diverge)
     : inner_(inner),
+      io_(io),
       script_(std::move(script)),
       log_(log),
       on_diverge_(std::move(on_diverge)),
@@ -39,6 +40,13 @@ void ScriptedTactics::diverge(const std::string& why) {
   if (on_diverge_) on_diverge_(why);
 }
 
+void ScriptedTactics::withhold(std::string_view name, tactical::CallHandler done) {
+  asio::post(io_, [done = std::move(done), what = std::string(name)] {
+    done(core::make_error(core::ErrorCode::InvalidInput,
+                          fmt::format("{} not sent: the run left the scripted answers", what)));
+  });
+}
+
 void ScriptedTactics::phase_started(const strategic::PhaseStart& e) {
   instances_[e.instance] = Instance{std::string(e.name), std::string(e.caller), e.parent};
 }
@@ -64,9 +72,10 @@ void ScriptedTactics::phase_ended(const strategic::PhaseEnd& e) {
   const ScriptedAnswer& a = script_.answers[*next];
   if (a.action != "phase" || a.primitive != e.name || a.transition != inst.caller) return;
   if (a.exit != e.exit) {
-    diverge(fmt::format("phase {} (run by {} of {}) ended at '{}', where the script has '{}' ({}); the phase's own "
-                        "answers are not in the script, so the vehicle's decided its end",
-                        e.name, inst.caller, parent->second.net, e.exit, a.exit, a.where()));
+    diverge(
+        fmt::format("phase {} (run by {} of {}) ended at '{}', where the script has '{}' ({}); the phase's own "
+                    "answers are not in the script, so the vehicle's decided its end",
+                    e.name, inst.caller, parent->second.net, e.exit, a.exit, a.where()));
     return;
   }
   used_[*next] = true;
@@ -86,17 +95,22 @@ void ScriptedTactics::phase_ended(const strategic::PhaseEnd& e) {
 void ScriptedTactics::call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) {
   std::optional<Pending> p = std::move(pending_);
   pending_.reset();
-  if (!diverged_.empty() || !p || p->primitive != name) {
+  if (!diverged_.empty()) {
+    withhold(name, std::move(done));
+    return;
+  }
+  if (!p || p->primitive != name) {
     inner_.call(name, std::move(args), std::move(done));
     return;
   }
   std::optional<std::size_t> entry;
   if (auto next = next_of(p->net)) {
     const ScriptedAnswer& a = script_.answers[*next];
-    if (a.action != p->kind || a.primitive != p->primitive || (!a.transition.empty() && a.transition != p->transition)) {
+    if (a.action != p->kind || a.primitive != p->primitive ||
+        (!a.transition.empty() && a.transition != p->transition)) {
       diverge(fmt::format("{} {} (transition {} of {}) was called where the script has {}", p->kind, p->primitive,
                           p->transition, p->net, a.where()));
-      inner_.call(name, std::move(args), std::move(done));
+      withhold(name, std::move(done));
       return;
     }
     entry = next;

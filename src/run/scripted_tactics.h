@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <asio.hpp>
+
 #include "run/answers.h"
 #include "strategic/executor.h"
 #include "strategic/tactics.h"
@@ -30,9 +32,12 @@ namespace strata::run {
 
 class ScriptedTactics final : public strategic::Tactics, public strategic::Observer {
  public:
-  // inner and log (may be null) must outlive this object. on_diverge is
-  // called once, on the loop, with why the run left the script.
-  ScriptedTactics(strategic::Tactics& inner, AnswerScript script, tactical::MissionLog* log,
+  // inner, io and log (may be null) must outlive this object. on_diverge is
+  // called once, on the loop, with why the run left the script; from then
+  // on no call reaches the vehicle (each is answered, from io, with an
+  // error), so nothing past the divergence happens before the run's stop
+  // (which on_diverge requests) ends the mission.
+  ScriptedTactics(strategic::Tactics& inner, asio::io_context& io, AnswerScript script, tactical::MissionLog* log,
                   std::function<void(const std::string&)> on_diverge);
 
   void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) override;
@@ -56,8 +61,11 @@ class ScriptedTactics final : public strategic::Tactics, public strategic::Obser
   // The next unused entry naming `net`; nullopt when none is left.
   std::optional<std::size_t> next_of(const std::string& net) const;
   void diverge(const std::string& why);
+  // After the divergence: the call is not sent; done gets an error, posted.
+  void withhold(std::string_view name, tactical::CallHandler done);
 
   strategic::Tactics& inner_;
+  asio::io_context& io_;
   AnswerScript script_;
   tactical::MissionLog* log_;
   std::function<void(const std::string&)> on_diverge_;

@@ -33,11 +33,8 @@ int RunSession::Run::open_log() {
   }
   if (loaded_.answers) {
     const AnswerScript& a = *loaded_.answers;
-    log_->write({{"event", "answers"},
-                 {"file", a.path},
-                 {"answers", a.answers.size()},
-                 {"net", a.net},
-                 {"from", a.from}});
+    log_->write(
+        {{"event", "answers"}, {"file", a.path}, {"answers", a.answers.size()}, {"net", a.net}, {"from", a.from}});
   }
   return kExitOk;
 }
@@ -152,11 +149,10 @@ void RunSession::Run::build_levels() {
   tactics_.emplace(*tactical_);
   strategic::Tactics* tactics = &*tactics_;
   if (loaded_.answers) {
-    scripted_ = std::make_unique<ScriptedTactics>(*tactics_, *loaded_.answers, log_ ? &*log_ : nullptr,
-                                                  [this](const std::string& why) {
-                                                    stop_here("answers", "the run left the scripted answers: " + why,
-                                                              kExitInvalid);
-                                                  });
+    scripted_ = std::make_unique<ScriptedTactics>(
+        *tactics_, io_, *loaded_.answers, log_ ? &*log_ : nullptr, [this](const std::string& why) {
+          stop_here("answers", "the run left the scripted answers: " + why, kExitInvalid);
+        });
     tactics = scripted_.get();
     note(fmt::format("answers: {} scripted from {}{}", loaded_.answers->answers.size(), loaded_.answers->path,
                      loaded_.answers->from.empty() ? "" : " (" + loaded_.answers->from + ")"));
@@ -169,8 +165,7 @@ void RunSession::Run::build_levels() {
   } else {
     strategic::PrologOptions prolog_options;
     prolog_options.inference_limit = o_.inference_limit;
-    executor =
-        std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics, loaded_.catalogue, prolog_options);
+    executor = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics, loaded_.catalogue, prolog_options);
   }
   {
     std::lock_guard lock(session_.mutex_);  // stop() reads executor_ from another thread
