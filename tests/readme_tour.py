@@ -58,6 +58,9 @@ TOUR = {
     "strata compare missions/sonar_search/sonar_search.coral missions/sonar_search/sonar_search.pl "
     "--scenario leak_search": (0, r"identical"),
     "strata sonar --stream 127.0.0.1:PORT --out scans": ("serve", r"."),
+    "strata verify missions/tank/tank.coral --net dive_from_surface --question 'EF filter_on >= 1' "
+    "--witness-out w.json": (0, r"answer\s+yes"),
+    "strata run missions/tank/tank.coral --answers w.json": (1, r"^mission tank: failed"),
     "strata verify --pnml tests/verify/mutex.pnml --format json": (0, r'"states": 3'),
     "strata verify --pnml tests/verify/mutex.pnml --question deadlock": (0, r"answer\s+no"),
     "strata studio missions": ("serve", r"http://127\.0\.0\.1:\d+"),

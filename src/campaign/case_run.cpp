@@ -163,6 +163,12 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
     }
   }
   if (!report.vehicle_reason.empty() && !o.first_refused.empty()) o.first_refused += " (" + report.vehicle_reason + ")";
+  if (report.answers_total > 0) {
+    o.answers_used = report.answers_used;
+    o.answers_total = report.answers_total;
+    o.answers_diverged = report.answers_diverged;
+    o.answers_first_unused = report.answers_first_unused;
+  }
   return o;
 }
 
@@ -213,6 +219,8 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.max_sim_time_s = spec.max_sim_time_s;
   o.telemetry_hz = spec.telemetry_hz;
   o.trace = true;
+  const Family& family = spec.families[c.family];
+  o.answers = family.answers_resolved;
   std::ostringstream log;
   const std::string log_name = fmt::format("case-{}.jsonl", c.index);
   if (config.keep_logs != KeepLogs::None && !config.out_dir.empty()) {
@@ -241,9 +249,10 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
       const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
       if (write_new_file(config.out_dir + "/" + file, scenario)) {
         j["scenario"] = file;
-        j["repro_run"] = fmt::format("strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}",
-                                     shell_quote(mission.resolved), shell_quote(config.out_dir + "/" + file),
-                                     spec.max_sim_time_s, spec.telemetry_hz);
+        j["repro_run"] = fmt::format(
+            "strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
+            shell_quote(config.out_dir + "/" + file), spec.max_sim_time_s, spec.telemetry_hz,
+            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
       }
     }
   }

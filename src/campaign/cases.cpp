@@ -12,14 +12,17 @@ Case case_at(const Spec& spec, std::uint64_t index) {
   Case c;
   c.index = index;
   const std::uint64_t seeds = spec.seeds.size();
-  c.seed = spec.seeds[index % seeds];
-  std::uint64_t rest = index / seeds;  // the fault combination within the missions
-  std::uint64_t per_mission = 0;
-  for (const Family& f : spec.families) per_mission += f.combinations();
-  c.mission = static_cast<std::size_t>(rest / per_mission);
-  rest %= per_mission;
+  std::uint64_t rest = index;
+  for (c.mission = 0; c.mission + 1 < spec.missions.size(); ++c.mission) {
+    const std::uint64_t n = spec.combinations_for(c.mission) * seeds;
+    if (rest < n) break;
+    rest -= n;
+  }
+  c.seed = spec.seeds[rest % seeds];
+  rest /= seeds;  // the fault combination within the mission
   for (std::size_t i = 0; i < spec.families.size(); ++i) {
     const Family& f = spec.families[i];
+    if (!f.applies_to(c.mission)) continue;
     if (rest >= f.combinations()) {
       rest -= f.combinations();
       continue;
@@ -61,6 +64,7 @@ nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c) {
   nlohmann::ordered_json j;
   j["mission"] = spec.missions[c.mission].path;
   j["family"] = spec.families[c.family].name;
+  if (!spec.families[c.family].answers.empty()) j["answers"] = spec.families[c.family].answers;
   nlohmann::ordered_json fault;
   if (c.fault) {
     fault["kind"] = vehicle::to_string(c.fault->kind);

@@ -11,6 +11,12 @@ std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) 
   const bool ran = seen.outcome != "error" && seen.outcome != "crashed";
   checks.push_back({"ran", ran, seen.outcome, nullptr, ran ? "" : seen.reason});
   if (!ran) return checks;
+  if (seen.answers_used) {
+    const bool followed = *seen.answers_used == seen.answers_total && seen.answers_diverged.empty();
+    std::string note = seen.answers_diverged;
+    if (note.empty() && !followed) note = "the run ended before " + seen.answers_first_unused;
+    checks.push_back({"answers_followed", followed, *seen.answers_used, seen.answers_total, note});
+  }
   if (!set.outcomes.empty()) {
     const bool ok = std::find(set.outcomes.begin(), set.outcomes.end(), seen.outcome) != set.outcomes.end();
     checks.push_back({"outcome", ok, seen.outcome, set.outcomes, ok ? "" : seen.reason});

@@ -35,6 +35,12 @@ struct Observation {
   std::string surface_seen;  // "telemetry", "vehicle log", "final state", or ""
   int refused_execs = 0;     // EXECs the vehicle refused or answered 0
   std::string first_refused;
+  // A family with scripted answers (`answers`): how many of its answers the
+  // run used, of how many, and why it left the script ("" it did not).
+  std::optional<std::size_t> answers_used;
+  std::size_t answers_total = 0;
+  std::string answers_diverged;
+  std::string answers_first_unused;
 };
 
 struct Check {
@@ -46,7 +52,9 @@ struct Check {
 };
 
 // Every expectation the set holds, in a fixed order. A case that crashed or
-// never started fails "ran" first, whatever the set.
+// never started fails "ran" first, whatever the set. A case with scripted
+// answers also checks "answers_followed": every answer used, the run never
+// leaving the script (the witness's path really ran).
 std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen);
 
 nlohmann::ordered_json to_json(const Check& check);

@@ -8,7 +8,9 @@
 #include <fmt/format.h>
 
 #include "campaign/axis.h"
+#include "core/file.h"
 #include "core/toml_reader.h"
+#include "run/answers.h"
 
 namespace strata::campaign {
 namespace {
@@ -252,11 +254,11 @@ class SpecReader {
   void read_family(const toml::table& t) {
     Family f;
     for (auto&& [key, node] : t) {
-      static constexpr std::string_view kKeys[] = {"name",       "fault",   "at_s",  "health",
-                                                   "duration_s", "forever", "expect"};
+      static constexpr std::string_view kKeys[] = {"name",    "fault",  "at_s",     "health", "duration_s",
+                                                   "forever", "expect", "missions", "answers"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
         errors_.add(key, fmt::format("unknown key '{}' in a family (expected name, fault, at_s, health, duration_s, "
-                                     "forever, expect)",
+                                     "forever, expect, missions, answers)",
                                      key.str()));
       }
     }
@@ -303,7 +305,63 @@ class SpecReader {
       spec_.expectations["default"] = any;
     }
     read_axes(t, f);
+    read_family_missions(t, f);
+    read_answers(t, f);
     spec_.families.push_back(std::move(f));
+  }
+
+  // missions = [...]: the family runs for these of the spec's missions only.
+  void read_family_missions(const toml::table& t, Family& f) {
+    const toml::node* n = t.get("missions");
+    if (n == nullptr) return;
+    const toml::array* a = n->as_array();
+    if (a == nullptr || a->empty()) {
+      errors_.add(*n, "a family's 'missions' must be a non-empty list of the spec's missions");
+      return;
+    }
+    for (const toml::node& item : *a) {
+      auto text = item.value<std::string>();
+      auto it = text ? std::find_if(spec_.missions.begin(), spec_.missions.end(),
+                                    [&](const Mission& m) { return m.path == *text; })
+                     : spec_.missions.end();
+      if (it == spec_.missions.end()) {
+        errors_.add(item, "a family's mission must be one of the spec's 'missions', as written there");
+        continue;
+      }
+      f.missions.push_back(static_cast<std::size_t>(it - spec_.missions.begin()));
+    }
+  }
+
+  // answers = "FILE": read and parsed now, so a bad file is the spec's error;
+  // checked against each mission when its case runs.
+  void read_answers(const toml::table& t, Family& f) {
+    const toml::node* n = t.get("answers");
+    if (n == nullptr) return;
+    auto text = n->value<std::string>();
+    if (!text || text->empty()) {
+      errors_.add(*n, "'answers' must be the path of an answers file (`strata verify --witness-out` writes one)");
+      return;
+    }
+    const fs::path base = fs::path(spec_.path).parent_path();
+    const fs::path p(*text);
+    f.answers = *text;
+    f.answers_resolved = (p.is_absolute() || base.empty() ? p : base / p).lexically_normal().string();
+    auto bytes = core::read_regular_file(f.answers_resolved, run::kMaxAnswersFileBytes);
+    auto script = bytes ? run::parse_answers(bytes.value(), *text) : core::Result<run::AnswerScript>(bytes.error());
+    if (!script) {
+      errors_.add(*n, fmt::format("answers '{}': {}", *text, script.error().message));
+      return;
+    }
+    const bool names_nets = std::any_of(script.value().answers.begin(), script.value().answers.end(),
+                                        [](const run::ScriptedAnswer& a) { return !a.net.empty(); });
+    for (std::size_t m = 0; m < spec_.missions.size() && names_nets; ++m) {
+      if (f.applies_to(m) && spec_.missions[m].kind == MissionKind::Prolog) {
+        errors_.add(*n, fmt::format("answers '{}' name CORAL nets, and this family runs '{}' (PROLOG rules): give "
+                                    "the family missions = [...]",
+                                    *text, spec_.missions[m].path));
+        return;
+      }
+    }
   }
 
   void read_axes(const toml::table& t, Family& f) {
@@ -375,10 +433,18 @@ std::uint64_t Family::combinations() const {
   return n;
 }
 
+std::uint64_t Spec::combinations_for(std::size_t mission) const {
+  std::uint64_t n = 0;
+  for (const Family& f : families) {
+    if (f.applies_to(mission)) n = sat_add(n, f.combinations());
+  }
+  return n;
+}
+
 std::uint64_t Spec::case_count() const {
-  std::uint64_t per_mission = 0;
-  for (const Family& f : families) per_mission = sat_add(per_mission, f.combinations());
-  return sat_mul(sat_mul(missions.size(), per_mission), seeds.size());
+  std::uint64_t n = 0;
+  for (std::size_t m = 0; m < missions.size(); ++m) n = sat_add(n, combinations_for(m));
+  return sat_mul(n, seeds.size());
 }
 
 bool known_outcome(std::string_view outcome) {

@@ -22,11 +22,15 @@
 //   health = { from = 0.4, to = 1.0, step = 0.2 }  # weak_thrusters
 //   duration_s = 2.0                    # sensor_dropout, link_loss (or forever = true)
 //   expect = "NAME"                     # default: "default"
+//   missions = ["tank.coral"]           # only these of the spec's missions (default: all)
+//   answers = "filter_on.json"          # scripted vehicle answers (`strata verify
+//                                       # --witness-out`): each case follows that witness
 //
 // Every problem is "spec:line:col: message" (core::TomlErrors: all of them,
 // in file order). Reading the same text always gives the same spec: sampled
 // axes are drawn from sample_seed with a generator of our own (splitmix64),
 // not from the standard library's distributions, whose output is not fixed.
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -71,6 +75,13 @@ struct Family {
   std::vector<double> duration_s;           // sensor_dropout, link_loss (empty with forever)
   bool forever = false;                     // link_loss for the rest of the run
   std::string expect;                       // the name of an ExpectationSet
+  std::vector<std::size_t> missions;        // into Spec::missions; empty: every mission
+  std::string answers;                      // an answers file as the spec writes it; "" none
+  std::string answers_resolved;             // ... relative to the spec's folder, as the run opens it
+
+  bool applies_to(std::size_t mission) const {
+    return missions.empty() || std::find(missions.begin(), missions.end(), mission) != missions.end();
+  }
 
   // The fault combinations of this family (not counting seeds).
   std::uint64_t combinations() const;
@@ -90,8 +101,11 @@ struct Spec {
   // telemetry is about a third of a tank case's CPU).
   double telemetry_hz = 10.0;
 
-  // missions x (sum of family combinations) x seeds.
+  // For each mission, the combinations of the families that apply to it;
+  // summed, times the seeds.
   std::uint64_t case_count() const;
+  // The combinations of the families that apply to mission m.
+  std::uint64_t combinations_for(std::size_t mission) const;
 };
 
 struct SpecLimits {

@@ -161,6 +161,9 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
                   "Write the mission log (JSON Lines) to this file (default: a dated file in the log folder, "
                   "`strata config show` says where)");
   cmd->add_flag("--no-log", c->no_log, "Write no mission log");
+  cmd->add_option("--answers", o->answers,
+                  "Script the vehicle's answers from this file (`strata verify --witness-out` writes one): the run "
+                  "follows that witness, and a mission that fails verification runs (docs/verification.md)");
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
                   "it writes the scans (PNG) and sonar.jsonl into this folder");

@@ -20,6 +20,7 @@
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "cli/verify_question.h"
+#include "cli/witness_out.h"
 #include "coral/verify_report.h"
 #include "core/memory.h"
 #include "petri/explorer.h"
@@ -42,6 +43,8 @@ struct VerifyOptions {
   double time_limit_s = 0;  // 0: none
   bool no_liveness = false;
   VerbosityFlags verbosity;
+  std::string witness_out;  // MISSION: a counterexample as an answers file
+  std::string witness_net;  // ... from this net only ("" any)
 };
 
 // Quiet: the report without its "ok" lines (what failed or is not decided,
@@ -217,6 +220,10 @@ int run_verify_mission(const VerifyOptions& o) {
     const std::string text = coral::verify_text(report);
     std::cout << (o.verbosity.level() == Verbosity::Quiet ? without_ok_lines(text) : text);
   }
+  if (!o.witness_out.empty()) {
+    const int written = write_report_witness(report, o.mission, o.witness_net, o.witness_out);
+    if (written == kExitUsage || written == kExitIo) return written;
+  }
   return report.ok() ? kExitOk : kExitInvalid;
 }
 
@@ -251,6 +258,10 @@ Runner add_verify_command(CLI::App& app) {
   add_verbosity_flags(cmd, o->verbosity, "");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);
+  cmd->add_option("--witness-out", q->witness_out,
+                  "MISSION: write the counterexample of the first property that fails (in --net's net when given), "
+                  "or with --question its witness, as the vehicle answers the path needs: `strata run MISSION "
+                  "--answers FILE` follows it (docs/verification.md)");
   cmd->footer(
       "Exit, MISSION: 0 when the mission may run (every property that blocks `strata run` holds; one_safe and "
       "no_dead are warnings); 65 when one fails or is not decided, or the mission does not compile; 74 for a "
@@ -264,6 +275,13 @@ Runner add_verify_command(CLI::App& app) {
       std::cerr << "strata verify: give a mission (.coral) or --pnml FILE\n";
       return static_cast<int>(kExitUsage);
     }
+    if (!q->witness_out.empty() && (!o->pnml.empty() || !q->replay.empty() || !q->replay_file.empty())) {
+      std::cerr << "strata verify: --witness-out writes a mission's vehicle answers: it needs a MISSION, and not "
+                   "--pnml or --replay\n";
+      return static_cast<int>(kExitUsage);
+    }
+    o->witness_out = q->witness_out;
+    o->witness_net = q->net;
     try {
       if (question_requested(*q)) {
         const bool is_mission = o->pnml.empty();

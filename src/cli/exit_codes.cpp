@@ -21,7 +21,8 @@ const char* exit_codes_of(std::string_view command) {
   }
   if (command == "run") {
     return "Exit 0 when the mission completed; 1 when it did not (aborted, failed, halted, a limit reached;\n"
-           "the vehicle is surfaced first); 64 usage; 65 invalid mission, data or scenario; 70 internal error;\n"
+           "the vehicle is surfaced first); 64 usage; 65 invalid mission, data, scenario or --answers file, or\n"
+           "a run that left its --answers script (surfaced first); 70 internal error;\n"
            "74 a file or the vehicle cannot be reached; 128+N ended by signal N (129 SIGHUP, 130 SIGINT,\n"
            "143 SIGTERM), the vehicle surfaced first.";
   }

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <functional>
 #include <iostream>
 #include <optional>
 
@@ -13,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/witness_out.h"
 #include "coral/verify_question.h"
 #include "run/coral_load.h"
 #include "core/file.h"
@@ -197,8 +199,13 @@ namespace {
 
 // The question or the replay of `f` on one net; header names it (the first
 // line of the text output).
+// on_witness (may be null) gets the witness found and returns an exit code
+// (0: go on).
+using WitnessSink = std::function<int(const std::vector<petri::TransitionId>&)>;
+
 int ask_net(const petri::Net& net, const std::string& header, const std::vector<std::string>* labels,
-            const QuestionFlags& f, const std::string& format, petri::QuestionOptions qo) {
+            const QuestionFlags& f, const std::string& format, petri::QuestionOptions qo,
+            const WitnessSink& on_witness = nullptr) {
   std::optional<petri::Question> q;
   if (!f.question.empty()) {
     auto parsed = petri::parse_question(f.question, petri::net_place_resolver(net, labels));
@@ -260,6 +267,13 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
                                r.by_exploration ? ", which pruned nothing: explored in full" : "", seconds);
     }
   }
+  if (on_witness) {
+    if (!r.has_witness) {
+      std::cerr << "strata verify: --witness-out: the answer has no witness; nothing written\n";
+    } else if (const int code = on_witness(r.witness); code != kExitOk) {
+      return code;
+    }
+  }
   return r.answer == petri::Answer::NotDecided ? kExitAbort : kExitOk;
 }
 
@@ -300,12 +314,16 @@ int run_mission_question(const std::string& mission, const std::string& catalogu
   }
   qo.terminal_places = an.value().exits;
   const petri::Net& net = an.value().net;
-  return ask_net(net,
-                 fmt::format("{} {} ({}): analysis net, {} places, {} transitions{}",
-                             an.value().source->kind == coral::ast::Net::Kind::Mission ? "mission" : "phase",
-                             an.value().source->name, an.value().source->source_file, net.place_count(),
-                             net.transition_count(), qo.terminal_places.empty() ? "" : ", ends at its exits"),
-                 nullptr, f, format, qo);
+  return ask_net(
+      net,
+      fmt::format("{} {} ({}): analysis net, {} places, {} transitions{}",
+                  an.value().source->kind == coral::ast::Net::Kind::Mission ? "mission" : "phase",
+                  an.value().source->name, an.value().source->source_file, net.place_count(), net.transition_count(),
+                  qo.terminal_places.empty() ? "" : ", ends at its exits"),
+      nullptr, f, format, qo,
+      f.witness_out.empty() ? WitnessSink() : [&](const std::vector<petri::TransitionId>& path) {
+        return write_path_witness(*load.program, an.value(), path, mission, f.question, f.witness_out);
+      });
 }
 
 }  // namespace strata::cli

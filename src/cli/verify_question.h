@@ -18,6 +18,7 @@ struct QuestionFlags {
   std::string replay_file;  // --replay-file: the same in a file
   std::string net;          // --net: MISSION only, the net asked about
   bool no_reduction = false;
+  std::string witness_out;  // --witness-out: MISSION only, the witness as vehicle answers
 };
 
 // Registers --question, --replay, --replay-file and --no-reduction.

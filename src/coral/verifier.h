@@ -74,6 +74,8 @@ struct TraceStep {
   std::vector<std::string> actions;  // Fire: what it issues ("ASK depth_reached")
   std::string action;                // Answer: the action answering
   std::string answer;                // Answer: "1", "0", or the phase's exit
+  std::string tactic;                // Answer: "exec", "ask", "ood" or "phase" (the engine's action kinds)
+  std::string primitive;             // Answer: the primitive called, or the phase net run
   std::vector<std::string> marks;    // mission places it marks
 };
 
@@ -142,6 +144,10 @@ struct VerifyReport {
   bool ok() const;                    // every net may run
   bool all_hold() const;
 };
+
+// Step t of the analysis net `an` (built for a net of `program`) in the
+// mission's names, as counterexamples give it.
+TraceStep trace_step(const Program& program, const AnalysisNet& an, petri::TransitionId t);
 
 VerifyReport verify_program(const Program& program, const VerifyOptions& options = {});
 

@@ -2,6 +2,7 @@
 // steps from the initial marking to a state, with what is marked and what is
 // in flight there.
 #include <algorithm>
+#include <cctype>
 
 #include <fmt/format.h>
 
@@ -103,28 +104,46 @@ std::string ExploredNet::step_label(petri::TransitionId t) const {
   return fmt::format("{} answering {}", action_text(a), answer_text(program, a, st.answer));
 }
 
+}  // namespace strata::coral::detail
+
+namespace strata::coral {
+
+TraceStep trace_step(const Program& program, const AnalysisNet& an, petri::TransitionId t) {
+  const CompiledNet& cn = *an.source;
+  const auto& st = an.steps[t];
+  TraceStep step;
+  step.transition = cn.net.transition_name(st.transition);
+  if (st.kind == AnalysisNet::Step::Kind::Transition) {
+    step.kind = TraceStep::Kind::Fire;
+    for (const auto& a : cn.actions[st.transition]) step.actions.push_back(action_text(a));
+    for (const petri::Arc& a : cn.net.outputs(st.transition)) step.marks.emplace_back(cn.net.place_name(a.node));
+    return step;
+  }
+  const ActionSpec& a = cn.actions[st.transition][st.action];
+  step.kind = TraceStep::Kind::Answer;
+  step.action = action_text(a);
+  step.answer = answer_text(program, a, st.answer);
+  step.primitive = a.target;
+  if (a.kind == ActionSpec::Kind::Phase) {
+    step.tactic = "phase";
+  } else {
+    for (char c : tactic_type_name(a.tactic))
+      step.tactic += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  step.marks.emplace_back(cn.net.place_name(a.outcomes.at(st.answer)));
+  return step;
+}
+
+}  // namespace strata::coral
+
+namespace strata::coral::detail {
+
 Counterexample ExploredNet::trace_to(StateId s) const { return trace_along(graph.path_to(s), s); }
 
 // The steps of `path` from the initial marking, which end at state `s`.
 Counterexample ExploredNet::trace_along(const std::vector<petri::TransitionId>& path, StateId s) const {
   Counterexample cx;
-  for (petri::TransitionId t : path) {
-    const auto& st = an.steps[t];
-    TraceStep step;
-    step.transition = cn.net.transition_name(st.transition);
-    if (st.kind == AnalysisNet::Step::Kind::Transition) {
-      step.kind = TraceStep::Kind::Fire;
-      for (const auto& a : cn.actions[st.transition]) step.actions.push_back(action_text(a));
-      for (const petri::Arc& a : cn.net.outputs(st.transition)) step.marks.emplace_back(cn.net.place_name(a.node));
-    } else {
-      const ActionSpec& a = action_of(st.transition, st.action);
-      step.kind = TraceStep::Kind::Answer;
-      step.action = action_text(a);
-      step.answer = answer_text(program, a, st.answer);
-      step.marks.emplace_back(cn.net.place_name(a.outcomes.at(st.answer)));
-    }
-    cx.steps.push_back(std::move(step));
-  }
+  for (petri::TransitionId t : path) cx.steps.push_back(trace_step(program, an, t));
   auto m = graph.marking(s);
   std::vector<std::string> marked;
   for (petri::PlaceId p = 0; p < m.size(); ++p) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/exit_codes.h"
+#include "core/file.h"
 #include "coral/verify_report.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
@@ -84,6 +85,28 @@ int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   return kExitOk;
 }
 
+// The answers file read, parsed and checked against the mission.
+int load_answers(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+  auto text = o.read_file ? o.read_file(o.answers) : core::read_regular_file(o.answers, kMaxAnswersFileBytes);
+  if (!text) {
+    err << "strata run: --answers: " << text.error().message << "\n";
+    return exit_code_for_input(text.error());
+  }
+  auto script = parse_answers(text.value(), o.answers);
+  if (script) {
+    if (auto checked = check_answers(script.value(), loaded.catalogue, loaded.program ? &*loaded.program : nullptr);
+        !checked) {
+      script = checked.error();
+    }
+  }
+  if (!script) {
+    err << "strata run: --answers: " << script.error().message << "; not running\n";
+    return exit_code_for_input(script.error());
+  }
+  loaded.answers = std::move(script).value();
+  return kExitOk;
+}
+
 // CORAL: the nets are verified before anything moves.
 int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   coral::VerifyOptions vo;
@@ -96,14 +119,16 @@ int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
     return kExitOk;
   }
   err << coral::verify_failures_text(*loaded.verification);
-  if (!o.unverified) {
+  if (!o.unverified && o.answers.empty()) {
     err << fmt::format(
         "strata run: {} fails verification; not running (`strata verify {}` shows every "
         "property; --unverified runs it anyway, and its log records that)\n",
         o.mission, o.mission);
     return kExitInvalid;
   }
-  err << "strata run: warning: running a mission that fails verification (--unverified)\n";
+  err << (o.unverified ? "strata run: warning: running a mission that fails verification (--unverified)\n"
+                       : "strata run: warning: running a mission that fails verification, to follow the answers "
+                         "of --answers\n");
   return kExitOk;
 }
 
@@ -169,6 +194,7 @@ int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
   }
   loaded.catalogue = std::move(catalogue.value());
   int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o, o.mission, loaded, err);
+  if (code == kExitOk && !o.answers.empty()) code = load_answers(o, loaded, err);
   if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
   if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
   if (code == kExitOk) code = load_data(o, loaded, err);
@@ -215,7 +241,7 @@ nlohmann::json verification_record(const coral::VerifyReport& v, bool unverified
   if (!warnings.empty()) j["warnings"] = std::move(warnings);
   if (!v.ok()) {
     j["failed"] = std::move(failed);
-    j["run_anyway"] = unverified;
+    j["run_anyway"] = unverified;  // --unverified, or --answers following a witness
   }
   return j;
 }

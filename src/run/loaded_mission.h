@@ -13,6 +13,7 @@
 #include "coral/verifier.h"
 #include "core/source.h"
 #include "strategic/prolog_mission.h"
+#include "run/answers.h"
 #include "run/options.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"
@@ -38,6 +39,7 @@ struct LoadedMission {
   vehicle::VehicleParams params;
   vehicle::Scenario scenario;
   std::optional<coral::VerifyReport> verification;  // CORAL
+  std::optional<AnswerScript> answers;              // --answers: checked against the mission
 };
 
 // Loads everything the options name into `loaded`; diagnostics and problems

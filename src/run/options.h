@@ -53,6 +53,11 @@ struct RunOptions {
   // CORAL: a mission that fails verification (docs/verification.md) is not
   // run unless this is set; then it runs and the log records the failures.
   bool unverified = false;
+  // A script of vehicle answers (run/answers.h; `strata verify
+  // --witness-out` writes one): the calls it names get its answers, the
+  // vehicle still carries them out. Read through read_file when set. A
+  // mission that fails verification runs with it, as with `unverified`.
+  std::string answers;
   // Lockstep: simulated seconds after which the run is ended (an abort, by
   // the safe end) whatever the mission is doing. A day by default: a tank or
   // harbour mission takes minutes; a loop of sleep(1) would otherwise run,

@@ -51,6 +51,12 @@ struct RunReport {
   std::string sonar_summary;
   std::string log_path;  // "" none
   std::uint64_t log_lines = 0;
+  // With RunOptions::answers: how many of the script's answers the run used,
+  // of how many, and why it left the script ("" it did not).
+  std::size_t answers_used = 0;
+  std::size_t answers_total = 0;
+  std::string answers_diverged;
+  std::string answers_first_unused;  // the first entry not used; "" all were
   // With RunOptions::trace: every primitive call, in the order they completed.
   std::vector<tactical::CallRecord> trace;
 };

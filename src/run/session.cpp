@@ -256,6 +256,18 @@ void RunSession::Run::finish_report() {
     report_.exit_code = r->outcome == Outcome::Completed ? kExitOk : kExitAbort;
   }
   if (internal_error_) report_.exit_code = kExitInternal;
+  if (scripted_) {
+    report_.answers_used = scripted_->used();
+    report_.answers_total = scripted_->total();
+    report_.answers_diverged = scripted_->diverged();
+    report_.answers_first_unused = scripted_->first_unused();
+    if (report_.answers_diverged.empty() && report_.answers_used < report_.answers_total) {
+      note(fmt::format("answers: the run ended before the script did: {} of {} answers used; the first not used: {}",
+                       report_.answers_used, report_.answers_total, report_.answers_first_unused));
+    } else if (report_.answers_diverged.empty()) {
+      note(fmt::format("answers: all {} scripted answers used", report_.answers_total));
+    }
+  }
 }
 
 void RunSession::Run::write_end_of_log() {
@@ -271,6 +283,12 @@ void RunSession::Run::write_end_of_log() {
                  {"depth_m", tactical::log_time(*report_.last_telemetry->depth_m)},
                  {"from", "telemetry"},
                  {"sim_time", tactical::log_time(report_.last_telemetry->sim_time_s)}});
+  }
+  if (scripted_) {
+    nlohmann::ordered_json a{{"event", "answers_end"}, {"used", scripted_->used()}, {"of", scripted_->total()}};
+    if (!scripted_->diverged().empty()) a["diverged"] = scripted_->diverged();
+    if (!report_.answers_first_unused.empty()) a["first_unused"] = report_.answers_first_unused;
+    log_->write(a);
   }
   nlohmann::ordered_json end;
   end["event"] = "mission_end";

@@ -15,6 +15,7 @@
 
 #include "run/loaded_mission.h"
 #include "run/safe_end.h"
+#include "run/scripted_tactics.h"
 #include "run/session.h"
 #include "run/sonar_child.h"
 #include "strategic/log_observer.h"
@@ -133,6 +134,7 @@ class RunSession::Run {
   std::optional<SonarChild> sonar_;
   std::optional<tactical::TacticalLevel> tactical_;
   std::optional<strategic::TacticalTactics> tactics_;
+  std::unique_ptr<ScriptedTactics> scripted_;  // --answers: in front of tactics_
   std::unique_ptr<strategic::Executor> executor_;
   std::optional<strategic::LogObserver> log_observer_;
   std::optional<detail::PhaseRecorder> phase_recorder_;

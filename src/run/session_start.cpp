@@ -28,7 +28,14 @@ int RunSession::Run::open_log() {
   log_ = std::move(opened.value());
   report_.log_path = o_.log_stream ? o_.log : log_->path();
   if (o_.seed) log_->write({{"event", "choice"}, {"seed", *o_.seed}});
-  if (loaded_.verification) log_->write(verification_record(*loaded_.verification, o_.unverified));
+  if (loaded_.verification) {
+    log_->write(verification_record(*loaded_.verification, o_.unverified || loaded_.answers.has_value()));
+  }
+  if (loaded_.answers) {
+    const AnswerScript& a = *loaded_.answers;
+    log_->write(
+        {{"event", "answers"}, {"file", a.path}, {"answers", a.answers.size()}, {"net", a.net}, {"from", a.from}});
+  }
   return kExitOk;
 }
 
@@ -140,21 +147,31 @@ void RunSession::Run::build_levels() {
     link_->send(protocol::make_telemetry(0, o_.telemetry_hz), [](const core::Result<protocol::VehicleMessage>&) {});
   }
   tactics_.emplace(*tactical_);
+  strategic::Tactics* tactics = &*tactics_;
+  if (loaded_.answers) {
+    scripted_ = std::make_unique<ScriptedTactics>(
+        *tactics_, io_, *loaded_.answers, log_ ? &*log_ : nullptr, [this](const std::string& why) {
+          stop_here("answers", "the run left the scripted answers: " + why, kExitInvalid);
+        });
+    tactics = scripted_.get();
+    note(fmt::format("answers: {} scripted from {}{}", loaded_.answers->answers.size(), loaded_.answers->path,
+                     loaded_.answers->from.empty() ? "" : " (" + loaded_.answers->from + ")"));
+  }
   std::unique_ptr<strategic::Executor> executor;
   if (loaded_.program) {
     strategic::EngineOptions engine_options;
     engine_options.seed = o_.seed;
-    executor = std::make_unique<strategic::CoralEngine>(*loaded_.program, *tactics_, engine_options);
+    executor = std::make_unique<strategic::CoralEngine>(*loaded_.program, *tactics, engine_options);
   } else {
     strategic::PrologOptions prolog_options;
     prolog_options.inference_limit = o_.inference_limit;
-    executor =
-        std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics_, loaded_.catalogue, prolog_options);
+    executor = std::make_unique<strategic::PrologExecutor>(*loaded_.rules, *tactics, loaded_.catalogue, prolog_options);
   }
   {
     std::lock_guard lock(session_.mutex_);  // stop() reads executor_ from another thread
     executor_ = std::move(executor);
   }
+  if (scripted_) executor_->add_observer(*scripted_);
   if (log_) {
     log_observer_.emplace(*log_);
     executor_->add_observer(*log_observer_);
