@@ -17,7 +17,7 @@
       The log schema and the code agree: the record kinds the source writes
       are the schema's, no more and no fewer; runs that write the rarer
       records (--seed, a limit and its safe end, a mission that fails
-      verification run with --unverified) are valid; and records the code
+      verification run with --unverified, scripted answers) are valid; and records the code
       does not write (an unknown kind, a field added, a required field
       removed, a field of the wrong type) are refused.
 
@@ -364,6 +364,10 @@ def cmd_log_agrees(a):
         ("a limit and the safe end", [f"{src}/tests/run/hold_at_depth.coral", "--max-sim-time", "30"]),
         ("failed verification, run anyway", [f"{src}/tests/verify/exits_together.coral", "--unverified"]),
         ("PROLOG, the link lost", [f"{src}/missions/tank/tank.pl", "--scenario", "link_loss"]),
+        ("a witness's answers scripted",
+         [f"{src}/missions/tank/tank.coral", "--answers", f"{src}/missions/tank/witnesses/filter_on.json"]),
+        ("a phase exit scripted",
+         [f"{src}/missions/tank/tank.coral", "--answers", f"{src}/missions/tank/witnesses/dive_abort.json"]),
     ]
     records = {}
     for i, (label, args) in enumerate(runs):
@@ -379,7 +383,8 @@ def cmd_log_agrees(a):
                 # Of each kind, the record with the most fields.
                 if len(rec) > len(records.get(rec["event"], {})):
                     records[rec["event"]] = rec
-    for k in ["choice", "verification", "emergency", "vehicle_final", "mission_end", "fire", "phase_start"]:
+    for k in ["choice", "verification", "emergency", "vehicle_final", "mission_end", "fire", "phase_start", "answers",
+              "scripted_answer", "answers_end"]:
         if k not in records:
             failures.append(f"no run above wrote a '{k}' record")
     if "safe_end" not in records.get("mission_end", {}):
