@@ -31,26 +31,11 @@ import subprocess
 import sys
 import threading
 
-FENCE = re.compile(r"^```(\S*)(.*)$")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from doc_run import blocks  # noqa: E402 (the fenced blocks, as doc_run.py reads them)
+
 ROW = re.compile(r"^\| `([A-Za-z]+)` \| (error|warning) \|.*\| (.*) \|$")
 ONE_SPAN = re.compile(r"^`([^`]+)`$")
-
-
-def blocks(lines):
-    i = 0
-    while i < len(lines):
-        m = FENCE.match(lines[i])
-        if not m:
-            i += 1
-            continue
-        start, lang, rest = i + 1, m.group(1), m.group(2).strip()
-        body = []
-        i += 1
-        while i < len(lines) and not lines[i].startswith("```"):
-            body.append(lines[i])
-            i += 1
-        i += 1
-        yield start, lang, rest, body
 
 
 class Checker:
