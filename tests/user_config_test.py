@@ -115,6 +115,10 @@ def a_broken_file_stops_the_commands_that_use_it_with_each_problem_located():
     expect("broken", r.returncode == 0, "check does not use it and runs", r)
     r = strata(["config", "show"], STRATA_CONFIG=cfg)
     expect("broken", r.returncode == 65, "config show exits 65", r)
+    write(cfg, '[run]\nlog_dir = "logs"\n')
+    r = strata(["run", TANK], STRATA_CONFIG=cfg)
+    expect("relative", r.returncode == 65 and f"{cfg}:2:" in r.stderr and "absolute path" in r.stderr,
+           "a relative log_dir is refused (it would follow the working folder)", r)
     write(cfg, "[run\n")
     r = strata(["vehicle", "--interface"], STRATA_CONFIG=cfg)
     expect("syntax", r.returncode == 65 and f"{cfg}:1:" in r.stderr, "a TOML syntax error is located", r)

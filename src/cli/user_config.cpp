@@ -121,7 +121,14 @@ class Reader {
         errors_.add(value, fmt::format("'{}' must name a folder (to log no run: log = false)", name));
         return;
       }
-      config_.run_log_dir = {expand_home(*dir, getenv_), origin(value)};
+      const std::string expanded = expand_home(*dir, getenv_);
+      if (!fs::path(expanded).is_absolute()) {
+        errors_.add(value, fmt::format("'{}' must be an absolute path or start with ~/ (a relative one would "
+                                       "change with the folder strata runs in)",
+                                       name));
+        return;
+      }
+      config_.run_log_dir = {expanded, origin(value)};
     } else if (name == "vehicle.listen") {
       address(config_.vehicle_listen, value, name, false);
     } else if (name == "studio.listen") {
