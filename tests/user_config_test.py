@@ -172,6 +172,10 @@ def the_config_vehicle_is_the_default_and_embedded_overrides_it():
     cfg = write(os.path.join(WORK, "vehicle.toml"), '[run]\nvehicle = "127.0.0.1:1"\n')
     r = strata(["run", "--no-log", TANK], STRATA_CONFIG=cfg)
     expect("vehicle", r.returncode == 74 and "127.0.0.1:1" in r.stderr, "the run goes to the config's vehicle", r)
+    write(cfg, '[run]\nvehicle = "127.0.0.1:0"\n')
+    r = strata(["run", "--no-log", TANK], STRATA_CONFIG=cfg)
+    expect("vehicle", r.returncode == 65 and "port 0 is not a vehicle's port" in r.stderr, "port 0 is refused", r)
+    write(cfg, '[run]\nvehicle = "127.0.0.1:1"\n')
     r = strata(["run", "-q", "--no-log", "--vehicle", "embedded", TANK], STRATA_CONFIG=cfg)
     expect("vehicle", r.returncode == 0, "--vehicle embedded runs the simulated one", r)
 

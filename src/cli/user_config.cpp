@@ -92,6 +92,11 @@ class Reader {
         errors_.add(node, fmt::format("'{}': {}", name, parsed.error().message));
         return;
       }
+      if (embedded_allowed && parsed.value().second == 0) {  // an address to connect to
+        errors_.add(node,
+                    fmt::format("'{}': port 0 is not a vehicle's port (\"embedded\" for the simulated one)", name));
+        return;
+      }
     }
     into = {*text, origin(node)};
   }
