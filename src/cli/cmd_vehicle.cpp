@@ -33,6 +33,7 @@ struct VehicleOptions {
 };
 
 int run_vehicle(const VehicleOptions& o) {
+  if (o.trace) std::cerr << "strata vehicle: note: --trace is now -v/--verbose; the old name goes in a later release\n";
   if (o.interface) {
     std::cout << vehicle::interface_text();
     return kExitOk;
