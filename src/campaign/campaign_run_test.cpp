@@ -18,6 +18,7 @@
 namespace strata::campaign {
 namespace {
 
+using testing::by_index;
 using testing::TempDir;
 namespace fs = std::filesystem;
 
@@ -63,16 +64,6 @@ CampaignOutcome run(const Spec& spec, const std::string& out, int jobs, double w
   auto r = run_campaign(spec, all(spec), o);
   EXPECT_TRUE(r.ok()) << (r ? "" : r.error().message);
   return r ? r.value() : CampaignOutcome{};
-}
-
-// The lines by index, without what depends on the wall clock or the process.
-std::vector<nlohmann::json> by_index(std::vector<nlohmann::json> lines) {
-  for (auto& l : lines) {
-    l.erase("timings");
-    l.erase("repro_run");  // names the output folder
-  }
-  std::sort(lines.begin(), lines.end(), [](auto& a, auto& b) { return a["index"] < b["index"]; });
-  return lines;
 }
 
 TEST(CampaignRun, ASmallCampaignOnTwoWorkersWritesEveryCaseOnce) {

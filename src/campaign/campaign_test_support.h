@@ -3,6 +3,7 @@
 // into it, and the tank mission's path.
 #include <stdlib.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -60,6 +61,17 @@ inline std::vector<nlohmann::json> read_results(const std::string& path) {
     EXPECT_FALSE(j.is_discarded()) << "not JSON: " << line;
     if (!j.is_discarded()) lines.push_back(std::move(j));
   }
+  return lines;
+}
+
+// Result lines by index, without what depends on the wall clock or the
+// process (timings; repro_run names the output folder).
+inline std::vector<nlohmann::json> by_index(std::vector<nlohmann::json> lines) {
+  for (auto& l : lines) {
+    l.erase("timings");
+    l.erase("repro_run");
+  }
+  std::sort(lines.begin(), lines.end(), [](auto& a, auto& b) { return a["index"] < b["index"]; });
   return lines;
 }
 

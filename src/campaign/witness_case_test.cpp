@@ -13,19 +13,11 @@
 namespace strata::campaign {
 namespace {
 
+using testing::by_index;
 using testing::TempDir;
 namespace fs = std::filesystem;
 
 const std::string kWitnessSpec = testing::kTankDir + "/witnesses/campaign.toml";
-
-std::vector<nlohmann::json> by_index(std::vector<nlohmann::json> lines) {
-  for (auto& l : lines) {
-    l.erase("timings");
-    l.erase("repro_run");
-  }
-  std::sort(lines.begin(), lines.end(), [](auto& a, auto& b) { return a["index"] < b["index"]; });
-  return lines;
-}
 
 CampaignOutcome run_all(const Spec& spec, const std::string& out, int jobs) {
   std::vector<std::uint64_t> all(spec.case_count());
