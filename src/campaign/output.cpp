@@ -20,8 +20,9 @@ core::Error io_error(const std::string& what) {
   return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
 }
 
-// A folder we may write into: a real folder, not a link to one.
-core::Result<void> make_dir(const std::string& path) {
+}  // namespace
+
+core::Result<void> make_real_dir(const std::string& path) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) {
@@ -35,6 +36,8 @@ core::Result<void> make_dir(const std::string& path) {
   if (::mkdir(path.c_str(), 0755) != 0) return io_error(fmt::format("cannot create {}", path));
   return {};
 }
+
+namespace {
 
 // Removes the earlier campaign's files in sub (case-N.ext), nothing else.
 void clear_cases(const std::string& sub, const std::regex& name) {
@@ -62,7 +65,7 @@ bool write_all_fd(int fd, const std::string& text) {
 core::Result<void> prepare_out_dir(const std::string& dir) {
   std::error_code ec;
   const bool existed = fs::exists(fs::symlink_status(dir, ec));
-  if (auto r = make_dir(dir); !r) return r;
+  if (auto r = make_real_dir(dir); !r) return r;
   if (existed && !fs::is_empty(dir, ec) && !fs::exists(fs::symlink_status(fs::path(dir) / "results.jsonl", ec))) {
     return core::make_error(core::ErrorCode::Io,
                             fmt::format("{}: a folder that is not empty and holds no results.jsonl; not writing "
@@ -70,7 +73,7 @@ core::Result<void> prepare_out_dir(const std::string& dir) {
                                         dir));
   }
   for (const char* sub : {"logs", "scenarios"}) {
-    if (auto r = make_dir((fs::path(dir) / sub).string()); !r) return r;
+    if (auto r = make_real_dir((fs::path(dir) / sub).string()); !r) return r;
   }
   clear_cases((fs::path(dir) / "logs").string(), std::regex(R"(case-\d+\.jsonl)"));
   clear_cases((fs::path(dir) / "scenarios").string(), std::regex(R"(case-\d+\.toml)"));
@@ -81,11 +84,12 @@ core::Result<void> prepare_out_dir(const std::string& dir) {
   return {};
 }
 
-core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text) {
+core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text,
+                                  mode_t mode) {
   const std::string path = (fs::path(dir) / name).string();
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, mode);
   if (fd < 0) return io_error(fmt::format("cannot write {}", path));
-  const bool ok = write_all_fd(fd, text);
+  const bool ok = write_all_fd(fd, text) && ::fchmod(fd, mode) == 0;
   if (::close(fd) != 0 || !ok) return io_error(fmt::format("cannot write {}", path));
   return {};
 }

@@ -5,6 +5,8 @@
 // file is opened with O_NOFOLLOW.
 #include <cstddef>
 #include <cstdio>
+#include <sys/types.h>
+
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -25,8 +27,14 @@ bool write_all_fd(int fd, const std::string& text);
 // results.jsonl): that campaign's files are removed first, nothing else.
 core::Result<void> prepare_out_dir(const std::string& dir);
 
-// Writes text to DIR/name whole (O_NOFOLLOW); Io error on failure.
-core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text);
+// A folder to write into: made if missing; an existing one must be a real
+// folder, not a link to one (Io error otherwise).
+core::Result<void> make_real_dir(const std::string& path);
+
+// Writes text to DIR/name whole (O_NOFOLLOW), the file's mode set to mode;
+// Io error on failure.
+core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text,
+                                  mode_t mode = 0644);
 
 // results.jsonl, a line per case as each arrives, flushed at once so that
 // whatever ends the campaign keeps every finished case.

@@ -95,15 +95,6 @@ core::Error io_error(const std::string& what) {
   return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
 }
 
-core::Result<void> write_script(const std::string& dir, const std::string& name, const std::string& text) {
-  const std::string path = (fs::path(dir) / name).string();
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0755);
-  if (fd < 0) return io_error(fmt::format("cannot write {}", path));
-  const bool ok = write_all_fd(fd, text) && ::fchmod(fd, 0755) == 0;
-  if (::close(fd) != 0 || !ok) return io_error(fmt::format("cannot write {}", path));
-  return {};
-}
-
 struct Ran {
   int status = -1;  // waitpid's status
   std::string out, err;
@@ -281,29 +272,19 @@ core::Result<SlurmScripts> slurm_scripts(const SlurmOptions& o) {
 }
 
 core::Result<void> write_slurm_scripts(const std::string& dir, const SlurmScripts& scripts) {
-  struct stat st {};
-  if (::lstat(dir.c_str(), &st) == 0) {
-    if (S_ISLNK(st.st_mode)) {
-      return core::make_error(core::ErrorCode::Io, fmt::format("{}: a symbolic link; not writing through it", dir));
-    }
-    if (!S_ISDIR(st.st_mode)) {
-      return core::make_error(core::ErrorCode::Io, fmt::format("{}: exists and is not a folder", dir));
-    }
-    std::error_code ec;
-    if (!fs::is_empty(dir, ec) && !fs::exists(fs::symlink_status(fs::path(dir) / "campaign.sbatch", ec))) {
-      return core::make_error(
-          core::ErrorCode::Io,
-          fmt::format("{}: a folder that is not empty and holds no campaign.sbatch; not writing a Slurm campaign "
-                      "into it",
-                      dir));
-    }
-  } else if (::mkdir(dir.c_str(), 0755) != 0) {
-    return io_error(fmt::format("cannot create {}", dir));
+  if (auto made = make_real_dir(dir); !made) return made;
+  std::error_code ec;
+  if (!fs::is_empty(dir, ec) && !fs::exists(fs::symlink_status(fs::path(dir) / "campaign.sbatch", ec))) {
+    return core::make_error(
+        core::ErrorCode::Io,
+        fmt::format("{}: a folder that is not empty and holds no campaign.sbatch; not writing a Slurm campaign "
+                    "into it",
+                    dir));
   }
   for (const auto& [name, text] :
        {std::pair{"campaign.sbatch", &scripts.array}, std::pair{"merge.sbatch", &scripts.merge},
         std::pair{"submit.sh", &scripts.submit}}) {
-    if (auto r = write_script(dir, name, *text); !r) return r;
+    if (auto r = write_out_file(dir, name, *text, 0755); !r) return r;
   }
   return {};
 }
