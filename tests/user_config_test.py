@@ -119,6 +119,9 @@ def a_broken_file_stops_the_commands_that_use_it_with_each_problem_located():
     r = strata(["run", TANK], STRATA_CONFIG=cfg)
     expect("relative", r.returncode == 65 and f"{cfg}:2:" in r.stderr and "absolute path" in r.stderr,
            "a relative log_dir is refused (it would follow the working folder)", r)
+    write(cfg, "[run]\ntelemetry_hz = nan\n")
+    r = strata(["run", TANK], STRATA_CONFIG=cfg)
+    expect("nan", r.returncode == 65 and f"{cfg}:2:" in r.stderr, "telemetry_hz = nan is refused", r)
     write(cfg, "[run\n")
     r = strata(["vehicle", "--interface"], STRATA_CONFIG=cfg)
     expect("syntax", r.returncode == 65 and f"{cfg}:1:" in r.stderr, "a TOML syntax error is located", r)
@@ -137,6 +140,8 @@ def a_missing_fifo_or_huge_config_is_refused_without_hanging():
     r = strata(["config", "show"], STRATA_CONFIG=big)
     expect("big", r.returncode in (65, 74), "a file over the TOML limit is refused", r)
     os.remove(big)
+    r = strata(["config", "show"], STRATA_CONFIG="/dev/zero")
+    expect("device", r.returncode == 74 and "not a regular file" in r.stderr, "a device is refused, not read", r)
 
 
 def a_log_folder_that_cannot_be_made_stops_the_run_before_it_starts():

@@ -17,6 +17,7 @@
 #include "campaign/case_run.h"
 #include "campaign/slurm.h"
 #include "campaign/spec.h"
+#include "cli/validators.h"
 #include "cli/verbosity.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -174,7 +175,7 @@ Runner add_campaign_command(CLI::App& app) {
                   "that changed; exit 1 when a verdict or an outcome changed")
       ->expected(2);
   cmd->add_option("--out", f->out, "The results folder (created; never written through a symbolic link)");
-  cmd->add_option("-j,--jobs", f->jobs, "Worker processes (default: one per core)")->check(CLI::Range(1, 1024));
+  cmd->add_option("-j,--jobs", f->jobs, "Worker processes (default: one per core)")->check(finite_range(1, 1024));
   cmd->add_flag("--list", f->list, "Print the cases, one a line (index, mission, family, fault, seed); run nothing");
   cmd->add_option("--case", f->one_case, "Run case I alone (in this process; with --out, into that folder)");
   cmd->add_option("--cases", f->cases, "Run the cases A-B (inclusive) only");
@@ -190,7 +191,7 @@ Runner add_campaign_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--case-wall-limit", f->case_wall_limit_s,
                   "Wall seconds one case may take before its worker is killed and the case reported crashed")
-      ->check(CLI::Range(0.1, 86'400.0))
+      ->check(finite_range(0.1, 86'400.0))
       ->capture_default_str();
   auto* slurm = cmd->add_flag(
       "--slurm", f->slurm,

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "cli/validators.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
@@ -146,12 +147,12 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
   cmd->add_option("--studio-wait", c->studio_wait_s,
                   "With --studio: keep serving this many seconds after the run (Ctrl-C ends it sooner; default: "
                   "until Ctrl-C on a terminal, not at all otherwise)")
-      ->check(CLI::Range(0.0, 86400.0 * 365));
+      ->check(finite_range(0.0, 86400.0 * 365));
   cmd->add_flag("--realtime", o->realtime, "Run the embedded vehicle on the wall clock (default: lockstep)");
   cmd->add_option("--speed", o->speed,
                   "With --realtime: simulated seconds per wall second (with --vehicle: the speed "
                   "that vehicle runs at, to scale reply timeouts)")
-      ->check(CLI::Range(0.01, 1000.0))
+      ->check(finite_range(0.01, 1000.0))
       ->capture_default_str();
   cmd->add_option("--vehicle", o->vehicle,
                   "ADDRESS:PORT or PORT of a running vehicle (`strata vehicle`), or embedded: the simulated one "
@@ -169,10 +170,10 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
                   "it writes the scans (PNG) and sonar.jsonl into this folder");
   cmd->add_option("--max-sim-time", o->max_sim_time_s,
                   "Lockstep: end the run (an abort: the vehicle is surfaced) after this many simulated seconds")
-      ->check(CLI::Range(1.0, 1e9))
+      ->check(finite_range(1.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(finite_range(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--format", c->format, "text, or json: the summary as one JSON document on stdout, no event lines")
       ->check(CLI::IsMember({"text", "json"}))

@@ -10,6 +10,7 @@
 #include <stop_token>
 #include <thread>
 
+#include "cli/validators.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/verbosity.h"
@@ -108,7 +109,7 @@ Runner add_sonar_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--connect-timeout", o->connect_timeout_s,
                   "Seconds to keep retrying while the vehicle refuses the connection")
-      ->check(CLI::Range(0.0, 3600.0))
+      ->check(finite_range(0.0, 3600.0))
       ->capture_default_str();
   add_verbosity_flags(cmd, o->verbosity, "A line on stderr for each frame written");
   cmd->footer(

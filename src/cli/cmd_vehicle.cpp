@@ -6,6 +6,7 @@
 #include <asio.hpp>
 #include <fmt/format.h>
 
+#include "cli/validators.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/user_config.h"
@@ -113,12 +114,12 @@ Runner add_vehicle_command(CLI::App& app, const LoadedConfig& config) {
   cmd->add_option("--seed", o->seed, "Seed for noise and faults (overrides the scenario's)");
   cmd->add_flag("--realtime", o->realtime, "Run on the wall clock (default: lockstep virtual time)");
   cmd->add_option("--speed", o->speed, "With --realtime: simulated seconds per wall second")
-      ->check(CLI::Range(0.01, 1000.0))
+      ->check(finite_range(0.01, 1000.0))
       ->capture_default_str();
   cmd->add_option("--hello-timeout", o->hello_timeout_s,
                   "Wall seconds a client has to say hello after connecting; then it is sent an error and "
                   "dropped, so that it cannot hold the vehicle (0: wait for ever)")
-      ->check(CLI::Range(0.0, 86400.0))
+      ->check(finite_range(0.0, 86400.0))
       ->capture_default_str();
   cmd->add_flag("--interface", o->interface, "Print every message the vehicle accepts and emits, and exit");
   cmd->add_flag("--trace", o->trace, "Old spelling of --verbose")->group("");

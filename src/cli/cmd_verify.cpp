@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/validators.h"
 #include "cli/verbosity.h"
 #include "cli/commands.h"
 #include "run/coral_load.h"
@@ -252,7 +253,7 @@ Runner add_verify_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--time-limit", o->time_limit_s,
                   "Stop after this many seconds in all (what is not settled is then not decided; 0: none)")
-      ->check(CLI::Range(0.0, 1e9))
+      ->check(finite_range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
   add_verbosity_flags(cmd, o->verbosity, "");

@@ -3,6 +3,8 @@
 // and compare (docs/prolog.md, "Limits").
 #include <CLI/CLI.hpp>
 
+#include "cli/validators.h"
+
 #include "run/options.h"
 
 namespace strata::cli {
@@ -10,7 +12,7 @@ namespace strata::cli {
 inline void add_rule_load_flags(CLI::App* cmd, run::RuleLoadLimits& limits) {
   cmd->add_option("--load-time-limit", limits.time_s,
                   "PROLOG: seconds of wall clock the rules' load and check may take (directives included)")
-      ->check(CLI::Range(0.1, 3600.0))
+      ->check(finite_range(0.1, 3600.0))
       ->capture_default_str();
   cmd->add_option("--load-inference-limit", limits.inferences,
                   "PROLOG: inferences the load may make (clauses read and directives run, together)")

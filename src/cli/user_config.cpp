@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <ctime>
 #include <map>
@@ -108,7 +109,7 @@ class Reader {
       address(config_.run_vehicle, value, name, /*embedded_allowed=*/true);
     } else if (name == "run.telemetry_hz") {
       auto hz = core::toml_number(value);
-      if (!hz || *hz < 0.0 || *hz > 100.0) {
+      if (!hz || !std::isfinite(*hz) || *hz < 0.0 || *hz > 100.0) {
         errors_.add(value, fmt::format("'{}' must be a number from 0 to 100 (per simulated second)", name));
         return;
       }
