@@ -322,6 +322,34 @@ TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
   EXPECT_NE(std::string::npos, r.out.find("surfaced by its own watchdog")) << r.out;
 }
 
+// Regression: in lockstep the reply timeouts were wall-clock, so every run
+// with a lost link waited about 2 s of wall time doing nothing (48 of the
+// tank campaign's 55 s) and logged each timeout at its request's time. Now
+// the vehicle's clock goes on through the silence (a bounded `advance`) and
+// a call times out its catalogue timeout_s later, in simulated time.
+TEST(TankScenario, ALostLinkInLockstepTimesCallsOutInSimulatedTime) {
+  const MissionRun& r = scenario_run("link_loss");
+  const ParsedLog& log = r.log;
+  const vehicle::Fault loss = fault_of("link_loss", vehicle::FaultKind::LinkLoss);
+  const Call* first_failed = log.first([](const Call& c) { return c.failed(); });
+  ASSERT_NE(nullptr, first_failed);
+  const std::string error = (*first_failed->result)["error"].get<std::string>();
+  EXPECT_NE(std::string::npos, error.find("within 2 s of simulated time")) << error;
+  EXPECT_NEAR(first_failed->requested_s + 2.0, first_failed->replied_s, kEps) << "timed out 2 simulated s later";
+  EXPECT_GT(first_failed->replied_s, loss.at_s);
+  // Each later call waits its own timeout in simulated time, one after the other.
+  const Call& shutdown = log.calls.back();
+  EXPECT_NEAR(shutdown.requested_s + 10.0, shutdown.replied_s, kEps) << "ood shutdown_network: timeout_s 10";
+  // The vehicle's log says when it was up, though nobody heard its telemetry.
+  const std::size_t up = r.out.find(" s: at the surface (link silent); holding");
+  ASSERT_NE(std::string::npos, up) << r.out;
+  const std::size_t line = r.out.rfind("vehicle: ", up);
+  ASSERT_NE(std::string::npos, line) << r.out;
+  const double up_s = std::strtod(r.out.c_str() + line + 9, nullptr);
+  EXPECT_GT(up_s, loss.at_s + kParams.watchdog_s) << "after the watchdog's trip";
+  EXPECT_LT(up_s, shutdown.replied_s) << "before the run gave up on the vehicle";
+}
+
 // Every phase_start has its phase_end (log_observer.h: "these replay a run's
 // markings exactly"), also when the mission fails: regression test for the
 // mission net being closed without a phase_end on a Failed run.

@@ -224,9 +224,14 @@ std::string encode(const Request& r) {
       out += ' ';
       out += format_double(r.rate_hz);
       break;
+    case Verb::Advance:
+      if (r.until_s) {
+        out += ' ';
+        out += format_double(*r.until_s);
+      }
+      break;
     case Verb::Ping:
-    case Verb::Bye:
-    case Verb::Advance: break;
+    case Verb::Bye: break;
   }
   out += '\n';
   return out;
@@ -236,10 +241,14 @@ std::string encode(const VehicleMessage& message) {
   return std::visit(
       Overloaded{
           [](const Welcome& m) {
-            return fmt::format("ok {} {} {} {}{}\n", m.id, bare_or_quoted(m.vehicle_name), m.version,
-                               clock_name(m.clock), m.sonar_port ? fmt::format(" sonar={}", *m.sonar_port) : "");
+            return fmt::format("ok {} {} {} {}{}{}\n", m.id, bare_or_quoted(m.vehicle_name), m.version,
+                               clock_name(m.clock), m.sonar_port ? fmt::format(" sonar={}", *m.sonar_port) : "",
+                               m.sim_time_s ? fmt::format(" time={}", format_double(*m.sim_time_s)) : "");
           },
-          [](const Ok& m) { return fmt::format("ok {}\n", m.id); },
+          [](const Ok& m) {
+            return m.sim_time_s ? fmt::format("ok {} {}\n", m.id, format_double(*m.sim_time_s))
+                                : fmt::format("ok {}\n", m.id);
+          },
           [](const Done& m) {
             return fmt::format("done {} {} {}\n", m.id, m.success ? 1 : 0, format_double(m.sim_time_s));
           },
@@ -304,9 +313,13 @@ DecodeResult<Request> decode_request(std::string_view line) {
     case Verb::Bye:
       if (f.size() != 2) return wrong_arity("bye", id, "ID only", f.size());
       return make_bye(id);
-    case Verb::Advance:
-      if (f.size() != 2) return wrong_arity("advance", id, "ID only", f.size());
-      return make_advance(id);
+    case Verb::Advance: {
+      if (f.size() == 2) return make_advance(id);
+      if (f.size() != 3) return wrong_arity("advance", id, "ID [UNTIL_S]", f.size());
+      auto until = read_time(f[2], id);
+      if (!until.ok()) return until.error();
+      return make_advance(id, until.value());
+    }
   }
   return fail(ErrorCode::UnknownVerb, id, "unknown verb");
 }
@@ -314,9 +327,14 @@ DecodeResult<Request> decode_request(std::string_view line) {
 namespace {
 
 DecodeResult<VehicleMessage> decode_ok(Fields f, RequestId id) {
-  if (f.size() == 2) return VehicleMessage{Ok{id}};
+  if (f.size() == 2) return VehicleMessage{Ok{id, std::nullopt}};
+  if (f.size() == 3) {
+    auto time = read_time(f[2], id);
+    if (!time.ok()) return time.error();
+    return VehicleMessage{Ok{id, time.value()}};
+  }
   if (f.size() < 5) {
-    return wrong_arity("ok", id, "ID, or ID VEHICLE_NAME PROTOCOL_VERSION CLOCK [KEY=VALUE...]", f.size());
+    return wrong_arity("ok", id, "ID [SIM_TIME_S], or ID VEHICLE_NAME PROTOCOL_VERSION CLOCK [KEY=VALUE...]", f.size());
   }
   Welcome w;
   w.id = id;
@@ -339,7 +357,14 @@ DecodeResult<VehicleMessage> decode_ok(Fields f, RequestId id) {
     if (f[i].quoted || eq == std::string_view::npos || eq == 0) {
       return fail(ErrorCode::BadArgument, id, fmt::format("'{}' after the clock is not KEY=VALUE", field));
     }
-    if (field.substr(0, eq) != "sonar") continue;  // a later version's: ignored
+    const std::string_view key = field.substr(0, eq);
+    if (key == "time") {
+      auto time = read_time(Field{std::string(field.substr(eq + 1)), false}, id);
+      if (!time.ok()) return time.error();
+      w.sim_time_s = time.value();
+      continue;
+    }
+    if (key != "sonar") continue;  // a later version's: ignored
     const std::string value(field.substr(eq + 1));
     char* end = nullptr;
     const unsigned long port = std::strtoul(value.c_str(), &end, 10);

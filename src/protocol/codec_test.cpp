@@ -45,9 +45,12 @@ TEST(Codec, SpeaksVersionsOneAndTwo) {
 }
 
 TEST(Codec, EncodesVehicleMessagesAsTheTableSays) {
-  EXPECT_EQ("ok 1 phoenix 1 lockstep\n", encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep, std::nullopt}));
-  EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n", encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall, std::nullopt}));
-  EXPECT_EQ("ok 3\n", encode(Ok{3}));
+  EXPECT_EQ("ok 1 phoenix 1 lockstep\n",
+            encode(Welcome{1, "phoenix", 1, ClockMode::Lockstep, std::nullopt, std::nullopt}));
+  EXPECT_EQ("ok 2 \"nps phoenix\" 1 wall\n",
+            encode(Welcome{2, "nps phoenix", 1, ClockMode::Wall, std::nullopt, std::nullopt}));
+  EXPECT_EQ("ok 3\n", encode(Ok{3, std::nullopt}));
+  EXPECT_EQ("ok 3 12.5\n", encode(Ok{3, 12.5}));
   EXPECT_EQ("done 4 1 2.5\n", encode(Done{4, true, 2.5}));
   EXPECT_EQ("answer 5 0 0.1\n", encode(Answer{5, false, 0.1}));
   EXPECT_EQ("pong 6 12.5\n", encode(Pong{6, 12.5}));
@@ -104,12 +107,12 @@ TEST(Codec, DecodesVehicleMessages) {
   EXPECT_TRUE(std::get<Telemetry>(h.value()).extras.empty());
 
   EXPECT_EQ(VehicleMessage{Telemetry{}}, decode_vehicle_message("tlm 0").value());
-  EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall, std::nullopt}),
+  EXPECT_EQ(VehicleMessage(Welcome{1, "phoenix", 1, ClockMode::Wall, std::nullopt, std::nullopt}),
             decode_vehicle_message("ok 1 phoenix 1 wall").value());
   EXPECT_EQ(VehicleMessage(Err{0, ErrorCode::Busy, "another client"}),
             decode_vehicle_message("err 0 busy \"another client\"\r\n").value());
   // The sonar socket's port after the clock; other KEY=VALUE fields ignored.
-  Welcome with_sonar{1, "phoenix", 1, ClockMode::Lockstep, 40123};
+  Welcome with_sonar{1, "phoenix", 1, ClockMode::Lockstep, 40123, std::nullopt};
   EXPECT_EQ("ok 1 phoenix 1 lockstep sonar=40123\n", encode(with_sonar));
   EXPECT_EQ(VehicleMessage(with_sonar), decode_vehicle_message("ok 1 phoenix 1 lockstep sonar=40123").value());
   EXPECT_EQ(VehicleMessage(with_sonar), decode_vehicle_message("ok 1 phoenix 1 lockstep future=x sonar=40123").value());
@@ -185,7 +188,8 @@ TEST(Codec, RejectsMalformedRequestsWithTheCodeToAnswer) {
       {"ood 8", ErrorCode::BadArgument, 8},
       {"ping 9 extra", ErrorCode::BadArgument, 9},
       {"bye 9 now", ErrorCode::BadArgument, 9},
-      {"advance 9 1", ErrorCode::BadArgument, 9},
+      {"advance 9 1 2", ErrorCode::BadArgument, 9},
+      {"advance 9 -1", ErrorCode::BadArgument, 9},
       {"advance", ErrorCode::BadLine, 0},
       {"hello 1 strata", ErrorCode::BadArgument, 1},
       {"hello 1 strata 1 x", ErrorCode::BadArgument, 1},
@@ -315,6 +319,11 @@ rc::Gen<double> times() {
   return gen::map(finite_doubles(), [](double d) { return std::fabs(d); });
 }
 
+rc::Gen<std::optional<double>> maybe_clock_times() {
+  return gen::oneOf(gen::just(std::optional<double>()),
+                    gen::map(times(), [](double d) { return std::optional<double>(d); }));
+}
+
 rc::Gen<Value> values() {
   return gen::oneOf(gen::map(gen::arbitrary<std::int64_t>(), Value::integer), gen::map(finite_doubles(), Value::real),
                     gen::map(texts(24), Value::string));
@@ -344,7 +353,9 @@ rc::Gen<Request> requests() {
                                gen::oneOf(gen::element(0.0, 1.0, 2.5, kMaxTelemetryRateHz),
                                           gen::map(gen::inRange(0, 1 << 20),
                                                    [](int i) { return kMaxTelemetryRateHz * i / (1 << 20); }))),
-                    gen::map(ids(), make_ping), gen::map(ids(), make_bye), gen::map(ids(), make_advance));
+                    gen::map(ids(), make_ping), gen::map(ids(), make_bye),
+                    gen::apply([](RequestId id, std::optional<double> until) { return make_advance(id, until); }, ids(),
+                               maybe_clock_times()));
 }
 
 rc::Gen<std::optional<double>> maybe_times() {
@@ -367,10 +378,15 @@ rc::Gen<VehicleMessage> vehicle_messages() {
   return gen::oneOf(
       as_message(gen::apply(
           [](RequestId id, std::string name, int version, bool wall) {
-            return Welcome{id, std::move(name), version, wall ? ClockMode::Wall : ClockMode::Lockstep, std::nullopt};
+            return Welcome{id,           std::move(name), version, wall ? ClockMode::Wall : ClockMode::Lockstep,
+                           std::nullopt, std::nullopt};
           },
           ids(), names(), gen::inRange(1, 1 << 30), gen::arbitrary<bool>())),
-      as_message(gen::map(ids(), [](RequestId id) { return Ok{id}; })),
+      as_message(gen::apply(
+          [](RequestId id, std::optional<double> t) {
+            return Ok{id, t};
+          },
+          ids(), maybe_clock_times())),
       as_message(gen::apply(
           [](RequestId id, bool b, double t) {
             return Done{id, b, t};
@@ -459,6 +475,31 @@ RC_GTEST_PROP(Codec, DecodingArbitraryBytesIsSafeAndCanonical, ()) {
   }
   auto m = decode_vehicle_message(line);
   if (m.ok()) RC_ASSERT(decode_vehicle_message(encode(m.value())).value() == m.value());
+}
+
+// Lockstep's clock (docs/protocol.md §8): an advance may name the latest time
+// to step to, its ok then says the vehicle's time, and the welcome says the
+// time at the hello.
+TEST(Codec, ABoundedAdvanceAndItsTimedOk) {
+  EXPECT_EQ("advance 4 12.5\n", encode(make_advance(4, 12.5)));
+  EXPECT_EQ("advance 4\n", encode(make_advance(4)));
+  auto bounded = decode_request("advance 4 12.5");
+  ASSERT_TRUE(bounded.ok()) << bounded.error().message;
+  EXPECT_EQ(std::optional<double>(12.5), bounded.value().until_s);
+  EXPECT_FALSE(decode_request("advance 4").value().until_s.has_value());
+  for (const char* bad : {"advance 4 -1", "advance 4 soon", "advance 4 nan", "advance 4 \"3\"", "advance 4 1 2"}) {
+    auto r = decode_request(bad);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(4u, r.error().id) << bad;
+  }
+  EXPECT_EQ(VehicleMessage(Ok{7, 3.25}), decode_vehicle_message("ok 7 3.25").value());
+  EXPECT_FALSE(decode_vehicle_message("ok 7 -3").ok());
+  EXPECT_FALSE(decode_vehicle_message("ok 7 phoenix 2").ok());
+  Welcome timed{1, "phoenix", 2, ClockMode::Lockstep, 40123, 6.5};
+  EXPECT_EQ("ok 1 phoenix 2 lockstep sonar=40123 time=6.5\n", encode(timed));
+  EXPECT_EQ(VehicleMessage(timed), decode_vehicle_message("ok 1 phoenix 2 lockstep sonar=40123 time=6.5").value());
+  EXPECT_FALSE(decode_vehicle_message("ok 1 phoenix 2 lockstep time=-1").ok());
+  EXPECT_FALSE(decode_vehicle_message("ok 1 phoenix 2 lockstep time=later").ok());
 }
 
 }  // namespace

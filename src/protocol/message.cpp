@@ -111,10 +111,11 @@ Request make_bye(RequestId id) {
   return r;
 }
 
-Request make_advance(RequestId id) {
+Request make_advance(RequestId id, std::optional<double> until_s) {
   Request r;
   r.verb = Verb::Advance;
   r.id = id;
+  r.until_s = until_s;
   return r;
 }
 

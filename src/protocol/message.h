@@ -88,8 +88,9 @@ std::string_view verb_name(Verb verb);
 //   Ask:            name = predicate, args
 //   Telemetry:      rate_hz (0 stops)
 //   Ping, Bye:      id only
-//   Advance:        id only (protocol 2: the client has issued everything for
-//                   the current simulated instant; the vehicle may move time)
+//   Advance:        id, until_s (protocol 2: the client has issued everything
+//                   for the current simulated instant; the vehicle may move
+//                   time, in lockstep no further than until_s if given)
 struct Request {
   Verb verb = Verb::Ping;
   RequestId id = 1;
@@ -97,6 +98,7 @@ struct Request {
   std::vector<Value> args;
   int version = kProtocolVersion;
   double rate_hz = 0.0;
+  std::optional<double> until_s;  // advance: the latest simulated time to step to
 
   friend bool operator==(const Request&, const Request&) = default;
 };
@@ -108,7 +110,7 @@ Request make_ood(RequestId id, std::string function, std::vector<Value> args = {
 Request make_telemetry(RequestId id, double rate_hz);
 Request make_ping(RequestId id);
 Request make_bye(RequestId id);
-Request make_advance(RequestId id);
+Request make_advance(RequestId id, std::optional<double> until_s = std::nullopt);
 
 enum class ClockMode { Lockstep, Wall };
 std::string_view clock_name(ClockMode clock);
@@ -126,11 +128,15 @@ struct Welcome {
   int version = kProtocolVersion;
   ClockMode clock = ClockMode::Lockstep;
   std::optional<std::uint16_t> sonar_port;
+  std::optional<double> sim_time_s;  // time=: the vehicle's simulated time at the hello
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
-// `ok ID`: the reply to telemetry, bye and advance.
+// `ok ID [SIM_TIME_S]`: the reply to telemetry, bye and advance. An advance
+// that names a time (`advance ID UNTIL_S`) is answered with the vehicle's
+// simulated time when it ends.
 struct Ok {
   RequestId id = 1;
+  std::optional<double> sim_time_s;
   friend bool operator==(const Ok&, const Ok&) = default;
 };
 // `done ID 0|1 SIM_TIME_S`: the reply to exec and ood; success = the function

@@ -228,7 +228,7 @@ void RunSession::Run::finish_report() {
   report_.primitive_calls = tactical_->calls();
   report_.sim_time_s = report_.result ? report_.result->sim_time_s : tactical_->sim_time_s();
   // What the embedded vehicle did after we last heard from it.
-  const double last_heard_s = tactical_->sim_time_s();
+  const double last_heard_s = tactical_->last_heard_s();
   for (const auto& line : vehicle_log_) {
     if (std::strtod(line.c_str(), nullptr) > last_heard_s + 1e-9) note("vehicle: " + line);
   }

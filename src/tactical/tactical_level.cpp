@@ -56,6 +56,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
   if (!link_) return;
   link_->on_telemetry([this](const protocol::Telemetry& t) {
     sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
+    last_heard_s_ = std::max(last_heard_s_, t.sim_time_s);
     if (log_) {
       const nlohmann::ordered_json fields = telemetry_log_fields(t);
       log_->telemetry(t.sim_time_s, fields);
@@ -64,6 +65,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
   });
   link_->on_event([this](const protocol::Event& e) {
     sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
+    last_heard_s_ = std::max(last_heard_s_, e.sim_time_s);
     if (log_) log_->event("vehicle_event", {{"text", e.text}, {"sim_time", e.sim_time_s}});
     if (on_event_) on_event_(e);
   });
@@ -137,13 +139,17 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   }
   protocol::Request request = to_request(rc);
   auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(rc.timeout_s * wall_per_sim_ * 1000.0)));
-  // The catalogue's timeout is in simulated seconds; in lockstep the vehicle
-  // answers at once, so the link's own (wall) timeout is the stricter bound.
+  // The catalogue's timeout is in simulated seconds: in lockstep the link
+  // holds the call to it in simulated time; on the wall clock it is scaled by
+  // the speed. The link's own (wall) timeout is the floor: in lockstep it is
+  // what catches a vehicle that answers nothing at all.
   auto id = std::make_shared<std::uint64_t>(0);
   *id = link_->send(
       std::move(request),
       [this, record, done = std::move(done), id](core::Result<protocol::VehicleMessage> reply) mutable {
         if (!reply) {
+          // A simulated-time timeout ends the call at the vehicle's time, later than its last reply.
+          if (auto t = link_->sim_time_s(); t && *t > sim_time_s_) sim_time_s_ = *t;
           record.error = reply.error().message;
           if (log_) {
             log_->reply(*id, {{"error", reply.error().message}}, sim_time_s_);
@@ -164,11 +170,12 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
           return;
         }
         sim_time_s_ = std::max(sim_time_s_, out.sim_time_s);
+        last_heard_s_ = std::max(last_heard_s_, out.sim_time_s);
         record.value = out.value;
         if (log_) log_->reply(*id, out.value ? 1 : 0, out.sim_time_s);
         finish(record, done, out);
       },
-      std::max(timeout, link_->default_timeout()));
+      std::max(timeout, link_->default_timeout()), rc.timeout_s);
   if (log_) log_->request(*id, record.primitive, record.message, sim_time_s_);
 }
 

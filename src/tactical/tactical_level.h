@@ -77,6 +77,10 @@ class TacticalLevel {
 
   // The vehicle's time as last heard (replies, telemetry, events).
   double sim_time_s() const { return sim_time_s_; }
+  // The vehicle's time in the last line heard from it (a reply, telemetry,
+  // an event); sim_time_s() may be later, when a call timed out in
+  // simulated time while the vehicle was silent.
+  double last_heard_s() const { return last_heard_s_; }
   std::uint64_t calls() const { return calls_; }
   std::size_t in_flight() const { return in_flight_; }
 
@@ -93,6 +97,7 @@ class TacticalLevel {
   std::function<void(const protocol::Telemetry&)> on_telemetry_;
   std::function<void(const protocol::Event&)> on_event_;
   double sim_time_s_ = 0.0;
+  double last_heard_s_ = 0.0;
   double wall_per_sim_ = 1.0;
   std::uint64_t calls_ = 0;
   std::size_t in_flight_ = 0;

@@ -1,5 +1,8 @@
 #include "tactical/vehicle_link.h"
 
+#include <cmath>
+#include <vector>
+
 #include <fmt/format.h>
 
 namespace strata::tactical {
@@ -152,6 +155,7 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
             }
             session_version_ = w->version;
             barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
+            sim_now_ = w->sim_time_s;
             done(*w);
             return;
           }
@@ -162,7 +166,8 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
 }
 
 protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler handler,
-                                      std::optional<std::chrono::milliseconds> timeout) {
+                                      std::optional<std::chrono::milliseconds> timeout,
+                                      std::optional<double> sim_timeout_s) {
   request.id = next_id_++;
   std::string what = describe(request);
   if (!connected_) {
@@ -180,6 +185,10 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   p.timer = std::make_unique<asio::steady_timer>(io_);
   auto wait = timeout.value_or(options_.reply_timeout);
   p.wait = wait;
+  if (barrier_ && p.timed && sim_now_ && sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0) {
+    p.sim_timeout_s = *sim_timeout_s;
+    p.sim_deadline_s = *sim_now_ + *sim_timeout_s;
+  }
   p.timer->expires_after(wait);
   auto id = request.id;
   auto self = shared_from_this();
@@ -232,10 +241,12 @@ void VehicleLink::maybe_advance(std::uint64_t generation) {
   if (generation != activity_ || !barrier_ || !connected_ || holds_ > 0 || advance_id_) return;
   bool timed = false;
   std::chrono::milliseconds wait{0};
+  std::optional<double> until;
   for (const auto& [id, p] : pending_) {
     if (!p.timed) continue;
     timed = true;
     wait = std::max(wait, p.wait);
+    if (p.sim_deadline_s && (!until || *p.sim_deadline_s < *until)) until = p.sim_deadline_s;
   }
   if (!timed) return;  // nothing waits for simulated time
   const protocol::RequestId id = next_id_++;
@@ -251,16 +262,36 @@ void VehicleLink::maybe_advance(std::uint64_t generation) {
     if (e || advance_id_ != id) return;
     finish_advance();
   });
-  write(protocol::encode(protocol::make_advance(id)));
+  write(protocol::encode(protocol::make_advance(id, until)));
 }
 
-void VehicleLink::finish_advance() {
+void VehicleLink::finish_advance(std::optional<double> sim_time_s) {
   advance_id_.reset();
   advance_timer_.cancel();
   auto held = std::move(held_);
   held_.clear();
   for (auto& [id, result] : held) complete(id, std::move(result));
+  if (sim_time_s) {
+    saw_time(*sim_time_s);
+    std::vector<protocol::RequestId> late;
+    for (const auto& [id, p] : pending_) {  // a std::map: in id order
+      if (p.sim_deadline_s && *p.sim_deadline_s <= *sim_now_ + 1e-9) late.push_back(id);
+    }
+    for (protocol::RequestId id : late) {
+      auto it = pending_.find(id);
+      if (it == pending_.end()) continue;  // a handler before it ended it
+      const std::string what = it->second.what;
+      const double waited = it->second.sim_timeout_s;
+      complete(
+          id, make_error(ErrorCode::Timeout,
+                         fmt::format("no reply to `{}` (request {}) within {} s of simulated time", what, id, waited)));
+    }
+  }
   note_activity();
+}
+
+void VehicleLink::saw_time(double sim_time_s) {
+  if (!sim_now_ || sim_time_s > *sim_now_) sim_now_ = sim_time_s;
 }
 
 void VehicleLink::write(std::string line) {
@@ -340,9 +371,13 @@ void VehicleLink::handle_line(const protocol::Frame& frame) {
   }
   auto id = protocol::reply_id(msg);
   if (id && advance_id_ == *id) {
-    finish_advance();  // the end of the instant
+    const auto* ok = std::get_if<protocol::Ok>(&msg);
+    finish_advance(ok ? ok->sim_time_s : std::nullopt);  // the end of the instant
     return;
   }
+  if (const auto* d = std::get_if<protocol::Done>(&msg)) saw_time(d->sim_time_s);
+  if (const auto* a = std::get_if<protocol::Answer>(&msg)) saw_time(a->sim_time_s);
+  if (const auto* p = std::get_if<protocol::Pong>(&msg)) saw_time(p->sim_time_s);
   if (!id || !pending_.count(*id)) {
     if (on_garbage_) on_garbage_(fmt::format("a reply for no request in flight: {}", frame.line));
     return;
@@ -365,6 +400,7 @@ void VehicleLink::fail_all(const core::Error& error) {
 
 void VehicleLink::end_session() {
   connected_ = false;
+  sim_now_.reset();
   barrier_ = false;
   session_version_ = 0;
 }

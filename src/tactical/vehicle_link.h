@@ -13,7 +13,16 @@
 // runs after the handlers that issued calls, and after the work they posted
 // before it). Replies to exec/ask/ood are handed to their handlers together,
 // in arrival order, when the advance's `ok` arrives (the vehicle's end of
-// that instant), never one by one as TCP happens to split the bytes. So the
+// that instant), never one by one as TCP happens to split the bytes.
+//   Simulated-time timeouts (lockstep, once the vehicle has told its time in
+// the welcome): a request sent with a simulated timeout S at time t must be
+// answered by t + S. Each advance names the earliest such deadline
+// (`advance ID UNTIL_S`); the vehicle moves time no further and answers with
+// its time (`ok ID T`); requests whose deadline has come by T then fail with
+// ErrorCode::Timeout, in id order. A lost link still carries that clock
+// (docs/protocol.md §8), so a silent vehicle costs simulated seconds, not
+// wall seconds, and the run stays a pure function of its inputs. The
+// wall-clock timeout stays, for a vehicle that does not answer at all. So the
 // calls made in response to one instant's replies all go before the next
 // advance, and a run stays a pure function of its inputs. Callers see one
 // call in flight at a time behave exactly as in protocol 1.
@@ -99,8 +108,11 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
 
   // Sends request (its id is assigned here and returned) and calls handler
   // exactly once: with the reply, or with an error (timeout, link closed).
+  // sim_timeout_s: the simulated-time timeout (lockstep, above); without it
+  // only the wall-clock one applies.
   protocol::RequestId send(protocol::Request request, ReplyHandler handler,
-                           std::optional<std::chrono::milliseconds> timeout = std::nullopt);
+                           std::optional<std::chrono::milliseconds> timeout = std::nullopt,
+                           std::optional<double> sim_timeout_s = std::nullopt);
 
   void on_telemetry(std::function<void(const protocol::Telemetry&)> f) { on_telemetry_ = std::move(f); }
   void on_event(std::function<void(const protocol::Event&)> f) { on_event_ = std::move(f); }
@@ -121,6 +133,9 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   std::uint64_t advances_sent() const { return advances_sent_; }
   std::chrono::milliseconds default_timeout() const { return options_.reply_timeout; }
   std::size_t in_flight() const { return pending_.size(); }
+  // The vehicle's simulated time as far as the link knows it (the welcome's,
+  // then every reply's and advance's); nullopt before the vehicle told it.
+  std::optional<double> sim_time_s() const { return sim_now_; }
   // Closes the socket; pending requests fail with Closed.
   void close();
 
@@ -133,6 +148,8 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
     std::string what;    // "exec submerge" for messages
     bool timed = false;  // exec/ask/ood: needs simulated time, so an advance
     std::chrono::milliseconds wait{0};
+    std::optional<double> sim_deadline_s;  // lockstep: answered by then, or timed out
+    double sim_timeout_s = 0;
   };
 
   void start_connect(std::function<void(core::Result<protocol::Welcome>)> done);
@@ -154,8 +171,10 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   void note_activity();
   void maybe_advance(std::uint64_t generation);
   // The outstanding advance is over (its ok, an error, or its timeout): the
-  // replies held for it go to their handlers.
-  void finish_advance();
+  // replies held for it go to their handlers, then, if the vehicle said its
+  // time, the requests whose simulated deadline has come time out.
+  void finish_advance(std::optional<double> sim_time_s = std::nullopt);
+  void saw_time(double sim_time_s);
   void end_session();
   asio::io_context& io_;
   LinkOptions options_;
@@ -170,6 +189,7 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   int session_version_ = 0;
   bool barrier_ = false;
   std::optional<protocol::RequestId> advance_id_;
+  std::optional<double> sim_now_;
   asio::steady_timer advance_timer_;
   std::deque<std::pair<protocol::RequestId, core::Result<protocol::VehicleMessage>>> held_;
   std::size_t holds_ = 0;

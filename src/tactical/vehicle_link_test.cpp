@@ -244,6 +244,28 @@ TEST(VehicleLink, ASilentVehicleIsATimeoutNotAHang) {
   EXPECT_NE(std::string::npos, r2.error().message.find("no reply to `ask depth_reached`")) << r2.error().message;
 }
 
+// Lockstep: a request sent with a simulated timeout fails that many
+// simulated seconds later when the vehicle is silent (the lost link still
+// carries the clock), whatever the wall clock says.
+TEST(VehicleLink, InLockstepASilentVehicleTimesOutInSimulatedTime) {
+  vehicle::Scenario lost = vehicle::Scenario::nominal();
+  lost.faults.push_back({vehicle::FaultKind::LinkLoss, 0.5, 1.0, std::nullopt});
+  Rig rig(lost);
+  auto link = rig.connect();
+  ASSERT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  ASSERT_EQ(std::optional<double>(0.1), link->sim_time_s());
+  std::optional<core::Result<VehicleMessage>> reply;
+  link->send(
+      protocol::make_exec(0, "sleep", {protocol::Value::integer(1)}),
+      [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, 60000ms, 3.0);
+  ASSERT_TRUE(run_until(rig.io, [&] { return reply.has_value(); }));
+  ASSERT_FALSE(reply->ok());
+  EXPECT_EQ(core::ErrorCode::Timeout, reply->error().code);
+  EXPECT_EQ("no reply to `exec sleep 1` (request 4) within 3 s of simulated time", reply->error().message);
+  EXPECT_EQ(std::optional<double>(3.1), link->sim_time_s());
+  EXPECT_NEAR(3.1, rig.sim.time_s(), 1e-9);
+}
+
 TEST(VehicleLink, VehicleGoneMidRequestFailsThePendingRequest) {
   Rig rig;
   LinkOptions o;

@@ -59,6 +59,68 @@ TEST(VehicleServer, InProtocolTwoRequestsWaitForAdvanceAndAreAnsweredInIdOrder) 
             after(c, 1));
 }
 
+// An advance may bound the step (docs/protocol.md §8): time moves no further,
+// requests due later wait for a later advance, and the ok says the time.
+TEST(VehicleServer, ABoundedAdvanceStopsAtItsTimeAndSaysIt) {
+  Rig rig;
+  LineClient c(rig.io, rig.server->port());
+  c.say("hello 1 hand 2");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 1 "));
+  EXPECT_NE(std::string::npos, c.lines[0].find(" time=0.0")) << c.lines[0];
+  c.say("exec 2 sleep 5");
+  c.say("advance 3 2");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 3"));
+  c.say("advance 4 9");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 4"));
+  // Nothing waiting: a bounded advance still moves time, to its bound.
+  c.say("advance 5 7.5");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 5"));
+  // A bound in the past moves nothing.
+  c.say("advance 6 1");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 6"));
+  EXPECT_EQ((std::vector<std::string>{"ok 3 2.0", "done 2 1 5.0", "ok 4 5.0", "ok 5 7.5", "ok 6 7.5"}), after(c, 1));
+}
+
+// A hostile bound cannot hold the event loop: an advance moves at most an
+// hour of simulated time.
+TEST(VehicleServer, ABoundedAdvanceMovesAtMostAnHour) {
+  Rig rig;
+  LineClient c(rig.io, rig.server->port());
+  c.say("hello 1 hand 2");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 1 "));
+  c.say("advance 2 1e12");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 2"));
+  EXPECT_EQ((std::vector<std::string>{"ok 2 3600.0"}), after(c, 1));
+}
+
+// In lockstep the clock is the simulator's: a lost link drops every line but
+// a bounded advance, which still moves time; the watchdog trips watchdog_s
+// simulated seconds into the silence.
+TEST(VehicleServer, ALostLinkStillCarriesTheLockstepClock) {
+  vehicle::Scenario lost = vehicle::Scenario::nominal();
+  lost.faults.push_back({vehicle::FaultKind::LinkLoss, 1.0, 1.0, std::nullopt});
+  Rig rig(lost);
+  LineClient c(rig.io, rig.server->port());
+  c.say("hello 1 hand 2");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 1 "));
+  c.say("ood 2 start_network");
+  c.say("advance 3 1.5");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 3"));
+  c.say("advance 4 1.5");  // nothing waiting: the bound reached
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 4"));
+  c.say("ping 5");               // lost
+  c.say("ask 6 depth_reached");  // lost
+  c.say("advance 7");            // unbounded: lost as well
+  c.say("advance 8 6");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 8"));
+  EXPECT_EQ((std::vector<std::string>{"done 2 1 0.1", "ok 3 0.1", "ok 4 1.5", "ok 8 6.0"}), after(c, 1));
+  EXPECT_TRUE(rig.sim.watchdog_tripped());
+  bool tripped_in_time = false;
+  for (const auto& line : rig.vehicle_log)
+    tripped_in_time |= line == "4.0 s: watchdog: link silent for 3.0 s: surfacing";
+  EXPECT_TRUE(tripped_in_time) << ::testing::PrintToString(rig.vehicle_log);
+}
+
 TEST(VehicleServer, AdvanceIsProtocolTwo) {
   Rig rig;
   LineClient c(rig.io, rig.server->port());

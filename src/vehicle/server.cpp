@@ -127,6 +127,19 @@ void VehicleServer::send(const protocol::VehicleMessage& m) {
   write(*controller_, protocol::encode(m));
 }
 
+void VehicleServer::send_clock(const protocol::Ok& ok) {
+  if (!controller_ || controller_->closing()) return;
+  write(*controller_, protocol::encode(protocol::VehicleMessage{ok}));
+}
+
+bool VehicleServer::is_clock_line(const protocol::Frame& frame) const {
+  if (frame.too_long || !hello_done_ || session_version_ < 2 || options_.clock != protocol::ClockMode::Lockstep) {
+    return false;
+  }
+  auto decoded = protocol::decode_request(frame.line);
+  return decoded.ok() && decoded.value().verb == protocol::Verb::Advance && decoded.value().until_s.has_value();
+}
+
 void VehicleServer::write(protocol::LineConnection& c, std::string line) {
   if (c.closing()) return;
   if (options_.trace) log("> " + line.substr(0, line.size() - 1));
@@ -135,7 +148,7 @@ void VehicleServer::write(protocol::LineConnection& c, std::string line) {
 
 void VehicleServer::on_line(protocol::LineConnection& c, const protocol::Frame& frame) {
   if (&c != controller_.get()) return;
-  if (sim_.link_lost()) return;  // lost on the way
+  if (sim_.link_lost() && !is_clock_line(frame)) return;  // lost on the way
   last_rx_s_ = sim_.time_s();
   arm_silence_watchdog();
   if (options_.trace) log("< " + frame.line);
@@ -169,11 +182,11 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
     case Verb::Telemetry:
       // The first sample comes one period after the request.
       telemetry_.set_rate(r.rate_hz, sim_.time_s());
-      send(protocol::Ok{r.id});
+      send(protocol::Ok{r.id, std::nullopt});
       return;
     case Verb::Ping: send(protocol::Pong{r.id, wire_time(sim_.time_s())}); return;
     case Verb::Bye:
-      send(protocol::Ok{r.id});
+      send(protocol::Ok{r.id, std::nullopt});
       c.close_when_written("bye");
       return;
     case Verb::Advance:
@@ -185,10 +198,15 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
       }
       // On the wall clock time moves by itself: nothing to do.
       if (options_.clock == protocol::ClockMode::Wall) {
-        send(protocol::Ok{r.id});
+        send(protocol::Ok{r.id, std::nullopt});
         return;
       }
-      advance(r.id);
+      if (running_alone_ && r.until_s) {
+        // The watchdog has the vehicle: time moves for the client once it is done.
+        held_advance_ = r;
+        return;
+      }
+      advance(r.id, r.until_s);
       return;
     default: on_call(r); return;
   }
@@ -207,8 +225,12 @@ void VehicleServer::on_hello(const protocol::Request& r) {
   hello_timer_.cancel();
   // The session speaks the version asked for: a version-1 client keeps
   // version 1's lockstep, where each request moves time itself.
-  protocol::Welcome welcome{r.id, options_.vehicle_name, r.version, options_.clock,
-                            sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt};
+  protocol::Welcome welcome{r.id,
+                            options_.vehicle_name,
+                            r.version,
+                            options_.clock,
+                            sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt,
+                            wire_time(sim_.time_s())};
   send(welcome);
 }
 

@@ -39,7 +39,11 @@
 //
 // A scenario's link_loss makes the link silent: from its time on, the
 // vehicle neither reads nor answers the controller (lines are dropped, as a
-// cut cable would), and the watchdog does the rest.
+// cut cable would), and the watchdog does the rest. In lockstep the clock is
+// the simulator's, not the vehicle's: an `advance ID UNTIL_S` still moves
+// simulated time (to UNTIL_S) and is answered `ok ID T`, so a client's reply
+// timeouts run out in simulated time, and the watchdog trips watchdog_s
+// simulated seconds into the silence.
 //
 // Threads: one; everything runs on the io_context given, which must not run
 // this server's handlers after it is destroyed (destroy the server, then
@@ -83,6 +87,10 @@ struct ServerOptions {
   std::uint16_t sonar_port = 0;  // 0: a free port, see VehicleServer::sonar_port()
 };
 
+// Lockstep: the most simulated time one bounded advance moves (a client's
+// bound past it is answered at this point, and the client advances again).
+inline constexpr double kMaxAdvanceSpanS = 3600.0;
+
 class VehicleServer {
  public:
   VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options);
@@ -112,13 +120,21 @@ class VehicleServer {
   void on_request(protocol::LineConnection& c, const protocol::Request& r);
   void on_hello(const protocol::Request& r);
   void on_call(const protocol::Request& r);
-  void advance(std::optional<protocol::RequestId> advance_id);
+  void advance(std::optional<protocol::RequestId> advance_id, std::optional<double> until_s = std::nullopt);
+  // Whether a line is the lockstep clock (a bounded advance), which a lost
+  // link still carries.
+  bool is_clock_line(const protocol::Frame& frame) const;
+  // Lockstep: the watchdog trips watchdog_s simulated seconds into a silence
+  // the scenario made.
+  void watch_lost_link();
   void reply_due();
   bool in_flight(protocol::RequestId id) const;
   void arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c);
   void on_line(protocol::LineConnection& c, const protocol::Frame& frame);
   void on_closed(protocol::LineConnection& c, const protocol::CloseReason& why);
   void send(const protocol::VehicleMessage& m);
+  // The end of a bounded advance: sent whether or not the link is lost.
+  void send_clock(const protocol::Ok& ok);
   // Writes a line (with its newline) to c, traced when trace is on.
   void write(protocol::LineConnection& c, std::string line);
   void step_one();
@@ -152,6 +168,9 @@ class VehicleServer {
   bool running_alone_ = false;
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;
+  std::optional<double> silent_since_s_;           // lockstep: when the scenario's silence began
+  bool surfaced_in_silence_ = false;               // ... and the vehicle's log said it is up
+  std::optional<protocol::Request> held_advance_;  // a bounded advance that came while running alone
   std::vector<std::function<void()>> settled_waiters_;
   TelemetrySampler telemetry_;
   double last_rx_s_ = 0.0;  // sim time of the last line from the controller (wall mode)

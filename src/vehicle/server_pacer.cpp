@@ -16,27 +16,44 @@ using protocol::ErrorCode;
 
 // Lockstep: steps every waiting request together until one is due, answers
 // all that are due, then the advance itself. With nothing waiting, time does
-// not move.
-void VehicleServer::advance(std::optional<protocol::RequestId> advance_id) {
+// not move, unless the advance names a time (until_s): then it moves to that
+// time, and never past it, even with requests waiting (their replies come
+// with a later advance). A bounded advance is answered with the time.
+void VehicleServer::advance(std::optional<protocol::RequestId> advance_id, std::optional<double> until_s) {
+  std::optional<double> until;
+  if (until_s) until = std::min(*until_s, sim_.time_s() + kMaxAdvanceSpanS);
+  const auto may_step = [&] { return !until || sim_.time_s() + 1e-9 < *until; };
   if (!waiting_.empty()) {
     std::uint64_t next_due = waiting_.front().due_cycle;
     for (const auto& w : waiting_) next_due = std::min(next_due, w.due_cycle);
-    while (sim_.cycle() < next_due && !sim_.link_lost()) step_one();
+    while (sim_.cycle() < next_due && !sim_.link_lost() && may_step()) step_one();
+  } else if (until) {
+    while (!sim_.link_lost() && may_step()) step_one();
   }
   if (sim_.link_lost()) {
-    // The replies would be lost with the link. Nobody can ask the simulation
-    // to move now: it runs on alone, and the watchdog trips after
-    // watchdog_s of silence (run_alone trips it in simulated time).
+    // The replies would be lost with the link.
     waiting_.clear();
-    silence_timer_.cancel();
-    if (!running_alone_) {
-      log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
-      run_alone(sim_.time_s() + sim_.params().watchdog_s);
+    if (!until) {
+      // Nobody can ask the simulation to move now: it runs on alone, and the
+      // watchdog trips after watchdog_s of silence (run_alone trips it in
+      // simulated time).
+      silence_timer_.cancel();
+      if (!running_alone_) run_alone(sim_.time_s() + sim_.params().watchdog_s);
+      return;
     }
-    return;
+    // The clock is the simulator's, not the link's: time moves on to the
+    // client's bound, and the watchdog trips on the way (watch_lost_link).
+    while (may_step()) step_one();
+  } else {
+    reply_due();
   }
-  reply_due();
-  if (advance_id) send(protocol::Ok{*advance_id});
+  if (advance_id) {
+    if (until) {
+      send_clock(protocol::Ok{*advance_id, wire_time(sim_.time_s())});
+    } else {
+      send(protocol::Ok{*advance_id, std::nullopt});
+    }
+  }
   arm_silence_watchdog();  // silence counts from the reply, not from the request
 }
 
@@ -61,7 +78,29 @@ void VehicleServer::reply_due() {
 
 void VehicleServer::step_one() {
   sim_.step();
+  watch_lost_link();
   after_step();
+}
+
+void VehicleServer::watch_lost_link() {
+  if (options_.clock != protocol::ClockMode::Lockstep) return;  // wall: tick() counts the silence
+  if (!sim_.link_lost()) {
+    silent_since_s_.reset();
+    return;
+  }
+  if (!silent_since_s_) {
+    silent_since_s_ = sim_.time_s();
+    log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
+  }
+  if (!sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *silent_since_s_ + sim_.params().watchdog_s) {
+    sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
+    surfaced_in_silence_ = false;
+  }
+  // Nobody hears the telemetry now: the vehicle's log says when it is up.
+  if (sim_.watchdog_tripped() && !surfaced_in_silence_ && sim_.surface_reached()) {
+    surfaced_in_silence_ = true;
+    log(fmt::format("{:.1f} s: at the surface (link silent); holding", sim_.time_s()));
+  }
 }
 
 void VehicleServer::after_step() {

@@ -2,6 +2,7 @@
 // hello timeout, the silence timer, the controller's link dropping, the trip,
 // and the lockstep vehicle running on alone until it is at the surface.
 #include <algorithm>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -66,16 +67,20 @@ void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::Close
 }
 
 void VehicleServer::trip(const std::string& reason) {
-  if (sim_.watchdog_tripped()) return;
-  sim_.watchdog_trip(reason);
-  flush_events();
-  // Requests waiting for their cycle will not get it: the vehicle is on its own.
-  std::sort(waiting_.begin(), waiting_.end(),
-            [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
-  for (const auto& w : waiting_) {
-    send(protocol::Err{w.request.id, ErrorCode::NotReady, "the watchdog tripped: the vehicle is surfacing on its own"});
+  if (!sim_.watchdog_tripped()) {
+    sim_.watchdog_trip(reason);
+    flush_events();
+    // Requests waiting for their cycle will not get it: the vehicle is on its own.
+    std::sort(waiting_.begin(), waiting_.end(),
+              [](const Waiting& a, const Waiting& b) { return a.request.id < b.request.id; });
+    for (const auto& w : waiting_) {
+      send(protocol::Err{w.request.id, ErrorCode::NotReady,
+                         "the watchdog tripped: the vehicle is surfacing on its own"});
+    }
+    waiting_.clear();
   }
-  waiting_.clear();
+  // Tripped already (in simulated time, during a lost link the client still
+  // advanced through): the vehicle may still be on its way up.
   if (options_.clock == protocol::ClockMode::Lockstep) run_alone(std::nullopt);
 }
 
@@ -94,17 +99,20 @@ void VehicleServer::run_alone(std::optional<double> trip_at_s) {
 // One batch of cycles, then yield to the event loop.
 void VehicleServer::run_alone_batch() {
   if (stopped_ || !running_alone_) return;
-  for (int i = 0; i < 100 && sim_.time_s() < alone_until_s_; ++i) {
+  // Up is checked at every cycle, so the log says when, not the batch's end.
+  const auto up = [this] { return sim_.watchdog_tripped() && sim_.surface_reached(); };
+  for (int i = 0; i < 100 && sim_.time_s() < alone_until_s_ && !up(); ++i) {
     step_one();
     if (alone_trip_at_s_ && !sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *alone_trip_at_s_) {
       sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
       flush_events();
     }
   }
-  if ((sim_.watchdog_tripped() && sim_.surface_reached()) || sim_.time_s() >= alone_until_s_) {
+  if (up() || sim_.time_s() >= alone_until_s_) {
     log(fmt::format("{:.1f} s: {}", sim_.time_s(),
                     sim_.surface_reached() ? "at the surface; holding" : "not at the surface in time"));
     running_alone_ = false;
+    if (auto held = std::exchange(held_advance_, std::nullopt)) advance(held->id, held->until_s);
     settled();
     return;
   }
