@@ -149,6 +149,7 @@ class NetChecker {
     }
     if (a.function) args_.check_names(net_, a.function->args);
     if (a.function && options_.primitive) check_primitive(a);
+    if (a.text && a.text->kind == ast::Literal::Kind::Parameter) args_.check_report_param(net_, *a.text);
   }
 
   void check_primitive(const ast::Tactic& a) {
@@ -253,8 +254,8 @@ class NetChecker {
     warn_unused_params();
   }
 
-  // A parameter that no primitive argument or PHASE argument of the net
-  // names: its value is given at every call and then dropped, most
+  // A parameter that no primitive argument, REPORT or PHASE argument of the
+  // net names: its value is given at every call and then dropped, most
   // likely a slip (`track(x0, y0, x1, y0)` for `y1`).
   void warn_unused_params() {
     if (net_.params.empty()) return;
@@ -268,6 +269,7 @@ class NetChecker {
       for (const auto& action : t.actions) {
         if (const auto* tactic = std::get_if<ast::Tactic>(&action)) {
           if (tactic->function) use(tactic->function->args);
+          if (tactic->text && tactic->text->kind == ast::Literal::Kind::Parameter) used.insert(tactic->text->text);
         } else {
           use(std::get<ast::Phase>(action).args);
         }
