@@ -71,28 +71,35 @@ execute_phase(launch) :-
     exec_goto_depth(5, D), D = 1,
     asserta(complete(launch)).
 
-% One leg, watched once a second.
+% One leg with the sonar on, watched once a second; the sonar is stopped
+% at its end, whether it completes or aborts.
 execute_phase(leg(N)) :-
     leg_track(N, X0, Y0, X1, Y1),
     exec_track(X0, Y0, X1, Y1, X), X = 1,
+    exec_start_sonar(S), S = 1,
     repeat,
     leg_check(leg(N)), !.
 
 leg_check(P) :-
     exec_sleep(1, _),
     ask_waypoint_reached(X), X = 1,
+    exec_stop_sonar(S), S = 1,
     asserta(complete(P)).
 leg_check(P) :-
     ask_system_problem(X), X = 1,
     report('leg: a problem on board'),
-    asserta(abort(P)).
+    leg_abort(P).
 leg_check(P) :-
     ask_altitude_low(X), X = 1,
     report('leg: the seabed is under the altitude floor'),
-    asserta(abort(P)).
+    leg_abort(P).
 leg_check(P) :-
     ask_position_uncertain(X), X = 1,
     report('leg: the position is uncertain'),
+    leg_abort(P).
+
+leg_abort(P) :-
+    exec_stop_sonar(S), S = 1,
     asserta(abort(P)).
 
 % Between legs: up, half a minute of fixes, a fix, down to 5 m again.

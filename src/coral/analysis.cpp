@@ -28,6 +28,7 @@ std::vector<std::string> outcome_suffixes(const Program& program, const ActionSp
 
 std::string action_text(const ActionSpec& a) {
   if (a.kind == ActionSpec::Kind::Phase) return "PHASE " + phase_call_text(a);
+  if (a.tactic == ast::TacticType::Report && !a.args.empty()) return "REPORT " + a.args.front().text;
   if (a.tactic == ast::TacticType::Report) {
     std::string text;
     for (char c : a.text) {

@@ -172,6 +172,29 @@ void ArgumentChecker::check_names(const ast::Net& net, const std::vector<ast::Li
   }
 }
 
+void ArgumentChecker::check_report_param(const ast::Net& net, const ast::Literal& name) {
+  auto j = param_index(net, name.text);
+  if (!j) {
+    auto* d = sink_.report(DiagnosticKind::TacticArguments, name.span,
+                           fmt::format("TACTIC(REPORT, ...) takes a string in quotes, or a string parameter of its "
+                                       "net; '{}' is no parameter of '{}'",
+                                       name.text, net.name.text));
+    std::vector<std::string> names;
+    for (const auto& p : net.params) {
+      if (p.type == ast::ParamType::String) names.push_back(p.name.text);
+    }
+    if (auto s = suggest(name.text, names)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+    return;
+  }
+  const ast::Param& p = net.params[*j];
+  if (p.type != ast::ParamType::String) {
+    auto* d = sink_.report(
+        DiagnosticKind::ArgumentType, name.span,
+        fmt::format("REPORT's text is a string, but '{}' is a {} parameter", name.text, type_name(p.type)));
+    core::add_note(d, p.span, "declared here (declare it `string " + p.name.text + "` to report it)");
+  }
+}
+
 namespace {
 
 // One literal number against a range: ArgumentOutOfRange at the literal,

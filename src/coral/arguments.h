@@ -39,6 +39,10 @@ class ArgumentChecker {
   // A primitive call's arguments against its signature: each literal's type
   // and range, each parameter's type. The count is the checker's.
   void check_primitive_args(const ast::Net& net, const ast::Call& call, const PrimitiveSignature& sig);
+  // `TACTIC(REPORT, name)`: name must be a string parameter of net
+  // (ArgumentType if a number; TacticArguments if it is no parameter, which
+  // the parser already refuses for text it parsed).
+  void check_report_param(const ast::Net& net, const ast::Literal& name);
   // A PHASE call's arguments against the callee's parameters: count, types,
   // and each literal number against the parameter's range.
   void check_phase_args(const ast::Net& caller, const ast::Phase& call, const ast::Net& callee);

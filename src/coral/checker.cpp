@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -148,6 +149,7 @@ class NetChecker {
     }
     if (a.function) args_.check_names(net_, a.function->args);
     if (a.function && options_.primitive) check_primitive(a);
+    if (a.text && a.text->kind == ast::Literal::Kind::Parameter) args_.check_report_param(net_, *a.text);
   }
 
   void check_primitive(const ast::Tactic& a) {
@@ -216,8 +218,9 @@ class NetChecker {
     args_.check_phase_args(net_, a, phase);
   }
 
-  // Warnings: transitions without input, places nothing touches, and
-  // transitions that no sequence of firings can ever enable.
+  // Warnings: transitions without input, places nothing touches,
+  // transitions that no sequence of firings can ever enable, and parameters
+  // nothing uses.
   void warn_structure() {
     std::set<std::string> read, written;
     for (const auto& t : net_.transitions) {
@@ -248,6 +251,36 @@ class NetChecker {
       }
     }
     warn_never_enabled();
+    warn_unused_params();
+  }
+
+  // A parameter that no primitive argument, REPORT or PHASE argument of the
+  // net names: its value is given at every call and then dropped, most
+  // likely a slip (`track(x0, y0, x1, y0)` for `y1`).
+  void warn_unused_params() {
+    if (net_.params.empty()) return;
+    std::set<std::string_view> used;
+    auto use = [&](const std::vector<ast::Literal>& args) {
+      for (const auto& a : args) {
+        if (a.kind == ast::Literal::Kind::Parameter) used.insert(a.text);
+      }
+    };
+    for (const auto& t : net_.transitions) {
+      for (const auto& action : t.actions) {
+        if (const auto* tactic = std::get_if<ast::Tactic>(&action)) {
+          if (tactic->function) use(tactic->function->args);
+          if (tactic->text && tactic->text->kind == ast::Literal::Kind::Parameter) used.insert(tactic->text->text);
+        } else {
+          use(std::get<ast::Phase>(action).args);
+        }
+      }
+    }
+    for (const auto& p : net_.params) {
+      if (used.count(p.name.text)) continue;
+      sink_.report(DiagnosticKind::UnusedParameter, p.name.span,
+                   fmt::format("parameter '{}' of '{}' is never used: every call gives it a value that is dropped",
+                               p.name.text, net_.name.text));
+    }
   }
 
   // Least fixpoint: a place may be marked if it starts marked or some

@@ -47,7 +47,11 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
           spec.target = tactic->function->name.text;
           spec.args = tactic->function->args;
         }
-        if (tactic->text) spec.text = tactic->text->value;
+        if (tactic->text && tactic->text->kind == ast::Literal::Kind::Parameter) {
+          spec.args = {*tactic->text};  // the engine substitutes the phase's value
+        } else if (tactic->text) {
+          spec.text = tactic->text->value;
+        }
         for (const auto& p : tactic->places) spec.outcomes.push_back(id(p.text));
         spec.span = tactic->span;
       } else {

@@ -1,7 +1,10 @@
 #include "coral/parser.h"
 
+#include <algorithm>
 #include <initializer_list>
 #include <limits>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -67,6 +70,7 @@ class Parser : private TokenCursor {
     net.name = *n;
     net.span = join(head.span, n->span);
     if (match(TK::LParen)) parse_params(net);
+    params_ = &net.params;  // for TACTIC(REPORT, name) in the body
     // A missing '{' is reported, then the body is parsed as if it were there.
     bool opened = expect(TK::LBrace, "to open the net body");
     while (!at(TK::RBrace) && !at(TK::EndOfFile) && !at(TK::KwNet) && !at(TK::KwMission) && !at(TK::KwImport)) {
@@ -93,6 +97,7 @@ class Parser : private TokenCursor {
       net.body_end = tok_.span.offset;
       advance();
     }
+    params_ = nullptr;
     file_.nets.push_back(std::move(net));
   }
 
@@ -311,10 +316,21 @@ class Parser : private TokenCursor {
     } else if (at(TK::Identifier)) {
       auto call = parse_call();
       if (!call) return std::nullopt;
-      if (a.type == ast::TacticType::Report) {
-        sink_.report(DiagnosticKind::TacticArguments, call->span, "TACTIC(REPORT, ...) takes a string in quotes");
+      if (a.type == ast::TacticType::Report && !call->has_parens && is_param(call->name.text)) {
+        // `TACTIC(REPORT, label)`: a parameter of the net (the checker
+        // wants it to be a string one).
+        a.text = ast::Literal{ast::Literal::Kind::Parameter, call->name.text, call->name.text, call->name.span};
+      } else {
+        if (a.type == ast::TacticType::Report) {
+          sink_.report(DiagnosticKind::TacticArguments, call->span,
+                       call->has_parens ? std::string("TACTIC(REPORT, ...) takes a string in quotes, or a string "
+                                                      "parameter of its net")
+                                        : fmt::format("TACTIC(REPORT, ...) takes a string in quotes, or a string "
+                                                      "parameter of its net; '{}' is neither",
+                                                      call->name.text));
+        }
+        a.function = std::move(*call);
       }
-      a.function = std::move(*call);
     } else {
       error_here(a.type == ast::TacticType::Report ? "expected a string in quotes" : "expected a primitive name");
       return std::nullopt;
@@ -354,6 +370,11 @@ class Parser : private TokenCursor {
     return a;
   }
 
+  bool is_param(std::string_view name) const {
+    if (!params_) return false;
+    return std::any_of(params_->begin(), params_->end(), [&](const ast::Param& p) { return p.name.text == name; });
+  }
+
   std::optional<ast::Call> parse_call() {
     ast::Call call;
     call.name = {std::string(tok_.text), tok_.span};
@@ -391,6 +412,7 @@ class Parser : private TokenCursor {
   }
 
   ast::File file_;
+  const std::vector<ast::Param>* params_ = nullptr;  // the net being parsed
 };
 
 }  // namespace

@@ -42,7 +42,7 @@ std::string describe(const petri::Net& net, const ActionSpec& a) {
   }
   std::string what;
   if (a.tactic == ast::TacticType::Report) {
-    what = escape(a.text);
+    what = a.args.empty() ? escape(a.text) : a.args.front().text;
   } else {
     what = a.target;
     if (!a.args.empty()) {

@@ -20,7 +20,7 @@ struct ActionSpec {
   // parameters, in order). In a parameterised net an argument may be
   // Kind::Parameter: the engine substitutes the value the phase was run with.
   std::vector<ast::Literal> args;
-  std::string text;  // REPORT only
+  std::string text;  // REPORT only: its string, or empty when args holds the parameter it reports
   // Places marked by the outcome: EXEC/OOD [done]; ASK [true, false];
   // REPORT []; PHASE one per exit of the phase, in exit order.
   std::vector<petri::PlaceId> outcomes;

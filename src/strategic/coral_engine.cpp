@@ -68,7 +68,7 @@ CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, Engine
       for (const coral::ActionSpec& a : net.actions[t]) {
         std::vector<tactical::Value> values;
         std::vector<std::pair<std::size_t, std::size_t>> slots;
-        if (a.kind == coral::ActionSpec::Kind::Tactic && a.tactic == coral::ast::TacticType::Report) {
+        if (a.kind == coral::ActionSpec::Kind::Tactic && a.tactic == coral::ast::TacticType::Report && a.args.empty()) {
           values.push_back(tactical::Value::of(a.text));
         } else {
           for (const auto& literal : a.args) {

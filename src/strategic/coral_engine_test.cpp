@@ -225,6 +225,25 @@ TEST(CoralEngine, PhaseArgumentsAreSubstitutedIntoTheCallsTheInstanceIssues) {
   EXPECT_EQ(Outcome::Completed, h.on_end_result->outcome);
 }
 
+// A REPORT may name a string parameter of its net: it reports the value of
+// the call that started the instance, a literal or the caller's own
+// parameter passed on.
+TEST(CoralEngine, ReportOfAParameterSendsTheCallsValue) {
+  Harness h(R"(
+    net say(string text) { place s = 1; exit done;
+      transition t { wait { s } action { TACTIC(REPORT, text) } signal { done } } }
+    net relay(string what) { place s = 1; exit done;
+      transition t { wait { s } action { PHASE(say(what), done) } } }
+    mission m { place s = 1, a; exit completed;
+      transition one { wait { s } action { PHASE(say("leg 1 done"), a) } }
+      transition two { wait { a } action { PHASE(relay("passed on"), completed) } } }
+  )");
+  h.start();
+  EXPECT_EQ("report(leg 1 done) report(passed on)", h.tactics.names());
+  ASSERT_TRUE(h.on_end_result);
+  EXPECT_EQ(Outcome::Completed, h.on_end_result->outcome);
+}
+
 TEST(CoralEngine, ReplyForAnUnknownIdIsNoticedAndIgnored) {
   Harness h(R"(mission m { place s = 1; exit done;
     transition t { wait { s } action { TACTIC(EXEC, f, done) } } })");

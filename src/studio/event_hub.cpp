@@ -175,7 +175,14 @@ nlohmann::json EventHub::snapshot_locked() const {
   }
   nlohmann::json telemetry = nlohmann::json::array(), reports = nlohmann::json::array();
   for (const auto& e : telemetry_) {
-    telemetry.push_back({field(e, "t", 0.0), field(e, "depth", 0.0), field(e, "setpoint", none)});
+    nlohmann::json row = {field(e, "t", 0.0), field(e, "depth", 0.0), field(e, "setpoint", none)};
+    // [t, depth, setpoint, x, y] where the sample has a position (open water).
+    const nlohmann::json x = field(e, "x", none), y = field(e, "y", none);
+    if (x.is_number() && y.is_number()) {
+      row.push_back(x);
+      row.push_back(y);
+    }
+    telemetry.push_back(std::move(row));
   }
   for (const auto& e : reports_) reports.push_back(e->json());
   return {{"run", field(run_, "run", none)},

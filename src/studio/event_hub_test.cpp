@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "protocol/message.h"
+#include "studio/run_publisher.h"
+
 namespace strata::studio {
 namespace {
 
@@ -43,6 +46,9 @@ TEST(EventHub, TheSnapshotFollowsTheRun) {
   ASSERT_EQ(1u, s["instances"].size());
   EXPECT_EQ("m", s["instances"][0]["net"]);
   EXPECT_EQ(nlohmann::json::array({0.5, 0.1, 1.0}), s["telemetry"][0]);
+  // A sample with a position (open water) carries it at the end of its row.
+  hub.publish("telemetry", {{"t", 0.6}, {"depth", 0.2}, {"setpoint", nullptr}, {"x", 12.5}, {"y", -3.0}});
+  EXPECT_EQ(nlohmann::json::array({0.6, 0.2, nullptr, 12.5, -3.0}), hub.snapshot()["telemetry"][1]);
   hub.publish("run_end", {{"outcome", "completed"}});
   s = hub.snapshot();
   EXPECT_TRUE(s["in_flight"].empty());
@@ -165,6 +171,38 @@ TEST(EventHub, NothingNewIsAnEmptyChunkAndClosingEndsTheStream) {
   EXPECT_EQ(1u, hub.subscribers());
   sub.reset();
   EXPECT_EQ(0u, hub.subscribers());
+}
+
+}  // namespace
+}  // namespace strata::studio
+
+namespace strata::studio {
+namespace {
+
+// Issue 20: an open-water sample's estimated position (the line's x= and y=)
+// goes to the live view's map; a tank sample has none, and its row stays
+// [t, depth, setpoint]. A position that is not a number is left out.
+TEST(RunPublisher, TelemetryCarriesThePositionOfAnOpenWaterSample) {
+  EventHub hub;
+  RunPublisher pub(hub);
+  protocol::Telemetry tank;
+  tank.sim_time_s = 1.0;
+  tank.depth_m = 0.5;
+  pub.telemetry(tank);
+  protocol::Telemetry sea = tank;
+  sea.sim_time_s = 2.0;
+  sea.extras["x"] = "125.50";
+  sea.extras["y"] = "-20.25";
+  pub.telemetry(sea);
+  protocol::Telemetry bad = sea;
+  bad.sim_time_s = 3.0;
+  bad.extras["y"] = "nan";
+  pub.telemetry(bad);
+  const auto rows = hub.snapshot()["telemetry"];
+  ASSERT_EQ(3u, rows.size()) << rows.dump();
+  EXPECT_EQ(nlohmann::json::array({1.0, 0.5, nullptr}), rows[0]);
+  EXPECT_EQ(nlohmann::json::array({2.0, 0.5, nullptr, 125.5, -20.25}), rows[1]);
+  EXPECT_EQ(3u, rows[2].size()) << rows[2].dump();
 }
 
 }  // namespace

@@ -290,7 +290,12 @@ core::Result<std::string> action_text_of(const nlohmann::json& a) {
   if (kind == "PHASE") return fmt::format("PHASE({}{})", call_of(target), names("outcomes"));
   if (kind != "TACTIC") return core::Error{core::ErrorCode::InvalidInput, "an action's kind is TACTIC or PHASE"};
   const std::string type = a.value("type", "");
-  if (type == "REPORT") return fmt::format("TACTIC(REPORT, {})", coral::escape(a.value("text", "")));
+  if (type == "REPORT") {
+    // A REPORT of a string parameter comes as args ["label"] and no text.
+    const auto args = a.value("args", nlohmann::json::array());
+    if (!args.empty() && args[0].is_string()) return fmt::format("TACTIC(REPORT, {})", args[0].get<std::string>());
+    return fmt::format("TACTIC(REPORT, {})", coral::escape(a.value("text", "")));
+  }
   if (type != "EXEC" && type != "ASK" && type != "OOD") {
     return core::Error{core::ErrorCode::InvalidInput, fmt::format("'{}' is not a TACTIC type", type)};
   }

@@ -184,6 +184,46 @@ mission box {
   EXPECT_EQ(json::parse(R"(["270", "3"])"), actions["four"]["args"]);
 }
 
+// A REPORT of a string parameter: the model shows the parameter as the
+// action's argument (its label too), and an edit of the transition's
+// actions, which sends it back as the page got it, keeps it.
+TEST_F(StudioServerTest, AReportOfAParameterShowsAndKeepsItsName) {
+  auto c = client();
+  const std::string text = R"(net say(string text) {
+  place start = 1, said;
+  exit done;
+  transition t { wait { start } action { TACTIC(REPORT, text) } signal { said } }
+  transition u { wait { said } action { TACTIC(EXEC, sleep(1), done) } }
+}
+mission m {
+  place begin = 1;
+  exit completed;
+  transition one { wait { begin } action { PHASE(say("hello"), completed) } }
+}
+)";
+  auto put = c.Put("/api/file?path=tank/say.coral", text, "text/plain");
+  ASSERT_TRUE(put && put->status < 300) << (put ? put->body : "no answer");
+  auto opened = c.Get("/api/mission?path=tank/say.coral");
+  ASSERT_TRUE(opened && opened->status == 200);
+  const json model = json::parse(opened->body);
+  json report;
+  for (const auto& n : model["nets"]) {
+    if (n["name"] != "say") continue;
+    for (const auto& t : n["transitions"]) {
+      if (t["name"] == "t") report = t["actions"][0];
+    }
+  }
+  ASSERT_TRUE(report.is_object()) << opened->body.substr(0, 300);
+  EXPECT_EQ(json::parse(R"(["text"])"), report["args"]);
+  EXPECT_EQ("REPORT text", report["label"]);
+  const json op = {{"op", "set_actions"}, {"net", "say"}, {"transition", "t"}, {"actions", json::array({report})}};
+  const json m = post_edit(c, {{"path", "tank/say.coral"}, {"text", text}, {"op", op}});
+  ASSERT_TRUE(m.contains("nets")) << m.dump().substr(0, 300);
+  EXPECT_NE(std::string::npos, m["text"].get<std::string>().find("TACTIC(REPORT, text)"))
+      << m["text"].get<std::string>();
+  EXPECT_TRUE(m["diagnostics"].empty()) << m["diagnostics"].dump();
+}
+
 TEST_F(StudioServerTest, AnEditWhoseBaseIsNotAStringIsRefusedWith400) {
   auto c = client();
   auto opened = c.Get("/api/mission?path=tank/tank.coral");

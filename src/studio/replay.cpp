@@ -71,8 +71,14 @@ core::Result<nlohmann::json> replay_from_log(const std::string& text) {
       markings.erase(instance);
       emit("phase_end", {{"instance", instance}, {"net", e.value("net", "")}, {"exit", e.value("exit", "")}});
     } else if (kind == "telemetry") {
-      emit("telemetry", {{"depth", e.value("depth_m", 0.0)},
-                         {"setpoint", e.contains("setpoint_m") ? e["setpoint_m"] : nlohmann::json(nullptr)}});
+      nlohmann::json d = {{"depth", e.value("depth_m", 0.0)},
+                          {"setpoint", e.contains("setpoint_m") ? e["setpoint_m"] : nlohmann::json(nullptr)}};
+      // The estimated position, where the log has one (open water), for the map.
+      if (e.contains("x_m") && e.contains("y_m") && e["x_m"].is_number() && e["y_m"].is_number()) {
+        d["x"] = e["x_m"];
+        d["y"] = e["y_m"];
+      }
+      emit("telemetry", std::move(d));
     } else if (kind == "report") {
       emit("report", {{"text", e.value("text", "")}});
     } else if (kind == "mission_end") {

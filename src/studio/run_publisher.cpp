@@ -1,5 +1,10 @@
 #include "studio/run_publisher.h"
 
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string>
+
 #include "petri/state.h"
 
 namespace strata::studio {
@@ -189,12 +194,36 @@ void RunPublisher::run_ended(const run::RunReport& report) {
                            {"t", r.sim_time_s}});
 }
 
+namespace {
+
+// An extra field of the telemetry line as a finite number, if it is one.
+std::optional<double> extra_number(const protocol::Telemetry& sample, const std::string& key) {
+  const auto it = sample.extras.find(key);
+  if (it == sample.extras.end()) return std::nullopt;
+  double v = 0.0;
+  const char* end = it->second.data() + it->second.size();
+  const auto [ptr, ec] = std::from_chars(it->second.data(), end, v);
+  if (ec != std::errc{} || ptr != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
 void RunPublisher::telemetry(const protocol::Telemetry& sample) {
   const double t = sample.sim_time_s;
   const double depth_m = sample.depth_m.value_or(0.0);
   const std::optional<double> setpoint_m = sample.setpoint_m;
-  hub_.publish_lazy("telemetry", {}, [t, depth_m, setpoint_m] {
-    return json{{"t", t}, {"depth", depth_m}, {"setpoint", setpoint_m ? json(*setpoint_m) : json(nullptr)}};
+  // The vehicle's estimated position (open water only; the map panel draws
+  // it). A tank run's samples have none, and leave x and y out.
+  const std::optional<double> x_m = extra_number(sample, "x");
+  const std::optional<double> y_m = extra_number(sample, "y");
+  hub_.publish_lazy("telemetry", {}, [t, depth_m, setpoint_m, x_m, y_m] {
+    json out{{"t", t}, {"depth", depth_m}, {"setpoint", setpoint_m ? json(*setpoint_m) : json(nullptr)}};
+    if (x_m && y_m) {
+      out["x"] = *x_m;
+      out["y"] = *y_m;
+    }
+    return out;
   });
 }
 

@@ -232,6 +232,26 @@ TEST_F(StudioServerTest, AReplayNamesItsMissionRelativeToTheFolder) {
   EXPECT_EQ("aborted", j["events"].back()["data"]["outcome"]);
 }
 
+// Issue 20: the map panel of a replay draws the track from the log's
+// estimated position; a tank log's telemetry has none, and gets none.
+TEST_F(StudioServerTest, AReplaysTelemetryCarriesThePositionWhereTheLogHasOne) {
+  const std::string log =
+      json{{"event", "run"}, {"mission", "survey.coral"}}.dump() + "\n" +
+      json{{"event", "telemetry"}, {"sim_time", 1.0}, {"depth_m", 0.5}, {"x_m", 10.25}, {"y_m", -4.5}}.dump() + "\n" +
+      json{{"event", "telemetry"}, {"sim_time", 2.0}, {"depth_m", 0.7}, {"setpoint_m", 1.0}}.dump() + "\n";
+  fs::create_directories(base_ / "root/survey/runs");
+  write_file(base_ / "root/survey/runs/20261125T101010Z-survey.jsonl", log);
+  auto r = client().Get("/api/replay?path=survey/runs/20261125T101010Z-survey.jsonl");
+  ASSERT_EQ(200, r->status) << r->body;
+  json j = json::parse(r->body);
+  ASSERT_EQ(2u, j["events"].size()) << j.dump();
+  const json& open = j["events"][0]["data"];
+  EXPECT_EQ(10.25, open["x"]);
+  EXPECT_EQ(-4.5, open["y"]);
+  EXPECT_EQ(1.0, open["t"]);
+  EXPECT_FALSE(j["events"][1]["data"].contains("x")) << j.dump();
+}
+
 TEST_F(StudioServerTest, AbortAndStopGoToTheRunner) {
   auto c = client();
   EXPECT_EQ(200, c.Post("/api/run/abort", "", "application/json")->status);

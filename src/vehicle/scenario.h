@@ -63,8 +63,8 @@
 // vehicle.x_m and y_m may be negative (|x|, |y| <= 100 km), and start the
 // vehicle there (default: the origin). The launch position is known to
 // navigation.initial_sd_m (params.h); GPS fixes at the surface refine it.
-// The forward-looking sonar still models the tank's walls around the plan's
-// origin: in open water leave it off. Unknown keys, unknown kinds, missing or out-of-range fields are errors with
+// The forward-looking sonar sees no walls in open water (only a target, if
+// the scenario has one, within its range). Unknown keys, unknown kinds, missing or out-of-range fields are errors with
 // "path:line:col: message". The simulation applies weak_thrusters, leak and
 // sensor_dropout itself; link_loss is only exposed (Scenario::link_lost,
 // Simulation::link_lost) for the protocol server to act on.

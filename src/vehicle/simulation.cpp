@@ -31,7 +31,7 @@ Simulation::Simulation(VehicleParams params, Scenario scenario)
       scenario_(std::move(scenario)),
       cell_(params_.depth_noise_m, scenario_.seed),
       filter_(params_.filter_alpha, params_.filter_beta, params_.cycle_s),
-      sonar_(params_, scenario_.seed, scenario_.target),
+      sonar_(params_, scenario_.seed, scenario_.target, !scenario_.world.open_water),
       nav_(params_, 0.0, 0.0, 0.0),
       // Noise streams of their own, so the depth cell's and the sonar's
       // sequences are the same as before the horizontal plane existed.

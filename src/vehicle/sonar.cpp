@@ -57,16 +57,6 @@ void add_echo(std::vector<double>& level, double bin_m, double range_m, double a
   }
 }
 
-// The nearest wall over the beam's rays: what the detector compares with.
-double nearest_wall_m(const VehicleParams& p, const Pose& pose, double bearing_deg) {
-  double nearest = std::numeric_limits<double>::infinity();
-  for (int j = 0; j < kRays; ++j) {
-    const double dir = pose.heading_deg + bearing_deg + ray_offset_deg(p, j);
-    nearest = std::min(nearest, wall_hit(p, pose.x_m, pose.y_m, dir).range_m);
-  }
-  return nearest;
-}
-
 }  // namespace
 
 RayHit wall_hit(const VehicleParams& p, double x_m, double y_m, double dir_deg) {
@@ -95,9 +85,10 @@ std::optional<RayHit> cylinder_hit(const Target& t, double x_m, double y_m, doub
   return RayHit{range, std::clamp(-(nx * dx + ny * dy), 0.0, 1.0)};
 }
 
-Sonar::Sonar(const VehicleParams& p, std::uint64_t seed, std::optional<Target> target)
+Sonar::Sonar(const VehicleParams& p, std::uint64_t seed, std::optional<Target> target, bool tank_walls)
     : p_(p),
       target_(target),
+      tank_walls_(tank_walls),
       rng_(sonar_seed(seed)),
       step_deg_(p.sonar_step_deg),
       max_step_(static_cast<int>(std::floor(p.sonar_sector_half_deg / p.sonar_step_deg + 1e-9))),
@@ -147,7 +138,7 @@ protocol::SonarPing Sonar::make_ping(double time_s, double bearing_deg, const Po
   const BeamPattern pattern(p_);
   for (int j = 0; j < kRays; ++j) {
     const double dir = pose.heading_deg + bearing_deg + ray_offset_deg(p_, j);
-    const RayHit wall = wall_hit(p_, pose.x_m, pose.y_m, dir);
+    const RayHit wall = this->wall(pose, dir);
     RayHit hit = wall;
     double echo = p_.sonar_wall_echo;
     const auto t = target_ ? cylinder_hit(*target_, pose.x_m, pose.y_m, dir) : std::nullopt;
@@ -155,7 +146,7 @@ protocol::SonarPing Sonar::make_ping(double time_s, double bearing_deg, const Po
       hit = *t;
       echo = p_.sonar_target_echo;
     }
-    add_echo(level, bin_m, hit.range_m, echo * hit.cos_incidence * pattern.weight[j]);
+    if (std::isfinite(hit.range_m)) add_echo(level, bin_m, hit.range_m, echo * hit.cos_incidence * pattern.weight[j]);
   }
   protocol::SonarPing ping;
   ping.time_s = time_s;
@@ -175,13 +166,28 @@ protocol::SonarPing Sonar::make_ping(double time_s, double bearing_deg, const Po
 
 bool Sonar::shows_target(const protocol::SonarPing& ping) const {
   const Pose pose{ping.x_m, ping.y_m, ping.heading_deg};
-  const double limit_m = nearest_wall_m(p_, pose, ping.bearing_deg) - p_.sonar_detect_margin_m;
+  const double limit_m = nearest_wall_m(pose, ping.bearing_deg) - p_.sonar_detect_margin_m;
   const double bin_m = p_.sonar_range_m / static_cast<double>(ping.bins.size());
   for (std::size_t i = 0; i < ping.bins.size(); ++i) {
     if ((static_cast<double>(i) + 1.0) * bin_m > limit_m) break;
     if (ping.bins[i] >= p_.sonar_detect_threshold) return true;
   }
   return false;
+}
+
+RayHit Sonar::wall(const Pose& pose, double dir_deg) const {
+  if (!tank_walls_) return {std::numeric_limits<double>::infinity(), 0.0};
+  return wall_hit(p_, pose.x_m, pose.y_m, dir_deg);
+}
+
+// The nearest wall over the beam's rays: what the detector compares with.
+double Sonar::nearest_wall_m(const Pose& pose, double bearing_deg) const {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < kRays; ++j) {
+    const double dir = pose.heading_deg + bearing_deg + ray_offset_deg(p_, j);
+    nearest = std::min(nearest, wall(pose, dir).range_m);
+  }
+  return nearest;
 }
 
 // Uniform in (0, 1) from the top 53 bits: never 0, so log is finite.

@@ -81,7 +81,9 @@ std::optional<RayHit> cylinder_hit(const Target& t, double x_m, double y_m, doub
 
 class Sonar {
  public:
-  Sonar(const VehicleParams& p, std::uint64_t seed, std::optional<Target> target);
+  // tank_walls: the tank's plan bounds the water (the tank world); false in
+  // open water, where nothing but a target returns an echo within range.
+  Sonar(const VehicleParams& p, std::uint64_t seed, std::optional<Target> target, bool tank_walls = true);
 
   // Idempotent; start() empties the detector's window, the buffer stays.
   void start();
@@ -111,9 +113,14 @@ class Sonar {
 
  private:
   double uniform();
+  // The wall along dir_deg: wall_hit in the tank; in open water none (an
+  // infinite range, nothing returned).
+  RayHit wall(const Pose& pose, double dir_deg) const;
+  double nearest_wall_m(const Pose& pose, double bearing_deg) const;
 
   VehicleParams p_;
   std::optional<Target> target_;
+  bool tank_walls_;
   std::mt19937_64 rng_;
   double step_deg_;
   int max_step_;  // K

@@ -257,6 +257,32 @@ TEST(SonarDetector, NothingIsDetectedInAnEmptyTank) {
   }
 }
 
+// Open water has no walls: a vehicle far outside the tank's plan (where the
+// tank's geometry put a wall at 0 m) hears only noise, and a target ahead of
+// it within range is echoed and detected.
+TEST(SonarOpenWater, NoWallsOnlyNoiseAndTheTarget) {
+  Sonar empty(kSonarP, 1, std::nullopt, /*tank_walls=*/false);
+  const auto q = empty.make_ping(0.0, 0.0, Pose{150.0, 40.0, 90.0});
+  EXPECT_LT(strongest_in(q, 0, 199), 90);  // noise only, no wall at 0 m
+  EXPECT_FALSE(empty.shows_target(q));
+
+  Sonar with(kSonarP, 1, Target{154.0, 40.0, 0.3}, /*tank_walls=*/false);
+  const auto p = with.make_ping(0.0, 0.0, Pose{150.0, 40.0, 90.0});
+  EXPECT_NEAR(3.7 / kBin_m, strongest_bin(p), 1.0);
+  EXPECT_TRUE(with.shows_target(p));
+
+  Scenario s = placed(150.0, 40.0, 90.0, std::nullopt);
+  s.world.open_water = true;
+  Simulation sim = pinging(s);
+  for (int i = 0; i < 100; ++i) {
+    sim.step();
+    ASSERT_FALSE(sim.target_detected()) << sim.time_s();
+  }
+  const auto pings = sim.take_pings();
+  ASSERT_FALSE(pings.empty());
+  for (const auto& ping : pings) ASSERT_LT(strongest_in(ping, 0, 199), 90) << ping.seq;
+}
+
 TEST(SonarDeterminism, SameScenarioSamePingsAndTrajectoryBitForBit) {
   auto run = [](std::uint64_t seed) {
     Simulation sim = pinging(placed(4.0, 3.0, 20.0, Target{7.0, 6.0, 0.25}, seed));

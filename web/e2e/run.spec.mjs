@@ -29,6 +29,8 @@ test('run nominal at ×10: the live view reaches the end with the final marking,
   await page.locator('#net-list li[data-net="tank"]').click();
   await waitFor(page, "s.net === 'tank' && cy.getElementById('p:closed').data('tokens') === 1", 5000, 'closed drawn with one token');
   expect(await page.locator('#chart canvas').count()).toBeGreaterThan(0);
+  expect(await studio(page, 's.map.shown')).toBe(false);  // a tank run has no x-y track
+  await expect(page.locator('#map-box')).toBeHidden();
   await page.screenshot({ path: path.join(OUT, 'studio-run.png') });
   // A net picked by the user stops the following; double-click a PHASE
   // transition opens its net with the run's marking.
@@ -68,6 +70,24 @@ test('replay a mission log with the slider, and step it from firing to firing', 
   await page.screenshot({ path: path.join(OUT, 'studio-replay.png') });
   await page.locator('#replay-close').click();
   await waitFor(page, "!s.replay && s.view !== 'replay'", 3000, 'replay closed');
+});
+
+test('a survey replay shows the map: the whole track, the vehicle moving with the slider', async ({ page }) => {
+  page.studio.runLog('missions/survey/survey.coral', 'survey-run.jsonl');
+  await page.goto(page.studio.url);
+  await page.locator('#log-list li[data-path="survey-run.jsonl"]').click();
+  await waitFor(page, "s.replay && s.replay.length > 10 && s.view === 'replay' && s.map.shown && s.map.drawn", 10000, 'replay with its map');
+  await expect(page.locator('#map-box')).toBeVisible();
+  const end = await studio(page, 's.map.drawn');
+  expect(end.points).toBeGreaterThan(100);
+  expect(end.vehicle).not.toBeNull();
+  await page.screenshot({ path: path.join(OUT, 'studio-map.png') });
+  const n = await studio(page, 's.replay.length');
+  await page.locator('#replay-slider').fill(String(Math.floor(n / 3)));
+  await waitFor(page, `s.map.drawn && s.map.drawn.vehicle && (s.map.drawn.vehicle[0] !== ${end.vehicle[0]} || s.map.drawn.vehicle[1] !== ${end.vehicle[1]})`, 5000, 'the vehicle moved back along the track');
+  expect((await studio(page, 's.map.drawn')).points).toBe(end.points);  // the whole track stays
+  await page.locator('#replay-close').click();
+  await waitFor(page, "!s.replay && !s.map.shown", 3000, 'no map once the replay is closed');
 });
 
 test('a counterexample plays on its net: to the stall and one step back', async ({ page }) => {

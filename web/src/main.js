@@ -127,6 +127,7 @@ window.__studio = {
   get missions() { return getState().missions; },
   get readOnly() { return getState().readOnly; },
   get chart() { const c = panels.chart; return { cursor: c.cursor, cursorX: c.cursorX, bands: c.phases.length, points: c.count }; },
+  get map() { const m = panels.map; return { shown: !m.box.hidden, drawn: m.drawn }; },
   get replayKinds() { const r = getState().replay; return r && r.events.map((e) => e[0]); },
   get verify() { return getState().verify; },
   get cex() { const c = getState().cex; return c && { net: c.net, i: c.i, length: c.steps.length }; },

@@ -1,17 +1,19 @@
 // The panels around the canvas: header, file, log and net lists,
 // diagnostics, messages, the run (outcome, actions in flight, reports, the
-// depth chart), replay, verification, counterexamples, sonar, and a save's
+// depth chart and, in open water, the map of the track), replay, verification, counterexamples, sonar, and a save's
 // conflict. Each draws from the store when its part of the state changed.
 import { $, el } from './dom.js';
 import { DepthChart } from './chart.js';
+import { TrackMap } from './map.js';
 import { diagnosticsByElement } from './diag.js';
-import { displayNets, dirty, runGoing, runBanner, breadcrumb, chartData, scenarioList, isProlog } from './store.js';
+import { displayNets, dirty, runGoing, runBanner, breadcrumb, chartData, mapData, scenarioList, isProlog } from './store.js';
 import { diagnosticRange } from './textrange.js';
 import { lineDiff } from './diff.js';
 
 export function createPanels(store, fx) {
   const { getState, dispatch } = store;
   const chart = new DepthChart($('#chart'));
+  const map = new TrackMap($('#map-box'), $('#map'));
 
   function header(s) {
     const d = dirty(s);
@@ -153,6 +155,7 @@ export function createPanels(store, fx) {
       rl.scrollTop = rl.scrollHeight;
     }
     chart.update(chartData(s));
+    map.update(mapData(s));
     banner(s);
     crumbs(s);
   }
@@ -276,7 +279,7 @@ export function createPanels(store, fx) {
   }
   store.subscribe(render);
   render(getState());
-  return { chart };
+  return { chart, map };
 }
 
 export function describeSonar(f) {

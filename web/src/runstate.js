@@ -11,6 +11,7 @@ export function emptyRun() {
     enabled: {},               // net name -> [transition]
     inFlight: {},              // action id -> {id, instance, net, transition, kind, primitive}
     telemetry: [],             // [t, depth, setpoint]
+    track: [],                 // [t, x, y]: the vehicle's estimated position, from the samples that have one (open water)
     reports: [],               // {t, text}
     lastFired: null,           // {net, transition, index, t}
     currentNet: null,          // the net of the latest phase_start / fired
@@ -20,6 +21,9 @@ export function emptyRun() {
     events: 0,
   };
 }
+
+// x and y of a sample: both finite numbers, or no position (a tank run).
+function isPosition(x, y) { return Number.isFinite(x) && Number.isFinite(y); }
 
 function netOf(rs, instance, fallback) {
   const inst = rs.instances[instance];
@@ -54,6 +58,7 @@ export function applyEvent(rs, name, d) {
         if (k > depth) { depth = k; rs.active = i.instance; }
       }
       rs.telemetry = (d.telemetry || []).map((p) => [p[0], p[1], p[2]]);
+      rs.track = (d.telemetry || []).filter((p) => isPosition(p[3], p[4])).map((p) => [p[0], p[3], p[4]]);
       if (rs.telemetry.length) rs.t = rs.telemetry[rs.telemetry.length - 1][0];
       rs.reports = (d.reports || []).slice();
       if (d.ended) { rs.ended = d.ended; rs.status = d.ended.outcome || 'ended'; rs.active = null; }
@@ -116,6 +121,7 @@ export function applyEvent(rs, name, d) {
     }
     case 'telemetry':
       rs.telemetry.push([d.t, d.depth, d.setpoint]);
+      if (isPosition(d.x, d.y)) rs.track.push([d.t, d.x, d.y]);
       break;
     case 'report':
       rs.reports.push({ t: d.t, text: d.text });

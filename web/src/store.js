@@ -46,7 +46,7 @@ export function initialState() {
     follow: true,        // follow the run's phases
     rs: emptyRun(),      // the run shown (live, or the replay's)
     live: null,          // the live run, kept while a replay is shown
-    replay: null,        // {path, mission, events, pos, playing, full: {telemetry, phases}}
+    replay: null,        // {path, mission, events, pos, playing, full: {telemetry, phases, track}}
     verify: null,        // the last verification result
     cex: null,           // {net, key, steps, i}
     conflict: null,      // {path, theirs, etag, layoutEtag}: a save refused with 412
@@ -223,6 +223,7 @@ function replayTo(rs, r, k) {
   if (k === r.pos) return rs;
   const n = cloneRun(rs);
   n.telemetry = rs.telemetry.slice();
+  n.track = rs.track.slice();
   n.reports = rs.reports.slice();
   for (let i = r.pos; i < k; i++) applyEvent(n, r.events[i][0], r.events[i][1]);
   return n;
@@ -275,6 +276,18 @@ export function breadcrumb(s) {
 export function chartData(s) {
   if (s.view === 'replay' && s.replay) return { telemetry: s.replay.full.telemetry, phases: s.replay.full.phases, cursor: s.replay.pos > 0 ? s.rs.t : null };
   return { telemetry: s.rs.telemetry, phases: s.rs.phases, cursor: null };
+}
+
+// What the map panel draws: the track ([t, x, y] points) and the vehicle
+// (the latest point, or in a replay the point at the replay's position, none
+// at its start). An empty track (a tank run) hides the panel.
+export function mapData(s) {
+  const last = (track) => (track.length ? track[track.length - 1] : null);
+  if (s.view === 'replay' && s.replay) {
+    const track = s.replay.full.track || [];
+    return { track, vehicle: s.replay.pos > 0 ? last(s.rs.track) : null };
+  }
+  return { track: s.rs.track, vehicle: last(s.rs.track) };
 }
 
 // The scenarios to offer: nominal first, then the mission's scenarios/.
@@ -462,7 +475,7 @@ export function reduce(s, a) {
       const events = a.events || [];
       const rs = replayRun(events, events.length);
       return follow({ ...s, live: s.replay ? s.live : s.rs,
-        replay: { path: a.path, mission: a.mission ?? null, events, pos: events.length, playing: false, full: { telemetry: rs.telemetry, phases: rs.phases } },
+        replay: { path: a.path, mission: a.mission ?? null, events, pos: events.length, playing: false, full: { telemetry: rs.telemetry, phases: rs.phases, track: rs.track } },
         rs, view: 'replay', cex: null });
     }
     case 'replay/seek': {
