@@ -2,8 +2,11 @@
 """The README and docs/ cite only what the repository holds.
 
 Fails, with the file and line of each, on:
-  - a citation of design.md (a design document that is not in the
-    repository), in any spelling: `design.md`, `design §2.6`;
+  - in the README, docs/, and the shipped source and configuration (src/,
+    config/, web/src/, scripts/, cmake/): a citation of design.md in any
+    spelling (below);
+  - in the README and docs/, also: a citation of design.md (a design
+    document that is not in the repository): `design.md`, `design §2.6`;
   - a path into the folder beside the repository (`../shared/...`);
   - a Markdown link whose target is not a file or folder of the repository;
   - a repository path in backquotes (`docs/x.md`, `src/run/session.h`,
@@ -63,10 +66,28 @@ def main():
                         continue
                     if not any(os.path.exists(os.path.join(repo, target + ext)) for ext in ("", ".cpp")):
                         failures.append(f"{rel}:{n}: `{target}` is not in the repository")
+    # The code and configuration a user's clone carries cite no design
+    # document either (its comments point to docs/).
+    shipped = 0
+    for top in ("src", "config", "web/src", "scripts", "cmake"):
+        for path in sorted(glob.glob(os.path.join(repo, top, "**", "*"), recursive=True)):
+            if not os.path.isfile(path) or os.path.islink(path):
+                continue
+            shipped += 1
+            rel = os.path.relpath(path, repo)
+            try:
+                with open(path, encoding="utf-8") as f:
+                    lines = list(f)
+            except UnicodeDecodeError:
+                continue  # an image or other binary
+            for n, line in enumerate(lines, 1):
+                for rx, why in OUTSIDE[:2]:
+                    if rx.search(line):
+                        failures.append(f"{rel}:{n}: {why}: {line.strip()}")
     for f in failures:
         print(f, file=sys.stderr)
-    print(f"{len(docs)} documents, {checked} paths and links, {len(failures)} citations of what is not in the "
-          f"repository")
+    print(f"{len(docs)} documents, {checked} paths and links, {shipped} source and configuration files, "
+          f"{len(failures)} citations of what is not in the repository")
     return 1 if failures else 0
 
 

@@ -1,4 +1,4 @@
-// One safe end for every run (design.md §2.6b), tested on `strata run` as a
+// One safe end for every run (docs/architecture.md), tested on `strata run` as a
 // process: SIGINT, SIGTERM and SIGHUP during a CORAL mission at depth,
 // during PROLOG rules blocked in sleep/1, and during a busy PROLOG loop under
 // a huge inference limit; a second SIGINT; and, in-process, halt at depth

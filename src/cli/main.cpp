@@ -48,9 +48,14 @@ int main(int argc, char** argv) {
   // Each command's --help ends with its own exit codes, not the program's;
   // each takes -q and -v (the commands with nothing to leave out or add
   // accept them all the same).
+  // Their own subcommands (`config show`, `campaign merge`) take -q and -v too.
   VerbosityFlags unused;
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+  const auto all = [](CLI::App*) { return true; };
+  for (CLI::App* sub : app.get_subcommands(all)) {
     if (sub->get_option_no_throw("--quiet") == nullptr) add_verbosity_flags(sub, unused, "");
+    for (CLI::App* leaf : sub->get_subcommands(all)) {
+      if (leaf->get_option_no_throw("--quiet") == nullptr) add_verbosity_flags(leaf, unused, "");
+    }
     if (sub->get_footer().empty() || sub->get_footer() == app.get_footer()) {
       if (const char* codes = exit_codes_of(sub->get_name())) sub->footer(codes);
     }

@@ -1,5 +1,5 @@
 #pragma once
-// A thin RAII layer over SWI-Prolog's C API (design.md §2.5), used by the
+// A thin RAII layer over SWI-Prolog's C API (docs/prolog.md), used by the
 // PROLOG Strategic level. SWI-Prolog has one engine per process here:
 // initialise() starts it once (no signal handlers, a stack limit, no
 // debugger, halt/0 and halt/1 made to throw strata_halt instead of ending

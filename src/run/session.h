@@ -1,5 +1,5 @@
 #pragma once
-// One run as a library object (design.md §2.6b): load the inputs (mission,
+// One run as a library object (docs/architecture.md): load the inputs (mission,
 // data, scenario, catalogue, parameters), open the vehicle (embedded in
 // lockstep, embedded on the wall clock, or a remote one), start the
 // Strategic executor, drive it, and end it — always through one path:

@@ -1,5 +1,5 @@
 #pragma once
-// The CORAL Engine (paper §3.2, design.md §2.3): runs a compiled mission
+// The CORAL Engine (paper §3.2, docs/architecture.md): runs a compiled mission
 // library as Petri nets, event-driven on one thread with no polling loop.
 //
 // For each message in the input buffer: (1) add the marks it carries;

@@ -1,5 +1,5 @@
 #pragma once
-// The PROLOG Strategic level (paper §2.2, Figure 10; design.md §2.5): runs a
+// The PROLOG Strategic level (paper §2.2, Figure 10; docs/prolog.md): runs a
 // mission's rules (prolog::Mission) through the same Tactics interface and
 // the same observers as the CORAL Engine. A primitive call yields the
 // rules back to the event loop; the vehicle's answer resumes them.

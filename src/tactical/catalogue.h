@@ -1,5 +1,5 @@
 #pragma once
-// The vehicle primitive catalogue (design.md §2.6): every primitive the
+// The vehicle primitive catalogue (docs/protocol.md, docs/language.md §7): every primitive the
 // Strategic level may call, its arguments with units, its reply timeout and
 // the script message it sends. The catalogue is data: config/primitives.toml
 // is compiled into the library (Catalogue::builtin()); a vehicle with other

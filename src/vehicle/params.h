@@ -2,7 +2,7 @@
 // Parameters of the simulated NPS Phoenix in a test tank or in open water
 // (heave, yaw, surge, navigation, a scanning sonar and a sonar altimeter),
 // with units in the names. The values are ESTIMATES
-// (design.md §2.7), not Phoenix data: config/phoenix.toml carries the same
+// (docs/open_water.md), not Phoenix data: config/phoenix.toml carries the same
 // values, commented.
 //
 // Sign conventions used throughout strata::vehicle: depth and heave rate are

@@ -3,7 +3,7 @@
 // protocol 1 or 2 (the client's hello chooses) to one controlling client at
 // a time.
 //
-// Clocks (design.md §2.4):
+// Clocks (docs/protocol.md §8):
 //  - Lockstep: simulated time moves only when the client lets it. Every
 //    exec/ask/ood costs at least one cycle (0.1 s) before it is answered;
 //    `sleep N` costs N seconds. A request's effect happens when it arrives;

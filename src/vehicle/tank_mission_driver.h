@@ -4,7 +4,7 @@
 // Tactical levels will, so the model's figures (when each phase runs, how it
 // ends) can be checked and the scenario files' fault times chosen.
 //
-// Cost model (design.md §2.4, virtual time): every primitive call is made,
+// Cost model (docs/protocol.md §8, lockstep time): every primitive call is made,
 // then costs one cycle; sleep(n) advances n seconds; reports cost nothing.
 // The real run may differ by a cycle here and there; the figures this gives
 // are estimates with that resolution.

@@ -1,4 +1,4 @@
-/*  The PROLOG Strategic level's driver (design.md §2.5, docs/prolog.md).
+/*  The PROLOG Strategic level's driver (docs/prolog.md).
 
     Compiled into the strata binary and loaded once per process. It loads a
     mission's rules into a module of their own, defines the vehicle
