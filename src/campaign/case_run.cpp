@@ -221,13 +221,15 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.trace = true;
   const Family& family = spec.families[c.family];
   o.answers = family.answers_resolved;
+  o.param_overrides = c.params;
   std::ostringstream log;
   const std::string log_name = fmt::format("case-{}.jsonl", c.index);
   if (config.keep_logs != KeepLogs::None && !config.out_dir.empty()) {
     o.log_stream = &log;
     o.log = "logs/" + log_name;
   }
-  const double surface_depth_m = vehicle::default_params().surface_depth_m;
+  const vehicle::VehicleParams params = case_params(c);
+  const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
   CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
   std::ostringstream err;
   run::RunSession session(std::move(o));
@@ -247,12 +249,18 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
     }
     if (!pass) {
       const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
-      if (write_new_file(config.out_dir + "/" + file, scenario)) {
+      // A perturbed vehicle travels as a whole parameter file (--params).
+      const std::string params_file = fmt::format("scenarios/case-{}.params.toml", c.index);
+      const bool params_kept =
+          !c.params.empty() && write_new_file(config.out_dir + "/" + params_file, vehicle::params_toml(params));
+      if (params_kept) j["params_file"] = params_file;
+      if (write_new_file(config.out_dir + "/" + file, scenario) && (c.params.empty() || params_kept)) {
         j["scenario"] = file;
         j["repro_run"] = fmt::format(
-            "strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
-            shell_quote(config.out_dir + "/" + file), spec.max_sim_time_s, spec.telemetry_hz,
-            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
+            "strata run {} --scenario {}{} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
+            shell_quote(config.out_dir + "/" + file),
+            params_kept ? " --params " + shell_quote(config.out_dir + "/" + params_file) : "", spec.max_sim_time_s,
+            spec.telemetry_hz, family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
       }
     }
   }
