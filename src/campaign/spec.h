@@ -65,7 +65,7 @@ struct ExpectationSet {
   std::optional<double> surface_within_s;  // the vehicle at the surface within this of the fault
   std::optional<double> max_depth_m;       // the deepest the vehicle may go
   bool no_stall = false;                   // the mission must not end stalled
-  bool no_refused_exec = false;            // no EXEC refused by the vehicle or answered 0
+  bool no_refused_exec = false;            // no EXEC refused or answered 0 (by the vehicle or a script)
 };
 
 // The values one vehicle parameter takes across a family's cases.
