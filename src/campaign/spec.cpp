@@ -354,6 +354,14 @@ class SpecReader {
         named.emplace_back(name, &axis);
       }
     }
+    for (std::size_t i = 0; i < named.size(); ++i) {
+      for (std::size_t k = 0; k < i; ++k) {
+        if (named[k].first == named[i].first) {
+          errors_.add(*named[i].second, fmt::format("'{}' is perturbed twice in one 'perturb'", named[i].first));
+          ok = false;
+        }
+      }
+    }
     if (named.size() > kMaxPerturbedParams) {
       errors_.add(node, fmt::format("'perturb' names {} parameters; at most {} may be perturbed together", named.size(),
                                     kMaxPerturbedParams));
@@ -421,25 +429,30 @@ class SpecReader {
       f.perturb.clear();
       return;
     }
+    // Only the parameters the rules name can break them: their combinations.
+    std::vector<const Perturbation*> related;
+    for (const Perturbation& p : f.perturb) {
+      if (vehicle::param_in_relations(p.param)) related.push_back(&p);
+    }
     std::uint64_t combos = 1;
-    for (const Perturbation& p : f.perturb) combos = sat_mul(combos, p.values.size());
-    if (f.perturb.empty() || combos > limits_.max_cases) return;  // too many: the case count says so
-    std::vector<std::size_t> at(f.perturb.size(), 0);
+    for (const Perturbation* p : related) combos = sat_mul(combos, p->values.size());
+    if (related.empty() || combos > limits_.max_cases) return;  // too many: the case count says so
+    std::vector<std::size_t> at(related.size(), 0);
     for (std::uint64_t i = 0; i < combos; ++i) {
       vehicle::VehicleParams params = vehicle::default_params();
       std::string which;
-      for (std::size_t k = 0; k < f.perturb.size(); ++k) {
-        const double v = f.perturb[k].values[at[k]];
-        (void)vehicle::set_param(params, f.perturb[k].param, v);
-        which += fmt::format("{}{}={}", which.empty() ? "" : " ", f.perturb[k].param, v);
+      for (std::size_t k = 0; k < related.size(); ++k) {
+        const double v = related[k]->values[at[k]];
+        (void)vehicle::set_param(params, related[k]->param, v);
+        which += fmt::format("{}{}={}", which.empty() ? "" : " ", related[k]->param, v);
       }
       if (auto r = vehicle::check_param_relations(params); !r) {
         errors_.add(n ? n->source() : t.source(), fmt::format("family '{}' makes a vehicle that cannot be ({}): {}",
                                                               f.name, which, r.error().message));
         return;
       }
-      for (std::size_t k = f.perturb.size(); k-- > 0;) {
-        if (++at[k] < f.perturb[k].values.size()) break;
+      for (std::size_t k = related.size(); k-- > 0;) {
+        if (++at[k] < related[k]->values.size()) break;
         at[k] = 0;
       }
     }

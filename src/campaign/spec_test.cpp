@@ -217,6 +217,11 @@ TEST(CampaignSpec, UnknownOrImpossibleParametersAreLocatedAndNameTheValidOnes) {
                                              "(detection.surface_depth_m=7): detection.surface_depth_m must be less "
                                              "than simulation.tank_depth_m"))
       << together;
+  EXPECT_NE(std::string::npos, error_of(family("{ \"hull.mass_kg\" = 170, hull.mass_kg = 180 }"))
+                                   .find("'hull.mass_kg' is perturbed twice in one 'perturb'"));
+  // The cruise speed within the top speed: a weaker motor with the same cruise speed cannot be.
+  EXPECT_NE(std::string::npos, error_of(family("{ surge.motor_max_n = [12, 1], hull.mass_kg = [170, 180] }"))
+                                   .find("(surge.motor_max_n=1): guidance.cruise_speed_mps must not exceed"));
   EXPECT_NE(std::string::npos, error_of(spec_text("perturb = { hull.mas_kg = 1 }\n[[family]]\nfault = \"none\"\n"))
                                    .find("c.toml:2:18: unknown vehicle parameter 'hull.mas_kg'"));
 }

@@ -270,6 +270,11 @@ core::Result<void> check_param_relations(const VehicleParams& p) {
   return {};
 }
 
+bool param_in_relations(std::string_view name) {
+  return name == "detection.surface_depth_m" || name == "simulation.tank_depth_m" ||
+         name == "guidance.cruise_speed_mps" || name == "surge.motor_max_n" || name == "surge.drag_coeff";
+}
+
 std::string params_toml(const VehicleParams& p) {
   std::string out = "# The simulated vehicle's parameters (config/phoenix.toml's keys).\n";
   std::string_view table;

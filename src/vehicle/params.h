@@ -182,6 +182,8 @@ core::Result<void> set_param(VehicleParams& p, std::string_view name, double val
 // The rules between parameters a file must also meet (the surface above the
 // tank's bottom, the cruise speed within the top speed). InvalidInput with why.
 core::Result<void> check_param_relations(const VehicleParams& p);
+// Whether the parameter takes part in those rules.
+bool param_in_relations(std::string_view name);
 // The parameters as a complete parameter file (`strata run --params`
 // reads it back to the same values).
 std::string params_toml(const VehicleParams& p);

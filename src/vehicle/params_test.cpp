@@ -227,6 +227,10 @@ TEST(VehicleParamsOverride, RelationsBetweenParametersAreCheckedApart) {
   ASSERT_TRUE(set_param(p, "detection.surface_depth_m", 7).ok());
   EXPECT_NE(std::string::npos, check_param_relations(p).error().message.find("surface_depth_m must be less than"));
   EXPECT_TRUE(check_param_relations(default_params()).ok());
+  std::size_t related = 0;
+  for (const ParamInfo& info : param_infos()) related += param_in_relations(info.name) ? 1 : 0;
+  EXPECT_EQ(5u, related) << "the five parameters the rules read, each a real one";
+  EXPECT_FALSE(param_in_relations("hull.mass_kg"));
 }
 
 }  // namespace
