@@ -377,7 +377,7 @@ class SpecReader {
       // A closed lower end is AxisRules' min; an open one is "zero not
       // allowed" there, which it spells for any min.
       AxisRules rules{name, info.lo, info.hi, !info.lo_open, limits_.max_cases};
-      auto values = parse_axis(errors_, *axis, rules, spec_.sample_seed, where + "." + name);
+      auto values = parse_axis(errors_, *axis, rules, spec_.sample_seed, fmt::format("{}.{}", where, name));
       if (!values) {
         ok = false;
         continue;
