@@ -29,6 +29,7 @@ namespace {
 double tidy(double x) { return std::round(x * 1e9) / 1e9; }
 
 std::string range_text(const AxisRules& r) {
+  if (r.min <= -1e300 && r.max >= 1e300) return "a finite number";
   if (r.max >= 1e300) return fmt::format("{} {}", r.zero_allowed ? ">=" : ">", r.min);
   return fmt::format("in [{}, {}]", r.min, r.max);
 }

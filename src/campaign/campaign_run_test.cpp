@@ -251,6 +251,63 @@ TEST(CampaignRun, AWorkerKilledFromOutsideCostsAtMostItsCaseAndIsReplaced) {
   EXPECT_GE(pids.size(), 2u);
 }
 
+TEST(CampaignRun, EachCaseRunsTheVehicleWithItsPerturbedParameters) {
+  TempDir dir;
+  // 60 N of buoyancy is more than the thrusters' 36 N: that vehicle cannot
+  // dive, so its case cannot complete; the nominal one does. The failing
+  // case's parameter file reproduces it through `strata run --params`.
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + R"(/tank.coral"]
+[expect.nominal]
+outcomes = ["completed"]
+[[family]]
+fault = "none"
+expect = "nominal"
+perturb = { hull.buoyancy_n = [5, 60] }
+)");
+  ASSERT_EQ(2u, spec.case_count());
+  run(spec, dir.file("a"), 2);
+  const auto lines = by_index(testing::read_results(dir.file("a/results.jsonl")));
+  ASSERT_EQ(2u, lines.size());
+  EXPECT_EQ(5.0, lines[0]["inputs"]["params"]["hull.buoyancy_n"]);
+  EXPECT_EQ("completed", lines[0]["outcome"]) << lines[0].dump();
+  EXPECT_TRUE(lines[0]["pass"].get<bool>());
+  EXPECT_EQ(60.0, lines[1]["inputs"]["params"]["hull.buoyancy_n"]);
+  EXPECT_NE("completed", lines[1]["outcome"]) << lines[1].dump();
+  EXPECT_LT(lines[1]["figures"]["max_depth_m"].get<double>(), 0.5) << "it never got down";
+  ASSERT_TRUE(lines[1].contains("params_file")) << lines[1].dump();
+  auto params = vehicle::parse_params(testing::read_text(dir.file("a/" + lines[1]["params_file"].get<std::string>())),
+                                      "case.params.toml");
+  ASSERT_TRUE(params.ok()) << params.error().message;
+  EXPECT_EQ(60.0, params.value().buoyancy_n);
+  EXPECT_EQ(case_params(case_at(spec, 1)), params.value());
+  for (const auto& raw : testing::read_results(dir.file("a/results.jsonl"))) {
+    if (raw["index"] != 1) continue;
+    EXPECT_NE(std::string::npos,
+              raw["repro_run"].get<std::string>().find(" --params " + dir.file("a/scenarios/case-1.params.toml")));
+  }
+  // The same spec, the same results, in one process too.
+  run(spec, dir.file("b"), 0);
+  EXPECT_EQ(lines, by_index(testing::read_results(dir.file("b/results.jsonl"))));
+}
+
+TEST(CampaignRun, APerturbedSurfaceDepthIsTheOneTimeToSurfaceIsMeasuredAgainst) {
+  TempDir dir;
+  // The same leak at 14 s, with the surface counted from 0.15 m and from
+  // 1.2 m: the vehicle is "at the surface" sooner with the deeper one.
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + R"(/tank.coral"]
+[[family]]
+fault = "leak"
+at_s = 14
+perturb = { detection.surface_depth_m = [0.15, 1.2] }
+)");
+  run(spec, dir.file("out"), 0);
+  const auto lines = by_index(testing::read_results(dir.file("out/results.jsonl")));
+  ASSERT_EQ(2u, lines.size());
+  const double shallow = lines[0]["figures"]["time_to_surface_s"].get<double>();
+  const double deep = lines[1]["figures"]["time_to_surface_s"].get<double>();
+  EXPECT_LT(deep, shallow) << lines[0].dump() << "\n" << lines[1].dump();
+}
+
 TEST(CampaignRun, TheOutputFolderIsNeverALink) {
   TempDir dir;
   const Spec spec = load(dir, small_spec(kNominalOk));

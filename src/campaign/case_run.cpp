@@ -121,8 +121,33 @@ std::string last_line(const std::string& text) {
   return line;
 }
 
+// An EXEC that the scripted answers failed while the vehicle carried it out.
+struct ScriptedExecFailure {
+  std::string primitive;
+  std::string where;  // "answers[2], step 4"
+  double sim_time_s = 0.0;
+};
+
+// From a mission log's scripted_answer records (docs/mission-log.md).
+std::vector<ScriptedExecFailure> scripted_exec_failures(const std::string& log) {
+  std::vector<ScriptedExecFailure> out;
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find("\"scripted_answer\"") == std::string::npos) continue;
+    const auto j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || j.value("event", "") != "scripted_answer") continue;
+    if (j.value("action", "") != "exec" || j.value("answer", 1) != 0 || j.value("vehicle", 0) != 1) continue;
+    const auto step = j.value("step", 0);
+    out.push_back({j.value("primitive", ""),
+                   fmt::format("answers[{}]{}", j.value("answer_index", 0), step ? fmt::format(", step {}", step) : ""),
+                   j.value("sim_time", 0.0)});
+  }
+  return out;
+}
+
 Observation observe(const run::RunReport& report, const CaseWatcher& watcher, const Case& c, double surface_depth_m,
-                    const std::string& err) {
+                    const std::string& err, const std::vector<ScriptedExecFailure>& scripted_failures) {
   Observation o;
   if (!report.result) {
     o.outcome = "error";
@@ -153,16 +178,28 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
       o.surface_seen = "final state";
     }
   }
+  std::optional<double> first_refused_s;
   for (const tactical::CallRecord& call : report.trace) {
     if (!call.message.starts_with("exec ")) continue;
     const bool refused = call.error.starts_with("vehicle error") || (call.error.empty() && call.value == false);
     if (!refused) continue;
     if (o.refused_execs++ == 0) {
+      first_refused_s = call.sim_time_s;
       o.first_refused = fmt::format("{} at {:.1f} s{}", call.message, call.sim_time_s,
                                     call.error.empty() ? ": answered 0" : ": " + call.error);
     }
   }
   if (!report.vehicle_reason.empty() && !o.first_refused.empty()) o.first_refused += " (" + report.vehicle_reason + ")";
+  // The trace holds the vehicle's answers; an EXEC the script failed where
+  // the vehicle did it (`answers`) is only in the log's scripted_answer.
+  for (const ScriptedExecFailure& f : scripted_failures) {
+    ++o.refused_execs;
+    if (!first_refused_s || f.sim_time_s < *first_refused_s) {
+      first_refused_s = f.sim_time_s;
+      o.first_refused =
+          fmt::format("exec {} at {:.1f} s: the script answered 0 ({})", f.primitive, f.sim_time_s, f.where);
+    }
+  }
   if (report.answers_total > 0) {
     o.answers_used = report.answers_used;
     o.answers_total = report.answers_total;
@@ -221,19 +258,25 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.trace = true;
   const Family& family = spec.families[c.family];
   o.answers = family.answers_resolved;
+  o.param_overrides = c.params;
   std::ostringstream log;
   const std::string log_name = fmt::format("case-{}.jsonl", c.index);
-  if (config.keep_logs != KeepLogs::None && !config.out_dir.empty()) {
+  // With scripted answers the log is always written (in memory): its
+  // scripted_answer records are where a scripted EXEC failure shows.
+  if ((config.keep_logs != KeepLogs::None && !config.out_dir.empty()) || !family.answers.empty()) {
     o.log_stream = &log;
     o.log = "logs/" + log_name;
   }
-  const double surface_depth_m = vehicle::default_params().surface_depth_m;
+  const vehicle::VehicleParams params = case_params(c);
+  const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
   CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
   std::ostringstream err;
   run::RunSession session(std::move(o));
   session.add_observer(watcher);
   const run::RunReport report = session.run(err);
-  const Observation seen = observe(report, watcher, c, surface_depth_m, err.str());
+  const Observation seen =
+      observe(report, watcher, c, surface_depth_m, err.str(),
+              family.answers.empty() ? std::vector<ScriptedExecFailure>{} : scripted_exec_failures(log.str()));
 
   nlohmann::ordered_json j = result_line(spec, c, seen);
   if (report.result) j["exit"] = report.result->exit;
@@ -247,12 +290,18 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
     }
     if (!pass) {
       const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
-      if (write_new_file(config.out_dir + "/" + file, scenario)) {
+      // A perturbed vehicle travels as a whole parameter file (--params).
+      const std::string params_file = fmt::format("scenarios/case-{}.params.toml", c.index);
+      const bool params_kept =
+          !c.params.empty() && write_new_file(config.out_dir + "/" + params_file, vehicle::params_toml(params));
+      if (params_kept) j["params_file"] = params_file;
+      if (write_new_file(config.out_dir + "/" + file, scenario) && (c.params.empty() || params_kept)) {
         j["scenario"] = file;
         j["repro_run"] = fmt::format(
-            "strata run {} --scenario {} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
-            shell_quote(config.out_dir + "/" + file), spec.max_sim_time_s, spec.telemetry_hz,
-            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
+            "strata run {} --scenario {}{} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
+            shell_quote(config.out_dir + "/" + file),
+            params_kept ? " --params " + shell_quote(config.out_dir + "/" + params_file) : "", spec.max_sim_time_s,
+            spec.telemetry_hz, family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
       }
     }
   }

@@ -28,6 +28,13 @@ Case case_at(const Spec& spec, std::uint64_t index) {
       continue;
     }
     c.family = i;
+    // Perturbations: the innermost of the family's axes, the last fastest.
+    c.params.resize(f.perturb.size());
+    for (std::size_t k = f.perturb.size(); k-- > 0;) {
+      const std::vector<double>& values = f.perturb[k].values;
+      c.params[k] = {f.perturb[k].param, values[rest % values.size()]};
+      rest /= values.size();
+    }
     if (!f.fault) return c;
     vehicle::Fault fault;
     fault.kind = *f.fault;
@@ -48,6 +55,9 @@ Case case_at(const Spec& spec, std::uint64_t index) {
 std::string scenario_toml(const Spec& spec, const Case& c) {
   std::string out = fmt::format("# campaign {} case {}: {}\ndescription = \"{}\"\nseed = {}\n", spec.path, c.index,
                                 spec.missions[c.mission].path, fault_text(c), c.seed);
+  if (!c.params.empty()) {
+    out = fmt::format("# vehicle parameters (with --params, a file of them): {}\n", params_text(c)) + out;
+  }
   if (c.fault) {
     const vehicle::Fault& f = *c.fault;
     out += fmt::format("\n[[fault]]\nkind = \"{}\"\nat_s = {}\n", vehicle::to_string(f.kind), f.at_s);
@@ -78,6 +88,11 @@ nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c) {
     fault["kind"] = "none";
   }
   j["fault"] = std::move(fault);
+  if (!c.params.empty()) {
+    nlohmann::ordered_json params = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : c.params) params[name] = value;
+    j["params"] = std::move(params);
+  }
   j["seed"] = c.seed;
   return j;
 }
@@ -93,6 +108,21 @@ std::string fault_text(const Case& c) {
   else if (f.kind == vehicle::FaultKind::LinkLoss)
     s += " for good";
   return s;
+}
+
+std::string params_text(const Case& c) {
+  std::string s;
+  for (const auto& [name, value] : c.params) s += fmt::format("{}{}={}", s.empty() ? "" : " ", name, value);
+  return s;
+}
+
+vehicle::VehicleParams case_params(const Case& c) {
+  vehicle::VehicleParams p = vehicle::default_params();
+  for (const auto& [name, value] : c.params) {
+    [[maybe_unused]] const auto set = vehicle::set_param(p, name, value);
+    assert(set.ok() && "the spec checked every value");
+  }
+  return p;
 }
 
 namespace {

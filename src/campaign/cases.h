@@ -3,16 +3,20 @@
 // contract runs locally, on Slurm job arrays, GNU parallel or Kubernetes
 // Indexed Jobs). The order is fixed by the spec alone: missions in the order
 // listed, then families in file order, then the family's axes (at_s
-// outermost, then health, then duration_s), then seeds. case_at(spec, i) is
+// outermost, then health, then duration_s, then each perturbed vehicle
+// parameter), then seeds. case_at(spec, i) is
 // computed, not looked up: any process with the spec finds case i by itself.
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "campaign/spec.h"
 #include "core/result.h"
+#include "vehicle/params.h"
 #include "vehicle/scenario.h"
 
 namespace strata::campaign {
@@ -22,6 +26,9 @@ struct Case {
   std::size_t mission = 0;  // into Spec::missions
   std::size_t family = 0;   // into Spec::families
   std::optional<vehicle::Fault> fault;
+  // The family's perturbed vehicle parameters and this case's values, in
+  // the family's order; the rest of the vehicle is config/phoenix.toml's.
+  std::vector<std::pair<std::string, double>> params;
   std::uint64_t seed = 1;
 };
 
@@ -39,6 +46,11 @@ nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c);
 
 // "leak at 4 s", "weak_thrusters health 0.4 at 2 s", "none": one line for people.
 std::string fault_text(const Case& c);
+// "hull.mass_kg=172.5 thrusters.max_n=15": the perturbed parameters; "" none.
+std::string params_text(const Case& c);
+// The case's vehicle parameters: the built-in ones with its perturbations.
+// The spec was checked, so every value is one the vehicle takes.
+vehicle::VehicleParams case_params(const Case& c);
 
 // An index range "A-B" or "I" (inclusive) within [0, count). Errors name the count.
 struct IndexRange {

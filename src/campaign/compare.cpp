@@ -41,6 +41,9 @@ std::string name(const ResultLine& j) {
   for (const auto& [k, v] : in["fault"].items()) {
     if (k != "kind") fault += fmt::format(" {}={}", k, v.dump());
   }
+  if (in.contains("params")) {
+    for (const auto& [k, v] : in["params"].items()) fault += fmt::format(" {}={}", k, v.dump());
+  }
   return fmt::format("{} · {} · {}{} · seed {}", in.value("mission", ""), in.value("family", ""),
                      in["fault"].value("kind", ""), fault, in.value("seed", 0));
 }

@@ -33,7 +33,7 @@ struct Observation {
   // the run, which bounds it from above.
   std::optional<double> time_to_surface_s;
   std::string surface_seen;  // "telemetry", "vehicle log", "final state", or ""
-  int refused_execs = 0;     // EXECs the vehicle refused or answered 0
+  int refused_execs = 0;     // EXECs the vehicle refused or answered 0, or scripted answers failed
   std::string first_refused;
   // A family with scripted answers (`answers`): how many of its answers the
   // run used, of how many, and why it left the script ("" it did not).

@@ -78,13 +78,15 @@ core::Result<MergeOutcome> merge_campaigns(const Spec& spec, const std::vector<s
   }
   for (auto& [index, entry] : cases) {
     auto& [line, dir] = entry;
-    for (const char* key : {"log", "scenario"}) {
+    for (const char* key : {"log", "scenario", "params_file"}) {
       if (line.contains(key) && !copy_named(dir, out_dir, line[key].get<std::string>())) line.erase(key);
     }
     if (line.contains("repro_run")) {
-      // The copied scenario, not the shard's.
+      // The copied scenario (and parameter file), not the shard's.
       std::string repro = line["repro_run"].get<std::string>();
-      if (auto at = repro.find(dir + "/"); at != std::string::npos) repro.replace(at, dir.size(), out_dir);
+      for (auto at = repro.find(dir + "/"); at != std::string::npos; at = repro.find(dir + "/", at + out_dir.size())) {
+        repro.replace(at, dir.size(), out_dir);
+      }
       line["repro_run"] = repro;
     }
     summary.add(line);

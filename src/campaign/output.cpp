@@ -76,7 +76,7 @@ core::Result<void> prepare_out_dir(const std::string& dir) {
     if (auto r = make_real_dir((fs::path(dir) / sub).string()); !r) return r;
   }
   clear_cases((fs::path(dir) / "logs").string(), std::regex(R"(case-\d+\.jsonl)"));
-  clear_cases((fs::path(dir) / "scenarios").string(), std::regex(R"(case-\d+\.toml)"));
+  clear_cases((fs::path(dir) / "scenarios").string(), std::regex(R"(case-\d+(\.params)?\.toml)"));
   for (const char* f : {"report.json", "report.html"}) {
     const fs::path p = fs::path(dir) / f;
     if (fs::is_regular_file(fs::symlink_status(p, ec))) fs::remove(p, ec);

@@ -190,6 +190,9 @@ void failures(std::string& out, const Json& r) {
     std::string fault;
     for (const auto& [k, v] : in["fault"].items())
       fault += fmt::format("{}={} ", k, v.is_string() ? v.get<std::string>() : v.dump());
+    if (in.contains("params")) {
+      for (const auto& [k, v] : in["params"].items()) fault += fmt::format("{}={} ", k, v.dump());
+    }
     std::string checks;
     for (const Json& c : f["failed_checks"]) {
       checks += fmt::format("{}: {}{}<br>", esc(c["name"]), esc(c["figure"]),

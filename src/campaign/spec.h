@@ -25,6 +25,9 @@
 //   missions = ["tank.coral"]           # only these of the spec's missions (default: all)
 //   answers = "filter_on.json"          # scripted vehicle answers (`strata verify
 //                                       # --witness-out`): each case follows that witness
+//   perturb = { hull.mass_kg = { from = 170, to = 180, sampled = 4 }, thrusters.max_n = [15, 18] }
+//                                       # vehicle parameters (config/phoenix.toml's names)
+//                                       # as more axes; also at the top level, for every family
 //
 // Every problem is "spec:line:col: message" (core::TomlErrors: all of them,
 // in file order). Reading the same text always gives the same spec: sampled
@@ -62,11 +65,21 @@ struct ExpectationSet {
   std::optional<double> surface_within_s;  // the vehicle at the surface within this of the fault
   std::optional<double> max_depth_m;       // the deepest the vehicle may go
   bool no_stall = false;                   // the mission must not end stalled
-  bool no_refused_exec = false;            // no EXEC refused by the vehicle or answered 0
+  bool no_refused_exec = false;            // no EXEC refused or answered 0 (by the vehicle or a script)
 };
 
+// The values one vehicle parameter takes across a family's cases.
+struct Perturbation {
+  std::string param;  // its name in config/phoenix.toml: "hull.mass_kg"
+  std::vector<double> values;
+};
+
+// The most vehicle parameters one family may perturb.
+inline constexpr std::size_t kMaxPerturbedParams = 16;
+
 // One fault kind (or none) over its axes: the cases are every combination
-// of at_s x health x duration_s (an axis a kind does not use has one value).
+// of at_s x health x duration_s x each perturbed parameter (an axis a kind
+// does not use has one value).
 struct Family {
   std::string name;
   std::optional<vehicle::FaultKind> fault;  // nullopt: no fault ("none")
@@ -78,6 +91,9 @@ struct Family {
   std::vector<std::size_t> missions;        // into Spec::missions; empty: every mission
   std::string answers;                      // an answers file as the spec writes it; "" none
   std::string answers_resolved;             // ... relative to the spec's folder, as the run opens it
+  // The spec's top-level perturbations and the family's own (the family's
+  // replace the spec's for the same parameter), in config/phoenix.toml's order.
+  std::vector<Perturbation> perturb;
 
   bool applies_to(std::size_t mission) const {
     return missions.empty() || std::find(missions.begin(), missions.end(), mission) != missions.end();
@@ -106,6 +122,10 @@ struct Spec {
   std::uint64_t case_count() const;
   // The combinations of the families that apply to mission m.
   std::uint64_t combinations_for(std::size_t mission) const;
+  // Whether any family perturbs a vehicle parameter.
+  bool perturbs() const {
+    return std::any_of(families.begin(), families.end(), [](const Family& f) { return !f.perturb.empty(); });
+  }
 };
 
 struct SpecLimits {

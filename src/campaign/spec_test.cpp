@@ -109,6 +109,142 @@ duration_s = 0.5
   }
 }
 
+TEST(CampaignSpec, PerturbedParametersAreAxesInsideTheFaultsAndOutsideTheSeeds) {
+  auto spec = parse(spec_text(R"(seeds = [1, 2]
+[[family]]
+fault = "leak"
+at_s = [3, 9]
+perturb = { thrusters.max_n = [15, 18], hull.mass_kg = [170, 180] }
+)"));
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  const Spec& s = spec.value();
+  ASSERT_EQ(2u, s.families[0].perturb.size());
+  EXPECT_EQ("hull.mass_kg", s.families[0].perturb[0].param) << "config/phoenix.toml's order, not the spec's";
+  EXPECT_EQ(2u * 2 * 2 * 2, s.case_count());
+  std::vector<std::string> got;
+  for (std::uint64_t i = 0; i < s.case_count(); ++i) {
+    const Case c = case_at(s, i);
+    got.push_back(fault_text(c) + " " + params_text(c) + " seed " + std::to_string(c.seed));
+  }
+  EXPECT_EQ("leak at 3 s hull.mass_kg=170 thrusters.max_n=15 seed 1", got[0]);
+  EXPECT_EQ("leak at 3 s hull.mass_kg=170 thrusters.max_n=15 seed 2", got[1]);
+  EXPECT_EQ("leak at 3 s hull.mass_kg=170 thrusters.max_n=18 seed 1", got[2]);
+  EXPECT_EQ("leak at 3 s hull.mass_kg=180 thrusters.max_n=15 seed 1", got[4]);
+  EXPECT_EQ("leak at 9 s hull.mass_kg=180 thrusters.max_n=18 seed 2", got[15]);
+  const Case c = case_at(s, 6);
+  EXPECT_EQ(180.0, case_params(c).mass_kg);
+  EXPECT_EQ(18.0, case_params(c).thruster_max_n);
+  const auto inputs = case_inputs(s, c);
+  EXPECT_EQ(180.0, inputs["params"]["hull.mass_kg"]);
+  EXPECT_EQ(18.0, inputs["params"]["thrusters.max_n"]);
+  EXPECT_NE(std::string::npos, scenario_toml(s, c).find("hull.mass_kg=180 thrusters.max_n=18"));
+}
+
+TEST(CampaignSpec, ANominalFamilyPerturbsAloneAndTheSpecsPerturbationsReachEveryFamily) {
+  auto spec = parse(spec_text(R"(perturb = { hull.buoyancy_n = [2, 5, 8] }
+[[family]]
+fault = "none"
+[[family]]
+name = "heavy"
+fault = "none"
+perturb = { "hull.buoyancy_n" = -1, hull.mass_kg = 200 }
+)"));
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  const Spec& s = spec.value();
+  EXPECT_EQ(3u + 1u, s.case_count());
+  EXPECT_EQ("hull.buoyancy_n=8", params_text(case_at(s, 2)));
+  EXPECT_EQ("hull.mass_kg=200 hull.buoyancy_n=-1", params_text(case_at(s, 3))) << "the family's value wins";
+  EXPECT_TRUE(s.perturbs());
+  auto plain = parse(spec_text("[[family]]\nfault = \"none\"\n"));
+  ASSERT_TRUE(plain.ok());
+  EXPECT_FALSE(plain.value().perturbs());
+  EXPECT_FALSE(case_inputs(plain.value(), case_at(plain.value(), 0)).contains("params"));
+}
+
+TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {
+  const std::string body = R"(
+[[family]]
+fault = "none"
+perturb = { hull.mass_kg = { from = 40, to = 48, sampled = 4 } }
+)";
+  auto a = parse(spec_text("sample_seed = 3\n" + body));
+  auto b = parse(spec_text("sample_seed = 3\n" + body));
+  auto c = parse(spec_text("sample_seed = 4\n" + body));
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  const auto& values = a.value().families[0].perturb[0].values;
+  EXPECT_EQ(values, b.value().families[0].perturb[0].values);
+  EXPECT_NE(values, c.value().families[0].perturb[0].values);
+  ASSERT_EQ(4u, values.size());
+  for (double v : values) {
+    EXPECT_GE(v, 40.0);
+    EXPECT_LE(v, 48.0);
+  }
+}
+
+TEST(CampaignSpec, UnknownOrImpossibleParametersAreLocatedAndNameTheValidOnes) {
+  const auto family = [](const std::string& perturb) {
+    return spec_text("[[family]]\nfault = \"none\"\nperturb = " + perturb + "\n");
+  };
+  const std::string unknown = error_of(family("{ mass_kg = [40, 48] }"));
+  EXPECT_NE(std::string::npos, unknown.find("c.toml:4:13: unknown vehicle parameter 'mass_kg'; did you mean "
+                                            "hull.mass_kg?"))
+      << unknown;
+  EXPECT_NE(std::string::npos, unknown.find("hull: mass_kg, added_mass_kg, drag_coeff, buoyancy_n; thrusters: "
+                                            "max_n, lag_s;"))
+      << unknown;
+  EXPECT_NE(std::string::npos, error_of(family("{ thrusters.thrust_n = 30 }"))
+                                   .find("c.toml:4:23: unknown vehicle parameter 'thrusters.thrust_n'"));
+  EXPECT_NE(std::string::npos,
+            error_of(family("{ hull = { from = 1, to = 2, step = 1 } }")).find("unknown vehicle parameter 'hull'"));
+  EXPECT_NE(std::string::npos,
+            error_of(family("{ hull.mass_kg = 0 }")).find("c.toml:4:28: 'hull.mass_kg' must be > 0 (it is 0)"));
+  EXPECT_NE(std::string::npos, error_of(family("{ hull.mass_kg = [175, -1] }")).find("'hull.mass_kg' must be > 0"));
+  EXPECT_NE(std::string::npos, error_of(family("{ hull.mass_kg = nan }")).find("(it is nan)"));
+  EXPECT_NE(
+      std::string::npos,
+      error_of(family("{ hull.buoyancy_n = inf }")).find("'hull.buoyancy_n' must be a finite number (it is inf)"));
+  EXPECT_NE(std::string::npos, error_of(family("{ filter.alpha = { from = 0.5, to = 2, step = 0.5 } }"))
+                                   .find("'filter.alpha.to' must be in [0, 1] (it is 2)"));
+  EXPECT_NE(std::string::npos,
+            error_of(family("{ simulation.substeps = 2.5 }")).find("'simulation.substeps' = 2.5 is not a whole"));
+  EXPECT_NE(std::string::npos, error_of(family("{ simulation.substeps = { from = 1, to = 9, sampled = 3 } }"))
+                                   .find("is a whole number: give a list or a grid"));
+  EXPECT_NE(std::string::npos, error_of(family("[1, 2]")).find("'perturb' must be a table of vehicle parameters"));
+  EXPECT_NE(std::string::npos, error_of(family("{}")).find("'perturb' must be a table"));
+  // Each value is possible, but not together: surface_depth_m 7 is below a 6 m tank's bottom.
+  const std::string together = error_of(family("{ detection.surface_depth_m = [0.15, 7] }"));
+  EXPECT_NE(std::string::npos, together.find("c.toml:4:11: family 'none' makes a vehicle that cannot be "
+                                             "(detection.surface_depth_m=7): detection.surface_depth_m must be less "
+                                             "than simulation.tank_depth_m"))
+      << together;
+  EXPECT_NE(std::string::npos, error_of(family("{ \"hull.mass_kg\" = 170, hull.mass_kg = 180 }"))
+                                   .find("'hull.mass_kg' is perturbed twice in one 'perturb'"));
+  // The cruise speed within the top speed: a weaker motor with the same cruise speed cannot be.
+  EXPECT_NE(std::string::npos, error_of(family("{ surge.motor_max_n = [12, 1], hull.mass_kg = [170, 180] }"))
+                                   .find("(surge.motor_max_n=1): guidance.cruise_speed_mps must not exceed"));
+  EXPECT_NE(std::string::npos, error_of(spec_text("perturb = { hull.mas_kg = 1 }\n[[family]]\nfault = \"none\"\n"))
+                                   .find("c.toml:2:18: unknown vehicle parameter 'hull.mas_kg'"));
+}
+
+TEST(CampaignSpec, AHugePerturbationIsRefusedBeforeAnythingIsMade) {
+  const std::string body =
+      "[[family]]\nfault = \"none\"\nperturb = { hull.mass_kg = { from = 1, to = 1e9, step = 1e-3 } }\n";
+  EXPECT_NE(std::string::npos, error_of(spec_text(body)).find("'hull.mass_kg' makes more than 100000 values"));
+  const std::string product =
+      "[[family]]\nfault = \"none\"\nperturb = { hull.mass_kg = { from = 100, to = 599, step = 1 }, "
+      "hull.drag_coeff = { from = 100, to = 599, step = 1 } }\n";
+  const std::string over = error_of(spec_text(product));
+  EXPECT_NE(std::string::npos, over.find("the spec makes 250000 cases, over the limit of 100000")) << over;
+  std::string many = "[[family]]\nfault = \"none\"\n[family.perturb]\n";
+  for (const char* k :
+       {"hull.mass_kg", "hull.added_mass_kg", "hull.drag_coeff", "hull.buoyancy_n", "thrusters.max_n",
+        "thrusters.lag_s", "depth_cell.noise_m", "filter.alpha", "filter.beta", "controller.gain_n", "yaw.lag_s",
+        "yaw.drag_coeff", "surge.lag_s", "tank.width_y_m", "tank.length_x_m", "watchdog.silence_s", "sonar.noise"}) {
+    many += std::string(k) + " = 0.5\n";
+  }
+  EXPECT_NE(std::string::npos, error_of(spec_text(many)).find("at most 16 may be perturbed together"));
+}
+
 TEST(CampaignSpec, BadTomlIsLocated) {
   EXPECT_EQ("c.toml:2:12: Error while parsing array", error_of(spec_text("seeds = [1,,2]\n")).substr(0, 38));
 }

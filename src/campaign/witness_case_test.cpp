@@ -105,6 +105,50 @@ answers = "abort.json"
   EXPECT_NE(std::string::npos, lines[0]["repro_run"].get<std::string>().find("--answers " + answers));
 }
 
+// Regression: no_refused_exec counted the EXECs the vehicle answered 0, not
+// those the scripted answers failed while the vehicle did them, so a
+// witness's failing EXEC passed the check.
+TEST(CampaignWitness, AnExecTheScriptFailsIsARefusedExec) {
+  TempDir dir;
+  dir.write("no_filter.json", R"({"strata_answers": 1, "answers": [
+    {"action": "exec", "primitive": "start_depth_filter", "answer": 0}]})");
+  const std::string spec_path = dir.write("spec.toml", "missions = [\"" + testing::kTankDir + "/tank.coral\", \"" +
+                                                           testing::kTankDir + "/tank.pl\"]\n" +
+                                                           R"([expect.clean]
+no_refused_exec = true
+[[family]]
+name = "nominal"
+fault = "none"
+expect = "clean"
+[[family]]
+name = "no_filter"
+fault = "none"
+answers = "no_filter.json"
+expect = "clean"
+)");
+  auto spec = load_spec(spec_path);
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  run_all(spec.value(), dir.file("out"), 0);
+  const auto lines = by_index(testing::read_results(dir.file("out/results.jsonl")));
+  ASSERT_EQ(4u, lines.size());
+  for (std::size_t i : {0u, 2u}) {
+    const nlohmann::json* refused = check(lines[i], "no_refused_exec");
+    ASSERT_NE(nullptr, refused);
+    EXPECT_TRUE((*refused)["pass"].get<bool>()) << "the nominal run: " << lines[i].dump();
+    EXPECT_EQ(0, lines[i]["figures"]["refused_execs"]);
+  }
+  for (std::size_t i : {1u, 3u}) {
+    const nlohmann::json* refused = check(lines[i], "no_refused_exec");
+    ASSERT_NE(nullptr, refused);
+    EXPECT_FALSE((*refused)["pass"].get<bool>()) << lines[i].dump();
+    EXPECT_EQ(1, (*refused)["figure"]) << lines[i].dump();
+    EXPECT_EQ(1, lines[i]["figures"]["refused_execs"]);
+    EXPECT_NE(std::string::npos, (*refused)["note"].get<std::string>().find(
+                                     "exec start_depth_filter at 0.5 s: the script answered 0 (answers[0])"))
+        << lines[i].dump();
+  }
+}
+
 TEST(CampaignWitness, BadAnswersAreErrorsOfTheSpecWithTheirPlace) {
   TempDir dir;
   const std::string tank = "missions = [\"" + testing::kTankDir + "/tank.coral\", \"" + testing::kTankDir +

@@ -69,8 +69,12 @@ struct CampaignFlags {
 int list_cases(const campaign::Spec& spec, const std::vector<std::uint64_t>& indices) {
   for (std::uint64_t i : indices) {
     const campaign::Case c = campaign::case_at(spec, i);
-    std::cout << fmt::format("{}\t{}\t{}\t{}\tseed {}\n", i, spec.missions[c.mission].path,
-                             spec.families[c.family].name, campaign::fault_text(c), c.seed);
+    // A spec that perturbs the vehicle has one column more, on every line:
+    // the parameters ("-" for a family that keeps the built-in ones).
+    const std::string params =
+        !spec.perturbs() ? "" : "\t" + (c.params.empty() ? std::string("-") : campaign::params_text(c));
+    std::cout << fmt::format("{}\t{}\t{}\t{}{}\tseed {}\n", i, spec.missions[c.mission].path,
+                             spec.families[c.family].name, campaign::fault_text(c), params, c.seed);
   }
   return static_cast<int>(kExitOk);
 }
@@ -81,8 +85,9 @@ int run_one_case(const campaign::Spec& spec, std::uint64_t index) {
   campaign::CaseRunConfig config;
   config.keep_logs = campaign::KeepLogs::None;
   const auto line = campaign::run_case(spec, c, config);
-  std::cout << fmt::format("case {}: {} · {} · {} · seed {}\n", index, spec.missions[c.mission].path,
-                           spec.families[c.family].name, campaign::fault_text(c), c.seed);
+  std::cout << fmt::format("case {}: {} · {} · {}{} · seed {}\n", index, spec.missions[c.mission].path,
+                           spec.families[c.family].name, campaign::fault_text(c),
+                           c.params.empty() ? "" : " · " + campaign::params_text(c), c.seed);
   std::cout << fmt::format("  outcome {}{}\n", line["outcome"].get<std::string>(),
                            line["reason"].get<std::string>().empty() ? "" : ": " + line["reason"].get<std::string>());
   for (const auto& check : line["checks"]) {

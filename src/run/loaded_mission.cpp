@@ -142,6 +142,18 @@ int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream
     }
     loaded.params = p.value();
   }
+  for (const auto& [name, value] : o.param_overrides) {
+    if (auto r = vehicle::set_param(loaded.params, name, value); !r) {
+      err << "strata run: vehicle parameter override: " << r.error().message << "\n";
+      return kExitInvalid;
+    }
+  }
+  if (!o.param_overrides.empty()) {
+    if (auto r = vehicle::check_param_relations(loaded.params); !r) {
+      err << "strata run: vehicle parameter overrides: " << r.error().message << "\n";
+      return kExitInvalid;
+    }
+  }
   auto scenario = o.read_file ? load_scenario_through(o.read_file, o.scenario, o.mission)
                               : load_scenario_option(o.scenario, o.mission);
   if (!scenario) {
@@ -149,7 +161,7 @@ int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream
     return exit_code_for_input(scenario.error());
   }
   loaded.scenario = std::move(scenario.value());
-  if (!o.vehicle.empty() && (!o.scenario.empty() || !o.params.empty() || o.realtime)) {
+  if (!o.vehicle.empty() && (!o.scenario.empty() || !o.params.empty() || !o.param_overrides.empty() || o.realtime)) {
     err << "strata run: --scenario, --params and --realtime set up the embedded vehicle; with "
            "--vehicle they belong to that vehicle's own command line\n";
     return kExitUsage;

@@ -7,6 +7,8 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/result.h"
 
@@ -20,10 +22,15 @@ struct RuleLoadLimits {
 };
 
 struct RunOptions {
-  std::string mission;                         // a .coral (CORAL) or .pl (PROLOG) file
-  std::string data;                            // overrides the mission's data file
-  std::string scenario;                        // name (in the mission's scenarios/) or path; "" nominal
-  std::string params;                          // vehicle parameter file; "" built in
+  std::string mission;   // a .coral (CORAL) or .pl (PROLOG) file
+  std::string data;      // overrides the mission's data file
+  std::string scenario;  // name (in the mission's scenarios/) or path; "" nominal
+  std::string params;    // vehicle parameter file; "" built in
+  // Vehicle parameters set over `params` (or the built-in values), each by
+  // its name in config/phoenix.toml ("hull.mass_kg") and checked as the
+  // file's are (vehicle::set_param): a campaign's perturbations. Embedded
+  // vehicle only.
+  std::vector<std::pair<std::string, double>> param_overrides;
   std::string catalogue;                       // primitive catalogue; "" built in
   std::optional<std::uint64_t> seed;           // CORAL: seeded choice among enabled transitions
   std::uint64_t inference_limit = 10'000'000;  // PROLOG: inferences allowed between primitive calls

@@ -81,6 +81,26 @@ core::Result<nlohmann::json> replay_from_log(const std::string& text) {
       emit("telemetry", std::move(d));
     } else if (kind == "report") {
       emit("report", {{"text", e.value("text", "")}});
+    } else if (kind == "scripted_answer") {
+      // `strata run --answers`: a call the script answered, and what the
+      // vehicle itself said (docs/mission-log.md).
+      emit("scripted_answer", {{"answer_index", e.value("answer_index", 0)},
+                               {"step", e.value("step", 0)},
+                               {"net", e.value("net", "")},
+                               {"transition", e.value("transition", "")},
+                               {"action", e.value("action", "")},
+                               {"primitive", e.value("primitive", "")},
+                               {"vehicle", e.value("vehicle", 0)},
+                               {"answer", e.value("answer", 0)}});
+    } else if (kind == "scripted_phase") {
+      emit("scripted_phase", {{"answer_index", e.value("answer_index", 0)},
+                              {"step", e.value("step", 0)},
+                              {"net", e.value("net", "")},
+                              {"transition", e.value("transition", "")},
+                              {"phase", e.value("phase", "")},
+                              {"exit", e.value("exit", "")}});
+    } else if (kind == "answers_diverged") {
+      emit("answers_diverged", {{"reason", e.value("reason", "")}, {"used", e.value("used", 0)}});
     } else if (kind == "mission_end") {
       emit("run_end",
            {{"outcome", e.value("outcome", "")}, {"exit", e.value("exit", "")}, {"reason", e.value("reason", "")}});

@@ -252,6 +252,59 @@ TEST_F(StudioServerTest, AReplaysTelemetryCarriesThePositionWhereTheLogHasOne) {
   EXPECT_FALSE(j["events"][1]["data"].contains("x")) << j.dump();
 }
 
+TEST_F(StudioServerTest, AReplayKeepsTheScriptedAnswersOfARunWithAnswers) {
+  // Regression: the replay dropped a --answers run's scripted_answer,
+  // scripted_phase and answers_diverged records, so the studio showed the
+  // witness's path without saying which answers were the script's.
+  const std::string log =
+      json{{"event", "run"}, {"mission", "tank/tank.coral"}}.dump() + "\n" +
+      json{{"event", "scripted_answer"},
+           {"answer_index", 0},
+           {"step", 3},
+           {"net", "dive_from_surface"},
+           {"transition", "check_filter"},
+           {"action", "ask"},
+           {"primitive", "filter_on"},
+           {"vehicle", 0},
+           {"answer", 1},
+           {"sim_time", 1.5}}
+          .dump() +
+      "\n" +
+      json{{"event", "scripted_phase"},
+           {"answer_index", 1},
+           {"step", 4},
+           {"net", "tank"},
+           {"transition", "dive"},
+           {"phase", "dive_from_surface"},
+           {"exit", "abort"},
+           {"sim_time", 2.0}}
+          .dump() +
+      "\n" +
+      json{{"event", "answers_diverged"}, {"reason", "exec x was called"}, {"used", 2}, {"sim_time", 2.5}}.dump() +
+      "\n" + json{{"event", "mission_end"}, {"outcome", "failed"}, {"sim_time", 3.0}}.dump() + "\n";
+  fs::create_directories(base_ / "root/tank/runs");
+  write_file(base_ / "root/tank/runs/20261125T121212Z-tank.coral.jsonl", log);
+  auto r = client().Get("/api/replay?path=tank/runs/20261125T121212Z-tank.coral.jsonl");
+  ASSERT_EQ(200, r->status) << r->body;
+  const json events = json::parse(r->body)["events"];
+  ASSERT_EQ(4u, events.size()) << events.dump();
+  EXPECT_EQ("scripted_answer", events[0]["event"]);
+  EXPECT_EQ((json{{"answer_index", 0},
+                  {"step", 3},
+                  {"net", "dive_from_surface"},
+                  {"transition", "check_filter"},
+                  {"action", "ask"},
+                  {"primitive", "filter_on"},
+                  {"vehicle", 0},
+                  {"answer", 1},
+                  {"t", 1.5}}),
+            events[0]["data"]);
+  EXPECT_EQ("scripted_phase", events[1]["event"]);
+  EXPECT_EQ("abort", events[1]["data"]["exit"]);
+  EXPECT_EQ("answers_diverged", events[2]["event"]);
+  EXPECT_EQ("exec x was called", events[2]["data"]["reason"]);
+}
+
 TEST_F(StudioServerTest, AbortAndStopGoToTheRunner) {
   auto c = client();
   EXPECT_EQ(200, c.Post("/api/run/abort", "", "application/json")->status);

@@ -101,6 +101,12 @@ const Field* find_field(std::string_view table, std::string_view key) {
   return nullptr;
 }
 
+const Field* find_field(std::string_view name) {
+  const auto dot = name.find('.');
+  if (dot == std::string_view::npos) return nullptr;
+  return find_field(name.substr(0, dot), name.substr(dot + 1));
+}
+
 bool known_table(std::string_view table) {
   for (const Field& f : kFields) {
     if (f.table == table) return true;
@@ -108,16 +114,26 @@ bool known_table(std::string_view table) {
   return false;
 }
 
-std::string range_text(const Field& f) {
-  std::string lo = f.lo == -kInf ? "" : fmt::format("{} {} ", f.lo, f.lo_open ? "<" : "<=");
-  std::string hi = f.hi == kInf ? "" : fmt::format(" <= {}", f.hi);
-  return lo + "value" + hi;
+bool is_integer(const Field& f) { return std::holds_alternative<int VehicleParams::*>(f.member); }
+
+ParamInfo info_of(const Field& f) {
+  return ParamInfo{fmt::format("{}.{}", f.table, f.key), f.lo, f.lo_open, f.hi, is_integer(f)};
+}
+
+std::string range_text(const Field& f) { return param_range_text(info_of(f)); }
+
+void assign(const Field& f, VehicleParams& p, double v) {
+  if (auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
+    p.** m = static_cast<int>(v);
+  } else {
+    p.*std::get<double VehicleParams::*>(f.member) = v;
+  }
 }
 
 core::Result<void> set_field(std::string_view path, const Field& f, const toml::node& node, VehicleParams& p) {
   const std::string name = fmt::format("{}.{}", f.table, f.key);
   double v = 0.0;
-  if (std::holds_alternative<int VehicleParams::*>(f.member)) {
+  if (is_integer(f)) {
     if (!node.is_integer()) {
       return core::toml_error_at(path, node.source(), fmt::format("'{}' must be an integer", name));
     }
@@ -132,11 +148,7 @@ core::Result<void> set_field(std::string_view path, const Field& f, const toml::
     return core::toml_error_at(path, node.source(),
                                fmt::format("'{}' = {} is out of range ({})", name, v, range_text(f)));
   }
-  if (auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
-    p.** m = static_cast<int>(v);
-  } else {
-    p.*std::get<double VehicleParams::*>(f.member) = v;
-  }
+  assign(f, p, v);
   return {};
 }
 
@@ -164,16 +176,7 @@ core::Result<VehicleParams> params_from_table(std::string_view path, const toml:
       return core::toml_error_in(path, fmt::format("missing key '{}.{}'", f.table, f.key));
     }
   }
-  if (p.surface_depth_m >= p.tank_depth_m) {
-    return core::toml_error_in(path,
-                               "detection.surface_depth_m must be less than "
-                               "simulation.tank_depth_m");
-  }
-  if (p.cruise_speed_mps > p.top_speed_mps()) {
-    return core::toml_error_in(path, fmt::format("guidance.cruise_speed_mps must not exceed the top speed, {:.3g} m/s "
-                                                 "(surge.motor_max_n and surge.drag_coeff)",
-                                                 p.top_speed_mps()));
-  }
+  if (auto r = check_param_relations(p); !r) return core::toml_error_in(path, r.error().message);
   return p;
 }
 
@@ -189,6 +192,106 @@ core::Result<VehicleParams> parse_params(std::string_view text, std::string_view
   auto table = core::parse_toml(text, path);
   if (!table) return table.error();
   return params_from_table(path, table.value());
+}
+
+}  // namespace strata::vehicle
+
+namespace strata::vehicle {
+
+const std::vector<ParamInfo>& param_infos() {
+  static const std::vector<ParamInfo> infos = [] {
+    std::vector<ParamInfo> v;
+    for (const Field& f : kFields) v.push_back(info_of(f));
+    return v;
+  }();
+  return infos;
+}
+
+const ParamInfo* find_param(std::string_view name) {
+  for (const ParamInfo& info : param_infos()) {
+    if (info.name == name) return &info;
+  }
+  return nullptr;
+}
+
+std::string param_range_text(const ParamInfo& f) {
+  if (f.lo == -kInf && f.hi == kInf) return "any finite value";
+  std::string lo = f.lo == -kInf ? "" : fmt::format("{} {} ", f.lo, f.lo_open ? "<" : "<=");
+  std::string hi = f.hi == kInf ? "" : fmt::format(" <= {}", f.hi);
+  return lo + "value" + hi + (f.integer ? ", a whole number" : "");
+}
+
+std::string param_value_problem(const ParamInfo& f, double v) {
+  const bool lo_ok = f.lo_open ? v > f.lo : v >= f.lo;
+  if (!std::isfinite(v) || !lo_ok || v > f.hi) {
+    return fmt::format("'{}' = {} is out of range ({})", f.name, v, param_range_text(f));
+  }
+  if (f.integer && v != std::floor(v)) return fmt::format("'{}' = {} is not a whole number", f.name, v);
+  return {};
+}
+
+std::string param_names_text() {
+  std::string out;
+  std::string_view table;
+  for (const Field& f : kFields) {
+    if (f.table != table) {
+      out += fmt::format("{}{}: {}", table.empty() ? "" : "; ", f.table, f.key);
+      table = f.table;
+    } else {
+      out += fmt::format(", {}", f.key);
+    }
+  }
+  return out;
+}
+
+core::Result<void> set_param(VehicleParams& p, std::string_view name, double value) {
+  const Field* f = find_field(name);
+  if (f == nullptr) {
+    return core::make_error(core::ErrorCode::InvalidInput, fmt::format("unknown vehicle parameter '{}'", name));
+  }
+  if (auto why = param_value_problem(info_of(*f), value); !why.empty()) {
+    return core::make_error(core::ErrorCode::InvalidInput, why);
+  }
+  assign(*f, p, value);
+  return {};
+}
+
+core::Result<void> check_param_relations(const VehicleParams& p) {
+  if (p.surface_depth_m >= p.tank_depth_m) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            "detection.surface_depth_m must be less than simulation.tank_depth_m");
+  }
+  if (p.cruise_speed_mps > p.top_speed_mps()) {
+    return core::make_error(core::ErrorCode::InvalidInput,
+                            fmt::format("guidance.cruise_speed_mps must not exceed the top speed, {:.3g} m/s "
+                                        "(surge.motor_max_n and surge.drag_coeff)",
+                                        p.top_speed_mps()));
+  }
+  return {};
+}
+
+bool param_in_relations(std::string_view name) {
+  return name == "detection.surface_depth_m" || name == "simulation.tank_depth_m" ||
+         name == "guidance.cruise_speed_mps" || name == "surge.motor_max_n" || name == "surge.drag_coeff";
+}
+
+std::string params_toml(const VehicleParams& p) {
+  std::string out = "# The simulated vehicle's parameters (config/phoenix.toml's keys).\n";
+  std::string_view table;
+  for (const Field& f : kFields) {
+    if (f.table != table) {
+      out += fmt::format("\n[{}]\n", f.table);
+      table = f.table;
+    }
+    if (const auto* m = std::get_if<int VehicleParams::*>(&f.member)) {
+      out += fmt::format("{} = {}\n", f.key, p.**m);
+    } else {
+      // The shortest text that reads back as the same double.
+      const double v = p.*std::get<double VehicleParams::*>(f.member);
+      out += fmt::format("{} = {}\n", f.key, v);
+    }
+  }
+  return out;
 }
 
 }  // namespace strata::vehicle

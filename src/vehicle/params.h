@@ -16,7 +16,9 @@
 // water (scenario.h) the same axes hold: x is east, y is north, in metres
 // from the scenario's origin; the seabed replaces the tank's floor.
 #include <cmath>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/result.h"
 
@@ -150,5 +152,40 @@ inline VehicleParams default_params() { return VehicleParams{}; }
 core::Result<VehicleParams> load_params(std::string_view path);
 // The same, from text in memory; path is used in messages only.
 core::Result<VehicleParams> parse_params(std::string_view text, std::string_view path);
+
+// One parameter by its name in config/phoenix.toml ("hull.mass_kg") and its
+// admissible range (lo < v or lo <= v; v <= hi; whole numbers when integer),
+// the same the file is checked against.
+struct ParamInfo {
+  std::string name;
+  double lo = 0.0;
+  bool lo_open = false;
+  double hi = 0.0;
+  bool integer = false;
+};
+// Every parameter, in the file's order.
+const std::vector<ParamInfo>& param_infos();
+// The parameter named so; nullptr when there is none.
+const ParamInfo* find_param(std::string_view name);
+// "0 < value", "0 <= value <= 1", "any finite value": the range, for messages.
+std::string param_range_text(const ParamInfo& info);
+// Why v cannot be the parameter's value ("" when it can): not finite, out
+// of range, not whole.
+std::string param_value_problem(const ParamInfo& info, double v);
+// "hull: mass_kg, added_mass_kg, ...; thrusters: max_n, lag_s; ...": every
+// name, for messages.
+std::string param_names_text();
+
+// Sets one parameter by name (overrides: a campaign's perturbations).
+// InvalidInput, naming it, for an unknown name or a value it cannot take.
+core::Result<void> set_param(VehicleParams& p, std::string_view name, double value);
+// The rules between parameters a file must also meet (the surface above the
+// tank's bottom, the cruise speed within the top speed). InvalidInput with why.
+core::Result<void> check_param_relations(const VehicleParams& p);
+// Whether the parameter takes part in those rules.
+bool param_in_relations(std::string_view name);
+// The parameters as a complete parameter file (`strata run --params`
+// reads it back to the same values).
+std::string params_toml(const VehicleParams& p);
 
 }  // namespace strata::vehicle

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -168,6 +169,68 @@ TEST(Params, TheOpenWaterTablesAreRequiredAndTheCruiseSpeedWithinTheTopSpeed) {
   EXPECT_EQ("p.toml:" + std::to_string(line_of("drag_coeff = 24.0")) +
                 ":14: 'surge.drag_coeff' = 0 is out of range (0 < value)",
             params_error_of(edited("drag_coeff = 24.0", "drag_coeff = 0.0")));
+}
+
+}  // namespace
+}  // namespace strata::vehicle
+
+namespace strata::vehicle {
+namespace {
+
+TEST(VehicleParamsOverride, AParameterSetByItsFileNameLandsInItsField) {
+  VehicleParams p;
+  ASSERT_TRUE(set_param(p, "hull.mass_kg", 44.5).ok());
+  ASSERT_TRUE(set_param(p, "thrusters.max_n", 30).ok());
+  ASSERT_TRUE(set_param(p, "simulation.substeps", 20).ok());
+  EXPECT_EQ(44.5, p.mass_kg);
+  EXPECT_EQ(30.0, p.thruster_max_n);
+  EXPECT_EQ(20, p.substeps);
+  EXPECT_EQ(default_params().drag_coeff, p.drag_coeff) << "only the named fields move";
+}
+
+TEST(VehicleParamsOverride, UnknownNamesAndValuesTheFileWouldRefuseAreRefused) {
+  VehicleParams p;
+  EXPECT_EQ("unknown vehicle parameter 'mass_kg'", set_param(p, "mass_kg", 40).error().message);
+  EXPECT_EQ("'hull.mass_kg' = 0 is out of range (0 < value)", set_param(p, "hull.mass_kg", 0).error().message);
+  EXPECT_FALSE(set_param(p, "hull.mass_kg", std::nan("")).ok());
+  EXPECT_FALSE(set_param(p, "hull.buoyancy_n", INFINITY).ok());
+  EXPECT_TRUE(set_param(p, "hull.buoyancy_n", -3).ok());
+  EXPECT_EQ("'simulation.substeps' = 2.5 is not a whole number",
+            set_param(p, "simulation.substeps", 2.5).error().message);
+  EXPECT_FALSE(set_param(p, "filter.alpha", 1.5).ok());
+  EXPECT_EQ(default_params(), [] {
+    VehicleParams q;
+    (void)set_param(q, "hull.mass_kg", -1);
+    return q;
+  }()) << "a refused value changes nothing";
+}
+
+TEST(VehicleParamsOverride, TheNamesAreTheShippedFilesKeysAndTheTextReadsBackTheSame) {
+  std::size_t found = 0;
+  const std::string text = shipped_text();
+  for (const ParamInfo& info : param_infos()) {
+    const std::string key = info.name.substr(info.name.find('.') + 1);
+    found += text.find("\n" + key + " ") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_EQ(param_infos().size(), found);
+  EXPECT_NE(std::string::npos, param_names_text().find("hull: mass_kg, added_mass_kg, drag_coeff, buoyancy_n; "));
+  VehicleParams p;
+  ASSERT_TRUE(set_param(p, "hull.mass_kg", 0.1 + 0.2).ok());
+  ASSERT_TRUE(set_param(p, "navigation.current_walk_mps", 1e-7).ok());
+  auto back = parse_params(params_toml(p), "case.toml");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(p, back.value());
+}
+
+TEST(VehicleParamsOverride, RelationsBetweenParametersAreCheckedApart) {
+  VehicleParams p;
+  ASSERT_TRUE(set_param(p, "detection.surface_depth_m", 7).ok());
+  EXPECT_NE(std::string::npos, check_param_relations(p).error().message.find("surface_depth_m must be less than"));
+  EXPECT_TRUE(check_param_relations(default_params()).ok());
+  std::size_t related = 0;
+  for (const ParamInfo& info : param_infos()) related += param_in_relations(info.name) ? 1 : 0;
+  EXPECT_EQ(5u, related) << "the five parameters the rules read, each a real one";
+  EXPECT_FALSE(param_in_relations("hull.mass_kg"));
 }
 
 }  // namespace

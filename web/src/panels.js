@@ -151,7 +151,8 @@ export function createPanels(store, fx) {
     for (const a of Object.values(rs.inFlight)) fl.append(el('li', {}, `▶ ${a.kind || ''} ${a.primitive || ''}`, el('span', { class: 'muted' }, ` ${a.net || ''}/${a.transition || ''}`)));
     const rl = $('#report-log');
     if (rl.childElementCount !== rs.reports.length) {
-      rl.replaceChildren(...rs.reports.map((r) => el('li', {}, el('span', { class: 'muted' }, r.t != null ? `${Number(r.t).toFixed(1)} ` : ''), r.text)));
+      rl.replaceChildren(...rs.reports.map((r) => el('li', r.scripted ? { class: 'scripted', title: 'a scripted answer (--answers), not the vehicle\'s' } : {},
+        el('span', { class: 'muted' }, r.t != null ? `${Number(r.t).toFixed(1)} ` : ''), r.scripted ? el('b', { class: 'scripted-tag' }, 'scripted ') : null, r.text)));
       rl.scrollTop = rl.scrollHeight;
     }
     chart.update(chartData(s));

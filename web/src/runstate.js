@@ -12,7 +12,7 @@ export function emptyRun() {
     inFlight: {},              // action id -> {id, instance, net, transition, kind, primitive}
     telemetry: [],             // [t, depth, setpoint]
     track: [],                 // [t, x, y]: the vehicle's estimated position, from the samples that have one (open water)
-    reports: [],               // {t, text}
+    reports: [],               // {t, text, scripted}: REPORTs, and a --answers run's scripted answers (scripted true)
     lastFired: null,           // {net, transition, index, t}
     currentNet: null,          // the net of the latest phase_start / fired
     active: null,              // the instance of the deepest phase running
@@ -126,6 +126,12 @@ export function applyEvent(rs, name, d) {
     case 'report':
       rs.reports.push({ t: d.t, text: d.text });
       break;
+    case 'scripted_answer':
+    case 'scripted_phase':
+    case 'answers_diverged':
+      // Only a replay has these: the log of a run made with --answers.
+      rs.reports.push({ t: d.t, text: scriptedText(name, d), scripted: true });
+      break;
     case 'run_end':
       rs.ended = d;
       rs.status = d.outcome || 'ended';
@@ -149,4 +155,18 @@ export function chainOf(rs, instance) {
     out.unshift(i);
   }
   return out;
+}
+
+// One line for a scripted answer of a --answers run (docs/mission-log.md):
+// what the mission was told, what the vehicle said, and where.
+export function scriptedText(name, d) {
+  const where = [d.net && d.transition ? `${d.net}/${d.transition}` : d.net || d.transition, d.step ? `step ${d.step}` : '']
+    .filter(Boolean).join(', ');
+  const at = where ? ` (${where})` : '';
+  if (name === 'scripted_answer') {
+    const told = d.answer === d.vehicle ? `answered ${d.answer}, as the vehicle did` : `answered ${d.answer}; the vehicle said ${d.vehicle}`;
+    return `${String(d.action || '').toUpperCase()} ${d.primitive || ''} ${told}${at}`;
+  }
+  if (name === 'scripted_phase') return `phase ${d.phase || ''} ended at ${d.exit || ''}, as scripted${at}`;
+  return `the run left the script after ${d.used ?? 0} answers: ${d.reason || ''}`;
 }
