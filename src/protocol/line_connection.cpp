@@ -1,6 +1,8 @@
 #include "protocol/line_connection.h"
 
+#include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace strata::protocol {
 
@@ -50,7 +52,13 @@ LineConnection::Sent LineConnection::send(std::string bytes) {
   }
   queued_bytes_ += bytes.size();
   queue_.push_back(std::move(bytes));
-  if (!writing_) write_front();
+  if (!writing_) {
+    // Written once the caller's handler is done, with whatever else it
+    // queues: a lockstep instant's replies, telemetry and ok go in one
+    // system call, not one each.
+    writing_ = true;
+    asio::post(socket_.get_executor(), [self = shared_from_this()] { self->write_front(); });
+  }
   return Sent::Queued;
 }
 
@@ -100,35 +108,44 @@ void LineConnection::read() {
 }
 
 void LineConnection::write_front() {
+  if (closed_ || queue_.empty()) {
+    writing_ = false;
+    return;
+  }
   writing_ = true;
-  asio::async_write(socket_, asio::buffer(queue_.front()),
-                    [self = shared_from_this()](const asio::error_code& e, std::size_t) {
-                      self->writing_ = false;
-                      if (self->closed_) return;
-                      self->queued_bytes_ -= self->queue_.front().size();
-                      self->queue_.pop_front();
-                      if (e) {
-                        self->fail(CloseReason{CloseReason::Why::WriteError, e, "write failed: " + e.message()});
-                        return;
-                      }
-                      if (!self->queue_.empty()) {
-                        self->write_front();
-                      } else if (self->closing_) {
-                        self->fail(self->reason_);
-                      }
-                    });
+  // Everything queued so far, in one gathered write (deque elements stay
+  // where they are while more are queued behind them).
+  const std::size_t n = std::min<std::size_t>(queue_.size(), kMaxGather);
+  std::vector<asio::const_buffer> buffers;
+  buffers.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) buffers.push_back(asio::buffer(queue_[i]));
+  in_flight_ = n;
+  asio::async_write(socket_, buffers, [self = shared_from_this()](const asio::error_code& e, std::size_t) {
+    self->writing_ = false;
+    if (self->closed_) return;
+    for (std::size_t i = 0; i < self->in_flight_; ++i) {
+      self->queued_bytes_ -= self->queue_.front().size();
+      self->queue_.pop_front();
+    }
+    self->in_flight_ = 0;
+    if (e) {
+      self->fail(CloseReason{CloseReason::Why::WriteError, e, "write failed: " + e.message()});
+      return;
+    }
+    if (!self->queue_.empty()) {
+      self->write_front();
+    } else if (self->closing_) {
+      self->fail(self->reason_);
+    }
+  });
 }
 
 bool LineConnection::shut(CloseReason reason) {
   if (closed_) return false;
   closed_ = true;
   reason_ = std::move(reason);
-  // A write in progress still points at the front one until it is aborted.
-  if (writing_) {
-    queue_.erase(queue_.begin() + 1, queue_.end());
-  } else {
-    queue_.clear();
-  }
+  // A write in progress still points at the ones it took until it is aborted.
+  queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(std::min(in_flight_, queue_.size())), queue_.end());
   queued_bytes_ = 0;
   asio::error_code ignored;
   socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
