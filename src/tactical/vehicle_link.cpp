@@ -155,7 +155,11 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
             }
             session_version_ = w->version;
             barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
+            // A vehicle that tells its time in the welcome also takes a
+            // bounded advance (docs/protocol.md §8); one that does not gets
+            // wall-clock timeouts only.
             sim_now_ = w->sim_time_s;
+            bounded_ = barrier_ && w->sim_time_s.has_value();
             done(*w);
             return;
           }
@@ -185,7 +189,7 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   p.timer = std::make_unique<asio::steady_timer>(io_);
   auto wait = timeout.value_or(options_.reply_timeout);
   p.wait = wait;
-  if (barrier_ && p.timed && sim_now_ && sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0) {
+  if (bounded_ && p.timed && sim_now_ && sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0) {
     p.sim_timeout_s = *sim_timeout_s;
     p.sim_deadline_s = *sim_now_ + *sim_timeout_s;
   }
@@ -401,6 +405,7 @@ void VehicleLink::fail_all(const core::Error& error) {
 void VehicleLink::end_session() {
   connected_ = false;
   sim_now_.reset();
+  bounded_ = false;
   barrier_ = false;
   session_version_ = 0;
 }

@@ -14,8 +14,8 @@
 // before it). Replies to exec/ask/ood are handed to their handlers together,
 // in arrival order, when the advance's `ok` arrives (the vehicle's end of
 // that instant), never one by one as TCP happens to split the bytes.
-//   Simulated-time timeouts (lockstep, once the vehicle has told its time in
-// the welcome): a request sent with a simulated timeout S at time t must be
+//   Simulated-time timeouts (lockstep, with a vehicle whose welcome tells
+// its time, which is how it says it takes a bounded advance): a request sent with a simulated timeout S at time t must be
 // answered by t + S. Each advance names the earliest such deadline
 // (`advance ID UNTIL_S`); the vehicle moves time no further and answers with
 // its time (`ok ID T`); requests whose deadline has come by T then fail with
@@ -190,6 +190,7 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   bool barrier_ = false;
   std::optional<protocol::RequestId> advance_id_;
   std::optional<double> sim_now_;
+  bool bounded_ = false;  // the vehicle takes `advance ID UNTIL_S` (its welcome said time=)
   asio::steady_timer advance_timer_;
   std::deque<std::pair<protocol::RequestId, core::Result<protocol::VehicleMessage>>> held_;
   std::size_t holds_ = 0;

@@ -2,6 +2,9 @@
 // process on one io_context, over loopback TCP on a free port.
 #include <chrono>
 #include <optional>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include <asio.hpp>
 #include <fmt/format.h>
@@ -264,6 +267,56 @@ TEST(VehicleLink, InLockstepASilentVehicleTimesOutInSimulatedTime) {
   EXPECT_EQ("no reply to `exec sleep 1` (request 4) within 3 s of simulated time", reply->error().message);
   EXPECT_EQ(std::optional<double>(3.1), link->sim_time_s());
   EXPECT_NEAR(3.1, rig.sim.time_s(), 1e-9);
+}
+
+// A lockstep vehicle whose welcome does not tell its time may not take a
+// bounded advance: the link sends plain ones (else such a vehicle would
+// refuse every advance and the link would send the next at once, for ever).
+TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
+  asio::io_context peer_io;
+  asio::ip::tcp::acceptor acceptor(peer_io, {asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<std::string> heard;
+  std::thread peer([&] {
+    asio::ip::tcp::socket s(peer_io);
+    acceptor.accept(s);
+    asio::streambuf in;
+    const auto next = [&] {
+      asio::read_until(s, in, '\n');
+      std::istream is(&in);
+      std::string line;
+      std::getline(is, line);
+      heard.push_back(line);
+      return line;
+    };
+    next();  // hello 1 strata 2
+    asio::write(s, asio::buffer(std::string("ok 1 older-sim 2 lockstep\n")));
+    next();  // ask 2 depth_reached (a reply, then the advance)
+    next();  // advance 3
+    asio::write(s, asio::buffer(std::string("answer 2 1 0.1\nok 3\n")));
+    next();  // ask 4 depth_reached: sim time known from the answer now
+    next();  // advance 5: still plain
+    asio::write(s, asio::buffer(std::string("answer 4 0 0.2\nok 5\n")));
+  });
+  asio::io_context io;
+  LinkOptions o;
+  o.port = acceptor.local_endpoint().port();
+  auto link = VehicleLink::create(io, o);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  ASSERT_TRUE(welcome->ok()) << welcome->error().message;
+  for (int i = 0; i < 2; ++i) {
+    std::optional<core::Result<VehicleMessage>> reply;
+    link->send(
+        protocol::make_ask(0, "depth_reached"), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, 5000ms,
+        2.0);
+    ASSERT_TRUE(run_until(io, [&] { return reply.has_value(); }));
+    EXPECT_TRUE(reply->ok()) << reply->error().message;
+  }
+  peer.join();
+  EXPECT_EQ((std::vector<std::string>{"hello 1 strata 2", "ask 2 depth_reached", "advance 3", "ask 4 depth_reached",
+                                      "advance 5"}),
+            heard);
 }
 
 TEST(VehicleLink, VehicleGoneMidRequestFailsThePendingRequest) {
