@@ -15,8 +15,8 @@
 // in arrival order, when the advance's `ok` arrives (the vehicle's end of
 // that instant), never one by one as TCP happens to split the bytes.
 //   Simulated-time timeouts (lockstep, with a vehicle whose welcome tells
-// its time, which is how it says it takes a bounded advance): a request sent with a simulated timeout S at time t must be
-// answered by t + S. Each advance names the earliest such deadline
+// its time, which is how it says it takes a bounded advance): a request sent with a simulated timeout S at time t must
+// be answered by t + S. Each advance names the earliest such deadline
 // (`advance ID UNTIL_S`); the vehicle moves time no further and answers with
 // its time (`ok ID T`); requests whose deadline has come by T then fail with
 // ErrorCode::Timeout, in id order. A lost link still carries that clock
