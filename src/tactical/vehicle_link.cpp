@@ -272,11 +272,13 @@ void VehicleLink::maybe_advance(std::uint64_t generation) {
 void VehicleLink::finish_advance(std::optional<double> sim_time_s) {
   advance_id_.reset();
   advance_timer_.cancel();
+  // The instant's time first: a handler below may send a request, whose
+  // deadline counts from now.
+  if (sim_time_s) saw_time(*sim_time_s);
   auto held = std::move(held_);
   held_.clear();
   for (auto& [id, result] : held) complete(id, std::move(result));
   if (sim_time_s) {
-    saw_time(*sim_time_s);
     std::vector<protocol::RequestId> late;
     for (const auto& [id, p] : pending_) {  // a std::map: in id order
       if (p.sim_deadline_s && *p.sim_deadline_s <= *sim_now_ + 1e-9) late.push_back(id);

@@ -280,22 +280,22 @@ TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
     asio::ip::tcp::socket s(peer_io);
     acceptor.accept(s);
     asio::streambuf in;
+    asio::error_code e;  // the link closed early (a failure): the peer's reads end
     const auto next = [&] {
-      asio::read_until(s, in, '\n');
+      if (e || asio::read_until(s, in, '\n', e) == 0) return;
       std::istream is(&in);
       std::string line;
       std::getline(is, line);
       heard.push_back(line);
-      return line;
     };
     next();  // hello 1 strata 2
-    asio::write(s, asio::buffer(std::string("ok 1 older-sim 2 lockstep\n")));
+    asio::write(s, asio::buffer(std::string("ok 1 older-sim 2 lockstep\n")), e);
     next();  // ask 2 depth_reached (a reply, then the advance)
     next();  // advance 3
-    asio::write(s, asio::buffer(std::string("answer 2 1 0.1\nok 3\n")));
+    asio::write(s, asio::buffer(std::string("answer 2 1 0.1\nok 3\n")), e);
     next();  // ask 4 depth_reached: sim time known from the answer now
     next();  // advance 5: still plain
-    asio::write(s, asio::buffer(std::string("answer 4 0 0.2\nok 5\n")));
+    asio::write(s, asio::buffer(std::string("answer 4 0 0.2\nok 5\n")), e);
   });
   asio::io_context io;
   LinkOptions o;
@@ -310,12 +310,75 @@ TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
     link->send(
         protocol::make_ask(0, "depth_reached"), [&](core::Result<VehicleMessage> m) { reply = std::move(m); }, 5000ms,
         2.0);
-    ASSERT_TRUE(run_until(io, [&] { return reply.has_value(); }));
-    EXPECT_TRUE(reply->ok()) << reply->error().message;
+    if (!run_until(io, [&] { return reply.has_value(); }) || !reply->ok()) {
+      ADD_FAILURE() << (reply ? reply->error().message : "no reply");
+      break;
+    }
   }
+  link->close();  // a peer still waiting for a line reads the end
   peer.join();
   EXPECT_EQ((std::vector<std::string>{"hello 1 strata 2", "ask 2 depth_reached", "advance 3", "ask 4 depth_reached",
                                       "advance 5"}),
+            heard);
+}
+
+// Regression (review): a reply's handler that sends a new request at the
+// end of an instant counted its simulated timeout from the time before the
+// instant, so the request timed out at once, before the vehicle saw it.
+TEST(VehicleLink, ARequestSentAtTheEndOfAnInstantCountsItsTimeoutFromThatInstant) {
+  asio::io_context peer_io;
+  asio::ip::tcp::acceptor acceptor(peer_io, {asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<std::string> heard;
+  std::thread peer([&] {
+    asio::ip::tcp::socket s(peer_io);
+    acceptor.accept(s);
+    asio::streambuf in;
+    asio::error_code e;  // the link closed early (a failure): the peer's reads end
+    const auto next = [&] {
+      if (e || asio::read_until(s, in, '\n', e) == 0) return;
+      std::istream is(&in);
+      std::string line;
+      std::getline(is, line);
+      heard.push_back(line);
+    };
+    next();  // hello 1 strata 2
+    asio::write(s, asio::buffer(std::string("ok 1 sim 2 lockstep time=0\n")), e);
+    next();  // exec 2 sleep 60
+    next();  // ask 3 leak
+    next();  // advance 4 2.0: the ask's deadline
+    // The ask is refused (an err carries no time); the instant ends at 2.0.
+    asio::write(s, asio::buffer(std::string("err 3 failed \"no leak sensor\"\nok 4 2.0\n")), e);
+    next();  // ask 5 depth_reached, sent by the ask's handler at 2.0
+    next();  // advance 6 4.0: two seconds from 2.0
+    asio::write(s, asio::buffer(std::string("answer 5 1 2.1\nok 6 2.1\n")), e);
+  });
+  asio::io_context io;
+  LinkOptions o;
+  o.port = acceptor.local_endpoint().port();
+  auto link = VehicleLink::create(io, o);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  ASSERT_TRUE(welcome->ok()) << welcome->error().message;
+  std::optional<core::Result<VehicleMessage>> second;
+  link->send(
+      protocol::make_exec(0, "sleep", {protocol::Value::integer(60)}), [](const core::Result<VehicleMessage>&) {},
+      5000ms, 62.0);
+  link->send(
+      protocol::make_ask(0, "leak"),
+      [&](const core::Result<VehicleMessage>&) {
+        link->send(
+            protocol::make_ask(0, "depth_reached"), [&](core::Result<VehicleMessage> m) { second = std::move(m); },
+            5000ms, 2.0);
+      },
+      5000ms, 2.0);
+  const bool replied = run_until(io, [&] { return second.has_value(); });
+  link->close();  // a peer still waiting for a line reads the end
+  peer.join();
+  ASSERT_TRUE(replied);
+  EXPECT_TRUE(second->ok()) << second->error().message;
+  EXPECT_EQ((std::vector<std::string>{"hello 1 strata 2", "exec 2 sleep 60", "ask 3 leak", "advance 4 2.0",
+                                      "ask 5 depth_reached", "advance 6 4.0"}),
             heard);
 }
 

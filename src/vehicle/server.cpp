@@ -109,6 +109,7 @@ void VehicleServer::accept() {
         session_version_ = 0;
         deferred_.clear();  // replies owed to a previous client are not this one's
         waiting_.clear();
+        held_advance_.reset();
         telemetry_.stop();
         last_rx_s_ = sim_.time_s();
         log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
@@ -202,7 +203,9 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
         return;
       }
       if (running_alone_ && r.until_s) {
-        // The watchdog has the vehicle: time moves for the client once it is done.
+        // The watchdog has the vehicle: time moves for the client once it is
+        // done. One at a time: an earlier one is answered with the time now.
+        if (held_advance_) send_clock(protocol::Ok{held_advance_->id, wire_time(sim_.time_s())});
         held_advance_ = r;
         return;
       }

@@ -92,7 +92,8 @@ void VehicleServer::watch_lost_link() {
     silent_since_s_ = sim_.time_s();
     log(fmt::format("{:.1f} s: link lost (scenario)", sim_.time_s()));
   }
-  if (!sim_.watchdog_tripped() && sim_.time_s() + 1e-9 >= *silent_since_s_ + sim_.params().watchdog_s) {
+  if (!sim_.watchdog_tripped() && sim_.network_up() &&
+      sim_.time_s() + 1e-9 >= *silent_since_s_ + sim_.params().watchdog_s) {
     sim_.watchdog_trip(fmt::format("link silent for {:.1f} s", sim_.params().watchdog_s));
     surfaced_in_silence_ = false;
   }

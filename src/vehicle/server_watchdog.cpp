@@ -63,11 +63,13 @@ void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::Close
   controller_.reset();
   deferred_.clear();
   waiting_.clear();  // nobody to answer
+  held_advance_.reset();
   if (sim_.network_up()) trip("link dropped");
 }
 
 void VehicleServer::trip(const std::string& reason) {
-  if (!sim_.watchdog_tripped()) {
+  const bool tripped_before = sim_.watchdog_tripped();
+  if (!tripped_before) {
     sim_.watchdog_trip(reason);
     flush_events();
     // Requests waiting for their cycle will not get it: the vehicle is on its own.
@@ -80,8 +82,9 @@ void VehicleServer::trip(const std::string& reason) {
     waiting_.clear();
   }
   // Tripped already (in simulated time, during a lost link the client still
-  // advanced through): the vehicle may still be on its way up.
-  if (options_.clock == protocol::ClockMode::Lockstep) run_alone(std::nullopt);
+  // advanced through) and the client gone: the vehicle may still be on its
+  // way up. While the client is there, its advances move time.
+  if (options_.clock == protocol::ClockMode::Lockstep && (!tripped_before || !controller_)) run_alone(std::nullopt);
 }
 
 // Lockstep without a client: nobody will ask the simulation to move, so it
