@@ -3,10 +3,12 @@
 // way to run the loop until something happened (bounded, so a broken test
 // fails instead of hanging).
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <asio.hpp>
@@ -146,6 +148,64 @@ struct LineClient {
   std::vector<std::string> lines;  // without their newline
   std::string partial;
   bool closed = false;
+};
+
+// A fake vehicle on a free loopback port, played by a script on a thread of
+// its own: hear() reads the link's next line into heard, say() writes. Once
+// the link has closed, hear() hears nothing more and say() writes nothing,
+// so a failing test ends its peer instead of hanging; join() also ends a
+// peer the link never reached.
+class ScriptedPeer {
+ public:
+  explicit ScriptedPeer(std::function<void(ScriptedPeer&)> script)
+      : acceptor_(io_, {asio::ip::make_address("127.0.0.1"), 0}), socket_(io_) {
+    thread_ = std::thread([this, script = std::move(script)] {
+      acceptor_.accept(socket_, error_);
+      accepted_ = true;
+      if (!error_) script(*this);
+    });
+  }
+  ~ScriptedPeer() { join(); }
+  ScriptedPeer(const ScriptedPeer&) = delete;
+  ScriptedPeer& operator=(const ScriptedPeer&) = delete;
+
+  std::uint16_t port() const { return acceptor_.local_endpoint().port(); }
+
+  void hear() {
+    if (error_ || asio::read_until(socket_, in_, '\n', error_) == 0) return;
+    std::istream is(&in_);
+    std::string line;
+    std::getline(is, line);
+    heard_.push_back(line);
+  }
+  void say(const std::string& lines) {
+    if (!error_) asio::write(socket_, asio::buffer(lines), error_);
+  }
+
+  // Waits for the script's end (close the link first) and gives what it heard.
+  const std::vector<std::string>& join() {
+    if (thread_.joinable()) {
+      if (!accepted_) {  // the link never came: knock, so accept() returns
+        asio::io_context io;
+        asio::ip::tcp::socket knock(io);
+        asio::error_code ignored;
+        knock.connect({asio::ip::make_address("127.0.0.1"), port()}, ignored);
+        knock.close(ignored);
+      }
+      thread_.join();
+    }
+    return heard_;
+  }
+
+ private:
+  asio::io_context io_;
+  asio::ip::tcp::acceptor acceptor_;
+  asio::ip::tcp::socket socket_;
+  asio::streambuf in_;
+  asio::error_code error_;
+  std::atomic<bool> accepted_{false};
+  std::vector<std::string> heard_;
+  std::thread thread_;
 };
 
 }  // namespace strata::tactical::testing

@@ -22,6 +22,7 @@ using namespace std::chrono_literals;
 using protocol::VehicleMessage;
 using testing::Rig;
 using testing::run_until;
+using testing::ScriptedPeer;
 
 TEST(VehicleLink, HelloIsAnsweredWithTheVehicleAndItsClock) {
   Rig rig;
@@ -273,33 +274,19 @@ TEST(VehicleLink, InLockstepASilentVehicleTimesOutInSimulatedTime) {
 // bounded advance: the link sends plain ones (else such a vehicle would
 // refuse every advance and the link would send the next at once, for ever).
 TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
-  asio::io_context peer_io;
-  asio::ip::tcp::acceptor acceptor(peer_io, {asio::ip::make_address("127.0.0.1"), 0});
-  std::vector<std::string> heard;
-  std::thread peer([&] {
-    asio::ip::tcp::socket s(peer_io);
-    acceptor.accept(s);
-    asio::streambuf in;
-    asio::error_code e;  // the link closed early (a failure): the peer's reads end
-    const auto next = [&] {
-      if (e || asio::read_until(s, in, '\n', e) == 0) return;
-      std::istream is(&in);
-      std::string line;
-      std::getline(is, line);
-      heard.push_back(line);
-    };
-    next();  // hello 1 strata 2
-    asio::write(s, asio::buffer(std::string("ok 1 older-sim 2 lockstep\n")), e);
-    next();  // ask 2 depth_reached (a reply, then the advance)
-    next();  // advance 3
-    asio::write(s, asio::buffer(std::string("answer 2 1 0.1\nok 3\n")), e);
-    next();  // ask 4 depth_reached: sim time known from the answer now
-    next();  // advance 5: still plain
-    asio::write(s, asio::buffer(std::string("answer 4 0 0.2\nok 5\n")), e);
+  ScriptedPeer peer([](ScriptedPeer& p) {
+    p.hear();  // hello 1 strata 2
+    p.say("ok 1 older-sim 2 lockstep\n");
+    p.hear();  // ask 2 depth_reached (a reply, then the advance)
+    p.hear();  // advance 3
+    p.say("answer 2 1 0.1\nok 3\n");
+    p.hear();  // ask 4 depth_reached: sim time known from the answer now
+    p.hear();  // advance 5: still plain
+    p.say("answer 4 0 0.2\nok 5\n");
   });
   asio::io_context io;
   LinkOptions o;
-  o.port = acceptor.local_endpoint().port();
+  o.port = peer.port();
   auto link = VehicleLink::create(io, o);
   std::optional<core::Result<protocol::Welcome>> welcome;
   link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
@@ -316,45 +303,30 @@ TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
     }
   }
   link->close();  // a peer still waiting for a line reads the end
-  peer.join();
   EXPECT_EQ((std::vector<std::string>{"hello 1 strata 2", "ask 2 depth_reached", "advance 3", "ask 4 depth_reached",
                                       "advance 5"}),
-            heard);
+            peer.join());
 }
 
 // Regression (review): a reply's handler that sends a new request at the
 // end of an instant counted its simulated timeout from the time before the
 // instant, so the request timed out at once, before the vehicle saw it.
 TEST(VehicleLink, ARequestSentAtTheEndOfAnInstantCountsItsTimeoutFromThatInstant) {
-  asio::io_context peer_io;
-  asio::ip::tcp::acceptor acceptor(peer_io, {asio::ip::make_address("127.0.0.1"), 0});
-  std::vector<std::string> heard;
-  std::thread peer([&] {
-    asio::ip::tcp::socket s(peer_io);
-    acceptor.accept(s);
-    asio::streambuf in;
-    asio::error_code e;  // the link closed early (a failure): the peer's reads end
-    const auto next = [&] {
-      if (e || asio::read_until(s, in, '\n', e) == 0) return;
-      std::istream is(&in);
-      std::string line;
-      std::getline(is, line);
-      heard.push_back(line);
-    };
-    next();  // hello 1 strata 2
-    asio::write(s, asio::buffer(std::string("ok 1 sim 2 lockstep time=0\n")), e);
-    next();  // exec 2 sleep 60
-    next();  // ask 3 leak
-    next();  // advance 4 2.0: the ask's deadline
+  ScriptedPeer peer([](ScriptedPeer& p) {
+    p.hear();  // hello 1 strata 2
+    p.say("ok 1 sim 2 lockstep time=0\n");
+    p.hear();  // exec 2 sleep 60
+    p.hear();  // ask 3 leak
+    p.hear();  // advance 4 2.0: the ask's deadline
     // The ask is refused (an err carries no time); the instant ends at 2.0.
-    asio::write(s, asio::buffer(std::string("err 3 failed \"no leak sensor\"\nok 4 2.0\n")), e);
-    next();  // ask 5 depth_reached, sent by the ask's handler at 2.0
-    next();  // advance 6 4.0: two seconds from 2.0
-    asio::write(s, asio::buffer(std::string("answer 5 1 2.1\nok 6 2.1\n")), e);
+    p.say("err 3 failed \"no leak sensor\"\nok 4 2.0\n");
+    p.hear();  // ask 5 depth_reached, sent by the ask's handler at 2.0
+    p.hear();  // advance 6 4.0: two seconds from 2.0
+    p.say("answer 5 1 2.1\nok 6 2.1\n");
   });
   asio::io_context io;
   LinkOptions o;
-  o.port = acceptor.local_endpoint().port();
+  o.port = peer.port();
   auto link = VehicleLink::create(io, o);
   std::optional<core::Result<protocol::Welcome>> welcome;
   link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
@@ -374,7 +346,7 @@ TEST(VehicleLink, ARequestSentAtTheEndOfAnInstantCountsItsTimeoutFromThatInstant
       5000ms, 2.0);
   const bool replied = run_until(io, [&] { return second.has_value(); });
   link->close();  // a peer still waiting for a line reads the end
-  peer.join();
+  const std::vector<std::string>& heard = peer.join();
   ASSERT_TRUE(replied);
   EXPECT_TRUE(second->ok()) << second->error().message;
   EXPECT_EQ((std::vector<std::string>{"hello 1 strata 2", "exec 2 sleep 60", "ask 3 leak", "advance 4 2.0",
