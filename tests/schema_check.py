@@ -363,7 +363,8 @@ def cmd_log_agrees(a):
         ("tank, --seed", [f"{src}/missions/tank/tank.coral", "--seed", "7"]),
         ("a limit and the safe end", [f"{src}/tests/run/hold_at_depth.coral", "--max-sim-time", "30"]),
         ("failed verification, run anyway", [f"{src}/tests/verify/exits_together.coral", "--unverified"]),
-        ("PROLOG, the link lost", [f"{src}/missions/tank/tank.pl", "--scenario", "link_loss"]),
+        ("PROLOG, the link lost, a parameter file",
+         [f"{src}/missions/tank/tank.pl", "--scenario", "link_loss", "--params", f"{src}/config/phoenix.toml"]),
         ("a witness's answers scripted",
          [f"{src}/missions/tank/tank.coral", "--answers", f"{src}/missions/tank/witnesses/filter_on.json"]),
         ("a phase exit scripted",
@@ -387,6 +388,8 @@ def cmd_log_agrees(a):
               "scripted_answer", "answers_end"]:
         if k not in records:
             failures.append(f"no run above wrote a '{k}' record")
+    if "params" not in records.get("run", {}):
+        failures.append("no run above wrote a 'run' record with 'params'")
     if "safe_end" not in records.get("mission_end", {}):
         failures.append("no run above wrote a 'mission_end' record with 'safe_end'")
 

@@ -44,6 +44,12 @@ class SplitMix64 {
   std::uint64_t state_;
 };
 
+// Case counts saturate at 2^64 - 1 rather than wrap.
+inline constexpr std::uint64_t kSaturated = ~std::uint64_t{0};
+inline constexpr std::uint64_t sat_mul(std::uint64_t a, std::uint64_t b) {
+  return a != 0 && b > kSaturated / a ? kSaturated : a * b;
+}
+
 // FNV-1a of text: a stable seed from a name.
 std::uint64_t stable_hash(const std::string& text);
 

@@ -251,6 +251,46 @@ TEST(CampaignRun, AWorkerKilledFromOutsideCostsAtMostItsCaseAndIsReplaced) {
   EXPECT_GE(pids.size(), 2u);
 }
 
+// Issue 21: a perturbed case's log did not say which vehicle it ran.
+TEST(CampaignRun, AKeptLogNamesTheParameterFileAndThePerturbedValues) {
+  TempDir dir;
+  dir.write("phoenix.toml", vehicle::params_toml(vehicle::default_params()));
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + R"(/tank.coral"]
+params = "phoenix.toml"
+max_sim_time_s = 5
+[expect.completes]
+outcomes = ["completed"]   # 5 s is too short: it fails
+[[family]]
+fault = "none"
+perturb = { hull.mass_kg = [175] }
+[[family]]
+name = "unperturbed"
+fault = "none"
+expect = "completes"
+)");
+  ASSERT_EQ(2u, spec.case_count());
+  CaseRunConfig config;
+  config.out_dir = dir.file("out");
+  config.keep_logs = KeepLogs::All;
+  std::filesystem::create_directories(dir.file("out/logs"));
+  std::filesystem::create_directories(dir.file("out/scenarios"));
+  const nlohmann::ordered_json line = run_case(spec, case_at(spec, 0), config);
+  ASSERT_TRUE(line.contains("log")) << line.dump();
+  std::istringstream log(testing::read_text(dir.file("out/" + line["log"].get<std::string>())));
+  std::string first;
+  std::getline(log, first);
+  const auto header = nlohmann::json::parse(first);
+  EXPECT_EQ(dir.file("phoenix.toml"), header["params"]) << first;
+  EXPECT_EQ(64u, header["params_sha256"].get<std::string>().size()) << first;
+  EXPECT_EQ(175.0, header["param_overrides"]["hull.mass_kg"]) << first;
+  // A failing case that perturbs nothing is reproduced on the spec's vehicle.
+  const nlohmann::ordered_json failed = run_case(spec, case_at(spec, 1), config);
+  ASSERT_FALSE(failed["pass"].get<bool>()) << failed.dump();
+  ASSERT_TRUE(failed.contains("repro_run")) << failed.dump();
+  EXPECT_NE(std::string::npos, failed["repro_run"].get<std::string>().find(" --params " + dir.file("phoenix.toml")))
+      << failed.dump();
+}
+
 TEST(CampaignRun, EachCaseRunsTheVehicleWithItsPerturbedParameters) {
   TempDir dir;
   // 60 N of buoyancy is more than the thrusters' 36 N: that vehicle cannot
@@ -279,7 +319,7 @@ perturb = { hull.buoyancy_n = [5, 60] }
                                       "case.params.toml");
   ASSERT_TRUE(params.ok()) << params.error().message;
   EXPECT_EQ(60.0, params.value().buoyancy_n);
-  EXPECT_EQ(case_params(case_at(spec, 1)), params.value());
+  EXPECT_EQ(case_params(spec, case_at(spec, 1)), params.value());
   for (const auto& raw : testing::read_results(dir.file("a/results.jsonl"))) {
     if (raw["index"] != 1) continue;
     EXPECT_NE(std::string::npos,

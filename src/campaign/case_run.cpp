@@ -258,6 +258,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.trace = true;
   const Family& family = spec.families[c.family];
   o.answers = family.answers_resolved;
+  o.params = spec.params_resolved;
   o.param_overrides = c.params;
   std::ostringstream log;
   const std::string log_name = fmt::format("case-{}.jsonl", c.index);
@@ -267,7 +268,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
     o.log_stream = &log;
     o.log = "logs/" + log_name;
   }
-  const vehicle::VehicleParams params = case_params(c);
+  const vehicle::VehicleParams params = case_params(spec, c);
   const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
   CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
   std::ostringstream err;
@@ -297,11 +298,17 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
       if (params_kept) j["params_file"] = params_file;
       if (write_new_file(config.out_dir + "/" + file, scenario) && (c.params.empty() || params_kept)) {
         j["scenario"] = file;
+        // The vehicle: the case's whole parameter file, or the spec's.
+        std::string params_arg;
+        if (params_kept) {
+          params_arg = " --params " + shell_quote(config.out_dir + "/" + params_file);
+        } else if (!spec.params.empty()) {
+          params_arg = " --params " + shell_quote(spec.params_resolved);
+        }
         j["repro_run"] = fmt::format(
             "strata run {} --scenario {}{} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
-            shell_quote(config.out_dir + "/" + file),
-            params_kept ? " --params " + shell_quote(config.out_dir + "/" + params_file) : "", spec.max_sim_time_s,
-            spec.telemetry_hz, family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
+            shell_quote(config.out_dir + "/" + file), params_arg, spec.max_sim_time_s, spec.telemetry_hz,
+            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
       }
     }
   }

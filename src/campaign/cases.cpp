@@ -116,8 +116,8 @@ std::string params_text(const Case& c) {
   return s;
 }
 
-vehicle::VehicleParams case_params(const Case& c) {
-  vehicle::VehicleParams p = vehicle::default_params();
+vehicle::VehicleParams case_params(const Spec& spec, const Case& c) {
+  vehicle::VehicleParams p = spec.base_params;
   for (const auto& [name, value] : c.params) {
     [[maybe_unused]] const auto set = vehicle::set_param(p, name, value);
     assert(set.ok() && "the spec checked every value");

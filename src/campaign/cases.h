@@ -48,9 +48,10 @@ nlohmann::ordered_json case_inputs(const Spec& spec, const Case& c);
 std::string fault_text(const Case& c);
 // "hull.mass_kg=172.5 thrusters.max_n=15": the perturbed parameters; "" none.
 std::string params_text(const Case& c);
-// The case's vehicle parameters: the built-in ones with its perturbations.
-// The spec was checked, so every value is one the vehicle takes.
-vehicle::VehicleParams case_params(const Case& c);
+// The case's vehicle parameters: the spec's (its parameter file, or the
+// built-in ones) with the case's perturbations. The spec was checked, so
+// every value is one the vehicle takes.
+vehicle::VehicleParams case_params(const Spec& spec, const Case& c);
 
 // An index range "A-B" or "I" (inclusive) within [0, count). Errors name the count.
 struct IndexRange {

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <limits>
 
 #include <fmt/format.h>
 
 #include "campaign/axis.h"
+#include "campaign/spec_perturb.h"
 #include "core/file.h"
 #include "core/toml_reader.h"
 #include "run/answers.h"
@@ -18,12 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
-
-std::uint64_t sat_mul(std::uint64_t a, std::uint64_t b) {
-  if (a != 0 && b > kSaturated / a) return kSaturated;
-  return a * b;
-}
 std::uint64_t sat_add(std::uint64_t a, std::uint64_t b) { return b > kSaturated - a ? kSaturated : a + b; }
 
 const std::vector<std::pair<std::string_view, vehicle::FaultKind>> kFaultKinds = {
@@ -43,12 +37,12 @@ class SpecReader {
 
   core::Result<Spec> read(const toml::table& root) {
     for (auto&& [key, node] : root) {
-      static constexpr std::string_view kKeys[] = {"name",        "description",    "missions",     "seeds",
-                                                   "sample_seed", "max_sim_time_s", "telemetry_hz", "perturb",
-                                                   "expect",      "family"};
+      static constexpr std::string_view kKeys[] = {"name",         "description", "missions", "seeds",
+                                                   "sample_seed",  "params",      "perturb",  "max_sim_time_s",
+                                                   "telemetry_hz", "expect",      "family"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
         errors_.add(key, fmt::format("unknown key '{}' (expected name, description, missions, seeds, sample_seed, "
-                                     "max_sim_time_s, telemetry_hz, perturb, [expect.NAME] or [[family]])",
+                                     "params, perturb, max_sim_time_s, telemetry_hz, [expect.NAME] or [[family]])",
                                      key.str()));
       }
     }
@@ -87,7 +81,10 @@ class SpecReader {
     read_missions(root);
     read_seeds(root);
     read_expectations(root);
-    if (const toml::node* n = root.get("perturb")) spec_perturb_ = read_perturb(*n, "perturb");
+    read_params(root);
+    if (const toml::node* n = root.get("perturb")) {
+      spec_perturb_ = read_perturb(errors_, *n, "perturb", spec_.sample_seed, limits_.max_cases);
+    }
     read_families(root);
     if (!errors_.empty()) return errors_.error();
     const std::uint64_t n = spec_.case_count();
@@ -310,152 +307,29 @@ class SpecReader {
     read_axes(t, f);
     read_family_missions(t, f);
     read_answers(t, f);
-    read_family_perturb(t, f);
+    read_family_perturb(errors_, t, f, spec_perturb_, spec_.base_params, spec_.sample_seed, limits_.max_cases);
     spec_.families.push_back(std::move(f));
   }
 
-  // perturb = { TABLE.KEY = AXIS, ... }: vehicle parameters by their names
-  // in config/phoenix.toml, each an axis within the parameter's range.
-  // TOML makes `hull.mass_kg = x` the table hull holding mass_kg; a quoted
-  // "hull.mass_kg" is taken too. `where` names the axes for sampling.
-  std::vector<Perturbation> read_perturb(const toml::node& node, const std::string& where) {
-    std::vector<Perturbation> out;
-    const toml::table* t = node.as_table();
-    if (t == nullptr || t->empty()) {
-      errors_.add(node, fmt::format("'perturb' must be a table of vehicle parameters, e.g. perturb = {{ hull.mass_kg "
-                                    "= [170, 180] }} (config/phoenix.toml's names: {})",
-                                    vehicle::param_names_text()));
-      return out;
-    }
-    std::vector<std::pair<std::string, const toml::node*>> named;  // "hull.mass_kg", its axis
-    bool ok = true;
-    for (auto&& [table, inner] : *t) {
-      const std::string tname(table.str());
-      if (vehicle::find_param(tname) != nullptr) {
-        named.emplace_back(tname, &inner);
-        continue;
-      }
-      const toml::table* keys = inner.as_table();
-      const bool is_table = keys != nullptr && !keys->contains("from") && !keys->contains("to");
-      const bool known = std::any_of(vehicle::param_infos().begin(), vehicle::param_infos().end(),
-                                     [&](const vehicle::ParamInfo& p) { return p.name.starts_with(tname + "."); });
-      if (!known || !is_table) {
-        errors_.add(table, unknown_param_message(tname));
-        ok = false;
-        continue;
-      }
-      for (auto&& [key, axis] : *keys) {
-        const std::string name = tname + "." + std::string(key.str());
-        if (vehicle::find_param(name) == nullptr) {
-          errors_.add(key, unknown_param_message(name));
-          ok = false;
-          continue;
-        }
-        named.emplace_back(name, &axis);
-      }
-    }
-    for (std::size_t i = 0; i < named.size(); ++i) {
-      for (std::size_t k = 0; k < i; ++k) {
-        if (named[k].first == named[i].first) {
-          errors_.add(*named[i].second, fmt::format("'{}' is perturbed twice in one 'perturb'", named[i].first));
-          ok = false;
-        }
-      }
-    }
-    if (named.size() > kMaxPerturbedParams) {
-      errors_.add(node, fmt::format("'perturb' names {} parameters; at most {} may be perturbed together", named.size(),
-                                    kMaxPerturbedParams));
-      return {};
-    }
-    for (const auto& [name, axis] : named) {
-      const vehicle::ParamInfo& info = *vehicle::find_param(name);
-      if (info.integer && axis->is_table() && axis->as_table()->contains("sampled")) {
-        errors_.add(*axis, fmt::format("'{}' is a whole number: give a list or a grid, not 'sampled'", name));
-        ok = false;
-        continue;
-      }
-      // A closed lower end is AxisRules' min; an open one is "zero not
-      // allowed" there, which it spells for any min.
-      AxisRules rules{name, info.lo, info.hi, !info.lo_open, limits_.max_cases};
-      auto values = parse_axis(errors_, *axis, rules, spec_.sample_seed, fmt::format("{}.{}", where, name));
-      if (!values) {
-        ok = false;
-        continue;
-      }
-      for (double v : *values) {
-        if (auto why = vehicle::param_value_problem(info, v); !why.empty()) {
-          errors_.add(*axis, why);
-          ok = false;
-          break;
-        }
-      }
-      out.push_back({name, std::move(*values)});
-    }
-    if (!ok) return {};
-    // config/phoenix.toml's order, whatever order the spec wrote them in.
-    std::sort(out.begin(), out.end(), [](const Perturbation& a, const Perturbation& b) {
-      return vehicle::find_param(a.param) < vehicle::find_param(b.param);
-    });
-    return out;
-  }
-
-  static std::string unknown_param_message(const std::string& name) {
-    std::string hint;
-    for (const vehicle::ParamInfo& p : vehicle::param_infos()) {
-      if (p.name.ends_with("." + name)) hint += fmt::format("{}{}", hint.empty() ? "; did you mean " : " or ", p.name);
-    }
-    return fmt::format("unknown vehicle parameter '{}'{} (parameters are TABLE.KEY as in config/phoenix.toml: {})",
-                       name, hint.empty() ? "" : hint + "?", vehicle::param_names_text());
-  }
-
-  // The family's perturbations over the spec's, and every combination of
-  // them checked against the rules between parameters (a surface below the
-  // tank's bottom is not a vehicle), so no case can fail to build its vehicle.
-  void read_family_perturb(const toml::table& t, Family& f) {
-    const toml::node* n = t.get("perturb");
-    std::vector<Perturbation> own = n ? read_perturb(*n, f.name + ".perturb") : std::vector<Perturbation>{};
-    f.perturb = own;
-    for (const Perturbation& p : spec_perturb_) {
-      if (std::none_of(own.begin(), own.end(), [&](const Perturbation& q) { return q.param == p.param; })) {
-        f.perturb.push_back(p);
-      }
-    }
-    std::sort(f.perturb.begin(), f.perturb.end(), [](const Perturbation& a, const Perturbation& b) {
-      return vehicle::find_param(a.param) < vehicle::find_param(b.param);
-    });
-    if (f.perturb.size() > kMaxPerturbedParams) {
-      errors_.add(n ? n->source() : t.source(), fmt::format("family '{}' perturbs {} parameters; at most {} together",
-                                                            f.name, f.perturb.size(), kMaxPerturbedParams));
-      f.perturb.clear();
+  // params = "FILE": the vehicle every case starts from, read now so that a
+  // bad file is the spec's error, located at the key.
+  void read_params(const toml::table& root) {
+    const toml::node* n = root.get("params");
+    if (n == nullptr) return;
+    auto text = n->value<std::string>();
+    if (!text || text->empty()) {
+      errors_.add(*n, "'params' must name a vehicle parameter file (a string, relative to the spec)");
       return;
     }
-    // Only the parameters the rules name can break them: their combinations.
-    std::vector<const Perturbation*> related;
-    for (const Perturbation& p : f.perturb) {
-      if (vehicle::param_in_relations(p.param)) related.push_back(&p);
+    const std::string resolved = (fs::path(spec_.path).parent_path() / *text).lexically_normal().string();
+    auto params = vehicle::load_params(resolved);
+    if (!params) {
+      errors_.add(*n, fmt::format("'params': {}", params.error().message));
+      return;
     }
-    std::uint64_t combos = 1;
-    for (const Perturbation* p : related) combos = sat_mul(combos, p->values.size());
-    if (related.empty() || combos > limits_.max_cases) return;  // too many: the case count says so
-    std::vector<std::size_t> at(related.size(), 0);
-    for (std::uint64_t i = 0; i < combos; ++i) {
-      vehicle::VehicleParams params = vehicle::default_params();
-      std::string which;
-      for (std::size_t k = 0; k < related.size(); ++k) {
-        const double v = related[k]->values[at[k]];
-        (void)vehicle::set_param(params, related[k]->param, v);
-        which += fmt::format("{}{}={}", which.empty() ? "" : " ", related[k]->param, v);
-      }
-      if (auto r = vehicle::check_param_relations(params); !r) {
-        errors_.add(n ? n->source() : t.source(), fmt::format("family '{}' makes a vehicle that cannot be ({}): {}",
-                                                              f.name, which, r.error().message));
-        return;
-      }
-      for (std::size_t k = related.size(); k-- > 0;) {
-        if (++at[k] < related[k]->values.size()) break;
-        at[k] = 0;
-      }
-    }
+    spec_.params = *text;
+    spec_.params_resolved = resolved;
+    spec_.base_params = params.value();
   }
 
   // missions = [...]: the family runs for these of the spec's missions only.

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "vehicle/params.h"
 #include "vehicle/scenario.h"
 
 namespace strata::campaign {
@@ -116,6 +117,11 @@ struct Spec {
   // simulated second: the resolution of time-to-surface, and a cost (at 10 Hz
   // telemetry is about a third of a tank case's CPU).
   double telemetry_hz = 10.0;
+  // params = "FILE": the vehicle parameter file every case starts from (its
+  // perturbations are set over it); "" for the built-in parameters.
+  std::string params;
+  std::string params_resolved;  // ... relative to the spec's folder, as the run opens it
+  vehicle::VehicleParams base_params = vehicle::default_params();
 
   // For each mission, the combinations of the families that apply to it;
   // summed, times the seeds.

@@ -132,8 +132,8 @@ perturb = { thrusters.max_n = [15, 18], hull.mass_kg = [170, 180] }
   EXPECT_EQ("leak at 3 s hull.mass_kg=180 thrusters.max_n=15 seed 1", got[4]);
   EXPECT_EQ("leak at 9 s hull.mass_kg=180 thrusters.max_n=18 seed 2", got[15]);
   const Case c = case_at(s, 6);
-  EXPECT_EQ(180.0, case_params(c).mass_kg);
-  EXPECT_EQ(18.0, case_params(c).thruster_max_n);
+  EXPECT_EQ(180.0, case_params(s, c).mass_kg);
+  EXPECT_EQ(18.0, case_params(s, c).thruster_max_n);
   const auto inputs = case_inputs(s, c);
   EXPECT_EQ(180.0, inputs["params"]["hull.mass_kg"]);
   EXPECT_EQ(18.0, inputs["params"]["thrusters.max_n"]);
@@ -159,6 +159,40 @@ perturb = { "hull.buoyancy_n" = -1, hull.mass_kg = 200 }
   ASSERT_TRUE(plain.ok());
   EXPECT_FALSE(plain.value().perturbs());
   EXPECT_FALSE(case_inputs(plain.value(), case_at(plain.value(), 0)).contains("params"));
+}
+
+// Issue 21: perturbations started from the built-in parameters only; a
+// spec's `params` file is now the vehicle every case starts from.
+TEST(CampaignSpec, ASpecsParameterFileIsTheVehicleItsPerturbationsStartFrom) {
+  TempDir dir;
+  vehicle::VehicleParams heavy = vehicle::default_params();
+  heavy.mass_kg = 190.0;
+  dir.write("heavy.toml", vehicle::params_toml(heavy));
+  auto spec = load_spec(dir.write("c.toml", spec_text(R"(params = "heavy.toml"
+[[family]]
+fault = "none"
+perturb = { thrusters.max_n = [15, 18] }
+)")));
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  const Spec& s = spec.value();
+  EXPECT_EQ("heavy.toml", s.params);
+  EXPECT_EQ(dir.file("heavy.toml"), s.params_resolved);
+  const Case c = case_at(s, 1);
+  EXPECT_EQ(190.0, case_params(s, c).mass_kg) << "the file's value, not the built-in one";
+  EXPECT_EQ(18.0, case_params(s, c).thruster_max_n);
+}
+
+TEST(CampaignSpec, ABadParameterFileIsTheSpecsErrorAtItsKey) {
+  TempDir dir;
+  dir.write("bad.toml", "[hull]\nmass_kg = -3\n");
+  auto bad = load_spec(dir.write("c.toml", spec_text("params = \"bad.toml\"\n")));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(std::string::npos, bad.error().message.find("c.toml:2:10: 'params': ")) << bad.error().message;
+  EXPECT_NE(std::string::npos, bad.error().message.find("mass_kg")) << bad.error().message;
+  auto missing = load_spec(dir.write("m.toml", spec_text("params = \"nosuch.toml\"\n")));
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(std::string::npos, missing.error().message.find("m.toml:2:10: 'params': ")) << missing.error().message;
+  EXPECT_NE(std::string::npos, error_of(spec_text("params = 3\n")).find("'params' must name a vehicle parameter file"));
 }
 
 TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {

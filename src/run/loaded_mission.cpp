@@ -233,6 +233,11 @@ tactical::RunInfo run_info(const RunOptions& o, const LoadedMission& loaded) {
   if (!loaded.data_path.empty()) info.data_sha256 = sha256_or_empty(o, loaded.data_path);
   info.scenario = embedded ? scenario_name(o) : "external";
   info.seed = embedded ? loaded.scenario.seed : 0;
+  if (embedded && !o.params.empty()) {
+    info.params = o.params;
+    info.params_sha256 = sha256_or_empty(o, o.params);
+  }
+  if (embedded) info.param_overrides = o.param_overrides;
   info.clock = o.realtime ? "wall" : "lockstep";
   return info;
 }

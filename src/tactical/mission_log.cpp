@@ -74,6 +74,15 @@ ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_poin
   j["data_sha256"] = run.data.empty() ? ordered_json(nullptr) : ordered_json(run.data_sha256);
   j["scenario"] = run.scenario;
   j["seed"] = run.seed;
+  if (!run.params.empty()) {
+    j["params"] = run.params;
+    j["params_sha256"] = run.params_sha256;
+  }
+  if (!run.param_overrides.empty()) {
+    ordered_json overrides = ordered_json::object();
+    for (const auto& [name, value] : run.param_overrides) overrides[name] = value;
+    j["param_overrides"] = std::move(overrides);
+  }
   j["clock"] = run.clock;
   j["wall_time"] = iso8601_utc(wall_time);
   return j;

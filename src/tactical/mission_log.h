@@ -18,6 +18,8 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -44,6 +46,11 @@ struct RunInfo {
   std::string scenario;  // the vehicle scenario's name
   std::uint64_t seed = 0;
   std::string clock = "lockstep";  // "lockstep" | "wall"
+  std::string params{};            // the vehicle parameter file; "" for the built-in parameters (not logged)
+  std::string params_sha256{};
+  // Parameters set over those (a campaign's perturbed case), in their order;
+  // logged only when there are some.
+  std::vector<std::pair<std::string, double>> param_overrides{};
 };
 
 class MissionLog {

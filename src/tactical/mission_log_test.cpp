@@ -101,6 +101,21 @@ TEST(MissionLog, NoDataFileIsNull) {
   EXPECT_TRUE(header["data_sha256"].is_null());
 }
 
+// A perturbed campaign case's log says which vehicle it ran: the parameter
+// file it started from and the values set over it (issue 21).
+TEST(MissionLog, TheHeaderNamesTheVehicleParametersWhenTheyAreNotTheBuiltInOnes) {
+  RunInfo run = tank_run();
+  EXPECT_FALSE(run_header(run, {}).contains("params"));
+  EXPECT_FALSE(run_header(run, {}).contains("param_overrides"));
+  run.params = "heavy.toml";
+  run.params_sha256 = "ef";
+  run.param_overrides = {{"hull.mass_kg", 175.5}, {"thrusters.max_thrust_n", 40.0}};
+  auto header = run_header(run, {});
+  EXPECT_EQ("heavy.toml", header["params"]);
+  EXPECT_EQ("ef", header["params_sha256"]);
+  EXPECT_EQ(R"({"hull.mass_kg":175.5,"thrusters.max_thrust_n":40.0})", header["param_overrides"].dump());
+}
+
 TEST(MissionLog, OneLinePerEventWithFixedKeyOrder) {
   std::ostringstream out;
   auto log = MissionLog::to_stream(out, tank_run(), fake_clock({}, 250us));
