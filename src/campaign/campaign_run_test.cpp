@@ -114,6 +114,30 @@ TEST(CampaignRun, TheSameSpecGivesTheSameResultsInOneProcessOrTwoWorkers) {
             by_index(testing::read_results(dir.file("b/results.jsonl"))));
 }
 
+// A worker keeps a PROLOG mission's rules loaded from one case to the next
+// (prolog::KeepRules): what a case's rules asserted must not reach the next
+// case. Here the leak cases' rules end in current_phase(mission_abort); run
+// first, in the same process, they must leave the nominal cases completed.
+TEST(CampaignRun, APrologCaseGivesTheSameResultWhateverItsWorkerRanBefore) {
+  TempDir dir;
+  std::string text = small_spec(kNominalOk);
+  text.replace(text.find("tank.coral"), 10, "tank.pl");
+  const Spec spec = load(dir, text);
+  ASSERT_EQ(6u, spec.case_count());
+  run(spec, dir.file("a"), 2);  // first: the pool forks before this process starts SWI-Prolog
+  std::vector<std::uint64_t> leaks_first = all(spec);
+  std::reverse(leaks_first.begin(), leaks_first.end());
+  CampaignOptions o;
+  o.out_dir = dir.file("b");
+  o.jobs = 0;  // every case in this process, one after another
+  ASSERT_TRUE(run_campaign(spec, leaks_first, o).ok());
+  const auto a = by_index(testing::read_results(dir.file("a/results.jsonl")));
+  const auto b = by_index(testing::read_results(dir.file("b/results.jsonl")));
+  ASSERT_EQ(6u, b.size());
+  for (std::uint64_t i = 0; i < 6; ++i) EXPECT_EQ(i < 2 ? "completed" : "aborted", b[i]["outcome"]) << b[i].dump();
+  EXPECT_EQ(a, b);
+}
+
 TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReproducesIt) {
   TempDir dir;
   const Spec spec = load(dir, small_spec(kNominalTooDeep));

@@ -256,6 +256,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.max_sim_time_s = spec.max_sim_time_s;
   o.telemetry_hz = spec.telemetry_hz;
   o.trace = true;
+  o.keep_rules = true;  // a worker runs one mission's rules case after case
   const Family& family = spec.families[c.family];
   o.answers = family.answers_resolved;
   o.params = spec.params_resolved;

@@ -73,7 +73,8 @@ int load_coral(const RunOptions& o, const std::string& path, LoadedMission& load
 int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   const std::string& path = o.mission;
   std::vector<prolog::Message> messages;
-  auto rules = prolog::Mission::load(path, loaded.catalogue, messages, load_limits(o.rule_load));
+  auto rules = prolog::Mission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
+                                     o.keep_rules ? prolog::KeepRules::Yes : prolog::KeepRules::No);
   for (const auto& m : messages) err << prolog::format_message(m) << "\n";
   if (!rules) {
     err << "strata run: " << rules.error().message << "; not running\n";

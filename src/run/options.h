@@ -57,6 +57,10 @@ struct RunOptions {
   std::string sonar_dir;
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
   bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
+  // PROLOG: the rules may be taken back from an earlier run in this process,
+  // and stay loaded after this one (prolog::KeepRules::Yes): a campaign's
+  // worker, which runs one mission case after case.
+  bool keep_rules = false;
   // CORAL: a mission that fails verification (docs/verification.md) is not
   // run unless this is set; then it runs and the log records the failures.
   bool unverified = false;

@@ -1,5 +1,6 @@
-// The PROLOG driver (prolog/driver.pl and prolog/driver_check.pl, compiled
-// in): loading it once into the engine, and calling its predicates.
+// The PROLOG driver (prolog/driver.pl, prolog/driver_check.pl and
+// prolog/driver_keep.pl, compiled in): loading it once into the engine, and
+// calling its predicates.
 #include <string>
 #include <string_view>
 
@@ -7,6 +8,7 @@
 
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_driver_check_text.h"
+#include "strategic/prolog_driver_keep_text.h"
 #include "strategic/prolog_driver_text.h"
 
 namespace strata::prolog::detail {
@@ -17,8 +19,10 @@ term_t new_atom(const std::string& name) {
   return t;
 }
 
-// strata_driver:Name(Args...)
-term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
+namespace {
+
+// Module:Name(Args...)
+term_t module_goal(const char* module, const char* name, std::initializer_list<term_t> args) {
   term_t refs = PL_new_term_refs(static_cast<int>(args.size()));
   int i = 0;
   for (term_t a : args) {
@@ -27,14 +31,24 @@ term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
   term_t goal = PL_new_term_ref();
   term_t call = PL_new_term_ref();
   if (!PL_cons_functor_v(goal, PL_new_functor(PL_new_atom(name), args.size()), refs) ||
-      !PL_cons_functor(call, PL_new_functor(PL_new_atom(":"), 2), new_atom("strata_driver"), goal)) {
+      !PL_cons_functor(call, PL_new_functor(PL_new_atom(":"), 2), new_atom(module), goal)) {
     PL_clear_exception();
   }
   return call;
 }
 
+}  // namespace
+
+term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
+  return module_goal("strata_driver", name, args);
+}
+
 core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args) {
   return call_term(driver_goal(name, args));
+}
+
+core::Result<bool> call_driver_keep(const char* name, std::initializer_list<term_t> args) {
+  return call_term(module_goal("strata_driver_keep", name, args));
 }
 
 namespace {
@@ -72,6 +86,7 @@ core::Result<void> ensure_driver() {
   if (auto r = initialise(); !r) return r.error();
   if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
   if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
+  if (auto r = load_module_text("strata_driver_keep", kDriverKeepText); !r) return r;
   register_foreign_predicates();
   if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
     return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");

@@ -19,6 +19,8 @@ term_t new_atom(const std::string& name);
 // strata_driver:Name(Args...)
 term_t driver_goal(const char* name, std::initializer_list<term_t> args);
 core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args);
+// strata_driver_keep:Name(Args...) (prolog/driver_keep.pl)
+core::Result<bool> call_driver_keep(const char* name, std::initializer_list<term_t> args);
 // Starts the engine and loads the driver once per process (its foreign
 // predicates too); later calls return at once.
 core::Result<void> ensure_driver();

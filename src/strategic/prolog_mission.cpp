@@ -16,6 +16,7 @@
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_rules_args.h"
 #include "prolog/interrupt.h"
+#include "tactical/sha256.h"
 
 namespace strata::prolog {
 namespace {
@@ -23,6 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using detail::call_driver;
+using detail::call_driver_keep;
 using detail::driver_goal;
 using detail::new_atom;
 
@@ -163,6 +165,86 @@ class TimeLimit {
   std::thread watchdog_;
 };
 
+// Rules kept loaded after their Mission ended (KeepRules::Yes): one set
+// per process, taken back by the next load of the same files.
+struct KeptRules {
+  std::string key;  // the path as given and in full, the catalogue, the limits
+  std::string module;
+  std::vector<std::pair<std::string, std::string>> files;  // each file loaded, and the SHA-256 of what it held
+  std::vector<Message> messages;                           // the load's (warnings)
+  std::string data_file;
+  bool in_use = false;  // a Mission has them
+};
+std::optional<KeptRules> g_kept;
+
+std::string kept_key(const std::string& path, const std::string& absolute, const std::string& specs,
+                     const LoadLimits& limits) {
+  return fmt::format("{}\n{}\n{}\n{} {} {}", path, absolute, specs, limits.time.count(), limits.inferences,
+                     limits.max_bytes);
+}
+
+std::string content_sha256(const std::string& file, std::size_t max_bytes) {
+  auto text = core::read_regular_file(file, max_bytes);
+  return text ? tactical::sha256_hex(text.value()) : std::string();
+}
+
+// The kept rules are no longer: their module goes, as a Mission's does.
+void close_kept() {
+  Frame frame;
+  term_t module = new_atom(g_kept->module);
+  (void)call_driver_keep("forget_kept", {module});
+  (void)call_driver("close_mission", {module});
+  g_kept.reset();
+}
+
+// The kept rules of key, put back as they were right after their load;
+// false when there are none, or a file they loaded changed (they are closed
+// then, as they are when they cannot be put back).
+bool take_kept(const std::string& key, std::size_t max_bytes) {
+  if (!g_kept || g_kept->in_use || g_kept->key != key) return false;
+  const bool unchanged = std::all_of(g_kept->files.begin(), g_kept->files.end(), [max_bytes](const auto& file) {
+    return content_sha256(file.first, max_bytes) == file.second;
+  });
+  bool restored = false;
+  if (unchanged) {
+    Frame frame;
+    auto r = call_driver_keep("restore_mission", {new_atom(g_kept->module)});
+    restored = r && r.value();
+  }
+  if (!restored) {
+    close_kept();
+    return false;
+  }
+  g_kept->in_use = true;
+  return true;
+}
+
+// Keeps the rules just loaded into module when they can be put back
+// (driver_keep.pl, keepable_mission/1), in place of any kept before.
+bool keep(const std::string& key, const std::string& module, std::vector<Message> messages,
+          const std::string& data_file, std::size_t max_bytes) {
+  if (g_kept && g_kept->in_use) return false;  // another Mission has them
+  Frame frame;
+  term_t m = new_atom(module);
+  term_t files = PL_new_term_ref();
+  if (auto r = call_driver_keep("keepable_mission", {m}); !r || !r.value()) return false;
+  if (auto r = call_driver_keep("mission_files", {m, files}); !r || !r.value()) return false;
+  KeptRules kept{key, module, {}, std::move(messages), data_file, true};
+  term_t head = PL_new_term_ref();
+  term_t tail = PL_copy_term_ref(files);
+  while (PL_get_list(tail, head, tail)) {
+    std::string file = text_of(head);
+    std::string sha256 = content_sha256(file, max_bytes);
+    if (sha256.empty()) return false;
+    kept.files.emplace_back(std::move(file), std::move(sha256));
+  }
+  if (kept.files.empty()) return false;
+  if (auto r = call_driver_keep("keep_mission", {m}); !r || !r.value()) return false;
+  if (g_kept) close_kept();
+  g_kept = std::move(kept);
+  return true;
+}
+
 }  // namespace
 
 std::string format_message(const Message& m) {
@@ -174,7 +256,8 @@ std::string format_message(const Message& m) {
 }
 
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages, const LoadLimits& limits) {
+                                                     std::vector<Message>& messages, const LoadLimits& limits,
+                                                     KeepRules keep_rules) {
   std::error_code ec;
   if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
@@ -189,9 +272,26 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   mission->path_ = path;
   mission->name_ = fs::path(path).stem().string();
 
+  const std::string specs_text = primitive_specs(catalogue);
+  fs::path absolute = fs::absolute(path, ec);
+  const std::string key = keep_rules == KeepRules::Yes
+                              ? kept_key(path, absolute.lexically_normal().string(), specs_text, limits)
+                              : std::string();
+  if (keep_rules == KeepRules::Yes && take_kept(key, limits.max_bytes)) {
+    mission->module_ = g_kept->module;
+    mission->data_file_ = g_kept->data_file;
+    mission->kept_ = true;
+    messages.insert(messages.end(), g_kept->messages.begin(), g_kept->messages.end());
+    return mission;
+  }
+  // A file is loaded into one module at a time: kept rules that may share
+  // files with these go first.
+  if (g_kept && !g_kept->in_use) close_kept();
+  const std::size_t first_message = messages.size();
+
   Frame frame;
   term_t module = PL_new_term_ref();
-  auto specs = parse_term(primitive_specs(catalogue));
+  auto specs = parse_term(specs_text);
   if (!specs) return specs.error();
   if (auto r = call_driver("open_mission", {module, specs.value()}); !r || !r.value()) {
     return core::make_error(core::ErrorCode::Internal,
@@ -199,7 +299,6 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   }
   mission->module_ = text_of(module);
 
-  fs::path absolute = fs::absolute(path, ec);
   term_t file = new_atom(absolute.lexically_normal().string());
   term_t budget = PL_new_term_ref();
   if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
@@ -262,11 +361,19 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
     return core::make_error(core::ErrorCode::InvalidInput,
                             fmt::format("{}: {} error{}", path, errors, errors == 1 ? "" : "s"));
   }
+  if (keep_rules == KeepRules::Yes) {
+    mission->kept_ = keep(key, mission->module_, {messages.begin() + first_message, messages.end()},
+                          mission->data_file_, limits.max_bytes);
+  }
   return mission;
 }
 
 Mission::~Mission() {
   if (module_.empty()) return;
+  if (kept_ && g_kept && g_kept->module == module_) {
+    g_kept->in_use = false;  // put back when taken again
+    return;
+  }
   Frame frame;
   (void)call_driver("close_mission", {new_atom(module_)});
 }

@@ -64,6 +64,24 @@ struct LoadLimits {
   std::size_t max_bytes = 4u << 20;       // each rule file; a larger one is not read
 };
 
+// Whether Mission::load may take back rules it loaded before (a campaign's
+// worker runs one mission's rules case after case).
+//  - No: the files are loaded and checked again.
+//  - Yes: rules that loaded and checked without an error stay loaded when
+//    their Mission ends (one set per process). The next load with the same
+//    path, catalogue and limits, while every file they loaded holds what it
+//    held then, takes them back instead of loading them again: each dynamic
+//    predicate gets back its clauses of right after the load, and the
+//    dynamic predicates the rules created as they ran are removed, so a run
+//    sees what it would see after a fresh load (prolog/driver_keep.pl).
+//    Rules whose state could not be put back so (tabled or thread-local
+//    predicates; calls to set_prolog_flag/2, set_prolog_stack/2,
+//    predicate_property/2, global variables) are loaded afresh every time,
+//    as are rules another Mission still has. What the
+//    directives computed is not computed again: get_time/1 in a directive
+//    gives the first load's time. The messages are the first load's.
+enum class KeepRules { No, Yes };
+
 class Mission {
  public:
   // Loads the rules at path (and the files they load) with the primitives
@@ -71,7 +89,8 @@ class Mission {
   // Errors: Io when path cannot be read; InvalidInput when loading printed
   // an error or the check found a problem (the messages say where).
   static core::Result<std::unique_ptr<Mission>> load(const std::string& path, const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages, const LoadLimits& limits = {});
+                                                     std::vector<Message>& messages, const LoadLimits& limits = {},
+                                                     KeepRules keep = KeepRules::No);
   ~Mission();
   Mission(const Mission&) = delete;
   Mission& operator=(const Mission&) = delete;
@@ -83,7 +102,8 @@ class Mission {
   // the mission's folder; "" when the rules name none.
   const std::string& data_file() const { return data_file_; }
   // A MissionQuery has run the rules: the facts they asserted stay, so a
-  // new run needs a new load.
+  // new run needs a new load (with KeepRules::Yes, perhaps the same rules
+  // taken back).
   bool started() const { return started_; }
 
  private:
@@ -91,6 +111,7 @@ class Mission {
   Mission() = default;
   std::string path_, name_, module_, data_file_;
   bool started_ = false;
+  bool kept_ = false;  // kept loaded when this ends (KeepRules::Yes)
 };
 
 // mission/0 running: next() runs the rules until they call a primitive

@@ -500,8 +500,10 @@ run_mission(Module, Limit) :-
         fail
     ).
 
+% Kept rules (driver_keep.pl) are wrapped already, by their first run.
 wrap_phases(Module) :-
-    (   current_predicate(Module:execute_phase/1)
+    (   current_predicate(Module:execute_phase/1),
+        \+ current_predicate_wrapper(Module:execute_phase(_), strata_phase, _, _)
     ->  wrap_predicate(Module:execute_phase(P), strata_phase, W,
                        strata_driver:run_phase(Module, P, W))
     ;   true
