@@ -174,7 +174,9 @@ TEST_F(KeptRules, KeptRulesInUseStayWholeWhenTheirFileIsLoadedAgain) {
     // first holds the rules neither takes them nor closes them.
     std::vector<Message> messages;
     auto second = Mission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::Yes);
-    if (second) EXPECT_NE(first->module(), second.value()->module());
+    if (second) {
+      EXPECT_NE(first->module(), second.value()->module());
+    }
   }
   ScriptedHost host;
   MissionQuery q(*first, host, 1'000'000);
