@@ -482,11 +482,15 @@ check_mission(Module, Problems) :-
 %   at most InferenceLimit inferences; past it they raise
 %   inference_limit_exceeded (an endless loop that never acts).
 %   execute_phase/1, when the rules define it, is wrapped to tell the host
-%   when each phase starts and ends.
+%   when each phase starts and ends. Arithmetic's random/1 and random_float
+%   (and library(random) with them) start from the same seed at every run,
+%   so that the same inputs make the same run; the sandbox keeps the rules
+%   from reseeding.
 
 run_mission(Module, Limit) :-
     retractall(inference_budget(_)),
     assertz(inference_budget(Limit)),
+    set_random(seed(1)),
     reset_stop,
     wrap_phases(Module),
     (   setup_call_cleanup(
