@@ -5,6 +5,7 @@
 
 #include "campaign/campaign_test_support.h"
 #include "campaign/cases.h"
+#include "core/test_fifo.h"
 
 namespace strata::campaign {
 namespace {
@@ -193,6 +194,16 @@ TEST(CampaignSpec, ABadParameterFileIsTheSpecsErrorAtItsKey) {
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(std::string::npos, missing.error().message.find("m.toml:2:10: 'params': ")) << missing.error().message;
   EXPECT_NE(std::string::npos, error_of(spec_text("params = 3\n")).find("'params' must name a vehicle parameter file"));
+  // What is not a regular file is refused at once, not read (a FIFO would block for ever).
+  auto folder = load_spec(dir.write("d.toml", spec_text("params = \".\"\n")));
+  ASSERT_FALSE(folder.ok());
+  EXPECT_NE(std::string::npos, folder.error().message.find("d.toml:2:10: 'params': ")) << folder.error().message;
+  const auto fifo = core::testing::make_fifo("params.toml");
+  ASSERT_FALSE(fifo.empty());
+  auto piped = load_spec(dir.write("f.toml", spec_text("params = \"" + fifo.string() + "\"\n")));
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(piped.ok());
+  EXPECT_NE(std::string::npos, piped.error().message.find("f.toml:2:10: 'params': ")) << piped.error().message;
 }
 
 TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {

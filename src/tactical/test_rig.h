@@ -36,6 +36,17 @@ bool run_until(asio::io_context& io, Pred done, std::chrono::milliseconds bound 
   return done();
 }
 
+// A link on io to the vehicle at options.port, connected: its welcome is
+// checked (a test failure when it does not come or is a refusal).
+inline std::shared_ptr<VehicleLink> connect_link(asio::io_context& io, const LinkOptions& options) {
+  auto link = VehicleLink::create(io, options);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
+  EXPECT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  EXPECT_TRUE(welcome && welcome->ok()) << (welcome && !welcome->ok() ? welcome->error().message : "");
+  return link;
+}
+
 struct Rig {
   // configure, if set, sees the server's options last (hello timeout, ...).
   explicit Rig(vehicle::Scenario scenario = vehicle::Scenario::nominal(),
@@ -54,12 +65,7 @@ struct Rig {
 
   std::shared_ptr<VehicleLink> connect(LinkOptions options = {}) {
     options.port = server->port();
-    auto link = VehicleLink::create(io, options);
-    std::optional<core::Result<protocol::Welcome>> welcome;
-    link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
-    EXPECT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
-    EXPECT_TRUE(welcome && welcome->ok()) << (welcome && !welcome->ok() ? welcome->error().message : "");
-    return link;
+    return connect_link(io, options);
   }
 
   core::Result<VehicleMessage> call(VehicleLink& link, protocol::Request r,

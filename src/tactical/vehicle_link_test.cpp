@@ -287,11 +287,8 @@ TEST(VehicleLink, AVehicleThatDoesNotTellItsTimeGetsPlainAdvances) {
   asio::io_context io;
   LinkOptions o;
   o.port = peer.port();
-  auto link = VehicleLink::create(io, o);
-  std::optional<core::Result<protocol::Welcome>> welcome;
-  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
-  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
-  ASSERT_TRUE(welcome->ok()) << welcome->error().message;
+  auto link = testing::connect_link(io, o);
+  ASSERT_FALSE(::testing::Test::HasFailure()) << "no welcome";
   for (int i = 0; i < 2; ++i) {
     std::optional<core::Result<VehicleMessage>> reply;
     link->send(
@@ -327,11 +324,8 @@ TEST(VehicleLink, ARequestSentAtTheEndOfAnInstantCountsItsTimeoutFromThatInstant
   asio::io_context io;
   LinkOptions o;
   o.port = peer.port();
-  auto link = VehicleLink::create(io, o);
-  std::optional<core::Result<protocol::Welcome>> welcome;
-  link->connect([&](core::Result<protocol::Welcome> r) { welcome = std::move(r); });
-  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
-  ASSERT_TRUE(welcome->ok()) << welcome->error().message;
+  auto link = testing::connect_link(io, o);
+  ASSERT_FALSE(::testing::Test::HasFailure()) << "no welcome";
   std::optional<core::Result<VehicleMessage>> second;
   link->send(
       protocol::make_exec(0, "sleep", {protocol::Value::integer(60)}), [](const core::Result<VehicleMessage>&) {},
