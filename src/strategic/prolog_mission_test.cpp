@@ -68,6 +68,39 @@ TEST_F(PrologMission, RandomNumbersAreTheSameOnEveryRun) {
   EXPECT_EQ(runs[0], runs[1]);
 }
 
+// Regression: the flags the sandbox lets rules set (occurs_check,
+// double_quotes, ...) and a lowered stack limit are the process's: one run
+// setting them changed how every later mission of the process (a campaign's
+// worker, the studio) loaded and ran.
+TEST_F(PrologMission, FlagsARunSetsDoNotReachTheNextMission) {
+  const std::string setter = rules_.write("set.pl",
+                                          "mission :- set_prolog_flag(occurs_check, true), "
+                                          "set_prolog_flag(double_quotes, atom), "
+                                          "set_prolog_stack(global, limit(200000000)).\n");
+  const std::string reader = rules_.write("read.pl",
+                                          "mission :- current_prolog_flag(occurs_check, O), report(O), "
+                                          "X = \"ab\", ( string(X) -> report(string) ; report(other) ), "
+                                          "current_prolog_flag(stack_limit, L), "
+                                          "( L > 200000000 -> report(stack_ok) ; report(stack_lowered) ).\n");
+  auto run_events = [&](const std::string& path) {
+    auto m = load_ok(path);
+    EXPECT_TRUE(m);
+    ScriptedHost host;
+    if (!m) return host.events;
+    MissionQuery q(*m, host, 100000);
+    auto s = run(q);
+    EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
+    q.close();
+    return host.events;
+  };
+  const auto before = run_events(reader);
+  ASSERT_EQ((std::vector<std::string>{"report false", "report string", "report stack_ok"}), before);
+  run_events(setter);
+  EXPECT_EQ(before, run_events(reader));
+  // And the host's own queries after the run see them as before too.
+  EXPECT_TRUE(call_once("current_prolog_flag(occurs_check, false)").value());
+}
+
 TEST_F(PrologMission, Figure10StyleBoundVariableIsCheckedAfterTheCall) {
   // exec_submerge(X) with X already 1: the call is still made; 0 then fails.
   auto m = load_ok(rules_.write("m.pl", R"(

@@ -42,7 +42,8 @@
            halt_requested/1,     % File:Line, when the rules called system:halt
            uncatchable_stops/0,  % the host's: stops become '$aborted'
            mission_root/2,       % Module, Folder: the folder of the mission's file
-           stop_place/2.         % File, Line: where a stop while loading happened
+           stop_place/2,         % File, Line: where a stop while loading happened
+           flag_baseline/2.      % Flag, Value: as before any mission (restore_flags/0)
 
                  /*******************************
                  *   THE MISSION'S OWN MODULE   *
@@ -261,6 +262,7 @@ load_mission(Module, File) :-
 %   all (the host's --load-inference-limit).
 
 load_mission(Module, File, Budget) :-
+    restore_flags,
     retractall(load_message(_, _, _, _, _)),
     reset_stop,
     retractall(mission_root(Module, _)),
@@ -491,18 +493,41 @@ run_mission(Module, Limit) :-
     retractall(inference_budget(_)),
     assertz(inference_budget(Limit)),
     set_random(seed(1)),
+    restore_flags,
     reset_stop,
     wrap_phases(Module),
     (   setup_call_cleanup(
             asserta(active(Module), Ref),
             ( rearm, Module:mission, ! ),
-            erase(Ref))
+            ( erase(Ref), restore_flags ))
     ->  unlimited,
         halt_check
     ;   unlimited,
         halt_check,             % a cancelled system:halt made mission/0 fail
         fail
     ).
+
+%!  restore_flags is det.
+%
+%   The rules may set the Prolog flags library(sandbox) allows
+%   (safe_prolog_flag/2: occurs_check, double_quotes, the float and
+%   rational arithmetic flags, ...) and lower the stack limit. Set while the
+%   rules run, these are the process's, not the mission module's: left as
+%   the rules set them, they would change how the next mission loads
+%   (double_quotes) and runs (occurs_check, a smaller stack) in a campaign's
+%   worker or the studio. Each is put back to its value from before the
+%   first mission, before every load and every run, and when a run ends.
+
+restore_flags :-
+    (   flag_baseline(_, _)
+    ->  true
+    ;   forall(( distinct(F, sandbox:safe_prolog_flag(F, _)), current_prolog_flag(F, V) ),
+               assertz(flag_baseline(F, V))),
+        current_prolog_flag(stack_limit, L),
+        assertz(flag_baseline(stack_limit, L))
+    ),
+    forall(flag_baseline(F, V),
+           (   current_prolog_flag(F, V) -> true ; set_prolog_flag(F, V) )).
 
 % Kept rules (driver_keep.pl) are wrapped already, by their first run.
 wrap_phases(Module) :-
