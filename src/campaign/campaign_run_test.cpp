@@ -6,6 +6,9 @@
 #include <filesystem>
 
 #include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +16,7 @@
 #include "campaign/cases.h"
 #include "campaign/case_run.h"
 #include "campaign/merge.h"
+#include "campaign/output.h"
 #include "campaign/pool.h"
 
 namespace strata::campaign {
@@ -239,6 +243,22 @@ TEST(CampaignRun, ShardsMergedGiveTheResultsAndReportOfOneRun) {
   }
   EXPECT_FALSE(shard_indices("3/3", 6).ok());
   EXPECT_FALSE(shard_indices("1", 6).ok());
+}
+
+// Regression: the pool handing a list to a worker that had just died
+// raised SIGPIPE, which ended a process that does not ignore it (this test
+// program did, now and then, in the test below): the write is an error.
+TEST(CampaignRun, AWriteToAWorkerThatDiedIsAnErrorNotASignal) {
+  ASSERT_EQ(SIG_DFL, ::signal(SIGPIPE, SIG_DFL)) << "the test needs SIGPIPE's default action";
+  int fds[2];
+  ASSERT_EQ(0, ::pipe(fds));
+  ::close(fds[0]);
+  EXPECT_FALSE(write_all_fd(fds[1], "0 1 2\n"));
+  EXPECT_EQ(EPIPE, errno);
+  ::close(fds[1]);
+  sigset_t pending;
+  sigpending(&pending);
+  EXPECT_EQ(0, sigismember(&pending, SIGPIPE)) << "no SIGPIPE left for the thread to take later";
 }
 
 TEST(CampaignRun, AWorkerKilledFromOutsideCostsAtMostItsCaseAndIsReplaced) {

@@ -1,6 +1,8 @@
 #include "campaign/output.h"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -52,14 +54,38 @@ void clear_cases(const std::string& sub, const std::regex& name) {
 }  // namespace
 
 bool write_all_fd(int fd, const std::string& text) {
+  // A write to a pipe whose reader is gone (a worker that died) raises
+  // SIGPIPE, which ends a process that does not ignore it: strata's CLI
+  // does, a program (or test) running a campaign need not. The signal is
+  // the writing thread's own, so it is blocked for the write and, when the
+  // write raised it, taken back before the mask is restored.
+  sigset_t pipe_only, old;
+  sigemptyset(&pipe_only);
+  sigaddset(&pipe_only, SIGPIPE);
+  ::pthread_sigmask(SIG_BLOCK, &pipe_only, &old);
+  sigset_t pending;
+  sigpending(&pending);
+  const bool pending_before = sigismember(&pending, SIGPIPE) == 1;
   std::size_t done = 0;
+  bool ok = true;
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
+    if (n <= 0) {
+      ok = false;
+      break;
+    }
     done += static_cast<std::size_t>(n);
   }
-  return true;
+  const int saved = errno;
+  if (!ok && saved == EPIPE && !pending_before) {
+    const timespec now{};
+    while (::sigtimedwait(&pipe_only, nullptr, &now) < 0 && errno == EINTR) {
+    }
+  }
+  ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  errno = saved;
+  return ok;
 }
 
 core::Result<void> prepare_out_dir(const std::string& dir) {

@@ -19,7 +19,8 @@ namespace strata::campaign {
 inline constexpr std::size_t kMaxResultsBytes = std::size_t{1} << 30;
 
 // Writes all of text to fd (a file, or a worker's pipe), through EINTR and
-// short writes; false on an error.
+// short writes; false on an error (errno says which). A pipe whose reader
+// is gone is an error (EPIPE), never a SIGPIPE.
 bool write_all_fd(int fd, const std::string& text);
 
 // Creates DIR with logs/ and scenarios/ in it. An existing DIR must be a
