@@ -80,8 +80,7 @@ bool write_all_fd(int fd, const std::string& text) {
   const int saved = errno;
   if (!ok && saved == EPIPE && !pending_before) {
     const timespec now{};
-    while (::sigtimedwait(&pipe_only, nullptr, &now) < 0 && errno == EINTR) {
-    }
+    while (::sigtimedwait(&pipe_only, nullptr, &now) < 0 && errno == EINTR) {}
   }
   ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
   errno = saved;
