@@ -65,12 +65,19 @@ core::Result<void> initialise(const EngineOptions& options) {
 
 bool initialised() { return g_initialised; }
 
-std::string term_text(term_t t) {
+std::optional<std::string> get_text(term_t t, unsigned flags) {
+  std::optional<std::string> text;
+  buf_mark_t mark;
+  PL_mark_string_buffers(&mark);
   char* s = nullptr;
   std::size_t len = 0;
-  if (PL_get_nchars(t, &len, &s, CVT_WRITEQ | CVT_EXCEPTION | BUF_STACK | REP_UTF8)) {
-    return std::string(s, len);
-  }
+  if (PL_get_nchars(t, &len, &s, flags | BUF_STACK | REP_UTF8)) text.emplace(s, len);
+  PL_release_string_buffers_from_mark(mark);
+  return text;
+}
+
+std::string term_text(term_t t) {
+  if (auto text = get_text(t, CVT_WRITEQ | CVT_EXCEPTION)) return *std::move(text);
   PL_clear_exception();
   return "<term>";
 }
@@ -124,9 +131,7 @@ core::Result<bool> call_once(std::string_view goal) {
 }
 
 std::string text_of(term_t t) {
-  char* s = nullptr;
-  std::size_t len = 0;
-  if (PL_get_nchars(t, &len, &s, CVT_ATOMIC | BUF_STACK | REP_UTF8)) return std::string(s, len);
+  if (auto text = get_text(t, CVT_ATOMIC)) return *std::move(text);
   return term_text(t);
 }
 

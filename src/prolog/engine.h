@@ -10,6 +10,7 @@
 // exception term's text.
 #include <SWI-Prolog.h>
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -80,5 +81,13 @@ core::Result<bool> call_term(term_t goal);
 
 // A term's text when it is an atom, a string or a number; its writeq text otherwise.
 std::string text_of(term_t t);
+
+// PL_get_nchars(t, flags | BUF_STACK | REP_UTF8), copied out: nullopt when
+// t has no text under flags. SWI-Prolog keeps BUF_STACK text on a stack of
+// buffers that it releases when a foreign predicate returns to Prolog; the
+// host's own calls (a Query's caller) never return there, so the text is
+// released here, at once, or each call would grow that stack for the life
+// of the process.
+std::optional<std::string> get_text(term_t t, unsigned flags);
 
 }  // namespace strata::prolog

@@ -25,11 +25,7 @@ std::size_t g_max_rules_bytes = LoadLimits{}.max_bytes;
 std::optional<tactical::Value> value_of(term_t t) {
   double number = 0;
   if (PL_is_number(t) && PL_get_float(t, &number)) return tactical::Value::of(number);
-  char* s = nullptr;
-  std::size_t len = 0;
-  if (PL_get_nchars(t, &len, &s, CVT_ATOM | CVT_STRING | BUF_STACK | REP_UTF8)) {
-    return tactical::Value::of(std::string(s, len));
-  }
+  if (auto text = prolog::get_text(t, CVT_ATOM | CVT_STRING)) return tactical::Value::of(*std::move(text));
   if (PL_is_variable(t)) {
     PL_instantiation_error(t);
   } else {
