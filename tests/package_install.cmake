@@ -66,6 +66,14 @@ execute_process(COMMAND ${strata} run ${root}/usr/share/strata/missions/tank/tan
 if(NOT rc EQUAL 0 OR NOT EXISTS ${root}/tank.jsonl OR NOT out MATCHES "completed")
   fail("strata run of the installed tank mission: exit ${rc}\n${out}${err}")
 endif()
+# The studio's HTTP server is a module strata loads from the installed
+# library folder (src/studio/http_module.h): served, and a page answered.
+execute_process(COMMAND ${strata} run ${root}/usr/share/strata/missions/tank/tank.coral --studio
+                        --listen 127.0.0.1:0 --speed 1000
+                WORKING_DIRECTORY ${root} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "^http://127.0.0.1:[0-9]+\n")
+  fail("strata run --studio from the installed files: exit ${rc}\n${out}${err}")
+endif()
 execute_process(COMMAND ${strata} --version OUTPUT_VARIABLE version)
 if(NOT version MATCHES "^strata [0-9]+\\.[0-9]+\\.[0-9]+ \\([^)]+\\)")
   fail("--version: '${version}'")

@@ -20,7 +20,7 @@
 #include "cli/user_config.h"
 #include "cli/verbosity.h"
 #include "studio/assets.h"
-#include "studio/server.h"
+#include "studio/http_module.h"
 #include "studio/studio_runner.h"
 
 namespace strata::cli {
@@ -104,8 +104,12 @@ int run_studio(const StudioOptions& o, bool listen_given) {
     so.sonar_dir = o.sonar.empty() ? fs::temp_directory_path() / fmt::format("strata-studio-{}-sonar", ::getpid())
                                    : fs::path(o.sonar);
   }
-  studio::StudioServer server(so, hub);
-  auto port = server.start();
+  auto server = studio::make_http_server(so, hub);
+  if (!server) {
+    std::cerr << "strata studio: " << server.error().message << "\n";
+    return kExitUnavailable;
+  }
+  auto port = server.value()->start();
   if (!port) {
     std::cerr << "strata studio: " << port.error().message << "\n";
     return kExitIo;
@@ -115,12 +119,12 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   if (!quiet) {
     std::cerr << fmt::format(
         "strata studio: serving {} (Ctrl-C to stop){}\n", sandbox.root().string(),
-        o.web_root.empty() && !studio::page_built() ? "; the page was not built into this strata" : "");
+        o.web_root.empty() && !server.value()->page_built() ? "; the page was not built into this strata" : "");
   }
   int signal = 0;
   sigwait(&stop_signals, &signal);
   if (!quiet) std::cerr << "strata studio: stopping\n";
-  server.stop();                                                         // a run going ends through its safe end first
+  server.value()->stop();                                                // a run going ends through its safe end first
   if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
   return kExitOk;
 }
@@ -157,8 +161,13 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
   so.port = port;
   so.catalogue = &catalogue.value();
   so.sonar_dir = options.sonar_dir;
-  studio::StudioServer server(so, hub);
-  auto bound = server.start();
+  auto server = studio::make_http_server(so, hub);
+  if (!server) {
+    err << "strata run: --studio: " << server.error().message << "\n";
+    failed.exit_code = kExitUnavailable;
+    return failed;
+  }
+  auto bound = server.value()->start();
   if (!bound) {
     err << "strata run: --studio: " << bound.error().message << "\n";
     return failed;
@@ -189,7 +198,7 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
       sigwait(&stop_signals, &signal);
     }
   }
-  server.stop();
+  server.value()->stop();
   return report;
 }
 
@@ -211,7 +220,9 @@ Runner add_studio_command(CLI::App& app, const LoadedConfig& config) {
                   "Where the Sonar Manager of a run started from the page writes its scans (default: a folder in "
                   "the system's temporary folder)");
   cmd->add_flag("--no-sonar", o->no_sonar, "Runs started from the page get no Sonar Manager");
-  cmd->footer("docs/studio.md has the page's API. Exit 0 after Ctrl-C; 74 when it cannot listen or read DIR.");
+  cmd->footer(
+      "docs/studio.md has the page's API. Exit 0 after Ctrl-C; 69 when its HTTP module (libstrata_studio_http.so) is "
+      "missing; 74 when it cannot listen or read DIR.");
   add_verbosity_flags(cmd, o->verbosity, "Also a line on stderr for each request answered");
   return [o, cmd, &config] {
     if (auto failed = config_failure(config, "studio")) return *failed;

@@ -84,6 +84,8 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
 
 StudioServer::~StudioServer() { stop(); }
 
+bool StudioServer::page_built() const { return studio::page_built(); }
+
 core::Result<std::uint16_t> StudioServer::start() {
   const int port = options_.port == 0 ? server_->bind_to_any_port(options_.host)
                                       : (server_->bind_to_port(options_.host, options_.port) ? options_.port : -1);

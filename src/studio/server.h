@@ -25,6 +25,7 @@
 #include "studio/event_hub.h"
 #include "studio/model_patch.h"
 #include "studio/sandbox.h"
+#include "studio/studio_http.h"
 #include "tactical/catalogue.h"
 
 namespace httplib {
@@ -35,74 +36,21 @@ struct Response;
 
 namespace strata::studio {
 
-struct RunRequest {
-  std::filesystem::path mission;  // resolved, inside the root
-  std::string relative;           // as the page named it
-  std::string scenario;           // the name asked for; "" nominal
-  double speed = 10.0;            // simulated seconds per wall second
-  // Set by the server: the scenario's file, checked inside the root; when
-  // empty the run takes `scenario` as strata run does (`strata run
-  // --studio`, whose scenario comes from its own command line).
-  std::filesystem::path scenario_file = {};
-};
-
-// Starts and stops the runs the page asks for. Threads: any (HTTP workers).
-class RunLauncher {
- public:
-  virtual ~RunLauncher() = default;
-  // Starts the run (on another thread) or says why not (InvalidInput: 400;
-  // Overflow: 409, a run is going).
-  virtual core::Result<void> start(const RunRequest& request) = 0;
-  // The page's Abort: the run going, if any, ends through its safe end
-  // (surface, then done); its outcome is aborted, stopped_by "studio".
-  virtual void abort() = 0;
-  // The page's Stop, a hard stop: the run going, if any, ends now, without
-  // surfacing the vehicle or sending it done (run::StopMode::Hard).
-  virtual void stop() = 0;
-};
-
 class StudioRunner;
 class FileWatcher;
 
-struct StudioOptions {
-  std::filesystem::path root = ".";
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 0;                          // 0: any free port
-  std::filesystem::path web_root;                  // "": the page compiled into strata
-  const tactical::Catalogue* catalogue = nullptr;  // null: the built-in one
-  std::size_t max_body_bytes = 4u << 20;
-  int threads = 48;
-  std::chrono::milliseconds heartbeat{1000};
-  // An event stream looks for news this often and writes all that came in
-  // one go: 25 writes a second is plenty for a page, and 20 pages cost a
-  // run little.
-  std::chrono::milliseconds batch{40};
-  // POST /api/run and /api/run/stop go here; null: the studio's own
-  // StudioRunner (which must then outlive nothing: the server owns it).
-  RunLauncher* runs = nullptr;
-  // Where the Sonar Manager of a run writes its scans (latest.png and
-  // sonar.jsonl): GET /api/sonar says what is there, and
-  // GET /api/sonar/latest.png serves the newest scan. "": no sonar.
-  std::filesystem::path sonar_dir;
-  // How often the files open pages show are looked at for changes on disk
-  // (FileWatcher; file_changed events).
-  std::chrono::milliseconds watch_period{500};
-  // A line for each request answered ("GET /api/files 200"), from the
-  // server's threads (`strata studio -v`); null: none.
-  std::function<void(const std::string&)> request_log;
-};
-
-class StudioServer {
+class StudioServer final : public HttpServer {
  public:
   StudioServer(StudioOptions options, EventHub& hub);
-  ~StudioServer();
+  ~StudioServer() override;
   StudioServer(const StudioServer&) = delete;
   StudioServer& operator=(const StudioServer&) = delete;
 
   // Binds and starts listening; the port chosen.
-  core::Result<std::uint16_t> start();
-  void stop();
-  std::uint16_t port() const { return port_; }
+  core::Result<std::uint16_t> start() override;
+  void stop() override;
+  std::uint16_t port() const override { return port_; }
+  bool page_built() const override;
 
  private:
   void routes();
