@@ -36,7 +36,8 @@ class QuestionSearch {
         store_(net.initial_marking()),
         stubborn_(net),
         is_enabled_(net.transition_count(), 0),
-        missing_(net.transition_count(), 0) {
+        missing_(net.transition_count(), 0),
+        enabled_at_(net.transition_count(), 0) {
     delta_begin_.push_back(0);
     for (TransitionId t = 0; t < net.transition_count(); ++t) {
       for (const Arc& a : net.inputs(t)) {
@@ -59,6 +60,7 @@ class QuestionSearch {
     Marking m = net_.initial_marking();
     for (TransitionId t = 0; t < net_.transition_count(); ++t) {
       for (const Arc& a : net_.inputs(t)) missing_[t] += m[a.node] < a.weight ? 1 : 0;
+      if (missing_[t] == 0) enable(t);
     }
     store_.insert_current();
     if (at_goal(m)) {
@@ -155,21 +157,16 @@ class QuestionSearch {
     std::int64_t change;
   };
 
+  // Whether m is what the search looks for; sets terminal_.
   bool at_goal(const Marking& m) {
-    enabled_.clear();
-    bool terminal = false;
-    for (PlaceId p : o_.terminal_places) terminal = terminal || m[p] > 0;
-    if (!terminal) {
-      for (TransitionId t = 0; t < net_.transition_count(); ++t) {
-        if (missing_[t] == 0) enabled_.push_back(t);
-      }
-    }
-    if (q_.kind == QuestionKind::Deadlock) return !terminal && enabled_.empty();
+    terminal_ = false;
+    for (PlaceId p : o_.terminal_places) terminal_ = terminal_ || m[p] > 0;
+    if (q_.kind == QuestionKind::Deadlock) return !terminal_ && enabled_.empty();
     return q_.target.holds(m);
   }
 
-  // Appends the transitions to try from m (enabled_ is m's enabled set),
-  // their successors' table slots prefetched.
+  // Appends the transitions to try from m (enabled_ is m's enabled set;
+  // none when terminal_), their successors' table slots prefetched.
   void candidates(const Marking& m) {
     const std::size_t first = cand_.size();
     choose(m);
@@ -177,18 +174,17 @@ class QuestionSearch {
   }
   void choose(const Marking& m) {
     ++visited_;
+    if (terminal_) return;
     if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
       account(enabled_.size(), enabled_.size());
       return;
     }
-    for (TransitionId t : enabled_) is_enabled_[t] = 1;
     if (q_.kind == QuestionKind::Deadlock) {
       stubborn_.for_deadlock(m, enabled_, is_enabled_, set_);
     } else {
       stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     }
-    for (TransitionId t : enabled_) is_enabled_[t] = 0;
     cand_.insert(cand_.end(), set_.begin(), set_.end());
     if (set_.size() < enabled_.size()) reducing_ = true;
     account(set_.size(), enabled_.size());
@@ -261,10 +257,23 @@ class QuestionSearch {
       const std::int64_t before = after - sign * d.change;
       for (const Arc& r : net_.readers(d.place)) {
         const bool was = before >= r.weight, is = after >= r.weight;
-        if (was && !is) ++missing_[r.node];
-        if (!was && is) --missing_[r.node];
+        if (was && !is && missing_[r.node]++ == 0) disable(r.node);
+        if (!was && is && --missing_[r.node] == 0) enable(r.node);
       }
     }
+  }
+  // enabled_ (in no order) and is_enabled_, kept as missing_ changes.
+  void enable(TransitionId t) {
+    is_enabled_[t] = 1;
+    enabled_at_[t] = static_cast<std::uint32_t>(enabled_.size());
+    enabled_.push_back(t);
+  }
+  void disable(TransitionId t) {
+    is_enabled_[t] = 0;
+    const TransitionId last = enabled_.back();
+    enabled_[enabled_at_[t]] = last;
+    enabled_at_[last] = enabled_at_[t];
+    enabled_.pop_back();
   }
 
   void found(QuestionResult& r, const Marking& m) {
@@ -289,7 +298,8 @@ class QuestionSearch {
   MarkingStore store_;
   StubbornSets stubborn_;
   std::vector<char> is_enabled_;
-  std::vector<std::uint32_t> missing_;  // by transition: input arcs not satisfied
+  std::vector<std::uint32_t> missing_;     // by transition: input arcs not satisfied
+  std::vector<std::uint32_t> enabled_at_;  // by enabled transition: its index in enabled_
   std::vector<std::uint32_t> delta_begin_;
   std::vector<PlaceDelta> deltas_;          // by transition: the places it changes
   std::vector<std::uint64_t> hash_change_;  // by transition
@@ -299,6 +309,7 @@ class QuestionSearch {
   bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;
   bool handed_over_ = false;
+  bool terminal_ = false;  // the current marking has a token in a terminal place
 };
 
 }  // namespace
