@@ -17,15 +17,22 @@ using question_detail::MarkingStore;
 // The largest number of markings (indexes are 32 bits).
 constexpr std::uint64_t kMaxQuestionMarkings = 0xfffffff0ULL;
 
-// Every kReductionWindow markings, the search checks what the stubborn sets
-// pruned in the window: when nothing, it stops computing them (every
-// enabled transition is a stubborn set too) and tries them again on one
-// marking in kReductionRetry. Each marking may use any stubborn set: the
+// Whether the stubborn sets pay, judged continuously: computing them must
+// cost at most kStepsPerPruned steps (stubborn.h's work) per transition
+// they prune. Firing a transition costs the search a few dozen steps, and a
+// pruned one often saves the markings behind it too, hence the margin.
+// Both counts are halved every kJudgeWindow sets (the judgement follows
+// the net's phases); the first kJudgeAfter sets are not judged. While the
+// sets do not pay, the search fires every enabled transition (a stubborn
+// set too) and computes them again on one marking in kReductionRetry, which
+// may turn them back on. Each marking may use any stubborn set: the
 // argument in stubborn.h holds marking by marking.
-constexpr std::uint64_t kReductionWindow = 256;
-constexpr std::uint64_t kReductionRetry = 64;
+constexpr std::uint64_t kStepsPerPruned = 256;
+constexpr std::uint64_t kJudgeWindow = 64;
+constexpr std::uint64_t kJudgeAfter = 4;
+constexpr std::uint64_t kReductionRetry = 16;
 // See QuestionSearch::hand_over_to_explorer.
-constexpr std::uint64_t kExplorerAfter = 256;
+constexpr std::uint64_t kExplorerAfter = 64;
 
 class QuestionSearch {
  public:
@@ -177,24 +184,35 @@ class QuestionSearch {
     if (terminal_) return;
     if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
-      account(enabled_.size(), enabled_.size());
       return;
     }
-    if (q_.kind == QuestionKind::Deadlock) {
-      stubborn_.for_deadlock(m, enabled_, is_enabled_, set_);
-    } else {
-      stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
-    }
+    // A deadlock set costing more than it could save (all but one pruned) is given up.
+    const std::uint64_t steps =
+        q_.kind == QuestionKind::Deadlock
+            ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
+            : stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     cand_.insert(cand_.end(), set_.begin(), set_.end());
-    if (set_.size() < enabled_.size()) reducing_ = true;
-    account(set_.size(), enabled_.size());
+    judge(steps, enabled_.size() - set_.size());
+  }
+
+  // The continuous judgement (kStepsPerPruned).
+  void judge(std::uint64_t steps, std::uint64_t pruned) {
+    total_pruned_ += pruned;
+    steps_ += steps;
+    pruned_ += pruned;
+    if (++sets_ % kJudgeWindow == 0) {
+      steps_ /= 2;
+      pruned_ /= 2;
+    }
+    if (sets_ >= kJudgeAfter) reducing_ = steps_ <= kStepsPerPruned * pruned_;
   }
 
   // The deadlock question, when the stubborn sets have pruned nothing in
   // the first kExplorerAfter markings: the breadth-first explorer walks
-  // markings several times faster than this search, and decides the
-  // question whole. True when it did (no deadlock, or a limit); when it
-  // found a deadlock, the search goes on for the witness.
+  // markings two to three times faster than this search on nets of some
+  // size, and decides the question whole. True when it did (no deadlock,
+  // or a limit); when it found a deadlock, the search goes on for the
+  // witness.
   bool hand_over_to_explorer(QuestionResult& r) {
     if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 ||
         store_.size() < kExplorerAfter) {
@@ -221,15 +239,6 @@ class QuestionSearch {
     r.states = full.states;
     r.memory_bytes = full.memory_bytes;
     return true;
-  }
-
-  // The adaptive switch (kReductionWindow).
-  void account(std::size_t kept, std::size_t enabled) {
-    window_pruned_ += enabled - kept;
-    total_pruned_ += enabled - kept;
-    if (visited_ % kReductionWindow != 0) return;
-    if (reduce_) reducing_ = window_pruned_ > 0;
-    window_pruned_ = 0;
   }
 
   bool fits(const Marking& m, TransitionId t) const {
@@ -305,7 +314,8 @@ class QuestionSearch {
   std::vector<std::uint64_t> hash_change_;  // by transition
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
-  std::uint64_t visited_ = 0, window_pruned_ = 0, total_pruned_ = 0;
+  std::uint64_t visited_ = 0, total_pruned_ = 0;
+  std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;  // judge()
   bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;
   bool handed_over_ = false;
