@@ -14,10 +14,9 @@
 // The stubborn sets are computed while they pay for themselves (their cost
 // against the transitions they prune, judged as the search goes; see
 // question.cpp). The deadlock question with reduction: when they have
-// pruned nothing by the time the search has fired 2,048 transitions, the
-// full exploration (explorer.h), faster per firing, decides it instead
-// (by_exploration); when it finds a deadlock, the search goes on for the
-// witness.
+// pruned nothing in the first 256 markings, the full exploration
+// (explorer.h), faster per firing, decides it instead (by_exploration);
+// when it finds a deadlock, the search goes on for the witness.
 //
 // Limits: max_states, max_memory_bytes, deadline and the progress callback stop the
 // search; the answer is then NotDecided, never a yes or no it has not seen.
