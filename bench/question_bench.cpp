@@ -6,14 +6,18 @@
 //   deadlock/MODEL/reduced      answer_question(), stubborn sets
 //   deadlock/MODEL/unreduced    answer_question(), reduction = false
 //
-// Counters: ms (wall time of one run, parsing excluded), markings (visited
-// or, for explore, reachable), answer (1 yes, 0 no, -1 not decided), and on
+// Counters: ms (wall time of one run, parsing excluded), cpu_ms (the
+// process's CPU time for it: steadier on a loaded machine), markings (visited
+// or, for explore, reachable), edges (transitions fired), explorer (1 when
+// the question handed over to the full exploration: markings and edges are
+// then its own), answer (1 yes, 0 no, -1 not decided), and on
 // every row lola_ms and lola_markings (LoLA 2's question time and markings
 // visited, measured on this class of machine; -1 when not listed).
 // Run: ./bench/question_bench --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -65,28 +69,36 @@ std::vector<std::string> corpus_in_order() {
 enum class Mode { Explore, Reduced, Unreduced };
 
 void bm_deadlock(benchmark::State& st, const std::shared_ptr<const Net>& net, Mode mode, LolaFigures lola) {
-  double seconds = 0, markings = 0, answer = -1;
+  double seconds = 0, cpu_seconds = 0, markings = 0, answer = -1, edges = 0, by_exploration = 0;
   Question q;
   q.kind = QuestionKind::Deadlock;
   for (auto _ : st) {
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu_start = std::clock();
     if (mode == Mode::Explore) {
       ExploreOptions o;
       o.liveness = false;
       const ExploreResult r = explore(*net, o);
       markings = static_cast<double>(r.states);
+      edges = static_cast<double>(r.edges);
       answer = r.complete ? (r.deadlock ? 1 : 0) : -1;
     } else {
       QuestionOptions o;
       o.reduction = mode == Mode::Reduced;
       const QuestionResult r = answer_question(*net, q, o);
       markings = static_cast<double>(r.states);
+      edges = static_cast<double>(r.edges);
+      by_exploration = r.by_exploration ? 1 : 0;
       answer = r.answer == Answer::Yes ? 1 : r.answer == Answer::No ? 0 : -1;
     }
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   }
   st.counters["ms"] = seconds * 1000;
+  st.counters["cpu_ms"] = cpu_seconds * 1000;
   st.counters["markings"] = markings;
+  st.counters["edges"] = edges;
+  st.counters["explorer"] = by_exploration;
   st.counters["answer"] = answer;
   st.counters["lola_ms"] = lola.ms;
   st.counters["lola_markings"] = lola.markings;

@@ -1,157 +1,36 @@
 #include "petri/question.h"
 
-#include <cstring>
 #include <limits>
 
 #include <fmt/format.h>
 
-#include "petri/stubborn.h"
+#include "petri/question_store.h"
 #include "petri/structural.h"
+#include "petri/stubborn.h"
 
 namespace strata::petri {
 
 namespace {
 
-std::uint64_t question_mix(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-// The visited markings: packed one byte per place while every count is
-// under 256, else four. The current marking is kept encoded beside them
-// (set() per place changed), so a lookup encodes nothing, and so is its
-// hash: sum of tokens(p) * key(p) (random odd keys, mod 2^64), mixed,
-// updated by one multiply per place changed. The table holds (32 bits of
-// hash, index) pairs: a probe that misses rarely reads a marking.
-class MarkingStore {
- public:
-  explicit MarkingStore(const Marking& initial) : places_(initial.size()) {
-    table_.assign(1024, kEmptySlot);
-    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
-    keys_.resize(places_);
-    for (std::uint64_t& k : keys_) k = question_mix(seed += 0x9E3779B97F4A7C15ULL) | 1;
-    for (Tokens v : initial) width_ = v > 255 ? 4 : width_;
-    cur_.assign(places_ * width_, 0);
-    for (PlaceId p = 0; p < places_; ++p) set(p, initial[p]);
-  }
-
-  std::uint64_t size() const { return count_; }
-  std::size_t memory_bytes() const { return arena_.capacity() + table_.capacity() * 8 + cur_.capacity(); }
-
-  // Place p of the current marking now holds v.
-  void set(PlaceId p, Tokens v) {
-    sum_ += (std::uint64_t{v} - get(cur_.data(), p)) * keys_[p];
-    if (width_ == 1) {
-      if (v > 255) {
-        widen();
-      } else {
-        cur_[p] = static_cast<std::uint8_t>(v);
-        return;
-      }
-    }
-    std::memcpy(&cur_[std::size_t{p} * 4], &v, 4);
-  }
-
-  // The key of place p (a transition's hash change is sum of change(p) * key(p)).
-  std::uint64_t key(PlaceId p) const { return keys_[p]; }
-  // Brings the table slot of the current marking changed by hash_change into the cache.
-  void prefetch(std::uint64_t hash_change) const {
-    __builtin_prefetch(&table_[question_mix(sum_ + hash_change) & (table_.size() - 1)]);
-  }
-
-  bool contains_current() const {
-    const std::size_t bytes = cur_.size();
-    const std::uint64_t h = question_mix(sum_);
-    const std::size_t mask = table_.size() - 1;
-    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
-      const std::uint64_t e = table_[i];
-      if (e == kEmptySlot) return false;
-      if ((e >> 32) == (h >> 32) && std::memcmp(&arena_[(e & 0xffffffffu) * bytes], cur_.data(), bytes) == 0) {
-        return true;
-      }
-    }
-  }
-
-  // Adds the current marking when absent. Returns whether it was new.
-  bool insert_current() {
-    if ((count_ + 1) * 2 > table_.size()) rehash(table_.size() * 2);
-    const std::size_t bytes = cur_.size();
-    const std::uint64_t h = question_mix(sum_);
-    const std::size_t mask = table_.size() - 1;
-    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
-      const std::uint64_t e = table_[i];
-      if (e == kEmptySlot) {
-        table_[i] = (h & 0xffffffff00000000ULL) | count_++;
-        arena_.insert(arena_.end(), cur_.begin(), cur_.end());
-        return true;
-      }
-      if ((e >> 32) == (h >> 32) && std::memcmp(&arena_[(e & 0xffffffffu) * bytes], cur_.data(), bytes) == 0) {
-        return false;
-      }
-    }
-  }
-
- private:
-  static constexpr std::uint64_t kEmptySlot = ~0ULL;
-
-  std::uint64_t get(const std::uint8_t* m, PlaceId p) const {
-    if (width_ == 1) return m[p];
-    std::uint32_t v;
-    std::memcpy(&v, m + std::size_t{p} * 4, 4);
-    return v;
-  }
-  std::uint64_t hash_of(const std::uint8_t* m) const {
-    std::uint64_t sum = 0;
-    for (PlaceId p = 0; p < places_; ++p) sum += get(m, p) * keys_[p];
-    return sum;
-  }
-  static std::vector<std::uint8_t> wide(const std::vector<std::uint8_t>& narrow) {
-    std::vector<std::uint8_t> out(narrow.size() * 4);
-    for (std::size_t i = 0; i < narrow.size(); ++i) {
-      const std::uint32_t v = narrow[i];
-      std::memcpy(&out[i * 4], &v, 4);
-    }
-    return out;
-  }
-  void widen() {
-    arena_ = wide(arena_);
-    cur_ = wide(cur_);
-    width_ = 4;
-    rehash(table_.size());
-  }
-  void rehash(std::size_t slots) {
-    table_.assign(slots, kEmptySlot);
-    const std::size_t bytes = cur_.size();
-    const std::size_t mask = slots - 1;
-    for (std::uint64_t k = 0; k < count_; ++k) {
-      const std::uint64_t h = question_mix(hash_of(&arena_[k * bytes]));
-      std::size_t i = h & mask;
-      while (table_[i] != kEmptySlot) i = (i + 1) & mask;
-      table_[i] = (h & 0xffffffff00000000ULL) | k;
-    }
-  }
-
-  std::size_t places_;
-  std::size_t width_ = 1;
-  std::vector<std::uint8_t> arena_;
-  std::vector<std::uint64_t> table_;
-  std::vector<std::uint8_t> cur_;
-  std::vector<std::uint64_t> keys_;
-  std::uint64_t sum_ = 0;  // the current marking's
-  std::uint64_t count_ = 0;
-};
+using question_detail::MarkingStore;
 
 // The largest number of markings (indexes are 32 bits).
 constexpr std::uint64_t kMaxQuestionMarkings = 0xfffffff0ULL;
 
-// Every kReductionWindow markings, the search checks what the stubborn sets
-// pruned in the window: when nothing, it stops computing them (every
-// enabled transition is a stubborn set too) and tries them again on one
-// marking in kReductionRetry. Each marking may use any stubborn set: the
+// Whether the stubborn sets pay, judged continuously: computing them must
+// cost at most kStepsPerPruned steps (stubborn.h's work) per transition
+// they prune. Firing a transition costs the search a few dozen steps, and a
+// pruned one often saves the markings behind it too, hence the margin.
+// Both counts are halved every kJudgeWindow sets (the judgement follows
+// the net's phases); the first kJudgeAfter sets are not judged. While the
+// sets do not pay, the search fires every enabled transition (a stubborn
+// set too) and computes them again on one marking in kReductionRetry, which
+// may turn them back on. Each marking may use any stubborn set: the
 // argument in stubborn.h holds marking by marking.
-constexpr std::uint64_t kReductionWindow = 256;
-constexpr std::uint64_t kReductionRetry = 64;
+constexpr std::uint64_t kStepsPerPruned = 256;
+constexpr std::uint64_t kJudgeWindow = 64;
+constexpr std::uint64_t kJudgeAfter = 4;
+constexpr std::uint64_t kReductionRetry = 16;
 // See QuestionSearch::hand_over_to_explorer.
 constexpr std::uint64_t kExplorerAfter = 256;
 
@@ -164,7 +43,8 @@ class QuestionSearch {
         store_(net.initial_marking()),
         stubborn_(net),
         is_enabled_(net.transition_count(), 0),
-        missing_(net.transition_count(), 0) {
+        missing_(net.transition_count(), 0),
+        enabled_at_(net.transition_count(), 0) {
     delta_begin_.push_back(0);
     for (TransitionId t = 0; t < net.transition_count(); ++t) {
       for (const Arc& a : net.inputs(t)) {
@@ -187,6 +67,7 @@ class QuestionSearch {
     Marking m = net_.initial_marking();
     for (TransitionId t = 0; t < net_.transition_count(); ++t) {
       for (const Arc& a : net_.inputs(t)) missing_[t] += m[a.node] < a.weight ? 1 : 0;
+      if (missing_[t] == 0) enable(t);
     }
     store_.insert_current();
     if (at_goal(m)) {
@@ -283,21 +164,16 @@ class QuestionSearch {
     std::int64_t change;
   };
 
+  // Whether m is what the search looks for; sets terminal_.
   bool at_goal(const Marking& m) {
-    enabled_.clear();
-    bool terminal = false;
-    for (PlaceId p : o_.terminal_places) terminal = terminal || m[p] > 0;
-    if (!terminal) {
-      for (TransitionId t = 0; t < net_.transition_count(); ++t) {
-        if (missing_[t] == 0) enabled_.push_back(t);
-      }
-    }
-    if (q_.kind == QuestionKind::Deadlock) return !terminal && enabled_.empty();
+    terminal_ = false;
+    for (PlaceId p : o_.terminal_places) terminal_ = terminal_ || m[p] > 0;
+    if (q_.kind == QuestionKind::Deadlock) return !terminal_ && enabled_.empty();
     return q_.target.holds(m);
   }
 
-  // Appends the transitions to try from m (enabled_ is m's enabled set),
-  // their successors' table slots prefetched.
+  // Appends the transitions to try from m (enabled_ is m's enabled set;
+  // none when terminal_), their successors' table slots prefetched.
   void candidates(const Marking& m) {
     const std::size_t first = cand_.size();
     choose(m);
@@ -305,31 +181,42 @@ class QuestionSearch {
   }
   void choose(const Marking& m) {
     ++visited_;
+    if (terminal_) return;
     if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
-      account(enabled_.size(), enabled_.size());
       return;
     }
-    for (TransitionId t : enabled_) is_enabled_[t] = 1;
-    if (q_.kind == QuestionKind::Deadlock) {
-      stubborn_.for_deadlock(m, enabled_, is_enabled_, set_);
-    } else {
-      stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
-    }
-    for (TransitionId t : enabled_) is_enabled_[t] = 0;
+    // A deadlock set costing more than it could save (all but one pruned) is given up.
+    const std::uint64_t steps =
+        q_.kind == QuestionKind::Deadlock
+            ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
+            : stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     cand_.insert(cand_.end(), set_.begin(), set_.end());
-    if (set_.size() < enabled_.size()) reducing_ = true;
-    account(set_.size(), enabled_.size());
+    judge(steps, enabled_.size() - set_.size());
+  }
+
+  // The continuous judgement (kStepsPerPruned).
+  void judge(std::uint64_t steps, std::uint64_t pruned) {
+    total_pruned_ += pruned;
+    steps_ += steps;
+    pruned_ += pruned;
+    if (++sets_ % kJudgeWindow == 0) {
+      steps_ /= 2;
+      pruned_ /= 2;
+    }
+    if (sets_ >= kJudgeAfter) reducing_ = steps_ <= kStepsPerPruned * pruned_;
   }
 
   // The deadlock question, when the stubborn sets have pruned nothing in
-  // the first kExplorerAfter markings: the breadth-first explorer walks
-  // markings several times faster than this search, and decides the
-  // question whole. True when it did (no deadlock, or a limit); when it
-  // found a deadlock, the search goes on for the witness.
+  // the first kExplorerAfter markings: the breadth-first explorer fires
+  // transitions two to three times faster than this search on nets of some
+  // size, but starts slower (P-semiflows, layout: 0.03 to 0.13 ms on most
+  // MCC nets, about what this search takes for a few hundred markings; 17 ms
+  // on IBM319-PT-none). It decides the question whole. True when it did (no deadlock, or a limit);
+  // when it found a deadlock, the search goes on for the witness.
   bool hand_over_to_explorer(QuestionResult& r) {
     if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 ||
-        store_.size() < kExplorerAfter) {
+        sets_ < kJudgeAfter || store_.size() < kExplorerAfter) {
       return false;
     }
     handed_over_ = true;
@@ -353,15 +240,6 @@ class QuestionSearch {
     r.states = full.states;
     r.memory_bytes = full.memory_bytes;
     return true;
-  }
-
-  // The adaptive switch (kReductionWindow).
-  void account(std::size_t kept, std::size_t enabled) {
-    window_pruned_ += enabled - kept;
-    total_pruned_ += enabled - kept;
-    if (visited_ % kReductionWindow != 0) return;
-    if (reduce_) reducing_ = window_pruned_ > 0;
-    window_pruned_ = 0;
   }
 
   bool fits(const Marking& m, TransitionId t) const {
@@ -389,10 +267,23 @@ class QuestionSearch {
       const std::int64_t before = after - sign * d.change;
       for (const Arc& r : net_.readers(d.place)) {
         const bool was = before >= r.weight, is = after >= r.weight;
-        if (was && !is) ++missing_[r.node];
-        if (!was && is) --missing_[r.node];
+        if (was && !is && missing_[r.node]++ == 0) disable(r.node);
+        if (!was && is && --missing_[r.node] == 0) enable(r.node);
       }
     }
+  }
+  // enabled_ (in no order) and is_enabled_, kept as missing_ changes.
+  void enable(TransitionId t) {
+    is_enabled_[t] = 1;
+    enabled_at_[t] = static_cast<std::uint32_t>(enabled_.size());
+    enabled_.push_back(t);
+  }
+  void disable(TransitionId t) {
+    is_enabled_[t] = 0;
+    const TransitionId last = enabled_.back();
+    enabled_[enabled_at_[t]] = last;
+    enabled_at_[last] = enabled_at_[t];
+    enabled_.pop_back();
   }
 
   void found(QuestionResult& r, const Marking& m) {
@@ -417,16 +308,19 @@ class QuestionSearch {
   MarkingStore store_;
   StubbornSets stubborn_;
   std::vector<char> is_enabled_;
-  std::vector<std::uint32_t> missing_;  // by transition: input arcs not satisfied
+  std::vector<std::uint32_t> missing_;     // by transition: input arcs not satisfied
+  std::vector<std::uint32_t> enabled_at_;  // by enabled transition: its index in enabled_
   std::vector<std::uint32_t> delta_begin_;
   std::vector<PlaceDelta> deltas_;          // by transition: the places it changes
   std::vector<std::uint64_t> hash_change_;  // by transition
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
-  std::uint64_t visited_ = 0, window_pruned_ = 0, total_pruned_ = 0;
+  std::uint64_t visited_ = 0, total_pruned_ = 0;
+  std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;  // judge()
   bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;
   bool handed_over_ = false;
+  bool terminal_ = false;  // the current marking has a token in a terminal place
 };
 
 }  // namespace

@@ -11,9 +11,11 @@
 // the firing sequence from the initial marking to the marking found (the
 // path of the search: not the shortest); replay() checks it.
 //
-// The deadlock question with reduction: when the stubborn sets have pruned
-// nothing in the first 256 markings, the full exploration (explorer.h),
-// several times faster per marking, decides it instead (by_exploration);
+// The stubborn sets are computed while they pay for themselves (their cost
+// against the transitions they prune, judged as the search goes; see
+// question.cpp). The deadlock question with reduction: when they have
+// pruned nothing in the first 256 markings, the full exploration
+// (explorer.h), faster per firing, decides it instead (by_exploration);
 // when it finds a deadlock, the search goes on for the witness.
 //
 // Limits: max_states, max_memory_bytes, deadline and the progress callback stop the

@@ -4,30 +4,14 @@
 
 namespace strata::petri {
 
-namespace {
-
-// Keys tried for the deadlock question at one marking: the smallest
-// closure among them is kept.
-constexpr std::size_t kStubbornKeysTried = 8;
-
-}  // namespace
-
-StubbornSets::StubbornSets(const Net& net) : net_(net), stamp_(net.transition_count(), 0) {
+StubbornSets::StubbornSets(const Net& net)
+    : net_(net),
+      stamp_(net.transition_count(), 0),
+      number_(net.transition_count(), 0),
+      low_(net.transition_count(), 0),
+      on_stack_(net.transition_count(), 0) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
-  std::vector<std::uint32_t> seen(transitions, UINT32_MAX);
-  conflict_begin_.reserve(transitions + 1);
-  conflict_begin_.push_back(0);
-  for (TransitionId t = 0; t < transitions; ++t) {
-    for (const Arc& in : net.inputs(t)) {
-      for (const Arc& r : net.readers(in.node)) {
-        if (seen[r.node] == t) continue;
-        seen[r.node] = t;
-        conflicts_.push_back(r.node);
-      }
-    }
-    conflict_begin_.push_back(static_cast<std::uint32_t>(conflicts_.size()));
-  }
   inc_begin_.push_back(0);
   dec_begin_.push_back(0);
   for (PlaceId p = 0; p < places; ++p) {
@@ -45,6 +29,24 @@ StubbornSets::StubbornSets(const Net& net) : net_(net), stamp_(net.transition_co
     inc_begin_.push_back(static_cast<std::uint32_t>(inc_.size()));
     dec_begin_.push_back(static_cast<std::uint32_t>(dec_.size()));
   }
+  std::vector<std::uint32_t> seen(transitions, UINT32_MAX);
+  needs_begin_.reserve(transitions + 1);
+  needs_begin_.push_back(0);
+  for (TransitionId t = 0; t < transitions; ++t) {
+    seen[t] = t;
+    auto need = [&](TransitionId u) {
+      if (seen[u] == t) return;
+      seen[u] = t;
+      needs_.push_back(u);
+    };
+    for (const Arc& in : net.inputs(t)) {
+      for (std::uint32_t i = dec_begin_[in.node]; i < dec_begin_[in.node + 1]; ++i) need(dec_[i]);
+      if (net.incidence(in.node, t) < 0) {
+        for (const Arc& r : net.readers(in.node)) need(r.node);
+      }
+    }
+    needs_begin_.push_back(static_cast<std::uint32_t>(needs_.size()));
+  }
 }
 
 void StubbornSets::next_generation() {
@@ -53,58 +55,92 @@ void StubbornSets::next_generation() {
     generation_ = 1;
   }
   work_.clear();
+  steps_ = 0;
 }
 
-bool StubbornSets::close(std::span<const Tokens> m, const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
-                         std::size_t limit) {
+std::span<const TransitionId> StubbornSets::needed_by(TransitionId t, std::span<const Tokens> m, bool enabled) const {
+  if (enabled) return {needs_.data() + needs_begin_[t], needs_.data() + needs_begin_[t + 1]};
+  // The scapegoat: an input place short of tokens, with the fewest
+  // transitions that increase it.
+  PlaceId best = 0;
+  std::uint32_t best_count = UINT32_MAX;
+  for (const Arc& in : net_.inputs(t)) {
+    if (m[in.node] >= in.weight) continue;
+    const std::uint32_t count = inc_begin_[in.node + 1] - inc_begin_[in.node];
+    if (count < best_count) {
+      best = in.node;
+      best_count = count;
+      if (count == 0) break;
+    }
+  }
+  return {inc_.data() + inc_begin_[best], inc_.data() + inc_begin_[best + 1]};
+}
+
+void StubbornSets::close(std::span<const Tokens> m, const std::vector<char>& is_enabled,
+                         std::vector<TransitionId>& out) {
   out.clear();
   for (std::size_t k = 0; k < work_.size(); ++k) {
     const TransitionId t = work_[k];
-    if (is_enabled[t]) {
-      out.push_back(t);
-      if (out.size() > limit) return false;
-      for (std::uint32_t i = conflict_begin_[t]; i < conflict_begin_[t + 1]; ++i) add(conflicts_[i]);
-      continue;
-    }
-    // The scapegoat: an input place short of tokens, with the fewest
-    // transitions that increase it.
-    PlaceId best = 0;
-    std::uint32_t best_count = UINT32_MAX;
-    for (const Arc& in : net_.inputs(t)) {
-      if (m[in.node] >= in.weight) continue;
-      const std::uint32_t count = inc_begin_[in.node + 1] - inc_begin_[in.node];
-      if (count < best_count) {
-        best = in.node;
-        best_count = count;
-        if (count == 0) break;
-      }
-    }
-    for (std::uint32_t i = inc_begin_[best]; i < inc_begin_[best + 1]; ++i) add(inc_[i]);
+    if (is_enabled[t]) out.push_back(t);
+    for (TransitionId u : needed_by(t, m, is_enabled[t] != 0)) add(u);
   }
-  return true;
 }
 
-void StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
-                                const std::vector<char>& is_enabled, std::vector<TransitionId>& out) {
-  best_.clear();
-  std::size_t best_size = enabled.size();
-  bool found = false;
-  const std::size_t tries = std::min(enabled.size(), kStubbornKeysTried);
-  for (std::size_t k = 0; k < tries && best_size > 1; ++k) {
-    next_generation();
-    add(enabled[k]);
-    // A set with as many enabled members as the best so far (or as all
-    // of them) is no better.
-    if (!close(m, is_enabled, out, best_size - 1)) continue;
-    best_.swap(out);
-    best_size = best_.size();
-    found = true;
+std::uint64_t StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
+                                         const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
+                                         std::uint64_t max_work) {
+  // Tarjan from the enabled transition needing the fewest others. The
+  // components complete in reverse topological order: the first with an
+  // enabled member reaches no other enabled transition beyond itself, so
+  // its enabled members are those of its closure.
+  next_generation();
+  calls_.clear();
+  out.clear();
+  TransitionId root = enabled[0];
+  for (TransitionId t : enabled) {
+    if (needs_begin_[t + 1] - needs_begin_[t] < needs_begin_[root + 1] - needs_begin_[root]) root = t;
   }
-  if (found) {
-    out.swap(best_);
-  } else {
-    out.assign(enabled.begin(), enabled.end());
+  std::uint32_t counter = 0;
+  auto visit = [&](TransitionId t) {
+    ++steps_;
+    stamp_[t] = generation_;
+    number_[t] = low_[t] = counter++;
+    on_stack_[t] = 1;
+    work_.push_back(t);
+    const auto next = needed_by(t, m, is_enabled[t] != 0);
+    calls_.push_back({t, 0, static_cast<std::uint32_t>(next.size()), next.data()});
+  };
+  visit(root);
+  while (out.empty()) {
+    if (steps_ > max_work) {
+      out.assign(enabled.begin(), enabled.end());
+      break;
+    }
+    Call& c = calls_.back();
+    if (c.next < c.end) {
+      ++steps_;
+      const TransitionId u = c.list[c.next++];
+      if (stamp_[u] != generation_) {
+        visit(u);
+      } else if (on_stack_[u]) {
+        low_[c.t] = std::min(low_[c.t], number_[u]);
+      }
+      continue;
+    }
+    const TransitionId t = c.t;
+    calls_.pop_back();
+    if (!calls_.empty()) low_[calls_.back().t] = std::min(low_[calls_.back().t], low_[t]);
+    if (low_[t] != number_[t]) continue;
+    // The component: work_ from t to the top.
+    std::size_t first = work_.size();
+    do {
+      --first;
+      on_stack_[work_[first]] = 0;
+      if (is_enabled[work_[first]]) out.push_back(work_[first]);
+    } while (work_[first] != t);
+    work_.resize(first);
   }
+  return steps_;
 }
 
 void StubbornSets::add_changers(const Term& t, bool up) {
@@ -153,11 +189,12 @@ void StubbornSets::add_up(const Predicate& target, std::uint32_t i, std::span<co
   }
 }
 
-void StubbornSets::for_reaching(const Predicate& target, std::span<const Tokens> m, const std::vector<char>& is_enabled,
-                                std::vector<TransitionId>& out) {
+std::uint64_t StubbornSets::for_reaching(const Predicate& target, std::span<const Tokens> m,
+                                         const std::vector<char>& is_enabled, std::vector<TransitionId>& out) {
   next_generation();
   add_up(target, target.root(), m);
-  close(m, is_enabled, out, SIZE_MAX);
+  close(m, is_enabled, out);
+  return steps_;
 }
 
 }  // namespace strata::petri

@@ -3,19 +3,28 @@
 // looks for a deadlock or for a marking satisfying a predicate (question.h).
 //
 // A set S of transitions is stubborn at marking m when
-//   (a) for every enabled t in S, every transition that reads an input
-//       place of t is in S (so no transition outside S can disable t, and t
-//       commutes with every sequence of transitions outside S);
+//   (a) for every enabled t in S, S holds every transition that decreases an
+//       input place of t (it could disable t) and every transition with an
+//       input place that t decreases (t could disable it); one that only
+//       tests a place, or adds to it, commutes with t there;
 //   (b) for every disabled t in S, some input place p of t with
 //       m(p) < w(p, t) (its scapegoat) has every transition that increases
 //       p in S (so t stays disabled while only transitions outside S fire).
 // Then the first transition of S in any firing sequence from m is enabled at
-// m and can be moved to the front, reaching the same marking.
+// m and can be moved to the front, reaching the same marking: no transition
+// outside S took tokens it needed, and it took none they needed.
 //
-// Deadlocks: S holds one enabled transition (the key): every path to a
-// deadlock fires some transition of S, since the key stays enabled
-// otherwise. Firing only S's enabled transitions keeps a shortest path to a
-// deadlock one step shorter, so every deadlock stays reachable.
+// Deadlocks: S holds an enabled transition (every enabled member is a key):
+// every path to a deadlock fires some transition of S, since the key stays
+// enabled otherwise. Firing only S's enabled transitions keeps a shortest
+// path to a deadlock one step shorter, so every deadlock stays reachable.
+// The set is found in one pass of Tarjan's strongly connected components
+// over the graph "u in S needs v in S" (the scapegoats chosen as it goes),
+// from the enabled transition that needs the fewest others: the first
+// component completed with an enabled member reaches no other enabled
+// transition, so the set it closes has exactly its enabled members. One
+// search costs at most the closure of that transition, where trying
+// several keys cost a closure each.
 //
 // EF φ, φ false at m: S also holds up(φ, m), transitions one of which every
 // path making φ true must fire: for "x >= k" false, the transitions that
@@ -40,20 +49,27 @@ class StubbornSets {
  public:
   explicit StubbornSets(const Net& net);
 
+  // Both return the work done: transitions taken into the set plus the
+  // successors of theirs looked at (what the caller weighs against the
+  // transitions pruned; question.cpp).
+  //
   // The enabled transitions of a stubborn set at m for the deadlock question,
   // into out (cleared first). `enabled` lists m's enabled transitions (not
-  // empty); `is_enabled` is indexed by TransitionId.
-  void for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
-                    const std::vector<char>& is_enabled, std::vector<TransitionId>& out);
+  // empty); `is_enabled` is indexed by TransitionId. Past max_work it gives
+  // up: out is then every enabled transition (a stubborn set too).
+  std::uint64_t for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
+                             const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
+                             std::uint64_t max_work = UINT64_MAX);
 
   // The enabled transitions of a stubborn set at m for reaching `target`,
   // which is false at m. Empty when no firing can make it true.
-  void for_reaching(const Predicate& target, std::span<const Tokens> m, const std::vector<char>& is_enabled,
-                    std::vector<TransitionId>& out);
+  std::uint64_t for_reaching(const Predicate& target, std::span<const Tokens> m, const std::vector<char>& is_enabled,
+                             std::vector<TransitionId>& out);
 
  private:
   // Adds t to the set under construction (when new) and to the worklist.
   void add(TransitionId t) {
+    ++steps_;
     if (stamp_[t] == generation_) return;
     stamp_[t] = generation_;
     work_.push_back(t);
@@ -61,23 +77,34 @@ class StubbornSets {
   void add_changers(const Term& t, bool up);
   // Up(φ, m) of node i (false at m) into the set.
   void add_up(const Predicate& target, std::uint32_t i, std::span<const Tokens> m);
+  // What t in S brings into S at m: for enabled t its needs (rule a), for
+  // disabled t the transitions increasing its scapegoat (rule b).
+  std::span<const TransitionId> needed_by(TransitionId t, std::span<const Tokens> m, bool enabled) const;
   // Closes the set under (a) and (b); collects its enabled members into out.
-  // Stops early (returning false) once more than `limit` enabled members.
-  bool close(std::span<const Tokens> m, const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
-             std::size_t limit);
+  void close(std::span<const Tokens> m, const std::vector<char>& is_enabled, std::vector<TransitionId>& out);
   void next_generation();
 
   const Net& net_;
-  // By transition: the transitions reading one of its input places.
-  std::vector<std::uint32_t> conflict_begin_;
-  std::vector<TransitionId> conflicts_;
+  // By transition: what it needs in S when enabled (rule a), itself excluded.
+  std::vector<std::uint32_t> needs_begin_;
+  std::vector<TransitionId> needs_;
   // By place: the transitions that increase / decrease it.
   std::vector<std::uint32_t> inc_begin_, dec_begin_;
   std::vector<TransitionId> inc_, dec_;
-  std::vector<std::uint32_t> stamp_;
+  std::vector<std::uint32_t> stamp_;  // == generation_: in the set (visited)
   std::uint32_t generation_ = 0;
-  std::vector<TransitionId> work_;
-  std::vector<TransitionId> best_;
+  std::vector<TransitionId> work_;  // the worklist; Tarjan's stack
+  // Tarjan (for_deadlock), by transition: visit number, lowest number
+  // reachable, on the stack.
+  std::vector<std::uint32_t> number_, low_;
+  std::vector<char> on_stack_;
+  struct Call {
+    TransitionId t;
+    std::uint32_t next, end;  // its successors: (*list)[next, end)
+    const TransitionId* list;
+  };
+  std::vector<Call> calls_;
+  std::uint64_t steps_ = 0;  // the work of the current call
 };
 
 }  // namespace strata::petri
