@@ -1,5 +1,6 @@
-// The PROLOG driver (prolog/driver.pl, prolog/driver_check.pl and
-// prolog/driver_keep.pl, compiled in): loading it once into the engine, and
+// The PROLOG driver (prolog/driver.pl with driver_load.pl and
+// driver_sandbox.pl, prolog/driver_check.pl and prolog/driver_keep.pl,
+// compiled in): loading it once into the engine, and
 // calling its predicates.
 #include <string>
 #include <string_view>
@@ -9,6 +10,8 @@
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_driver_check_text.h"
 #include "strategic/prolog_driver_keep_text.h"
+#include "strategic/prolog_driver_load_text.h"
+#include "strategic/prolog_driver_sandbox_text.h"
 #include "strategic/prolog_driver_text.h"
 
 namespace strata::prolog::detail {
@@ -53,26 +56,30 @@ core::Result<bool> call_driver_keep(const char* name, std::initializer_list<term
 
 namespace {
 
-// Loads one of the driver's modules from its text.
-core::Result<void> load_module_text(const char* module, std::string_view text) {
+// Loads one of the driver's files from its text: a module file (into
+// "user", which it leaves for its own module), or a part of a module (its
+// clauses go into `into`).
+core::Result<void> load_module_text(const char* name, std::string_view text, const char* into = "user") {
   Frame frame;
   auto goal = parse_term(
-      "open_string(Text, S), call_cleanup(load_files(Module, [stream(S), silent(true), imports([])]), close(S))");
+      "open_string(Text, S), call_cleanup(load_files(Into:Name, [stream(S), silent(true), imports([])]), close(S))");
   if (!goal) return goal.error();
   term_t open = PL_new_term_ref();
   term_t text_t = PL_new_term_ref();
   term_t load = PL_new_term_ref();
   term_t call_load = PL_new_term_ref();
-  term_t module_t = PL_new_term_ref();
+  term_t file_t = PL_new_term_ref();
+  term_t into_t = PL_new_term_ref();
+  term_t name_t = PL_new_term_ref();
   if (!PL_get_arg(1, goal.value(), open) || !PL_get_arg(1, open, text_t) ||
       !PL_unify_chars(text_t, PL_STRING, text.size(), text.data()) || !PL_get_arg(2, goal.value(), load) ||
-      !PL_get_arg(1, load, call_load) || !PL_get_arg(1, call_load, module_t) ||
-      !PL_unify_atom_chars(module_t, module)) {
+      !PL_get_arg(1, load, call_load) || !PL_get_arg(1, call_load, file_t) || !PL_get_arg(1, file_t, into_t) ||
+      !PL_get_arg(2, file_t, name_t) || !PL_unify_atom_chars(into_t, into) || !PL_unify_atom_chars(name_t, name)) {
     return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
   }
   auto r = call_term(goal.value());
   if (!r || !r.value()) {
-    return core::make_error(core::ErrorCode::Internal, fmt::format("the PROLOG driver ({}) did not load: {}", module,
+    return core::make_error(core::ErrorCode::Internal, fmt::format("the PROLOG driver ({}) did not load: {}", name,
                                                                    r ? std::string("failed") : r.error().message));
   }
   return {};
@@ -86,6 +93,8 @@ core::Result<void> ensure_driver() {
   if (auto r = initialise(); !r) return r.error();
   if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
   if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
+  if (auto r = load_module_text("strata_driver_load", kDriverLoadText, "strata_driver"); !r) return r;
+  if (auto r = load_module_text("strata_driver_sandbox", kDriverSandboxText, "strata_driver"); !r) return r;
   if (auto r = load_module_text("strata_driver_keep", kDriverKeepText); !r) return r;
   register_foreign_predicates();
   if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {

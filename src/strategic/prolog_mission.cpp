@@ -305,7 +305,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   // One wall-clock limit for the load (directives included) and the check.
   // The driver loads the rules from a stream, outside the sig_atomic/1 in
   // which SWI-Prolog 9.0.4 loads a file by name, so the interrupt reaches a
-  // directive (driver.pl, load_mission_file/3).
+  // directive (driver_load.pl, load_mission_file/3).
   TimeLimit time_limit(limits.time);
   // With the driver's exception hook: what must stop the load (the time
   // limit, the inference budget) cannot be caught by a directive.

@@ -2,7 +2,8 @@
 // A PROLOG mission (paper §2.2, Figure 10; docs/prolog.md): rules
 // loaded into a module of their own, beside one predicate per vehicle
 // primitive of the catalogue, and checked before they run. The Prolog side
-// of this lives in prolog/driver.pl and prolog/driver_check.pl, compiled
+// of this lives in prolog/driver*.pl (driver.pl, driver_load.pl,
+// driver_sandbox.pl, driver_check.pl, driver_keep.pl), compiled
 // into the binary; it runs on src/prolog's engine (prolog/engine.h).
 // The names stay in strata::prolog (prolog::Mission, prolog::Host...), as
 // before the driver moved here from src/prolog.

@@ -28,7 +28,11 @@
    directory_file_path(Dir, 'driver_check.pl', Check),
    use_module(Check, []),
    directory_file_path(Dir, 'driver.pl', Driver),
-   use_module(Driver).
+   use_module(Driver),
+   forall(member(Part, ['driver_load.pl', 'driver_sandbox.pl']),
+          (   directory_file_path(Dir, Part, File),
+              load_files(strata_driver:File, [])
+          )).
 
                  /*******************************
                  *      THE HOST'S STAND-INS    *

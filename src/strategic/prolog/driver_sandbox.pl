@@ -1,0 +1,282 @@
+/*  The sandbox a mission's rules load and run in: part of the PROLOG
+    driver (driver.pl), loaded into its module, strata_driver, last;
+    compiled into the strata binary beside it. library(sandbox) extended
+    with what a mission needs and refusing the rest with a located reason:
+    the vehicle primitives and console output allowed, the directives and
+    libraries a mission may use, and the expansion of the mission's terms.
+*/
+                 /*******************************
+                 *          THE SANDBOX         *
+                 *******************************/
+
+% A mission's rules are code someone else wrote. They are loaded with
+% load_files/2's sandboxed(true): SWI-Prolog checks every directive with
+% library(sandbox) before it runs it (safe_goal/1: the directive's whole
+% call graph must reach only whitelisted predicates), and calls no
+% expansion hook of theirs. The clauses themselves are checked after the
+% load (driver_check.pl, sandbox_problems/2), before anything runs them.
+% What library(sandbox) allows is pure Prolog, arithmetic, atoms and
+% strings, assert/retract in the mission's own module, format/2,3 and
+% print_message/2 to the console, sleep/1. It is extended here, through its
+% documented hooks, with what a mission needs:
+
+% The vehicle primitives (the catalogue's predicates defined in the
+% mission's module call these).
+:- multifile sandbox:safe_primitive/1,
+             sandbox:safe_directive/1.
+sandbox:safe_primitive(strata_driver:call_primitive(_, _, _)).
+sandbox:safe_primitive(strata_driver:call_report(_, _)).
+sandbox:safe_primitive(strata_driver:call_ood(_, _, _, _)).
+% Console output (standard output is the operator's console).
+sandbox:safe_primitive(write(_)).
+sandbox:safe_primitive(writeq(_)).
+sandbox:safe_primitive(nl).
+sandbox:safe_primitive(system:write(_)).
+sandbox:safe_primitive(system:writeq(_)).
+sandbox:safe_primitive(system:print(_)).
+sandbox:safe_primitive(system:nl).
+
+% format/3 to the console streams (library(sandbox) allows format/3 only
+% into text: atom(A), string(S), ...). Its ~@ and ~p calls are checked as
+% library(sandbox) checks format/2's.
+:- multifile sandbox:safe_meta/2.
+sandbox:safe_meta(system:format(Out, Format, Args), Calls) :-
+    atom(Out),
+    memberchk(Out, [user_output, user_error]),
+    sandbox:format_calls(Format, Args, Calls).
+
+%   Directives: library(sandbox) asks safe_directive/1 first. It succeeds
+%   for a directive Strata allows, throws error(strata_refused(Culprit, Text), _) for
+%   one it refuses, and fails to leave the rest to library(sandbox).
+sandbox:safe_directive(Q:Directive) :-
+    prolog_load_context(module, M),
+    loading(M),
+    (   Q == M
+    ->  mission_directive(M, Directive)
+    ;   mission_directive(M, Q:Directive)
+    ).
+
+%!  allowed_library(?Name)
+%
+%   The libraries a mission may load (use_module/1,2, ensure_loaded/1).
+allowed_library(lists).
+allowed_library(apply).
+allowed_library(aggregate).
+allowed_library(assoc).
+
+mission_directive(_, Var) :-
+    var(Var), !, fail.
+mission_directive(M, Q:Directive) :-
+    Q == system, !,
+    mission_directive(M, Directive).
+mission_directive(M, use_module(Spec)) :- !, library_directive(M, Spec).
+mission_directive(M, use_module(Spec, _)) :- !, library_directive(M, Spec).
+mission_directive(M, ensure_loaded(Spec)) :- !, library_directive(M, Spec).
+mission_directive(M, load_files(Spec, _)) :- !, library_directive(M, Spec).
+mission_directive(M, consult(Spec)) :- !, consult_directive(M, Spec).
+mission_directive(M, include(Spec)) :- !, consult_directive(M, Spec).
+mission_directive(M, [H|T]) :- !, consult_directive(M, [H|T]).
+mission_directive(_, set_prolog_flag(Flag, _)) :- !,
+    refuse(set_prolog_flag/2, "set_prolog_flag/2: a mission cannot change Prolog's flags (`~w`)", [Flag]).
+mission_directive(_, halt) :- !,
+    refuse(halt/0, "halt/0: the rules called halt while loading", []).
+mission_directive(_, halt(_)) :- !,
+    refuse(halt/1, "halt/1: the rules called halt while loading", []).
+mission_directive(M, initialization(Goal)) :- !,
+    safe_goal(M:Goal).
+mission_directive(M, initialization(Goal, now)) :- !,
+    safe_goal(M:Goal).
+
+library_directive(M, Spec) :-
+    (   Spec = library(Name), atom(Name)
+    ->  (   allowed_library(Name)
+        ->  true
+        ;   findall(L, allowed_library(L), Ls),
+            atomic_list_concat(Ls, ', ', Allowed),
+            refuse(library(Name), "library(~w) is not allowed in a mission (allowed: ~w)", [Name, Allowed])
+        )
+    ;   consult_directive(M, Spec)
+    ).
+
+% consult/1 of the mission's own files: a .pl file in the folder of the
+% mission's file or in a folder beside it (sonar_search.pl consults
+% ../tank/phases). The file is itself loaded sandboxed.
+consult_directive(_, []) :- !.
+consult_directive(M, [H|T]) :- !,
+    consult_directive(M, H),
+    consult_directive(M, T).
+consult_directive(M, Spec) :-
+    (   ( atom(Spec) ; string(Spec) )
+    ->  true
+    ;   refuse(consult/1, "consult/1 of `~q`: a mission loads its own files by name", [Spec])
+    ),
+    (   prolog_load_context(directory, Dir) -> true ; mission_root(M, Dir) ),
+    (   absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
+                                        access(read), file_errors(fail) ])
+    ->  (   mission_file(M, Abs)          % first: a file outside is not even scanned
+        ->  true
+        ;   refuse(consult/1, "consult/1 of `~w`: a mission loads only .pl files in its folder \c
+                               or a folder beside it", [Abs])
+        ),
+        (   scan_problem(Abs, Line, Column, Why)
+        ->  (   Line > 0
+            ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
+            ;   refuse(consult/1, "consult/1 of `~w`: ~w", [Abs, Why])
+            )
+        ;   true
+        )
+    ;   true                    % not there: consult/1 says so, with the place
+    ).
+
+refuse(Culprit, Format, Args) :-
+    format(string(Text), Format, Args),
+    throw(error(strata_refused(Culprit, Text), _)).
+
+%!  refusal(+Error, -Culprit, -Text) is semidet.
+%
+%   Error is the sandbox refusing a goal or a directive: Culprit is what it
+%   refused (a name to find in the source), Text says so.
+refusal(error(strata_refused(Culprit, Text), _), Culprit, Text) :- !.
+refusal(error(permission_error(call, sandboxed, Goal0), Context), Name, Text) :- !,
+    outermost_refused(Goal0, Context, Goal),
+    strip_module(Goal, _, G),
+    functor(G, Name, Arity),
+    refused_text(Name/Arity, Text).
+refusal(error(permission_error(Action, Type, (:- D)), _), Name, Text) :-
+    memberchk(Type, [sandboxed_directive, sandboxed]),
+    atom(Action),
+    !,
+    strip_module(D, _, G),
+    (   callable(G) -> functor(G, Name, Arity) ; Name = D, Arity = 0 ),
+    refused_text(Name/Arity, Text).
+refusal(error(instantiation_error, sandbox(_, _)), call, Text) :-
+    Text = "a call the sandbox cannot see through (the goal is a variable, as in call(G)): a mission's calls must be written out".
+
+% shell/1 is refused as shell/2, which it calls: name the one the rules
+% wrote, the outermost system or library predicate among the parents.
+outermost_refused(Goal0, Context, Goal) :-
+    (   nonvar(Context),
+        Context = sandbox(_, Parents),
+        is_list(Parents),
+        reverse(Parents, Outermost),
+        member(P, Outermost),
+        nonvar(P),
+        strip_module(P, PM, PG),
+        callable(PG),
+        (   predicate_property(PM:PG, built_in)
+        ;   predicate_property(PM:PG, imported_from(_))
+        )
+    ->  Goal = P
+    ;   Goal = Goal0
+    ).
+
+refused_text(PI, Text) :-
+    format(string(Text), "~w is not allowed in a mission: the rules run in a sandbox \c
+                          (no files, shells, processes, sockets, flags or foreign code; \c
+                          docs/prolog.md, section 7)", [PI]).
+
+% The place of what the sandbox refused: the first line, from the clause's
+% or directive's own, that names it, and its column there.
+culprit_place(File, Line, Column, Culprit, File, CLine, CColumn) :-
+    (   culprit_name(Culprit, Name),
+        File \== '', Line > 0,
+        name_in_file(File, Line, Name, CLine, CColumn)
+    ->  true
+    ;   CLine = Line,
+        CColumn = Column
+    ).
+
+culprit_name(Name/_, Name) :- !, atom(Name).
+culprit_name(library(Name), Name) :- !, atom(Name).
+culprit_name(Name, Name) :- atom(Name).
+
+name_in_file(File, From, Name, Line, Column) :-
+    catch(read_file_to_string(File, Text, []), _, fail),
+    split_string(Text, "\n", "", Lines),
+    nth1(Line, Lines, LineText),
+    Line >= From,
+    sub_string(LineText, Before, _, _, Name),
+    !,
+    Column is Before + 1.
+
+% SWI calls expansion hooks while it loads sandboxed; the rules' own
+% (term_expansion/2 in the mission's module) would run their code at load:
+% refused, at the term they would expand.
+:- multifile prolog:sandbox_allowed_expansion/1.
+prolog:sandbox_allowed_expansion(M:Goal) :-
+    loading(M),
+    functor(Goal, Name, Arity),
+    refuse(Name/Arity, "~w/~d: a mission's rules cannot expand terms or goals while they load",
+           [Name, Arity]).
+
+% Expansion in a sandboxed load: SWI-Prolog 9.0.4 aborts the process
+% (pl-comp.c:4417, assertion source_line_no != -1) when it compiles a clause
+% after an expansion hook was refused while expanding it, which happens for
+% a body with a system:Goal call (library(sandbox) refuses the goal
+% expansion it runs), or for any term once the rules define
+% term_expansion/2. So the mission's terms are expanded here first
+% (expand_mission_term/2, declared safe for library(sandbox)):
+%  - the rules cannot define term_expansion/2,4 or goal_expansion/2,4: the
+%    clause is dropped, with a located error;
+%  - system:G in a clause is G: the same predicate, unless the mission's
+%    module redefines it, and the only ones it does are halt/0,1, which
+%    throw strata_halt as a mission's system:halt does.
+
+% term_expansion/4, not /2: in a sandboxed load SWI-Prolog 9.0.4 loses the
+% layout of what a term_expansion/2 hook returns (expand.pl binds it to the
+% output), and compiling a clause without a line aborts the process as
+% above. The expansion keeps the term's span (From-To), without the
+% layout of its parts, which no longer match.
+expand_mission_term(Term, Pos, Expanded, ExpandedPos) :-
+    expand_mission_term(Term, Expanded),
+    (   compound(Pos), arg(1, Pos, From), arg(2, Pos, To), integer(From), integer(To)
+    ->  ExpandedPos = From-To
+    ;   ExpandedPos = Pos
+    ).
+
+expand_mission_term(Term, Expanded) :-
+    prolog_load_context(module, M),
+    loading(M),
+    nonvar(Term),
+    (   Term \= (:- _),
+        clause_head_of(Term, Head),
+        callable(Head),
+        functor(Head, Name, Arity),
+        expansion_hook(Name/Arity)
+    ->  format(string(Text), "~w/~d: a mission's rules cannot expand terms or goals while they load",
+               [Name, Arity]),
+        print_message(error, error(strata_refused(Name/Arity, Text), _)),
+        Expanded = []
+    ;   contains_system_call(Term),
+        without_system(Term, Expanded)
+    ).
+
+clause_head_of((Head :- _), Head) :- !.
+clause_head_of((Head --> _), Head) :- !.
+clause_head_of(Head, Head).
+
+expansion_hook(term_expansion/2).
+expansion_hook(term_expansion/4).
+expansion_hook(goal_expansion/2).
+expansion_hook(goal_expansion/4).
+
+contains_system_call(Term) :-
+    sub_term(Sub, Term),
+    nonvar(Sub),
+    Sub = (Q:_),
+    Q == system,
+    !.
+
+without_system(T, T) :- var(T), !.
+without_system(Q:G, G1) :- Q == system, !, without_system(G, G1).
+without_system(T, T) :- \+ compound(T), !.
+without_system(T, T1) :-
+    compound_name_arguments(T, N, Args),
+    maplist(without_system, Args, Args1),
+    compound_name_arguments(T1, N, Args1).
+
+% Last: the hook is live from here on (the driver's own terms are not expanded).
+:- multifile user:term_expansion/4.
+user:term_expansion(Term, Pos, Expanded, ExpandedPos) :-
+    strata_driver:expand_mission_term(Term, Pos, Expanded, ExpandedPos).
+sandbox:safe_primitive(strata_driver:expand_mission_term(_, _, _, _)).
