@@ -215,8 +215,8 @@ class QuestionSearch {
   // on IBM319-PT-none). It decides the question whole. True when it did (no deadlock, or a limit);
   // when it found a deadlock, the search goes on for the witness.
   bool hand_over_to_explorer(QuestionResult& r) {
-    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 ||
-        sets_ < kJudgeAfter || store_.size() < kExplorerAfter) {
+    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 || sets_ < kJudgeAfter ||
+        store_.size() < kExplorerAfter) {
       return false;
     }
     handed_over_ = true;
