@@ -12,6 +12,8 @@ A block counts as run or checked when:
     short tour (readme_tour.py), a ```json line of sonar.md
     (doc_sonar_lines.py), or a ```sh block of build lines of a document
     that doc_build_lines.py reads (--build-lines);
+  - it is a piece of a repository file, marked ```LANG from=PATH: this
+    test checks that its lines are in PATH, together and as written;
 
 or it is in ALLOW below, by its document and first line, with the reason
 it cannot run here (or is no example: a grammar, a diagram, a synopsis).
@@ -35,11 +37,9 @@ from protocol_session import session_blocks  # noqa: E402
 # (document, how the block's first non-blank line starts) -> why no test runs it
 ALLOW = {
     ("docs/architecture.md", "core <- petri <- coral <- strategic -> tactical -> protocol <- vehicle"):
-        "a diagram of the libraries' layers, not a command (tests/layers_back_edge.cmake checks the rule)",
+        "a diagram of the libraries' layers, not a command (scripts/check-layers checks the rule)",
     ("docs/architecture.md", "CoralEngine or PrologExecutor"):
         "a diagram of one run's objects, not a command",
-    ("docs/campaigns.md", "[[family]]"):
-        "a [[family]] table shown out of its spec (the spec it belongs to is the tank campaign's)",
     ("docs/campaigns.md", 'params = "heavy.toml"   # at the top level, relative to the spec\'s folder'):
         "one key shown out of a spec",
     ("docs/campaigns.md", "strata campaign SPEC --case I"):
@@ -72,7 +72,7 @@ ALLOW = {
     ("docs/sonar.md", "vehicle ──TCP──> Capture thread"):
         "a diagram of the manager's threads",
     ("docs/sonar.md", '#include "sonar/manager.h"'):
-        "C++ using the library, with `...` for the caller's code (sonar_manager_test runs the same calls)",
+        "C++ using the library, with `...` for the caller's code (src/sonar/manager_test.cpp makes the same calls)",
     ("docs/tutorial-first-mission.md", "$ strata studio first"):
         "the studio serves until Ctrl-C and is used in a browser (docs.readme_tour starts and stops it)",
     ("docs/verification.md", '{ "ok": false, "all_hold": false,'):
@@ -128,6 +128,18 @@ def main():
                 how = "checked"
             elif doc in a.build_lines and lang == "sh" and not rest and not commands:
                 how = "checked"
+            elif re.match(r"from=\S+$", rest):
+                how = "checked"
+                piece = rest[len("from="):]
+                try:
+                    with open(os.path.join(src, piece), encoding="utf-8") as f:
+                        whole = f.read().split("\n")
+                except OSError as e:
+                    failures.append(f"{doc}:{start}: from={piece}: {e}")
+                    continue
+                n = len(body)
+                if not any(whole[i:i + n] == body for i in range(len(whole) - n + 1)):
+                    failures.append(f"{doc}:{start}: the block is not in {piece} as written")
             first = first_line(body)
             key = next((k for k in ALLOW if k[0] == doc and first.startswith(k[1])), (doc, first))
             if how:
