@@ -59,7 +59,18 @@ class Checker:
         return os.path.basename(path)
 
     def strata(self, *args):
-        return subprocess.run([self.a.strata, *args], cwd=self.a.work, capture_output=True, text=True, timeout=120)
+        return subprocess.run([self.a.strata, *args], cwd=self.a.work, env=self.env(), capture_output=True,
+                              text=True, timeout=120)
+
+    def env(self):
+        """The environment with a home of its own inside the scratch folder (as doc_run.py gives): the runs'
+        default logs stay there, and the user's configuration changes nothing."""
+        env = dict(os.environ)
+        env["HOME"] = os.path.join(self.a.work, "home")
+        os.makedirs(env["HOME"], exist_ok=True)
+        for var in ("XDG_CONFIG_HOME", "XDG_STATE_HOME", "XDG_DATA_HOME", "STRATA_CONFIG", "STRATA_LOG_DIR"):
+            env.pop(var, None)
+        return env
 
     def check_file(self, line, ext, body):
         path = self.write(ext, "\n".join(body) + "\n")

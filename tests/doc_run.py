@@ -3,7 +3,8 @@
 
 The document is read top to bottom, in a scratch folder holding a copy of the
 repository's missions/ (as a clone has them; --copy DIR adds another of its
-folders), with strata first on PATH:
+folders), with strata first on PATH and HOME a folder inside it (home/; the
+XDG_* folders and STRATA_CONFIG, STRATA_LOG_DIR unset):
 
   ```coral file=first/first.coral      a file block: written to that path
   ...                                  (any language; the path is relative
@@ -96,6 +97,13 @@ def main():
         shutil.copytree(os.path.join(a.source, d), os.path.join(work, d))
     env = dict(os.environ)
     env["PATH"] = os.path.dirname(os.path.abspath(a.strata)) + os.pathsep + env.get("PATH", "")
+    # A home of its own: what the document writes under ~ (the default log
+    # folder, a completion script) stays in the scratch folder, and the
+    # user's configuration does not change what strata prints.
+    env["HOME"] = os.path.join(work, "home")
+    os.makedirs(env["HOME"])
+    for var in ("XDG_CONFIG_HOME", "XDG_STATE_HOME", "XDG_DATA_HOME", "STRATA_CONFIG", "STRATA_LOG_DIR"):
+        env.pop(var, None)
 
     with open(a.doc, encoding="utf-8") as f:
         lines = f.read().split("\n")

@@ -162,6 +162,12 @@ def main():
                         ignore=shutil.ignore_patterns("runs", "*.layout.json"))
     env = dict(os.environ)
     env["PATH"] = os.path.dirname(os.path.abspath(a.strata)) + os.pathsep + env.get("PATH", "")
+    # A home of its own, as doc_run.py gives: the runs' default logs stay in
+    # the scratch folder and the user's configuration changes nothing.
+    env["HOME"] = os.path.join(work, "home")
+    os.makedirs(env["HOME"])
+    for var in ("XDG_CONFIG_HOME", "XDG_STATE_HOME", "XDG_DATA_HOME", "STRATA_CONFIG", "STRATA_LOG_DIR"):
+        env.pop(var, None)
     have_gnuplot = shutil.which("gnuplot") is not None
 
     tour = tour_lines(a.readme)
