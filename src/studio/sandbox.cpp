@@ -302,12 +302,4 @@ std::vector<std::string> Sandbox::list(const std::vector<std::string>& extension
   return out;
 }
 
-std::optional<std::string> read_whole_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace strata::studio

@@ -82,7 +82,4 @@ class Sandbox {
   std::filesystem::path root_;  // canonical
 };
 
-// The whole file, or nullopt when it cannot be read.
-std::optional<std::string> read_whole_file(const std::filesystem::path& path);
-
 }  // namespace strata::studio

@@ -11,6 +11,7 @@
 #include <httplib.h>
 
 #include "coral/verify_report.h"
+#include "core/file.h"
 #include "studio/assets.h"
 #include "studio/file_watcher.h"
 #include "studio/http_answers.h"
@@ -27,6 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+// The largest sonar scan served (a PNG of a few hundred KB in practice).
+constexpr std::size_t kMaxScanBytes = 32u << 20;
 
 // Every API path and the methods it answers: another method is 405.
 const std::map<std::string, std::string, std::less<>>& api_methods() {
@@ -461,10 +465,14 @@ void StudioServer::routes() {
   s.Get("/api/sonar",
         [this](const httplib::Request&, httplib::Response& res) { send_json(res, sonar_status(options_.sonar_dir)); });
   s.Get("/api/sonar/latest.png", [this](const httplib::Request&, httplib::Response& res) {
-    auto bytes = options_.sonar_dir.empty() ? std::nullopt : read_whole_file(options_.sonar_dir / "latest.png");
+    // A regular file, and bounded: never a FIFO or a device that would hold
+    // the worker.
+    auto bytes = options_.sonar_dir.empty()
+                     ? core::Result<std::string>(core::make_error(core::ErrorCode::Io, "no sonar"))
+                     : core::read_regular_file((options_.sonar_dir / "latest.png").string(), kMaxScanBytes);
     if (!bytes) return send_error(res, 404, "no sonar scan yet");
     res.set_header("Cache-Control", "no-store");
-    res.set_content(*bytes, "image/png");
+    res.set_content(bytes.value(), "image/png");
   });
 
   // The page: from --web-root, or compiled in.
@@ -476,12 +484,12 @@ void StudioServer::routes() {
       return send_error(res, 404, fmt::format("{} {}: no such API", req.method, req.path));
     }
     if (!options_.web_root.empty()) {
+      // Through the sandbox's read: inside the folder, a regular file (a
+      // FIFO planted there must not hold a worker), bounded.
       Sandbox web(options_.web_root);
-      auto real = web.resolve(path);
-      if (!real) return send_error(res, 404, real.error().message);
-      auto text = read_whole_file(real.value());
-      if (!text) return send_error(res, 404, "not found");
-      return send_bytes(res, std::move(*text), mime_of(path));
+      auto text = web.read(path);
+      if (!text) return send_error(res, 404, text.error().message);
+      return send_bytes(res, std::move(text.value()), mime_of(path));
     }
     serve_asset(req, res, path);
   });

@@ -2,6 +2,8 @@
 // changes on disk told to pages, deletes that leave no use behind, PROLOG
 // missions, scenarios, the run list, Abort and Stop, errors and methods,
 // and page assets compressed once at build time.
+#include <sys/stat.h>
+
 #include <set>
 
 #include "studio/assets.h"
@@ -369,6 +371,66 @@ TEST_F(StudioServerTest, ThePageWasCompressedOnEveryRequest) {
   auto files = c.Get("/api/files", {{"Accept-Encoding", "gzip, deflate, br"}});
   EXPECT_FALSE(files->has_header("Content-Encoding"));
   EXPECT_TRUE(json::parse(files->body, nullptr, false).is_object());
+}
+
+}  // namespace
+}  // namespace strata::studio
+
+namespace strata::studio {
+namespace {
+
+// `strata studio --web-root DIR` (docs/studio.md, "Use"): the page from disk,
+// through the same sandbox as the missions. Regression: it was read with an
+// ifstream, so a FIFO planted in the folder held an HTTP worker for ever (and
+// the sonar scan's latest.png the same).
+TEST(StudioWebRoot, ServesThePageFromDiskAndNothingElse) {
+  std::string pattern = (fs::path(::testing::TempDir()) / "strata_webroot_XXXXXX").string();
+  ASSERT_NE(nullptr, mkdtemp(pattern.data()));
+  const fs::path base = pattern;
+  fs::create_directories(base / "root");
+  fs::create_directories(base / "web/assets");
+  fs::create_directories(base / "sonar");
+  std::ofstream(base / "web/index.html") << "<p>the page on disk</p>";
+  std::ofstream(base / "web/assets/app.js") << "console.log('disk');";
+  std::ofstream(base / "secret.txt") << "outside";
+  fs::create_symlink(base / "secret.txt", base / "web/leak.js");
+  ASSERT_EQ(0, ::mkfifo((base / "web/pipe.js").c_str(), 0600));
+  ASSERT_EQ(0, ::mkfifo((base / "sonar/latest.png").c_str(), 0600));
+  EventHub hub;
+  StudioOptions o;
+  o.root = base / "root";
+  o.web_root = base / "web";
+  o.sonar_dir = base / "sonar";
+  o.threads = 4;
+  {
+    StudioServer server(o, hub);
+    auto port = server.start();
+    ASSERT_TRUE(port.ok()) << port.error().message;
+    httplib::Client c("127.0.0.1", port.value());
+    c.set_read_timeout(5, 0);
+    auto page = c.Get("/");
+    ASSERT_TRUE(page);
+    EXPECT_EQ(200, page->status);
+    EXPECT_EQ("<p>the page on disk</p>", page->body);
+    auto js = c.Get("/assets/app.js");
+    ASSERT_TRUE(js);
+    EXPECT_EQ("console.log('disk');", js->body);
+    // More FIFO reads than the server has workers: each must be answered.
+    for (int i = 0; i < 6; ++i) {
+      for (const char* path : {"/pipe.js", "/api/sonar/latest.png"}) {
+        auto r = c.Get(path);
+        ASSERT_TRUE(r) << path << " was not answered";
+        EXPECT_EQ(404, r->status) << path;
+      }
+    }
+    for (const char* path : {"/leak.js", "/../secret.txt", "/%2e%2e/secret.txt", "/nothing.js"}) {
+      auto r = c.Get(path);
+      ASSERT_TRUE(r) << path;
+      EXPECT_EQ(404, r->status) << path;
+      EXPECT_EQ(std::string::npos, r->body.find("outside")) << path;
+    }
+  }
+  fs::remove_all(base);
 }
 
 }  // namespace
