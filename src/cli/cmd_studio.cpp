@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <iostream>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -101,8 +103,22 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   // Runs started from the page get a Sonar Manager writing here; the page
   // shows its newest scan.
   if (!o.no_sonar) {
-    so.sonar_dir = o.sonar.empty() ? fs::temp_directory_path() / fmt::format("strata-studio-{}-sonar", ::getpid())
-                                   : fs::path(o.sonar);
+    if (o.sonar.empty()) {
+      // A folder of our own (mkdtemp: a fresh name, mode 0700). A name made
+      // from the pid could be made first by another user of the machine, as
+      // a folder holding links at the names the sonar writes.
+      std::string pattern = (fs::temp_directory_path() / "strata-studio-sonar-XXXXXX").string();
+      if (::mkdtemp(pattern.data()) == nullptr) {
+        std::cerr << fmt::format(
+            "strata studio: cannot make a folder for the sonar's scans in {}: {} (--sonar DIR, "
+            "or --no-sonar)\n",
+            fs::temp_directory_path().string(), std::strerror(errno));
+        return kExitIo;
+      }
+      so.sonar_dir = pattern;
+    } else {
+      so.sonar_dir = fs::path(o.sonar);
+    }
   }
   auto server = studio::make_http_server(so, hub);
   if (!server) {

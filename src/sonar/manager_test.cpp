@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include "sonar/manager.h"
 #include "sonar/output.h"
 #include "sonar/png_io.h"
@@ -210,6 +212,17 @@ TEST(Output, ReadLastLinesReadsOnlyTheTailAndWholeLines) {
   EXPECT_EQ("{\"event\":\"end\",\"frames\":2000}", last.end);
   EXPECT_NE(std::string::npos, last.frame.find("\"frame\":2000,"));
   EXPECT_EQ("", read_last_lines(dir / "none").frame);
+}
+
+// Regression: sonar.jsonl was opened with an ifstream, so a FIFO at that
+// name (in a --sonar folder the studio was given) held the reader, the
+// studio's /api/sonar, for ever.
+TEST(Output, ReadLastLinesOfAFifoIsNoLinesNotAWait) {
+  const auto dir = testing::fresh_dir("last_lines_fifo");
+  ASSERT_EQ(0, ::mkfifo((dir / "sonar.jsonl").c_str(), 0600));
+  const LastLines last = read_last_lines(dir);
+  EXPECT_EQ("", last.frame);
+  EXPECT_EQ("", last.end);
 }
 
 }  // namespace

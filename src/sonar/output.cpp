@@ -1,6 +1,9 @@
 #include "sonar/output.h"
 
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <string_view>
 
 #include <cerrno>
@@ -50,16 +53,28 @@ core::Result<void> OutputDir::append_line(const std::string& json) {
 
 LastLines read_last_lines(const std::filesystem::path& dir, std::size_t tail_bytes) {
   LastLines out;
-  std::ifstream in(dir / "sonar.jsonl", std::ios::binary);
-  if (!in) return out;
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  const std::streamoff from =
-      size > static_cast<std::streamoff>(tail_bytes) ? size - static_cast<std::streamoff>(tail_bytes) : 0;
-  in.seekg(from);
+  // A regular file only, opened without waiting: a FIFO or a device at the
+  // name (the studio's /api/sonar asks about a folder it did not make when
+  // given --sonar) reads as no lines, never as a wait.
+  const int fd = ::open((dir / "sonar.jsonl").c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) return out;
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return out;
+  }
+  const off_t size = st.st_size;
+  const off_t from = size > static_cast<off_t>(tail_bytes) ? size - static_cast<off_t>(tail_bytes) : 0;
   std::string text(static_cast<std::size_t>(size - from), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = ::pread(fd, text.data() + got, text.size() - got, from + static_cast<off_t>(got));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  text.resize(got);
   // Whole lines only: after the first newline when the tail starts mid-file,
   // up to the last newline.
   std::size_t begin = 0;
