@@ -395,6 +395,7 @@ export function createCanvas(container, store, fx) {
 
   function render(s, prev) {
     const net = currentNet(s);
+    if (warming && (net || s.netName)) endWarm();
     const switched = s.netName !== drawnName || !drawnNet !== !net;
     const changed = net !== drawnNet;
     const rebuilt = switched || changed;
@@ -485,11 +486,34 @@ export function createCanvas(container, store, fx) {
     }
   }
 
+  // ------------------------------------------------------------ warm-up
+  // warm.js's small net drawn by this cytoscape, its canvases hidden,
+  // before any net is shown: the first net the user opens then finds
+  // cytoscape's own caches (styles, label sizes, images, textures) filled
+  // (its first frame took 4 times a later one's). Ended (the elements
+  // removed, the canvases shown) by the first render of a net, or after
+  // two frames.
+  let warming = null;
+  const canvases = (visible) => { for (const c of container.querySelectorAll('canvas')) c.style.visibility = visible ? '' : 'hidden'; };
+  function endWarm() {
+    if (!warming) return;
+    const w = warming;
+    warming = null;
+    cy.batch(() => { w.forEach((e) => { if (e.inside()) e.remove(); }); });
+    canvases(true);
+  }
+  async function warm(els, frame) {
+    if (warming || drawnNet || getState().netName || cy.elements().nonempty()) return;
+    canvases(false);
+    warming = cy.add(els);
+    try { await frame(); await frame(); } finally { endWarm(); }
+  }
+
   store.subscribe(render);
   render(getState(), null);
 
   return {
-    cy, addNode, centre, fitReadable, zoomBy,
+    cy, addNode, centre, fitReadable, zoomBy, warm,
     // The net drawn: its elements, and whether cytoscape holds only a part of them.
     get drawn() { return { elements: drawnEls.size, nodes: [...drawnEls.values()].filter((e) => e.group === 'nodes').length, inParts: !!part }; },
     relayout() {

@@ -192,7 +192,8 @@ async function init() {
   const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
   // The chart's library once the page is idle (a run's data loads it at once).
   const idle = (f) => (window.requestIdleCallback ? window.requestIdleCallback(f, { timeout: 3000 }) : setTimeout(f, 500));
-  loaded.then(() => idle(() => panels.chart.load()), () => idle(() => panels.chart.load()));
+  // (After the views' warm-up: views.js.)
+  loaded.then(() => views.warmed.then(() => idle(() => panels.chart.load())), () => idle(() => panels.chart.load()));
   await fx.loadPrimitives();
   await loaded;
   const want = new URLSearchParams(location.search).get('path');
