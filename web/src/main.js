@@ -190,10 +190,12 @@ async function init() {
   // The views after the list is drawn: their chunk is run while the user
   // reads the list.
   const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
-  // The chart's library once the page is idle (a run's data loads it at once).
+  // The chart's library once the page is idle (a run's data loads it at
+  // once), after the views' warm-up (views.js) and not in the first 2 s
+  // after it, when the user is most likely to open a file.
   const idle = (f) => (window.requestIdleCallback ? window.requestIdleCallback(f, { timeout: 3000 }) : setTimeout(f, 500));
-  // (After the views' warm-up: views.js.)
-  loaded.then(() => views.warmed.then(() => idle(() => panels.chart.load())), () => idle(() => panels.chart.load()));
+  const chartLater = () => setTimeout(() => idle(() => panels.chart.load()), 2000);
+  loaded.then(() => views.warmed.then(chartLater), chartLater);
   await fx.loadPrimitives();
   await loaded;
   const want = new URLSearchParams(location.search).get('path');
