@@ -493,6 +493,8 @@ export function createCanvas(container, store, fx) {
   // (its first frame took 4 times a later one's). Ended (the elements
   // removed, the canvases shown) by the first render of a net, or after
   // two frames.
+  // warm(els) adds els (a few at a time: each frame then stays short),
+  // endWarm() ends it.
   let warming = null;
   const canvases = (visible) => { for (const c of container.querySelectorAll('canvas')) c.style.visibility = visible ? '' : 'hidden'; };
   function endWarm() {
@@ -502,18 +504,19 @@ export function createCanvas(container, store, fx) {
     cy.batch(() => { w.forEach((e) => { if (e.inside()) e.remove(); }); });
     canvases(true);
   }
-  async function warm(els, frame) {
-    if (warming || drawnNet || getState().netName || cy.elements().nonempty()) return;
-    canvases(false);
-    warming = cy.add(els);
-    try { await frame(); await frame(); } finally { endWarm(); }
+  // Whether els were added (not once a net is shown).
+  function warm(els) {
+    if (drawnNet || getState().netName || (!warming && cy.elements().nonempty())) return false;
+    if (!warming) { canvases(false); warming = cy.collection(); }
+    warming = warming.union(cy.add(els));
+    return true;
   }
 
   store.subscribe(render);
   render(getState(), null);
 
   return {
-    cy, addNode, centre, fitReadable, zoomBy, warm,
+    cy, addNode, centre, fitReadable, zoomBy, warm, endWarm,
     // The net drawn: its elements, and whether cytoscape holds only a part of them.
     get drawn() { return { elements: drawnEls.size, nodes: [...drawnEls.values()].filter((e) => e.group === 'nodes').length, inParts: !!part }; },
     relayout() {

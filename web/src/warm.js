@@ -15,7 +15,7 @@
 // true), the steps not started are dropped.
 import { netElements } from './graph.js';
 import { layeredLayout } from './layout.js';
-import { warmTextPane } from './textpane.js';
+import { warmTextPane, warmLint } from './textpane.js';
 
 // A small net with every kind of element a mission's nets have.
 const kNet = {
@@ -57,35 +57,47 @@ function offscreen(w, h) {
   return box;
 }
 
-// The net drawn by the page's own cytoscape, hidden (canvas.js's warm()).
-async function warmCanvas(canvas) {
+// The steps, each a short task followed by a frame (cytoscape draws at
+// its frames): the net is added to the page's own cytoscape (canvas.js's
+// warm(), its canvases hidden) a few elements at a time, so that no frame
+// is long (the first one compiles most of cytoscape's drawing); then the
+// text, in an editor of its own.
+function steps(canvas) {
   const pos = layeredLayout(kNet);
   const els = netElements(kNet, null).map((e) => ({ ...e, data: { ...e.data }, ...(e.group === 'nodes' ? { position: { x: pos[e.data.id].x + 60, y: pos[e.data.id].y + 60 } } : {}) }));
-  await canvas.warm(els, frame);
-}
-
-async function warmText() {
-  const box = offscreen(360, 300);
-  const pane = warmTextPane(box, kText);
-  try {
-    await frame();
-  } finally {
-    pane.destroy();
-    box.remove();
-  }
+  const node = (id) => els.filter((e) => e.data.id === id);
+  const groups = [
+    node('p:begin'),                                              // a place, its token
+    [...node('t:phase1'), ...node('p:ready'), ...node('p:aborted')], // a transition's wrapped label, more places
+    els.filter((e) => e.group === 'nodes' && !e.data.id.match(/^(p:begin|t:phase1|p:ready|p:aborted)$/)),
+    els.filter((e) => e.group === 'edges'),                       // arcs, weights, outcomes, pairs
+  ];
+  const out = groups.map((g) => () => { canvas.warm(g); return frame(); });
+  out.push(() => { canvas.endWarm(); return Promise.resolve(); });
+  let box = null, view = null;
+  out.push(() => { box = offscreen(360, 300); view = warmTextPane(box, ''); return frame(); });
+  out.push(() => { view.dispatch({ changes: { from: 0, insert: kText } }); return frame(); });
+  out.push(() => { warmLint(view); return frame(); });
+  out.push(() => { view.destroy(); box.remove(); view = null; return Promise.resolve(); });
+  // Whatever was left when stopped.
+  const cleanup = () => { canvas.endWarm(); if (view) { view.destroy(); box.remove(); } };
+  return { out, cleanup };
 }
 
 // Runs the steps at idle times, each unless stop() is true by then.
 // Resolves when done (or stopped); never throws.
 export function warmUp(canvas, stop) {
-  const steps = [() => warmCanvas(canvas), warmText];
+  const { out, cleanup } = steps(canvas);
   return new Promise((resolve) => {
+    const done = () => { try { cleanup(); } catch { /* a warm-up only */ } resolve(); };
     const next = () => {
-      const step = steps.shift();
-      if (!step || stop()) { resolve(); return; }
+      const step = out.shift();
+      if (!step || stop()) { done(); return; }
       idle(() => {
-        if (stop()) { resolve(); return; }
-        step().catch(() => { /* a warm-up only */ }).then(next);
+        if (stop()) { done(); return; }
+        let p;
+        try { p = step(); } catch { done(); return; }
+        p.then(next, done);
       });
     };
     next();
