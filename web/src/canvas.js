@@ -490,11 +490,10 @@ export function createCanvas(container, store, fx) {
   // warm.js's small net drawn by this cytoscape, its canvases hidden,
   // before any net is shown: the first net the user opens then finds
   // cytoscape's own caches (styles, label sizes, images, textures) filled
-  // (its first frame took 4 times a later one's). Ended (the elements
-  // removed, the canvases shown) by the first render of a net, or after
-  // two frames.
-  // warm(els) adds els (a few at a time: each frame then stays short),
-  // endWarm() ends it.
+  // (its first frame took 4 times a later one's). warm(els) adds els (a
+  // few at a time: each frame then stays short; they can be neither
+  // selected nor dragged); endWarm() removes them and shows the canvases,
+  // called by warm.js when done and by the first render of a net.
   let warming = null;
   const canvases = (visible) => { for (const c of container.querySelectorAll('canvas')) c.style.visibility = visible ? '' : 'hidden'; };
   function endWarm() {
@@ -508,7 +507,10 @@ export function createCanvas(container, store, fx) {
   function warm(els) {
     if (drawnNet || getState().netName || (!warming && cy.elements().nonempty())) return false;
     if (!warming) { canvases(false); warming = cy.collection(); }
-    warming = warming.union(cy.add(els));
+    const added = cy.add(els);
+    added.unselectify();
+    added.ungrabify();
+    warming = warming.union(added);
     return true;
   }
 
