@@ -17,9 +17,10 @@ async function call(method, url, body, type, headers = {}) {
   return answer(await fetch(url, init));
 }
 
-async function answer(res) {
+// raw: the body, when it was read already.
+async function answer(res, raw = null) {
   let data = null;
-  const raw = await res.text();
+  if (raw == null) raw = await res.text();
   try { data = raw ? JSON.parse(raw) : null; } catch { data = null; }
   if (!res.ok) {
     const msg = (data && data.error) || raw || res.statusText;
@@ -33,11 +34,11 @@ async function answer(res) {
 const q = (p) => encodeURIComponent(p);
 
 // The file list, asked for by index.html before this script loaded (the
-// page's first request, beside the script's), taken once.
+// page's first request, beside the script's; {res, raw}), taken once.
 function earlyFiles() {
   const early = globalThis.__filesAnswer;
   globalThis.__filesAnswer = null;
-  return early ? early.then(answer) : null;
+  return early ? early.then(({ res, raw }) => answer(res, raw)) : null;
 }
 
 export const api = {

@@ -395,6 +395,7 @@ export function createCanvas(container, store, fx) {
 
   function render(s, prev) {
     const net = currentNet(s);
+    if (warming && (net || s.netName)) endWarm();
     const switched = s.netName !== drawnName || !drawnNet !== !net;
     const changed = net !== drawnNet;
     const rebuilt = switched || changed;
@@ -485,11 +486,39 @@ export function createCanvas(container, store, fx) {
     }
   }
 
+  // ------------------------------------------------------------ warm-up
+  // warm.js's small net drawn by this cytoscape, its canvases hidden,
+  // before any net is shown: the first net the user opens then finds
+  // cytoscape's own caches (styles, label sizes, images, textures) filled
+  // (its first frame took 4 times a later one's). warm(els) adds els (a
+  // few at a time: each frame then stays short; they can be neither
+  // selected nor dragged); endWarm() removes them and shows the canvases,
+  // called by warm.js when done and by the first render of a net.
+  let warming = null;
+  const canvases = (visible) => { for (const c of container.querySelectorAll('canvas')) c.style.visibility = visible ? '' : 'hidden'; };
+  function endWarm() {
+    if (!warming) return;
+    const w = warming;
+    warming = null;
+    cy.batch(() => { w.forEach((e) => { if (e.inside()) e.remove(); }); });
+    canvases(true);
+  }
+  // Whether els were added (not once a net is shown).
+  function warm(els) {
+    if (drawnNet || getState().netName || (!warming && cy.elements().nonempty())) return false;
+    if (!warming) { canvases(false); warming = cy.collection(); }
+    const added = cy.add(els);
+    added.unselectify();
+    added.ungrabify();
+    warming = warming.union(added);
+    return true;
+  }
+
   store.subscribe(render);
   render(getState(), null);
 
   return {
-    cy, addNode, centre, fitReadable, zoomBy,
+    cy, addNode, centre, fitReadable, zoomBy, warm, endWarm,
     // The net drawn: its elements, and whether cytoscape holds only a part of them.
     get drawn() { return { elements: drawnEls.size, nodes: [...drawnEls.values()].filter((e) => e.group === 'nodes').length, inParts: !!part }; },
     relayout() {

@@ -6,6 +6,8 @@ import { applyModelPatch } from './patch.js';
 import { dirty, editable, displayNets, layoutByName, missionPaths } from './store.js';
 
 export const kCheckDelayMs = 300;
+// How long a mission asked for ahead of a click (prefetch) is taken by openFile.
+export const kAheadMs = 1000;
 
 export function createEffects(store, api, ui = {}) {
   const { dispatch, getState } = store;
@@ -41,10 +43,23 @@ export function createEffects(store, api, ui = {}) {
     } catch (e) { say(`primitives: ${e.message}`, true); }
   }
 
+  // A mission asked for when the pointer goes down on it in the file list:
+  // the click follows (about 0.1 s for a user), and openFile takes the
+  // answer when it is for the same path and under kAheadMs old.
+  let ahead = null;
+  function prefetch(path) {
+    if (ahead && ahead.path === path && Date.now() - ahead.at < kAheadMs) return;
+    const answer = api.mission(path);
+    answer.catch(() => { /* openFile says it, if it takes it */ });
+    ahead = { path, at: Date.now(), answer };
+  }
+
   // Opens path; with unsaved edits to another file, asks first. Returns
   // whether the file is open.
   async function openFile(path, { keepView = false, force = false } = {}) {
     const s = getState();
+    const pre = !force && ahead && ahead.path === path && Date.now() - ahead.at < kAheadMs ? ahead.answer : null;
+    ahead = null;
     // Also for the open file itself: opening it again reads it from disk.
     if (!force && dirty(s) && s.path) {
       if (!confirm(`Discard the unsaved changes to ${s.path}?`)) return false;
@@ -52,7 +67,7 @@ export function createEffects(store, api, ui = {}) {
     const textBefore = s.text;
     return busy(async () => {
       try {
-        const model = await api.mission(path);
+        const model = await (pre || api.mission(path));
         // A reload for a change on disk (force) that the user's edit
         // overtook: the edit is kept (their save meets the new version: 412).
         const now = getState();
@@ -305,7 +320,7 @@ export function createEffects(store, api, ui = {}) {
     tick();
   }
 
-  return { loadFiles, loadRuns, loadPrimitives, openFile, applyOp, textTyped, checkNow, flushCheck, endTyping, undo, redo,
+  return { loadFiles, loadRuns, loadPrimitives, prefetch, openFile, applyOp, textTyped, checkNow, flushCheck, endTyping, undo, redo,
     save, keepMine, reload, run, abort, stop, fileChanged, playReplay, pauseReplay, openReplay, verify, connect, startSonar, say, displayNets: () => displayNets(getState()) };
 }
 

@@ -17,7 +17,8 @@ import { createPanels } from './panels.js';
 const store = createStore();
 const { dispatch, getState } = store;
 const fx = createEffects(store, api, { confirm: (t) => window.confirm(t) });
-const panels = createPanels(store, fx);
+// The panels are made once the file list is drawn (init below).
+let panels = null;
 // The canvas, the text pane and the inspector (cytoscape and CodeMirror,
 // most of the page's code) are loaded after the file list is shown
 // (views.js); until then the store keeps what they will draw.
@@ -161,20 +162,40 @@ function preloadViews() {
   document.head.append(l);
 }
 
+// After the next frame is painted (or 100 ms, a tab in the background).
+const afterPaint = () => new Promise((resolve) => { requestAnimationFrame(() => setTimeout(resolve, 0)); setTimeout(resolve, 100); });
+
 async function init() {
   preloadViews();
-  // The file list first: everything else (the event stream, sonar, the
-  // views, the chart's library) after it is drawn.
+  // The file list first: everything else (the panels, the event stream,
+  // sonar, the views, the chart's library) after it is drawn. index.html
+  // draws it the moment its answer comes, before the panels are made
+  // (tens of ms), when that answer comes first.
+  if (window.__filesAnswer) await window.__filesAnswer.catch(() => null);
+  panels = createPanels(store, fx);
   await fx.loadFiles();
-  window.__studio.filesAt = performance.now();   // page load to file list (the e2e report)
+  // index.html drew the list when it came (panels.js has drawn it again
+  // now): page load to file list (the e2e report) is when it was first
+  // shown; a file clicked on that list is opened now.
+  const early = window.__earlyList;
+  window.__studio.filesAt = (early && early.shownAt) ?? performance.now();
+  if (early) {
+    early.stop();
+    if (early.open && !getState().path) fx.openFile(early.open);
+  }
+  // The list painted before the views' chunk runs (a long task).
+  await afterPaint();
   fx.connect(EventSource);
   fx.startSonar();
   // The views after the list is drawn: their chunk is run while the user
   // reads the list.
   const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
-  // The chart's library once the page is idle (a run's data loads it at once).
+  // The chart's library once the page is idle (a run's data loads it at
+  // once), after the views' warm-up (views.js) and not in the first 2 s
+  // after it, when the user is most likely to open a file.
   const idle = (f) => (window.requestIdleCallback ? window.requestIdleCallback(f, { timeout: 3000 }) : setTimeout(f, 500));
-  loaded.then(() => idle(() => panels.chart.load()), () => idle(() => panels.chart.load()));
+  const chartLater = () => setTimeout(() => idle(() => panels.chart.load()), 2000);
+  loaded.then(() => views.warmed.then(chartLater), chartLater);
   await fx.loadPrimitives();
   await loaded;
   const want = new URLSearchParams(location.search).get('path');

@@ -46,7 +46,7 @@ export function createPanels(store, fx) {
     const fl = $('#file-list'); fl.replaceChildren();
     const list = s.missions.length ? s.missions : s.files.map((p) => ({ path: p, kind: 'coral' }));
     for (const { path: p, kind } of list) {
-      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onclick: () => fx.openFile(p) },
+      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
         p, kind === 'prolog' ? el('span', { class: 'badge prolog' }, ' PROLOG') : null));
     }
     const ll = $('#log-list'); ll.replaceChildren();
@@ -249,7 +249,8 @@ export function createPanels(store, fx) {
     const p = prev;
     prev = s;
     header(s);
-    if (!p || s.files !== p.files || s.missions !== p.missions || s.logs !== p.logs || s.path !== p.path) files(s);
+    if (!p || s.files !== p.files || s.missions !== p.missions || s.logs !== p.logs) files(s);
+    else if (s.path !== p.path) for (const li of document.querySelectorAll('#file-list li')) li.className = li.dataset.path === s.path ? 'active' : '';
     if (!p || displayNets(s) !== displayNets(p) || s.netName !== p.netName) nets(s);
     if (!p || s.model !== p.model) diagnostics(s);
     if (!p || s.rs !== p.rs || s.view !== p.view || s.live !== p.live || s.bannerClosed !== p.bannerClosed || s.netName !== p.netName || s.replay !== p.replay) scheduleRun();

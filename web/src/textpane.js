@@ -12,6 +12,21 @@ import { commonPrefix, commonSuffix } from './diff.js';
 
 const fromStore = Annotation.define();
 
+// What the pane shows (gutters, highlighting, lint marks) but its keys and
+// handlers: the pane's, and warm.js's editor of its own.
+const display = () => [lineNumbers(), highlightActiveLine(), drawSelection(), bracketMatching(),
+  coral, syntaxHighlighting(defaultHighlightStyle), lintGutter()];
+
+// An editor like the pane, on text (warm.js: drawn before the first file
+// is opened), and a lint mark on its first word.
+export function warmTextPane(parent, text) {
+  return new EditorView({ parent, state: EditorState.create({ doc: text, extensions: [display(), EditorState.readOnly.of(true)] }) });
+}
+export function warmLint(view) {
+  const at = view.state.doc.toString().indexOf('mission');
+  if (at >= 0) view.dispatch(setDiagnostics(view.state, [{ from: at, to: at + 7, severity: 'error', message: 'warm' }]));
+}
+
 export function createTextPane(parent, store, fx) {
   const { getState } = store;
   const readOnly = new Compartment();
@@ -23,8 +38,7 @@ export function createTextPane(parent, store, fx) {
     state: EditorState.create({
       doc: '',
       extensions: [
-        lineNumbers(), highlightActiveLine(), drawSelection(), bracketMatching(),
-        coral, syntaxHighlighting(defaultHighlightStyle), lintGutter(),
+        display(),
         // Undo is the page's (one stack of texts for graph and text edits);
         // Ctrl-S is the page's keydown handler (main.js).
         keymap.of([

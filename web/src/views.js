@@ -7,6 +7,7 @@ import { editable } from './store.js';
 import { createCanvas, kZoomStep } from './canvas.js';
 import { createTextPane } from './textpane.js';
 import { createInspector, deleteSelection } from './inspector.js';
+import { warmUp } from './warm.js';
 
 // The wheel zooms a useful step: 1.15× for a mouse notch (100 px), smoothly
 // for a touchpad's small deltas. Taken before cytoscape's own handler, whose
@@ -48,5 +49,8 @@ export function startViews(store, fx) {
     if (ev.key === '+' || ev.key === '=') canvas.zoomBy(kZoomStep);
     if (ev.key === '-') canvas.zoomBy(1 / kZoomStep);
   }
-  return { canvas, text, cy, key };
+  // The first open made cheaper while the page waits for it (warm.js):
+  // dropped once a file is opened or a run is shown.
+  const warmed = warmUp(canvas, () => getState().path != null || getState().netName != null);
+  return { canvas, text, cy, key, warmed };
 }

@@ -256,6 +256,26 @@ test('effects: switching file with unsaved edits asks; a no keeps the edits', as
   assert.equal(store.getState().path, 'other.coral');
 });
 
+test('effects: a mission asked for ahead (pointer down) is taken by the click on it, once; not by another file, nor by a reload', async () => {
+  const store = createStore();
+  const api = fakeApi();
+  const fx = createEffects(store, api);
+  const asks = () => api.calls.filter((c) => c[0] === 'mission').length;
+  fx.prefetch('m.coral');
+  fx.prefetch('m.coral');   // pressed again: one request
+  assert.equal(asks(), 1);
+  assert.equal(await fx.openFile('m.coral'), true);
+  assert.equal(asks(), 1);
+  assert.equal(await fx.openFile('m.coral'), true);   // opened again: read again
+  assert.equal(asks(), 2);
+  fx.prefetch('other.coral');
+  assert.equal(await fx.openFile('m.coral'), true);   // another file's answer is not taken
+  assert.equal(asks(), 4);
+  fx.prefetch('m.coral');
+  assert.equal(await fx.reload(), true);              // a reload reads the file itself
+  assert.equal(asks(), 6);
+});
+
 test('effects: typing is checked once it pauses, with the last text', async () => {
   const store = createStore();
   const api = fakeApi();
