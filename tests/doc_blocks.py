@@ -19,8 +19,7 @@ or it is in ALLOW below, by its document and first line, with the reason
 it cannot run here (or is no example: a grammar, a diagram, a synopsis).
 Any other block fails the test, with its line; so does an entry of ALLOW
 that no block has any longer, or one whose block is now run anyway.
-docs/studio.md, whose examples need the studio and a browser, is left out
-(--skip).
+A document given with --skip is left out.
 
   doc_blocks.py --source REPO --run DOC... --examples DOC... --build-lines DOC... [--skip DOC...]
 """
@@ -73,6 +72,13 @@ ALLOW = {
         "a diagram of the manager's threads",
     ("docs/sonar.md", '#include "sonar/manager.h"'):
         "C++ using the library, with `...` for the caller's code (src/sonar/manager_test.cpp makes the same calls)",
+    ("docs/studio.md", "strata studio missions                      # prints http://127.0.0.1:PORT; open it in a browser"):
+        "the studio serves until Ctrl-C, for a browser: docs.readme_tour starts and stops `strata studio`, "
+        "cli.run_studio_wait_serves_then_exits runs `run --studio`, StudioWebRoot.* serves a --web-root",
+    ("docs/studio.md", '{ "path": P, "text": "...the .coral text...", "layout": {...} | null,'):
+        "the mission model's JSON, annotated field by field (the studio's API tests read each field)",
+    ("docs/studio.md", '{ "path": P, "kind": "prolog", "read_only": true, "text": "...", "etag": "\\"...\\"",'):
+        "the PROLOG model's JSON, annotated (the studio's API tests read each field)",
     ("docs/tutorial-first-mission.md", "$ strata studio first"):
         "the studio serves until Ctrl-C and is used in a browser (docs.readme_tour starts and stops it)",
     ("docs/verification.md", '{ "ok": false, "all_hold": false,'):
