@@ -7,23 +7,13 @@
 
 #include "coral/test_support.h"
 #include "coral/verifier.h"
+#include "coral/verifier_test_support.h"
 #include "coral/verify_report.h"
 
 namespace strata::coral {
 namespace {
 
-using testing::compile_text;
-
-VerifyReport verify(const std::string& text) {
-  auto c = compile_text(text);
-  if (!c->program) {
-    std::string all;
-    for (const auto& k : c->kinds()) all += k + "\n";
-    ADD_FAILURE() << "does not compile:\n" << all;
-    return {};
-  }
-  return verify_program(*c->program);
-}
+VerifyReport verify(const std::string& text) { return testing::verify_text_mission(text); }
 
 // What a verification found, without the net's name: sizes, reachable exits
 // and each property's verdict.
