@@ -90,6 +90,24 @@ test('a survey replay shows the map: the whole track, the vehicle moving with th
   await waitFor(page, "!s.replay && !s.map.shown", 3000, 'no map once the replay is closed');
 });
 
+// The map during a live open-water run, not only in a replay (issue 20):
+// the track grows and the vehicle moves while the run goes, and the whole
+// track stays after its end.
+test('a survey run shows the map live: the track grows while it runs', async ({ page }) => {
+  await openPage(page, 'missions/survey/survey.coral');
+  await page.locator('#run-speed').fill('200');
+  await page.locator('#btn-run').click();
+  await waitFor(page, "s.runStatus === 'running' && s.map.shown && s.map.drawn && s.map.drawn.points > 5", 30000, 'the live map');
+  await expect(page.locator('#map-box')).toBeVisible();
+  const early = await studio(page, 's.map.drawn');
+  await waitFor(page, `s.runStatus === 'running' && s.map.drawn.points > ${early.points + 20} && (s.map.drawn.vehicle[0] !== ${early.vehicle[0]} || s.map.drawn.vehicle[1] !== ${early.vehicle[1]})`, 30000, 'the track grown and the vehicle moved, while the run goes');
+  await waitFor(page, "s.runStatus !== 'running' && s.runEnded", 90000, 'run_end');
+  expect((await studio(page, 's.runEnded')).outcome).toBe('completed');
+  const end = await studio(page, 's.map.drawn');
+  expect(end.points).toBeGreaterThan(100);
+  expect(await studio(page, 's.map.shown')).toBe(true);
+});
+
 test('a counterexample plays on its net: to the stall and one step back', async ({ page }) => {
   await openPage(page, STUCK);
   await waitFor(page, "cy.getElementById('p:not_reached').nonempty()", 5000, 'stuck_phase drawn');
