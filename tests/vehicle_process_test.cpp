@@ -75,6 +75,7 @@ TEST(VehicleProcess, EveryPrimitiveOfTheCatalogueIsAnswered) {
     if (p.name == "report") args.push_back(Value::of("hello"));
     if (p.name == "goto_depth") args.push_back(Value::of(1.0));
     if (p.name == "set_speed") args.push_back(Value::of(0.5));
+    if (p.name == "set_sway") args.push_back(Value::of(0.1));
     if (p.name == "set_altitude_floor") args.push_back(Value::of(1.0));
     if (p.name == "goto_xy") args = {Value::of(6.0), Value::of(4.0)};
     if (p.name == "track") args = {Value::of(2.0), Value::of(4.0), Value::of(10.0), Value::of(4.0)};

@@ -31,6 +31,10 @@ const std::vector<FunctionSpec>& function_table() {
        "start the depth filter if off and engage the depth law toward a depth, with no time limit"},
       {Verb::Exec, "set_speed", {{"speed", "m/s"}}, "hold a speed through the water (0 to the top speed)"},
       {Verb::Exec,
+       "set_sway",
+       {{"speed", "m/s"}},
+       "hold a sideways speed through the water (+ starboard, - port) with the transverse thrusters"},
+      {Verb::Exec,
        "goto_xy",
        {{"x", "m"}, {"y", "m"}},
        "line-of-sight guidance to a waypoint (x east, y north); cruise speed unless a speed was set"},
@@ -38,7 +42,7 @@ const std::vector<FunctionSpec>& function_table() {
        "track",
        {{"x0", "m"}, {"y0", "m"}, {"x1", "m"}, {"y1", "m"}},
        "line-of-sight guidance along the line from (x0, y0) to (x1, y1)"},
-      {Verb::Exec, "stop", {}, "stop the propulsion motors and the guidance; hold the heading"},
+      {Verb::Exec, "stop", {}, "stop the propulsion motors, the sway and the guidance; hold the heading"},
       {Verb::Exec, "gps_fix", {}, "take a GPS fix now (only at the surface, in open water); resets the estimate"},
       {Verb::Exec, "set_altitude_floor", {{"floor", "m"}}, "the altitude below which altitude_low is true"},
       {Verb::Ask, "depth_filter_off", {}, "is the depth filter off?"},
@@ -128,6 +132,7 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "stop_sonar") return from(sim.stop_sonar());
   if (f == "goto_depth") return from(sim.goto_depth(numbers[0]));
   if (f == "set_speed") return from(sim.set_speed(numbers[0]));
+  if (f == "set_sway") return from(sim.set_sway(numbers[0]));
   if (f == "goto_xy") return from(sim.goto_xy(numbers[0], numbers[1]));
   if (f == "track") return from(sim.track(numbers[0], numbers[1], numbers[2], numbers[3]));
   if (f == "stop") return from(sim.stop());

@@ -114,6 +114,9 @@ TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {
   const double nan = std::nan("");
   EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "goto_xy", {Value::real(nan), Value::integer(0)}).refused);
   EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "set_speed", {Value::real(INFINITY)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "set_sway", {Value::real(nan)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "set_sway", {Value::real(-INFINITY)}).refused);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "set_sway", {}).refused);
   EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "track", {Value::integer(1)}).refused);
   EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "goto_depth", {Value::string("deep")}).refused);
   const Outcome far = exec(sim, "goto_xy", {Value::real(1e300), Value::real(-1e300)});
@@ -121,6 +124,11 @@ TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {
   EXPECT_FALSE(far.value);
   EXPECT_NE(std::string::npos, far.message.find("farther than the longest leg"));
   EXPECT_FALSE(exec(sim, "set_speed", {Value::real(1e9)}).value);
+  const Outcome sideways = exec(sim, "set_sway", {Value::real(-0.5)});  // beyond the top sway speed
+  EXPECT_FALSE(sideways.refused.has_value());
+  EXPECT_FALSE(sideways.value);
+  EXPECT_NE(std::string::npos, sideways.message.find("top sway speed"));
+  EXPECT_TRUE(exec(sim, "set_sway", {Value::real(-0.2)}).value);
   EXPECT_FALSE(exec(sim, "goto_depth", {Value::real(-1)}).value);
   EXPECT_FALSE(exec(sim, "set_altitude_floor", {Value::real(1e18)}).value);
   EXPECT_EQ(GuidanceMode::None, sim.guidance().mode);
@@ -129,9 +137,9 @@ TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {
 
 TEST(Execution, TheInterfaceListsTheOpenWaterFunctions) {
   const std::string text = interface_text();
-  for (const char* f :
-       {"goto_depth depth[m]", "set_speed speed[m/s]", "goto_xy x[m] y[m]", "track x0[m] y0[m] x1[m] y1[m]", "stop ",
-        "gps_fix", "set_altitude_floor floor[m]", "waypoint_reached", "altitude_low", "position_uncertain"}) {
+  for (const char* f : {"goto_depth depth[m]", "set_speed speed[m/s]", "set_sway speed[m/s]", "goto_xy x[m] y[m]",
+                        "track x0[m] y0[m] x1[m] y1[m]", "stop ", "gps_fix", "set_altitude_floor floor[m]",
+                        "waypoint_reached", "altitude_low", "position_uncertain"}) {
     EXPECT_NE(std::string::npos, text.find(f)) << f;
   }
 }

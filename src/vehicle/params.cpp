@@ -58,6 +58,8 @@ const Field kFields[] = {
     {"surge", "drag_coeff", &VehicleParams::surge_drag_coeff, 0.0, true, kInf},
     {"surge", "motor_max_n", &VehicleParams::motor_max_n, 0.0, false, kInf},
     {"surge", "lag_s", &VehicleParams::motor_lag_s, 0.0, false, kInf},
+    {"sway", "added_mass_kg", &VehicleParams::sway_added_mass_kg, 0.0, false, kInf},
+    {"sway", "drag_coeff", &VehicleParams::sway_drag_coeff, 0.0, true, kInf},
     {"navigation", "gps_noise_m", &VehicleParams::gps_noise_m, 0.0, true, kInf},
     {"navigation", "gps_period_s", &VehicleParams::gps_period_s, 0.0, true, 3600.0},
     {"navigation", "gps_max_depth_m", &VehicleParams::gps_max_depth_m, 0.0, false, kInf},

@@ -78,6 +78,11 @@ struct VehicleParams {
   double motor_max_n = 12.0;          // per propulsion motor, ahead or astern
   double motor_lag_s = 0.5;           // first-order time constant of the thrust
 
+  // [sway] the transverse thrusters pushing the same way (sway.h):
+  //   (m + m_a) dv/dt = F - c v|v|, the thrust and its lag as in [yaw]
+  double sway_added_mass_kg = 175.0;  // sway added mass (a slender body: about its displaced mass)
+  double sway_drag_coeff = 220.0;     // N per (m/s)^2: cross-flow drag = -c * v * |v|
+
   // [navigation] dead reckoning from water speed and compass, GPS at the surface
   double gps_noise_m = 1.5;             // standard deviation of a fix, per axis
   double gps_period_s = 1.0;            // one fix per period while the antenna is dry
@@ -133,6 +138,13 @@ struct VehicleParams {
   double total_surge_mass_kg() const { return mass_kg + surge_added_mass_kg; }
   // Largest total thrust of both propulsion motors at full health, N.
   double max_surge_thrust_n() const { return 2.0 * motor_max_n; }
+  double total_sway_mass_kg() const { return mass_kg + sway_added_mass_kg; }
+  // Largest sway force of both transverse thrusters at full health, N.
+  double max_sway_force_n() const { return 2.0 * transverse_max_n; }
+  // Steady sway speed at full force (no yaw moment asked), m/s.
+  double top_sway_speed_mps() const {
+    return sway_drag_coeff > 0.0 ? std::sqrt(max_sway_force_n() / sway_drag_coeff) : max_sway_force_n();
+  }
   // Steady speed at full thrust, m/s: where drag equals thrust.
   double top_speed_mps() const {
     return surge_drag_coeff > 0.0 ? std::sqrt(max_surge_thrust_n() / surge_drag_coeff) : max_surge_thrust_n();

@@ -85,6 +85,7 @@ core::Result<void> Simulation::shutdown_network() {
   mode_ = ControlMode::Idle;
   heading_target_deg_.reset();
   speed_target_mps_.reset();
+  sway_target_mps_.reset();
   guidance_ = {};
   sonar_.stop();
   return {};
@@ -164,6 +165,7 @@ void Simulation::watchdog_trip(std::string_view reason) {
   mode_ = ControlMode::Surface;
   heading_target_deg_.reset();
   speed_target_mps_.reset();
+  sway_target_mps_.reset();
   guidance_ = {};
   if (watchdog_tripped_) return;
   watchdog_tripped_ = true;
@@ -235,6 +237,15 @@ void Simulation::advance_yaw_and_sonar() {
   moment_cmd_nm_ =
       heading_target_deg_ ? heading_moment(params_, compass_deg(), yaw_.rate_dps, *heading_target_deg_) : 0.0;
   const double limit = params_.max_yaw_moment_nm() * faults_.thrust_health;
+  // Sway gets the transverse thrust the heading law's moment leaves (sway.h);
+  // the vehicle's own model assumes nominal thrusters.
+  const double sway_asked = sway_target_mps_ ? sway_force_n(params_, *sway_target_mps_) : 0.0;
+  const double sway_limit =
+      sway_force_limit_n(params_, std::clamp(moment_cmd_nm_, -limit, limit), faults_.thrust_health);
+  sway_force_cmd_n_ = std::clamp(sway_asked, -sway_limit, sway_limit);
+  const double nominal = params_.max_yaw_moment_nm();
+  const double model_limit = sway_force_limit_n(params_, std::clamp(moment_cmd_nm_, -nominal, nominal), 1.0);
+  sway_model_cmd_n_ = std::clamp(sway_asked, -model_limit, model_limit);
   const double h = params_.cycle_s / params_.substeps;
   for (int i = 1; i <= params_.substeps; ++i) {
     advance_yaw(params_, moment_cmd_nm_, limit, h, yaw_);

@@ -50,8 +50,14 @@
 //   the guidance reaches its goal, until the next goto_xy/track/stop; the
 //   vehicle runs on along its last heading meanwhile. A waypoint more than
 //   kMaxLegM from the estimate, or outside the tank in the tank, is refused.
+// - Sway (sway.h): set_sway() holds a sideways water speed (+ starboard)
+//   with the transverse thrusters pushing the same way; the heading law
+//   keeps priority (the sway force gets the thrust its moment leaves). The
+//   true position moves with it along heading + 90 degrees. stop(),
+//   shutdown_network() and watchdog_trip() drop the sway target (force 0).
 // - Navigation (navigation.h): dead reckoning every cycle from the water
-//   speed and the compass (true heading + compass bias); in open water a GPS
+//   speed and the compass (true heading + compass bias), plus the sway speed
+//   of the vehicle's own sway model (the meter measures surge only); in open water a GPS
 //   fix every gps_period_s while the true depth is <= gps_max_depth_m and
 //   the receiver works; gps_fix() takes one at once (refused below the
 //   surface or with no GPS). In the tank the estimate is the truth.
@@ -90,6 +96,7 @@
 #include "vehicle/scenario.h"
 #include "vehicle/sonar.h"
 #include "vehicle/surge.h"
+#include "vehicle/sway.h"
 #include "vehicle/yaw.h"
 
 namespace strata::vehicle {
@@ -175,6 +182,7 @@ class Simulation {
   core::Result<void> stop_sonar();
   // Horizontal plane and navigation (see the decisions above).
   core::Result<void> set_speed(double speed_mps);  // [0, top speed]
+  core::Result<void> set_sway(double speed_mps);   // [-top sway speed, top sway speed], + starboard
   core::Result<void> goto_xy(double x_m, double y_m);
   core::Result<void> track(double x0_m, double y0_m, double x1_m, double y1_m);
   core::Result<void> stop();
@@ -202,6 +210,15 @@ class Simulation {
   const Navigator& navigator() const { return nav_; }
   const Guidance& guidance() const { return guidance_; }
   const SurgeState& surge() const { return surge_; }
+  const SwayState& sway() const { return sway_; }
+  // The sway law's target (none: not asked since the last stop) and force
+  // command this cycle, after the heading law took its share.
+  std::optional<double> sway_setpoint_mps() const { return sway_target_mps_; }
+  double sway_force_cmd_n() const { return sway_force_cmd_n_; }
+  // Navigation's sway speed: the vehicle's own model of its sway (sway.h at
+  // nominal thrust, from the commanded force); the water-speed meter
+  // measures surge only.
+  double sway_model_mps() const { return sway_model_.speed_mps; }
   bool open_water() const { return scenario_.world.open_water; }
   bool network_up() const { return network_up_; }
   bool watchdog_tripped() const { return watchdog_tripped_; }
@@ -286,6 +303,10 @@ class Simulation {
 
   SurgeState surge_;
   std::optional<double> speed_target_mps_;
+  SwayState sway_, sway_model_;
+  std::optional<double> sway_target_mps_;
+  double sway_force_cmd_n_ = 0.0;  // this cycle's, after the heading law's share
+  double sway_model_cmd_n_ = 0.0;  // the same for the vehicle's own model (nominal thrusters)
   Guidance guidance_;
   bool reached_ = false;
   Navigator nav_;

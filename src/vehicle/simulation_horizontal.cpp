@@ -37,6 +37,18 @@ core::Result<void> Simulation::set_speed(double speed_mps) {
   return {};
 }
 
+core::Result<void> Simulation::set_sway(double speed_mps) {
+  if (auto r = require_network(); !r) return r;
+  const double top = params_.top_sway_speed_mps();
+  if (!std::isfinite(speed_mps) || std::abs(speed_mps) > top) {
+    return refused_here(
+        fmt::format("sway speed {} m/s outside -{:.3g} to {:.3g} m/s (the top sway speed)", speed_mps, top, top));
+  }
+  if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
+  sway_target_mps_ = speed_mps;
+  return {};
+}
+
 core::Result<void> Simulation::check_goal(double x_m, double y_m) const {
   if (!std::isfinite(x_m) || !std::isfinite(y_m)) return refused_here("waypoint coordinates must be finite numbers");
   if (!open_water()) {
@@ -81,6 +93,7 @@ core::Result<void> Simulation::track(double x0_m, double y0_m, double x1_m, doub
 core::Result<void> Simulation::stop() {
   if (auto r = require_network(); !r) return r;
   speed_target_mps_ = 0.0;
+  sway_target_mps_.reset();
   guidance_ = {};
   reached_ = false;
   return {};
@@ -149,6 +162,14 @@ void Simulation::move_substep(double h_s) {
   const double psi = yaw_.heading_deg * core::kRadPerDeg;
   x_m_ += h_s * (surge_.speed_mps * std::sin(psi) + scenario_.world.current_x_mps);
   y_m_ += h_s * (surge_.speed_mps * std::cos(psi) + scenario_.world.current_y_mps);
+  // Sway, to starboard (heading + 90 degrees). Skipped while at rest, so a
+  // vehicle never asked to sway moves exactly as before sway existed.
+  advance_sway(params_, sway_force_cmd_n_, params_.max_sway_force_n(), h_s, sway_);
+  advance_sway(params_, sway_model_cmd_n_, params_.max_sway_force_n(), h_s, sway_model_);
+  if (sway_.speed_mps != 0.0) {
+    x_m_ += h_s * sway_.speed_mps * std::cos(psi);
+    y_m_ -= h_s * sway_.speed_mps * std::sin(psi);
+  }
   if (!open_water()) {
     x_m_ = std::clamp(x_m_, 0.0, params_.tank_length_x_m);
     y_m_ = std::clamp(y_m_, 0.0, params_.tank_width_y_m);
@@ -162,7 +183,13 @@ void Simulation::navigate() {
     return;
   }
   const double psi = compass_deg() * core::kRadPerDeg;
-  nav_.predict(surge_.speed_mps * std::sin(psi), surge_.speed_mps * std::cos(psi), params_.cycle_s);
+  if (sway_model_.speed_mps == 0.0) {
+    nav_.predict(surge_.speed_mps * std::sin(psi), surge_.speed_mps * std::cos(psi), params_.cycle_s);
+  } else {  // the modelled sway, to starboard, on top of the measured surge
+    const double v = sway_model_.speed_mps;
+    nav_.predict(surge_.speed_mps * std::sin(psi) + v * std::cos(psi),
+                 surge_.speed_mps * std::cos(psi) - v * std::sin(psi), params_.cycle_s);
+  }
   if (faults_.no_gps || heave_.depth_m > params_.gps_max_depth_m) return;
   if (!time_reached(time_s(), next_gps_s_)) return;
   nav_.fix(gps_x_noise_.sample(x_m_, false).value_or(x_m_), gps_y_noise_.sample(y_m_, false).value_or(y_m_),
