@@ -6,22 +6,14 @@
 #include <gtest/gtest.h>
 
 #include "vehicle/leg_trial.h"
+#include "vehicle/open_water_test_support.h"
 #include "vehicle/simulation.h"
 
 namespace strata::vehicle {
 namespace {
 
-Scenario open_water(const std::string& extra = "") {
-  auto s = parse_scenario("seed = 7\n[world]\nkind = \"open_water\"\n" + extra, "ow.toml");
-  EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
-  return s.ok() ? s.value() : Scenario{};
-}
-
-Simulation started(const Scenario& s) {
-  Simulation sim(default_params(), s);
-  EXPECT_TRUE(sim.start_network().ok());
-  return sim;
-}
+using test_support::open_water;
+using test_support::started;
 
 template <typename Pred>
 double run_until(Simulation& sim, Pred pred, double limit_s) {

@@ -7,22 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "vehicle/open_water_test_support.h"
 #include "vehicle/simulation.h"
 
 namespace strata::vehicle {
 namespace {
 
-Scenario open_water(const std::string& extra = "") {
-  auto s = parse_scenario("seed = 7\n[world]\nkind = \"open_water\"\n" + extra, "ow.toml");
-  EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
-  return s.ok() ? s.value() : Scenario{};
-}
-
-Simulation started(const Scenario& s) {
-  Simulation sim(default_params(), s);
-  EXPECT_TRUE(sim.start_network().ok());
-  return sim;
-}
+using test_support::open_water;
+using test_support::started;
 
 TEST(Sway, TheParametersGiveATopSwaySpeedFromBothThrusters) {
   const VehicleParams p = default_params();
