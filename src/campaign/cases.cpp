@@ -58,6 +58,7 @@ std::string scenario_toml(const Spec& spec, const Case& c) {
   if (!c.params.empty()) {
     out = fmt::format("# vehicle parameters (with --params, a file of them): {}\n", params_text(c)) + out;
   }
+  if (!spec.world_toml.empty()) out += fmt::format("\n# the world of {}\n{}\n", spec.world, spec.world_toml);
   if (c.fault) {
     const vehicle::Fault& f = *c.fault;
     out += fmt::format("\n[[fault]]\nkind = \"{}\"\nat_s = {}\n", vehicle::to_string(f.kind), f.at_s);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -12,6 +13,7 @@
 #include "core/toml_reader.h"
 #include "run/answers.h"
 #include "vehicle/params.h"
+#include "vehicle/scenario.h"
 
 namespace strata::campaign {
 namespace {
@@ -27,6 +29,9 @@ const std::vector<std::pair<std::string_view, vehicle::FaultKind>> kFaultKinds =
     {"link_loss", vehicle::FaultKind::LinkLoss},
 };
 
+// The largest world file read (a scenario of a few hundred bytes in practice).
+constexpr std::size_t kMaxWorldBytes = 1u << 20;
+
 bool needs_duration(vehicle::FaultKind k) {
   return k == vehicle::FaultKind::SensorDropout || k == vehicle::FaultKind::LinkLoss;
 }
@@ -37,13 +42,14 @@ class SpecReader {
 
   core::Result<Spec> read(const toml::table& root) {
     for (auto&& [key, node] : root) {
-      static constexpr std::string_view kKeys[] = {"name",         "description", "missions", "seeds",
-                                                   "sample_seed",  "params",      "perturb",  "max_sim_time_s",
-                                                   "telemetry_hz", "expect",      "family"};
+      static constexpr std::string_view kKeys[] = {"name",           "description",  "missions", "seeds",
+                                                   "sample_seed",    "params",       "world",    "perturb",
+                                                   "max_sim_time_s", "telemetry_hz", "expect",   "family"};
       if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys)) {
-        errors_.add(key, fmt::format("unknown key '{}' (expected name, description, missions, seeds, sample_seed, "
-                                     "params, perturb, max_sim_time_s, telemetry_hz, [expect.NAME] or [[family]])",
-                                     key.str()));
+        errors_.add(key,
+                    fmt::format("unknown key '{}' (expected name, description, missions, seeds, sample_seed, "
+                                "params, world, perturb, max_sim_time_s, telemetry_hz, [expect.NAME] or [[family]])",
+                                key.str()));
       }
     }
     if (const toml::node* n = root.get("name")) {
@@ -82,6 +88,7 @@ class SpecReader {
     read_seeds(root);
     read_expectations(root);
     read_params(root);
+    read_world(root);
     if (const toml::node* n = root.get("perturb")) {
       spec_perturb_ = read_perturb(errors_, *n, "perturb", spec_.sample_seed, limits_.max_cases);
     }
@@ -330,6 +337,53 @@ class SpecReader {
     spec_.params = *text;
     spec_.params_resolved = resolved;
     spec_.base_params = params.value();
+  }
+
+  // world = "FILE": a scenario whose world, seabed and vehicle start every
+  // case runs in (an open-water mission's); the faults are the families'.
+  // Read and checked now, so that a bad file is the spec's error at the key.
+  void read_world(const toml::table& root) {
+    const toml::node* n = root.get("world");
+    if (n == nullptr) return;
+    auto file = n->value<std::string>();
+    if (!file || file->empty()) {
+      errors_.add(*n, "'world' must name a scenario file (a string, relative to the spec)");
+      return;
+    }
+    const std::string resolved = (fs::path(spec_.path).parent_path() / *file).lexically_normal().string();
+    auto text = core::read_regular_file(resolved, kMaxWorldBytes);
+    if (!text) {
+      errors_.add(*n, fmt::format("'world': {}", text.error().message));
+      return;
+    }
+    toml::table base;
+    try {
+      base = toml::parse(text.value(), resolved);
+    } catch (const toml::parse_error& e) {
+      errors_.add(*n, fmt::format("'world': {}", e.description()));
+      return;
+    }
+    toml::table kept;
+    for (auto&& [key, node] : base) {
+      const std::string_view k = key.str();
+      if (k == "world" || k == "seabed" || k == "vehicle") {
+        kept.insert(key, node);
+      } else if (k != "seed" && k != "description") {
+        errors_.add(*n, fmt::format("'world': {} has '{}': a world file gives [world], [seabed] and [vehicle] "
+                                    "(the campaign gives each case its seed and its faults)",
+                                    *file, k));
+        return;
+      }
+    }
+    std::ostringstream out;
+    out << kept;
+    // Checked as the scenario it makes (a world file needs no seed).
+    if (auto checked = vehicle::parse_scenario("seed = 0\n" + out.str(), resolved); !checked) {
+      errors_.add(*n, fmt::format("'world': {}", checked.error().message));
+      return;
+    }
+    spec_.world = *file;
+    spec_.world_toml = out.str();
   }
 
   // missions = [...]: the family runs for these of the spec's missions only.

@@ -122,6 +122,10 @@ struct Spec {
   std::string params;
   std::string params_resolved;  // ... relative to the spec's folder, as the run opens it
   vehicle::VehicleParams base_params = vehicle::default_params();
+  // world = "FILE": a scenario file whose [world], [seabed] and [vehicle]
+  // every case's scenario carries (as TOML in world_toml); "" the tank.
+  std::string world;
+  std::string world_toml;
 
   // For each mission, the combinations of the families that apply to it;
   // summed, times the seeds.

@@ -206,6 +206,48 @@ TEST(CampaignSpec, ABadParameterFileIsTheSpecsErrorAtItsKey) {
   EXPECT_NE(std::string::npos, piped.error().message.find("f.toml:2:10: 'params': ")) << piped.error().message;
 }
 
+// world = "FILE": an open-water mission's campaign runs every case in the
+// world of a scenario file (its [world], [seabed] and [vehicle]; the seed and
+// the faults stay the campaign's).
+TEST(CampaignSpec, AWorldFileGivesEveryCaseItsWorldAndAFaultInItIsRefused) {
+  TempDir dir;
+  dir.write("sea.toml",
+            "seed = 11\n[world]\nkind = \"open_water\"\ncurrent_y_mps = 0.1\n[seabed]\nkind = "
+            "\"flat\"\ndepth_m = 25.0\n[vehicle]\nheading_deg = 90.0\n");
+  auto spec =
+      load_spec(dir.write("c.toml", spec_text("world = \"sea.toml\"\n") + "[[family]]\nfault = \"leak\"\nat_s = 30\n"));
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  const Case c = case_at(spec.value(), 0);
+  auto scenario = vehicle::parse_scenario(scenario_toml(spec.value(), c), "case.toml");
+  ASSERT_TRUE(scenario.ok()) << scenario.error().message << "\n" << scenario_toml(spec.value(), c);
+  EXPECT_TRUE(scenario.value().world.open_water);
+  EXPECT_DOUBLE_EQ(0.1, scenario.value().world.current_y_mps);
+  EXPECT_DOUBLE_EQ(90.0, scenario.value().vehicle_heading_deg);
+  ASSERT_EQ(1u, scenario.value().faults.size());  // the family's, not the file's
+  EXPECT_EQ(c.seed, scenario.value().seed);
+  // Its faults are the families' to give; other errors at the key too.
+  dir.write("faulty.toml", "[world]\nkind = \"open_water\"\n[[fault]]\nkind = \"leak\"\nat_s = 5\n");
+  auto faulty =
+      load_spec(dir.write("f.toml", spec_text("world = \"faulty.toml\"\n") + "[[family]]\nfault = \"none\"\n"));
+  ASSERT_FALSE(faulty.ok());
+  EXPECT_NE(std::string::npos, faulty.error().message.find("f.toml:2:9: 'world': faulty.toml has 'fault'"))
+      << faulty.error().message;
+  dir.write("bad.toml", "[world]\nkind = \"lake\"\n");
+  auto bad = load_spec(dir.write("b.toml", spec_text("world = \"bad.toml\"\n")));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(std::string::npos, bad.error().message.find("b.toml:2:9: 'world': ")) << bad.error().message;
+  auto missing = load_spec(dir.write("m.toml", spec_text("world = \"nosuch.toml\"\n")));
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(std::string::npos, missing.error().message.find("m.toml:2:9: 'world': ")) << missing.error().message;
+  EXPECT_NE(std::string::npos, error_of(spec_text("world = 3\n")).find("'world' must name a scenario file"));
+  const auto fifo = core::testing::make_fifo("world.toml");
+  ASSERT_FALSE(fifo.empty());
+  auto piped = load_spec(dir.write("p.toml", spec_text("world = \"" + fifo.string() + "\"\n")));
+  std::filesystem::remove_all(fifo.parent_path());
+  ASSERT_FALSE(piped.ok());
+  EXPECT_NE(std::string::npos, piped.error().message.find("p.toml:2:9: 'world': ")) << piped.error().message;
+}
+
 TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {
   const std::string body = R"(
 [[family]]
