@@ -120,14 +120,20 @@ int run_studio(const StudioOptions& o, bool listen_given) {
       so.sonar_dir = fs::path(o.sonar);
     }
   }
+  // Our own temporary folder goes whichever way the studio ends.
+  const auto remove_own_sonar = [&] {
+    if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);
+  };
   auto server = studio::make_http_server(so, hub);
   if (!server) {
     std::cerr << "strata studio: " << server.error().message << "\n";
+    remove_own_sonar();
     return kExitUnavailable;
   }
   auto port = server.value()->start();
   if (!port) {
     std::cerr << "strata studio: " << port.error().message << "\n";
+    remove_own_sonar();
     return kExitIo;
   }
   std::cout << fmt::format("http://{}:{}", host, port.value()) << std::endl;
@@ -140,8 +146,8 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   int signal = 0;
   sigwait(&stop_signals, &signal);
   if (!quiet) std::cerr << "strata studio: stopping\n";
-  server.value()->stop();                                                // a run going ends through its safe end first
-  if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);  // our own temporary folder
+  server.value()->stop();  // a run going ends through its safe end first
+  remove_own_sonar();
   return kExitOk;
 }
 

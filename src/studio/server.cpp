@@ -106,7 +106,23 @@ core::Result<std::uint16_t> StudioServer::start() {
     const std::string form = fmt::format("{}:{}", h, port_);
     if (form != own_hosts_.front()) own_hosts_.push_back(form);
   }
-  listener_ = std::thread([this] { server_->listen_after_bind(); });
+  listener_ = std::thread([this] {
+    server_->listen_after_bind();
+    listener_done_ = true;
+  });
+  // Returns once the server is in its accept loop: cpp-httplib's stop()
+  // does nothing before that, so a stop() right after start() (Ctrl-C as
+  // the URL is printed) left the listener running and stop() joining it
+  // for ever.
+  for (int i = 0; i < 5000 && !server_->is_running() && !listener_done_; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (!server_->is_running()) {
+    server_->stop();
+    if (listener_done_ && listener_.joinable()) listener_.join();
+    return core::Error{core::ErrorCode::Io,
+                       fmt::format("cannot listen on {}:{}: the server did not start", options_.host, port_)};
+  }
   watcher_->start();
   return port_;
 }

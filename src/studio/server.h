@@ -11,6 +11,7 @@
 // thread of its own; requests are served by a pool of `threads` workers
 // (each open event stream holds one). stop() ends every stream, stops the
 // listener and joins it; it is safe to call twice, and from the destructor.
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -77,6 +78,7 @@ class StudioServer final : public HttpServer {
   RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread listener_;
+  std::atomic<bool> listener_done_{false};  // listen_after_bind returned
   std::uint16_t port_ = 0;
   std::vector<std::string> own_hosts_;  // set by start(), before the first request
 };
