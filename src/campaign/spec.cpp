@@ -360,7 +360,8 @@ class SpecReader {
     try {
       base = toml::parse(text.value(), resolved);
     } catch (const toml::parse_error& e) {
-      errors_.add(*n, fmt::format("'world': {}", e.description()));
+      errors_.add(*n, fmt::format("'world': {}:{}:{}: {}", resolved, e.source().begin.line, e.source().begin.column,
+                                  e.description()));
       return;
     }
     toml::table kept;

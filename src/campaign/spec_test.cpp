@@ -239,6 +239,11 @@ TEST(CampaignSpec, AWorldFileGivesEveryCaseItsWorldAndAFaultInItIsRefused) {
   auto missing = load_spec(dir.write("m.toml", spec_text("world = \"nosuch.toml\"\n")));
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(std::string::npos, missing.error().message.find("m.toml:2:9: 'world': ")) << missing.error().message;
+  // Not TOML: the place in the world file too.
+  dir.write("garbled.toml", "[world]\nkind = = \"open_water\"\n");
+  auto garbled = load_spec(dir.write("g.toml", spec_text("world = \"garbled.toml\"\n")));
+  ASSERT_FALSE(garbled.ok());
+  EXPECT_NE(std::string::npos, garbled.error().message.find("garbled.toml:2:")) << garbled.error().message;
   EXPECT_NE(std::string::npos, error_of(spec_text("world = 3\n")).find("'world' must name a scenario file"));
   const auto fifo = core::testing::make_fifo("world.toml");
   ASSERT_FALSE(fifo.empty());
