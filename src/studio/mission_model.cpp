@@ -208,6 +208,12 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
 
 std::string etag_of(std::string_view bytes) { return fmt::format("\"{}\"", tactical::sha256_hex(bytes).substr(0, 32)); }
 
+std::string mission_kind(const std::string& path) {
+  if (path.ends_with(".coral")) return "coral";
+  if (path.ends_with(".pl")) return "prolog";
+  return "";
+}
+
 bool plain_scenario_name(std::string_view name) {
   if (name.empty() || name.size() > 64) return false;
   return std::all_of(name.begin(), name.end(),

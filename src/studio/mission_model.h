@@ -30,6 +30,9 @@ struct CompiledMission {
 // The version of a file's bytes, as an HTTP entity tag (quotes included).
 std::string etag_of(std::string_view bytes);
 
+// "coral" for a .coral file, "prolog" for a .pl one, else empty: not a mission.
+std::string mission_kind(const std::string& path);
+
 // A scenario is a name: letters, digits, '_' and '-' (never a path).
 bool plain_scenario_name(std::string_view name);
 // The scenarios of `mission` (relative): scenarios/NAME.toml beside it,

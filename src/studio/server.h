@@ -54,7 +54,9 @@ class StudioServer final : public HttpServer {
   bool page_built() const override;
 
  private:
-  void routes();
+  void routes();                         // the guards (Host, Origin, errors), then the two below, then the page
+  void file_routes(httplib::Server& s);  // server_files.cpp
+  void run_routes(httplib::Server& s);   // server_runs.cpp
   // The page's assets, precompressed at build time: the variant the
   // request accepts (br, then gzip, else the bytes as built), never
   // compressed here.
