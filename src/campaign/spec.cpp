@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "campaign/axis.h"
+#include "campaign/spec_files.h"
 #include "campaign/spec_perturb.h"
 #include "core/file.h"
 #include "core/toml_reader.h"
 #include "run/answers.h"
-#include "vehicle/params.h"
 #include "vehicle/scenario.h"
 
 namespace strata::campaign {
@@ -28,9 +27,6 @@ const std::vector<std::pair<std::string_view, vehicle::FaultKind>> kFaultKinds =
     {"sensor_dropout", vehicle::FaultKind::SensorDropout},
     {"link_loss", vehicle::FaultKind::LinkLoss},
 };
-
-// The largest world file read (a scenario of a few hundred bytes in practice).
-constexpr std::size_t kMaxWorldBytes = 1u << 20;
 
 bool needs_duration(vehicle::FaultKind k) {
   return k == vehicle::FaultKind::SensorDropout || k == vehicle::FaultKind::LinkLoss;
@@ -87,8 +83,8 @@ class SpecReader {
     read_missions(root);
     read_seeds(root);
     read_expectations(root);
-    read_params(root);
-    read_world(root);
+    read_params(errors_, root, spec_);
+    read_world(errors_, root, spec_);
     if (const toml::node* n = root.get("perturb")) {
       spec_perturb_ = read_perturb(errors_, *n, "perturb", spec_.sample_seed, limits_.max_cases);
     }
@@ -316,75 +312,6 @@ class SpecReader {
     read_answers(t, f);
     read_family_perturb(errors_, t, f, spec_perturb_, spec_.base_params, spec_.sample_seed, limits_.max_cases);
     spec_.families.push_back(std::move(f));
-  }
-
-  // params = "FILE": the vehicle every case starts from, read now so that a
-  // bad file is the spec's error, located at the key.
-  void read_params(const toml::table& root) {
-    const toml::node* n = root.get("params");
-    if (n == nullptr) return;
-    auto text = n->value<std::string>();
-    if (!text || text->empty()) {
-      errors_.add(*n, "'params' must name a vehicle parameter file (a string, relative to the spec)");
-      return;
-    }
-    const std::string resolved = (fs::path(spec_.path).parent_path() / *text).lexically_normal().string();
-    auto params = vehicle::load_params(resolved);
-    if (!params) {
-      errors_.add(*n, fmt::format("'params': {}", params.error().message));
-      return;
-    }
-    spec_.params = *text;
-    spec_.params_resolved = resolved;
-    spec_.base_params = params.value();
-  }
-
-  // world = "FILE": a scenario whose world, seabed and vehicle start every
-  // case runs in (an open-water mission's); the faults are the families'.
-  // Read and checked now, so that a bad file is the spec's error at the key.
-  void read_world(const toml::table& root) {
-    const toml::node* n = root.get("world");
-    if (n == nullptr) return;
-    auto file = n->value<std::string>();
-    if (!file || file->empty()) {
-      errors_.add(*n, "'world' must name a scenario file (a string, relative to the spec)");
-      return;
-    }
-    const std::string resolved = (fs::path(spec_.path).parent_path() / *file).lexically_normal().string();
-    auto text = core::read_regular_file(resolved, kMaxWorldBytes);
-    if (!text) {
-      errors_.add(*n, fmt::format("'world': {}", text.error().message));
-      return;
-    }
-    toml::table base;
-    try {
-      base = toml::parse(text.value(), resolved);
-    } catch (const toml::parse_error& e) {
-      errors_.add(*n, fmt::format("'world': {}:{}:{}: {}", resolved, e.source().begin.line, e.source().begin.column,
-                                  e.description()));
-      return;
-    }
-    toml::table kept;
-    for (auto&& [key, node] : base) {
-      const std::string_view k = key.str();
-      if (k == "world" || k == "seabed" || k == "vehicle") {
-        kept.insert(key, node);
-      } else if (k != "seed" && k != "description") {
-        errors_.add(*n, fmt::format("'world': {} has '{}': a world file gives [world], [seabed] and [vehicle] "
-                                    "(the campaign gives each case its seed and its faults)",
-                                    *file, k));
-        return;
-      }
-    }
-    std::ostringstream out;
-    out << kept;
-    // Checked as the scenario it makes (a world file needs no seed).
-    if (auto checked = vehicle::parse_scenario("seed = 0\n" + out.str(), resolved); !checked) {
-      errors_.add(*n, fmt::format("'world': {}", checked.error().message));
-      return;
-    }
-    spec_.world = *file;
-    spec_.world_toml = out.str();
   }
 
   // missions = [...]: the family runs for these of the spec's missions only.
