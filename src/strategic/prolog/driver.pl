@@ -25,6 +25,12 @@
             close_mission/1,         % +Module
             unlimited/0
           ]).
+% Defined by driver_load.pl, loaded into this module after this file: so
+% declared here, or the end of this file's load says they are not defined.
+:- multifile load_mission/2,
+             load_mission/3,
+             check_mission/2.
+
 :- use_module(library(lists)).
 :- use_module(library(apply)).
 :- use_module(library(aggregate)).
