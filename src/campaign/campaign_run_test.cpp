@@ -392,6 +392,45 @@ perturb = { detection.surface_depth_m = [0.15, 1.2] }
   EXPECT_LT(deep, shallow) << lines[0].dump() << "\n" << lines[1].dump();
 }
 
+// Found by a 100,000-case run: the mission surfaces and shuts down the
+// moment the vehicle answers surface_reached (by its depth filter's
+// estimate, 0.149 m), and the run ends with the last depth-cell reading at
+// 0.156 m: "never seen at the surface" was a noisy reading's verdict.
+TEST(CampaignRun, TheSurfaceIsTheVehiclesOwnEstimateNotOneNoisyDepthReading) {
+  TempDir dir;
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir + R"(/tank.coral"]
+seeds = [585]
+[expect.leak]
+outcomes = ["aborted", "completed"]
+surface_within_s = 15.0
+[[family]]
+fault = "leak"
+at_s = 5
+perturb = { hull.buoyancy_n = [9.447651], thrusters.max_n = [15] }
+expect = "leak"
+)");
+  CampaignOptions o;
+  o.out_dir = dir.file("out");
+  o.keep_logs = KeepLogs::All;
+  ASSERT_TRUE(run_campaign(spec, all(spec), o).ok());
+  const auto lines = testing::read_results(dir.file("out/results.jsonl"));
+  ASSERT_EQ(1u, lines.size());
+  // The case as found: the last telemetry's reading over 0.15 m, the
+  // vehicle's estimate under it.
+  std::ifstream log(dir.file("out/logs/case-0.jsonl"));
+  nlohmann::json last;
+  for (std::string line; std::getline(log, line);) {
+    auto j = nlohmann::json::parse(line, nullptr, false);
+    if (!j.is_discarded() && j.value("event", "") == "telemetry") last = j;
+  }
+  ASSERT_TRUE(last.is_object()) << "no telemetry in the kept log";
+  EXPECT_GT(last["depth_m"].get<double>(), 0.15) << last.dump();
+  EXPECT_LE(last["filtered_depth_m"].get<double>(), 0.15) << last.dump();
+  EXPECT_TRUE(lines[0]["pass"].get<bool>()) << lines[0].dump();
+  EXPECT_EQ("telemetry", lines[0]["figures"]["surface_seen"]) << lines[0].dump();
+  EXPECT_LE(lines[0]["figures"]["time_to_surface_s"].get<double>(), 15.0) << lines[0].dump();
+}
+
 TEST(CampaignRun, TheOutputFolderIsNeverALink) {
   TempDir dir;
   const Spec spec = load(dir, small_spec(kNominalOk));

@@ -33,7 +33,12 @@ class CaseWatcher final : public run::RunObserver {
   void telemetry(const protocol::Telemetry& t) override {
     if (!t.depth_m) return;  // a sensor dropout
     max_depth_m = std::max(max_depth_m.value_or(*t.depth_m), *t.depth_m);
-    if (fault_at_s_ && !surfaced_at_s && t.sim_time_s >= *fault_at_s_ - 1e-9 && *t.depth_m <= surface_depth_m_) {
+    // At the surface as the vehicle judges it (surface_reached answers by
+    // the depth filter's estimate), not by one noisy depth-cell reading: a
+    // mission that surfaces and shuts down at once may end with the last
+    // reading a few millimetres over surface_depth_m, the estimate under.
+    const double judged = t.filtered_depth_m.value_or(*t.depth_m);
+    if (fault_at_s_ && !surfaced_at_s && t.sim_time_s >= *fault_at_s_ - 1e-9 && judged <= surface_depth_m_) {
       surfaced_at_s = t.sim_time_s;
     }
   }

@@ -27,10 +27,11 @@ struct Observation {
   std::optional<double> fault_at_s;
   bool fault_reached = false;
   // Seconds from the fault's start to the first sign of the vehicle at the
-  // surface (depth <= the vehicle's surface_depth_m): a depth-cell reading
-  // in telemetry; when telemetry stopped (a lost link), the vehicle's own
-  // log line "at the surface"; failing that, the vehicle's final state after
-  // the run, which bounds it from above.
+  // surface (depth <= the vehicle's surface_depth_m): the vehicle's depth
+  // estimate in telemetry (the depth filter's, by which it answers
+  // surface_reached; the depth cell's reading before the filter has one); when telemetry stopped (a lost link), the
+  // vehicle's own log line "at the surface"; failing that, the vehicle's final state after the run, which bounds it
+  // from above.
   std::optional<double> time_to_surface_s;
   std::string surface_seen;  // "telemetry", "vehicle log", "final state", or ""
   int refused_execs = 0;     // EXECs the vehicle refused or answered 0, or scripted answers failed
