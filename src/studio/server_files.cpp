@@ -50,6 +50,18 @@ std::optional<std::string> StudioServer::refuse_write(const std::string& relativ
 
 void StudioServer::file_routes(httplib::Server& s) {
   const tactical::Catalogue& catalogue = *options_.catalogue;
+  // A JSON body whose "path" names a mission inside the folder (it may not
+  // exist yet), or nullopt with the error answered.
+  auto mission_body = [this](const httplib::Request& req, httplib::Response& res) -> std::optional<json> {
+    auto body = json_body(req, res);
+    if (!body) return std::nullopt;
+    auto real = sandbox_.resolve(body->value("path", ""), true);
+    if (!real) {
+      send_path_error(res, real.error());
+      return std::nullopt;
+    }
+    return body;
+  };
 
   s.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {
     json missions = json::array();
@@ -93,21 +105,17 @@ void StudioServer::file_routes(httplib::Server& s) {
     send_json(res, *models_.keep(std::move(m.model)));
   });
 
-  s.Post("/api/check", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
-    auto body = json_body(req, res);
+  s.Post("/api/check", [this, &catalogue, mission_body](const httplib::Request& req, httplib::Response& res) {
+    auto body = mission_body(req, res);
     if (!body) return;
     const std::string path = body->value("path", "");
-    auto real = sandbox_.resolve(path, true);
-    if (!real) return send_path_error(res, real.error());
     send_json(res, *models_.keep(compile_mission(sandbox_, path, body->value("text", ""), catalogue).model));
   });
 
-  s.Post("/api/edit", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
-    auto body = json_body(req, res);
+  s.Post("/api/edit", [this, &catalogue, mission_body](const httplib::Request& req, httplib::Response& res) {
+    auto body = mission_body(req, res);
     if (!body) return;
     const std::string path = body->value("path", "");
-    auto real = sandbox_.resolve(path, true);
-    if (!real) return send_path_error(res, real.error());
     auto edit = edit_from_json(body->value("op", json()));
     if (!edit) return send_error(res, 400, edit.error().message);
     const std::string before = body->value("text", "");
@@ -138,12 +146,10 @@ void StudioServer::file_routes(httplib::Server& s) {
     send_json(res, *kept);
   });
 
-  s.Post("/api/verify", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {
-    auto body = json_body(req, res);
+  s.Post("/api/verify", [this, &catalogue, mission_body](const httplib::Request& req, httplib::Response& res) {
+    auto body = mission_body(req, res);
     if (!body) return;
     const std::string path = body->value("path", "");
-    auto real = sandbox_.resolve(path, true);
-    if (!real) return send_path_error(res, real.error());
     std::optional<std::string> text;
     if (body->contains("text") && (*body)["text"].is_string()) text = (*body)["text"].get<std::string>();
     CompiledMission m = compile_mission(sandbox_, path, text, catalogue);
