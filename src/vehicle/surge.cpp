@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vehicle/drag_axis.h"
+
 namespace strata::vehicle {
 
 double speed_thrust_n(const VehicleParams& p, double speed_mps) {
@@ -11,11 +13,8 @@ double speed_thrust_n(const VehicleParams& p, double speed_mps) {
 }
 
 void advance_surge(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double h_s, SurgeState& s) {
-  const double target = std::clamp(thrust_cmd_n, -thrust_limit_n, thrust_limit_n);
-  const double lag = p.motor_lag_s > 0.0 ? 1.0 - std::exp(-h_s / p.motor_lag_s) : 1.0;
-  s.thrust_n += (target - s.thrust_n) * lag;
-  const double force = s.thrust_n - p.surge_drag_coeff * s.speed_mps * std::abs(s.speed_mps);
-  s.speed_mps += h_s * force / p.total_surge_mass_kg();
+  advance_drag_axis({p.motor_lag_s, p.surge_drag_coeff, p.total_surge_mass_kg()}, thrust_cmd_n, thrust_limit_n, h_s,
+                    s.thrust_n, s.speed_mps);
 }
 
 }  // namespace strata::vehicle

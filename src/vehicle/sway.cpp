@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vehicle/drag_axis.h"
+
 namespace strata::vehicle {
 
 double sway_force_n(const VehicleParams& p, double speed_mps) {
@@ -16,11 +18,8 @@ double sway_force_limit_n(const VehicleParams& p, double moment_nm, double healt
 }
 
 void advance_sway(const VehicleParams& p, double force_cmd_n, double force_limit_n, double h_s, SwayState& s) {
-  const double target = std::clamp(force_cmd_n, -force_limit_n, force_limit_n);
-  const double lag = p.transverse_lag_s > 0.0 ? 1.0 - std::exp(-h_s / p.transverse_lag_s) : 1.0;
-  s.force_n += (target - s.force_n) * lag;
-  const double force = s.force_n - p.sway_drag_coeff * s.speed_mps * std::abs(s.speed_mps);
-  s.speed_mps += h_s * force / p.total_sway_mass_kg();
+  advance_drag_axis({p.transverse_lag_s, p.sway_drag_coeff, p.total_sway_mass_kg()}, force_cmd_n, force_limit_n, h_s,
+                    s.force_n, s.speed_mps);
 }
 
 }  // namespace strata::vehicle
