@@ -13,14 +13,12 @@
 
 #include <fmt/format.h>
 
+#include "core/file.h"
+
 namespace strata::campaign {
 namespace {
 
 namespace fs = std::filesystem;
-
-core::Error io_error(const std::string& what) {
-  return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
-}
 
 }  // namespace
 
@@ -35,7 +33,7 @@ core::Result<void> make_real_dir(const std::string& path) {
     }
     return {};
   }
-  if (::mkdir(path.c_str(), 0755) != 0) return io_error(fmt::format("cannot create {}", path));
+  if (::mkdir(path.c_str(), 0755) != 0) return core::errno_error(fmt::format("cannot create {}", path));
   return {};
 }
 
@@ -113,16 +111,16 @@ core::Result<void> write_out_file(const std::string& dir, const std::string& nam
                                   mode_t mode) {
   const std::string path = (fs::path(dir) / name).string();
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, mode);
-  if (fd < 0) return io_error(fmt::format("cannot write {}", path));
+  if (fd < 0) return core::errno_error(fmt::format("cannot write {}", path));
   const bool ok = write_all_fd(fd, text) && ::fchmod(fd, mode) == 0;
-  if (::close(fd) != 0 || !ok) return io_error(fmt::format("cannot write {}", path));
+  if (::close(fd) != 0 || !ok) return core::errno_error(fmt::format("cannot write {}", path));
   return {};
 }
 
 core::Result<ResultsFile> ResultsFile::create(const std::string& dir) {
   const std::string path = (fs::path(dir) / "results.jsonl").string();
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) return io_error(fmt::format("cannot write {}", path));
+  if (fd < 0) return core::errno_error(fmt::format("cannot write {}", path));
   return ResultsFile(fd);
 }
 
@@ -133,7 +131,7 @@ ResultsFile::~ResultsFile() {
 core::Result<void> ResultsFile::append(const nlohmann::ordered_json& line) {
   // One write per line: the file never holds half a line that a later
   // line's write could follow.
-  if (!write_all_fd(fd_, line.dump() + "\n")) return io_error("cannot write results.jsonl");
+  if (!write_all_fd(fd_, line.dump() + "\n")) return core::errno_error("cannot write results.jsonl");
   return {};
 }
 

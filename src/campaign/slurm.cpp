@@ -20,6 +20,7 @@
 #include <fmt/ranges.h>
 
 #include "campaign/output.h"
+#include "core/file.h"
 
 extern char** environ;
 
@@ -91,10 +92,6 @@ std::string quoted_words(const std::vector<std::string>& words) {
   return s;
 }
 
-core::Error io_error(const std::string& what) {
-  return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
-}
-
 struct Ran {
   int status = -1;  // waitpid's status
   std::string out, err;
@@ -104,11 +101,11 @@ struct Ran {
 // stderr read through pipes; at most bound_s seconds, then killed by pid.
 core::Result<Ran> run_captured(const std::vector<std::string>& args, double bound_s) {
   int out_pipe[2], err_pipe[2];
-  if (::pipe2(out_pipe, O_CLOEXEC) != 0) return io_error("pipe");
+  if (::pipe2(out_pipe, O_CLOEXEC) != 0) return core::errno_error("pipe");
   if (::pipe2(err_pipe, O_CLOEXEC) != 0) {
     ::close(out_pipe[0]);
     ::close(out_pipe[1]);
-    return io_error("pipe");
+    return core::errno_error("pipe");
   }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);

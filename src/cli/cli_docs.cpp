@@ -40,7 +40,7 @@ std::string value_name(const CLI::Option& opt) {
 
 // The first sentence of a description (completion menus are one line).
 std::string first_sentence(std::string_view text) {
-  std::size_t end = text.find_first_of("\n");
+  std::size_t end = text.find('\n');
   for (std::size_t i = 0; i + 1 < text.size() && i < end; ++i) {
     if (((text[i] == '.' || text[i] == ':' || text[i] == ';') && text[i + 1] == ' ') ||
         (text[i] == ' ' && text[i + 1] == '(')) {
@@ -56,7 +56,7 @@ std::string first_sentence(std::string_view text) {
 std::string full_name(const CLI::App& app) {
   std::string name = app.get_name();
   for (const CLI::App* p = app.get_parent(); p && !p->get_name().empty(); p = p->get_parent()) {
-    name = p->get_name() + " " + name;
+    name.insert(0, p->get_name() + " ");
   }
   return name;
 }

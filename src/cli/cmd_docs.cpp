@@ -53,7 +53,7 @@ int write_files(const std::string& dir, const std::vector<GeneratedFile>& files)
 
 }  // namespace
 
-Runner add_docs_commands(CLI::App& app, std::string version) {
+Runner add_docs_commands(CLI::App& app, const std::string& version) {
   auto shell = std::make_shared<std::string>();
   auto* completion = app.add_subcommand(
       "completion", "Print a shell completion script: `source <(strata completion bash)`, or install it (see docs)");

@@ -41,7 +41,7 @@ Runner add_primitives_command(CLI::App& app);
 Runner add_sonar_command(CLI::App& app);
 // `strata completion SHELL` and the hidden `strata manpages DIR`: one
 // runner for both (cli_docs.h). version: as --version prints it.
-Runner add_docs_commands(CLI::App& app, std::string version);
+Runner add_docs_commands(CLI::App& app, const std::string& version);
 // `strata campaign`.
 Runner add_campaign_command(CLI::App& app);
 

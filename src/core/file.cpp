@@ -12,6 +12,10 @@
 
 namespace strata::core {
 
+Error errno_error(const std::string& what) {
+  return make_error(ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
+}
+
 Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open) {
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);

@@ -22,4 +22,7 @@ using CannotOpenText = std::string (*)(const std::string& path, const char* reas
 Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes,
                                       CannotOpenText cannot_open = nullptr);
 
+// An Io error for the system call that just failed: "what: strerror(errno)".
+Error errno_error(const std::string& what);
+
 }  // namespace strata::core

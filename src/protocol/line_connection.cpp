@@ -118,7 +118,7 @@ void LineConnection::write_front() {
   const std::size_t n = std::min<std::size_t>(queue_.size(), kMaxGather);
   std::vector<asio::const_buffer> buffers;
   buffers.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) buffers.push_back(asio::buffer(queue_[i]));
+  for (std::size_t i = 0; i < n; ++i) buffers.emplace_back(asio::buffer(queue_[i]));
   in_flight_ = n;
   asio::async_write(socket_, buffers, [self = shared_from_this()](const asio::error_code& e, std::size_t) {
     self->writing_ = false;

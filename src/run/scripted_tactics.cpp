@@ -40,7 +40,7 @@ void ScriptedTactics::diverge(const std::string& why) {
   if (on_diverge_) on_diverge_(why);
 }
 
-void ScriptedTactics::withhold(std::string_view name, tactical::CallHandler done) {
+void ScriptedTactics::withhold(std::string_view name, tactical::CallHandler&& done) {
   asio::post(io_, [done = std::move(done), what = std::string(name)] {
     done(core::make_error(core::ErrorCode::InvalidInput,
                           fmt::format("{} not sent: the run left the scripted answers", what)));

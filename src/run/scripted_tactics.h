@@ -62,7 +62,7 @@ class ScriptedTactics final : public strategic::Tactics, public strategic::Obser
   std::optional<std::size_t> next_of(const std::string& net) const;
   void diverge(const std::string& why);
   // After the divergence: the call is not sent; done gets an error, posted.
-  void withhold(std::string_view name, tactical::CallHandler done);
+  void withhold(std::string_view name, tactical::CallHandler&& done);
 
   strategic::Tactics& inner_;
   asio::io_context& io_;

@@ -123,7 +123,7 @@ const char* outcome_name(Outcome outcome) {
   return "?";
 }
 
-ManagerSummary run_sonar_manager(const ManagerOptions& o, std::stop_token stop) {
+ManagerSummary run_sonar_manager(const ManagerOptions& o, const std::stop_token& stop) {
   auto log = o.log ? o.log : [](const std::string& line) { std::cerr << line << std::endl; };
   ManagerSummary s;
   auto finish = [&](Outcome outcome, std::string message) {

@@ -70,6 +70,6 @@ struct ManagerSummary {
 // writes the frame under way, if any, and the summary line
 // {"event":"end",...} in DIR/sonar.jsonl. Blocks; starts and joins the
 // capture thread. Expected failures are in the summary, not thrown.
-ManagerSummary run_sonar_manager(const ManagerOptions& options, std::stop_token stop = {});
+ManagerSummary run_sonar_manager(const ManagerOptions& options, const std::stop_token& stop = {});
 
 }  // namespace strata::sonar

@@ -362,8 +362,9 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
                             fmt::format("{}: {} error{}", path, errors, errors == 1 ? "" : "s"));
   }
   if (keep_rules == KeepRules::Yes) {
-    mission->kept_ = keep(key, mission->module_, {messages.begin() + first_message, messages.end()},
-                          mission->data_file_, limits.max_bytes);
+    mission->kept_ =
+        keep(key, mission->module_, {messages.begin() + static_cast<std::ptrdiff_t>(first_message), messages.end()},
+             mission->data_file_, limits.max_bytes);
   }
   return mission;
 }

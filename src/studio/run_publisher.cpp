@@ -87,7 +87,7 @@ void RunPublisher::phase_ended(const strategic::PhaseEnd& e) {
     }
   }
   EventHub::Keys keys{e.instance, action, std::string(e.name)};
-  hub_.publish_lazy("phase_end", std::move(keys),
+  hub_.publish_lazy("phase_end", keys,
                     [instance = e.instance, net = std::string(e.name), exit = std::string(e.exit),
                      cancelled = e.cancelled, action, dropped = std::move(dropped), t = e.sim_time_s] {
                       return json{

@@ -28,7 +28,7 @@ class SonarServer::Reader {
   void start() { connection_->start(); }
 
   // Queues a frame; a ping (droppable) is dropped when its bound is reached.
-  void send(std::shared_ptr<const std::string> bytes, bool droppable) {
+  void send(const std::shared_ptr<const std::string>& bytes, bool droppable) {
     if (connection_->closing() || !server_) return;
     if (droppable && connection_->queued_bytes() + bytes->size() > server_->options_.max_queue_bytes) {
       ++dropped_;
@@ -52,7 +52,7 @@ class SonarServer::Reader {
   ~Reader() { connection_->close(); }
 
  private:
-  static constexpr std::size_t kControlRoomBytes = 64 * 1024;
+  static constexpr std::size_t kControlRoomBytes = std::size_t{64} * 1024;
 
   void leave() {
     if (server_) {
