@@ -46,13 +46,19 @@ class QuestionSearch {
         missing_(net.transition_count(), 0),
         enabled_at_(net.transition_count(), 0) {
     delta_begin_.push_back(0);
+    // C(p, t) from t's own arcs (Net::incidence would search them per place).
+    std::vector<std::int64_t> change(net.place_count(), 0);
+    std::vector<TransitionId> input_of(net.place_count(), kNoTransition);
     for (TransitionId t = 0; t < net.transition_count(); ++t) {
+      for (const Arc& a : net.outputs(t)) change[a.node] = a.weight;
       for (const Arc& a : net.inputs(t)) {
-        const std::int64_t c = net.incidence(a.node, t);
+        input_of[a.node] = t;
+        const std::int64_t c = change[a.node] - std::int64_t{a.weight};
         if (c != 0) deltas_.push_back({a.node, c});
       }
       for (const Arc& a : net.outputs(t)) {
-        if (net.pre_weight(a.node, t) == 0) deltas_.push_back({a.node, std::int64_t{a.weight}});
+        if (input_of[a.node] != t) deltas_.push_back({a.node, std::int64_t{a.weight}});
+        change[a.node] = 0;
       }
       delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
       std::uint64_t h = 0;

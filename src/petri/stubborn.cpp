@@ -12,22 +12,49 @@ StubbornSets::StubbornSets(const Net& net)
       on_stack_(net.transition_count(), 0) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
-  inc_begin_.push_back(0);
-  dec_begin_.push_back(0);
-  for (PlaceId p = 0; p < places; ++p) {
-    // Candidates: the transitions with an arc on p; the sign of C(p, t).
-    std::vector<TransitionId> touching;
-    for (const Arc& a : net.readers(p)) touching.push_back(a.node);
-    for (const Arc& a : net.writers(p)) touching.push_back(a.node);
-    std::sort(touching.begin(), touching.end());
-    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
-    for (TransitionId t : touching) {
-      const std::int64_t c = net.incidence(p, t);
-      if (c > 0) inc_.push_back(t);
-      if (c < 0) dec_.push_back(t);
+  // C(p, t) for the places of each transition, from its own arcs (one pass
+  // over the arcs: Net::incidence searches them, once per pair).
+  std::vector<std::int64_t> change(places, 0);
+  auto load = [&](TransitionId t, int sign) {
+    for (const Arc& a : net.inputs(t)) change[a.node] -= sign * std::int64_t{a.weight};
+    for (const Arc& a : net.outputs(t)) change[a.node] += sign * std::int64_t{a.weight};
+  };
+  // By place, in increasing TransitionId: the transitions with C(p, t) > 0
+  // (inc_) and < 0 (dec_); counted first, then filled.
+  inc_begin_.assign(places + 1, 0);
+  dec_begin_.assign(places + 1, 0);
+  // f(t, p) once for each place p that t has an arc on, C(p, t) in change[p].
+  std::vector<TransitionId> input_of(places, UINT32_MAX);
+  auto each_change = [&](auto&& f) {
+    for (TransitionId t = 0; t < transitions; ++t) {
+      load(t, +1);
+      for (const Arc& a : net.inputs(t)) {
+        input_of[a.node] = t;
+        f(t, a.node);
+      }
+      for (const Arc& a : net.outputs(t)) {
+        if (input_of[a.node] != t) f(t, a.node);
+      }
+      load(t, -1);
     }
-    inc_begin_.push_back(static_cast<std::uint32_t>(inc_.size()));
-    dec_begin_.push_back(static_cast<std::uint32_t>(dec_.size()));
+  };
+  each_change([&](TransitionId, PlaceId p) {
+    if (change[p] > 0) ++inc_begin_[p + 1];
+    if (change[p] < 0) ++dec_begin_[p + 1];
+  });
+  for (std::size_t p = 0; p < places; ++p) {
+    inc_begin_[p + 1] += inc_begin_[p];
+    dec_begin_[p + 1] += dec_begin_[p];
+  }
+  inc_.resize(inc_begin_[places]);
+  dec_.resize(dec_begin_[places]);
+  {
+    std::vector<std::uint32_t> inc_next(inc_begin_.begin(), inc_begin_.end() - 1);
+    std::vector<std::uint32_t> dec_next(dec_begin_.begin(), dec_begin_.end() - 1);
+    each_change([&](TransitionId t, PlaceId p) {
+      if (change[p] > 0) inc_[inc_next[p]++] = t;
+      if (change[p] < 0) dec_[dec_next[p]++] = t;
+    });
   }
   std::vector<std::uint32_t> seen(transitions, UINT32_MAX);
   needs_begin_.reserve(transitions + 1);
@@ -39,12 +66,14 @@ StubbornSets::StubbornSets(const Net& net)
       seen[u] = t;
       needs_.push_back(u);
     };
+    load(t, +1);
     for (const Arc& in : net.inputs(t)) {
       for (std::uint32_t i = dec_begin_[in.node]; i < dec_begin_[in.node + 1]; ++i) need(dec_[i]);
-      if (net.incidence(in.node, t) < 0) {
+      if (change[in.node] < 0) {
         for (const Arc& r : net.readers(in.node)) need(r.node);
       }
     }
+    load(t, -1);
     needs_begin_.push_back(static_cast<std::uint32_t>(needs_.size()));
   }
 }
