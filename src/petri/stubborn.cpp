@@ -12,36 +12,43 @@ StubbornSets::StubbornSets(const Net& net)
       on_stack_(net.transition_count(), 0) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
-  // C(p, t) for the places of each transition, from its own arcs (one pass
-  // over the arcs: Net::incidence searches them, once per pair).
-  std::vector<std::int64_t> change(places, 0);
-  auto load = [&](TransitionId t, int sign) {
-    for (const Arc& a : net.inputs(t)) change[a.node] -= sign * std::int64_t{a.weight};
-    for (const Arc& a : net.outputs(t)) change[a.node] += sign * std::int64_t{a.weight};
+  // One pass over each transition's arcs (Net::incidence would search them
+  // once per pair): the sign of C(p, t) for every place t has an arc on, in
+  // increasing TransitionId, and for each input arc whether t takes from its
+  // place (C(p, t) < 0).
+  struct Change {
+    PlaceId place;
+    TransitionId t;
+    bool up;  // C(p, t) > 0, else < 0
   };
-  // By place, in increasing TransitionId: the transitions with C(p, t) > 0
-  // (inc_) and < 0 (dec_); counted first, then filled.
-  inc_begin_.assign(places + 1, 0);
-  dec_begin_.assign(places + 1, 0);
-  // f(t, p) once for each place p that t has an arc on, C(p, t) in change[p].
-  std::vector<TransitionId> input_of(places, UINT32_MAX);
-  auto each_change = [&](auto&& f) {
+  std::vector<Change> changes;
+  std::vector<char> takes;  // by input arc, transition by transition
+  {
+    std::vector<std::int64_t> change(places, 0);
+    std::vector<TransitionId> input_of(places, UINT32_MAX);
+    auto note = [&](TransitionId t, PlaceId p) {
+      if (change[p] != 0) changes.push_back({p, t, change[p] > 0});
+    };
     for (TransitionId t = 0; t < transitions; ++t) {
-      load(t, +1);
+      for (const Arc& a : net.outputs(t)) change[a.node] = a.weight;
       for (const Arc& a : net.inputs(t)) {
         input_of[a.node] = t;
-        f(t, a.node);
+        change[a.node] -= a.weight;
+        takes.push_back(change[a.node] < 0 ? 1 : 0);
+        note(t, a.node);
       }
       for (const Arc& a : net.outputs(t)) {
-        if (input_of[a.node] != t) f(t, a.node);
+        if (input_of[a.node] != t) note(t, a.node);
       }
-      load(t, -1);
+      for (const Arc& a : net.inputs(t)) change[a.node] = 0;
+      for (const Arc& a : net.outputs(t)) change[a.node] = 0;
     }
-  };
-  each_change([&](TransitionId, PlaceId p) {
-    if (change[p] > 0) ++inc_begin_[p + 1];
-    if (change[p] < 0) ++dec_begin_[p + 1];
-  });
+  }
+  // By place, in increasing TransitionId: the transitions that increase it
+  // (inc_) and decrease it (dec_).
+  inc_begin_.assign(places + 1, 0);
+  dec_begin_.assign(places + 1, 0);
+  for (const Change& c : changes) ++(c.up ? inc_begin_ : dec_begin_)[c.place + 1];
   for (std::size_t p = 0; p < places; ++p) {
     inc_begin_[p + 1] += inc_begin_[p];
     dec_begin_[p + 1] += dec_begin_[p];
@@ -51,14 +58,18 @@ StubbornSets::StubbornSets(const Net& net)
   {
     std::vector<std::uint32_t> inc_next(inc_begin_.begin(), inc_begin_.end() - 1);
     std::vector<std::uint32_t> dec_next(dec_begin_.begin(), dec_begin_.end() - 1);
-    each_change([&](TransitionId t, PlaceId p) {
-      if (change[p] > 0) inc_[inc_next[p]++] = t;
-      if (change[p] < 0) dec_[dec_next[p]++] = t;
-    });
+    for (const Change& c : changes) {
+      if (c.up) {
+        inc_[inc_next[c.place]++] = c.t;
+      } else {
+        dec_[dec_next[c.place]++] = c.t;
+      }
+    }
   }
   std::vector<std::uint32_t> seen(transitions, UINT32_MAX);
   needs_begin_.reserve(transitions + 1);
   needs_begin_.push_back(0);
+  std::size_t arc = 0;
   for (TransitionId t = 0; t < transitions; ++t) {
     seen[t] = t;
     auto need = [&](TransitionId u) {
@@ -66,14 +77,12 @@ StubbornSets::StubbornSets(const Net& net)
       seen[u] = t;
       needs_.push_back(u);
     };
-    load(t, +1);
     for (const Arc& in : net.inputs(t)) {
       for (std::uint32_t i = dec_begin_[in.node]; i < dec_begin_[in.node + 1]; ++i) need(dec_[i]);
-      if (change[in.node] < 0) {
+      if (takes[arc++]) {
         for (const Arc& r : net.readers(in.node)) need(r.node);
       }
     }
-    load(t, -1);
     needs_begin_.push_back(static_cast<std::uint32_t>(needs_.size()));
   }
 }
