@@ -94,7 +94,8 @@ ExploreResult Explorer::run() {
   r_.quasi_live = std::all_of(r_.transition_fired.begin(), r_.transition_fired.end(), [](bool b) { return b; });
   r_.memory_bytes = memory();
   r_.words_per_state = words_;
-  if (out_of_memory) return std::move(r_);
+  if (!opt_.statistics) r_.live_why = "not computed (statistics off)";
+  if (out_of_memory || !opt_.statistics) return std::move(r_);
   try {
     decide_liveness();
   } catch (const std::bad_alloc&) {
@@ -312,9 +313,8 @@ void Explorer::breadth_first() {
 }
 
 template <unsigned W>
-bool Explorer::expand(const std::uint64_t* m, Batch& b) {
+void Explorer::count_tokens(const std::uint64_t* m) {
   const std::uint32_t words = W ? W : words_;
-  const std::size_t transitions = net_.transition_count();
   std::uint64_t total = 0;
   for (const Digit& d : digits_) total += popcount(m[d.word] & d.mask) << d.k;
   r_.max_tokens_per_marking = std::max(r_.max_tokens_per_marking, total);
@@ -329,6 +329,13 @@ bool Explorer::expand(const std::uint64_t* m, Batch& b) {
       track_.pop_back();
     }
   }
+}
+
+template <unsigned W>
+bool Explorer::expand(const std::uint64_t* m, Batch& b) {
+  const std::uint32_t words = W ? W : words_;
+  const std::size_t transitions = net_.transition_count();
+  if (opt_.statistics) count_tokens<W>(m);
   b.succ.resize(transitions * words + words);
   b.hashes.resize(transitions);
   b.fired.resize(transitions);
@@ -378,7 +385,9 @@ bool Explorer::breadth_first() {
     for (std::size_t k = 0; k < now->n; ++k) {
       if (!insert<W>(&now->succ[k * words], now->hashes[k])) return false;
     }
-    for (std::size_t k = 0; k < now->n; ++k) r_.transition_fired[now->fired[k]] = true;
+    if (opt_.statistics) {
+      for (std::size_t k = 0; k < now->n; ++k) r_.transition_fired[now->fired[k]] = true;
+    }
     r_.edges += now->n;
     if (now->n == 0 && !r_.deadlock) {
       r_.deadlock = true;

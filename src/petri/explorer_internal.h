@@ -217,8 +217,12 @@ class Explorer {
     bool overflow = false;
   };
 
-  // Computes the successors of m into b (and the token counts of m). False
-  // when one overflows a field.
+  // The token counts of m (max_tokens_per_marking, place bounds).
+  template <unsigned W>
+  void count_tokens(const std::uint64_t* m);
+
+  // Computes the successors of m into b (and, with statistics, the token
+  // counts of m). False when one overflows a field.
   template <unsigned W>
   bool expand(const std::uint64_t* m, Batch& b);
 

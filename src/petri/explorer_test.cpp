@@ -86,6 +86,29 @@ TEST(Explorer, WeightsAndFieldsThatWiden) {
   EXPECT_TRUE(r.deadlock);
 }
 
+TEST(Explorer, WithoutStatisticsTheStatesEdgesAndDeadlockAreTheSame) {
+  // What a deadlock question reads; the producer's field still widens.
+  NetBuilder b;
+  PlaceId budget = b.add_place("budget", 100);
+  PlaceId buffer = b.add_place("buffer");
+  TransitionId produce = b.add_transition("produce");
+  b.add_input(produce, budget);
+  b.add_output(produce, buffer, 3);
+  for (const Net& net : {dining_philosophers(5), referendum(6), std::move(b).build()}) {
+    ExploreOptions with;
+    with.liveness = false;
+    ExploreOptions without = with;
+    without.statistics = false;
+    const ExploreResult a = explore(net, with), r = explore(net, without);
+    EXPECT_TRUE(r.complete);
+    EXPECT_EQ(a.states, r.states);
+    EXPECT_EQ(a.edges, r.edges);
+    EXPECT_EQ(a.deadlock, r.deadlock);
+    EXPECT_EQ(a.first_deadlock, r.first_deadlock);
+    EXPECT_FALSE(r.live.has_value());
+  }
+}
+
 TEST(Explorer, LiveOnlyIfEveryBottomComponentEnablesEverything) {
   // From s, `left` leads into a cycle a<->b and `right` into a cycle c<->d:
   // both bottom components miss transitions, so the net is not live though

@@ -33,6 +33,8 @@ constexpr std::uint64_t kJudgeAfter = 4;
 constexpr std::uint64_t kReductionRetry = 16;
 // See QuestionSearch::hand_over_to_explorer.
 constexpr std::uint64_t kExplorerAfter = 256;
+constexpr std::uint64_t kExplorerEarly = 64;
+constexpr std::uint64_t kRevisitsPerMarking = 4;
 
 class QuestionSearch {
  public:
@@ -46,13 +48,19 @@ class QuestionSearch {
         missing_(net.transition_count(), 0),
         enabled_at_(net.transition_count(), 0) {
     delta_begin_.push_back(0);
+    // C(p, t) from t's own arcs (Net::incidence would search them per place).
+    std::vector<std::int64_t> change(net.place_count(), 0);
+    std::vector<TransitionId> input_of(net.place_count(), kNoTransition);
     for (TransitionId t = 0; t < net.transition_count(); ++t) {
+      for (const Arc& a : net.outputs(t)) change[a.node] = a.weight;
       for (const Arc& a : net.inputs(t)) {
-        const std::int64_t c = net.incidence(a.node, t);
+        input_of[a.node] = t;
+        const std::int64_t c = change[a.node] - std::int64_t{a.weight};
         if (c != 0) deltas_.push_back({a.node, c});
       }
       for (const Arc& a : net.outputs(t)) {
-        if (net.pre_weight(a.node, t) == 0) deltas_.push_back({a.node, std::int64_t{a.weight}});
+        if (input_of[a.node] != t) deltas_.push_back({a.node, std::int64_t{a.weight}});
+        change[a.node] = 0;
       }
       delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
       std::uint64_t h = 0;
@@ -110,6 +118,7 @@ class QuestionSearch {
         continue;
       }
       if (!store_.insert_current()) {
+        ++revisits_;
         apply(m, t, -1);
         continue;
       }
@@ -192,12 +201,13 @@ class QuestionSearch {
             ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
             : stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     cand_.insert(cand_.end(), set_.begin(), set_.end());
-    judge(steps, enabled_.size() - set_.size());
+    judge(steps, enabled_.size(), enabled_.size() - set_.size());
   }
 
   // The continuous judgement (kStepsPerPruned).
-  void judge(std::uint64_t steps, std::uint64_t pruned) {
+  void judge(std::uint64_t steps, std::uint64_t enabled, std::uint64_t pruned) {
     total_pruned_ += pruned;
+    could_prune_ += enabled - 1;
     steps_ += steps;
     pruned_ += pruned;
     if (++sets_ % kJudgeWindow == 0) {
@@ -207,21 +217,38 @@ class QuestionSearch {
     if (sets_ >= kJudgeAfter) reducing_ = steps_ <= kStepsPerPruned * pruned_;
   }
 
-  // The deadlock question, when the stubborn sets have pruned nothing in
-  // the first kExplorerAfter markings: the breadth-first explorer fires
-  // transitions two to three times faster than this search on nets of some
-  // size, but starts slower (P-semiflows, layout: 0.03 to 0.13 ms on most
-  // MCC nets, about what this search takes for a few hundred markings; 17 ms
-  // on IBM319-PT-none). It decides the question whole. True when it did (no deadlock, or a limit);
-  // when it found a deadlock, the search goes on for the witness.
+  // The deadlock question, when the stubborn sets have pruned nothing: the
+  // breadth-first explorer fires transitions two to three times faster than
+  // this search on nets of some size, but starts slower (P-semiflows,
+  // layout: 0.03 to 0.13 ms on most MCC nets, about what this search takes
+  // for a few hundred markings; 17 ms on IBM319-PT-none). It takes over
+  //   - after kExplorerEarly markings when the sets could have pruned
+  //     kExplorerEarly transitions (the sum of their enabled transitions
+  //     less one) and pruned none: wide sets that prune nothing
+  //     (Dekker-PT-010: 10 to 34 enabled transitions, all in every set);
+  //   - else after kExplorerAfter markings (narrow sets: LamportFastMutEx-PT-2
+  //     prunes first at its 112th marking, with 2 enabled in each set before);
+  // and only once the search keeps coming back to markings it has stored
+  // (a firing into one for every kRevisitsPerMarking markings stored): a
+  // search that dives from new marking to new marking may be on its way to a
+  // deadlock that the explorer, breadth first, would reach only after every
+  // marking nearer the initial one (counters sharing a pool:
+  // question_test.cpp), so it goes on.
+  // The explorer decides the question whole, counting nothing it does not
+  // need (ExploreOptions::statistics). True when it did (no deadlock, or a
+  // limit); when it found a deadlock, the search goes on for the witness.
   bool hand_over_to_explorer(QuestionResult& r) {
-    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 || sets_ < kJudgeAfter ||
-        store_.size() < kExplorerAfter) {
+    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 || sets_ < kJudgeAfter) {
       return false;
     }
+    const std::uint64_t n = store_.size();
+    if (n < kExplorerAfter && (n < kExplorerEarly || could_prune_ < kExplorerEarly)) return false;
+    if (revisits_ * kRevisitsPerMarking < n) return false;
+    r.searched_before_explorer = n;
     handed_over_ = true;
     ExploreOptions eo;
     eo.liveness = false;
+    eo.statistics = false;
     eo.max_states = o_.max_states;
     eo.max_memory_bytes = o_.max_memory_bytes;
     eo.deadline = o_.deadline;
@@ -316,6 +343,8 @@ class QuestionSearch {
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
   std::uint64_t visited_ = 0, total_pruned_ = 0;
+  std::uint64_t could_prune_ = 0;                    // sum over the sets computed of (enabled transitions - 1)
+  std::uint64_t revisits_ = 0;                       // firings that reached a marking already stored
   std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;  // judge()
   bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;

@@ -14,9 +14,11 @@
 // The stubborn sets are computed while they pay for themselves (their cost
 // against the transitions they prune, judged as the search goes; see
 // question.cpp). The deadlock question with reduction: when they have
-// pruned nothing in the first 256 markings, the full exploration
-// (explorer.h), faster per firing, decides it instead (by_exploration);
-// when it finds a deadlock, the search goes on for the witness.
+// pruned nothing (judged after 64 markings when they are wide, else after
+// 256) and the search keeps meeting markings it has seen, the full
+// exploration (explorer.h), faster per firing, decides it instead
+// (by_exploration); when it finds a deadlock, the search goes on for the
+// witness.
 //
 // Limits: max_states, max_memory_bytes, deadline and the progress callback stop the
 // search; the answer is then NotDecided, never a yes or no it has not seen.
@@ -73,6 +75,10 @@ struct QuestionResult {
   std::uint64_t states = 0;       // markings visited (stored)
   std::uint64_t edges = 0;        // transitions fired by the search
   std::size_t memory_bytes = 0;   // the store at the end
+  // When the explorer was handed the question: the markings the search had
+  // stored then (also when the explorer found a deadlock and the search went
+  // on for the witness).
+  std::uint64_t searched_before_explorer = 0;
 };
 
 QuestionResult answer_question(const Net& net, const Question& question, const QuestionOptions& options = {});

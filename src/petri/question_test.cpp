@@ -239,6 +239,67 @@ TEST(QuestionDeadlock, WhenStubbornSetsPruneNothingTheExplorerDecidesAndTheWitne
   EXPECT_TRUE(stopped.by_exploration);
 }
 
+// n processes, each idle or busy, all through one pool of n + 1 tokens:
+// take_i (idle_i + pool -> busy_i) and give_i (busy_i + pool -> idle_i + 2
+// pool). Every transition takes from the pool, so each can disable the
+// others and a stubborn set holds every enabled one; 2^n markings, no
+// deadlock.
+Net shared_pool(unsigned n) {
+  NetBuilder b;
+  PlaceId pool = b.add_place("pool", n + 1);
+  for (unsigned i = 0; i < n; ++i) {
+    PlaceId idle = b.add_place("idle" + std::to_string(i), 1);
+    PlaceId busy = b.add_place("busy" + std::to_string(i), 0);
+    TransitionId take = b.add_transition("take" + std::to_string(i));
+    b.add_input(take, idle);
+    b.add_input(take, pool);
+    b.add_output(take, busy);
+    TransitionId give = b.add_transition("give" + std::to_string(i));
+    b.add_input(give, busy);
+    b.add_input(give, pool);
+    b.add_output(give, idle);
+    b.add_output(give, pool, 2);
+  }
+  return std::move(b).build();
+}
+
+TEST(QuestionDeadlock, WideSetsThatPruneNothingAreHandedOverEarly) {
+  // Ten enabled transitions at every marking, none pruned: the explorer
+  // takes over after 64 markings (not 256), and its answer is the full
+  // exploration's.
+  const Net net = shared_pool(10);
+  const ExploreResult all = explore(net);
+  ASSERT_EQ(1024u, all.states);
+  const QuestionResult r = answer_question(net, ask(net, "deadlock"));
+  EXPECT_EQ(Answer::No, r.answer);
+  EXPECT_TRUE(r.by_exploration);
+  EXPECT_EQ(all.states, r.states);
+  EXPECT_GE(r.searched_before_explorer, 64u);
+  EXPECT_LT(r.searched_before_explorer, 256u);
+  // Where the sets prune, no hand-over: Referendum's voters are independent.
+  const Net votes = referendum(8);
+  const QuestionResult v = answer_question(votes, ask(votes, "deadlock"));
+  EXPECT_EQ(Answer::Yes, v.answer);
+  EXPECT_FALSE(v.by_exploration);
+  EXPECT_EQ(0u, v.searched_before_explorer);
+}
+
+TEST(QuestionDeadlock, ASearchDivingToADeadlockIsNotHandedOver) {
+  // 70 counters on one pool: sets of 70 enabled transitions prune nothing,
+  // but every firing reaches a new marking and the 281st is the deadlock.
+  // Handed over after 256 markings (as it was), the explorer would face
+  // 5^70 markings: here it would stop at the limit, not decided.
+  const Net net = pooled_counters(70, 4);
+  QuestionOptions o;
+  o.max_states = 10'000;
+  const Question q = ask(net, "deadlock");
+  const QuestionResult r = answer_question(net, q, o);
+  EXPECT_EQ(Answer::Yes, r.answer);
+  EXPECT_FALSE(r.by_exploration);
+  EXPECT_EQ(281u, r.states);
+  expect_witness_replays(net, q, r);
+}
+
 TEST(QuestionDeadlock, APlaceOnlyTestedIsNoConflict) {
   // The steps only read the lock: each stubborn set is one step, and the
   // search follows one interleaving instead of all C(11, 5) = 462 markings.

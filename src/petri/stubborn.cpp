@@ -12,26 +12,64 @@ StubbornSets::StubbornSets(const Net& net)
       on_stack_(net.transition_count(), 0) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
-  inc_begin_.push_back(0);
-  dec_begin_.push_back(0);
-  for (PlaceId p = 0; p < places; ++p) {
-    // Candidates: the transitions with an arc on p; the sign of C(p, t).
-    std::vector<TransitionId> touching;
-    for (const Arc& a : net.readers(p)) touching.push_back(a.node);
-    for (const Arc& a : net.writers(p)) touching.push_back(a.node);
-    std::sort(touching.begin(), touching.end());
-    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
-    for (TransitionId t : touching) {
-      const std::int64_t c = net.incidence(p, t);
-      if (c > 0) inc_.push_back(t);
-      if (c < 0) dec_.push_back(t);
+  // One pass over each transition's arcs (Net::incidence would search them
+  // once per pair): the sign of C(p, t) for every place t has an arc on, in
+  // increasing TransitionId, and for each input arc whether t takes from its
+  // place (C(p, t) < 0).
+  struct Change {
+    PlaceId place;
+    TransitionId t;
+    bool up;  // C(p, t) > 0, else < 0
+  };
+  std::vector<Change> changes;
+  std::vector<char> takes;  // by input arc, transition by transition
+  {
+    std::vector<std::int64_t> change(places, 0);
+    std::vector<TransitionId> input_of(places, UINT32_MAX);
+    auto note = [&](TransitionId t, PlaceId p) {
+      if (change[p] != 0) changes.push_back({p, t, change[p] > 0});
+    };
+    for (TransitionId t = 0; t < transitions; ++t) {
+      for (const Arc& a : net.outputs(t)) change[a.node] = a.weight;
+      for (const Arc& a : net.inputs(t)) {
+        input_of[a.node] = t;
+        change[a.node] -= a.weight;
+        takes.push_back(change[a.node] < 0 ? 1 : 0);
+        note(t, a.node);
+      }
+      for (const Arc& a : net.outputs(t)) {
+        if (input_of[a.node] != t) note(t, a.node);
+      }
+      for (const Arc& a : net.inputs(t)) change[a.node] = 0;
+      for (const Arc& a : net.outputs(t)) change[a.node] = 0;
     }
-    inc_begin_.push_back(static_cast<std::uint32_t>(inc_.size()));
-    dec_begin_.push_back(static_cast<std::uint32_t>(dec_.size()));
+  }
+  // By place, in increasing TransitionId: the transitions that increase it
+  // (inc_) and decrease it (dec_).
+  inc_begin_.assign(places + 1, 0);
+  dec_begin_.assign(places + 1, 0);
+  for (const Change& c : changes) ++(c.up ? inc_begin_ : dec_begin_)[c.place + 1];
+  for (std::size_t p = 0; p < places; ++p) {
+    inc_begin_[p + 1] += inc_begin_[p];
+    dec_begin_[p + 1] += dec_begin_[p];
+  }
+  inc_.resize(inc_begin_[places]);
+  dec_.resize(dec_begin_[places]);
+  {
+    std::vector<std::uint32_t> inc_next(inc_begin_.begin(), inc_begin_.end() - 1);
+    std::vector<std::uint32_t> dec_next(dec_begin_.begin(), dec_begin_.end() - 1);
+    for (const Change& c : changes) {
+      if (c.up) {
+        inc_[inc_next[c.place]++] = c.t;
+      } else {
+        dec_[dec_next[c.place]++] = c.t;
+      }
+    }
   }
   std::vector<std::uint32_t> seen(transitions, UINT32_MAX);
   needs_begin_.reserve(transitions + 1);
   needs_begin_.push_back(0);
+  std::size_t arc = 0;
   for (TransitionId t = 0; t < transitions; ++t) {
     seen[t] = t;
     auto need = [&](TransitionId u) {
@@ -41,7 +79,7 @@ StubbornSets::StubbornSets(const Net& net)
     };
     for (const Arc& in : net.inputs(t)) {
       for (std::uint32_t i = dec_begin_[in.node]; i < dec_begin_[in.node + 1]; ++i) need(dec_[i]);
-      if (net.incidence(in.node, t) < 0) {
+      if (takes[arc++]) {
         for (const Arc& r : net.readers(in.node)) need(r.node);
       }
     }
