@@ -400,6 +400,17 @@ export function createCanvas(container, store, fx) {
         requestAnimationFrame(() => { dynamicQueued = false; updateDynamic(getState()); });
       }
     }
+    if (rebuilt && net) tellPainted(s.path, s.netName);
+  }
+
+  // A net given to cytoscape: once cytoscape has rendered it, in a task
+  // after that frame, `netpainted` on the container ({path, net, at}:
+  // performance.now()), for opentiming.js.
+  const afterTask = (f) => { const ch = new MessageChannel(); ch.port1.onmessage = f; ch.port2.postMessage(null); };
+  function tellPainted(path, net) {
+    cy.one('render', () => afterTask(() => {
+      container.dispatchEvent(new CustomEvent('netpainted', { detail: { path, net, at: performance.now() } }));
+    }));
   }
 
   // ------------------------------------------------------------ warm-up
