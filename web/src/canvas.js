@@ -404,13 +404,15 @@ export function createCanvas(container, store, fx) {
   }
 
   // A net given to cytoscape: once cytoscape has rendered it, in a task
-  // after that frame, `netpainted` on the container ({path, net, at}:
-  // performance.now()), for opentiming.js.
+  // after that frame, `netpainted` on the container ({path, net, rendered,
+  // at}: performance.now() when cytoscape had drawn it, in the frame, and
+  // in the task after), for opentiming.js.
   const afterTask = (f) => { const ch = new MessageChannel(); ch.port1.onmessage = f; ch.port2.postMessage(null); };
   function tellPainted(path, net) {
-    cy.one('render', () => afterTask(() => {
-      container.dispatchEvent(new CustomEvent('netpainted', { detail: { path, net, at: performance.now() } }));
-    }));
+    cy.one('render', () => {
+      const rendered = performance.now();
+      afterTask(() => container.dispatchEvent(new CustomEvent('netpainted', { detail: { path, net, rendered, at: performance.now() } })));
+    });
   }
 
   // ------------------------------------------------------------ warm-up

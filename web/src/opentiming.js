@@ -8,10 +8,12 @@
 //
 // Each open is a performance measure named 'strata:open' (its detail as
 // below) and an entry of the list returned (the last kKept): {path, net,
-// down, click, painted, ms}, times in performance.now()'s milliseconds,
-// `down` the pointerdown's (null if not seen), ms = painted - click. A
-// click made before main.js ran (on index.html's early list) is not
-// measured.
+// down, click, rendered, painted, ms}, times in performance.now()'s
+// milliseconds: `down` the pointerdown's (null if not seen), `rendered`
+// when cytoscape had drawn the net (in the frame: the frame's layout,
+// paint and commit come after it), `painted` the task after that frame;
+// ms = painted - click. A click made before main.js ran (on index.html's
+// early list) is not measured.
 export const kKept = 20;
 
 export function watchOpens(doc, canvasBox) {
@@ -32,9 +34,9 @@ export function watchOpens(doc, canvasBox) {
     pending = { path, down: down && down.path === path ? down.at : null, click: ev.timeStamp };
   }, true);
   canvasBox.addEventListener('netpainted', (ev) => {
-    const { path, net, at } = ev.detail;
+    const { path, net, rendered, at } = ev.detail;
     if (!pending || pending.path !== path || at < pending.click) return;
-    const o = { ...pending, net, painted: at, ms: at - pending.click };
+    const o = { ...pending, net, rendered, painted: at, ms: at - pending.click };
     pending = null;
     performance.measure('strata:open', { start: o.click, end: o.painted, detail: o });
     opens.push(o);
