@@ -49,7 +49,7 @@ export function createPanels(store, fx) {
     const fl = $('#file-list'); fl.replaceChildren();
     const list = s.missions.length ? s.missions : s.files.map((p) => ({ path: p, kind: 'coral' }));
     for (const { path: p, kind } of list) {
-      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
+      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerenter: () => fx.prefetch(p), onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
         p, kind === 'prolog' ? el('span', { class: 'badge prolog' }, ' PROLOG') : null));
     }
     const ll = $('#log-list'); ll.replaceChildren();
