@@ -18,8 +18,9 @@ test('the tank mission opens with its 5 nets, marks, exits and labels', async ({
   figure('tank mission open (click to net drawn)', `${Math.round(t2 - t1)} ms (harness: Playwright's click, the 50 ms poll, a round trip)`);
   await waitFor(page, `s.opens.some((o) => o.path === '${TANK}')`, 5000, 'the open timed in the page');
   const open = await studio(page, `s.opens.find((o) => o.path === '${TANK}')`);
+  const viewsAt = await studio(page, 's.viewsAt');
   expect(open.net).toBe('tank');
-  figure('tank mission open, in the page (click event to the frame that drew the net)', `${Math.round(open.ms)} ms (drawn by cytoscape at ${Math.round(open.rendered - open.click)} ms; pointerdown to click ${open.down == null ? '?' : Math.round(open.click - open.down)} ms)`);
+  figure('tank mission open, in the page (click event to the frame that drew the net)', `${Math.round(open.ms)} ms (drawn by cytoscape at ${Math.round(open.rendered - open.click)} ms; the click ${Math.round(open.click - filesAt)} ms after the list, ${viewsAt < open.click ? 'after' : 'before'} the canvas was made)`);
   const info = await page.evaluate(() => {
     const cy = window.__cy, s = window.__studio;
     return {

@@ -195,7 +195,7 @@ async function init() {
   fx.startSonar();
   // The views after the list is drawn: their chunk is run while the user
   // reads the list.
-  const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
+  const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; window.__studio.viewsAt = performance.now(); });
   // The chart's library once the page is idle (a run's data loads it at
   // once), after the views' warm-up (views.js) and not in the first 2 s
   // after it, when the user is most likely to open a file.
