@@ -99,7 +99,7 @@ store.subscribe(applyPanels);
 applyPanels(getState(), null);
 
 // How long each open from the file list took, click to net drawn (opentiming.js).
-const opens = watchOpens(document, $('#cy'));
+const opens = watchOpens(document, $('#cy'), store);
 
 // ---------------------------------------------------------------- test hooks
 // Browser tests read the page's state here (the canvas is a <canvas>).

@@ -8,15 +8,16 @@
 //
 // Each open is a performance measure named 'strata:open' (its detail as
 // below) and an entry of the list returned (the last kKept): {path, net,
-// down, click, rendered, painted, ms}, times in performance.now()'s
-// milliseconds: `down` the pointerdown's (null if not seen), `rendered`
+// down, click, opened, rendered, painted, ms}, times in performance.now()'s
+// milliseconds: `down` the pointerdown's (null if not seen), `opened` when
+// the store took the file (its answer had come), `rendered`
 // when cytoscape had drawn the net (in the frame: the frame's layout,
 // paint and commit come after it), `painted` the task after that frame;
 // ms = painted - click. A click made before main.js ran (on index.html's
 // early list) is not measured.
 export const kKept = 20;
 
-export function watchOpens(doc, canvasBox) {
+export function watchOpens(doc, canvasBox, store) {
   const opens = [];
   let down = null;      // the last pointerdown on a file: {path, at}
   let pending = null;   // the last click on a file not yet drawn
@@ -31,8 +32,11 @@ export function watchOpens(doc, canvasBox) {
   doc.addEventListener('click', (ev) => {
     const path = fileOf(ev);
     if (!path) return;
-    pending = { path, down: down && down.path === path ? down.at : null, click: ev.timeStamp };
+    pending = { path, down: down && down.path === path ? down.at : null, click: ev.timeStamp, opened: null };
   }, true);
+  store.subscribe((s, prev) => {
+    if (pending && pending.opened == null && s.path === pending.path && s.model !== prev.model) pending.opened = performance.now();
+  });
   canvasBox.addEventListener('netpainted', (ev) => {
     const { path, net, rendered, at } = ev.detail;
     if (!pending || pending.path !== path || at < pending.click) return;
