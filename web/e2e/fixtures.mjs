@@ -91,8 +91,7 @@ export const test = base.extend({
     const errors = [];
     page.on('pageerror', (e) => errors.push(e.message));
     page.on('dialog', (d) => d.accept());
-    // Loopback only: any other host is refused.
-    await page.context().route((u) => !/^http:\/\/127\.0\.0\.1[:/]/.test(u.toString()) && !u.toString().startsWith('data:'), (r) => r.abort());
+    // Loopback only: the browser refuses any other host (playwright.config.mjs).
     page.studio = studio;
     await use(page);
     expect(errors, 'uncaught errors in the page').toEqual([]);

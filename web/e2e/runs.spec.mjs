@@ -118,7 +118,7 @@ test('tank.pl is listed as PROLOG, opens as read-only text with no graph, and ru
   expect(await studio(page, 'cy.nodes().length')).toBe(0);
   await expect(page.locator('#canvas-note')).toBeVisible();
   await expect(page.locator('#canvas-note')).toContainText('PROLOG mission');
-  expect(await studio(page, 's.paneText')).toBe(await studio(page, 's.text'));
+  await waitFor(page, 's.paneText === s.text', 5000, 'the text in the pane (a frame after the open)');
   expect((await studio(page, 's.text')).length).toBeGreaterThan(20);
   // Typing does not change it.
   const before = await studio(page, 's.text');

@@ -68,6 +68,8 @@ test.describe('a file that does not parse', () => {
     await page.goto(page.studio.url);
     await page.locator('#file-list li[data-path="broken.coral"]').click();
     await waitFor(page, "s.path === 'broken.coral' && s.busy === 0", 10000, 'broken.coral open');
+    // (The pane takes an opened file's text a frame after the net is drawn.)
+    await waitFor(page, 's.paneText === s.text', 5000, 'the text in the pane');
     expect(await studio(page, 's.paneText')).toBe(BROKEN);
     expect(await studio(page, 'cy.nodes().length')).toBe(0);
     await expect(page.locator('#diag-list li.sev-error').first()).toContainText("expected ';'");

@@ -1,10 +1,13 @@
 // The net canvas (cytoscape): draws the current net of the store, its
-// marking and run classes; turns the user's gestures (drag a node, draw an
-// arc, click, double-click, zoom) into actions. It keeps no page state of
-// its own: positions and viewports go to the store.
+// marking and run classes, in parts for a large net (netwindow.js); places
+// the nodes that have no position; remembers each net's viewport. The
+// user's gestures on it (drag a node, draw an arc, click, double-click)
+// are gestures.js's. It keeps no page state of its own: positions and
+// viewports go to the store.
 import { netElements, createElementCache, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
-import { currentNet, editable, tokensFor, uniqueName } from './store.js';
+import { currentNet, tokensFor } from './store.js';
+import { bindGestures, viewCentre } from './gestures.js';
 import { kLargeNet, windowBox, windowIds } from './netwindow.js';
 
 // Fit never zooms out below this: labels stay readable (11 px font ×
@@ -25,68 +28,11 @@ export function createCanvas(container, store, fx) {
   let drawnName = null;
   let dynamicQueued = false;
 
-  const canConnect = (s, t) => {
-    if (!editable(getState())) return false;
-    if (s.same(t)) return false;
-    const a = s.data('kind'), b = t.data('kind');
-    if (!((a === 'place' && b === 'transition') || (a === 'transition' && b === 'place'))) return false;
-    return cy.edges(`.arc[source = "${s.id()}"][target = "${t.id()}"]`).empty();  // one arc each way
-  };
-  const eh = cy.edgehandles({
-    canConnect,
-    edgeParams: () => ({ data: { kind: 'new' }, classes: 'arc' }),
-    hoverDelay: 50, snap: true, snapThreshold: 30, snapFrequency: 15, noEdgeEventsInDraw: true, disableBrowserGestures: true,
-  });
+  const { eh, addNode, quietly } = bindGestures(cy, container, store, fx);
+  const centre = () => viewCentre(cy);
 
-  // Where the pointer was released, taken from the pointer events in the
-  // capture phase, before edgehandles ends the drag on mouseup: the arc is
-  // kept only when released on the node it joins, never on a neighbour the
-  // snapping found.
-  let released = null;
-  window.addEventListener('pointerdown', () => { released = null; }, true);
-  window.addEventListener('pointerup', (e) => { released = { x: e.clientX, y: e.clientY }; }, true);
-  const releasePoint = () => {
-    if (!released) return null;
-    const rect = container.getBoundingClientRect();
-    const pan = cy.pan(), zoom = cy.zoom();
-    return { x: (released.x - rect.left - pan.x) / zoom, y: (released.y - rect.top - pan.y) / zoom };
-  };
-
-  cy.on('ehcomplete', (ev, source, target, added) => {
-    added.remove();
-    const p = releasePoint();
-    const box = target.boundingBox({ includeLabels: false });
-    const slack = 6;
-    if (!p || p.x < box.x1 - slack || p.x > box.x2 + slack || p.y < box.y1 - slack || p.y > box.y2 + slack) {
-      fx.say('release the arc on the place or transition it should join', true);
-      return;
-    }
-    fx.applyOp({ op: 'add_arc', net: getState().netName, from: source.data('name'), to: target.data('name'), weight: 1 });
-  });
-
-  cy.on('tap', (ev) => {
-    if (ev.target !== cy) return;
-    const s = getState();
-    if (s.mode === 'place' || s.mode === 'transition') addNode(s.mode, { ...ev.position });
-  });
-  // Double-click a PHASE transition: open the phase's net.
-  cy.on('dbltap', 'node.transition', (ev) => {
-    const s = getState();
-    const t = (currentNet(s)?.transitions || []).find((x) => x.name === ev.target.data('name'));
-    const phase = t && (t.actions || []).find((a) => a.kind === 'PHASE');
-    if (phase) dispatch({ type: 'net/show', name: phase.target, user: true });
-  });
-  cy.on('dragfree', 'node', (ev) => {
-    const n = ev.target;
-    const s = getState();
-    if (!s.netName || n.hasClass('eh-handle')) return;
-    dispatch({ type: 'positions/set', net: s.netName, positions: { [n.id()]: { ...n.position() } }, user: !!(s.path && editable(s)) });
-  });
-  // The user's selection goes to the store; the canvas's own (following
-  // the store) is not sent back.
-  let syncing = false;
-  cy.on('select', (ev) => { if (!syncing) dispatch({ type: 'select', id: ev.target.id() }); });
-  cy.on('unselect', () => { if (!syncing && cy.$(':selected').empty()) dispatch({ type: 'select', id: null }); });
+  // The viewport, once still for 150 ms, is remembered for the net; a net
+  // shown in parts shows the part in view.
   let vpTimer = null;
   let windowTimer = null;
   cy.on('viewport', () => {
@@ -98,32 +44,6 @@ export function createCanvas(container, store, fx) {
     }, 150);
   });
   new ResizeObserver(() => cy.resize()).observe(container);
-  // A node's diagnostics as a tooltip.
-  const tooltip = document.querySelector('#tooltip');
-  cy.on('mouseover', 'node', (ev) => {
-    const d = ev.target.data('diag');
-    if (!d || !tooltip) return;
-    const p = ev.target.renderedPosition();
-    const box = container.getBoundingClientRect();
-    tooltip.textContent = d;
-    tooltip.style.left = `${box.left + p.x + 18}px`;
-    tooltip.style.top = `${box.top + p.y + 18}px`;
-    tooltip.hidden = false;
-  });
-  cy.on('mouseout', 'node', () => { if (tooltip) tooltip.hidden = true; });
-
-  function addNode(kind, at, name) {
-    const s = getState();
-    if (!editable(s)) { fx.say('this net is not editable here', true); return; }
-    const n = name || uniqueName(s, kind === 'place' ? 'p' : 't');
-    if (!/^[A-Za-z_][A-Za-z0-9_]*$/.test(n)) { fx.say(`'${n}' is not a name (a letter or _, then letters, digits, _)`, true); return; }
-    const op = kind === 'place' ? { op: 'add_place', net: s.netName, name: n, initial: 0 } : { op: 'add_transition', net: s.netName, name: n };
-    fx.applyOp(op, at || centre());
-  }
-  function centre() {
-    const e = cy.extent();
-    return { x: (e.x1 + e.x2) / 2, y: (e.y1 + e.y2) / 2 };
-  }
 
   // Fit the net, but never below kMinFitZoom: a large net is shown from its
   // start (left), centred vertically when it fits. The box is taken from the
@@ -276,10 +196,7 @@ export function createCanvas(container, store, fx) {
     if (!nodes.length && !edges.length) return;
     const net = currentNet(s);
     if (net) { updateDynamic(s); applyDiagnostics(s, net); }
-    if (s.selected && want.has(s.selected)) {
-      syncing = true;
-      try { cy.getElementById(s.selected).select(); } finally { syncing = false; }
-    }
+    if (s.selected && want.has(s.selected)) quietly(() => cy.getElementById(s.selected).select());
   }
 
   // The first point from p (rings of 50 around it) where a new node is 55 px
@@ -461,14 +378,13 @@ export function createCanvas(container, store, fx) {
     if (!prev || s.selected !== prev.selected || rebuilt) {
       const sel = cy.$(':selected');
       const want = s.selected;
-      syncing = true;
-      try {
+      quietly(() => {
         if (want && (sel.length !== 1 || sel[0].id() !== want)) {
           const n = cy.getElementById(want);
           cy.elements().unselect();
           if (n.nonempty()) n.select();
         } else if (!want && sel.nonempty()) sel.unselect();
-      } finally { syncing = false; }
+      });
     }
     if (s.focus && (!prev || s.focus !== prev.focus) && s.focus.id) {
       const n = cy.getElementById(s.focus.id);
@@ -484,6 +400,24 @@ export function createCanvas(container, store, fx) {
         requestAnimationFrame(() => { dynamicQueued = false; updateDynamic(getState()); });
       }
     }
+    if (rebuilt && net) tellPainted(s.path, s.netName);
+  }
+
+  // A net given to cytoscape: once cytoscape has rendered it, in a task
+  // after that frame, `netpainted` on the container ({path, net, rendered,
+  // at}: performance.now() when cytoscape had drawn it, in the frame, and
+  // in the task after), for opentiming.js.
+  // (A task of the highest priority where there is one: a plain one waited
+  // behind the page's other tasks, 10-30 ms in traces.)
+  const afterTask = (f) => {
+    if (globalThis.scheduler && scheduler.postTask) { scheduler.postTask(f, { priority: 'user-blocking' }); return; }
+    const ch = new MessageChannel(); ch.port1.onmessage = f; ch.port2.postMessage(null);
+  };
+  function tellPainted(path, net) {
+    cy.one('render', () => {
+      const rendered = performance.now();
+      afterTask(() => container.dispatchEvent(new CustomEvent('netpainted', { detail: { path, net, rendered, at: performance.now() } })));
+    });
   }
 
   // ------------------------------------------------------------ warm-up

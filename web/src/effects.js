@@ -43,11 +43,14 @@ export function createEffects(store, api, ui = {}) {
     } catch (e) { say(`primitives: ${e.message}`, true); }
   }
 
-  // A mission asked for when the pointer goes down on it in the file list:
-  // the click follows (about 0.1 s for a user), and openFile takes the
-  // answer when it is for the same path and under kAheadMs old.
+  // A mission asked for when the pointer comes onto it in the file list,
+  // or goes down on it: the click follows (a tenth of a second or more for
+  // a user), and openFile takes the answer when it is for the same path and
+  // under kAheadMs old. The open file is not asked for ahead (a click on it
+  // reads it again, after any save of this page).
   let ahead = null;
   function prefetch(path) {
+    if (path === getState().path) return;
     if (ahead && ahead.path === path && Date.now() - ahead.at < kAheadMs) return;
     const answer = api.mission(path);
     answer.catch(() => { /* openFile says it, if it takes it */ });

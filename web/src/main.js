@@ -13,6 +13,7 @@ import { $ } from './dom.js';
 import { createStore, dirty, currentNet, prevFiring, nextFiring, runBanner, breadcrumb } from './store.js';
 import { createEffects } from './effects.js';
 import { createPanels } from './panels.js';
+import { watchOpens } from './opentiming.js';
 
 const store = createStore();
 const { dispatch, getState } = store;
@@ -97,6 +98,9 @@ const applyPanels = (s, p) => {
 store.subscribe(applyPanels);
 applyPanels(getState(), null);
 
+// How long each open from the file list took, click to net drawn (opentiming.js).
+const opens = watchOpens(document, $('#cy'), store);
+
 // ---------------------------------------------------------------- test hooks
 // Browser tests read the page's state here (the canvas is a <canvas>).
 window.__store = store;
@@ -143,6 +147,8 @@ window.__studio = {
   get currentNet() { return currentNet(getState()); },
   // The net drawn: {elements, nodes, inParts} (a large net: cytoscape holds the part near the view).
   get drawn() { return views && views.canvas.drawn; },
+  // The opens from the file list, click to net drawn, measured in the page (opentiming.js).
+  get opens() { return opens.slice(); },
   openFile: (p) => fx.openFile(p),
   showNet: (n) => dispatch({ type: 'net/show', name: n }),
   applyOp: (op, at) => fx.applyOp(op, at),
@@ -189,7 +195,7 @@ async function init() {
   fx.startSonar();
   // The views after the list is drawn: their chunk is run while the user
   // reads the list.
-  const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; });
+  const loaded = import('./views.js').then((m) => { views = m.startViews(store, fx); window.__cy = views.cy; window.__studio.viewsAt = performance.now(); });
   // The chart's library once the page is idle (a run's data loads it at
   // once), after the views' warm-up (views.js) and not in the first 2 s
   // after it, when the user is most likely to open a file.

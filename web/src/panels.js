@@ -15,19 +15,23 @@ export function createPanels(store, fx) {
   const chart = new DepthChart($('#chart'));
   const map = new TrackMap($('#map-box'), $('#map'));
 
+  // The header follows the store at every action (a run's events, busy):
+  // only what changed is written (a text or attribute written again, even
+  // the same, makes the browser restyle and lay out the page).
+  const put = (node, key, value) => { if (node[key] !== value) node[key] = value; };
   function header(s) {
     const d = dirty(s);
-    $('#path-label').textContent = s.path ? (s.readOnly ? `${s.path} (read-only)` : s.path) : (s.rs.mission ? `${s.rs.mission} (run)` : 'no file');
-    $('#dirty-mark').hidden = !d;
-    $('#btn-save').disabled = !s.path || !d || s.readOnly;
-    $('#btn-verify').disabled = !s.path || s.readOnly;
-    $('#btn-run').disabled = !s.path;
+    put($('#path-label'), 'textContent', s.path ? (s.readOnly ? `${s.path} (read-only)` : s.path) : (s.rs.mission ? `${s.rs.mission} (run)` : 'no file'));
+    put($('#dirty-mark'), 'hidden', !d);
+    put($('#btn-save'), 'disabled', !s.path || !d || s.readOnly);
+    put($('#btn-verify'), 'disabled', !s.path || s.readOnly);
+    put($('#btn-run'), 'disabled', !s.path);
     const going = runGoing(s);
-    $('#btn-abort').disabled = !going;
-    $('#btn-stop').disabled = !going;
-    $('#btn-undo').disabled = !s.undo.length || s.readOnly;
-    $('#btn-redo').disabled = !s.redo.length || s.readOnly;
-    document.title = (d ? '● ' : '') + 'Strata studio' + (s.path ? ` — ${s.path}` : '');
+    put($('#btn-abort'), 'disabled', !going);
+    put($('#btn-stop'), 'disabled', !going);
+    put($('#btn-undo'), 'disabled', !s.undo.length || s.readOnly);
+    put($('#btn-redo'), 'disabled', !s.redo.length || s.readOnly);
+    put(document, 'title', (d ? '● ' : '') + 'Strata studio' + (s.path ? ` — ${s.path}` : ''));
     const m = $('#edit-msg');
     if (m.dataset.text !== s.message.text || m.classList.contains('error') !== s.message.error) {
       m.dataset.text = s.message.text;
@@ -35,18 +39,17 @@ export function createPanels(store, fx) {
       m.classList.toggle('error', s.message.error);
     }
     const conn = $('#conn-status');
-    conn.className = `conn ${s.sse}`;
-    conn.title = s.sse === 'open' ? 'event stream: connected' : s.sse === 'error' ? 'event stream: reconnecting' : 'event stream';
-    document.body.dataset.view = s.view;
-    const follow = $('#follow');
-    if (follow.checked !== s.follow) follow.checked = s.follow;
+    put(conn, 'className', `conn ${s.sse}`);
+    put(conn, 'title', s.sse === 'open' ? 'event stream: connected' : s.sse === 'error' ? 'event stream: reconnecting' : 'event stream');
+    if (document.body.dataset.view !== s.view) document.body.dataset.view = s.view;
+    put($('#follow'), 'checked', s.follow);
   }
 
   function files(s) {
     const fl = $('#file-list'); fl.replaceChildren();
     const list = s.missions.length ? s.missions : s.files.map((p) => ({ path: p, kind: 'coral' }));
     for (const { path: p, kind } of list) {
-      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
+      fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerenter: () => fx.prefetch(p), onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
         p, kind === 'prolog' ? el('span', { class: 'badge prolog' }, ' PROLOG') : null));
     }
     const ll = $('#log-list'); ll.replaceChildren();

@@ -48,7 +48,7 @@ export function createTextPane(parent, store, fx) {
           indentWithTab, ...defaultKeymap]),
         readOnly.of(EditorState.readOnly.of(true)),
         EditorView.updateListener.of((u) => {
-          if (!u.docChanged || u.transactions.some((t) => t.annotation(fromStore))) return;
+          if (!u.docChanged || deferred || u.transactions.some((t) => t.annotation(fromStore))) return;
           docText = u.state.doc.toString();
           fx.textTyped(docText);
         }),
@@ -57,7 +57,26 @@ export function createTextPane(parent, store, fx) {
     }),
   });
 
-  function render(s, prev) {
+  // A file opened is put in the pane after the frame that draws its net
+  // (the editor's part of the open, 4-22 ms in the store's notification,
+  // and its own layout in that frame, came before the net was seen).
+  // Meanwhile the pane shows the file before; what is typed there then is
+  // dropped (the file's text replaces it).
+  let drawn = null;     // the state the pane shows
+  let deferred = false;
+  const afterFrame = (f) => requestAnimationFrame(() => { const ch = new MessageChannel(); ch.port1.onmessage = f; ch.port2.postMessage(null); });
+  function render(s) {
+    if (deferred) return;
+    if (drawn && s.path !== drawn.path && s.path != null) {
+      deferred = true;
+      afterFrame(() => { deferred = false; show(getState()); });
+      return;
+    }
+    show(s);
+  }
+  function show(s) {
+    const prev = drawn;
+    drawn = s;
     const text = s.text ?? '';
     const doc = docText;
     const effects = [];
@@ -86,7 +105,7 @@ export function createTextPane(parent, store, fx) {
     }
   }
   store.subscribe(render);
-  render(getState(), null);
+  render(getState());
   return {
     view,
     get text() { return view.state.doc.toString(); },

@@ -256,7 +256,7 @@ test('effects: switching file with unsaved edits asks; a no keeps the edits', as
   assert.equal(store.getState().path, 'other.coral');
 });
 
-test('effects: a mission asked for ahead (pointer down) is taken by the click on it, once; not by another file, nor by a reload', async () => {
+test('effects: a mission asked for ahead (pointer over it, or down) is taken by the click on it, once; not by another file, nor by a reload; the open file is not asked for ahead', async () => {
   const store = createStore();
   const api = fakeApi();
   const fx = createEffects(store, api);
@@ -271,9 +271,13 @@ test('effects: a mission asked for ahead (pointer down) is taken by the click on
   fx.prefetch('other.coral');
   assert.equal(await fx.openFile('m.coral'), true);   // another file's answer is not taken
   assert.equal(asks(), 4);
-  fx.prefetch('m.coral');
+  fx.prefetch('m.coral');                            // the open file: not asked for
+  assert.equal(asks(), 4);
   assert.equal(await fx.reload(), true);              // a reload reads the file itself
-  assert.equal(asks(), 6);
+  assert.equal(asks(), 5);
+  fx.prefetch('other.coral');
+  assert.equal(await fx.reload(), true);              // ... whatever was asked for ahead
+  assert.equal(asks(), 7);
 });
 
 test('effects: typing is checked once it pauses, with the last text', async () => {
