@@ -84,8 +84,9 @@ void read_world(core::TomlErrors& errors, const toml::table& root, Spec& spec) {
   }
   std::ostringstream out;
   out << kept;
-  // Checked as the scenario it makes (a world file needs no seed).
-  if (auto checked = vehicle::parse_scenario("seed = 0\n" + out.str(), named->resolved); !checked) {
+  // Checked as the scenario it is, so that an error names the world file's
+  // own line (the text above is toml++'s, laid out anew).
+  if (auto checked = vehicle::parse_world_scenario(text.value(), named->resolved); !checked) {
     errors.add(n, fmt::format("'world': {}", checked.error().message));
     return;
   }

@@ -236,6 +236,13 @@ TEST(CampaignSpec, AWorldFileGivesEveryCaseItsWorldAndAFaultInItIsRefused) {
   auto bad = load_spec(dir.write("b.toml", spec_text("world = \"bad.toml\"\n")));
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(std::string::npos, bad.error().message.find("b.toml:2:9: 'world': ")) << bad.error().message;
+  // At the world file's own line and column, not the text made from it.
+  EXPECT_NE(std::string::npos, bad.error().message.find("bad.toml:2:8: 'world.kind'")) << bad.error().message;
+  dir.write("late.toml", "# a lake\n\n[world]\nkind = \"open_water\"\ncurrent_y_mps = \"fast\"\n");
+  auto late = load_spec(dir.write("l.toml", spec_text("world = \"late.toml\"\n")));
+  ASSERT_FALSE(late.ok());
+  EXPECT_NE(std::string::npos, late.error().message.find("late.toml:5:17: 'world.current_y_mps' must be a number"))
+      << late.error().message;
   auto missing = load_spec(dir.write("m.toml", spec_text("world = \"nosuch.toml\"\n")));
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(std::string::npos, missing.error().message.find("m.toml:2:9: 'world': ")) << missing.error().message;

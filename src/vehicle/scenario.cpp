@@ -287,4 +287,13 @@ core::Result<Scenario> parse_scenario(std::string_view text, std::string_view pa
   return scenario_from_table(path, table.value());
 }
 
+core::Result<Scenario> parse_world_scenario(std::string_view text, std::string_view path) {
+  auto table = core::parse_toml(text, path);
+  if (!table) return table.error();
+  // Checked as the scenario it is, its own lines in the errors; a seed is
+  // the campaign's to give.
+  if (!table.value().contains("seed")) table.value().insert("seed", 0);
+  return scenario_from_table(path, table.value());
+}
+
 }  // namespace strata::vehicle

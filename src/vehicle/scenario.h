@@ -145,5 +145,8 @@ struct Scenario {
 core::Result<Scenario> load_scenario(std::string_view path);
 // From text in memory; path is used in messages only.
 core::Result<Scenario> parse_scenario(std::string_view text, std::string_view path);
+// A scenario file read for its world (a campaign's `world`): as
+// parse_scenario, but a missing seed is 0.
+core::Result<Scenario> parse_world_scenario(std::string_view text, std::string_view path);
 
 }  // namespace strata::vehicle
