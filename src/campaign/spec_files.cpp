@@ -8,7 +8,7 @@
 
 #include "core/file.h"
 #include "vehicle/params.h"
-#include "vehicle/scenario.h"
+#include "vehicle/scenario_table.h"
 
 namespace strata::campaign {
 namespace {
@@ -82,13 +82,16 @@ void read_world(core::TomlErrors& errors, const toml::table& root, Spec& spec) {
       return;
     }
   }
-  std::ostringstream out;
-  out << kept;
-  // Checked as the scenario it makes (a world file needs no seed).
-  if (auto checked = vehicle::parse_scenario("seed = 0\n" + out.str(), named->resolved); !checked) {
+  // Checked as the scenario file it is, in the table as parsed, so that a
+  // problem is located in the file as written (a world file needs no seed;
+  // one it has is checked, then replaced by each case's).
+  if (!base.contains("seed")) base.insert("seed", 0);
+  if (auto checked = vehicle::scenario_from_table(named->resolved, base); !checked) {
     errors.add(n, fmt::format("'world': {}", checked.error().message));
     return;
   }
+  std::ostringstream out;
+  out << kept;
   spec.world = named->written;
   spec.world_toml = out.str();
 }

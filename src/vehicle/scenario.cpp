@@ -9,6 +9,7 @@
 
 #include "vehicle/time_compare.h"
 #include "core/toml_reader.h"
+#include "vehicle/scenario_table.h"
 #include "vehicle/scenario_world.h"
 
 namespace strata::vehicle {
@@ -233,6 +234,8 @@ core::Result<void> parse_target(std::string_view path, const toml::table& root, 
   return {};
 }
 
+}  // namespace
+
 core::Result<Scenario> scenario_from_table(std::string_view path, const toml::table& root) {
   Scenario s;
   for (auto&& [key, node] : root) {
@@ -272,8 +275,6 @@ core::Result<Scenario> scenario_from_table(std::string_view path, const toml::ta
   if (auto r = parse_target(path, root, s); !r) return r.error();
   return s;
 }
-
-}  // namespace
 
 core::Result<Scenario> load_scenario(std::string_view path) {
   auto table = core::parse_toml_file(std::string(path));
