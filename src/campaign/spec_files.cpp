@@ -35,6 +35,11 @@ std::optional<NamedFile> named_file(core::TomlErrors& errors, const toml::table&
     errors.add(*n, fmt::format("'{}' must name {} (a string, relative to the spec)", key, what));
     return std::nullopt;
   }
+  // The system's calls end a name at a NUL: "a.toml\u0000b" would open a.toml.
+  if (file->find('\0') != std::string::npos) {
+    errors.add(*n, fmt::format("'{}': a file name cannot hold a NUL character (\\u0000)", key));
+    return std::nullopt;
+  }
   return NamedFile{n, *file, (fs::path(spec.path).parent_path() / *file).lexically_normal().string()};
 }
 

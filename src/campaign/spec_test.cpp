@@ -336,6 +336,24 @@ TEST(CampaignSpec, AWorldFilesErrorIsLocatedInTheFileAsWritten) {
       << spec.error().message;
 }
 
+// "sea.toml\u0000junk" opened sea.toml (the system's calls end a name at
+// the NUL) and was kept as the spec's world, NUL and all.
+TEST(CampaignSpec, AFileNameWithANulIsRefusedNotCutShort) {
+  TempDir dir;
+  dir.write("sea.toml", "[world]\nkind = \"open_water\"\n");
+  auto world = load_spec(dir.write("c.toml", spec_text(R"(world = "sea.toml\u0000junk")"
+                                                       "\n") +
+                                                 kNoFault));
+  ASSERT_FALSE(world.ok()) << "accepted as " << world.value().world;
+  EXPECT_NE(std::string::npos, world.error().message.find("c.toml:2:9: 'world': a file name cannot hold a NUL"))
+      << world.error().message;
+  auto params = load_spec(dir.write("p.toml", spec_text(R"(params = "\u0000")"
+                                                        "\n") +
+                                                  kNoFault));
+  ASSERT_FALSE(params.ok());
+  EXPECT_EQ(std::string::npos, params.error().message.find('\0')) << "the NUL itself printed";
+}
+
 TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {
   const std::string body = R"(
 [[family]]
