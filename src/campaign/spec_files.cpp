@@ -35,6 +35,11 @@ std::optional<NamedFile> named_file(core::TomlErrors& errors, const toml::table&
     errors.add(*n, fmt::format("'{}' must name {} (a string, relative to the spec)", key, what));
     return std::nullopt;
   }
+  // The system's calls end a name at a NUL: "a.toml\u0000b" would open a.toml.
+  if (file->find('\0') != std::string::npos) {
+    errors.add(*n, fmt::format("'{}': a file name cannot hold a NUL character (\\u0000)", key));
+    return std::nullopt;
+  }
   return NamedFile{n, *file, (fs::path(spec.path).parent_path() / *file).lexically_normal().string()};
 }
 
@@ -82,14 +87,15 @@ void read_world(core::TomlErrors& errors, const toml::table& root, Spec& spec) {
       return;
     }
   }
-  std::ostringstream out;
-  out << kept;
   // Checked as the scenario it is, so that an error names the world file's
-  // own line (the text above is toml++'s, laid out anew).
+  // own line (world_toml below is toml++'s text, laid out anew); a seed it
+  // has is checked, then replaced by each case's.
   if (auto checked = vehicle::parse_world_scenario(text.value(), named->resolved); !checked) {
     errors.add(n, fmt::format("'world': {}", checked.error().message));
     return;
   }
+  std::ostringstream out;
+  out << kept;
   spec.world = named->written;
   spec.world_toml = out.str();
 }

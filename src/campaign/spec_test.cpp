@@ -260,6 +260,107 @@ TEST(CampaignSpec, AWorldFileGivesEveryCaseItsWorldAndAFaultInItIsRefused) {
   EXPECT_NE(std::string::npos, piped.error().message.find("p.toml:2:9: 'world': ")) << piped.error().message;
 }
 
+// Hostile `params` and `world` values: each is the spec's error at its key
+// (line 2: the key's value starts at column 10 or 9), read at once or not at
+// all, never waited on.
+constexpr const char* kNoFault = "[[family]]\nfault = \"none\"\n";
+
+TEST(CampaignSpec, WhatAParamsOrWorldKeyNamesIsRefusedAtTheKeyUnlessAPlainFile) {
+  TempDir dir;
+  auto refused_at = [&](const std::string& key, const std::string& value, const std::string& more = "") {
+    auto spec = load_spec(dir.write("s.toml", spec_text(key + " = " + value + "\n") + kNoFault));
+    if (spec.ok()) return std::string("accepted: ") + key + " = " + value;
+    const std::string at = "s.toml:2:" + std::string(key == "params" ? "10" : "9") + ": ";
+    const std::string& m = spec.error().message;
+    if (m.find(at) == std::string::npos) return "not at " + at + ": " + m;
+    if (!more.empty() && m.find(more) == std::string::npos) return "no '" + more + "' in: " + m;
+    return std::string("ok");
+  };
+  std::filesystem::create_directory(dir.file("folder"));
+  std::filesystem::create_symlink("loop.toml", dir.file("loop.toml"));
+  std::filesystem::create_symlink("folder", dir.file("to_folder.toml"));
+  for (const std::string key : {"params", "world"}) {
+    SCOPED_TRACE(key);
+    EXPECT_EQ("ok", refused_at(key, "\"folder\""));
+    EXPECT_EQ("ok", refused_at(key, "\"to_folder.toml\""));
+    EXPECT_EQ("ok", refused_at(key, "\"loop.toml\""));
+    EXPECT_EQ("ok", refused_at(key, "\"/dev/zero\""));
+    EXPECT_EQ("ok", refused_at(key, "\"/dev/urandom\""));
+    EXPECT_EQ("ok", refused_at(key, "\"\"", "must name"));
+    EXPECT_EQ("ok", refused_at(key, "[\"a.toml\"]", "must name"));
+    EXPECT_EQ("ok", refused_at(key, "{ file = \"a.toml\" }", "must name"));
+    EXPECT_EQ("ok", refused_at(key, "true", "must name"));
+    EXPECT_EQ("ok", refused_at(key, "\"../../../../../../../../nosuch.toml\""));
+  }
+  // Over the limit: refused by its size, not read to the end.
+  dir.write("big.toml", "[world]\nkind = \"open_water\"\n#" + std::string(std::size_t{1} << 20, 'x') + "\n");
+  EXPECT_EQ("ok", refused_at("world", "\"big.toml\"", "over the limit"));
+  // Not UTF-8: the world file's own place too.
+  dir.write("latin1.toml", "[world]\nkind = \"open\xe9water\"\n");
+  EXPECT_EQ("ok", refused_at("world", "\"latin1.toml\"", "latin1.toml:2:"));
+  dir.write("latin1p.toml", "[hull]\nmass_kg = 3 # \xff\xfe\n");
+  EXPECT_EQ("ok", refused_at("params", "\"latin1p.toml\""));
+  // A world file's faults are the families' (an array of tables or not).
+  dir.write("faults.toml", "[world]\nkind = \"open_water\"\nfault = []\n");
+  EXPECT_EQ("ok", refused_at("world", "\"faults.toml\""));
+  dir.write("fault.toml", "[[fault]]\nkind = \"leak\"\nat_s = 5\n");
+  EXPECT_EQ("ok", refused_at("world", "\"fault.toml\"", "has 'fault'"));
+  // A huge table in the world: refused as unknown, at the key, without
+  // naming every entry.
+  std::string huge = "[world]\nkind = \"open_water\"\n";
+  for (int i = 0; i < 20000; ++i) huge += "k" + std::to_string(i) + " = " + std::to_string(i) + "\n";
+  dir.write("huge.toml", huge);
+  EXPECT_EQ("ok", refused_at("world", "\"huge.toml\""));
+}
+
+// A world file is a scenario file whose seed the campaign replaces: a seed
+// that no scenario would take is still the file's error, not dropped unread.
+TEST(CampaignSpec, AWorldFilesSeedOfTheWrongTypeIsRefusedAtTheKey) {
+  TempDir dir;
+  dir.write("sea.toml", "seed = \"eleven\"\n[world]\nkind = \"open_water\"\n");
+  EXPECT_FALSE(vehicle::parse_scenario("seed = \"eleven\"\n[world]\nkind = \"open_water\"\n", "sea.toml").ok())
+      << "a scenario refuses it";
+  auto spec = load_spec(dir.write("c.toml", spec_text("world = \"sea.toml\"\n") + kNoFault));
+  ASSERT_FALSE(spec.ok()) << "a world file's string seed was accepted";
+  EXPECT_NE(std::string::npos, spec.error().message.find("c.toml:2:9: 'world': ")) << spec.error().message;
+  EXPECT_NE(std::string::npos, spec.error().message.find("seed")) << spec.error().message;
+  dir.write("ok.toml", "seed = 11\ndescription = \"the sea\"\n[world]\nkind = \"open_water\"\n");
+  auto ok = load_spec(dir.write("d.toml", spec_text("world = \"ok.toml\"\n") + kNoFault));
+  EXPECT_TRUE(ok.ok()) << ok.error().message;
+}
+
+// A world file's errors were located in the text the campaign rewrote from
+// it (its tables re-printed after a "seed = 0" line), not in the file: a bad
+// value on line 6 was reported on line 3.
+TEST(CampaignSpec, AWorldFilesErrorIsLocatedInTheFileAsWritten) {
+  TempDir dir;
+  dir.write(
+      "sea.toml",
+      "# The sea off the pier.\n\ndescription = \"calm\"\n[world]\nkind = \"open_water\"\ncurrent_y_mps = \"fast\"\n");
+  auto spec = load_spec(dir.write("c.toml", spec_text("world = \"sea.toml\"\n") + kNoFault));
+  ASSERT_FALSE(spec.ok());
+  EXPECT_NE(std::string::npos, spec.error().message.find("c.toml:2:9: 'world': " + dir.file("sea.toml") + ":6:"))
+      << spec.error().message;
+}
+
+// "sea.toml\u0000junk" opened sea.toml (the system's calls end a name at
+// the NUL) and was kept as the spec's world, NUL and all.
+TEST(CampaignSpec, AFileNameWithANulIsRefusedNotCutShort) {
+  TempDir dir;
+  dir.write("sea.toml", "[world]\nkind = \"open_water\"\n");
+  auto world = load_spec(dir.write("c.toml", spec_text(R"(world = "sea.toml\u0000junk")"
+                                                       "\n") +
+                                                 kNoFault));
+  ASSERT_FALSE(world.ok()) << "accepted as " << world.value().world;
+  EXPECT_NE(std::string::npos, world.error().message.find("c.toml:2:9: 'world': a file name cannot hold a NUL"))
+      << world.error().message;
+  auto params = load_spec(dir.write("p.toml", spec_text(R"(params = "\u0000")"
+                                                        "\n") +
+                                                  kNoFault));
+  ASSERT_FALSE(params.ok());
+  EXPECT_EQ(std::string::npos, params.error().message.find('\0')) << "the NUL itself printed";
+}
+
 TEST(CampaignSpec, SampledParametersAreTheSameEveryTimeWithinTheirRange) {
   const std::string body = R"(
 [[family]]

@@ -48,8 +48,12 @@ core::Result<fs::path> Sandbox::resolve(std::string_view rel, bool for_write) co
     if (ec) return refuse("its folder does not exist");
     if (!inside(folder)) return refuse("leaves the studio's folder");
     const fs::path target = folder / joined.filename();
+    // A name the system cannot look up (too long, say) is refused here: the
+    // callers' own lookups of it would throw.
+    const fs::file_status status = fs::symlink_status(target, ec);
+    if (status.type() == fs::file_type::none) return refuse(fmt::format("cannot be looked up ({})", ec.message()));
     // An existing link is followed: where it points must be inside too.
-    if (fs::is_symlink(fs::symlink_status(target, ec))) {
+    if (fs::is_symlink(status)) {
       const fs::path real = fs::weakly_canonical(target, ec);
       if (ec || !inside(real)) return refuse("leaves the studio's folder");
       return real;
