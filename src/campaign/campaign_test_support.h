@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "campaign/spec.h"
+
 namespace strata::campaign::testing {
 
 namespace fs = std::filesystem;
@@ -73,6 +75,21 @@ inline std::vector<nlohmann::json> by_index(std::vector<nlohmann::json> lines) {
   }
   std::sort(lines.begin(), lines.end(), [](auto& a, auto& b) { return a["index"] < b["index"]; });
   return lines;
+}
+
+// A spec in a folder beside the tank mission's files (by absolute path).
+inline std::string spec_text(const std::string& body) {
+  return "missions = [\"" + kTankDir + "/tank.coral\"]\n" + body;
+}
+
+inline core::Result<Spec> parse(const std::string& text, const SpecLimits& limits = {}) {
+  return parse_spec(text, "c.toml", limits);
+}
+
+inline std::string error_of(const std::string& text, const SpecLimits& limits = {}) {
+  auto spec = parse(text, limits);
+  EXPECT_FALSE(spec.ok()) << "the spec was accepted:\n" << text;
+  return spec ? std::string() : spec.error().message;
 }
 
 }  // namespace strata::campaign::testing
