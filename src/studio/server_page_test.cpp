@@ -15,9 +15,8 @@ namespace {
 // ifstream, so a FIFO planted in the folder held an HTTP worker for ever (and
 // the sonar scan's latest.png the same).
 TEST(StudioWebRoot, ServesThePageFromDiskAndNothingElse) {
-  std::string pattern = (fs::path(::testing::TempDir()) / "strata_webroot_XXXXXX").string();
-  ASSERT_NE(nullptr, mkdtemp(pattern.data()));
-  const fs::path base = pattern;
+  const fs::path base = make_temp_dir("strata_webroot");
+  ASSERT_FALSE(base.empty());
   fs::create_directories(base / "root");
   fs::create_directories(base / "web/assets");
   fs::create_directories(base / "sonar");
@@ -64,20 +63,13 @@ TEST(StudioWebRoot, ServesThePageFromDiskAndNothingElse) {
   fs::remove_all(base);
 }
 
-}  // namespace
-}  // namespace strata::studio
-
-namespace strata::studio {
-namespace {
-
 // Regression: a stop() right after start() (Ctrl-C as `strata studio`
 // printed its URL) came before cpp-httplib's accept loop, where its stop()
 // does nothing, so the listener ran on and stop() joined it for ever: about
 // one start in ten never ended. Each stop here must end within 10 s.
 TEST(StudioServerLife, AStopRightAfterTheStartEnds) {
-  std::string pattern = (fs::path(::testing::TempDir()) / "strata_stopnow_XXXXXX").string();
-  ASSERT_NE(nullptr, mkdtemp(pattern.data()));
-  const fs::path root = pattern;
+  const fs::path root = make_temp_dir("strata_stopnow");
+  ASSERT_FALSE(root.empty());
   for (int i = 0; i < 60; ++i) {
     EventHub hub;
     StudioOptions o;

@@ -20,6 +20,17 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using nlohmann::json;
 
+// A fresh folder under the test's temp folder (mkdtemp: its own, 0700), or
+// an empty path with the test failed.
+inline fs::path make_temp_dir(const std::string& prefix) {
+  std::string pattern = (fs::path(::testing::TempDir()) / (prefix + "_XXXXXX")).string();
+  if (mkdtemp(pattern.data()) == nullptr) {
+    ADD_FAILURE() << "mkdtemp failed for " << pattern;
+    return {};
+  }
+  return pattern;
+}
+
 inline std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), {});
@@ -28,9 +39,8 @@ inline std::string slurp(const fs::path& p) {
 class StudioServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::path(::testing::TempDir()) / "strata_studio_XXXXXX").string();
-    ASSERT_NE(nullptr, mkdtemp(pattern.data()));
-    base_ = pattern;
+    base_ = make_temp_dir("strata_studio");
+    ASSERT_FALSE(base_.empty());
     fs::create_directories(base_ / "root");
     fs::copy(fs::path(STRATA_SOURCE_DIR) / "missions/tank", base_ / "root/tank", fs::copy_options::recursive);
     std::ofstream(base_ / "secret.coral") << "net secret {}";
