@@ -55,8 +55,9 @@ Result<toml::table> parse_toml(std::string_view text, std::string_view path) {
 }
 
 Result<std::string> read_toml_text(const std::string& path) {
-  return read_regular_file(path, kMaxTomlFileBytes,
-                           [](const std::string& p, const char*) { return p + ": cannot open file"; });
+  return read_regular_file(path, kMaxTomlFileBytes, [](const std::string& p, const char* reason) {
+    return p + ": cannot open file: " + reason;
+  });
 }
 
 Result<toml::table> parse_toml_file(const std::string& path) {
