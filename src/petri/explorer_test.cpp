@@ -66,16 +66,22 @@ TEST(Explorer, ADeadlockAndADeadTransition) {
   EXPECT_EQ(std::optional<bool>(false), r.live);
 }
 
-TEST(Explorer, WeightsAndFieldsThatWiden) {
-  // A producer adds 3 tokens per firing to `buffer` until `budget` (100)
-  // runs out: 101 states, the buffer's field widens from 1 bit to 9.
+// A producer adds 3 tokens per firing to `buffer` (place 1) until `budget`
+// (place 0, 100) runs out: 101 states, the buffer's field widens from 1 bit
+// to 9.
+Net widening_producer() {
   NetBuilder b;
   PlaceId budget = b.add_place("budget", 100);
   PlaceId buffer = b.add_place("buffer");
   TransitionId produce = b.add_transition("produce");
   b.add_input(produce, budget);
   b.add_output(produce, buffer, 3);
-  ExploreResult r = explore(std::move(b).build());
+  return std::move(b).build();
+}
+
+TEST(Explorer, WeightsAndFieldsThatWiden) {
+  const PlaceId budget = 0, buffer = 1;
+  ExploreResult r = explore(widening_producer());
   EXPECT_EQ(101u, r.states);
   EXPECT_EQ(100u, r.edges);
   EXPECT_EQ(300u, r.max_tokens_in_place);
@@ -88,13 +94,7 @@ TEST(Explorer, WeightsAndFieldsThatWiden) {
 
 TEST(Explorer, WithoutStatisticsTheStatesEdgesAndDeadlockAreTheSame) {
   // What a deadlock question reads; the producer's field still widens.
-  NetBuilder b;
-  PlaceId budget = b.add_place("budget", 100);
-  PlaceId buffer = b.add_place("buffer");
-  TransitionId produce = b.add_transition("produce");
-  b.add_input(produce, budget);
-  b.add_output(produce, buffer, 3);
-  for (const Net& net : {dining_philosophers(5), referendum(6), std::move(b).build()}) {
+  for (const Net& net : {dining_philosophers(5), referendum(6), widening_producer()}) {
     ExploreOptions with;
     with.liveness = false;
     ExploreOptions without = with;

@@ -184,7 +184,6 @@ known_arities(Module, Name, Arities) :-
 %   sandbox is a problem(File, Line:Column, Text) at the call. A call
 %   reached through a helper of the rules is reported at the helper's own
 %   clause; calls nobody defines are the walk's to report.
-
 %
 %   Rules that pass are the common case: every clause's body is checked at
 %   once, as one conjunction (a conjunction is safe when each of its goals
