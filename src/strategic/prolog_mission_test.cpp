@@ -167,6 +167,25 @@ TEST_F(PrologMission, UnknownPrimitivesAreFoundWhenTheRulesLoad) {
   EXPECT_NE(std::string::npos, all.find("ask_nothing/1: `nothing` is not an ask primitive")) << all;
 }
 
+// The sandbox checks every clause at once first (driver_check.pl): rules
+// where two clauses among many safe ones are refused must still have each
+// refusal placed at its own line, none hidden by the other or the rest.
+TEST_F(PrologMission, EveryRefusedClauseAmongSafeOnesIsPlacedAtItsLine) {
+  std::string text = "mission :- step(1).\n";
+  for (int i = 1; i <= 10; ++i) text += "step(" + std::to_string(i) + ") :- exec_sleep(1, _).\n";  // lines 2-11
+  text += "clean :- shell('rm -rf /tmp/x').\n";                                                    // line 12
+  for (int i = 1; i <= 5; ++i) text += "safe(" + std::to_string(i) + ") :- X is 1 + 2, X > 0.\n";  // 13-17
+  text += "peek :- open('/etc/passwd', read, _).\n";                                               // line 18
+  std::vector<Message> messages;
+  auto m = Mission::load(rules_.write("m.pl", text), tactical::Catalogue::builtin(), messages);
+  ASSERT_FALSE(m.ok());
+  std::string all;
+  for (const auto& msg : messages) all += format_message(msg) + "\n";
+  EXPECT_NE(std::string::npos, all.find("m.pl:12:")) << all;
+  EXPECT_NE(std::string::npos, all.find("m.pl:18:")) << all;
+  EXPECT_EQ(2u, messages.size()) << all;
+}
+
 TEST_F(PrologMission, RulesWithoutMissionAreRefused) {
   std::vector<Message> messages;
   auto m = Mission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(), messages);
