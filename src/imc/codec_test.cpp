@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 #include <string>
 #include <variant>
@@ -338,6 +339,25 @@ TEST(ImcEncode, SetsMgidAndSizeFromTheMessage) {
   ASSERT_TRUE(std::holds_alternative<Packet>(back));
   EXPECT_EQ(Abort::kId, std::get<Packet>(back).header.mgid);
   EXPECT_EQ(0, std::get<Packet>(back).header.size);
+}
+
+// ---- the fuzz target -----------------------------------------------------------------
+
+}  // namespace
+}  // namespace strata::imc
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+
+namespace strata::imc {
+namespace {
+
+// The target compared peek_header's header with decode's by ==, and a NaN
+// timestamp is not equal to itself: it reported a codec bug that was its own.
+TEST(ImcFuzzTarget, NanTimestampIsNotAMismatch) {
+  Packet p{test_header(), Heartbeat{}};
+  p.header.timestamp = std::numeric_limits<double>::quiet_NaN();
+  const Bytes bytes = encoded(p);
+  EXPECT_EQ(0, LLVMFuzzerTestOneInput(bytes.data(), bytes.size()));
 }
 
 // ---- the fuzz corpus ----------------------------------------------------------------
