@@ -128,8 +128,14 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
 void check_level(const Mission& mission, const tactical::Catalogue& catalogue, tactical::ExecutionLevel level,
                  std::size_t max_bytes, std::vector<Message>& messages) {
   if (level == tactical::ExecutionLevel::Phoenix) return;
-  std::error_code ec;
-  std::vector<std::string> files{fs::absolute(mission.path(), ec).lexically_normal().string()};
+  // Each file once, however its path is spelt (SWI-Prolog's, or through a link).
+  auto same_file = [](const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(path, ec);
+    return ec ? path : p.string();
+  };
+  std::vector<std::string> files{mission.path()};
+  std::vector<std::string> seen{same_file(mission.path())};
   Frame frame;
   term_t loaded = PL_new_term_ref();
   if (auto r = call_driver_keep("mission_files", {new_atom(mission.module()), loaded}); r && r.value()) {
@@ -137,13 +143,15 @@ void check_level(const Mission& mission, const tactical::Catalogue& catalogue, t
     term_t tail = PL_copy_term_ref(loaded);
     while (PL_get_list(tail, head, tail)) {
       std::string file = text_of(head);
-      if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(std::move(file));
+      std::string key = same_file(file);
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(std::move(key));
+      files.push_back(shown_path(file));
     }
   }
-  for (const auto& file : files) {
-    auto text = core::read_regular_file(file, max_bytes);
-    if (!text) continue;  // the load read it: a file gone since is no call
-    const std::string shown = file == files.front() ? mission.path() : shown_path(file);
+  for (const auto& shown : files) {
+    auto text = core::read_regular_file(shown, max_bytes);
+    if (!text) continue;  // the load read it: a file gone since holds no call
     for (auto& p : scan_unavailable_primitives(text.value(), catalogue, level)) {
       messages.push_back({true, shown, static_cast<std::uint32_t>(p.line), static_cast<std::uint32_t>(p.column),
                           std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::PrimitiveUnavailable))});
