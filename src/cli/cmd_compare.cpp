@@ -22,6 +22,7 @@ namespace {
 struct CompareOptions {
   std::string a, b;
   std::string vehicle_a, vehicle_b;  // --vehicle-a/-b: "" the embedded vehicle
+  double speed = 1.0;                // the speed of a vehicle of its own (an IMC one's FollowReference timeout)
   std::string scenario;
   std::optional<std::uint64_t> seed;
   std::string params;
@@ -84,6 +85,7 @@ int run_compare(const CompareOptions& o) {
     RunOptions run;
     run.mission = *paths[i];
     run.vehicle = i == 0 ? o.vehicle_a : o.vehicle_b;
+    run.speed = o.speed;
     run.scenario = o.scenario;
     run.seed = o.seed;
     run.params = o.params;
@@ -167,6 +169,10 @@ Runner add_compare_command(CLI::App& app) {
   cmd->add_option("--vehicle-b", o->vehicle_b,
                   "The vehicle B runs against, e.g. imc://127.0.0.1:6002 (`strata vehicle --imc`); across "
                   "execution levels the commands are compared, not the asks and times");
+  cmd->add_option("--speed", o->speed,
+                  "With --vehicle-a/-b: simulated seconds per wall second of that vehicle (`strata vehicle --speed`)")
+      ->check(CLI::Range(0.01, 1000.0))
+      ->capture_default_str();
   cmd->add_option("--scenario", o->scenario,
                   "Vehicle scenario for both runs: NAME in each mission's scenarios/ folder, or a path "
                   "(default: nominal)");

@@ -112,6 +112,11 @@ int RunSession::Run::connect_imc() {
     err_ << "strata run: --vehicle: " << options.error().message << "\n";
     return fail(kExitUsage);
   }
+  // --speed: how much faster than real time the vehicle runs (a simulated
+  // one: `strata vehicle --imc --speed K`). The FollowReference timeout is
+  // 10 s of the vehicle's clock on DUNE; here it is 10 wall seconds, so a
+  // busy machine's pause does not end a fast vehicle's plan.
+  options.value().follow_timeout_s = 10.0 * std::max(1.0, o_.speed);
   imc_ = tactical::ImcLink::create(io_, options.value());
   link_ = imc_;
   std::optional<core::Result<tactical::ImcVehicleInfo>> heard;

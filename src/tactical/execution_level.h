@@ -1,6 +1,6 @@
 #pragma once
-// The Execution levels a run can reach (design: "Execution levels: the
-// Phoenix protocol and IMC") and which primitives each one carries out.
+// The Execution levels a run can reach (docs/imc.md, docs/protocol.md)
+// and which primitives each one carries out.
 // The Phoenix protocol carries every primitive of the catalogue it was
 // written for; an IMC vehicle (LSTS DUNE, or `strata vehicle --imc`)
 // carries those in the table of docs/imc.md and refuses the rest, which

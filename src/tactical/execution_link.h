@@ -1,5 +1,5 @@
 #pragma once
-// The Tactical level's one interface to an Execution level (design §2.6c):
+// The Tactical level's one interface to an Execution level (docs/imc.md):
 // requests go out as protocol::Request values (exec/ask/ood with typed
 // arguments, telemetry), and each is answered once, as a value: the
 // vehicle's reply or a typed error (core::ErrorCode Timeout, Closed,
