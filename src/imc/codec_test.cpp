@@ -149,7 +149,10 @@ TEST(ImcMessages, IdsAndNamesAreIMCs) {
   EXPECT_FALSE(is_known(450));  // Goto: not in the table
   EXPECT_FALSE(is_known(kNullId));
   EXPECT_EQ("", name_of(0));
-  EXPECT_EQ(21u, std::variant_size_v<Message>);
+  EXPECT_EQ("NavigationUncertainty", name_of(354));
+  EXPECT_EQ(801, EntityParameter::kId);
+  EXPECT_EQ("SetEntityParameters", name_of(804));
+  EXPECT_EQ(24u, std::variant_size_v<Message>);
 }
 
 TEST(ImcMessages, InlineIsAValueThatOwnsItsMessage) {
