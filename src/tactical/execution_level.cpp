@@ -31,6 +31,8 @@ constexpr std::array kImcTable{
     ImcRow{protocol::Verb::Exec, "stop", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "gps_fix", ImcMapping::State},
     ImcRow{protocol::Verb::Exec, "set_altitude_floor", ImcMapping::Local},
+    ImcRow{protocol::Verb::Exec, "start_sonar", ImcMapping::Payload},
+    ImcRow{protocol::Verb::Exec, "stop_sonar", ImcMapping::Payload},
     ImcRow{protocol::Verb::Ask, "depth_filter_off", ImcMapping::Local},
     ImcRow{protocol::Verb::Ask, "depth_reached", ImcMapping::State},
     ImcRow{protocol::Verb::Ask, "time_out", ImcMapping::Local},
@@ -39,19 +41,17 @@ constexpr std::array kImcTable{
     ImcRow{protocol::Verb::Ask, "heading_reached", ImcMapping::State},
     ImcRow{protocol::Verb::Ask, "waypoint_reached", ImcMapping::State},
     ImcRow{protocol::Verb::Ask, "altitude_low", ImcMapping::State},
+    ImcRow{protocol::Verb::Ask, "position_uncertain", ImcMapping::State},
     ImcRow{protocol::Verb::Ood, "start_network", ImcMapping::Plan},
     ImcRow{protocol::Verb::Ood, "shutdown_network", ImcMapping::Plan},
 };
 
 // Why an IMC vehicle has nothing for a wire function the Phoenix carries.
 std::string imc_refusal(std::string_view function) {
-  if (function == "start_sonar" || function == "stop_sonar" || function == "target_detected") {
-    return "an IMC vehicle has no scanning sonar on this link (the Phoenix's sonar socket has no IMC counterpart)";
+  if (function == "target_detected") {
+    return "an IMC vehicle sends no sonar sweeps on this link (the Phoenix's sonar socket has no IMC counterpart)";
   }
   if (function == "set_sway") return "an IMC vehicle takes no sideways speed (a Reference has none)";
-  if (function == "position_uncertain") {
-    return "an IMC vehicle's EstimatedState carries no position uncertainty to answer it from";
-  }
   return fmt::format("an IMC vehicle has no counterpart for '{}' (docs/imc.md lists what it carries)", function);
 }
 

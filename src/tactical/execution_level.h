@@ -32,6 +32,7 @@ enum class ImcMapping {
   Local,      // kept by the link on the vehicle's clock (sleep, timers, setpoints)
   State,      // an ask answered from the vehicle's own messages
   Plan,       // the plan's start and end (start_network, shutdown_network)
+  Payload,    // a payload switched on or off (SetEntityParameters: the sonar)
 };
 // nullopt: an IMC vehicle has nothing for it.
 std::optional<ImcMapping> imc_mapping(protocol::Verb verb, std::string_view function);

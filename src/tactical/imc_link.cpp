@@ -30,7 +30,8 @@ bool wanted(std::uint16_t id) {
     case imc::PlanControl::kId:
     case imc::PlanControlState::kId:
     case imc::FollowRefState::kId:
-    case imc::LogBookEntry::kId: return true;
+    case imc::LogBookEntry::kId:
+    case imc::NavigationUncertainty::kId: return true;
     default: return false;
   }
 }
@@ -242,6 +243,10 @@ void ImcLink::handle(const imc::Packet& packet) {
     on_plan_control_state(*pcs);
   } else if (const auto* frs = std::get_if<imc::FollowRefState>(&m)) {
     on_follow_ref_state(*frs);
+  } else if (const auto* nu = std::get_if<imc::NavigationUncertainty>(&m)) {
+    // Variances of x (north) and y (east): the larger one's 1-sigma.
+    const double var = std::max(nu->x, nu->y);
+    if (std::isfinite(var) && var >= 0) state_.position_sd_m = std::sqrt(var);
   } else if (const auto* lb = std::get_if<imc::LogBookEntry>(&m)) {
     if (on_event_ && lb->type != imc::LogBookEntry::kTypeDebug && t0_) {
       on_event_(protocol::Event{state_.t_s, fmt::format("{}: {}", lb->context, lb->text)});
@@ -439,6 +444,16 @@ void ImcLink::send_reference(bool mandone) {
 }
 
 void ImcLink::send_abort() { send_packet(imc::Message(imc::Abort{}), vehicle_.id); }
+
+void ImcLink::send_payload(bool active) {
+  imc::EntityParameter on;
+  on.name = "Active";
+  on.value = active ? "true" : "false";
+  imc::SetEntityParameters set;
+  set.name = options_.sonar_entity;
+  set.params.push_back(std::move(on));
+  send_packet(imc::Message(std::move(set)), vehicle_.id);
+}
 
 void ImcLink::send_packet(const imc::Message& message, std::uint16_t dst) {
   if (closed_ || !socket_.is_open()) return;
@@ -661,6 +676,8 @@ core::Result<void> ImcLink::take(Pending& p) {
     steer = true;
   } else if (f == "gps_fix") {
     p.value.reset();  // decided at the reply, from the newest GpsFix
+  } else if (f == "start_sonar" || f == "stop_sonar") {
+    send_payload(f == "start_sonar");
   } else if (f == "start_network") {
     p.value = plan_running_;
   } else if (f == "shutdown_network") {
@@ -698,6 +715,7 @@ bool ImcLink::ask(std::string_view q) const {
     return err < options_.heading_tolerance_deg && std::fabs(s.r_dps) < options_.heading_settle_dps;
   }
   if (q == "waypoint_reached") return waypoint_ && xy_near;
+  if (q == "position_uncertain") return s.position_sd_m && *s.position_sd_m > options_.position_limit_m;
   if (q == "altitude_low") {
     const bool dead = s.alt_m < 0 && s.depth_m > options_.surface_depth_m;
     return dead || (s.alt_m >= 0 && s.alt_m < altitude_floor_m_);

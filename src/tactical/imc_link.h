@@ -77,6 +77,11 @@ struct ImcLinkOptions {
   double heading_tolerance_deg = 3.0;
   double heading_settle_dps = 2.0;
   double heading_lead_m = 1000.0;  // `heading D` steers to a point this far along D
+  // position_uncertain: NavigationUncertainty's horizontal 1-sigma above this
+  // (the Phoenix's limit, config/phoenix.toml [navigation]).
+  double position_limit_m = 25.0;
+  // start_sonar/stop_sonar: SetEntityParameters{name = this, Active = true/false}.
+  std::string sonar_entity = "Sidescan";
   // Sees every message sent and decoded, as "Reference", "EstimatedState"...;
   // for traces and benchmarks. Must be quick and must not call the link.
   std::function<void(bool sent, std::string_view message)> tap;
@@ -159,6 +164,7 @@ class ImcLink final : public ExecutionLink {
     std::uint8_t error_count = 0;
     std::string error_ents, last_error;
     bool gps_valid = false;
+    std::optional<double> position_sd_m;               // from NavigationUncertainty
     std::optional<std::uint8_t> ref_state, proximity;  // the newest FollowRefState for our Reference
   };
 
@@ -180,6 +186,7 @@ class ImcLink final : public ExecutionLink {
   void start_plan();
   void send_reference(bool mandone = false);
   void send_abort();
+  void send_payload(bool active);
   void send_packet(const imc::Message& message, std::uint16_t dst);
   void announce();
   void arm_heartbeat();

@@ -467,10 +467,42 @@ TEST(ImcLink, GarbageAndOtherSystemsAreCountedNeverUsed) {
 TEST(ImcLink, AFunctionAnImcVehicleHasNotIsRefusedNotSent) {
   ImcRig rig;
   rig.connect();
-  auto r = rig.call(protocol::make_exec(0, "start_sonar"));
+  auto r = rig.call(protocol::make_exec(0, "set_sway", {protocol::Value::real(0.1)}));
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code, core::ErrorCode::Protocol);
-  EXPECT_EQ(r.error().message, "an IMC vehicle has no 'start_sonar' (docs/imc.md)");
+  EXPECT_EQ(r.error().message, "an IMC vehicle has no 'set_sway' (docs/imc.md)");
+}
+
+TEST(ImcLink, TheSonarIsAPayloadSwitchedBySetEntityParameters) {
+  ImcRig rig;
+  rig.connect();
+  const std::size_t before = rig.vehicle.received.size();
+  EXPECT_TRUE(rig.exec("start_sonar"));
+  const imc::SetEntityParameters* set = nullptr;
+  ASSERT_TRUE(run_until(rig.io, [&] {
+    for (std::size_t i = before; i < rig.vehicle.received.size() && !set; ++i) {
+      set = std::get_if<imc::SetEntityParameters>(&rig.vehicle.received[i].message);
+    }
+    return set != nullptr;
+  }));
+  EXPECT_EQ(set->name, "Sidescan");
+  ASSERT_EQ(set->params.size(), 1u);
+  EXPECT_EQ(set->params[0].name, "Active");
+  EXPECT_EQ(set->params[0].value, "true");
+}
+
+TEST(ImcLink, PositionUncertainIsNavigationUncertaintysHorizontalSigmaAboveTheLimit) {
+  ImcRig rig;
+  rig.connect();
+  EXPECT_FALSE(rig.ask("position_uncertain"));  // none heard: not uncertain
+  imc::NavigationUncertainty nu;
+  nu.x = 24.0f * 24.0f;
+  nu.y = 10.0f;
+  rig.vehicle.send(nu);
+  EXPECT_FALSE(rig.ask("position_uncertain"));
+  nu.y = 26.0f * 26.0f;  // east is the worse axis now
+  rig.vehicle.send(nu);
+  EXPECT_TRUE(rig.ask("position_uncertain"));
 }
 
 TEST(ImcLinkAddress, ParsesHostPortAndAnOptionalId) {
@@ -494,14 +526,14 @@ TEST(ImcLinkAddress, ParsesHostPortAndAnOptionalId) {
 
 TEST(ExecutionLevel, AnImcVehicleRefusesWhatItHasNoCounterpartForAndCarriesTheRest) {
   const Catalogue& c = Catalogue::builtin();
-  for (const char* refused : {"start_sonar", "stop_sonar", "target_detected", "set_sway", "position_uncertain"}) {
+  for (const char* refused : {"target_detected", "set_sway"}) {
     ASSERT_NE(c.find(refused), nullptr) << refused;
     EXPECT_TRUE(unavailable_on(ExecutionLevel::Imc, *c.find(refused))) << refused;
     EXPECT_FALSE(unavailable_on(ExecutionLevel::Phoenix, *c.find(refused))) << refused;
   }
   std::size_t carried = 0;
   for (const Primitive& p : c.all()) carried += unavailable_on(ExecutionLevel::Imc, p) ? 0 : 1;
-  EXPECT_EQ(carried, c.all().size() - 5);
+  EXPECT_EQ(carried, c.all().size() - 2);
   EXPECT_EQ(execution_level_of("imc://127.0.0.1:6002"), ExecutionLevel::Imc);
   EXPECT_EQ(execution_level_of("127.0.0.1:7020"), ExecutionLevel::Phoenix);
 }
