@@ -89,37 +89,37 @@ std::vector<std::string> unavailable_on_imc(std::string_view text) {
 }
 
 TEST(RulesExecutionLevel, CallsAnImcVehicleCannotCarryOutAreFoundAtTheirName) {
+  // What an IMC vehicle carries (the sonar's start and stop, position_uncertain, heading, sleep, the plan's start)
+  // is left alone.
   EXPECT_EQ((std::vector<std::string>{
-                "2:5 'start_sonar' is not available on an IMC vehicle: an IMC vehicle has no scanning sonar on this "
-                "link (the Phoenix's sonar socket has no IMC counterpart)",
-                "3:23 'position_uncertain' is not available on an IMC vehicle: an IMC vehicle's EstimatedState "
-                "carries no position uncertainty to answer it from",
+                "2:5 'target_detected' is not available on an IMC vehicle: an IMC vehicle sends no sonar sweeps on "
+                "this link (the Phoenix's sonar socket has no IMC counterpart)",
                 "4:24 'set_sway' is not available on an IMC vehicle: an IMC vehicle takes no sideways speed (a "
                 "Reference has none)",
             }),
             unavailable_on_imc("mission :-\n"
-                               "    exec_start_sonar(X), exec_heading(90, X),\n"
+                               "    ask_target_detected(X), exec_heading(90, X), exec_start_sonar(_),\n"
                                "    exec_sleep(1, _), ask_position_uncertain(_), ood('start_network', _),\n"
-                               "    findall(Y, (X = 1, exec_set_sway(0.1, Y)), _).\n"));
+                               "    findall(Y, (X = 1, exec_set_sway(0.1, Y)), _), exec_stop_sonar(_).\n"));
 }
 
 TEST(RulesExecutionLevel, WhatIsNoCallOfAPrimitiveIsLeftAlone) {
-  EXPECT_TRUE(unavailable_on_imc("% exec_start_sonar(X) in a comment\n"
-                                 "/* exec_stop_sonar(X) */\n"
-                                 "m :- atom_length('exec_start_sonar(X)', _), S = \"ask_target_detected(X)\",\n"
-                                 "     my_exec_start_sonar(_), exec_start_sonar, ask_start_sonar(_),\n"
+  EXPECT_TRUE(unavailable_on_imc("% ask_target_detected(X) in a comment\n"
+                                 "/* exec_set_sway(0.1, X) */\n"
+                                 "m :- atom_length('ask_target_detected(X)', _), S = \"exec_set_sway(0.1, X)\",\n"
+                                 "     my_ask_target_detected(_), ask_target_detected, ask_set_sway(_),\n"
                                  "     exec_target_detected(_), exec_heading(1, _).\n")
                   .empty());
-  EXPECT_TRUE(scan_unavailable_primitives("m :- exec_start_sonar(_).", tactical::Catalogue::builtin(),
-                                          tactical::ExecutionLevel::Phoenix)
+  EXPECT_TRUE(scan_unavailable_primitives("m :- ask_target_detected(_), exec_set_sway(0.1, _).",
+                                          tactical::Catalogue::builtin(), tactical::ExecutionLevel::Phoenix)
                   .empty());
 }
 
-TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_sonar_calls_at_their_place_in_every_file) {
+TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_calls_at_their_place_in_every_file) {
   rules_.write("search.pl",
-               "% the search, consulted\n"
+               "% the search, consulted: the sonar's start passes, set_sway is refused\n"
                "search(X) :-\n"
-               "    exec_heading(90, X), exec_start_sonar(X).\n");
+               "    exec_heading(90, X), exec_set_sway(0.1, X), exec_start_sonar(X).\n");
   const std::string path = rules_.write("m.pl",
                                         ":- consult(search).\n"
                                         "mission :-\n"
@@ -137,7 +137,7 @@ TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_sonar_calls_at_their_plac
   }
   std::sort(got.begin(), got.end());
   EXPECT_EQ((std::vector<std::string>{"m.pl:4:5 'target_detected' is not available on an IMC vehicle",
-                                      "search.pl:3:26 'start_sonar' is not available on an IMC vehicle"}),
+                                      "search.pl:3:26 'set_sway' is not available on an IMC vehicle"}),
             got);
   // The same rules for the Phoenix protocol (the default): clean.
   messages.clear();
