@@ -10,14 +10,23 @@ the two ran the same commands in the same order with the same outcome. The
 vehicle is stopped by its process id whatever happens.
 
   imc_e2e.py --strata BIN --source REPO --speed K CASE...
+
+With --dune, the same against LSTS DUNE's own simulator instead, when
+STRATA_DUNE names its executable and STRATA_DUNE_CONFIG its configuration
+(e.g. lauv-simulator-1): DUNE is started (`-c CONFIG -p Simulation`), each
+CASE is run on it with `strata run --vehicle imc://127.0.0.1:6002` and must
+complete, and DUNE is stopped by its process id. Without them the test is
+skipped (exit 77) with one line saying why: DUNE is never part of Strata's
+build (docs/imc.md says how to build it).
 """
 import argparse
 import json
 import os
 import re
-import select
+import queue
 import subprocess
 import sys
+import threading
 import time
 
 PORT = re.compile(r"udp://127\.0\.0\.1:(\d+)")
@@ -28,16 +37,22 @@ def start_vehicle(strata, scenario, speed):
     if scenario:
         cmd += ["--scenario", scenario]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    deadline = time.monotonic() + 60  # a bound so a broken vehicle fails the test, not a speed limit
+    lines = queue.Queue()
+
+    def read():  # every line the vehicle prints, so its pipe never fills
+        for line in proc.stdout:
+            lines.put(line)
+        lines.put(None)
+
+    threading.Thread(target=read, daemon=True).start()
     seen = []
-    while time.monotonic() < deadline:
-        ready, _, _ = select.select([proc.stdout], [], [], 1.0)
-        if not ready:
-            if proc.poll() is not None:
-                break
-            continue
-        line = proc.stdout.readline()
-        if not line:
+    while True:
+        try:
+            # A bound so a broken vehicle fails the test; not a limit on its speed.
+            line = lines.get(timeout=60)
+        except queue.Empty:
+            line = None
+        if line is None:
             break
         seen.append(line)
         m = PORT.search(line)
@@ -48,13 +63,48 @@ def start_vehicle(strata, scenario, speed):
     raise SystemExit("the IMC vehicle did not print its port:\n" + "".join(seen))
 
 
+def run_on_dune(a):
+    dune, config = os.environ.get("STRATA_DUNE"), os.environ.get("STRATA_DUNE_CONFIG")
+    if not dune or not config:
+        print("skipped: STRATA_DUNE and STRATA_DUNE_CONFIG do not name a DUNE simulator (docs/imc.md, "
+              "\"Running on LSTS DUNE\")")
+        return 77
+    proc = subprocess.Popen([dune, "-c", config, "-p", "Simulation"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    failures = []
+    try:
+        time.sleep(10)  # DUNE's tasks start; not a limit on anything Strata does
+        for case in a.cases:
+            mission = os.path.join(a.source, case.partition("@")[0])
+            r = subprocess.run([a.strata, "run", mission, "--vehicle", "imc://127.0.0.1:6002", "--no-log"],
+                               capture_output=True, text=True, timeout=3600)
+            if r.returncode != 0:
+                failures.append(f"{case} on DUNE: exit {r.returncode}\n{r.stdout}{r.stderr}")
+            else:
+                print(f"{case}: completed on DUNE")
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+    for f in failures:
+        print(f, file=sys.stderr)
+    print(f"{len(a.cases) - len(failures)} passed, {len(failures)} failed")
+    return 1 if failures else 0
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--dune", action="store_true", help="run the cases on LSTS DUNE (STRATA_DUNE)")
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
     ap.add_argument("--speed", type=float, default=20.0)
     ap.add_argument("cases", nargs="+")
     a = ap.parse_args()
+    if a.dune:
+        return run_on_dune(a)
     failures = []
     for case in a.cases:
         mission, _, scenario = case.partition("@")

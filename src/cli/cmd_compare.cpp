@@ -86,9 +86,12 @@ int run_compare(const CompareOptions& o) {
     run.mission = *paths[i];
     run.vehicle = i == 0 ? o.vehicle_a : o.vehicle_b;
     run.speed = o.speed;
-    run.scenario = o.scenario;
+    // A vehicle of its own was started with its scenario and parameters.
+    const bool embedded = run.vehicle.empty() || run.vehicle == "embedded";
+    if (run.vehicle == "embedded") run.vehicle.clear();
+    run.scenario = embedded ? o.scenario : "";
     run.seed = o.seed;
-    run.params = o.params;
+    run.params = embedded ? o.params : "";
     run.catalogue = o.catalogue;
     run.inference_limit = o.inference_limit;
     run.rule_load = o.rule_load;
@@ -174,7 +177,8 @@ Runner add_compare_command(CLI::App& app) {
       ->check(CLI::Range(0.01, 1000.0))
       ->capture_default_str();
   cmd->add_option("--scenario", o->scenario,
-                  "Vehicle scenario for both runs: NAME in each mission's scenarios/ folder, or a path "
+                  "Vehicle scenario for the runs on an embedded vehicle (a vehicle of its own was started with its "
+                  "own): NAME in each mission's scenarios/ folder, or a path "
                   "(default: nominal)");
   cmd->add_option("--seed", o->seed, "CORAL: choose among enabled transitions at random, from this seed");
   cmd->add_option("--params", o->params, "Vehicle parameter file (default: built in)");

@@ -57,6 +57,8 @@ std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows) {
     if (row.call.starts_with("ask ")) continue;
     TraceRow r = row;
     r.sim_time_s = 0.0;
+    // Failed, either way: how it failed is in each vehicle's own words.
+    if (r.answer.starts_with("error: ")) r.answer = "error";
     if (!out.empty() && out.back() == r) {
       ++out.back().repeats;
       continue;

@@ -26,8 +26,9 @@ std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& record
 // The commands of a trace, for two runs on different execution levels
 // (`strata compare --vehicle-b imc://...`): exec, ood and report rows only,
 // without their times, and a run of identical rows (a poll loop's `exec
-// sleep 1` between its asks) as one row with its count in `repeats`. Asks
-// and times depend on the vehicle; the commands and their order do not.
+// sleep 1` between its asks) as one row with its count in `repeats`, and a
+// failed call's answer as "error". Asks, times and the words of an error
+// depend on the vehicle; the commands and their order do not.
 std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows);
 
 // The index of the first row that differs (a missing row differs), or

@@ -237,6 +237,8 @@ void ImcLink::handle(const imc::Packet& packet) {
   } else if (const auto* g = std::get_if<imc::GpsFix>(&m)) {
     // A fix: every validity bit DUNE sets at the surface, and satellites.
     state_.gps_valid = (g->validity & 0x1FF) == 0x1FF && g->satellites > 0;
+    state_.gps_at_s = state_.t_s;
+    service_pending();  // a gps_fix waits for this
   } else if (const auto* pc = std::get_if<imc::PlanControl>(&m)) {
     on_plan_control(*pc);
   } else if (const auto* pcs = std::get_if<imc::PlanControlState>(&m)) {
@@ -428,7 +430,8 @@ void ImcLink::send_reference(bool mandone) {
   r.lat = lat;
   r.lon = lon;
   imc::DesiredSpeed speed;
-  speed.value = desired_.speed_mps;
+  // As the Phoenix: toward a goal at cruise speed unless a speed was set.
+  speed.value = desired_.speed_mps.value_or(waypoint_ || heading_deg_ ? options_.cruise_speed_mps : 0.0);
   speed.speed_units = imc::DesiredSpeed::kSpeedUnitsMetersPs;
   r.speed = speed;
   if (desired_.z_m) {
@@ -668,14 +671,16 @@ core::Result<void> ImcLink::take(Pending& p) {
     desired_.y_m = y.value();
     steer = true;
   } else if (f == "stop") {
-    desired_.speed_mps = 0;
+    desired_.speed_mps.reset();  // stopped; a later goal goes at cruise speed again
     waypoint_.reset();
     heading_deg_.reset();
     desired_.x_m = state_.x_m;
     desired_.y_m = state_.y_m;
     steer = true;
   } else if (f == "gps_fix") {
-    p.value.reset();  // decided at the reply, from the newest GpsFix
+    p.value.reset();  // decided by the next GpsFix
+    p.wait = Wait::NextGps;
+    p.until_s = state_.t_s + options_.gps_wait_s;
   } else if (f == "start_sonar" || f == "stop_sonar") {
     send_payload(f == "start_sonar");
   } else if (f == "start_network") {
@@ -723,17 +728,22 @@ bool ImcLink::ask(std::string_view q) const {
   return false;
 }
 
+bool ImcLink::ready(const Pending& p) const {
+  switch (p.wait) {
+    case Wait::NextState: return state_.t_s > p.sent_s;
+    case Wait::Until: return state_.t_s + 1e-9 >= p.until_s;
+    case Wait::PlanEnd: return !plan_running_;
+    case Wait::NextGps:  // a fix after the call, or none in time: answered 0
+      return (state_.gps_at_s && *state_.gps_at_s > p.sent_s) || state_.t_s + 1e-9 >= p.until_s;
+  }
+  return false;
+}
+
 void ImcLink::service_pending() {
   std::vector<protocol::RequestId> due;
   for (auto& [id, p] : pending_) {  // in id order
     const bool late = p.sim_deadline_s && state_.t_s + 1e-9 >= *p.sim_deadline_s;
-    bool ready = false;
-    switch (p.wait) {
-      case Wait::NextState: ready = state_.t_s > p.sent_s; break;
-      case Wait::Until: ready = state_.t_s + 1e-9 >= p.until_s; break;
-      case Wait::PlanEnd: ready = !plan_running_; break;
-    }
-    if (ready || late) due.push_back(id);
+    if (ready(p) || late) due.push_back(id);
   }
   for (protocol::RequestId id : due) {
     auto it = pending_.find(id);
@@ -746,10 +756,7 @@ void ImcLink::service_pending() {
 
 void ImcLink::answer(protocol::RequestId id, Pending& p) {
   const protocol::Request& r = p.request;
-  const bool ready = p.wait == Wait::NextState ? state_.t_s > p.sent_s
-                     : p.wait == Wait::Until   ? state_.t_s + 1e-9 >= p.until_s
-                                               : !plan_running_;
-  if (!ready) {
+  if (!ready(p)) {
     p.handler(
         make_error(ErrorCode::Timeout, fmt::format("no reply to `{} {}` within {} s of the vehicle's time",
                                                    protocol::verb_name(r.verb), r.name, *p.sim_deadline_s - p.sent_s)));
@@ -762,9 +769,11 @@ void ImcLink::answer(protocol::RequestId id, Pending& p) {
   } else {
     bool value = p.value.value_or(false);
     if (r.name == "gps_fix") {
-      value = state_.gps_valid && state_.depth_m <= options_.surface_depth_m;
+      const bool heard = state_.gps_at_s && *state_.gps_at_s > p.sent_s;
+      value = heard && state_.gps_valid && state_.depth_m <= options_.surface_depth_m;
       if (!value && on_event_) {
-        on_event_(protocol::Event{state_.t_s, "exec gps_fix failed: no valid GpsFix from the vehicle"});
+        on_event_(protocol::Event{state_.t_s, heard ? "exec gps_fix failed: the vehicle's GpsFix is not valid"
+                                                    : "exec gps_fix failed: no GpsFix from the vehicle"});
       }
     }
     p.handler(protocol::VehicleMessage(protocol::Done{id, value, state_.t_s}));

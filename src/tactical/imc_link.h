@@ -77,6 +77,12 @@ struct ImcLinkOptions {
   double heading_tolerance_deg = 3.0;
   double heading_settle_dps = 2.0;
   double heading_lead_m = 1000.0;  // `heading D` steers to a point this far along D
+  // The speed toward a waypoint, a track's end or along a heading when the
+  // mission set none (the Phoenix's cruise speed, config/phoenix.toml).
+  double cruise_speed_mps = 0.8;
+  // gps_fix is answered by the next GpsFix (DUNE: 1 Hz), or 0 when none came
+  // within this much of the vehicle's time.
+  double gps_wait_s = 1.5;
   // position_uncertain: NavigationUncertainty's horizontal 1-sigma above this
   // (the Phoenix's limit, config/phoenix.toml [navigation]).
   double position_limit_m = 25.0;
@@ -138,7 +144,7 @@ class ImcLink final : public ExecutionLink {
   ImcLink(asio::io_context& io, ImcLinkOptions options);
   std::shared_ptr<ImcLink> self() { return std::static_pointer_cast<ImcLink>(shared_from_this()); }
 
-  enum class Wait { NextState, Until, PlanEnd };
+  enum class Wait { NextState, Until, PlanEnd, NextGps };
   struct Pending {
     protocol::Request request;
     ReplyHandler handler;
@@ -151,8 +157,8 @@ class ImcLink final : public ExecutionLink {
   // What this link asks the vehicle to do, in Strata's frame (x east, y north).
   struct Desired {
     std::optional<double> x_m, y_m;
-    double speed_mps = 0;
-    std::optional<double> z_m;  // depth; 0 surfaces
+    std::optional<double> speed_mps;  // set_speed's; none: cruise toward a goal, else 0
+    std::optional<double> z_m;        // depth; 0 surfaces
   };
   struct VehicleStateView {
     bool have_state = false;
@@ -165,6 +171,7 @@ class ImcLink final : public ExecutionLink {
     std::string error_ents, last_error;
     bool gps_valid = false;
     std::optional<double> position_sd_m;               // from NavigationUncertainty
+    std::optional<double> gps_at_s;                    // the newest GpsFix's time
     std::optional<std::uint8_t> ref_state, proximity;  // the newest FollowRefState for our Reference
   };
 
@@ -178,6 +185,7 @@ class ImcLink final : public ExecutionLink {
   void on_follow_ref_state(const imc::FollowRefState& m);
   void plan_started();
   void plan_ended();
+  bool ready(const Pending& p) const;
   void service_pending();
   void answer(protocol::RequestId id, Pending& p);
   // Carries out an exec/ask/ood as it is sent: the effect now, the reply later.

@@ -16,17 +16,15 @@ using imc::PlanControl;
 using imc::PlanControlState;
 using imc::VehicleState;
 
-// The entities in error now, from the faults the scenario injected that the
-// vehicle can see for itself (imc_vehicle.h).
+// The entities in error now: what the Phoenix itself calls a system
+// problem (system_problem: a leak), so that a mission meets the same faults
+// over IMC as over the Phoenix protocol. Its other faults show as they do
+// there: weak thrusters in the dive, a sensor dropout in the depth, a dead
+// altimeter as no altitude (EstimatedState alt -1).
 std::vector<ImcVehicle::ErrorEntity> ImcVehicle::errors_now() const {
   const FaultState& f = sim_.telemetry().faults;
   std::vector<ErrorEntity> out;
   if (f.leak) out.push_back({"Leak Sensor - Nose", "leak detected"});
-  if (f.thrust_health < 1.0) {
-    out.push_back({"Thrusters", fmt::format("thrust at {:.0f}% of nominal", 100.0 * f.thrust_health)});
-  }
-  if (f.sensor_dropout) out.push_back({"Depth Sensor", "no readings"});
-  if (f.altimeter_dead) out.push_back({"Altimeter", "no readings"});
   return out;
 }
 
