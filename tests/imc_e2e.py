@@ -107,7 +107,10 @@ def main():
         return run_on_dune(a)
     failures = []
     for case in a.cases:
-        mission, _, scenario = case.partition("@")
+        # MISSION@SCENARIO:lost -- the vehicle falls silent: both runs must
+        # fail for the lost link (the call it fails on depends on the level).
+        case_spec, _, expect = case.partition(":")
+        mission, _, scenario = case_spec.partition("@")
         mission_path = os.path.join(a.source, mission)
         scenario_path = ""
         if scenario:
@@ -126,6 +129,14 @@ def main():
             j = json.loads(r.stdout)
         except json.JSONDecodeError:
             failures.append(f"{case}: compare printed no JSON (exit {r.returncode}):\n{r.stdout}{r.stderr}")
+            continue
+        if expect == "lost":
+            lost = (j["a"]["outcome"] == "failed" and j["b"]["outcome"] == "failed"
+                    and "no EstimatedState from the IMC vehicle" in j["b"]["reason"])
+            if not lost:
+                failures.append(f"{case}: not both failed for the lost link:\n{json.dumps(j, indent=1)}")
+            else:
+                print(f"{case}: both runs failed for the lost link")
             continue
         if (r.returncode != 0 or not j.get("identical") or j.get("compared") != "commands"
                 or j["b"].get("execution_level") != "imc"):

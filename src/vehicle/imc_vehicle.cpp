@@ -93,6 +93,23 @@ void ImcVehicle::receive(const imc::Header& header, const imc::Message& message)
     on_reference(header, *ref);
   } else if (std::holds_alternative<imc::Abort>(message)) {
     on_abort(header);
+  } else if (const auto* set = std::get_if<imc::SetEntityParameters>(&message)) {
+    on_entity_parameters(*set);
+  }
+}
+
+// The scanning sonar is the payload "Sidescan": Active = true / false
+// switches it, as DUNE switches its payloads. Other entities and
+// parameters are not the Phoenix's: logged and left.
+void ImcVehicle::on_entity_parameters(const imc::SetEntityParameters& set) {
+  for (const imc::EntityParameter& param : set.params) {
+    if (set.name != "Sidescan" || param.name != "Active" || (param.value != "true" && param.value != "false")) {
+      log(fmt::format("SetEntityParameters {}: {} = {} ignored (only Sidescan's Active)", set.name, param.name,
+                      param.value));
+      continue;
+    }
+    auto r = param.value == "true" ? sim_.start_sonar() : sim_.stop_sonar();
+    if (!r) log(fmt::format("Sidescan Active = {} refused: {}", param.value, r.error().message));
   }
 }
 
@@ -318,6 +335,8 @@ void ImcVehicle::step() {
   if (plan_) drive();
   const double cycle_s = sim_.params().cycle_s;
   const std::uint64_t c = sim_.cycle();
+  // The uncertainty first: an ask answered at this EstimatedState sees it.
+  send(navigation_uncertainty());
   send(estimated_state());
   if (c % every(0.5, cycle_s) == 0) {
     send(vehicle_state());

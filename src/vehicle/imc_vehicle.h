@@ -111,6 +111,8 @@ class ImcVehicle {
 
   // The messages as they would be sent now.
   imc::EstimatedState estimated_state() const;
+  imc::NavigationUncertainty navigation_uncertainty() const;
+  void on_entity_parameters(const imc::SetEntityParameters& set);
   imc::VehicleState vehicle_state() const;
   imc::PlanControlState plan_control_state() const;
   imc::GpsFix gps_fix() const;

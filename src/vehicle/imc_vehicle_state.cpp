@@ -75,6 +75,15 @@ imc::EstimatedState ImcVehicle::estimated_state() const {
   return s;
 }
 
+imc::NavigationUncertainty ImcVehicle::navigation_uncertainty() const {
+  // The estimate's horizontal 1-sigma, as the variance of x and of y.
+  const double sd = sim_.telemetry().position_sd_m;
+  imc::NavigationUncertainty u;
+  u.x = static_cast<float>(sd * sd);
+  u.y = u.x;
+  return u;
+}
+
 imc::VehicleState ImcVehicle::vehicle_state() const {
   const Telemetry t = sim_.telemetry();
   VehicleState s;
