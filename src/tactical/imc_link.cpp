@@ -150,6 +150,10 @@ void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
     });
     return;
   }
+  // A burst (a flood, or DUNE's 800 packets/s behind a slow loop) waits in
+  // the kernel rather than pushing out the states that matter; the kernel
+  // caps this at net.core.rmem_max.
+  socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ec);
   local_port_ = socket_.local_endpoint(ec).port();
   connecting_ = std::move(done);
   if (options_.vehicle_id) {
