@@ -43,8 +43,8 @@ if(NOT rc EQUAL 1)
   message(FATAL_ERROR "exit ${rc}, expected 1")
 endif()
 set(expected
-    "src/tactical/CMakeLists.txt:3: tactical -> coral: target_link_libraries(strata_tactical ... strata_coral) (tactical may use: core, protocol)\n"
-    "src/tactical/value.h:3: tactical -> coral: #include \"coral/ast.h\" (tactical may use: core, protocol)\n")
+    "src/tactical/CMakeLists.txt:3: tactical -> coral: target_link_libraries(strata_tactical ... strata_coral) (tactical may use: core, imc, protocol)\n"
+    "src/tactical/value.h:3: tactical -> coral: #include \"coral/ast.h\" (tactical may use: core, imc, protocol)\n")
 string(JOIN "" expected ${expected})
 if(NOT out STREQUAL expected)
   message(FATAL_ERROR "stdout is not the two planted edges; expected:\n${expected}")

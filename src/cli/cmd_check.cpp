@@ -18,6 +18,7 @@
 #include "run/loaded_mission.h"
 #include "strategic/coral_catalogue.h"
 #include "core/diagnostic_printer.h"
+#include "tactical/execution_level.h"
 
 namespace strata::cli {
 namespace {
@@ -27,6 +28,7 @@ struct CheckOptions {
   std::string catalogue;
   std::string format = "text";
   std::string net;
+  std::string vehicle;  // `strata run --vehicle`'s value: imc://... checks for an IMC vehicle
   run::RuleLoadLimits rule_load;
   VerbosityFlags verbosity;
 };
@@ -76,7 +78,8 @@ int run_check(const CheckOptions& o) {
     std::cerr << "strata check: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  const coral::CheckOptions options = strategic::coral_check_options(catalogue.value());
+  const tactical::ExecutionLevel level = tactical::execution_level_of(o.vehicle);
+  const coral::CheckOptions options = strategic::coral_check_options(catalogue.value(), level);
   coral::DiskFileProvider disk;
   Report report;
   nlohmann::json files = nlohmann::json::array();
@@ -93,7 +96,8 @@ int run_check(const CheckOptions& o) {
     if (file.ends_with(".pl")) {
       // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
       std::vector<prolog::Message> messages;
-      auto rules = prolog::Mission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load));
+      auto rules = prolog::Mission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load),
+                                         prolog::KeepRules::No, level);
       std::size_t errors = 0, warnings = 0;
       nlohmann::json diagnostics = nlohmann::json::array();
       for (const auto& m : messages) {
@@ -224,6 +228,10 @@ Runner add_check_command(CLI::App& app) {
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
   cmd->add_option("--catalogue", o->catalogue, "Primitive catalogue to check TACTIC calls against (default: built in)");
+  cmd->add_option("--vehicle", o->vehicle,
+                  "Check for the vehicle `strata run --vehicle` names: imc://HOST:PORT refuses, at each call, the "
+                  "primitives an IMC vehicle cannot carry out (PrimitiveUnavailable); HOST:PORT, PORT or embedded "
+                  "(the default) the Phoenix protocol, which carries them all");
   add_rule_load_flags(cmd, o->rule_load);
   cmd->footer(
       "Exit 0 when every file is clean of errors (warnings allowed), 65 on any error,\n"

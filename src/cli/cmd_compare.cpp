@@ -14,12 +14,14 @@
 #include "cli/rule_load_flags.h"
 #include "cli/trace_compare.h"
 #include "cli/verbosity.h"
+#include "tactical/execution_level.h"
 
 namespace strata::cli {
 namespace {
 
 struct CompareOptions {
   std::string a, b;
+  std::string vehicle_a, vehicle_b;  // --vehicle-a/-b: "" the embedded vehicle
   std::string scenario;
   std::optional<std::uint64_t> seed;
   std::string params;
@@ -32,6 +34,12 @@ struct CompareOptions {
 };
 
 std::string language(const std::string& path) { return path.ends_with(".pl") ? "PROLOG" : "CORAL"; }
+
+tactical::ExecutionLevel level_of(const std::string& vehicle) { return tactical::execution_level_of(vehicle); }
+
+// Whether the two runs reach different execution levels: then their
+// commands are compared, not every call (trace_compare.h, command_rows).
+bool across_levels(const CompareOptions& o) { return level_of(o.vehicle_a) != level_of(o.vehicle_b); }
 
 std::string outcome_text(const RunReport& r) {
   if (!r.result) return "did not start";
@@ -48,16 +56,18 @@ nlohmann::json row_json(const std::vector<TraceRow>& rows, std::size_t i) {
 // `--format json`: both runs, and where their traces part (docs/architecture.md).
 nlohmann::json comparison_json(const CompareOptions& o, const RunReport (&reports)[2], const std::vector<TraceRow>& a,
                                const std::vector<TraceRow>& b, std::optional<std::size_t> diff) {
-  auto side = [](const std::string& path, const RunReport& r) {
+  auto side = [](const std::string& path, const std::string& vehicle, const RunReport& r) {
     return nlohmann::json{{"mission", path},
                           {"language", language(path)},
+                          {"execution_level", level_of(vehicle) == tactical::ExecutionLevel::Imc ? "imc" : "phoenix"},
                           {"outcome", std::string(strategic::to_string(r.result->outcome))},
                           {"reason", r.result->reason},
                           {"calls", r.trace.size()},
                           {"sim_time_s", r.sim_time_s}};
   };
-  nlohmann::json j{{"a", side(o.a, reports[0])},
-                   {"b", side(o.b, reports[1])},
+  nlohmann::json j{{"a", side(o.a, o.vehicle_a, reports[0])},
+                   {"b", side(o.b, o.vehicle_b, reports[1])},
+                   {"compared", across_levels(o) ? "commands" : "calls"},
                    {"scenario", o.scenario.empty() ? "nominal" : o.scenario},
                    {"seed", o.seed ? nlohmann::json(*o.seed) : nlohmann::json(nullptr)},
                    {"same_outcome", reports[0].result->outcome == reports[1].result->outcome},
@@ -73,6 +83,7 @@ int run_compare(const CompareOptions& o) {
   for (int i = 0; i < 2; ++i) {
     RunOptions run;
     run.mission = *paths[i];
+    run.vehicle = i == 0 ? o.vehicle_a : o.vehicle_b;
     run.scenario = o.scenario;
     run.seed = o.seed;
     run.params = o.params;
@@ -89,8 +100,9 @@ int run_compare(const CompareOptions& o) {
       return reports[i].exit_code == kExitOk ? kExitInternal : reports[i].exit_code;
     }
   }
-  const auto rows_a = trace_rows(reports[0].trace);
-  const auto rows_b = trace_rows(reports[1].trace);
+  const bool commands = across_levels(o);
+  const auto rows_a = commands ? command_rows(trace_rows(reports[0].trace)) : trace_rows(reports[0].trace);
+  const auto rows_b = commands ? command_rows(trace_rows(reports[1].trace)) : trace_rows(reports[1].trace);
   const auto diff = first_difference(rows_a, rows_b);
   const bool same_outcome = reports[0].result->outcome == reports[1].result->outcome;
   const int exit = !diff && same_outcome ? kExitOk : kExitAbort;
@@ -105,12 +117,24 @@ int run_compare(const CompareOptions& o) {
                              reports[i].sim_time_s);
   }
   if (!quiet) {
-    std::cout << fmt::format("scenario {}{}\n\n", o.scenario.empty() ? "nominal" : o.scenario,
+    std::cout << fmt::format("scenario {}{}\n", o.scenario.empty() ? "nominal" : o.scenario,
                              o.seed ? fmt::format(", seed {}", *o.seed) : "");
+    if (commands) {
+      std::cout << fmt::format(
+          "across execution levels (A: {}, B: {}): their commands compared in order (exec, ood, report; a run of "
+          "the same command, as a poll loop's sleep, counted once); asks and times depend on the vehicle\n",
+          tactical::execution_level_name(level_of(o.vehicle_a)), tactical::execution_level_name(level_of(o.vehicle_b)));
+    }
+    std::cout << "\n";
     SideBySideOptions table{"A: " + o.a, "B: " + o.b, o.context};
     std::cout << side_by_side(rows_a, rows_b, table) << "\n";
   }
   if (!diff && same_outcome) {
+    if (commands) {
+      std::cout << fmt::format("identical: {} commands in the same order with the same answers; both {}\n",
+                               rows_a.size(), strategic::to_string(reports[0].result->outcome));
+      return kExitOk;
+    }
     std::cout << fmt::format(
         "identical: {} primitive calls, the same answers at the same simulated times; "
         "both {}\n",
@@ -138,6 +162,11 @@ Runner add_compare_command(CLI::App& app) {
                          "their primitive-call traces side by side; exit 0 when identical, 1 when not");
   cmd->add_option("a", o->a, "The first mission")->required();
   cmd->add_option("b", o->b, "The second mission")->required();
+  cmd->add_option("--vehicle-a", o->vehicle_a,
+                  "The vehicle A runs against, as `strata run --vehicle` takes it (default: an embedded one)");
+  cmd->add_option("--vehicle-b", o->vehicle_b,
+                  "The vehicle B runs against, e.g. imc://127.0.0.1:6002 (`strata vehicle --imc`); across "
+                  "execution levels the commands are compared, not the asks and times");
   cmd->add_option("--scenario", o->scenario,
                   "Vehicle scenario for both runs: NAME in each mission's scenarios/ folder, or a path "
                   "(default: nominal)");

@@ -155,7 +155,8 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
       ->check(finite_range(0.01, 1000.0))
       ->capture_default_str();
   cmd->add_option("--vehicle", o->vehicle,
-                  "ADDRESS:PORT or PORT of a running vehicle (`strata vehicle`), or embedded: the simulated one "
+                  "ADDRESS:PORT or PORT of a running vehicle (`strata vehicle`); imc://HOST:PORT[/ID] of an IMC "
+                  "vehicle (LSTS DUNE, `strata vehicle --imc`; docs/imc.md); or embedded: the simulated one "
                   "started for this run")
       ->capture_default_str();
   cmd->add_option("--log", o->log,

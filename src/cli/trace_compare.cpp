@@ -13,7 +13,7 @@ namespace {
 constexpr std::size_t kMaxCell = 46;
 
 std::string cell_text(const TraceRow& row) {
-  std::string text = row.call + " -> " + row.answer;
+  std::string text = row.call + " -> " + row.answer + (row.repeats > 1 ? fmt::format(" (x{})", row.repeats) : "");
   return text.size() > kMaxCell ? core::shorten(std::move(text), kMaxCell - 3, "...") : text;
 }
 
@@ -49,6 +49,21 @@ std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& record
   rows.reserve(records.size());
   for (const auto& r : records) rows.push_back(trace_row(r));
   return rows;
+}
+
+std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows) {
+  std::vector<TraceRow> out;
+  for (const TraceRow& row : rows) {
+    if (row.call.starts_with("ask ")) continue;
+    TraceRow r = row;
+    r.sim_time_s = 0.0;
+    if (!out.empty() && out.back() == r) {
+      ++out.back().repeats;
+      continue;
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 std::optional<std::size_t> first_difference(const std::vector<TraceRow>& a, const std::vector<TraceRow>& b) {

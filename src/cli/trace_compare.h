@@ -16,11 +16,19 @@ struct TraceRow {
   std::string call;    // "exec sleep 1", "report \"text\""
   std::string answer;  // "1", "0", or "error: ..."
   double sim_time_s = 0.0;
+  std::size_t repeats = 1;                 // command_rows(): how many calls in a row this one stands for (not compared)
   bool operator==(const TraceRow&) const;  // sim time to the millisecond
 };
 
 TraceRow trace_row(const tactical::CallRecord& record);
 std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& records);
+
+// The commands of a trace, for two runs on different execution levels
+// (`strata compare --vehicle-b imc://...`): exec, ood and report rows only,
+// without their times, and a run of identical rows (a poll loop's `exec
+// sleep 1` between its asks) as one row with its count in `repeats`. Asks
+// and times depend on the vehicle; the commands and their order do not.
+std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows);
 
 // The index of the first row that differs (a missing row differs), or
 // nullopt when the traces are the same.

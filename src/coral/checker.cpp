@@ -164,6 +164,11 @@ class NetChecker {
       }
       return;
     }
+    if (sig->unavailable) {
+      sink_.report(
+          DiagnosticKind::PrimitiveUnavailable, call.name.span,
+          fmt::format("'{}' is not available on {}: {}", call.name.text, options_.execution_level, *sig->unavailable));
+    }
     if (sig->kind != a.type) {
       sink_.report(DiagnosticKind::TacticArguments, call.name.span,
                    fmt::format("'{}' is an {} primitive, not {}", call.name.text,

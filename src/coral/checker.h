@@ -31,6 +31,10 @@ struct PrimitiveSignature {
   // One per argument, in call order (max_args of them), or empty when the
   // lookup does not know them: then only the count is checked.
   std::vector<ArgumentSignature> args;
+  // Why the vehicle the mission is checked for cannot carry it out, as a
+  // sentence ("an IMC vehicle has no scanning sonar ..."); nullopt when it
+  // can. Each call of such a primitive is a PrimitiveUnavailable error.
+  std::optional<std::string> unavailable = std::nullopt;
 };
 
 struct CheckOptions {
@@ -38,6 +42,9 @@ struct CheckOptions {
   std::function<std::optional<PrimitiveSignature>(std::string_view)> primitive;
   // Every known primitive name, for "did you mean" notes.
   std::vector<std::string> primitive_names;
+  // The vehicle the signatures' `unavailable` speak of, for messages:
+  // "an IMC vehicle".
+  std::string execution_level;
 };
 
 void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options = {});

@@ -108,6 +108,33 @@ TEST(Checker, PrimitivesAreCheckedAgainstTheCatalogueWhenGiven) {
   EXPECT_EQ("did you mean 'depth_reached'?", c->sink.diagnostics()[0].notes[0].message);
 }
 
+TEST(Checker, APrimitiveTheVehicleCannotCarryOutIsRefusedAtEachCallInEveryNet) {
+  CheckOptions options;
+  options.primitive = [](std::string_view name) -> std::optional<PrimitiveSignature> {
+    if (name == "sleep") return PrimitiveSignature{ast::TacticType::Exec, 1, 1, {}};
+    if (name == "start_sonar") {
+      PrimitiveSignature sig{ast::TacticType::Exec, 0, 0, {}};
+      sig.unavailable = "it has no sonar";
+      return sig;
+    }
+    return std::nullopt;
+  };
+  options.execution_level = "a test vehicle";
+  auto c = compile_text(
+      "import \"lib.coral\";\n"
+      "mission m { place s = 1, a; exit e;\n"
+      "  transition t1 { wait { s } action { TACTIC(EXEC, start_sonar, a) } }\n"
+      "  transition t2 { wait { a } action { TACTIC(EXEC, sleep(1), e) } } }",
+      {{"lib.coral",
+        "net scan { place s = 1; exit e;\n"
+        "  transition t { wait { s } action { TACTIC(EXEC, start_sonar, e) } } }"}},
+      options);
+  EXPECT_FALSE(c->program);
+  ASSERT_EQ((std::vector<std::string>{"3:52 PrimitiveUnavailable", "2:51 PrimitiveUnavailable"}), c->kinds());
+  EXPECT_EQ("'start_sonar' is not available on a test vehicle: it has no sonar", c->sink.diagnostics()[0].message);
+  EXPECT_EQ("lib.coral", c->sources.path(c->sink.diagnostics()[1].span.file));
+}
+
 TEST(Checker, OneMissionPerLoadAndDataOnlyInMissions) {
   auto c = compile_text(
       "mission a { place s = 1; transition t { wait { s } } }\n"

@@ -62,8 +62,7 @@ rc::Gen<EstimatedState> estimated_states() {
 
 rc::Gen<Reference> references() {
   return gen::apply(
-      [](std::uint8_t flags, rc::Maybe<double> speed, rc::Maybe<float> z, double lat, double lon,
-         float radius) {
+      [](std::uint8_t flags, rc::Maybe<double> speed, rc::Maybe<float> z, double lat, double lon, float radius) {
         Reference r;
         r.flags = flags;
         if (speed) r.speed = DesiredSpeed{*speed, DesiredSpeed::kSpeedUnitsMetersPs};

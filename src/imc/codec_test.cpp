@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 #include <string>
 #include <variant>
@@ -148,7 +149,10 @@ TEST(ImcMessages, IdsAndNamesAreIMCs) {
   EXPECT_FALSE(is_known(450));  // Goto: not in the table
   EXPECT_FALSE(is_known(kNullId));
   EXPECT_EQ("", name_of(0));
-  EXPECT_EQ(21u, std::variant_size_v<Message>);
+  EXPECT_EQ("NavigationUncertainty", name_of(354));
+  EXPECT_EQ(801, EntityParameter::kId);
+  EXPECT_EQ("SetEntityParameters", name_of(804));
+  EXPECT_EQ(24u, std::variant_size_v<Message>);
 }
 
 TEST(ImcMessages, InlineIsAValueThatOwnsItsMessage) {
@@ -338,6 +342,25 @@ TEST(ImcEncode, SetsMgidAndSizeFromTheMessage) {
   ASSERT_TRUE(std::holds_alternative<Packet>(back));
   EXPECT_EQ(Abort::kId, std::get<Packet>(back).header.mgid);
   EXPECT_EQ(0, std::get<Packet>(back).header.size);
+}
+
+// ---- the fuzz target -----------------------------------------------------------------
+
+}  // namespace
+}  // namespace strata::imc
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+
+namespace strata::imc {
+namespace {
+
+// The target compared peek_header's header with decode's by ==, and a NaN
+// timestamp is not equal to itself: it reported a codec bug that was its own.
+TEST(ImcFuzzTarget, NanTimestampIsNotAMismatch) {
+  Packet p{test_header(), Heartbeat{}};
+  p.header.timestamp = std::numeric_limits<double>::quiet_NaN();
+  const Bytes bytes = encoded(p);
+  EXPECT_EQ(0, LLVMFuzzerTestOneInput(bytes.data(), bytes.size()));
 }
 
 // ---- the fuzz corpus ----------------------------------------------------------------

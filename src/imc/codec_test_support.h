@@ -132,6 +132,8 @@ inline std::vector<Packet> every_message() {
   out.push_back({h, Heartbeat{}});
   out.push_back(
       {h, Announce{"strata", Announce::kSysTypeCcu, 0xFFFF, 0.7188, -0.1531, 0.0f, "imc+udp://127.0.0.1:6002/"}});
+  out.push_back({h, EntityParameter{"Active", "true"}});
+  out.push_back({h, SetEntityParameters{"Leak Sensor - Nose", {{"Active", "true"}, {"Threshold", "0.5"}}}});
   GpsFix fix;
   fix.validity = 0x1FF;
   fix.type = GpsFix::kTypeSimulation;
@@ -145,6 +147,16 @@ inline std::vector<Packet> every_message() {
   fix.hdop = 0.9f;
   out.push_back({h, fix});
   out.push_back({h, sample_estimated_state()});
+  NavigationUncertainty nu;
+  nu.x = 0.25f;
+  nu.y = 0.5f;
+  nu.z = 0.01f;
+  nu.psi = 0.002f;
+  nu.r = 1e-4f;
+  nu.u = 0.05f;
+  nu.bias_psi = 3e-3f;
+  nu.bias_r = 2e-5f;
+  out.push_back({h, nu});
   out.push_back({h, DesiredZ{2.0f, DesiredZ::kZUnitsDepth}});
   out.push_back({h, DesiredSpeed{1.2, DesiredSpeed::kSpeedUnitsMetersPs}});
   out.push_back({h, FollowReference{0x4001, 5, 10.0f, 5.0f, 1.0f}});

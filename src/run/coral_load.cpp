@@ -10,12 +10,13 @@
 namespace strata::run {
 
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
-                          std::string_view command, std::string_view suffix, const coral::FileProvider* files) {
+                          std::string_view command, std::string_view suffix, const coral::FileProvider* files,
+                          tactical::ExecutionLevel level) {
   CoralLoad load;
   coral::DiskFileProvider disk;
   core::DiagnosticSink sink;
-  load.program =
-      coral::compile_file(path, files ? *files : disk, load.sources, sink, strategic::coral_check_options(catalogue));
+  load.program = coral::compile_file(path, files ? *files : disk, load.sources, sink,
+                                     strategic::coral_check_options(catalogue, level));
   sink.sort();
   load.diagnostics = core::diagnostics_to_json(load.sources, sink.diagnostics());
   bool unreadable_root = false;

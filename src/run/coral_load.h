@@ -11,6 +11,7 @@
 #include "coral/program.h"
 #include "core/source.h"
 #include "tactical/catalogue.h"
+#include "tactical/execution_level.h"
 
 namespace strata::run {
 
@@ -22,9 +23,11 @@ struct CoralLoad {
 };
 
 // When it does not compile, a closing line: "COMMAND: PATH: 2 errorsSUFFIX".
-// `files` reads the mission and its imports (null: the disk).
+// `files` reads the mission and its imports (null: the disk). `level`: the
+// vehicle the mission is checked for (strategic::coral_check_options).
 CoralLoad load_coral_file(const std::string& path, const tactical::Catalogue& catalogue, std::ostream& err,
                           std::string_view command, std::string_view suffix = "",
-                          const coral::FileProvider* files = nullptr);
+                          const coral::FileProvider* files = nullptr,
+                          tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix);
 
 }  // namespace strata::run

@@ -9,6 +9,7 @@
 #include "coral/verify_report.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
+#include "tactical/execution_level.h"
 #include "tactical/sha256.h"
 
 namespace strata::run {
@@ -54,8 +55,10 @@ class ReaderFileProvider final : public coral::FileProvider {
 int load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded, std::ostream& err) {
   std::optional<ReaderFileProvider> reader;
   if (o.read_file) reader.emplace(o);
-  CoralLoad load =
-      load_coral_file(path, loaded.catalogue, err, "strata run", "; not running", reader ? &*reader : nullptr);
+  // Checked for the vehicle it is to run on: an IMC vehicle's refusals
+  // stop the run here, before anything starts.
+  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running",
+                                   reader ? &*reader : nullptr, tactical::execution_level_of(o.vehicle));
   if (!load.program) return load.exit_code;
   if (!load.program->mission) {
     err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
@@ -74,7 +77,8 @@ int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   const std::string& path = o.mission;
   std::vector<prolog::Message> messages;
   auto rules = prolog::Mission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
-                                     o.keep_rules ? prolog::KeepRules::Yes : prolog::KeepRules::No);
+                                     o.keep_rules ? prolog::KeepRules::Yes : prolog::KeepRules::No,
+                                     tactical::execution_level_of(o.vehicle));
   for (const auto& m : messages) err << prolog::format_message(m) << "\n";
   if (!rules) {
     err << "strata run: " << rules.error().message << "; not running\n";

@@ -23,6 +23,7 @@ std::string ending_text(const RunReport& r) {
   if (r.stopped_by == "studio") return "failed: stopped from the studio";
   if (!r.stopped_by.empty()) return fmt::format("failed: interrupted by {}", r.stopped_by);
   if (r.link_lost) return "failed: lost the link to the vehicle";
+  if (!r.vehicle_fault.empty()) return "failed: the vehicle stopped taking this run's commands";
   return "failed: the Strategic level could not go on";
 }
 
@@ -57,9 +58,14 @@ std::string summary_text(const RunReport& r) {
     line("  vehicle: no telemetry heard");
   }
   if (r.link_lost && !r.link_lost_why.empty()) line("  link: lost (" + r.link_lost_why + ")");
+  if (!r.vehicle_fault.empty()) line("  vehicle fault: " + r.vehicle_fault);
+  if (!r.imc_dropped.empty()) line("  imc: " + r.imc_dropped);
   if (!r.sonar_summary.empty()) line("  sonar: " + r.sonar_summary);
   if (r.emergency_surface) {
-    line(fmt::format("  after it: exec surface sent by strata run; {}",
+    line(fmt::format("  after it: exec surface sent by strata run{}; {}",
+                     r.surface_method == "abort"       ? " (as an IMC Abort: the vehicle took no Reference)"
+                     : r.surface_method == "reference" ? " (as an IMC Reference, z = 0)"
+                                                       : "",
                      r.emergency_surfaced ? "the vehicle reached the surface" : "not confirmed at the surface"));
   }
   if (r.emergency_shutdown) {

@@ -24,6 +24,16 @@ struct RunReport {
   std::string stop_mode;
   bool link_lost = false;
   std::string link_lost_why;
+  // "phoenix" (the line protocol) or "imc" (an IMC vehicle).
+  std::string execution_level = "phoenix";
+  // The vehicle stopped taking this run's commands (an IMC plan replaced by
+  // another controller, or timed out): why; "" never.
+  std::string vehicle_fault;
+  // How the safe end surfaced an IMC vehicle: "reference" (z = 0), "abort"
+  // (it took no Reference); "" not by the safe end, or not IMC.
+  std::string surface_method;
+  // IMC: what the link did not use, in a few words; "" not IMC.
+  std::string imc_dropped;
   // The vehicle's own words when it refused a call or answered an exec 0
   // ("exec submerge failed: ..."), the last such; "" none.
   std::string vehicle_reason;

@@ -189,6 +189,7 @@ void RunSession::Run::mission_ended(const MissionResult& ended) {
     report_.shutdown_error = safe_end_->shutdown_error();
     report_.emergency_surface = safe_end_->surface_commanded();
     report_.emergency_surfaced = safe_end_->surfaced();
+    if (imc_ && report_.emergency_surface) report_.surface_method = std::string(imc_->surface_method());
     wrap_up();
   });
 }
@@ -249,6 +250,7 @@ void RunSession::Run::finish_report() {
     return;
   }
   report_.link_lost = report_.link_lost || link_error(*r);
+  if (imc_) report_.imc_dropped = tactical::imc_summary(imc_->counts());
   if (stop && r->outcome != Outcome::Completed && r->reason == stop->reason) {
     report_.stopped_by = stop->who;
     report_.exit_code = stop->exit_code;
@@ -303,7 +305,11 @@ void RunSession::Run::write_end_of_log() {
                        {"surfaced", report_.emergency_surfaced},
                        {"done_answered", report_.shutdown_error.empty()},
                        {"cut_short", report_.hurried}};
+    // IMC: a z = 0 Reference, or an Abort when the vehicle took no Reference.
+    if (!report_.surface_method.empty()) end["safe_end"]["surface_by"] = report_.surface_method;
   }
+  if (!report_.vehicle_fault.empty()) end["vehicle_fault"] = report_.vehicle_fault;
+  if (imc_) end["imc"] = tactical::imc_counts_json(imc_->counts());
   end["exit_code"] = report_.exit_code;
   // When the mission's executor ended; sim_time is the end of the whole run
   // (after the safe end), so that times in the log never go back.

@@ -22,6 +22,8 @@
 #include "strategic/tactics.h"
 #include "tactical/mission_log.h"
 #include "tactical/tactical_level.h"
+#include "tactical/execution_link.h"
+#include "tactical/imc_link.h"
 #include "tactical/vehicle_link.h"
 #include "vehicle/server.h"
 
@@ -90,6 +92,8 @@ class RunSession::Run {
   int open_vehicle();
   // The link connected and hello answered; the vehicle's clock known.
   int connect();
+  // The same for an IMC vehicle (--vehicle imc://HOST:PORT[/ID]).
+  int connect_imc();
   // The Sonar Manager started and connected, when a folder is given.
   int start_sonar();
   // The Tactical level, the executor and their observers, wired.
@@ -130,7 +134,8 @@ class RunSession::Run {
   std::unique_ptr<vehicle::VehicleServer> server_;
   tactical::LinkOptions link_options_;
   std::optional<std::uint16_t> sonar_port_;  // as hello announced it
-  std::shared_ptr<tactical::VehicleLink> link_;
+  std::shared_ptr<tactical::ExecutionLink> link_;
+  std::shared_ptr<tactical::ImcLink> imc_;  // the same link, when the vehicle is an IMC one
   std::optional<SonarChild> sonar_;
   std::optional<tactical::TacticalLevel> tactical_;
   std::optional<strategic::TacticalTactics> tactics_;

@@ -4,6 +4,7 @@
 
 #include "core/exit_codes.h"
 #include "run/inputs.h"
+#include "tactical/execution_level.h"
 #include "strategic/coral_engine.h"
 #include "strategic/prolog_executor.h"
 
@@ -40,6 +41,7 @@ int RunSession::Run::open_log() {
 }
 
 int RunSession::Run::open_vehicle() {
+  if (tactical::execution_level_of(o_.vehicle) == tactical::ExecutionLevel::Imc) return kExitOk;  // connect_imc()
   if (!o_.vehicle.empty()) {
     auto endpoint = parse_listen(o_.vehicle);
     if (!endpoint) {
@@ -75,10 +77,12 @@ int RunSession::Run::open_vehicle() {
 }
 
 int RunSession::Run::connect() {
+  if (tactical::execution_level_of(o_.vehicle) == tactical::ExecutionLevel::Imc) return connect_imc();
   link_options_.tap = o_.wire_tap;
-  link_ = tactical::VehicleLink::create(io_, link_options_);
+  auto link = tactical::VehicleLink::create(io_, link_options_);
+  link_ = link;
   std::optional<core::Result<protocol::Welcome>> welcome;
-  link_->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
+  link->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
   while (!welcome && io_.run_one() > 0) {}
   if (!welcome || !welcome->ok()) {
     err_ << "strata run: " << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello"))
@@ -99,6 +103,38 @@ int RunSession::Run::connect() {
   note(fmt::format("vehicle {} at {}:{} ({}{})", w.vehicle_name, link_options_.host, link_options_.port,
                    report_.lockstep ? "lockstep" : "wall clock",
                    o_.vehicle.empty() ? fmt::format(", embedded, scenario {}", scenario_name(o_)) : ""));
+  return kExitOk;
+}
+
+int RunSession::Run::connect_imc() {
+  auto options = tactical::parse_imc_vehicle(o_.vehicle);
+  if (!options) {
+    err_ << "strata run: --vehicle: " << options.error().message << "\n";
+    return fail(kExitUsage);
+  }
+  imc_ = tactical::ImcLink::create(io_, options.value());
+  link_ = imc_;
+  std::optional<core::Result<tactical::ImcVehicleInfo>> heard;
+  imc_->connect([&](core::Result<tactical::ImcVehicleInfo> v) { heard = std::move(v); });
+  while (!heard && io_.run_one() > 0) {}
+  if (!heard || !heard->ok()) {
+    err_ << "strata run: "
+         << (heard ? heard->error().message : std::string("the IMC link ended before the vehicle answered")) << "\n";
+    return fail(kExitIo);
+  }
+  const tactical::ImcVehicleInfo& v = heard->value();
+  report_.lockstep = false;
+  report_.execution_level = "imc";
+  if (log_) {
+    log_->write({{"event", "vehicle"},
+                 {"name", v.name},
+                 {"clock", "vehicle"},
+                 {"embedded", false},
+                 {"execution_level", "imc"},
+                 {"imc_id", v.id}});
+  }
+  note(fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started)", v.name,
+                   v.id, o_.vehicle, options.value().plan_id));
   return kExitOk;
 }
 
@@ -184,6 +220,15 @@ void RunSession::Run::build_levels() {
     report_.link_lost = true;
     report_.link_lost_why = e.message;
     if (executor_->running()) executor_->cancel(fmt::format("lost the link to the vehicle: {}", e.message));
+  });
+  link_->on_fault([this](const std::string& why) {
+    // The vehicle no longer takes this run's commands: the mission cannot go
+    // on; the safe end still tries to surface it.
+    report_.vehicle_fault = why;
+    if (log_)
+      log_->write(
+          {{"event", "vehicle_fault"}, {"reason", why}, {"sim_time", tactical::log_time(tactical_->sim_time_s())}});
+    if (executor_->running()) executor_->cancel(fmt::format("the vehicle: {}", why));
   });
 }
 

@@ -8,6 +8,7 @@
 #include "coral/ast.h"
 #include "coral/checker.h"
 #include "tactical/catalogue.h"
+#include "tactical/execution_level.h"
 #include "tactical/value.h"
 
 namespace strata::strategic {
@@ -17,7 +18,10 @@ coral::ast::TacticType tactic_type(tactical::Kind kind);
 
 // The lookup and the names the CORAL checker needs. The options hold their
 // own copy of the signatures: they stay valid when the catalogue is gone.
-coral::CheckOptions coral_check_options(const tactical::Catalogue& catalogue);
+// With an Execution level other than the Phoenix protocol, a primitive it
+// cannot carry out (tactical::unavailable_on) is refused at each call.
+coral::CheckOptions coral_check_options(const tactical::Catalogue& catalogue,
+                                        tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix);
 
 // Integer and Float literals become numbers (a literal that does not read as
 // a number becomes NaN, which tactical::render() rejects); String literals

@@ -123,6 +123,42 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
   }
 }
 
+// Every call of a primitive that a vehicle at `level` cannot carry out, in
+// the mission's own file and every file it loaded, at the call.
+void check_level(const Mission& mission, const tactical::Catalogue& catalogue, tactical::ExecutionLevel level,
+                 std::size_t max_bytes, std::vector<Message>& messages) {
+  if (level == tactical::ExecutionLevel::Phoenix) return;
+  // Each file once, however its path is spelt (SWI-Prolog's, or through a link).
+  auto same_file = [](const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(path, ec);
+    return ec ? path : p.string();
+  };
+  std::vector<std::string> files{mission.path()};
+  std::vector<std::string> seen{same_file(mission.path())};
+  Frame frame;
+  term_t loaded = PL_new_term_ref();
+  if (auto r = call_driver_keep("mission_files", {new_atom(mission.module()), loaded}); r && r.value()) {
+    term_t head = PL_new_term_ref();
+    term_t tail = PL_copy_term_ref(loaded);
+    while (PL_get_list(tail, head, tail)) {
+      std::string file = text_of(head);
+      std::string key = same_file(file);
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(std::move(key));
+      files.push_back(shown_path(file));
+    }
+  }
+  for (const auto& shown : files) {
+    auto text = core::read_regular_file(shown, max_bytes);
+    if (!text) continue;  // the load read it: a file gone since holds no call
+    for (auto& p : scan_unavailable_primitives(text.value(), catalogue, level)) {
+      messages.push_back({true, shown, static_cast<std::uint32_t>(p.line), static_cast<std::uint32_t>(p.column),
+                          std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::PrimitiveUnavailable))});
+    }
+  }
+}
+
 // A wall-clock limit on the Prolog that runs on this thread while it lives:
 // past it, a watchdog thread interrupts it (prolog/interrupt.h: also out of
 // sleep/1), again every 50 ms, since a directive's catch/3 could swallow one
@@ -178,9 +214,9 @@ struct KeptRules {
 std::optional<KeptRules> g_kept;
 
 std::string kept_key(const std::string& path, const std::string& absolute, const std::string& specs,
-                     const LoadLimits& limits) {
-  return fmt::format("{}\n{}\n{}\n{} {} {}", path, absolute, specs, limits.time.count(), limits.inferences,
-                     limits.max_bytes);
+                     const LoadLimits& limits, tactical::ExecutionLevel level) {
+  return fmt::format("{}\n{}\n{}\n{} {} {}\n{}", path, absolute, specs, limits.time.count(), limits.inferences,
+                     limits.max_bytes, tactical::execution_level_name(level));
 }
 
 std::string content_sha256(const std::string& file, std::size_t max_bytes) {
@@ -257,7 +293,7 @@ std::string format_message(const Message& m) {
 
 core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, const tactical::Catalogue& catalogue,
                                                      std::vector<Message>& messages, const LoadLimits& limits,
-                                                     KeepRules keep_rules) {
+                                                     KeepRules keep_rules, tactical::ExecutionLevel level) {
   std::error_code ec;
   if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
@@ -275,7 +311,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   const std::string specs_text = primitive_specs(catalogue);
   fs::path absolute = fs::absolute(path, ec);
   const std::string key = keep_rules == KeepRules::Yes
-                              ? kept_key(path, absolute.lexically_normal().string(), specs_text, limits)
+                              ? kept_key(path, absolute.lexically_normal().string(), specs_text, limits, level)
                               : std::string();
   if (keep_rules == KeepRules::Yes && take_kept(key, limits.max_bytes)) {
     mission->module_ = g_kept->module;
@@ -341,6 +377,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
                             std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::ArgumentOutOfRange))});
       }
     }
+    check_level(*mission, catalogue, level, limits.max_bytes, messages);
   }
   if (time_limit.expired() &&
       std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {

@@ -23,6 +23,7 @@
 #include "core/result.h"
 #include "prolog/engine.h"
 #include "tactical/catalogue.h"
+#include "tactical/execution_level.h"
 #include "tactical/value.h"
 
 namespace strata::prolog {
@@ -86,12 +87,16 @@ enum class KeepRules { No, Yes };
 class Mission {
  public:
   // Loads the rules at path (and the files they load) with the primitives
-  // of catalogue, then checks them. Every message goes to messages.
+  // of catalogue, then checks them: for a vehicle at `level` too, whose
+  // check refuses every call, in any of those files, of a primitive it
+  // cannot carry out (PrimitiveUnavailable, at the call).
+  // Every message goes to messages.
   // Errors: Io when path cannot be read; InvalidInput when loading printed
   // an error or the check found a problem (the messages say where).
-  static core::Result<std::unique_ptr<Mission>> load(const std::string& path, const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages, const LoadLimits& limits = {},
-                                                     KeepRules keep = KeepRules::No);
+  static core::Result<std::unique_ptr<Mission>> load(
+      const std::string& path, const tactical::Catalogue& catalogue, std::vector<Message>& messages,
+      const LoadLimits& limits = {}, KeepRules keep = KeepRules::No,
+      tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix);
   ~Mission();
   Mission(const Mission&) = delete;
   Mission& operator=(const Mission&) = delete;

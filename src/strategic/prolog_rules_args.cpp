@@ -47,9 +47,13 @@ std::string with_unit(double n, const std::string& unit) {
   return unit.empty() ? fmt::format("{}", n) : fmt::format("{} {}", n, unit);
 }
 
+// Finds the primitive calls of rule text; checks the literal numbers among
+// their arguments or, given an Execution level, whether it carries them out.
 class Scanner {
  public:
-  Scanner(std::string_view text, const tactical::Catalogue& catalogue) : text_(text), catalogue_(catalogue) {}
+  Scanner(std::string_view text, const tactical::Catalogue& catalogue,
+          std::optional<tactical::ExecutionLevel> level = std::nullopt)
+      : text_(text), catalogue_(catalogue), level_(level) {}
 
   std::vector<RulesScanProblem> run() {
     while (i_ < text_.size()) {
@@ -58,7 +62,14 @@ class Scanner {
       if (std::islower(static_cast<unsigned char>(c)) && (i_ == 0 || !is_name_char(text_[i_ - 1]))) {
         std::size_t start = i_;
         while (i_ < text_.size() && is_name_char(text_[i_])) ++i_;
-        if (i_ < text_.size() && text_[i_] == '(') call(text_.substr(start, i_ - start));
+        if (i_ < text_.size() && text_[i_] == '(') {
+          const std::string_view name = text_.substr(start, i_ - start);
+          if (level_) {
+            unavailable(name, start - line_start_ + 1);
+          } else {
+            call(name);
+          }
+        }
         continue;
       }
       step();
@@ -101,18 +112,44 @@ class Scanner {
     return false;
   }
 
+  // The primitive that `name(` calls (exec_NAME, ask_NAME, or ood with
+  // NAME first), or nullptr. i_ is at the '('.
+  const tactical::Primitive* called(std::string_view name) const {
+    auto of_kind = [this](std::string_view primitive, tactical::Kind kind) -> const tactical::Primitive* {
+      const tactical::Primitive* p = catalogue_.find(primitive);
+      return p && p->kind == kind ? p : nullptr;
+    };
+    if (name.starts_with("exec_")) return of_kind(name.substr(5), tactical::Kind::Exec);
+    if (name.starts_with("ask_")) return of_kind(name.substr(4), tactical::Kind::Ask);
+    if (name != "ood") return nullptr;
+    // ood('start_network', X), or ood(start_network, X)
+    std::size_t at = i_ + 1;
+    while (at < text_.size() && std::isspace(static_cast<unsigned char>(text_[at]))) ++at;
+    const bool quoted = at < text_.size() && text_[at] == '\'';
+    if (quoted) ++at;
+    const std::size_t from = at;
+    while (at < text_.size() && is_name_char(text_[at])) ++at;
+    if (at == from || (quoted && (at == text_.size() || text_[at] != '\''))) return nullptr;
+    return of_kind(text_.substr(from, at - from), tactical::Kind::Ood);
+  }
+
+  // At the '(' after `name`, which starts at `column` of this line: a call
+  // of a primitive that *level_ cannot carry out is a problem there.
+  void unavailable(std::string_view name, std::size_t column) {
+    const tactical::Primitive* p = called(name);
+    if (!p) return;
+    auto why = tactical::unavailable_on(*level_, *p);
+    if (!why) return;
+    problems_.push_back(
+        {line_, column,
+         fmt::format("'{}' is not available on {}: {}", p->name, tactical::execution_level_name(*level_), *why)});
+  }
+
   // At the '(' after `name`: reads the arguments at depth 1 and checks the
   // literal numbers among them. The scan goes on inside the parentheses, so
   // a call nested in another's arguments is checked too.
   void call(std::string_view name) {
-    const tactical::Primitive* p = nullptr;
-    if (name.starts_with("exec_")) {
-      p = catalogue_.find(name.substr(5));
-      if (p && p->kind != tactical::Kind::Exec) p = nullptr;
-    } else if (name.starts_with("ask_")) {
-      p = catalogue_.find(name.substr(4));
-      if (p && p->kind != tactical::Kind::Ask) p = nullptr;
-    }
+    const tactical::Primitive* p = name == "ood" ? nullptr : called(name);
     if (!p || p->args.empty()) return;
     struct Arg {
       std::size_t offset, line, column;
@@ -192,6 +229,7 @@ class Scanner {
 
   std::string_view text_;
   const tactical::Catalogue& catalogue_;
+  std::optional<tactical::ExecutionLevel> level_;
   std::size_t i_ = 0, line_ = 1, line_start_ = 0;
   std::vector<RulesScanProblem> problems_;
 };
@@ -200,6 +238,12 @@ class Scanner {
 
 std::vector<RulesScanProblem> scan_primitive_arguments(std::string_view text, const tactical::Catalogue& catalogue) {
   return Scanner(text, catalogue).run();
+}
+
+std::vector<RulesScanProblem> scan_unavailable_primitives(std::string_view text, const tactical::Catalogue& catalogue,
+                                                          tactical::ExecutionLevel level) {
+  if (level == tactical::ExecutionLevel::Phoenix) return {};
+  return Scanner(text, catalogue, level).run();
 }
 
 }  // namespace strata::prolog

@@ -2,6 +2,8 @@
 // (issue 20): the scan of the rule text, and what `strata check` reports.
 #include "strategic/prolog_rules_args.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -75,6 +77,72 @@ TEST_F(PrologMission, check_reports_a_literal_out_of_range_with_its_place) {
                 ":2:18: error: exec_heading/2: 'heading' argument 'degrees' is 400, above the maximum 360 deg "
                 "[ArgumentOutOfRange]",
             format_message(messages[0]));
+}
+
+std::vector<std::string> unavailable_on_imc(std::string_view text) {
+  std::vector<std::string> out;
+  for (const auto& p :
+       scan_unavailable_primitives(text, tactical::Catalogue::builtin(), tactical::ExecutionLevel::Imc)) {
+    out.push_back(std::to_string(p.line) + ":" + std::to_string(p.column) + " " + p.text);
+  }
+  return out;
+}
+
+TEST(RulesExecutionLevel, CallsAnImcVehicleCannotCarryOutAreFoundAtTheirName) {
+  EXPECT_EQ((std::vector<std::string>{
+                "2:5 'start_sonar' is not available on an IMC vehicle: an IMC vehicle has no scanning sonar on this "
+                "link (the Phoenix's sonar socket has no IMC counterpart)",
+                "3:23 'position_uncertain' is not available on an IMC vehicle: an IMC vehicle's EstimatedState "
+                "carries no position uncertainty to answer it from",
+                "4:24 'set_sway' is not available on an IMC vehicle: an IMC vehicle takes no sideways speed (a "
+                "Reference has none)",
+            }),
+            unavailable_on_imc("mission :-\n"
+                               "    exec_start_sonar(X), exec_heading(90, X),\n"
+                               "    exec_sleep(1, _), ask_position_uncertain(_), ood('start_network', _),\n"
+                               "    findall(Y, (X = 1, exec_set_sway(0.1, Y)), _).\n"));
+}
+
+TEST(RulesExecutionLevel, WhatIsNoCallOfAPrimitiveIsLeftAlone) {
+  EXPECT_TRUE(unavailable_on_imc("% exec_start_sonar(X) in a comment\n"
+                                 "/* exec_stop_sonar(X) */\n"
+                                 "m :- atom_length('exec_start_sonar(X)', _), S = \"ask_target_detected(X)\",\n"
+                                 "     my_exec_start_sonar(_), exec_start_sonar, ask_start_sonar(_),\n"
+                                 "     exec_target_detected(_), exec_heading(1, _).\n")
+                  .empty());
+  EXPECT_TRUE(scan_unavailable_primitives("m :- exec_start_sonar(_).", tactical::Catalogue::builtin(),
+                                          tactical::ExecutionLevel::Phoenix)
+                  .empty());
+}
+
+TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_sonar_calls_at_their_place_in_every_file) {
+  rules_.write("search.pl",
+               "% the search, consulted\n"
+               "search(X) :-\n"
+               "    exec_heading(90, X), exec_start_sonar(X).\n");
+  const std::string path = rules_.write("m.pl",
+                                        ":- consult(search).\n"
+                                        "mission :-\n"
+                                        "    search(X),\n"
+                                        "    ask_target_detected(X).\n");
+  std::vector<Message> messages;
+  auto m =
+      Mission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::No, tactical::ExecutionLevel::Imc);
+  EXPECT_FALSE(m.ok());
+  std::vector<std::string> got;
+  for (const auto& message : messages) {
+    EXPECT_EQ("PrimitiveUnavailable", message.kind);
+    got.push_back(std::filesystem::path(message.file).filename().string() + ":" + std::to_string(message.line) + ":" +
+                  std::to_string(message.column) + " " + message.text.substr(0, message.text.find(':')));
+  }
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ((std::vector<std::string>{"m.pl:4:5 'target_detected' is not available on an IMC vehicle",
+                                      "search.pl:3:26 'start_sonar' is not available on an IMC vehicle"}),
+            got);
+  // The same rules for the Phoenix protocol (the default): clean.
+  messages.clear();
+  EXPECT_TRUE(Mission::load(path, tactical::Catalogue::builtin(), messages).ok());
+  EXPECT_TRUE(messages.empty());
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
   return fields;
 }
 
-TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link,
+TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<ExecutionLink> link,
                              DataCursor* cursor, MissionLog* log)
     : io_(io), catalogue_(catalogue), link_(std::move(link)), cursor_(cursor), log_(log) {
   if (!link_) return;
@@ -92,7 +92,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   // Every outcome is delivered from the event loop, never inside call().
   // The link must not tell a lockstep vehicle to advance while an outcome is
   // queued here: the caller may answer it with more calls for this instant.
-  auto hold = [this] { return link_ ? link_->hold() : VehicleLink::Hold(); };
+  auto hold = [this] { return link_ ? link_->hold() : ExecutionLink::Hold(); };
   auto fail_later = [this, &hold](CallRecord rec, CallHandler h, core::Error e) {
     rec.error = e.message;
     if (log_) log_->error(fmt::format("{}: {}", rec.primitive, e.message), sim_time_s_);

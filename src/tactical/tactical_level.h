@@ -3,14 +3,14 @@
 // primitives called by name, each answered 1 or 0 (TRUE/FALSE in response to
 // commands and queries). It renders each call from the catalogue, serves
 // next_setpt_data from the mission data cursor, sends the script message over
-// the VehicleLink, prints and logs REPORT, and writes every request, reply,
+// the ExecutionLink (VehicleLink or ImcLink), prints and logs REPORT, and writes every request, reply,
 // telemetry sample and vehicle event to the mission log.
 //
 // Both Strategic levels (the CORAL Engine and the PROLOG executor) call this
 // one interface, so they issue the same primitive calls.
 //
 // Outcomes it delivers itself (REPORT's, local errors) are posted to the
-// io_context under a VehicleLink::Hold, so a lockstep link does not advance
+// io_context under an ExecutionLink::Hold, so a lockstep link does not advance
 // the vehicle before the caller has answered them.
 //
 // Threads: one; call on the io_context's thread. Handlers run there.
@@ -22,13 +22,15 @@
 #include <string_view>
 #include <vector>
 
+#include <asio.hpp>
+
 #include "core/result.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"
 #include "tactical/mission_log.h"
 #include "tactical/render.h"
+#include "tactical/execution_link.h"
 #include "tactical/value.h"
-#include "tactical/vehicle_link.h"
 
 namespace strata::tactical {
 
@@ -53,8 +55,8 @@ class TacticalLevel {
   // Outcomes are delivered on io. link may be null for a run that only
   // reports (tests). cursor and log may be null (no mission data; no log).
   // All must outlive this object.
-  TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<VehicleLink> link, DataCursor* cursor,
-                MissionLog* log);
+  TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<ExecutionLink> link,
+                DataCursor* cursor, MissionLog* log);
 
   // On the wall clock at speed K, a call that may take T simulated seconds
   // takes T/K wall seconds: set 1/K here so reply timeouts stretch to match.
@@ -89,7 +91,7 @@ class TacticalLevel {
 
   asio::io_context& io_;
   const Catalogue& catalogue_;
-  std::shared_ptr<VehicleLink> link_;
+  std::shared_ptr<ExecutionLink> link_;
   DataCursor* cursor_;
   MissionLog* log_;
   std::function<void(const std::string&, double)> on_report_;

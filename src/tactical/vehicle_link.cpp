@@ -42,28 +42,6 @@ std::shared_ptr<VehicleLink> VehicleLink::create(asio::io_context& io, LinkOptio
 VehicleLink::VehicleLink(asio::io_context& io, LinkOptions options)
     : io_(io), options_(std::move(options)), socket_(io), connect_timer_(io), advance_timer_(io) {}
 
-VehicleLink::Hold& VehicleLink::Hold::operator=(Hold&& other) noexcept {
-  if (this != &other) {
-    release();
-    link_ = std::move(other.link_);
-    other.link_.reset();
-  }
-  return *this;
-}
-
-void VehicleLink::Hold::release() {
-  auto link = link_.lock();
-  link_.reset();
-  if (!link) return;
-  --link->holds_;
-  link->note_activity();
-}
-
-VehicleLink::Hold VehicleLink::hold() {
-  ++holds_;
-  return Hold(weak_from_this());
-}
-
 VehicleLink::~VehicleLink() { drop_connection("the link is gone"); }
 
 void VehicleLink::drop_connection(const std::string& why) {
@@ -80,7 +58,7 @@ void VehicleLink::connect(std::function<void(core::Result<protocol::Welcome>)> d
 }
 
 void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcome>)> done) {
-  auto self = shared_from_this();
+  auto self = this->self();
   asio::error_code ec;
   auto address = asio::ip::make_address(options_.host == "localhost" ? "127.0.0.1" : options_.host, ec);
   if (ec) {
@@ -236,13 +214,13 @@ void VehicleLink::deliver(protocol::RequestId id, core::Result<protocol::Vehicle
 void VehicleLink::note_activity() {
   if (!barrier_) return;
   const std::uint64_t generation = ++activity_;
-  asio::post(io_, [weak = weak_from_this(), generation] {
-    if (auto self = weak.lock()) self->maybe_advance(generation);
+  asio::post(io_, [weak = std::weak_ptr<VehicleLink>(self()), generation] {
+    if (auto link = weak.lock()) link->maybe_advance(generation);
   });
 }
 
 void VehicleLink::maybe_advance(std::uint64_t generation) {
-  if (generation != activity_ || !barrier_ || !connected_ || holds_ > 0 || advance_id_) return;
+  if (generation != activity_ || !barrier_ || !connected_ || holds() > 0 || advance_id_) return;
   bool timed = false;
   std::chrono::milliseconds wait{0};
   std::optional<double> until;

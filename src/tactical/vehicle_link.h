@@ -49,6 +49,7 @@
 #include "protocol/codec.h"
 #include "protocol/line_connection.h"
 #include "protocol/message.h"
+#include "tactical/execution_link.h"
 
 namespace strata::tactical {
 
@@ -73,31 +74,9 @@ struct LinkOptions {
   std::function<void(bool sent, std::string_view line)> tap;
 };
 
-// The reply to one request: ok/done/answer/pong/welcome, or an error whose
-// message says what happened (ErrorCode::Timeout, Closed, Protocol: an `err`
-// from the vehicle, Io: could not connect).
-using ReplyHandler = std::function<void(core::Result<protocol::VehicleMessage>)>;
-
-class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
+class VehicleLink final : public ExecutionLink {
  public:
-  // While a Hold is alive the link sends no advance. Move-only; letting it go
-  // (release() or destruction) posts a new quiescence check. A Hold may
-  // outlive its link (it then does nothing).
-  class Hold {
-   public:
-    Hold() = default;
-    Hold(Hold&& other) noexcept : link_(std::move(other.link_)) { other.link_.reset(); }
-    Hold& operator=(Hold&& other) noexcept;
-    Hold(const Hold&) = delete;
-    Hold& operator=(const Hold&) = delete;
-    ~Hold() { release(); }
-    void release();
-
-   private:
-    friend class VehicleLink;
-    explicit Hold(std::weak_ptr<VehicleLink> link) : link_(std::move(link)) {}
-    std::weak_ptr<VehicleLink> link_;
-  };
+  using Hold = ExecutionLink::Hold;
 
   static std::shared_ptr<VehicleLink> create(asio::io_context& io, LinkOptions options);
   ~VehicleLink();
@@ -112,34 +91,26 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   // only the wall-clock one applies.
   protocol::RequestId send(protocol::Request request, ReplyHandler handler,
                            std::optional<std::chrono::milliseconds> timeout = std::nullopt,
-                           std::optional<double> sim_timeout_s = std::nullopt);
+                           std::optional<double> sim_timeout_s = std::nullopt) override;
 
-  void on_telemetry(std::function<void(const protocol::Telemetry&)> f) { on_telemetry_ = std::move(f); }
-  void on_event(std::function<void(const protocol::Event&)> f) { on_event_ = std::move(f); }
-  // Called once when the link is gone for good (after the reconnect policy).
-  void on_lost(std::function<void(const core::Error&)> f) { on_lost_ = std::move(f); }
-  // Lines from the vehicle that could not be decoded (logged by the caller).
-  void on_garbage(std::function<void(const std::string&)> f) { on_garbage_ = std::move(f); }
-
-  // Keeps the link from sending an advance until the Hold is let go.
-  Hold hold();
-
-  bool connected() const { return connected_; }
+  bool connected() const override { return connected_; }
   // The session's protocol version (the welcome's), 0 before one.
   int session_version() const { return session_version_; }
   // Whether the link sends `advance` (lockstep, protocol 2).
   bool lockstep_barrier() const { return barrier_; }
   // How many advances this link has sent, for tests and traces.
   std::uint64_t advances_sent() const { return advances_sent_; }
-  std::chrono::milliseconds default_timeout() const { return options_.reply_timeout; }
+  std::chrono::milliseconds default_timeout() const override { return options_.reply_timeout; }
   std::size_t in_flight() const { return pending_.size(); }
   // The vehicle's simulated time as far as the link knows it (the welcome's,
   // then every reply's and advance's); nullopt before the vehicle told it.
-  std::optional<double> sim_time_s() const { return sim_now_; }
+  std::optional<double> sim_time_s() const override { return sim_now_; }
   // Closes the socket; pending requests fail with Closed.
-  void close();
+  void close() override;
 
  private:
+  void hold_released() override { note_activity(); }
+  std::shared_ptr<VehicleLink> self() { return std::static_pointer_cast<VehicleLink>(shared_from_this()); }
   VehicleLink(asio::io_context& io, LinkOptions options);
 
   struct Pending {
@@ -193,13 +164,8 @@ class VehicleLink : public std::enable_shared_from_this<VehicleLink> {
   bool bounded_ = false;  // the vehicle takes `advance ID UNTIL_S` (its welcome said time=)
   asio::steady_timer advance_timer_;
   std::deque<std::pair<protocol::RequestId, core::Result<protocol::VehicleMessage>>> held_;
-  std::size_t holds_ = 0;
   std::uint64_t activity_ = 0;  // generation of the newest quiescence check
   std::uint64_t advances_sent_ = 0;
-  std::function<void(const protocol::Telemetry&)> on_telemetry_;
-  std::function<void(const protocol::Event&)> on_event_;
-  std::function<void(const core::Error&)> on_lost_;
-  std::function<void(const std::string&)> on_garbage_;
 };
 
 // Describes a request for messages: "exec sleep 1".

@@ -5,7 +5,9 @@
 //    annotations list, one per line: `// error: LINE:COL [Kind]` or
 //    `// warning: LINE:COL [Kind]`; a diagnostic in an imported file is
 //    annotated with that file's path relative to this one:
-//    `// error: fail_lib/x.coral:3:1 [ImportCycle]`.
+//    `// error: fail_lib/x.coral:3:1 [ImportCycle]`. A file with a line
+//    `// vehicle: imc://HOST:PORT` is checked for that vehicle, as
+//    `strata check --vehicle imc://HOST:PORT` checks it.
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +22,7 @@
 #include "core/diagnostic_printer.h"
 #include "strategic/coral_catalogue.h"
 #include "tactical/catalogue.h"
+#include "tactical/execution_level.h"
 
 namespace strata::coral {
 namespace {
@@ -63,29 +66,34 @@ struct Run {
 };
 
 // Primitives are checked against the built-in catalogue plus the test
-// primitives of tests/coral/catalogue.toml.
-const CheckOptions& check_options() {
-  static const CheckOptions options = [] {
-    auto extra = tactical::Catalogue::load((kRoot / "catalogue.toml").string());
-    if (!extra) throw std::runtime_error(extra.error().message);
-    CheckOptions builtin = strategic::coral_check_options(tactical::Catalogue::builtin());
-    CheckOptions tests = strategic::coral_check_options(extra.value());
-    CheckOptions both;
-    both.primitive = [builtin, tests](std::string_view name) {
-      auto found = tests.primitive(name);
-      return found ? found : builtin.primitive(name);
-    };
-    both.primitive_names = builtin.primitive_names;
-    both.primitive_names.insert(both.primitive_names.end(), tests.primitive_names.begin(), tests.primitive_names.end());
-    return both;
-  }();
-  return options;
+// primitives of tests/coral/catalogue.toml, for a vehicle at `level`.
+CheckOptions combined_options(tactical::ExecutionLevel level) {
+  auto extra = tactical::Catalogue::load((kRoot / "catalogue.toml").string());
+  if (!extra) throw std::runtime_error(extra.error().message);
+  CheckOptions builtin = strategic::coral_check_options(tactical::Catalogue::builtin(), level);
+  CheckOptions tests = strategic::coral_check_options(extra.value(), level);
+  CheckOptions both;
+  both.primitive = [builtin, tests](std::string_view name) {
+    auto found = tests.primitive(name);
+    return found ? found : builtin.primitive(name);
+  };
+  both.primitive_names = builtin.primitive_names;
+  both.primitive_names.insert(both.primitive_names.end(), tests.primitive_names.begin(), tests.primitive_names.end());
+  both.execution_level = builtin.execution_level;
+  return both;
 }
 
-std::unique_ptr<Run> compile(const std::string& path) {
+const CheckOptions& check_options(tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix) {
+  static const CheckOptions phoenix = combined_options(tactical::ExecutionLevel::Phoenix);
+  static const CheckOptions imc = combined_options(tactical::ExecutionLevel::Imc);
+  return level == tactical::ExecutionLevel::Imc ? imc : phoenix;
+}
+
+std::unique_ptr<Run> compile(const std::string& path,
+                             tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix) {
   auto r = std::make_unique<Run>();
   DiskFileProvider disk;
-  r->program = compile_file(path, disk, r->sources, r->sink, check_options());
+  r->program = compile_file(path, disk, r->sources, r->sink, check_options(level));
   r->sink.sort();
   return r;
 }
@@ -128,7 +136,10 @@ TEST_P(FailFile, ReportsExactlyTheAnnotatedDiagnostics) {
         fmt::format("{} {}{}:{} [{}]", (*it)[1].str(), (*it)[2].str(), (*it)[3].str(), (*it)[4].str(), (*it)[5].str()));
   }
   ASSERT_FALSE(expected.empty()) << path << " has no // error: or // warning: annotation";
-  auto r = compile(path);
+  static const std::regex vehicle(R"(//\s*vehicle:\s*(\S+))");
+  std::smatch m;
+  auto r = compile(path, std::regex_search(text, m, vehicle) ? tactical::execution_level_of(m[1].str())
+                                                             : tactical::ExecutionLevel::Phoenix);
   std::vector<std::string> got;
   const fs::path dir = fs::path(path).parent_path();
   for (const auto& d : r->sink.diagnostics()) {

@@ -1,0 +1,799 @@
+#include "tactical/imc_link.h"
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "tactical/execution_level.h"
+
+namespace strata::tactical {
+
+using core::ErrorCode;
+using core::make_error;
+
+namespace {
+
+constexpr double kEarthRadiusM = 6378137.0;  // WGS-84 semi-major axis: flat earth near the origin
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+// The messages a controller reads (docs/imc.md, "What the link reads");
+// everything else a vehicle sends is counted and skipped at its header.
+bool wanted(std::uint16_t id) {
+  switch (id) {
+    case imc::Announce::kId:
+    case imc::Heartbeat::kId:
+    case imc::EstimatedState::kId:
+    case imc::VehicleState::kId:
+    case imc::GpsFix::kId:
+    case imc::PlanControl::kId:
+    case imc::PlanControlState::kId:
+    case imc::FollowRefState::kId:
+    case imc::LogBookEntry::kId: return true;
+    default: return false;
+  }
+}
+
+std::string_view name_of(const protocol::Request& r) { return r.name; }
+
+double wrap_deg(double d) {
+  d = std::fmod(d, 360.0);
+  return d < 0 ? d + 360.0 : d;
+}
+
+std::optional<double> number_arg(const protocol::Request& r, std::size_t i) {
+  return i < r.args.size() ? r.args[i].number() : std::nullopt;
+}
+
+}  // namespace
+
+core::Result<ImcLinkOptions> parse_imc_vehicle(std::string_view text) {
+  constexpr std::string_view kScheme = "imc://";
+  auto bad = [&](std::string_view why) {
+    return make_error(ErrorCode::InvalidInput,
+                      fmt::format("'{}': {} (expected imc://HOST:PORT or imc://HOST:PORT/ID)", text, why));
+  };
+  if (!text.starts_with(kScheme)) return bad("not an imc:// address");
+  std::string_view rest = text.substr(kScheme.size());
+  ImcLinkOptions o;
+  if (auto slash = rest.find('/'); slash != std::string_view::npos) {
+    std::string_view id = rest.substr(slash + 1);
+    rest = rest.substr(0, slash);
+    int base = 10;
+    if (id.starts_with("0x") || id.starts_with("0X")) {
+      id.remove_prefix(2);
+      base = 16;
+    }
+    unsigned value = 0;
+    auto [end, ec] = std::from_chars(id.data(), id.data() + id.size(), value, base);
+    if (id.empty() || ec != std::errc{} || end != id.data() + id.size() || value == 0 || value >= imc::kAnyVehicle) {
+      return bad("the vehicle's IMC id must be a number from 1 to 0xFFEF");
+    }
+    o.vehicle_id = static_cast<std::uint16_t>(value);
+  }
+  const auto colon = rest.rfind(':');
+  if (colon == std::string_view::npos || colon == 0) return bad("no HOST:PORT");
+  o.host = std::string(rest.substr(0, colon));
+  std::string_view port = rest.substr(colon + 1);
+  unsigned value = 0;
+  auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (port.empty() || ec != std::errc{} || end != port.data() + port.size() || value == 0 || value > 65535) {
+    return bad("the port must be a number from 1 to 65535");
+  }
+  o.port = static_cast<std::uint16_t>(value);
+  return o;
+}
+
+std::string imc_summary(const ImcCounts& c) {
+  std::string out = fmt::format("{} received, {} used, {} filtered, {} from others, {} dropped", c.received, c.used,
+                                c.filtered, c.other_sources, c.dropped.total());
+  if (c.dropped.total() > 0) out += fmt::format(" ({})", c.dropped.summary());
+  return out;
+}
+
+nlohmann::ordered_json imc_counts_json(const ImcCounts& c) {
+  nlohmann::ordered_json dropped = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < c.dropped.by_reason.size(); ++i) {
+    if (c.dropped.by_reason[i] > 0)
+      dropped[std::string(imc::drop_name(static_cast<imc::Drop>(i)))] = c.dropped.by_reason[i];
+  }
+  return {{"received", c.received},
+          {"used", c.used},
+          {"filtered", c.filtered},
+          {"other_sources", c.other_sources},
+          {"dropped", dropped}};
+}
+
+std::shared_ptr<ImcLink> ImcLink::create(asio::io_context& io, ImcLinkOptions options) {
+  return std::shared_ptr<ImcLink>(new ImcLink(io, std::move(options)));
+}
+
+ImcLink::ImcLink(asio::io_context& io, ImcLinkOptions options)
+    : io_(io),
+      options_(std::move(options)),
+      socket_(io),
+      buffer_(65536),
+      heartbeat_timer_(io),
+      lost_timer_(io),
+      connect_timer_(io) {}
+
+ImcLink::~ImcLink() {
+  asio::error_code ignored;
+  socket_.close(ignored);
+}
+
+std::optional<double> ImcLink::sim_time_s() const {
+  if (!state_.have_state) return std::nullopt;
+  return state_.t_s;
+}
+
+void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
+  asio::error_code ec;
+  asio::ip::udp::resolver resolver(io_);
+  auto found = resolver.resolve(asio::ip::udp::v4(), options_.host, std::to_string(options_.port), ec);
+  if (ec || found.empty()) {
+    asio::post(io_, [done, host = options_.host, ec] {
+      done(make_error(ErrorCode::Io, fmt::format("cannot resolve the IMC vehicle's host '{}': {}", host,
+                                                 ec ? ec.message() : std::string("no address"))));
+    });
+    return;
+  }
+  vehicle_endpoint_ = *found.begin();
+  auto bind = asio::ip::make_address(options_.bind_address, ec);
+  if (!ec) socket_.open(asio::ip::udp::v4(), ec);
+  if (!ec) socket_.bind(asio::ip::udp::endpoint(bind, 0), ec);
+  if (ec) {
+    asio::post(io_, [done, ec, a = options_.bind_address] {
+      done(make_error(ErrorCode::Io, fmt::format("cannot open a UDP socket on {}: {}", a, ec.message())));
+    });
+    return;
+  }
+  local_port_ = socket_.local_endpoint(ec).port();
+  connecting_ = std::move(done);
+  if (options_.vehicle_id) {
+    vehicle_.id = *options_.vehicle_id;
+  }
+  start_receive();
+  announce();
+  arm_heartbeat();
+  auto me = self();
+  connect_timer_.expires_after(options_.connect_timeout);
+  connect_timer_.async_wait([this, me](const asio::error_code& e) {
+    if (e || !connecting_) return;
+    const std::string what = !vehicle_heard_ ? "no Announce from it"
+                             : !t0_          ? "no EstimatedState from it"
+                                             : "no answer to the plan's start (PlanControl)";
+    auto waiting = std::move(connecting_);
+    connecting_ = nullptr;
+    close();
+    waiting(make_error(ErrorCode::Timeout,
+                       fmt::format("the IMC vehicle at {}:{} did not answer within {} ms: {}", options_.host,
+                                   options_.port, options_.connect_timeout.count(), what)));
+  });
+}
+
+void ImcLink::start_receive() {
+  auto me = self();
+  socket_.async_receive_from(asio::buffer(buffer_), sender_, [this, me](const asio::error_code& e, std::size_t n) {
+    if (e || closed_) return;
+    on_datagram(n);
+    start_receive();
+  });
+}
+
+void ImcLink::on_datagram(std::size_t bytes) {
+  ++counts_.received;
+  const std::span<const std::uint8_t> datagram(buffer_.data(), bytes);
+  // The vehicle is its address and, once known, its IMC id; a second
+  // controller on the same vehicle writes from elsewhere.
+  if (sender_ != vehicle_endpoint_) {
+    ++counts_.other_sources;
+    return;
+  }
+  auto header = imc::peek_header(datagram);
+  if (!header) {
+    counts_.dropped.add(bytes < imc::kHeaderBytes ? imc::Drop::Truncated : imc::Drop::BadSync);
+    return;
+  }
+  if (!wanted(header->mgid)) {
+    ++counts_.filtered;
+    return;
+  }
+  if (vehicle_heard_ && header->src != vehicle_.id) {
+    ++counts_.other_sources;
+    return;
+  }
+  auto decoded = imc::decode(datagram);
+  if (auto* drop = std::get_if<imc::Drop>(&decoded)) {
+    counts_.dropped.add(*drop);
+    if (on_garbage_) on_garbage_(fmt::format("an IMC packet dropped: {}", imc::drop_name(*drop)));
+    return;
+  }
+  ++counts_.used;
+  handle(std::get<imc::Packet>(decoded));
+}
+
+void ImcLink::handle(const imc::Packet& packet) {
+  if (options_.tap) options_.tap(false, imc::name_of(packet.header.mgid));
+  const imc::Message& m = packet.message;
+  if (const auto* a = std::get_if<imc::Announce>(&m)) {
+    if (!vehicle_heard_ && (!options_.vehicle_id || packet.header.src == *options_.vehicle_id)) {
+      vehicle_heard_ = true;
+      vehicle_.id = packet.header.src;
+      vehicle_.name = a->sys_name;
+    }
+    return;
+  }
+  if (!vehicle_heard_) return;  // nothing counts before the vehicle said who it is
+  if (std::holds_alternative<imc::EstimatedState>(m)) {
+    on_estimated_state(packet);
+    return;
+  }
+  if (t0_ && run_time(packet.header.timestamp) > state_.t_s) state_.t_s = run_time(packet.header.timestamp);
+  if (const auto* vs = std::get_if<imc::VehicleState>(&m)) {
+    on_vehicle_state(*vs);
+  } else if (const auto* g = std::get_if<imc::GpsFix>(&m)) {
+    // A fix: every validity bit DUNE sets at the surface, and satellites.
+    state_.gps_valid = (g->validity & 0x1FF) == 0x1FF && g->satellites > 0;
+  } else if (const auto* pc = std::get_if<imc::PlanControl>(&m)) {
+    on_plan_control(*pc);
+  } else if (const auto* pcs = std::get_if<imc::PlanControlState>(&m)) {
+    on_plan_control_state(*pcs);
+  } else if (const auto* frs = std::get_if<imc::FollowRefState>(&m)) {
+    on_follow_ref_state(*frs);
+  } else if (const auto* lb = std::get_if<imc::LogBookEntry>(&m)) {
+    if (on_event_ && lb->type != imc::LogBookEntry::kTypeDebug && t0_) {
+      on_event_(protocol::Event{state_.t_s, fmt::format("{}: {}", lb->context, lb->text)});
+    }
+  }
+}
+
+void ImcLink::on_estimated_state(const imc::Packet& packet) {
+  const auto& es = std::get<imc::EstimatedState>(packet.message);
+  if (!t0_) t0_ = packet.header.timestamp;
+  const double t = run_time(packet.header.timestamp);
+  state_.have_state = true;
+  state_.t_s = std::max(state_.t_s, t);
+  state_.lat0 = es.lat;
+  state_.lon0 = es.lon;
+  state_.x_m = es.y;  // IMC x is north, y east; Strata's x is east, y north
+  state_.y_m = es.x;
+  state_.depth_m = es.depth;
+  state_.alt_m = es.alt;
+  state_.vz_mps = es.vz;
+  state_.psi_deg = wrap_deg(es.psi * kRadToDeg);
+  state_.r_dps = es.r * kRadToDeg;
+  state_.u_mps = es.u;
+  arm_lost();
+  if (!plan_requested_ && connecting_) start_plan();
+  if (!connected_) return;
+  if (state_.t_s - last_reference_s_ + 1e-9 >= options_.reference_period_s) send_reference();
+  emit_telemetry();
+  service_pending();
+}
+
+void ImcLink::on_vehicle_state(const imc::VehicleState& m) {
+  const bool was_error = state_.op_mode == imc::VehicleState::kOpModeError;
+  state_.op_mode = m.op_mode;
+  state_.error_count = m.error_count;
+  state_.error_ents = m.error_ents;
+  state_.last_error = m.last_error;
+  const bool error = m.op_mode == imc::VehicleState::kOpModeError;
+  if (error && !was_error && on_event_ && t0_) {
+    on_event_(protocol::Event{state_.t_s, fmt::format("vehicle in ERROR: {}{}{}", m.error_ents,
+                                                      m.last_error.empty() ? "" : ": ", m.last_error)});
+  }
+}
+
+void ImcLink::on_plan_control(const imc::PlanControl& m) {
+  if (m.plan_id != options_.plan_id) return;  // another controller's plan, or its replies
+  if (m.type == imc::PlanControl::kSuccess) {
+    if (mandone_sent_) {
+      plan_ended();  // "plan completed": our MANDONE ended it
+    } else if (plan_requested_ && !plan_running_ && m.request_id == plan_request_id_) {
+      plan_started();
+    }
+    return;
+  }
+  if (m.type != imc::PlanControl::kFailure) return;
+  if (connecting_ && m.request_id == plan_request_id_) {
+    auto done = std::move(connecting_);
+    connecting_ = nullptr;
+    close();
+    done(make_error(ErrorCode::Protocol, fmt::format("the IMC vehicle refused the plan: {}", m.info)));
+    return;
+  }
+  plan_requested_ = false;
+  if (plan_running_) {
+    if (on_event_) on_event_(protocol::Event{state_.t_s, fmt::format("plan '{}' failed: {}", m.plan_id, m.info)});
+    plan_ended();
+  }
+}
+
+void ImcLink::plan_started() {
+  plan_running_ = true;
+  plan_confirmed_ = false;
+  last_reference_s_ = -1e300;
+  if (!desired_.x_m) {
+    desired_.x_m = state_.x_m;  // hold where it is until told otherwise
+    desired_.y_m = state_.y_m;
+  }
+  send_reference();
+  if (!connecting_) return;
+  connected_ = true;
+  connect_timer_.cancel();
+  auto done = std::move(connecting_);
+  connecting_ = nullptr;
+  done(vehicle_);
+}
+
+void ImcLink::plan_ended() {
+  if (!plan_running_) return;
+  plan_running_ = false;
+  service_pending();  // a shutdown waiting for the plan's end has it
+}
+
+void ImcLink::on_plan_control_state(const imc::PlanControlState& m) {
+  if (!plan_running_) return;
+  const bool executing = m.state == imc::PlanControlState::kStateExecuting;
+  if (m.plan_id == options_.plan_id) {
+    if (executing) plan_confirmed_ = true;
+    if (!executing && mandone_sent_) plan_ended();
+    return;
+  }
+  // Only once the vehicle said it runs ours: a state sent before our start
+  // may still name the plan it replaced.
+  if (executing && plan_confirmed_) {
+    replaced_ = true;
+    plan_running_ = false;
+    fault(fmt::format("another controller replaced this run's plan '{}' with '{}'", options_.plan_id, m.plan_id));
+  }
+}
+
+void ImcLink::on_follow_ref_state(const imc::FollowRefState& m) {
+  if (m.control_src != options_.system_id || m.control_ent != options_.entity_id) return;
+  if (m.state == imc::FollowRefState::kStateTimeout) {
+    if (plan_running_) {
+      plan_running_ = false;
+      plan_requested_ = false;
+      fault(fmt::format("the vehicle's FollowReference timed out (no Reference for {} s of its time)",
+                        options_.follow_timeout_s));
+    }
+    return;
+  }
+  if (m.reference && our_reference(*m.reference)) {
+    state_.ref_state = m.state;
+    state_.proximity = m.proximity;
+  }
+}
+
+bool ImcLink::our_reference(const imc::Reference& r) const {
+  // The echo of the Reference this link last sent: FollowRefState answers
+  // each Reference, and one in flight when the desired state changed
+  // speaks of the old target.
+  if (desired_.x_m && desired_.y_m) {
+    auto [lat, lon] = lat_lon(*desired_.x_m, *desired_.y_m);
+    if (std::fabs(r.lat - lat) > 1e-9 || std::fabs(r.lon - lon) > 1e-9) return false;
+  }
+  const bool z_flag = (r.flags & imc::Reference::kFlagZ) != 0;
+  if (z_flag != desired_.z_m.has_value()) return false;
+  if (desired_.z_m && (!r.z || std::fabs(r.z->value - *desired_.z_m) > 1e-3)) return false;
+  return true;
+}
+
+std::pair<double, double> ImcLink::lat_lon(double x_m, double y_m) const {
+  const double lat = state_.lat0 + y_m / kEarthRadiusM;
+  const double lon = state_.lon0 + x_m / (kEarthRadiusM * std::cos(state_.lat0));
+  return {lat, lon};
+}
+
+void ImcLink::start_plan() {
+  plan_requested_ = true;
+  plan_request_id_ = next_request_id_++;
+  imc::FollowReference follow;
+  follow.control_src = options_.system_id;
+  follow.control_ent = options_.entity_id;
+  follow.timeout = static_cast<float>(options_.follow_timeout_s);
+  follow.loiter_radius = 0;
+  follow.altitude_interval = 0;
+  imc::PlanManeuver maneuver;
+  maneuver.maneuver_id = "follow";
+  maneuver.data = imc::Inline(imc::Message(follow));
+  imc::PlanSpecification spec;
+  spec.plan_id = options_.plan_id;
+  spec.description = "Strata: a mission steered step by step";
+  spec.start_man_id = "follow";
+  spec.maneuvers.push_back(std::move(maneuver));
+  imc::PlanControl pc;
+  pc.type = imc::PlanControl::kRequest;
+  pc.op = imc::PlanControl::kStart;
+  pc.request_id = plan_request_id_;
+  pc.plan_id = options_.plan_id;
+  pc.arg = imc::Inline(imc::Message(std::move(spec)));
+  send_packet(imc::Message(std::move(pc)), vehicle_.id);
+}
+
+void ImcLink::send_reference(bool mandone) {
+  imc::Reference r;
+  r.flags = imc::Reference::kFlagLocation | imc::Reference::kFlagSpeed;
+  // Always a location: a Reference without one reuses an older plan's
+  // (measured on DUNE), so holding still means the current position.
+  auto [lat, lon] = lat_lon(desired_.x_m.value_or(state_.x_m), desired_.y_m.value_or(state_.y_m));
+  r.lat = lat;
+  r.lon = lon;
+  imc::DesiredSpeed speed;
+  speed.value = desired_.speed_mps;
+  speed.speed_units = imc::DesiredSpeed::kSpeedUnitsMetersPs;
+  r.speed = speed;
+  if (desired_.z_m) {
+    r.flags |= imc::Reference::kFlagZ;
+    imc::DesiredZ z;
+    z.value = static_cast<float>(*desired_.z_m);
+    z.z_units = imc::DesiredZ::kZUnitsDepth;
+    r.z = z;
+  }
+  if (mandone) r.flags |= imc::Reference::kFlagManDone;
+  last_reference_s_ = state_.t_s;
+  send_packet(imc::Message(std::move(r)), vehicle_.id);
+}
+
+void ImcLink::send_abort() { send_packet(imc::Message(imc::Abort{}), vehicle_.id); }
+
+void ImcLink::send_packet(const imc::Message& message, std::uint16_t dst) {
+  if (closed_ || !socket_.is_open()) return;
+  imc::Packet packet;
+  packet.header.timestamp = state_.have_state && t0_ ? *t0_ + state_.t_s : 0.0;
+  packet.header.src = options_.system_id;
+  packet.header.src_ent = options_.entity_id;
+  packet.header.dst = dst;
+  packet.header.dst_ent = imc::kAnyEntity;
+  packet.message = message;
+  auto bytes = imc::encode(packet);
+  if (!bytes) {
+    if (on_garbage_) on_garbage_(fmt::format("cannot encode an IMC message: {}", bytes.error().message));
+    return;
+  }
+  if (options_.tap) options_.tap(true, imc::name_of(imc::id_of(message)));
+  asio::error_code ignored;  // UDP: a datagram lost is a datagram lost; the stream repeats itself
+  socket_.send_to(asio::buffer(bytes.value()), vehicle_endpoint_, 0, ignored);
+}
+
+void ImcLink::announce() {
+  imc::Announce a;
+  a.sys_name = options_.system_name;
+  a.sys_type = imc::Announce::kSysTypeCcu;
+  a.owner = imc::kNullId;
+  a.services = fmt::format("imc+udp://{}:{}/", options_.bind_address, local_port_);
+  send_packet(imc::Message(std::move(a)), imc::kNullId);
+}
+
+void ImcLink::arm_heartbeat() {
+  auto me = self();
+  heartbeat_timer_.expires_after(std::chrono::seconds(1));
+  heartbeat_timer_.async_wait([this, me](const asio::error_code& e) {
+    if (e || closed_) return;
+    // DUNE forgets a peer after 30 s without traffic; Announce each 10 s as it does.
+    send_packet(imc::Message(imc::Heartbeat{}), vehicle_heard_ ? vehicle_.id : imc::kNullId);
+    if (++heartbeats_ % 10 == 0 || !vehicle_heard_) announce();
+    arm_heartbeat();
+  });
+}
+
+void ImcLink::arm_lost() {
+  auto me = self();
+  lost_timer_.expires_after(options_.lost_after);
+  lost_timer_.async_wait([this, me](const asio::error_code& e) {
+    if (e || closed_ || !connected_) return;
+    lost(fmt::format("no EstimatedState from the IMC vehicle for {} ms", options_.lost_after.count()));
+  });
+}
+
+void ImcLink::emit_telemetry() {
+  if (telemetry_hz_ <= 0 || !on_telemetry_ || state_.t_s + 1e-9 < next_telemetry_s_) return;
+  next_telemetry_s_ = state_.t_s + 1.0 / telemetry_hz_;
+  protocol::Telemetry t;
+  t.sim_time_s = state_.t_s;
+  t.depth_m = state_.depth_m;
+  t.heading_deg = state_.psi_deg;
+  t.rate_mps = state_.vz_mps;
+  if (desired_.z_m) t.setpoint_m = *desired_.z_m;
+  t.extras["x"] = fmt::format("{}", state_.x_m);
+  t.extras["y"] = fmt::format("{}", state_.y_m);
+  t.extras["speed"] = fmt::format("{}", state_.u_mps);
+  if (state_.alt_m >= 0) t.extras["alt"] = fmt::format("{}", state_.alt_m);
+  on_telemetry_(t);
+}
+
+protocol::RequestId ImcLink::send(protocol::Request request, ReplyHandler handler,
+                                  std::optional<std::chrono::milliseconds> /*timeout*/,
+                                  std::optional<double> sim_timeout_s) {
+  request.id = next_id_++;
+  const protocol::RequestId id = request.id;
+  auto later = [this](ReplyHandler h, core::Result<protocol::VehicleMessage> r) {
+    asio::post(io_, [h = std::move(h), r = std::move(r)]() mutable { h(std::move(r)); });
+  };
+  if (!connected_) {
+    later(std::move(handler),
+          make_error(ErrorCode::Closed, fmt::format("cannot send `{} {}`: no link to the IMC vehicle",
+                                                    protocol::verb_name(request.verb), request.name)));
+    return id;
+  }
+  if (request.verb == protocol::Verb::Telemetry) {
+    telemetry_hz_ = request.rate_hz;
+    next_telemetry_s_ = state_.t_s;
+    later(std::move(handler), protocol::VehicleMessage(protocol::Ok{id, state_.t_s}));
+    return id;
+  }
+  if (request.verb != protocol::Verb::Exec && request.verb != protocol::Verb::Ask &&
+      request.verb != protocol::Verb::Ood && request.verb != protocol::Verb::Ping) {
+    later(std::move(handler), make_error(ErrorCode::InvalidInput, fmt::format("an IMC vehicle takes no `{}`",
+                                                                              protocol::verb_name(request.verb))));
+    return id;
+  }
+  Pending p;
+  p.request = std::move(request);
+  p.handler = std::move(handler);
+  p.sent_s = state_.t_s;
+  if (sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0)
+    p.sim_deadline_s = state_.t_s + *sim_timeout_s;
+  if (p.request.verb != protocol::Verb::Ping) {
+    if (auto taken = take(p); !taken) {
+      later(std::move(p.handler), taken.error());
+      return id;
+    }
+  }
+  pending_.emplace(id, std::move(p));
+  return id;
+}
+
+core::Result<void> ImcLink::take(Pending& p) {
+  const protocol::Request& r = p.request;
+  const std::string_view f = name_of(r);
+  if (!imc_mapping(r.verb, f)) {
+    return make_error(ErrorCode::Protocol, fmt::format("an IMC vehicle has no '{}' (docs/imc.md)", f));
+  }
+  auto arg = [&](std::size_t i) -> core::Result<double> {
+    auto v = number_arg(r, i);
+    if (!v || !std::isfinite(*v)) {
+      return make_error(ErrorCode::InvalidInput, fmt::format("`{}` needs a number as argument {}", f, i + 1));
+    }
+    return *v;
+  };
+  p.value = true;
+  if (r.verb == protocol::Verb::Ask) {
+    p.value.reset();  // answered from the state at the reply
+    return {};
+  }
+  bool steer = false;
+  if (f == "setpoint") {
+    auto d = arg(0);
+    auto t = arg(1);
+    if (!d) return d.error();
+    if (!t) return t.error();
+    setpoint_depth_m_ = d.value();
+    setpoint_timeout_s_ = t.value();
+  } else if (f == "start_depth_filter") {
+    filter_on_ = true;  // an IMC vehicle's navigation filters depth all the time
+  } else if (f == "start_timer") {
+    timer_end_s_ = state_.t_s + setpoint_timeout_s_;
+  } else if (f == "sleep") {
+    auto s = arg(0);
+    if (!s) return s.error();
+    p.wait = Wait::Until;
+    p.until_s = state_.t_s + s.value();
+  } else if (f == "set_altitude_floor") {
+    auto a = arg(0);
+    if (!a) return a.error();
+    altitude_floor_m_ = a.value();
+  } else if (f == "submerge") {
+    if (!setpoint_depth_m_) {
+      p.value = false;
+      if (on_event_) on_event_(protocol::Event{state_.t_s, "exec submerge failed: no depth setpoint"});
+    } else {
+      desired_.z_m = *setpoint_depth_m_;
+      steer = true;
+    }
+  } else if (f == "goto_depth") {
+    auto d = arg(0);
+    if (!d) return d.error();
+    desired_.z_m = d.value();
+    steer = true;
+  } else if (f == "surface") {
+    desired_.z_m = 0.0;
+    if (replaced_) {
+      // Another controller has the vehicle: taking it back, or aborting its
+      // plan, is that controller's operator's call, not this run's.
+      p.value = false;
+      if (on_event_) {
+        on_event_(protocol::Event{state_.t_s, "exec surface failed: another controller has the vehicle"});
+      }
+    } else if (state_.op_mode != imc::VehicleState::kOpModeError) {
+      surface_method_ = "reference";
+      steer = true;
+      if (!plan_running_ && !plan_requested_) start_plan();  // timed out or failed: a new plan, to surface
+    } else {
+      // A vehicle in ERROR (or whose plan failed) takes no Reference: Abort
+      // is the one command it still obeys.
+      surface_method_ = "abort";
+      send_abort();
+      if (on_event_) {
+        on_event_(protocol::Event{state_.t_s, "surface: the vehicle takes no Reference now; Abort sent"});
+      }
+    }
+  } else if (f == "set_speed") {
+    auto v = arg(0);
+    if (!v) return v.error();
+    desired_.speed_mps = v.value();
+    if (!waypoint_) {
+      // A speed alone keeps the course: a point far along the heading held.
+      const double h = heading_deg_.value_or(state_.psi_deg) / kRadToDeg;
+      desired_.x_m = state_.x_m + options_.heading_lead_m * std::sin(h);
+      desired_.y_m = state_.y_m + options_.heading_lead_m * std::cos(h);
+    }
+    steer = true;
+  } else if (f == "heading") {
+    auto d = arg(0);
+    if (!d) return d.error();
+    heading_deg_ = wrap_deg(d.value());
+    waypoint_.reset();
+    const double h = *heading_deg_ / kRadToDeg;
+    desired_.x_m = state_.x_m + options_.heading_lead_m * std::sin(h);
+    desired_.y_m = state_.y_m + options_.heading_lead_m * std::cos(h);
+    steer = true;
+  } else if (f == "goto_xy" || f == "track") {
+    const std::size_t first = f == "track" ? 2 : 0;  // a track line: straight to its end (docs/imc.md)
+    auto x = arg(first);
+    auto y = arg(first + 1);
+    if (!x) return x.error();
+    if (!y) return y.error();
+    waypoint_ = {x.value(), y.value()};
+    heading_deg_.reset();
+    desired_.x_m = x.value();
+    desired_.y_m = y.value();
+    steer = true;
+  } else if (f == "stop") {
+    desired_.speed_mps = 0;
+    waypoint_.reset();
+    heading_deg_.reset();
+    desired_.x_m = state_.x_m;
+    desired_.y_m = state_.y_m;
+    steer = true;
+  } else if (f == "gps_fix") {
+    p.value.reset();  // decided at the reply, from the newest GpsFix
+  } else if (f == "start_network") {
+    p.value = plan_running_;
+  } else if (f == "shutdown_network") {
+    if (plan_running_) {
+      mandone_sent_ = true;
+      send_reference(/*mandone=*/true);
+      p.wait = Wait::PlanEnd;
+    }
+  }
+  if (steer) {
+    state_.ref_state.reset();
+    state_.proximity.reset();
+    if (plan_running_) send_reference();
+  }
+  return {};
+}
+
+bool ImcLink::ask(std::string_view q) const {
+  const auto& s = state_;
+  const bool z_near = s.proximity && (*s.proximity & imc::FollowRefState::kProxZNear) != 0;
+  const bool xy_near = s.proximity && (*s.proximity & imc::FollowRefState::kProxXyNear) != 0;
+  if (q == "depth_filter_off") return !filter_on_;
+  if (q == "time_out") return timer_end_s_ && s.t_s + 1e-9 >= *timer_end_s_;
+  if (q == "system_problem") return s.op_mode == imc::VehicleState::kOpModeError || s.error_count > 0;
+  if (q == "surface_reached") return s.depth_m <= options_.surface_depth_m;
+  if (q == "depth_reached") {
+    // DUNE's Z_NEAR is within 1 m: the Phoenix's tolerance and settling on top.
+    return desired_.z_m && z_near && std::fabs(s.depth_m - *desired_.z_m) < options_.depth_tolerance_m &&
+           std::fabs(s.vz_mps) < options_.settle_rate_mps;
+  }
+  if (q == "heading_reached") {
+    if (!heading_deg_) return false;
+    double err = std::fabs(wrap_deg(s.psi_deg - *heading_deg_));
+    err = std::min(err, 360.0 - err);
+    return err < options_.heading_tolerance_deg && std::fabs(s.r_dps) < options_.heading_settle_dps;
+  }
+  if (q == "waypoint_reached") return waypoint_ && xy_near;
+  if (q == "altitude_low") {
+    const bool dead = s.alt_m < 0 && s.depth_m > options_.surface_depth_m;
+    return dead || (s.alt_m >= 0 && s.alt_m < altitude_floor_m_);
+  }
+  return false;
+}
+
+void ImcLink::service_pending() {
+  std::vector<protocol::RequestId> due;
+  for (auto& [id, p] : pending_) {  // in id order
+    const bool late = p.sim_deadline_s && state_.t_s + 1e-9 >= *p.sim_deadline_s;
+    bool ready = false;
+    switch (p.wait) {
+      case Wait::NextState: ready = state_.t_s > p.sent_s; break;
+      case Wait::Until: ready = state_.t_s + 1e-9 >= p.until_s; break;
+      case Wait::PlanEnd: ready = !plan_running_; break;
+    }
+    if (ready || late) due.push_back(id);
+  }
+  for (protocol::RequestId id : due) {
+    auto it = pending_.find(id);
+    if (it == pending_.end()) continue;
+    Pending p = std::move(it->second);
+    pending_.erase(it);
+    answer(id, p);
+  }
+}
+
+void ImcLink::answer(protocol::RequestId id, Pending& p) {
+  const protocol::Request& r = p.request;
+  const bool ready = p.wait == Wait::NextState ? state_.t_s > p.sent_s
+                     : p.wait == Wait::Until   ? state_.t_s + 1e-9 >= p.until_s
+                                               : !plan_running_;
+  if (!ready) {
+    p.handler(
+        make_error(ErrorCode::Timeout, fmt::format("no reply to `{} {}` within {} s of the vehicle's time",
+                                                   protocol::verb_name(r.verb), r.name, *p.sim_deadline_s - p.sent_s)));
+    return;
+  }
+  if (r.verb == protocol::Verb::Ping) {
+    p.handler(protocol::VehicleMessage(protocol::Pong{id, state_.t_s}));
+  } else if (r.verb == protocol::Verb::Ask) {
+    p.handler(protocol::VehicleMessage(protocol::Answer{id, ask(r.name), state_.t_s}));
+  } else {
+    bool value = p.value.value_or(false);
+    if (r.name == "gps_fix") {
+      value = state_.gps_valid && state_.depth_m <= options_.surface_depth_m;
+      if (!value && on_event_) {
+        on_event_(protocol::Event{state_.t_s, "exec gps_fix failed: no valid GpsFix from the vehicle"});
+      }
+    }
+    p.handler(protocol::VehicleMessage(protocol::Done{id, value, state_.t_s}));
+  }
+}
+
+void ImcLink::fault(const std::string& why) {
+  if (faulted_) return;
+  faulted_ = true;
+  if (on_event_) on_event_(protocol::Event{state_.t_s, why});
+  service_pending();
+  if (on_fault_) on_fault_(why);
+}
+
+void ImcLink::lost(const std::string& why) {
+  if (lost_) return;
+  lost_ = true;
+  connected_ = false;
+  fail_all(make_error(ErrorCode::Closed, why));
+  if (on_lost_) on_lost_(make_error(ErrorCode::Closed, why));
+}
+
+void ImcLink::fail_all(const core::Error& error) {
+  auto pending = std::move(pending_);
+  pending_.clear();
+  for (auto& [id, p] : pending) {
+    p.handler(make_error(error.code, fmt::format("`{} {}` (request {}) failed: {}", protocol::verb_name(p.request.verb),
+                                                 p.request.name, id, error.message)));
+  }
+}
+
+void ImcLink::close() {
+  if (closed_) return;
+  // A plan still running when the run lets go is ended, never left to time out.
+  if (plan_running_ && connected_) {
+    mandone_sent_ = true;
+    send_reference(/*mandone=*/true);
+  }
+  plan_running_ = false;
+  closed_ = true;
+  connected_ = false;
+  heartbeat_timer_.cancel();
+  lost_timer_.cancel();
+  connect_timer_.cancel();
+  asio::error_code ignored;
+  socket_.close(ignored);
+  fail_all(make_error(ErrorCode::Closed, "the link was closed"));
+}
+
+}  // namespace strata::tactical
