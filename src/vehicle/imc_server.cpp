@@ -12,7 +12,7 @@ using Clock = std::chrono::steady_clock;
 // The streams, left out of the trace (they would drown the rest).
 bool is_stream(std::uint16_t id) {
   return id == imc::EstimatedState::kId || id == imc::VehicleState::kId || id == imc::PlanControlState::kId ||
-         id == imc::GpsFix::kId || id == imc::Heartbeat::kId;
+         id == imc::GpsFix::kId || id == imc::Heartbeat::kId || id == imc::NavigationUncertainty::kId;
 }
 
 std::string endpoint_text(const asio::ip::udp::endpoint& e) {

@@ -310,18 +310,20 @@ TEST(ImcVehicleServer, EstimatedStateEveryCycleAndTheSlowerStreamsAtTheirRates) 
   }
   ASSERT_GE(est.size(), 42u);
   // 40 cycles (4 simulated seconds) from the first EstimatedState on.
-  std::size_t vs = 0, gps = 0, hb = 0, pcs = 0;
+  std::size_t vs = 0, gps = 0, hb = 0, pcs = 0, nu = 0;
   for (std::size_t i = est[0] + 1; i < est[40]; ++i) {
     const auto& m = packets[i].message;
     vs += std::holds_alternative<imc::VehicleState>(m);
     gps += std::holds_alternative<imc::GpsFix>(m);
     hb += std::holds_alternative<imc::Heartbeat>(m);
     pcs += std::holds_alternative<imc::PlanControlState>(m);
+    nu += std::holds_alternative<imc::NavigationUncertainty>(m);
   }
   EXPECT_EQ(8u, vs);
   EXPECT_EQ(8u, pcs);
   EXPECT_EQ(4u, gps);
   EXPECT_EQ(4u, hb);
+  EXPECT_EQ(4u, nu);
   // Simulated time in the header, whatever the speed and the machine's load.
   EXPECT_NEAR(4.0, packets[est[40]].header.timestamp - packets[est[0]].header.timestamp, 1e-6);
 }
@@ -585,6 +587,10 @@ TEST(ImcVehicleServer, GpsFixOnlyAtTheSurfaceInOpenWater) {
   EXPECT_EQ(kImcOriginLatRad, est->lat);
   EXPECT_NEAR(-50.0, est->x, 30.0);  // north, from the launch estimate (10 m per axis)
   EXPECT_NEAR(100.0, est->y, 30.0);  // east
+  auto nu = peer.wait_for<imc::NavigationUncertainty>();
+  ASSERT_TRUE(nu);
+  EXPECT_GT(nu->x, 0.0f);  // open water: the estimate is uncertain
+  EXPECT_EQ(nu->x, nu->y);
   // Below the surface, no fix.
   start(peer);
   dive(peer, 1.0);

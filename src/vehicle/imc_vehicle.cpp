@@ -326,6 +326,7 @@ void ImcVehicle::step() {
   if (c % every(1.0, cycle_s) == 0) {
     send(gps_fix());
     send(imc::Heartbeat{});
+    send(navigation_uncertainty());
   }
 }
 

@@ -99,8 +99,8 @@ class ImcVehicle {
   void receive(const imc::Header& header, const imc::Message& message);
   // One cycle: the simulation steps, then the plan's timeout, faults and
   // holding; then the streams due at the new time (EstimatedState every
-  // cycle; VehicleState and PlanControlState at 2 Hz; GpsFix and Heartbeat
-  // at 1 Hz).
+  // cycle; VehicleState and PlanControlState at 2 Hz; GpsFix, Heartbeat and
+  // NavigationUncertainty at 1 Hz).
   void step();
   // What to send, in order; the list is handed over and cleared.
   std::vector<ImcOutgoing> take_outbox();
@@ -114,6 +114,8 @@ class ImcVehicle {
   imc::VehicleState vehicle_state() const;
   imc::PlanControlState plan_control_state() const;
   imc::GpsFix gps_fix() const;
+  // The position estimate's variance (navigation.h), the same on x and y.
+  imc::NavigationUncertainty navigation_uncertainty() const;
   // (lat, lon) radians of a Simulation point (x east, y north), and back.
   std::pair<double, double> to_lat_lon(double x_east_m, double y_north_m) const;
   std::pair<double, double> to_plan(double lat_rad, double lon_rad) const;

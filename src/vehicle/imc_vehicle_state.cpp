@@ -146,4 +146,13 @@ imc::GpsFix ImcVehicle::gps_fix() const {
   return g;
 }
 
+// The estimate's horizontal 1-sigma is sqrt(var_x + var_y), the two equal.
+imc::NavigationUncertainty ImcVehicle::navigation_uncertainty() const {
+  const double sd = sim_.navigator().position_sd_m();
+  imc::NavigationUncertainty u;
+  u.x = static_cast<float>(sd * sd / 2.0);
+  u.y = u.x;
+  return u;
+}
+
 }  // namespace strata::vehicle
