@@ -155,7 +155,10 @@ class TestPeer {
     for (const auto& p : packets_) n += std::holds_alternative<T>(p.message);
     return n;
   }
-  std::size_t undecodable() const { return undecodable_; }
+  std::size_t undecodable() const {
+    std::lock_guard lock(mutex_);
+    return undecodable_;
+  }
   std::size_t received_now() const {
     std::lock_guard lock(mutex_);
     return packets_.size();
