@@ -72,6 +72,7 @@ TOUR = {
     "strata vehicle --scenario weak_thrusters --mission missions/tank/tank.coral": ("serve", r"^127\.0\.0\.1:7020$"),
     "strata vehicle --realtime --speed 5": ("serve", r"^127\.0\.0\.1:7020$"),
     "strata vehicle --interface": (0, r"tlm"),
+    "strata vehicle --imc --port 0 --speed 50": ("serve", r"^imc vehicle phoenix-sim \(id 0x2C01\) on udp://127\.0\.0\.1:\d+$"),
     "strata --help": (0, r"run"),
 }
 
@@ -200,7 +201,7 @@ def main():
         rx = re.compile(pattern, re.M)
         shell = cmd.replace("127.0.0.1:7020", "127.0.0.1:" + ports["7020"]).replace("127.0.0.1:PORT",
                                                                                   "127.0.0.1:" + ports["PORT"])
-        if cmd.startswith("strata vehicle") and "--listen" not in cmd and "--interface" not in cmd:
+        if cmd.startswith("strata vehicle") and not any(f in cmd for f in ("--listen", "--interface", "--port")):
             shell += " --listen 0"  # 7020 may be taken on a shared machine
             pattern = r"^127\.0\.0\.1:\d+$"
         run += 1

@@ -43,8 +43,8 @@ struct VehicleOptions {
   bool hello_timeout_given = false;
 };
 
-// "0x2C01" or "11265": an IMC system id a vehicle may take (not 0, nor the
-// broadcast 0xFFFF or "any vehicle" 0xFFF0).
+// "0x2C01" or "11265": an IMC system id a vehicle may take: 1 to 0xFFEF
+// (0xFFF0 is "any vehicle", 0xFFFF the broadcast).
 std::optional<std::uint16_t> parse_imc_id(const std::string& text) {
   const bool hex = text.starts_with("0x") || text.starts_with("0X");
   const char* first = text.data() + (hex ? 2 : 0);
@@ -52,7 +52,7 @@ std::optional<std::uint16_t> parse_imc_id(const std::string& text) {
   std::uint16_t id = 0;
   auto [end, ec] = std::from_chars(first, last, id, hex ? 16 : 10);
   if (ec != std::errc{} || end != last || first == last) return std::nullopt;
-  if (id == 0 || id == 0xFFFF || id == 0xFFF0) return std::nullopt;
+  if (id == 0 || id > 0xFFEF) return std::nullopt;
   return id;
 }
 

@@ -35,7 +35,8 @@ const char* exit_codes_of(std::string_view command) {
            "compile; 74 when a file cannot be read or written.";
   }
   if (command == "vehicle") {
-    return "Exit 0 after Ctrl-C or SIGTERM; 64 usage (a bad --listen); 65 invalid parameters or scenario;\n"
+    return "Exit 0 after Ctrl-C or SIGTERM; 64 usage (a bad --listen, --port or --imc-id, an option --imc\n"
+           "does not take); 65 invalid parameters or scenario;\n"
            "74 when it cannot listen or read a file.";
   }
   if (command == "primitives") {

@@ -250,8 +250,8 @@ void ImcLink::handle(const imc::Packet& packet) {
   } else if (const auto* frs = std::get_if<imc::FollowRefState>(&m)) {
     on_follow_ref_state(*frs);
   } else if (const auto* nu = std::get_if<imc::NavigationUncertainty>(&m)) {
-    // Variances of x (north) and y (east): the larger one's 1-sigma.
-    const double var = std::max(nu->x, nu->y);
+    // The horizontal 1-sigma as the Phoenix defines it: sqrt(var_x + var_y).
+    const double var = static_cast<double>(nu->x) + nu->y;
     if (std::isfinite(var) && var >= 0) state_.position_sd_m = std::sqrt(var);
   } else if (const auto* lb = std::get_if<imc::LogBookEntry>(&m)) {
     if (on_event_ && lb->type != imc::LogBookEntry::kTypeDebug && t0_) {

@@ -545,16 +545,17 @@ TEST(ImcLink, TheSonarIsAPayloadSwitchedBySetEntityParameters) {
   EXPECT_EQ(set->params[0].value, "true");
 }
 
-TEST(ImcLink, PositionUncertainIsNavigationUncertaintysHorizontalSigmaAboveTheLimit) {
+TEST(ImcLink, PositionUncertainIsTheHorizontalSigmaOfNavigationUncertaintyAboveTheLimit) {
   ImcRig rig;
   rig.connect();
   EXPECT_FALSE(rig.ask("position_uncertain"));  // none heard: not uncertain
   imc::NavigationUncertainty nu;
-  nu.x = 24.0f * 24.0f;
+  nu.x = 24.0f * 24.0f;  // the horizontal sigma is sqrt(var_x + var_y): 24.2 m
   nu.y = 10.0f;
   rig.vehicle.send(nu);
   EXPECT_FALSE(rig.ask("position_uncertain"));
-  nu.y = 26.0f * 26.0f;  // east is the worse axis now
+  nu.x = 18.0f * 18.0f;  // 18 and 18: 25.5 m, over the limit though neither axis is
+  nu.y = 18.0f * 18.0f;
   rig.vehicle.send(nu);
   EXPECT_TRUE(rig.ask("position_uncertain"));
 }

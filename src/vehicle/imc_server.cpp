@@ -12,7 +12,7 @@ using Clock = std::chrono::steady_clock;
 // The streams, left out of the trace (they would drown the rest).
 bool is_stream(std::uint16_t id) {
   return id == imc::EstimatedState::kId || id == imc::VehicleState::kId || id == imc::PlanControlState::kId ||
-         id == imc::GpsFix::kId || id == imc::Heartbeat::kId;
+         id == imc::GpsFix::kId || id == imc::Heartbeat::kId || id == imc::NavigationUncertainty::kId;
 }
 
 std::string endpoint_text(const asio::ip::udp::endpoint& e) {
@@ -53,8 +53,7 @@ core::Result<void> ImcVehicleServer::start() {
                             fmt::format("cannot bind udp {}:{}: {}", options_.address, options_.port, ec.message()));
   }
   port_ = socket_.local_endpoint().port();
-  receive();
-  tick();
+  receive();  // the clock starts with the first peer (on_announce)
   return {};
 }
 
@@ -122,7 +121,8 @@ void ImcVehicleServer::on_datagram(std::size_t n) {
   peer->last_heard_s = sim_.time_s();
   peer->last_heard_wall = Clock::now();
   if (id == imc::Heartbeat::kId) return;
-  if (id == imc::PlanControl::kId || id == imc::Reference::kId || id == imc::Abort::kId) {
+  if (id == imc::PlanControl::kId || id == imc::Reference::kId || id == imc::Abort::kId ||
+      id == imc::SetEntityParameters::kId) {
     ++counts_.accepted;
     vehicle_.receive(packet.header, packet.message);
     flush_outbox();  // replies at once, not at the next cycle
@@ -149,6 +149,14 @@ void ImcVehicleServer::on_announce(const imc::Header& h) {
   peers_.push_back(Peer{from_, h.src, sim_.time_s(), Clock::now()});
   log(fmt::format("{:.1f} s: peer 0x{:04X} at {} announced", sim_.time_s(), h.src, endpoint_text(from_)));
   send(announce(), h.src, imc::kAnyEntity, &peers_.back());
+  if (!clock_started_) {
+    // The simulation, and the scenario's fault times with it, start when the
+    // first controller is heard: a vehicle started before its controller
+    // does not live through its faults alone (at --speed 100, a second of
+    // wall time is 100 s of the scenario).
+    clock_started_ = true;
+    tick();
+  }
 }
 
 // ---- the clock ---------------------------------------------------------------------

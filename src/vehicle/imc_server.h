@@ -116,6 +116,7 @@ class ImcVehicleServer {
   asio::steady_timer tick_timer_;
   std::uint16_t port_ = 0;
   bool stopped_ = false;
+  bool clock_started_ = false;  // at the first peer's Announce
   std::array<std::uint8_t, 65536> buffer_{};
   asio::ip::udp::endpoint from_;
   std::vector<Peer> peers_;

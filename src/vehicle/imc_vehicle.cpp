@@ -240,7 +240,8 @@ void ImcVehicle::on_reference(const imc::Header& h, const imc::Reference& ref) {
       log(fmt::format("Reference point ({:.0f}, {:.0f}) m refused: farther than {:.0f} m", x, y, kMaxLegM));
     } else {
       p.goal = std::make_pair(x, y);
-      p.holding = false;
+      // A point the vehicle is at already (within the guidance's radius): arrived.
+      p.holding = std::hypot(x - nav.x_m(), y - nav.y_m()) < params.waypoint_radius_m;
     }
   } else if (!p.goal) {
     // No location yet: hold where the vehicle is (DUNE would reuse an old one).
@@ -261,7 +262,6 @@ void ImcVehicle::on_reference(const imc::Header& h, const imc::Reference& ref) {
       if (!r) log(fmt::format("Reference depth {:.2f} m not taken: {}", z, r.error().message));
     }
   }
-  p.holding = p.holding && p.speed_mps > 0.0;
   drive();
   send(follow_ref_state(follow_state()));
 }
@@ -355,15 +355,16 @@ void ImcVehicle::drive() {
   if (!p.goal || sim_.watchdog_tripped()) return;
   const auto [gx, gy] = *p.goal;
   if (p.speed_mps <= 0.0) {
-    if (sim_.guidance().mode != GuidanceMode::None || (sim_.surge().speed_mps > 0 && !p.holding)) {
-      (void)sim_.stop();
-    }
+    if (!p.holding || sim_.guidance().mode != GuidanceMode::None) (void)sim_.stop();
     p.holding = true;
     return;
   }
   const double d = horizontal_distance_m();
   if (p.holding) {
-    if (d <= kHoldRadiusM) return;
+    if (d <= kHoldRadiusM) {
+      if (sim_.guidance().mode != GuidanceMode::None) (void)sim_.stop();
+      return;
+    }
     p.holding = false;
   } else if (sim_.guidance().mode == GuidanceMode::Waypoint && sim_.waypoint_reached()) {
     (void)sim_.stop();
@@ -410,7 +411,9 @@ std::uint8_t ImcVehicle::follow_state() const {
   }
   if (!xy) return FollowRefState::kStateGoto;
   if (!z) return FollowRefState::kStateElevator;
-  return FollowRefState::kStateLoiter;
+  // LOITER once arrived (the guidance reached the point, or the motors are
+  // stopped), as DUNE loiters only after it arrives.
+  return plan_->holding ? FollowRefState::kStateLoiter : FollowRefState::kStateGoto;
 }
 
 FollowRefState ImcVehicle::follow_ref_state(std::uint8_t state) const {

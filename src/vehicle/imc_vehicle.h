@@ -98,9 +98,10 @@ class ImcVehicle {
   // PlanControl requests, References and Abort act; others are ignored.
   void receive(const imc::Header& header, const imc::Message& message);
   // One cycle: the simulation steps, then the plan's timeout, faults and
-  // holding; then the streams due at the new time (EstimatedState every
-  // cycle; VehicleState and PlanControlState at 2 Hz; GpsFix and Heartbeat
-  // at 1 Hz).
+  // holding; then the streams due at the new time (NavigationUncertainty and
+  // EstimatedState every cycle, in that order, so that an ask answered at an
+  // EstimatedState sees the uncertainty of its cycle; VehicleState and
+  // PlanControlState at 2 Hz; GpsFix and Heartbeat at 1 Hz).
   void step();
   // What to send, in order; the list is handed over and cleared.
   std::vector<ImcOutgoing> take_outbox();
@@ -111,11 +112,12 @@ class ImcVehicle {
 
   // The messages as they would be sent now.
   imc::EstimatedState estimated_state() const;
-  imc::NavigationUncertainty navigation_uncertainty() const;
   void on_entity_parameters(const imc::SetEntityParameters& set);
   imc::VehicleState vehicle_state() const;
   imc::PlanControlState plan_control_state() const;
   imc::GpsFix gps_fix() const;
+  // The position estimate's variance (navigation.h), the same on x and y.
+  imc::NavigationUncertainty navigation_uncertainty() const;
   // (lat, lon) radians of a Simulation point (x east, y north), and back.
   std::pair<double, double> to_lat_lon(double x_east_m, double y_north_m) const;
   std::pair<double, double> to_plan(double lat_rad, double lon_rad) const;

@@ -75,15 +75,6 @@ imc::EstimatedState ImcVehicle::estimated_state() const {
   return s;
 }
 
-imc::NavigationUncertainty ImcVehicle::navigation_uncertainty() const {
-  // The estimate's horizontal 1-sigma, as the variance of x and of y.
-  const double sd = sim_.telemetry().position_sd_m;
-  imc::NavigationUncertainty u;
-  u.x = static_cast<float>(sd * sd);
-  u.y = u.x;
-  return u;
-}
-
 imc::VehicleState ImcVehicle::vehicle_state() const {
   const Telemetry t = sim_.telemetry();
   VehicleState s;
@@ -151,6 +142,15 @@ imc::GpsFix ImcVehicle::gps_fix() const {
   g.hacc = static_cast<float>(sim_.params().gps_noise_m);
   g.vacc = 3.0f;
   return g;
+}
+
+// The estimate's horizontal 1-sigma is sqrt(var_x + var_y), the two equal.
+imc::NavigationUncertainty ImcVehicle::navigation_uncertainty() const {
+  const double sd = sim_.navigator().position_sd_m();
+  imc::NavigationUncertainty u;
+  u.x = static_cast<float>(sd * sd / 2.0);
+  u.y = u.x;
+  return u;
 }
 
 }  // namespace strata::vehicle
