@@ -400,6 +400,12 @@ std::pair<double, double> ImcLink::lat_lon(double x_m, double y_m) const {
 }
 
 void ImcLink::start_plan() {
+  if (!options_.monitor_entities.empty()) {
+    imc::MonitorEntityState monitor;
+    monitor.command = imc::MonitorEntityState::kCommandEnable;
+    monitor.entities = options_.monitor_entities;
+    send_packet(imc::Message(std::move(monitor)), vehicle_.id);
+  }
   plan_requested_ = true;
   plan_request_id_ = next_request_id_++;
   imc::FollowReference follow;

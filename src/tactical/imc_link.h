@@ -86,6 +86,10 @@ struct ImcLinkOptions {
   // position_uncertain: NavigationUncertainty's horizontal 1-sigma above this
   // (the Phoenix's limit, config/phoenix.toml [navigation]).
   double position_limit_m = 25.0;
+  // Entities whose errors the vehicle must report (DUNE reports a leak only
+  // for a monitored entity): MonitorEntityState{ENABLE, these} before the
+  // plan starts; "" none.
+  std::string monitor_entities = "Leak Sensor - Nose";
   // start_sonar/stop_sonar: SetEntityParameters{name = this, Active = true/false}.
   std::string sonar_entity = "Sidescan";
   // Sees every message sent and decoded, as "Reference", "EstimatedState"...;

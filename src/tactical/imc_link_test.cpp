@@ -221,6 +221,15 @@ TEST(ImcLink, LearnsTheVehicleFromItsAnnounceAndStartsAFollowReferencePlanNaming
   // The first thing after the plan: hold here (a location, always).
   ASSERT_TRUE(run_until(rig.io, [&] { return !rig.vehicle.references.empty(); }));
   EXPECT_TRUE(rig.vehicle.references.back().flags & imc::Reference::kFlagLocation);
+  // Before it, the leak sensor monitored: DUNE reports a leak only then.
+  bool monitored = false;
+  for (const auto& p : rig.vehicle.received) {
+    if (const auto* m = std::get_if<imc::MonitorEntityState>(&p.message)) {
+      monitored = m->command == imc::MonitorEntityState::kCommandEnable && m->entities == "Leak Sensor - Nose";
+    }
+    if (std::holds_alternative<imc::PlanControl>(p.message)) break;
+  }
+  EXPECT_TRUE(monitored);
   // The plan was addressed to the vehicle, not broadcast (DUNE ignores 0xFFFF).
   for (const auto& p : rig.vehicle.received) {
     if (std::holds_alternative<imc::PlanControl>(p.message)) {
