@@ -72,6 +72,7 @@ TOUR = {
     "strata vehicle --scenario weak_thrusters --mission missions/tank/tank.coral": ("serve", r"^127\.0\.0\.1:7020$"),
     "strata vehicle --realtime --speed 5": ("serve", r"^127\.0\.0\.1:7020$"),
     "strata vehicle --interface": (0, r"tlm"),
+    "strata check --vehicle imc://127.0.0.1:6002 missions/survey/survey.coral": (0, r"survey\.coral: ok"),
     "strata vehicle --imc --port 0 --speed 50": ("serve", r"^imc vehicle phoenix-sim \(id 0x2C01\) on udp://127\.0\.0\.1:\d+$"),
     "strata --help": (0, r"run"),
 }
