@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "imc/codec.h"
+#include "imc/codec_test_support.h"
 
 namespace strata::imc {
 namespace {
@@ -56,41 +57,11 @@ Bytes foreign(std::uint16_t mgid, std::size_t payload_bytes) {
   out[4] = static_cast<std::uint8_t>(payload_bytes & 0xFF);
   out[5] = static_cast<std::uint8_t>(payload_bytes >> 8);
   out.resize(kHeaderBytes + payload_bytes, 0);
-  std::uint16_t crc = 0;  // CRC-16-IBM, bit by bit: setup only
-  for (std::uint8_t b : out) {
-    crc = static_cast<std::uint16_t>(crc ^ b);
-    for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 1u) ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001u) : static_cast<std::uint16_t>(crc >> 1);
-    }
-  }
-  out.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-  out.push_back(static_cast<std::uint8_t>(crc >> 8));
-  return out;
+  return testing::with_crc(std::move(out));
 }
 
-EstimatedState estimated_state() {
-  EstimatedState s;
-  s.lat = 0.7188;
-  s.lon = -0.1531;
-  s.x = 12.5f;
-  s.y = -3.25f;
-  s.z = 2.0f;
-  s.psi = 1.2f;
-  s.u = 1.4f;
-  s.depth = 2.0f;
-  s.alt = 17.5f;
-  return s;
-}
-
-Reference reference() {
-  Reference r;
-  r.flags = Reference::kFlagLocation | Reference::kFlagSpeed | Reference::kFlagZ;
-  r.speed = DesiredSpeed{1.2, DesiredSpeed::kSpeedUnitsMetersPs};
-  r.z = DesiredZ{2.0f, DesiredZ::kZUnitsDepth};
-  r.lat = 0.7188;
-  r.lon = -0.1531;
-  return r;
-}
+EstimatedState estimated_state() { return testing::sample_estimated_state(); }
+Reference reference() { return testing::sample_reference(); }
 
 // One second of a manoeuvring LAUV simulator, interleaved as the rates
 // interleave (the measured rates; payload sizes per IMC 5.4).

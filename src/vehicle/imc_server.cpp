@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "vehicle/cycle_timer.h"
+
 namespace strata::vehicle {
 namespace {
 
@@ -162,15 +164,7 @@ void ImcVehicleServer::on_announce(const imc::Header& h) {
 // ---- the clock ---------------------------------------------------------------------
 
 void ImcVehicleServer::tick() {
-  const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(sim_.params().cycle_s / options_.speed));
-  // Against the previous expiry, not now: the loop must not drift by the
-  // time each cycle takes.
-  if (tick_timer_.expiry() == asio::steady_timer::time_point{}) {
-    tick_timer_.expires_after(period);
-  } else {
-    tick_timer_.expires_at(tick_timer_.expiry() + period);
-  }
+  arm_next_cycle(tick_timer_, sim_.params().cycle_s, options_.speed);
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     cycle();

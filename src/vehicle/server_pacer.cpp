@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "protocol/codec.h"
+#include "vehicle/cycle_timer.h"
 #include "vehicle/execution.h"
 #include "vehicle/server.h"
 #include "vehicle/wire_time.h"
@@ -142,15 +143,7 @@ void VehicleServer::flush_events() {
 void VehicleServer::reply_later(protocol::RequestId id, double until_s) { deferred_.push_back({id, until_s}); }
 
 void VehicleServer::tick() {
-  auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(sim_.params().cycle_s / options_.speed));
-  // Against the previous expiry, not now: the loop must not drift by the
-  // time each tick takes.
-  if (tick_timer_.expiry() == asio::steady_timer::time_point{}) {
-    tick_timer_.expires_after(period);
-  } else {
-    tick_timer_.expires_at(tick_timer_.expiry() + period);
-  }
+  arm_next_cycle(tick_timer_, sim_.params().cycle_s, options_.speed);
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     step_one();
