@@ -9,7 +9,13 @@ the embedded lockstep vehicle and B on the IMC one; the comparison must say
 the two ran the same commands in the same order with the same outcome. The
 vehicle is stopped by its process id whatever happens.
 
-  imc_e2e.py --strata BIN --source REPO --speed K CASE...
+  imc_e2e.py --strata BIN --source REPO --speed K [--work DIR] CASE...
+
+Two cases are not missions: `safe_end` (a run ended by --max-sim-time on the
+vehicle's clock must be surfaced by a z = 0 Reference and say so in
+mission_end) and `second_controller` (a second Strata run takes the vehicle
+while the first one's link is flooded with garbage: the first ends safely,
+naming the replaced plan, with what it did not use counted).
 
 With --dune, the same against LSTS DUNE's own simulator instead, when
 STRATA_DUNE names its executable and STRATA_DUNE_CONFIG its configuration
@@ -24,6 +30,7 @@ import json
 import os
 import re
 import queue
+import socket
 import subprocess
 import sys
 import threading
@@ -63,6 +70,123 @@ def start_vehicle(strata, scenario, speed):
     raise SystemExit("the IMC vehicle did not print its port:\n" + "".join(seen))
 
 
+def last_record(log, event):
+    found = None
+    with open(log, encoding="utf-8") as f:
+        for line in f:
+            r = json.loads(line)
+            if r.get("event") == event:
+                found = r
+    return found
+
+
+def wait_for(pred, what, bound_s=120):
+    """Polls pred() until true; the bound only keeps a broken run from hanging the test."""
+    deadline = time.monotonic() + bound_s
+    while time.monotonic() < deadline:
+        if pred():
+            return
+        time.sleep(0.05)
+    raise SystemExit(f"gave up waiting for {what}")
+
+
+def safe_end(a, work):
+    """hold_at_depth over IMC, ended by the limit on the vehicle's clock: the
+    run's safe end surfaces the vehicle with a z = 0 Reference and says so."""
+    proc, port = start_vehicle(a.strata, "", a.speed)
+    log = os.path.join(work, "safe_end.jsonl")
+    try:
+        r = subprocess.run([a.strata, "run", os.path.join(a.source, "tests/run/hold_at_depth.coral"), "--vehicle",
+                            f"imc://127.0.0.1:{port}", "--speed", str(a.speed), "--max-sim-time", "40", "--log", log],
+                           capture_output=True, text=True, timeout=600)
+    finally:
+        proc.kill()
+        proc.wait()
+    end = last_record(log, "mission_end") if os.path.exists(log) else None
+    final = last_record(log, "vehicle_final") if os.path.exists(log) else None
+    ok = (r.returncode == 1 and end and end.get("stopped_by") == "limit"
+          and end.get("safe_end", {}).get("surface_by") == "reference" and end["safe_end"].get("surfaced")
+          and end["safe_end"].get("done_answered") and final and final["depth_m"] <= 0.15)
+    if not ok:
+        return [f"safe end over IMC: exit {r.returncode}, mission_end {end}, vehicle_final {final}\n{r.stdout}{r.stderr}"]
+    print(f"safe end over IMC: stopped by the limit, surfaced by a z = 0 Reference, done answered "
+          f"(depth {final['depth_m']} m)")
+    return []
+
+
+def second_controller(a, work):
+    """A run (A) holds at depth while its link is flooded with garbage; a
+    second Strata run (B) starts its own plan on the same vehicle, which
+    replaces A's (DUNE has no ownership). A must end safely, naming the
+    fault, with what it dropped counted; B must complete."""
+    proc, port = start_vehicle(a.strata, "", a.speed)
+    log = os.path.join(work, "replaced.jsonl")
+    try:
+        run_a = subprocess.Popen([a.strata, "run", os.path.join(a.source, "tests/run/hold_at_depth.coral"),
+                                  "--vehicle", f"imc://127.0.0.1:{port}", "--speed", str(a.speed), "--log", log],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        lines = queue.Queue()
+        threading.Thread(target=lambda: [lines.put(l) for l in run_a.stdout] + [lines.put(None)],
+                         daemon=True).start()
+        seen, link_port = [], None
+        while link_port is None:
+            line = lines.get(timeout=120)
+            if line is None:
+                break
+            seen.append(line)
+            m = re.search(r"started from udp://127\.0\.0\.1:(\d+)", line)
+            if m:
+                link_port = int(m.group(1))
+        if link_port is None:
+            run_a.kill()
+            return ["second controller: run A never connected:\n" + "".join(seen)]
+
+        def at_depth():
+            rec = last_record(log, "telemetry") if os.path.exists(log) else None
+            return rec is not None and rec.get("depth_m", 0) > 0.5
+        wait_for(at_depth, "run A at depth")
+        # The flood: garbage of every kind to A's link, as fast as one
+        # thread sends, bounded in count.
+        flood = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        garbage = [b"\x01", b"\x54\xfe" + b"\x00" * 30, b"\xfe\x54" + b"\xff" * 40, os.urandom(200)]
+        sent, t0 = 0, time.monotonic()
+        while sent < 200_000:
+            for g in garbage:
+                flood.sendto(g, ("127.0.0.1", link_port))
+            sent += len(garbage)
+        rate = sent / (time.monotonic() - t0)
+        b = subprocess.run([a.strata, "run", os.path.join(a.source, "missions/tank/tank.coral"), "--vehicle",
+                            f"imc://127.0.0.1:{port}", "--speed", str(a.speed), "--no-log"],
+                           capture_output=True, text=True, timeout=600)
+        _, status, usage = os.wait4(run_a.pid, 0)
+        out_a = "".join(seen)
+        while True:
+            line = lines.get(timeout=60)
+            if line is None:
+                break
+            out_a += line
+    finally:
+        proc.kill()
+        proc.wait()
+    end = last_record(log, "mission_end")
+    code_a = os.waitstatus_to_exitcode(status)
+    failures = []
+    if not (code_a == 1 and end and "replaced this run's plan" in end.get("vehicle_fault", "")
+            and "failed: the vehicle stopped taking this run's commands" in out_a
+            and end.get("imc", {}).get("other_sources", 0) > 0 and "surface_by" not in end.get("safe_end", {})
+            and usage.ru_maxrss < 1024 * 1024):  # KiB: bounded, flood or not (ASan included)
+        failures.append(f"second controller: run A did not end safely for the replaced plan (exit {code_a}): "
+                        f"{end}\n{out_a}")
+    if b.returncode != 0:
+        failures.append(f"second controller: run B did not complete (exit {b.returncode}):\n{b.stdout}{b.stderr}")
+    if not failures:
+        print(f"second controller: A ended for its replaced plan, {sent} garbage datagrams sent at "
+              f"{rate:,.0f}/s, {end['imc']['other_sources']} counted from others and "
+              f"{sum(end['imc']['dropped'].values())} dropped, A's peak RSS "
+              f"{usage.ru_maxrss / 1024:.0f} MiB; B completed")
+    return failures
+
+
 def run_on_dune(a):
     dune, config = os.environ.get("STRATA_DUNE"), os.environ.get("STRATA_DUNE_CONFIG")
     if not dune or not config:
@@ -98,6 +222,7 @@ def run_on_dune(a):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--dune", action="store_true", help="run the cases on LSTS DUNE (STRATA_DUNE)")
+    ap.add_argument("--work", default=None, help="a folder for the runs' logs (the safe-end cases)")
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
     ap.add_argument("--speed", type=float, default=20.0)
@@ -106,7 +231,15 @@ def main():
     if a.dune:
         return run_on_dune(a)
     failures = []
+    work = a.work or os.getcwd()
+    os.makedirs(work, exist_ok=True)
     for case in a.cases:
+        if case == "safe_end":
+            failures += safe_end(a, work)
+            continue
+        if case == "second_controller":
+            failures += second_controller(a, work)
+            continue
         # MISSION@SCENARIO:lost -- the vehicle falls silent: both runs must
         # fail for the lost link (the call it fails on depends on the level).
         case_spec, _, expect = case.partition(":")

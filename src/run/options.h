@@ -69,7 +69,7 @@ struct RunOptions {
   // vehicle still carries them out. Read through read_file when set. A
   // mission that fails verification runs with it, as with `unverified`.
   std::string answers;
-  // Lockstep: simulated seconds after which the run is ended (an abort, by
+  // Lockstep (and over IMC, on the vehicle's clock): simulated seconds after which the run is ended (an abort, by
   // the safe end) whatever the mission is doing. A day by default: a tank or
   // harbour mission takes minutes; a loop of sleep(1) would otherwise run,
   // and log, until the disk is full.

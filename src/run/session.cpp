@@ -134,7 +134,8 @@ void RunSession::Run::stop_here(const std::string& who, const std::string& reaso
 }
 
 void RunSession::Run::check_limits() {
-  if (!report_.lockstep || !executor_ || !executor_->running()) return;
+  // Lockstep, and an IMC vehicle (its messages' clock); not a wall-clock run.
+  if ((!report_.lockstep && !imc_) || !executor_ || !executor_->running()) return;
   if (tactical_->sim_time_s() > o_.max_sim_time_s) {
     stop_here("limit",
               fmt::format("the simulated-time limit was reached ({:.0f} s; --max-sim-time sets it)", o_.max_sim_time_s),

@@ -138,8 +138,9 @@ int RunSession::Run::connect_imc() {
                  {"execution_level", "imc"},
                  {"imc_id", v.id}});
   }
-  note(fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started)", v.name,
-                   v.id, o_.vehicle, options.value().plan_id));
+  note(fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started from "
+                   "udp://{}:{})",
+                   v.name, v.id, o_.vehicle, imc_->plan_id(), options.value().bind_address, imc_->local_port()));
   return kExitOk;
 }
 

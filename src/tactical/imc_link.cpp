@@ -155,6 +155,7 @@ void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
   // caps this at net.core.rmem_max.
   socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ec);
   local_port_ = socket_.local_endpoint(ec).port();
+  if (options_.plan_id.empty()) options_.plan_id = fmt::format("strata-{}", local_port_);
   connecting_ = std::move(done);
   if (options_.vehicle_id) {
     vehicle_.id = *options_.vehicle_id;

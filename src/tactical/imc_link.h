@@ -60,7 +60,9 @@ struct ImcLinkOptions {
   std::uint16_t system_id = 0x4053;         // this link's IMC id (a CCU's)
   std::uint8_t entity_id = 1;               // ... and entity, named in the plan as its controller
   std::string system_name = "strata";
-  std::string plan_id = "strata";
+  // The plan's id; "" (the default): "strata-PORT", PORT this link's own
+  // UDP port, so two Strata runs on one vehicle tell their plans apart.
+  std::string plan_id;
   // Wall clock: how long connect() waits for the vehicle (Announce, first
   // EstimatedState, the plan's start), and the silence after which the
   // vehicle is lost (no EstimatedState).
@@ -139,6 +141,7 @@ class ImcLink final : public ExecutionLink {
 
   const ImcCounts& counts() const { return counts_; }
   std::uint16_t local_port() const { return local_port_; }
+  const std::string& plan_id() const { return options_.plan_id; }
   // "reference" (a z = 0 Reference), "abort" (an Abort: the vehicle could
   // not take a Reference), or "" (no surface commanded).
   std::string_view surface_method() const { return surface_method_; }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <asio.hpp>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "imc/codec.h"
@@ -81,7 +82,7 @@ class ScriptedVehicle {
     pc.type = type;
     pc.op = imc::PlanControl::kStart;
     pc.request_id = last_plan_request;
-    pc.plan_id = "strata";
+    pc.plan_id = plan_start ? plan_start->plan_id : "";
     pc.info = std::move(info);
     send(pc);
   }
@@ -388,10 +389,12 @@ TEST(ImcLink, APlanReplacedByAnotherControllerIsAFaultNamingBothPlans) {
   rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, "survey-neptus");
   EXPECT_FALSE(rig.ask("system_problem"));  // answered after the state above was read
   EXPECT_TRUE(rig.faults.empty());
-  rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, "strata");
+  rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, rig.link->plan_id());
   rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, "survey-neptus");
   ASSERT_TRUE(run_until(rig.io, [&] { return !rig.faults.empty(); }));
-  EXPECT_EQ(rig.faults[0], "another controller replaced this run's plan 'strata' with 'survey-neptus'");
+  EXPECT_EQ(rig.faults[0],
+            fmt::format("another controller replaced this run's plan '{}' with 'survey-neptus'", rig.link->plan_id()));
+  EXPECT_EQ(rig.link->plan_id(), fmt::format("strata-{}", rig.link->local_port()));
   // Surfacing is then the other controller's call: neither a Reference nor an Abort.
   EXPECT_FALSE(rig.exec("surface"));
   EXPECT_EQ(rig.link->surface_method(), "");
