@@ -19,6 +19,9 @@
 #include "tactical/test_rig.h"
 
 namespace strata::tactical {
+// Named, beside the anonymous one: the unity build puts this file with
+// lockstep_test.cpp, which has a ScriptedVehicle of its own.
+namespace imc_link_tests {
 namespace {
 
 using namespace std::chrono_literals;
@@ -606,4 +609,5 @@ TEST(ExecutionLevel, AnImcVehicleRefusesWhatItHasNoCounterpartForAndCarriesTheRe
 }
 
 }  // namespace
+}  // namespace imc_link_tests
 }  // namespace strata::tactical
