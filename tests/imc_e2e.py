@@ -150,7 +150,7 @@ def second_controller(a, work):
         flood = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         garbage = [b"\x01", b"\x54\xfe" + b"\x00" * 30, b"\xfe\x54" + b"\xff" * 40, os.urandom(200)]
         sent, t0 = 0, time.monotonic()
-        while sent < 200_000:
+        while sent < 100_000:
             for g in garbage:
                 flood.sendto(g, ("127.0.0.1", link_port))
             sent += len(garbage)
@@ -158,7 +158,17 @@ def second_controller(a, work):
         b = subprocess.run([a.strata, "run", os.path.join(a.source, "missions/tank/tank.coral"), "--vehicle",
                             f"imc://127.0.0.1:{port}", "--speed", str(a.speed), "--no-log"],
                            capture_output=True, text=True, timeout=600)
-        _, status, usage = os.wait4(run_a.pid, 0)
+        # Run A must end by itself (its plan was replaced); a bound, not a speed limit.
+        deadline = time.monotonic() + 300
+        while True:
+            pid, status, usage = os.wait4(run_a.pid, os.WNOHANG)
+            if pid == run_a.pid:
+                break
+            if time.monotonic() > deadline:
+                run_a.kill()
+                run_a.wait()
+                return ["second controller: run A did not end after its plan was replaced"]
+            time.sleep(0.1)
         out_a = "".join(seen)
         while True:
             line = lines.get(timeout=60)

@@ -38,9 +38,14 @@ std::string language(const std::string& path) { return path.ends_with(".pl") ? "
 
 tactical::ExecutionLevel level_of(const std::string& vehicle) { return tactical::execution_level_of(vehicle); }
 
-// Whether the two runs reach different execution levels: then their
-// commands are compared, not every call (trace_compare.h, command_rows).
-bool across_levels(const CompareOptions& o) { return level_of(o.vehicle_a) != level_of(o.vehicle_b); }
+bool embedded(const std::string& vehicle) { return vehicle.empty() || vehicle == "embedded"; }
+
+// Whether a side runs on a vehicle of its own (another execution level, or a
+// vehicle on its own clock): then the runs' commands are compared, not every
+// call with its time (trace_compare.h, command_rows).
+bool across_levels(const CompareOptions& o) {
+  return level_of(o.vehicle_a) != level_of(o.vehicle_b) || !embedded(o.vehicle_a) || !embedded(o.vehicle_b);
+}
 
 std::string outcome_text(const RunReport& r) {
   if (!r.result) return "did not start";
@@ -87,11 +92,17 @@ int run_compare(const CompareOptions& o) {
     run.vehicle = i == 0 ? o.vehicle_a : o.vehicle_b;
     run.speed = o.speed;
     // A vehicle of its own was started with its scenario and parameters.
-    const bool embedded = run.vehicle.empty() || run.vehicle == "embedded";
-    if (run.vehicle == "embedded") run.vehicle.clear();
-    run.scenario = embedded ? o.scenario : "";
+    const bool own = !embedded(run.vehicle);
+    if (!own) run.vehicle.clear();
+    if (own && (!o.scenario.empty() || !o.params.empty())) {
+      std::cerr << fmt::format(
+          "strata compare: note: {} runs on {}, which has its own scenario and parameters; "
+          "--scenario and --params are for the embedded vehicle\n",
+          i == 0 ? "A" : "B", run.vehicle);
+    }
+    run.scenario = own ? "" : o.scenario;
     run.seed = o.seed;
-    run.params = embedded ? o.params : "";
+    run.params = own ? "" : o.params;
     run.catalogue = o.catalogue;
     run.inference_limit = o.inference_limit;
     run.rule_load = o.rule_load;
@@ -126,7 +137,7 @@ int run_compare(const CompareOptions& o) {
                              o.seed ? fmt::format(", seed {}", *o.seed) : "");
     if (commands) {
       std::cout << fmt::format(
-          "across execution levels (A: {}, B: {}): their commands compared in order (exec, ood, report; a run of "
+          "across vehicles (A: {}, B: {}): their commands compared in order (exec, ood, report; a run of "
           "the same command, as a poll loop's sleep, counted once); asks and times depend on the vehicle\n",
           tactical::execution_level_name(level_of(o.vehicle_a)), tactical::execution_level_name(level_of(o.vehicle_b)));
     }

@@ -116,6 +116,7 @@ class Writer {
   std::vector<std::uint8_t>& out_;
   std::string error_;
   std::size_t depth_ = 0;
+  std::size_t inlines_ = 0;  // inline messages written, at any depth (kMaxInlineMessages)
 };
 
 // ---- reading ------------------------------------------------------------------
@@ -208,6 +209,7 @@ class Reader {
   const std::uint8_t* end_;
   Drop failure_ = Drop::BadField;
   std::size_t depth_ = 0;
+  std::size_t inlines_ = 0;  // inline messages read, at any depth
 };
 
 // ---- per message, from messages.def ---------------------------------------------
@@ -255,6 +257,10 @@ void Writer::nested(const T& message) {
     fail("inline messages nested deeper than 8");
     return;
   }
+  if (++inlines_ > kMaxInlineMessages) {
+    fail("more than 1024 inline messages in one packet");
+    return;
+  }
   ++depth_;
   write_payload(*this, message);
   --depth_;
@@ -265,6 +271,10 @@ void Writer::put(const Inline& message) {
   if (const Message* m = message.get()) {
     if (depth_ == kMaxDepth) {
       fail("inline messages nested deeper than 8");
+      return;
+    }
+    if (++inlines_ > kMaxInlineMessages) {
+      fail("more than 1024 inline messages in one packet");
       return;
     }
     ++depth_;
@@ -286,6 +296,7 @@ bool Reader::payload(std::uint16_t id, Message& out) {
 template <typename T>
 bool Reader::nested(T& message) {
   if (depth_ == kMaxDepth) return fail(Drop::TooDeep);
+  if (++inlines_ > kMaxInlineMessages) return fail(Drop::TooDeep);
   ++depth_;
   const bool ok = read_payload(*this, message);
   --depth_;
@@ -301,6 +312,9 @@ bool Reader::get(Inline& message) {
   }
   if (!is_known(id)) return fail(Drop::UnknownId);
   if (depth_ == kMaxDepth) return fail(Drop::TooDeep);
+  // Each inline message is an allocation of a whole Message: a 64 KiB
+  // datagram of two-byte Heartbeats in a list would be 32,000 of them.
+  if (++inlines_ > kMaxInlineMessages) return fail(Drop::TooDeep);
   Message m;
   ++depth_;
   const bool ok = payload(id, m);

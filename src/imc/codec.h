@@ -60,7 +60,8 @@ enum class Drop : std::uint8_t {
   BadField,   // a field runs past the payload, bytes left after the last field,
               // a list's count larger than its bytes allow, an inline message
               // of the wrong type (Reference.speed not a DesiredSpeed)
-  TooDeep,    // inline messages nested deeper than kMaxDepth
+  TooDeep,    // inline messages nested deeper than kMaxDepth, or more than
+              // kMaxInlineMessages of them in one packet
   Filtered,   // not decoded on purpose (the caller's filter; decode never says it)
 };
 inline constexpr std::size_t kDropReasons = 8;

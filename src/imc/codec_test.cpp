@@ -257,6 +257,33 @@ TEST(ImcHostile, EachIsDroppedForItsReason) {
   EXPECT_EQ("6 bad_field, 4 truncated, 4 unknown_id, 2 bad_sync, 2 bad_size, 2 bad_crc, 2 too_deep", counts.summary());
 }
 
+// A 64 KiB PlanSpecification whose start_actions are 2,000 bare Heartbeats
+// (two bytes each) would be 2,000 Message allocations for one datagram: past
+// kMaxInlineMessages the packet is dropped, and encode refuses to write it.
+TEST(ImcHostile, MoreInlineMessagesThanTheBudgetAreDroppedNotAllocated) {
+  PlanSpecification spec;
+  spec.plan_id = "p";
+  for (std::size_t i = 0; i < kMaxInlineMessages; ++i) spec.start_actions.push_back(Inline(Heartbeat{}));
+  ASSERT_TRUE(encode(Packet{test_header(), spec}).ok());  // at the budget: fine
+  spec.start_actions.push_back(Inline(Heartbeat{}));
+  auto refused = encode(Packet{test_header(), spec});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("more than 1024 inline messages"), std::string::npos);
+  // The same bytes written by hand: plan_id "p", empty texts and lists, and 2,000 Heartbeat ids.
+  Bytes payload = {1, 0, 'p', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  payload.push_back(0xD0);
+  payload.push_back(0x07);  // 2,000 start actions
+  for (int i = 0; i < 2000; ++i) {
+    payload.push_back(0x96);
+    payload.push_back(0x00);  // Heartbeat, no payload
+  }
+  payload.push_back(0);
+  payload.push_back(0);  // no end actions
+  auto result = decode(datagram(551, payload));
+  ASSERT_TRUE(std::holds_alternative<Drop>(result));
+  EXPECT_EQ(Drop::TooDeep, std::get<Drop>(result));
+}
+
 TEST(ImcHostile, EightLevelsOfInlineMessagesDecode) {
   auto result = decode(nested_plan_controls(8));
   ASSERT_TRUE(std::holds_alternative<Packet>(result)) << drop_name(std::get<Drop>(result));

@@ -24,6 +24,10 @@ inline constexpr std::size_t kHeaderBytes = 20, kFooterBytes = 2;
 // Inline messages nest at most this deep below the packet's message (a
 // message-list's element is one level, as an inline field is).
 inline constexpr std::size_t kMaxDepth = 8;
+// Inline messages one packet may hold in all, at any depth (list elements
+// included): past it the packet is dropped (Drop::TooDeep), so that decoding
+// a datagram allocates a bounded number of messages.
+inline constexpr std::size_t kMaxInlineMessages = 1024;
 
 // The wire's types, as messages.def names them.
 namespace wire {

@@ -107,6 +107,10 @@ int RunSession::Run::connect() {
 }
 
 int RunSession::Run::connect_imc() {
+  if (!o_.sonar_dir.empty()) {
+    err_ << "strata run: --sonar needs the Phoenix protocol's sonar socket; an IMC vehicle has none (docs/imc.md)\n";
+    return fail(kExitUsage);
+  }
   auto options = tactical::parse_imc_vehicle(o_.vehicle);
   if (!options) {
     err_ << "strata run: --vehicle: " << options.error().message << "\n";
@@ -116,7 +120,10 @@ int RunSession::Run::connect_imc() {
   // one: `strata vehicle --imc --speed K`). The FollowReference timeout is
   // 10 s of the vehicle's clock on DUNE; here it is 10 wall seconds, so a
   // busy machine's pause does not end a fast vehicle's plan.
-  options.value().follow_timeout_s = 10.0 * std::max(1.0, o_.speed);
+  // Capped at a minute of the vehicle's clock: a command line reused from a
+  // simulation must not leave a real vehicle following a dead controller for
+  // hours.
+  options.value().follow_timeout_s = std::min(60.0, 10.0 * std::max(1.0, o_.speed));
   imc_ = tactical::ImcLink::create(io_, options.value());
   link_ = imc_;
   std::optional<core::Result<tactical::ImcVehicleInfo>> heard;
@@ -138,9 +145,10 @@ int RunSession::Run::connect_imc() {
                  {"execution_level", "imc"},
                  {"imc_id", v.id}});
   }
-  note(fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started from "
-                   "udp://{}:{})",
-                   v.name, v.id, o_.vehicle, imc_->plan_id(), options.value().bind_address, imc_->local_port()));
+  note(
+      fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started from "
+                  "udp://{}:{})",
+                  v.name, v.id, o_.vehicle, imc_->plan_id(), imc_->bind_address(), imc_->local_port()));
   return kExitOk;
 }
 

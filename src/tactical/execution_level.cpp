@@ -62,7 +62,13 @@ std::string_view execution_level_name(ExecutionLevel level) {
 }
 
 ExecutionLevel execution_level_of(std::string_view vehicle) {
-  return vehicle.starts_with("imc://") ? ExecutionLevel::Imc : ExecutionLevel::Phoenix;
+  constexpr std::string_view kScheme = "imc://";  // a scheme is case-insensitive (RFC 3986)
+  if (vehicle.size() < kScheme.size()) return ExecutionLevel::Phoenix;
+  for (std::size_t i = 0; i < kScheme.size(); ++i) {
+    const char c = vehicle[i];
+    if ((c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c) != kScheme[i]) return ExecutionLevel::Phoenix;
+  }
+  return ExecutionLevel::Imc;
 }
 
 std::optional<ImcMapping> imc_mapping(protocol::Verb verb, std::string_view function) {

@@ -38,6 +38,16 @@ bool wanted(std::uint16_t id) {
 
 std::string_view name_of(const protocol::Request& r) { return r.name; }
 
+// Text from the vehicle, for the terminal and the log: control characters
+// (an escape sequence) shown as '?', and at most 200 bytes.
+std::string printable(std::string_view text) {
+  std::string out(text.substr(0, 200));
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = '?';
+  }
+  return out;
+}
+
 double wrap_deg(double d) {
   d = std::fmod(d, 360.0);
   return d < 0 ? d + 360.0 : d;
@@ -55,7 +65,7 @@ core::Result<ImcLinkOptions> parse_imc_vehicle(std::string_view text) {
     return make_error(ErrorCode::InvalidInput,
                       fmt::format("'{}': {} (expected imc://HOST:PORT or imc://HOST:PORT/ID)", text, why));
   };
-  if (!text.starts_with(kScheme)) return bad("not an imc:// address");
+  if (execution_level_of(text) != ExecutionLevel::Imc) return bad("not an imc:// address");
   std::string_view rest = text.substr(kScheme.size());
   ImcLinkOptions o;
   if (auto slash = rest.find('/'); slash != std::string_view::npos) {
@@ -120,6 +130,12 @@ ImcLink::ImcLink(asio::io_context& io, ImcLinkOptions options)
       connect_timer_(io) {}
 
 ImcLink::~ImcLink() {
+  // A link let go without close() (a run that failed after connecting) still
+  // ends its plan: the vehicle is never left following a dead controller.
+  if (plan_running_ && !closed_) {
+    mandone_sent_ = true;
+    send_reference(/*mandone=*/true);
+  }
   asio::error_code ignored;
   socket_.close(ignored);
 }
@@ -141,6 +157,15 @@ void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
     return;
   }
   vehicle_endpoint_ = *found.begin();
+  if (options_.bind_address.empty()) {
+    // The local address the kernel would send from: a connected UDP socket
+    // asks the routing table, and sends nothing.
+    asio::ip::udp::socket probe(io_);
+    probe.open(asio::ip::udp::v4(), ec);
+    if (!ec) probe.connect(vehicle_endpoint_, ec);
+    options_.bind_address = ec ? std::string("127.0.0.1") : probe.local_endpoint(ec).address().to_string();
+    ec.clear();
+  }
   auto bind = asio::ip::make_address(options_.bind_address, ec);
   if (!ec) socket_.open(asio::ip::udp::v4(), ec);
   if (!ec) socket_.bind(asio::ip::udp::endpoint(bind, 0), ec);
@@ -156,6 +181,7 @@ void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
   socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ec);
   local_port_ = socket_.local_endpoint(ec).port();
   if (options_.plan_id.empty()) options_.plan_id = fmt::format("strata-{}", local_port_);
+  if (options_.system_id == 0) options_.system_id = static_cast<std::uint16_t>(0x4000 | (local_port_ & 0x1FFF));
   connecting_ = std::move(done);
   if (options_.vehicle_id) {
     vehicle_.id = *options_.vehicle_id;
@@ -182,8 +208,8 @@ void ImcLink::connect(std::function<void(core::Result<ImcVehicleInfo>)> done) {
 void ImcLink::start_receive() {
   auto me = self();
   socket_.async_receive_from(asio::buffer(buffer_), sender_, [this, me](const asio::error_code& e, std::size_t n) {
-    if (e || closed_) return;
-    on_datagram(n);
+    if (closed_ || e == asio::error::operation_aborted) return;
+    if (!e) on_datagram(n);  // another error (an ICMP answer to a datagram) ends nothing
     start_receive();
   });
 }
@@ -213,7 +239,16 @@ void ImcLink::on_datagram(std::size_t bytes) {
   auto decoded = imc::decode(datagram);
   if (auto* drop = std::get_if<imc::Drop>(&decoded)) {
     counts_.dropped.add(*drop);
-    if (on_garbage_) on_garbage_(fmt::format("an IMC packet dropped: {}", imc::drop_name(*drop)));
+    // The log hears of the first of each reason and then every 1000th: a
+    // flood must not write a line per datagram.
+    const std::uint64_t n = counts_.dropped.by_reason[static_cast<std::size_t>(*drop)];
+    if (on_garbage_ && (n == 1 || n % 1000 == 0)) {
+      on_garbage_(fmt::format("IMC packets dropped: {} {} so far", n, imc::drop_name(*drop)));
+    }
+    return;
+  }
+  if (!std::isfinite(std::get<imc::Packet>(decoded).header.timestamp)) {
+    counts_.dropped.add(imc::Drop::BadField);  // a time that is no time
     return;
   }
   ++counts_.used;
@@ -227,7 +262,7 @@ void ImcLink::handle(const imc::Packet& packet) {
     if (!vehicle_heard_ && (!options_.vehicle_id || packet.header.src == *options_.vehicle_id)) {
       vehicle_heard_ = true;
       vehicle_.id = packet.header.src;
-      vehicle_.name = a->sys_name;
+      vehicle_.name = printable(a->sys_name);
     }
     return;
   }
@@ -236,14 +271,14 @@ void ImcLink::handle(const imc::Packet& packet) {
     on_estimated_state(packet);
     return;
   }
-  if (t0_ && run_time(packet.header.timestamp) > state_.t_s) state_.t_s = run_time(packet.header.timestamp);
   if (const auto* vs = std::get_if<imc::VehicleState>(&m)) {
     on_vehicle_state(*vs);
   } else if (const auto* g = std::get_if<imc::GpsFix>(&m)) {
     // A fix: every validity bit DUNE sets at the surface, and satellites.
-    state_.gps_valid = (g->validity & 0x1FF) == 0x1FF && g->satellites > 0;
-    state_.gps_at_s = state_.t_s;
-    service_pending();  // a gps_fix waits for this
+    // A fix: a valid position from satellites (a receiver need not report
+    // every validity bit DUNE's simulator sets).
+    state_.gps_valid = (g->validity & imc::GpsFix::kValidPos) != 0 && g->satellites > 0;
+    state_.gps_at_s = state_.t_s;  // answered at the next EstimatedState
   } else if (const auto* pc = std::get_if<imc::PlanControl>(&m)) {
     on_plan_control(*pc);
   } else if (const auto* pcs = std::get_if<imc::PlanControlState>(&m)) {
@@ -256,21 +291,24 @@ void ImcLink::handle(const imc::Packet& packet) {
     if (std::isfinite(var) && var >= 0) state_.position_sd_m = std::sqrt(var);
   } else if (const auto* lb = std::get_if<imc::LogBookEntry>(&m)) {
     if (on_event_ && lb->type != imc::LogBookEntry::kTypeDebug && t0_) {
-      on_event_(protocol::Event{state_.t_s, fmt::format("{}: {}", lb->context, lb->text)});
+      on_event_(protocol::Event{state_.t_s, fmt::format("{}: {}", printable(lb->context), printable(lb->text))});
     }
   }
 }
 
 void ImcLink::on_estimated_state(const imc::Packet& packet) {
   const auto& es = std::get<imc::EstimatedState>(packet.message);
-  if (!t0_) t0_ = packet.header.timestamp;
-  const double t = run_time(packet.header.timestamp);
+  observe_clock(packet.header.timestamp);
   state_.have_state = true;
-  state_.t_s = std::max(state_.t_s, t);
-  state_.lat0 = es.lat;
-  state_.lon0 = es.lon;
-  state_.x_m = es.y;  // IMC x is north, y east; Strata's x is east, y north
-  state_.y_m = es.x;
+  // The navigation origin of the first state is the run's frame; a vehicle
+  // that moves its origin later has its positions carried into that frame.
+  if (!origin_) origin_ = std::pair{es.lat, es.lon};
+  state_.lat0 = origin_->first;
+  state_.lon0 = origin_->second;
+  const double north_shift = (es.lat - origin_->first) * kEarthRadiusM;
+  const double east_shift = (es.lon - origin_->second) * kEarthRadiusM * std::cos(origin_->first);
+  state_.x_m = es.y + east_shift;  // IMC x is north, y east; Strata's x is east, y north
+  state_.y_m = es.x + north_shift;
   state_.depth_m = es.depth;
   state_.alt_m = es.alt;
   state_.vz_mps = es.vz;
@@ -280,9 +318,30 @@ void ImcLink::on_estimated_state(const imc::Packet& packet) {
   arm_lost();
   if (!plan_requested_ && connecting_) start_plan();
   if (!connected_) return;
-  if (state_.t_s - last_reference_s_ + 1e-9 >= options_.reference_period_s) send_reference();
+  if (state_.t_s - last_reference_s_ + 1e-9 >= options_.reference_period_s) send_reference(mandone_sent_);
   emit_telemetry();
   service_pending();
+}
+
+void ImcLink::observe_clock(double timestamp) {
+  if (!t0_) {
+    t0_ = timestamp;
+    return;
+  }
+  const double t = run_time(timestamp);
+  // A step (a vehicle that sets its clock from GPS at the surface, or one
+  // timestamp far off): the run's clock goes on from where it was, never
+  // back and never leaping a deadline.
+  if (t < state_.t_s - kMaxClockStepS || t > state_.t_s + kMaxClockStepS) {
+    if (on_event_) {
+      on_event_(protocol::Event{state_.t_s, fmt::format("the vehicle's clock stepped by {:.1f} s; the run's clock goes "
+                                                        "on from {:.1f} s",
+                                                        t - state_.t_s, state_.t_s)});
+    }
+    *t0_ = timestamp - state_.t_s;
+    return;
+  }
+  state_.t_s = std::max(state_.t_s, t);
 }
 
 void ImcLink::on_vehicle_state(const imc::VehicleState& m) {
@@ -293,13 +352,20 @@ void ImcLink::on_vehicle_state(const imc::VehicleState& m) {
   state_.last_error = m.last_error;
   const bool error = m.op_mode == imc::VehicleState::kOpModeError;
   if (error && !was_error && on_event_ && t0_) {
-    on_event_(protocol::Event{state_.t_s, fmt::format("vehicle in ERROR: {}{}{}", m.error_ents,
-                                                      m.last_error.empty() ? "" : ": ", m.last_error)});
+    on_event_(protocol::Event{state_.t_s, fmt::format("vehicle in ERROR: {}{}{}", printable(m.error_ents),
+                                                      m.last_error.empty() ? "" : ": ", printable(m.last_error))});
   }
 }
 
 void ImcLink::on_plan_control(const imc::PlanControl& m) {
   if (m.plan_id != options_.plan_id) return;  // another controller's plan, or its replies
+  if (m.type == imc::PlanControl::kSuccess && m.op == imc::PlanControl::kStop && plan_running_ && !mandone_sent_) {
+    stopped_elsewhere_ = true;
+    plan_running_ = false;
+    plan_requested_ = false;
+    fault(fmt::format("this run's plan '{}' was stopped by another controller (PlanControl STOP)", options_.plan_id));
+    return;
+  }
   if (m.type == imc::PlanControl::kSuccess) {
     if (mandone_sent_) {
       plan_ended();  // "plan completed": our MANDONE ended it
@@ -313,12 +379,14 @@ void ImcLink::on_plan_control(const imc::PlanControl& m) {
     auto done = std::move(connecting_);
     connecting_ = nullptr;
     close();
-    done(make_error(ErrorCode::Protocol, fmt::format("the IMC vehicle refused the plan: {}", m.info)));
+    done(make_error(ErrorCode::Protocol, fmt::format("the IMC vehicle refused the plan: {}", printable(m.info))));
     return;
   }
   plan_requested_ = false;
   if (plan_running_) {
-    if (on_event_) on_event_(protocol::Event{state_.t_s, fmt::format("plan '{}' failed: {}", m.plan_id, m.info)});
+    if (on_event_) {
+      on_event_(protocol::Event{state_.t_s, fmt::format("plan '{}' failed: {}", m.plan_id, printable(m.info))});
+    }
     plan_ended();
   }
 }
@@ -347,11 +415,26 @@ void ImcLink::plan_ended() {
 }
 
 void ImcLink::on_plan_control_state(const imc::PlanControlState& m) {
-  if (!plan_running_) return;
   const bool executing = m.state == imc::PlanControlState::kStateExecuting;
+  if (connecting_ && plan_requested_ && executing && m.plan_id == options_.plan_id) {
+    plan_started();  // its PlanControl reply was lost on the way; the state says it runs
+    return;
+  }
+  if (!plan_running_) return;
   if (m.plan_id == options_.plan_id) {
     if (executing) plan_confirmed_ = true;
-    if (!executing && mandone_sent_) plan_ended();
+    if (!executing && mandone_sent_) {
+      plan_ended();
+    } else if (!executing && plan_confirmed_ && !stopped_elsewhere_) {
+      // Ours, no longer executing, and not because of us: stopped by an
+      // operator or another controller (a failure of the vehicle's own comes
+      // as a PlanControl FAILURE with its reason, before this).
+      stopped_elsewhere_ = true;
+      plan_running_ = false;
+      plan_requested_ = false;
+      fault(fmt::format("this run's plan '{}' was stopped outside the run (the vehicle says it is not executing)",
+                        options_.plan_id));
+    }
     return;
   }
   // Only once the vehicle said it runs ours: a state sent before our start
@@ -408,6 +491,9 @@ void ImcLink::start_plan() {
     send_packet(imc::Message(std::move(monitor)), vehicle_.id);
   }
   plan_requested_ = true;
+  mandone_sent_ = false;
+  plan_confirmed_ = false;
+  stopped_elsewhere_ = false;
   plan_request_id_ = next_request_id_++;
   imc::FollowReference follow;
   follow.control_src = options_.system_id;
@@ -484,8 +570,11 @@ void ImcLink::send_packet(const imc::Message& message, std::uint16_t dst) {
     return;
   }
   if (options_.tap) options_.tap(true, imc::name_of(imc::id_of(message)));
-  asio::error_code ignored;  // UDP: a datagram lost is a datagram lost; the stream repeats itself
-  socket_.send_to(asio::buffer(bytes.value()), vehicle_endpoint_, 0, ignored);
+  asio::error_code ec;  // UDP: a datagram lost is a datagram lost; the stream repeats itself
+  socket_.send_to(asio::buffer(bytes.value()), vehicle_endpoint_, 0, ec);
+  if (ec && on_garbage_ && ++send_errors_ % 1000 == 1) {
+    on_garbage_(fmt::format("cannot send to the IMC vehicle: {} ({} so far)", ec.message(), send_errors_));
+  }
 }
 
 void ImcLink::announce() {
@@ -504,6 +593,8 @@ void ImcLink::arm_heartbeat() {
     if (e || closed_) return;
     // DUNE forgets a peer after 30 s without traffic; Announce each 10 s as it does.
     send_packet(imc::Message(imc::Heartbeat{}), vehicle_heard_ ? vehicle_.id : imc::kNullId);
+    // UDP: a plan start or its reply lost on the way is asked again.
+    if (connecting_ && plan_requested_ && !plan_running_) start_plan();
     if (++heartbeats_ % 10 == 0 || !vehicle_heard_) announce();
     arm_heartbeat();
   });
@@ -706,7 +797,16 @@ core::Result<void> ImcLink::take(Pending& p) {
   if (steer) {
     state_.ref_state.reset();
     state_.proximity.reset();
-    if (plan_running_) send_reference();
+    if (plan_running_) {
+      send_reference();
+    } else if (!plan_requested_) {
+      // No plan takes it: the vehicle does nothing, so the call says 0.
+      p.value = false;
+      if (on_event_) {
+        on_event_(
+            protocol::Event{state_.t_s, fmt::format("exec {} failed: no plan of this run executes on the vehicle", f)});
+      }
+    }
   }
   return {};
 }

@@ -56,9 +56,13 @@ struct ImcLinkOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 6002;                // the vehicle's IMC port (DUNE's default)
   std::optional<std::uint16_t> vehicle_id;  // nullopt: the id of the first Announce from host:port
-  std::string bind_address = "127.0.0.1";   // this link's socket, on a free port
-  std::uint16_t system_id = 0x4053;         // this link's IMC id (a CCU's)
-  std::uint8_t entity_id = 1;               // ... and entity, named in the plan as its controller
+  // This link's socket, on a free port; "" (the default): the local address
+  // on the route to the vehicle (127.0.0.1 for a vehicle on this machine).
+  std::string bind_address;
+  // This link's IMC id (a CCU's); 0 (the default): 0x4000 + its UDP port's
+  // low 13 bits, so two runs on one vehicle are two controllers.
+  std::uint16_t system_id = 0;
+  std::uint8_t entity_id = 1;  // ... and entity, named in the plan as its controller
   std::string system_name = "strata";
   // The plan's id; "" (the default): "strata-PORT", PORT this link's own
   // UDP port, so two Strata runs on one vehicle tell their plans apart.
@@ -98,6 +102,10 @@ struct ImcLinkOptions {
   // for traces and benchmarks. Must be quick and must not call the link.
   std::function<void(bool sent, std::string_view message)> tap;
 };
+
+// A jump of the vehicle's timestamps larger than this, either way, is a step
+// of its clock, not time passing: the run's clock goes on from where it was.
+inline constexpr double kMaxClockStepS = 60.0;
 
 struct ImcVehicleInfo {
   std::string name;  // its Announce's sys_name
@@ -142,6 +150,8 @@ class ImcLink final : public ExecutionLink {
   const ImcCounts& counts() const { return counts_; }
   std::uint16_t local_port() const { return local_port_; }
   const std::string& plan_id() const { return options_.plan_id; }
+  std::uint16_t system_id() const { return options_.system_id; }
+  const std::string& bind_address() const { return options_.bind_address; }
   // "reference" (a z = 0 Reference), "abort" (an Abort: the vehicle could
   // not take a Reference), or "" (no surface commanded).
   std::string_view surface_method() const { return surface_method_; }
@@ -187,6 +197,7 @@ class ImcLink final : public ExecutionLink {
   void handle(const imc::Packet& packet);
   void on_estimated_state(const imc::Packet& packet);
   void on_vehicle_state(const imc::VehicleState& m);
+  void observe_clock(double timestamp);
   void on_plan_control(const imc::PlanControl& m);
   void on_plan_control_state(const imc::PlanControlState& m);
   void on_follow_ref_state(const imc::FollowRefState& m);
@@ -238,7 +249,10 @@ class ImcLink final : public ExecutionLink {
   bool plan_confirmed_ = false;  // a PlanControlState named our plan executing
   bool mandone_sent_ = false;
   bool replaced_ = false;
+  bool stopped_elsewhere_ = false;
+  std::optional<std::pair<double, double>> origin_;  // lat, lon of the first EstimatedState
   std::uint64_t heartbeats_ = 0;
+  std::uint64_t send_errors_ = 0;
   std::uint16_t plan_request_id_ = 0;
   std::uint16_t next_request_id_ = 1;
   std::optional<double> t0_;

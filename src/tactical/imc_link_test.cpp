@@ -4,6 +4,7 @@
 // clock by sending EstimatedState itself, so nothing here waits on time
 // except the one silence test.
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -99,7 +100,7 @@ class ScriptedVehicle {
   void follow_state(std::uint8_t state, std::uint8_t proximity) {
     ASSERT_FALSE(references.empty());
     imc::FollowRefState f;
-    f.control_src = 0x4053;
+    f.control_src = controller;
     f.control_ent = 1;
     f.reference = references.back();
     f.state = state;
@@ -111,6 +112,7 @@ class ScriptedVehicle {
   std::vector<imc::Reference> references;
   std::optional<imc::PlanControl> plan_start;
   std::uint16_t last_plan_request = 0;
+  std::uint16_t controller = 0;  // the control_src of the plan started
   int aborts = 0;
   double t_s = 0;
   double north_m = 0, east_m = 0, depth_m = 0, psi_rad = 0;
@@ -127,6 +129,7 @@ class ScriptedVehicle {
         if (auto* pc = std::get_if<imc::PlanControl>(&p->message)) {
           plan_start = *pc;
           last_plan_request = pc->request_id;
+          controller = p->header.src;
         }
         if (std::holds_alternative<imc::Abort>(p->message)) ++aborts;
       }
@@ -219,7 +222,8 @@ TEST(ImcLink, LearnsTheVehicleFromItsAnnounceAndStartsAFollowReferencePlanNaming
   ASSERT_EQ(spec->maneuvers.size(), 1u);
   const auto* follow = spec->maneuvers[0].data.get_if<imc::FollowReference>();
   ASSERT_NE(follow, nullptr);
-  EXPECT_EQ(follow->control_src, 0x4053);
+  EXPECT_EQ(follow->control_src, rig.link->system_id());
+  EXPECT_EQ(rig.link->system_id(), 0x4000 | (rig.link->local_port() & 0x1FFF));  // one id per run
   EXPECT_EQ(follow->control_ent, 1);
   EXPECT_FLOAT_EQ(follow->timeout, 10.0f);
   // The first thing after the plan: hold here (a location, always).
@@ -480,7 +484,9 @@ TEST(ImcLink, GarbageAndOtherSystemsAreCountedNeverUsed) {
 }
 
 TEST(ImcLink, AFloodOfGarbageAndASecondControllerAreCountedAndTheCallsGoOn) {
-  ImcRig rig;
+  ImcLinkOptions o;
+  o.lost_after = std::chrono::minutes(1);  // no state comes while the flood is sent: not a lost vehicle
+  ImcRig rig(o);
   rig.connect();
   // A second controller on its own socket: everything it sends is another
   // system's, its PlanControl included.
@@ -531,6 +537,55 @@ TEST(ImcLink, AFloodOfGarbageAndASecondControllerAreCountedAndTheCallsGoOn) {
   EXPECT_TRUE(rig.faults.empty());
   EXPECT_TRUE(rig.link->plan_running());
   EXPECT_TRUE(rig.exec("goto_depth", {protocol::Value::integer(1)}));
+}
+
+TEST(ImcLink, AStepOfTheVehiclesClockEndsNoDeadline) {
+  ImcRig rig;
+  rig.connect();
+  std::optional<core::Result<protocol::VehicleMessage>> reply;
+  rig.link->send(
+      protocol::make_exec(0, "sleep", {protocol::Value::integer(30)}), [&](auto m) { reply = std::move(m); },
+      std::nullopt, 32.0);
+  rig.vehicle.state(10000.0);  // the vehicle set its clock from GPS, or one timestamp far off
+  rig.vehicle.state(0.1);
+  EXPECT_TRUE(rig.ask("depth_filter_off"));  // two states read: the sleep is not over
+  EXPECT_FALSE(reply.has_value());
+  bool said = false;
+  for (const auto& e : rig.events) said = said || e.find("the vehicle's clock stepped by") != std::string::npos;
+  EXPECT_TRUE(said);
+  // A timestamp that is no time is dropped, not taken as the clock.
+  const std::uint64_t dropped = rig.link->counts().dropped.total();
+  imc::Packet nan{{}, imc::Message(imc::EstimatedState{})};
+  nan.header.src = kVehicleId;
+  nan.header.timestamp = std::numeric_limits<double>::quiet_NaN();
+  rig.vehicle.send_raw(imc::encode(nan).value());
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.link->counts().dropped.total() > dropped; }));
+  EXPECT_FALSE(reply.has_value());
+}
+
+TEST(ImcLink, APlanStoppedOutsideTheRunIsAFaultAndSteeringThenSaysZero) {
+  ImcRig rig;
+  rig.connect();
+  rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, rig.link->plan_id());
+  rig.vehicle.plan_state(imc::PlanControlState::kStateReady, rig.link->plan_id());  // an operator's STOP
+  ASSERT_TRUE(run_until(rig.io, [&] { return !rig.faults.empty(); }));
+  EXPECT_NE(rig.faults[0].find("was stopped outside the run"), std::string::npos) << rig.faults[0];
+  EXPECT_FALSE(rig.link->plan_running());
+  EXPECT_FALSE(rig.exec("goto_depth", {protocol::Value::integer(2)}));  // nothing takes it: 0, not 1
+}
+
+TEST(ImcLink, AStartWhoseReplyWasLostIsConfirmedByThePlansState) {
+  ImcRig rig;
+  rig.link->connect([&](core::Result<ImcVehicleInfo> r) { rig.connected = std::move(r); });
+  ASSERT_TRUE(run_until(rig.io, [&] { return !rig.vehicle.received.empty(); }));
+  rig.vehicle.announce();
+  rig.vehicle.state();
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.vehicle.plan_start.has_value(); }));
+  // No PlanControl reply (lost on the way); the periodic state names the plan.
+  rig.vehicle.plan_state(imc::PlanControlState::kStateExecuting, rig.vehicle.plan_start->plan_id);
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.connected.has_value(); }));
+  ASSERT_TRUE(rig.connected->ok());
+  EXPECT_TRUE(rig.link->plan_running());
 }
 
 TEST(ImcLink, AFunctionAnImcVehicleHasNotIsRefusedNotSent) {

@@ -57,6 +57,16 @@ ImcVehicle::ImcVehicle(Simulation& sim, ImcVehicleOptions options) : sim_(sim), 
 }
 
 void ImcVehicle::log(const std::string& line) const {
+  // A controller repeats its Reference twice a second, and with it whatever
+  // the vehicle had to say about it (a point clamped to the tank, a source
+  // ignored): a line the same as the last is counted, not written again.
+  if (line == last_line_) {
+    ++repeats_;
+    return;
+  }
+  if (repeats_ > 0 && options_.log) options_.log(fmt::format("(the line before, {} more times)", repeats_));
+  last_line_ = line;
+  repeats_ = 0;
   if (options_.log) options_.log(fmt::format("{:.1f} s: {}", sim_.time_s(), line));
 }
 

@@ -166,6 +166,8 @@ class ImcVehicle {
   double horizontal_distance_m() const;
   void send(imc::Message m, std::uint16_t dst = imc::kNullId, std::uint8_t dst_ent = imc::kAnyEntity);
   void log(const std::string& line) const;
+  mutable std::string last_line_;  // log(): a repeat of it is counted, not written
+  mutable std::uint64_t repeats_ = 0;
   void flush_events();
 
   Simulation& sim_;
