@@ -169,9 +169,10 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
                   "it writes the scans (PNG) and sonar.jsonl into this folder");
-  cmd->add_option("--max-sim-time", o->max_sim_time_s,
-                  "Lockstep, or an IMC vehicle's clock: end the run (an abort: the vehicle is surfaced) after this many "
-                  "simulated seconds")
+  cmd->add_option(
+         "--max-sim-time", o->max_sim_time_s,
+         "Lockstep, or an IMC vehicle's clock: end the run (an abort: the vehicle is surfaced) after this many "
+         "simulated seconds")
       ->check(finite_range(1.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")

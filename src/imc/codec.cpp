@@ -228,11 +228,14 @@ class Reader {
 #define IMC_END(Name) }
 #include "imc/messages.def"
 
+// Name is a type in a declaration, which parentheses would break.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define IMC_MESSAGE(Name, id)                  \
   bool read_payload(Reader& in_, Name& msg_) { \
     (void)in_;                                 \
     (void)msg_;                                \
     return true
+// NOLINTEND(bugprone-macro-parentheses)
 #define IMC_FIELD(type, name) &&in_.get(msg_.name)
 #define IMC_TEXT(name) &&in_.get(msg_.name)
 #define IMC_RAW(name) &&in_.get(msg_.name)

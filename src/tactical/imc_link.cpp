@@ -540,7 +540,7 @@ void ImcLink::send_reference(bool mandone) {
   }
   if (mandone) r.flags |= imc::Reference::kFlagManDone;
   last_reference_s_ = state_.t_s;
-  send_packet(imc::Message(std::move(r)), vehicle_.id);
+  send_packet(imc::Message(r), vehicle_.id);
 }
 
 void ImcLink::send_abort() { send_packet(imc::Message(imc::Abort{}), vehicle_.id); }

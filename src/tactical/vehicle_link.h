@@ -79,7 +79,7 @@ class VehicleLink final : public ExecutionLink {
   using Hold = ExecutionLink::Hold;
 
   static std::shared_ptr<VehicleLink> create(asio::io_context& io, LinkOptions options);
-  ~VehicleLink();
+  ~VehicleLink() override;
 
   // Connects and says hello; `done` gets the vehicle's welcome or the reason
   // it could not (refused, timed out, refused as a second client).
