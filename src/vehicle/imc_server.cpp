@@ -164,7 +164,9 @@ void ImcVehicleServer::on_announce(const imc::Header& h) {
 // ---- the clock ---------------------------------------------------------------------
 
 void ImcVehicleServer::tick() {
-  arm_next_cycle(tick_timer_, sim_.params().cycle_s, options_.speed);
+  // Two cycles behind at the most: what waits in the socket is read
+  // between cycles, at the simulated time it came (cycle_timer.h).
+  arm_next_cycle(tick_timer_, sim_.params().cycle_s, options_.speed, 2);
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     cycle();
