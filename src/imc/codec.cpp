@@ -108,6 +108,7 @@ class Writer {
   }
   template <typename T>
   void nested(const T& message);
+  bool enter();
   bool fail(std::string what) {
     if (error_.empty()) error_ = std::move(what);
     return false;
@@ -254,16 +255,23 @@ void Writer::payload(const Message& m) {
   std::visit([this](const auto& message) { write_payload(*this, message); }, m);
 }
 
-template <typename T>
-void Writer::nested(const T& message) {
+// One more inline message below this depth, or why it cannot be written
+// (what decode() would drop).
+bool Writer::enter() {
   if (depth_ == kMaxDepth) {
     fail("inline messages nested deeper than 8");
-    return;
+    return false;
   }
   if (++inlines_ > kMaxInlineMessages) {
     fail("more than 1024 inline messages in one packet");
-    return;
+    return false;
   }
+  return true;
+}
+
+template <typename T>
+void Writer::nested(const T& message) {
+  if (!enter()) return;
   ++depth_;
   write_payload(*this, message);
   --depth_;
@@ -272,14 +280,7 @@ void Writer::nested(const T& message) {
 void Writer::put(const Inline& message) {
   put(message.id());
   if (const Message* m = message.get()) {
-    if (depth_ == kMaxDepth) {
-      fail("inline messages nested deeper than 8");
-      return;
-    }
-    if (++inlines_ > kMaxInlineMessages) {
-      fail("more than 1024 inline messages in one packet");
-      return;
-    }
+    if (!enter()) return;
     ++depth_;
     payload(*m);
     --depth_;
