@@ -3,11 +3,11 @@
 // languages (missions/tank/tank.coral and tank.pl: the same primitive calls).
 //
 //   prolog/foreign_call
-//     Rules written to a temp folder and loaded (prolog::Mission::load) at
+//     Rules written to a temp folder and loaded (strategic::PrologMission::load) at
 //     setup, outside the timing:
 //       mission :- between(1, 100000, _), exec_start_timer(X), X == 1, fail.
 //       mission.
-//     One iteration runs a prolog::MissionQuery on them to the end, with a
+//     One iteration runs a strategic::PrologMissionQuery on them to the end, with a
 //     Host whose answer() is 1 at once: no vehicle, no event loop. Counter
 //     ns_per_call is steady_clock time over the iterations / primitive calls
 //     (items_per_second says the same). Nothing is subtracted: a call
@@ -25,7 +25,7 @@
 //     look-ups, events for no observers) and one post and dispatch per call.
 //
 //   prolog/load/tank
-//     prolog::Mission::load of missions/tank/tank.pl (its rules, phase2.pl,
+//     strategic::PrologMission::load of missions/tank/tank.pl (its rules, phase2.pl,
 //     the primitives' module and the check) and the Mission's destruction:
 //     the part of a PROLOG run that CORAL's load and compile replace.
 //
@@ -136,15 +136,15 @@ class LoopRules {
 };
 
 // Loads rules after the first PROLOG run, or says why not.
-std::unique_ptr<prolog::Mission> load(const std::string& path, benchmark::State& st) {
+std::unique_ptr<strategic::PrologMission> load(const std::string& path, benchmark::State& st) {
   std::string why = first_prolog_run().error;
-  std::vector<prolog::Message> messages;
+  std::vector<strategic::PrologMessage> messages;
   if (why.empty()) {
-    auto mission = prolog::Mission::load(path, tactical::Catalogue::builtin(), messages);
+    auto mission = strategic::PrologMission::load(path, tactical::Catalogue::builtin(), messages);
     if (mission) return std::move(mission.value());
     why = mission.error().message;
   }
-  for (const auto& m : messages) why += "; " + prolog::format_message(m);
+  for (const auto& m : messages) why += "; " + strategic::format_message(m);
   st.SkipWithError(why.c_str());
   return nullptr;
 }
@@ -157,7 +157,7 @@ void bm_load_tank(benchmark::State& st) {
 }
 
 // Answers every call with 1 at once and counts them.
-class ImmediateHost final : public prolog::Host {
+class ImmediateHost final : public strategic::PrologHost {
  public:
   std::int64_t calls = 0;
   void primitive(const std::string&, std::vector<tactical::Value>) override { ++calls; }
@@ -181,7 +181,7 @@ void bm_foreign_call(benchmark::State& st) {
   Clock::duration spent{};
   for (auto _ : st) {
     auto start = Clock::now();
-    prolog::MissionQuery query(*mission, host, kInferenceLimit);
+    strategic::PrologMissionQuery query(*mission, host, kInferenceLimit);
     prolog::Query::Status s;
     while ((s = query.next()) == prolog::Query::Status::Yield) {}
     query.close();

@@ -1,5 +1,5 @@
 // libFuzzer target: any bytes as a PROLOG mission file, through the
-// sandboxed load and the check (prolog::Mission::load, docs/prolog.md §4
+// sandboxed load and the check (strategic::PrologMission::load, docs/prolog.md §4
 // and §7), then, when the rules load, a bounded run of mission/0 against a
 // scripted vehicle that answers every primitive call with 1. Must never
 // crash, hang or run what the sandbox refuses. The file is written to a
@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 using namespace strata;
 
 // Answers every call with 1; counts them.
-class Vehicle : public prolog::Host {
+class Vehicle : public strategic::PrologHost {
  public:
   void primitive(const std::string&, std::vector<tactical::Value>) override { ++calls; }
   std::optional<int> answer() override { return 1; }
@@ -53,15 +53,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
-  std::vector<prolog::Message> messages;
-  prolog::LoadLimits limits;
+  std::vector<strategic::PrologMessage> messages;
+  strategic::LoadLimits limits;
   limits.time = std::chrono::milliseconds(2000);
   limits.inferences = 2'000'000;
-  auto mission = prolog::Mission::load(file.string(), tactical::Catalogue::builtin(), messages, limits);
-  for (const auto& m : messages) (void)prolog::format_message(m);
+  auto mission = strategic::PrologMission::load(file.string(), tactical::Catalogue::builtin(), messages, limits);
+  for (const auto& m : messages) (void)strategic::format_message(m);
   if (mission) {
     Vehicle vehicle;
-    prolog::MissionQuery query(*mission.value(), vehicle, 1'000'000);
+    strategic::PrologMissionQuery query(*mission.value(), vehicle, 1'000'000);
     for (int step = 0; step < 64; ++step) {
       if (query.next() != prolog::Query::Status::Yield) break;
     }

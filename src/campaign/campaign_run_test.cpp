@@ -119,7 +119,7 @@ TEST(CampaignRun, TheSameSpecGivesTheSameResultsInOneProcessOrTwoWorkers) {
 }
 
 // A worker keeps a PROLOG mission's rules loaded from one case to the next
-// (prolog::KeepRules): what a case's rules asserted must not reach the next
+// (strategic::KeepRules): what a case's rules asserted must not reach the next
 // case. Here the leak cases' rules end in current_phase(mission_abort); run
 // first, in the same process, they must leave the nominal cases completed.
 TEST(CampaignRun, APrologCaseGivesTheSameResultWhateverItsWorkerRanBefore) {

@@ -95,14 +95,14 @@ int run_check(const CheckOptions& o) {
   for (const auto& file : o.files) {
     if (file.ends_with(".pl")) {
       // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
-      std::vector<prolog::Message> messages;
-      auto rules = prolog::Mission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load),
-                                         prolog::KeepRules::No, level);
+      std::vector<strategic::PrologMessage> messages;
+      auto rules = strategic::PrologMission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load),
+                                                  strategic::KeepRules::No, level);
       std::size_t errors = 0, warnings = 0;
       nlohmann::json diagnostics = nlohmann::json::array();
       for (const auto& m : messages) {
         (m.error ? errors : warnings) += 1;
-        if (o.format != "json") std::cerr << prolog::format_message(m) << "\n";
+        if (o.format != "json") std::cerr << strategic::format_message(m) << "\n";
         diagnostics.push_back({{"file", m.file},
                                {"line", m.line},
                                {"column", m.column},

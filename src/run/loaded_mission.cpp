@@ -75,11 +75,11 @@ int load_coral(const RunOptions& o, const std::string& path, LoadedMission& load
 // Loads and checks the rules; messages (warnings too) go to err.
 int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   const std::string& path = o.mission;
-  std::vector<prolog::Message> messages;
-  auto rules = prolog::Mission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
-                                     o.keep_rules ? prolog::KeepRules::Yes : prolog::KeepRules::No,
-                                     tactical::execution_level_of(o.vehicle));
-  for (const auto& m : messages) err << prolog::format_message(m) << "\n";
+  std::vector<strategic::PrologMessage> messages;
+  auto rules = strategic::PrologMission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
+                                              o.keep_rules ? strategic::KeepRules::Yes : strategic::KeepRules::No,
+                                              tactical::execution_level_of(o.vehicle));
+  for (const auto& m : messages) err << strategic::format_message(m) << "\n";
   if (!rules) {
     err << "strata run: " << rules.error().message << "; not running\n";
     return exit_code_for_input(rules.error());
@@ -218,8 +218,8 @@ int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
   return code;
 }
 
-prolog::LoadLimits load_limits(const RuleLoadLimits& limits) {
-  prolog::LoadLimits l;
+strategic::LoadLimits load_limits(const RuleLoadLimits& limits) {
+  strategic::LoadLimits l;
   l.time = std::chrono::milliseconds(static_cast<std::int64_t>(limits.time_s * 1000.0));
   l.inferences = limits.inferences;
   l.max_bytes = static_cast<std::size_t>(limits.max_bytes);

@@ -30,10 +30,10 @@ struct LoadedMission {
 
   tactical::Catalogue catalogue;
   core::SourceManager sources;
-  std::optional<coral::Program> program;   // a .coral mission
-  std::unique_ptr<prolog::Mission> rules;  // a .pl mission
-  std::string name;                        // the mission net's name, or the rules' file stem
-  std::string data_path;                   // the data file used; "" none
+  std::optional<coral::Program> program;            // a .coral mission
+  std::unique_ptr<strategic::PrologMission> rules;  // a .pl mission
+  std::string name;                                 // the mission net's name, or the rules' file stem
+  std::string data_path;                            // the data file used; "" none
   std::optional<tactical::MissionData> data;
   std::optional<tactical::DataCursor> cursor;
   vehicle::VehicleParams params;
@@ -46,8 +46,8 @@ struct LoadedMission {
 // go to err. Returns 0, or the exit code (64 usage, 65 invalid, 74 unreadable).
 int load_mission(const RunOptions& options, LoadedMission& loaded, std::ostream& err);
 
-// The prolog::LoadLimits of the options' limits.
-prolog::LoadLimits load_limits(const RuleLoadLimits& limits);
+// The strategic::LoadLimits of the options' limits.
+strategic::LoadLimits load_limits(const RuleLoadLimits& limits);
 
 // The scenario's name as the log and the console give it ("nominal" for none).
 std::string scenario_name(const RunOptions& options);

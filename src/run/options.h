@@ -14,7 +14,7 @@
 
 namespace strata::run {
 
-// PROLOG: the limits on loading and checking the rules (prolog::LoadLimits).
+// PROLOG: the limits on loading and checking the rules (strategic::LoadLimits).
 struct RuleLoadLimits {
   double time_s = 5.0;                    // wall clock of the load and check together
   std::uint64_t inferences = 50'000'000;  // clauses read and directives run, together
@@ -58,7 +58,7 @@ struct RunOptions {
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
   bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
   // PROLOG: the rules may be taken back from an earlier run in this process,
-  // and stay loaded after this one (prolog::KeepRules::Yes): a campaign's
+  // and stay loaded after this one (strategic::KeepRules::Yes): a campaign's
   // worker, which runs one mission case after case.
   bool keep_rules = false;
   // CORAL: a mission that fails verification (docs/verification.md) is not

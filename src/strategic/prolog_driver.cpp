@@ -14,7 +14,7 @@
 #include "strategic/prolog_driver_sandbox_text.h"
 #include "strategic/prolog_driver_text.h"
 
-namespace strata::prolog::detail {
+namespace strata::strategic::prolog_detail {
 
 term_t new_atom(const std::string& name) {
   term_t t = PL_new_term_ref();
@@ -47,11 +47,11 @@ term_t driver_goal(const char* name, std::initializer_list<term_t> args) {
 }
 
 core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> args) {
-  return call_term(driver_goal(name, args));
+  return prolog::call_term(driver_goal(name, args));
 }
 
 core::Result<bool> call_driver_keep(const char* name, std::initializer_list<term_t> args) {
-  return call_term(module_goal("strata_driver_keep", name, args));
+  return prolog::call_term(module_goal("strata_driver_keep", name, args));
 }
 
 namespace {
@@ -60,8 +60,8 @@ namespace {
 // "user", which it leaves for its own module), or a part of a module (its
 // clauses go into `into`).
 core::Result<void> load_module_text(const char* name, std::string_view text, const char* into = "user") {
-  Frame frame;
-  auto goal = parse_term(
+  prolog::Frame frame;
+  auto goal = prolog::parse_term(
       "open_string(Text, S), call_cleanup(load_files(Into:Name, [stream(S), silent(true), imports([])]), close(S))");
   if (!goal) return goal.error();
   term_t open = PL_new_term_ref();
@@ -77,7 +77,7 @@ core::Result<void> load_module_text(const char* name, std::string_view text, con
       !PL_get_arg(2, file_t, name_t) || !PL_unify_atom_chars(into_t, into) || !PL_unify_atom_chars(name_t, name)) {
     return core::make_error(core::ErrorCode::Internal, "cannot build the driver's load goal");
   }
-  auto r = call_term(goal.value());
+  auto r = prolog::call_term(goal.value());
   if (!r || !r.value()) {
     return core::make_error(core::ErrorCode::Internal, fmt::format("the PROLOG driver ({}) did not load: {}", name,
                                                                    r ? std::string("failed") : r.error().message));
@@ -90,18 +90,18 @@ core::Result<void> load_module_text(const char* name, std::string_view text, con
 core::Result<void> ensure_driver() {
   static bool loaded = false;
   if (loaded) return {};
-  if (auto r = initialise(); !r) return r.error();
+  if (auto r = prolog::initialise(); !r) return r.error();
   if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
   if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
   if (auto r = load_module_text("strata_driver_load", kDriverLoadText, "strata_driver"); !r) return r;
   if (auto r = load_module_text("strata_driver_sandbox", kDriverSandboxText, "strata_driver"); !r) return r;
   if (auto r = load_module_text("strata_driver_keep", kDriverKeepText); !r) return r;
   register_foreign_predicates();
-  if (auto set = call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
+  if (auto set = prolog::call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
     return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");
   }
   loaded = true;
   return {};
 }
 
-}  // namespace strata::prolog::detail
+}  // namespace strata::strategic::prolog_detail

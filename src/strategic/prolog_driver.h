@@ -1,6 +1,6 @@
 #pragma once
 // Internal to strata_strategic: the PROLOG mission driver's parts below
-// Mission and MissionQuery (prolog_mission.h). prolog_driver.cpp loads the
+// PrologMission and PrologMissionQuery (prolog_mission.h). prolog_driver.cpp loads the
 // driver's modules and calls their predicates; prolog_foreign.cpp holds the
 // foreign predicates the driver calls back into, and who they serve.
 // Threads: the Prolog engine's thread only.
@@ -12,7 +12,7 @@
 #include "prolog/engine.h"
 #include "strategic/prolog_mission.h"
 
-namespace strata::prolog::detail {
+namespace strata::strategic::prolog_detail {
 
 // A fresh term holding the atom `name`.
 term_t new_atom(const std::string& name);
@@ -29,8 +29,8 @@ core::Result<void> ensure_driver();
 void register_foreign_predicates();
 // The host whose query is running ('$strata_call'/3 and the others reach it),
 // or nullptr between queries.
-void set_running_host(Host* host);
+void set_running_host(PrologHost* host);
 // The size limit '$strata_scan'/2 reads rule files with (the load's).
 void set_max_rules_bytes(std::size_t max_bytes);
 
-}  // namespace strata::prolog::detail
+}  // namespace strata::strategic::prolog_detail

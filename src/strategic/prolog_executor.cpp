@@ -18,7 +18,7 @@ bool completes(const std::string& exit) { return exit == "complete" || exit == "
 
 }  // namespace
 
-PrologExecutor::PrologExecutor(prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
+PrologExecutor::PrologExecutor(PrologMission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
                                PrologOptions options)
     : mission_(mission),
       tactics_(tactics),
@@ -54,8 +54,7 @@ void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
     std::lock_guard lock(interrupt_mutex_);
     interruptible_ = true;
   }
-  query_ =
-      std::make_unique<prolog::MissionQuery>(mission_, static_cast<prolog::Host&>(*this), options_.inference_limit);
+  query_ = std::make_unique<PrologMissionQuery>(mission_, static_cast<PrologHost&>(*this), options_.inference_limit);
   resume();
 }
 
@@ -72,7 +71,7 @@ void PrologExecutor::interrupt(const std::string& reason) {
   // Outside the lock: the loop's thread takes it to end the mission, and
   // raising never waits for the query anyway. False when the rules do not
   // run (they wait for the vehicle, or the mission has just ended).
-  prolog::interrupt_rules(static_cast<const prolog::Host&>(*this));
+  interrupt_rules(static_cast<const PrologHost&>(*this));
 }
 
 std::optional<std::string> PrologExecutor::interrupt_reason() const {
@@ -208,12 +207,12 @@ void PrologExecutor::phase_ended(const std::string& phase, const std::string& ex
 
 void PrologExecutor::rules_ended() {
   query_->close();
-  auto rules = prolog::mission_outcome(mission_);
+  auto rules = mission_outcome(mission_);
   if (!rules) {
     fail("cannot tell how the rules ended: " + shortened(rules.error().message));
     return;
   }
-  if (rules.value() == prolog::RulesOutcome::Aborted) {
+  if (rules.value() == strategic::RulesOutcome::Aborted) {
     finish(
         {Outcome::Aborted, "mission_abort", "the rules ended with current_phase(mission_abort)", std::nullopt, now()});
   } else {

@@ -1,6 +1,6 @@
 #pragma once
 // The PROLOG Strategic level (paper §2.2, Figure 10; docs/prolog.md): runs a
-// mission's rules (prolog::Mission) through the same Tactics interface and
+// mission's rules (PrologMission) through the same Tactics interface and
 // the same observers as the CORAL Engine. A primitive call yields the
 // rules back to the event loop; the vehicle's answer resumes them.
 //
@@ -14,9 +14,9 @@
 //    inferences between two primitive calls (an endless loop) or out of
 //    stack (endless recursion); cancel(); interrupt().
 //
-// Threads: the thread that initialised SWI-Prolog, which runs the event
+// Threads: the thread that prolog::initialised SWI-Prolog, which runs the event
 // loop, for everything but interrupt() (any thread). One PROLOG mission
-// runs at a time per process, and a loaded prolog::Mission runs once: a
+// runs at a time per process, and a loaded PrologMission runs once: a
 // second executor started meanwhile, or on rules that have run, ends
 // Failed at once and says why.
 #include <cstdint>
@@ -38,10 +38,10 @@ struct PrologOptions {
   std::uint64_t inference_limit = 10'000'000;
 };
 
-class PrologExecutor final : public Executor, private prolog::Host {
+class PrologExecutor final : public Executor, private PrologHost {
  public:
   // mission, tactics and catalogue must outlive the executor.
-  PrologExecutor(prolog::Mission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
+  PrologExecutor(PrologMission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
                  PrologOptions options = {});
   ~PrologExecutor() override;
   PrologExecutor(const PrologExecutor&) = delete;
@@ -51,7 +51,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
   void start(std::function<void(const MissionResult&)> on_end) override;
   void cancel(std::string reason) override;
   // Any thread. Rules that run (computing, in sleep/1, in a loop, inside a
-  // catch-all) stop within milliseconds (prolog::interrupt_rules()) and the
+  // catch-all) stop within milliseconds (interrupt_rules()) and the
   // mission ends Failed with reason, from the loop. Rules that wait for the
   // vehicle are not disturbed: the caller's posted cancel ends the mission,
   // or the reply does if it comes first. From the interrupt on the rules
@@ -65,7 +65,7 @@ class PrologExecutor final : public Executor, private prolog::Host {
     std::string name;
   };
 
-  // prolog::Host
+  // PrologHost
   void primitive(const std::string& name, std::vector<tactical::Value> args) override;
   std::optional<int> answer() override { return answer_; }
   void report(const std::string& name, std::vector<tactical::Value> args) override;
@@ -83,13 +83,13 @@ class PrologExecutor final : public Executor, private prolog::Host {
   double now() const { return tactics_.sim_time_s(); }
   InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
 
-  prolog::Mission& mission_;
+  PrologMission& mission_;
   Tactics& tactics_;
   const tactical::Catalogue& catalogue_;
   PrologOptions options_;
   std::vector<Observer*> observers_;
   std::function<void(const MissionResult&)> on_end_;
-  std::unique_ptr<prolog::MissionQuery> query_;
+  std::unique_ptr<PrologMissionQuery> query_;
   std::shared_ptr<PrologExecutor*> self_;
 
   bool running_ = false;

@@ -91,7 +91,7 @@ struct Recorder final : Observer {
 
 // One executor run on one mission, its fake Tactical level and its recorder.
 struct Session {
-  explicit Session(prolog::Mission& mission, PrologOptions options = {})
+  explicit Session(PrologMission& mission, PrologOptions options = {})
       : executor(std::make_unique<PrologExecutor>(mission, tactics, tactical::Catalogue::builtin(), options)) {
     executor->add_observer(recorder);
   }
@@ -137,14 +137,14 @@ class PrologExecutorTest : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
   }
-  static std::unique_ptr<prolog::Mission> load(const std::string& path) {
-    std::vector<prolog::Message> messages;
-    auto m = prolog::Mission::load(path, tactical::Catalogue::builtin(), messages);
-    for (const auto& msg : messages) ADD_FAILURE() << prolog::format_message(msg);
+  static std::unique_ptr<PrologMission> load(const std::string& path) {
+    std::vector<PrologMessage> messages;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
+    for (const auto& msg : messages) ADD_FAILURE() << strategic::format_message(msg);
     if (!m) ADD_FAILURE() << m.error().message;
     return m ? std::move(m.value()) : nullptr;
   }
-  std::unique_ptr<prolog::Mission> rules(const std::string& name, const std::string& text) {
+  std::unique_ptr<PrologMission> rules(const std::string& name, const std::string& text) {
     return load(write(name + ".pl", text));
   }
   // Loads rules (kept until the test ends), starts them and answers their calls in turn.
@@ -159,7 +159,7 @@ class PrologExecutorTest : public ::testing::Test {
   }
 
   fs::path dir_;
-  std::vector<std::unique_ptr<prolog::Mission>> missions_;
+  std::vector<std::unique_ptr<PrologMission>> missions_;
 };
 
 }  // namespace strata::strategic::prolog_testing

@@ -12,11 +12,11 @@
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_rules_scan.h"
 
-namespace strata::prolog::detail {
+namespace strata::strategic::prolog_detail {
 namespace {
 
-// The executor whose query is running; set by MissionQuery::next().
-Host* g_host = nullptr;
+// The executor whose query is running; set by PrologMissionQuery::next().
+PrologHost* g_host = nullptr;
 // LoadLimits::max_bytes of the load under way, for '$strata_scan'/2.
 std::size_t g_max_rules_bytes = LoadLimits{}.max_bytes;
 
@@ -94,7 +94,7 @@ foreign_t pl_strata_report(term_t name_t, term_t args_t) {
 // '$strata_phase'(+Event, +Phase): Event is start or end(Exit).
 foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   if (!g_host) return TRUE;  // the rules run outside a mission (plunit)
-  std::string phase = text_of(phase_t);
+  std::string phase = prolog::text_of(phase_t);
   char* s = nullptr;
   if (PL_get_atom_chars(event_t, &s)) {
     g_host->phase_started(phase);
@@ -102,7 +102,7 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
   }
   term_t exit = PL_new_term_ref();
   if (PL_is_functor(event_t, PL_new_functor(PL_new_atom("end"), 1)) && PL_get_arg(1, event_t, exit)) {
-    g_host->phase_ended(phase, text_of(exit));
+    g_host->phase_ended(phase, prolog::text_of(exit));
     return TRUE;
   }
   return PL_domain_error("phase_event", event_t);
@@ -133,7 +133,7 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
 
 }  // namespace
 
-void set_running_host(Host* host) { g_host = host; }
+void set_running_host(PrologHost* host) { g_host = host; }
 
 void set_max_rules_bytes(std::size_t max_bytes) { g_max_rules_bytes = max_bytes; }
 
@@ -147,4 +147,4 @@ void register_foreign_predicates() {
                                 0);
 }
 
-}  // namespace strata::prolog::detail
+}  // namespace strata::strategic::prolog_detail

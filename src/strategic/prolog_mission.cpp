@@ -18,15 +18,15 @@
 #include "prolog/interrupt.h"
 #include "tactical/sha256.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
 namespace fs = std::filesystem;
 
-using detail::call_driver;
-using detail::call_driver_keep;
-using detail::driver_goal;
-using detail::new_atom;
+using prolog_detail::call_driver;
+using prolog_detail::call_driver_keep;
+using prolog_detail::driver_goal;
+using prolog_detail::new_atom;
 
 std::string prolog_atom(std::string_view s) {
   std::string out = "'";
@@ -67,29 +67,29 @@ std::string without_module(std::string text, const std::string& module) {
   return text;
 }
 
-void collect_load_messages(const std::string& module, const std::string& root, std::vector<Message>& out) {
-  Frame frame;
+void collect_load_messages(const std::string& module, const std::string& root, std::vector<PrologMessage>& out) {
+  prolog::Frame frame;
   term_t a = PL_new_term_refs(5);
   term_t goal = driver_goal("load_message", {a, a + 1, a + 2, a + 3, a + 4});
-  Query q(goal, false);
+  prolog::Query q(goal, false);
   while (true) {
     auto s = q.next();
-    if (s != Query::Status::True && s != Query::Status::Last) break;
-    Message m;
-    m.error = text_of(a) == "error";
-    m.file = shown_path(text_of(a + 1));
+    if (s != prolog::Query::Status::True && s != prolog::Query::Status::Last) break;
+    PrologMessage m;
+    m.error = prolog::text_of(a) == "error";
+    m.file = shown_path(prolog::text_of(a + 1));
     if (m.file.empty()) m.file = root;  // SWI gave no place: the mission's file
     m.line = get_uint(a + 2);
     m.column = get_uint(a + 3);
-    m.text = without_module(text_of(a + 4), module);
+    m.text = without_module(prolog::text_of(a + 4), module);
     out.push_back(std::move(m));
-    if (s == Query::Status::Last) break;
+    if (s == prolog::Query::Status::Last) break;
   }
 }
 
 // The driver's check: undefined calls (unknown primitives among them) and a
 // missing mission/0.
-void check_rules(const Mission& mission, std::vector<Message>& messages) {
+void check_rules(const PrologMission& mission, std::vector<PrologMessage>& messages) {
   term_t problems = PL_new_term_ref();
   auto checked = call_driver("check_mission", {new_atom(mission.module()), problems});
   if (!checked || !checked.value()) {
@@ -101,9 +101,9 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
     term_t arg = PL_new_term_ref();
     term_t tail = PL_copy_term_ref(problems);
     while (PL_get_list(tail, head, tail)) {
-      Message m;
+      PrologMessage m;
       PL_get_arg(1, head, arg);
-      m.file = shown_path(text_of(arg));
+      m.file = shown_path(prolog::text_of(arg));
       if (m.file.empty()) m.file = mission.path();
       PL_get_arg(2, head, arg);
       // Line, or Line:Column for a call the sandbox refused.
@@ -117,7 +117,7 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
         m.line = get_uint(arg);
       }
       PL_get_arg(3, head, arg);
-      m.text = text_of(arg);
+      m.text = prolog::text_of(arg);
       messages.push_back(std::move(m));
     }
   }
@@ -125,8 +125,8 @@ void check_rules(const Mission& mission, std::vector<Message>& messages) {
 
 // Every call of a primitive that a vehicle at `level` cannot carry out, in
 // the mission's own file and every file it loaded, at the call.
-void check_level(const Mission& mission, const tactical::Catalogue& catalogue, tactical::ExecutionLevel level,
-                 std::size_t max_bytes, std::vector<Message>& messages) {
+void check_level(const PrologMission& mission, const tactical::Catalogue& catalogue, tactical::ExecutionLevel level,
+                 std::size_t max_bytes, std::vector<PrologMessage>& messages) {
   if (level == tactical::ExecutionLevel::Phoenix) return;
   // Each file once, however its path is spelt (SWI-Prolog's, or through a link).
   auto same_file = [](const std::string& path) {
@@ -136,13 +136,13 @@ void check_level(const Mission& mission, const tactical::Catalogue& catalogue, t
   };
   std::vector<std::string> files{mission.path()};
   std::vector<std::string> seen{same_file(mission.path())};
-  Frame frame;
+  prolog::Frame frame;
   term_t loaded = PL_new_term_ref();
   if (auto r = call_driver_keep("mission_files", {new_atom(mission.module()), loaded}); r && r.value()) {
     term_t head = PL_new_term_ref();
     term_t tail = PL_copy_term_ref(loaded);
     while (PL_get_list(tail, head, tail)) {
-      std::string file = text_of(head);
+      std::string file = prolog::text_of(head);
       std::string key = same_file(file);
       if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
       seen.push_back(std::move(key));
@@ -171,7 +171,7 @@ class TimeLimit {
       if (done_cv_.wait_for(lock, limit, [this] { return done_; })) return;
       expired_ = true;
       while (!done_) {
-        interrupt(this);
+        prolog::interrupt(this);
         done_cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return done_; });
       }
     });
@@ -193,7 +193,7 @@ class TimeLimit {
   }
 
  private:
-  InterruptScope scope_;
+  prolog::InterruptScope scope_;
   std::mutex mutex_;
   std::condition_variable done_cv_;
   bool done_ = false;
@@ -201,15 +201,15 @@ class TimeLimit {
   std::thread watchdog_;
 };
 
-// Rules kept loaded after their Mission ended (KeepRules::Yes): one set
+// Rules kept loaded after their PrologMission ended (KeepRules::Yes): one set
 // per process, taken back by the next load of the same files.
 struct KeptRules {
   std::string key;  // the path as given and in full, the catalogue, the limits
   std::string module;
   std::vector<std::pair<std::string, std::string>> files;  // each file loaded, and the SHA-256 of what it held
-  std::vector<Message> messages;                           // the load's (warnings)
+  std::vector<PrologMessage> messages;                     // the load's (warnings)
   std::string data_file;
-  bool in_use = false;  // a Mission has them
+  bool in_use = false;  // a PrologMission has them
 };
 std::optional<KeptRules> g_kept;
 
@@ -224,9 +224,9 @@ std::string content_sha256(const std::string& file, std::size_t max_bytes) {
   return text ? tactical::sha256_hex(text.value()) : std::string();
 }
 
-// The kept rules are no longer: their module goes, as a Mission's does.
+// The kept rules are no longer: their module goes, as a PrologMission's does.
 void close_kept() {
-  Frame frame;
+  prolog::Frame frame;
   term_t module = new_atom(g_kept->module);
   (void)call_driver_keep("forget_kept", {module});
   (void)call_driver("close_mission", {module});
@@ -243,7 +243,7 @@ bool take_kept(const std::string& key, std::size_t max_bytes) {
   });
   bool restored = false;
   if (unchanged) {
-    Frame frame;
+    prolog::Frame frame;
     auto r = call_driver_keep("restore_mission", {new_atom(g_kept->module)});
     restored = r && r.value();
   }
@@ -257,10 +257,10 @@ bool take_kept(const std::string& key, std::size_t max_bytes) {
 
 // Keeps the rules just loaded into module when they can be put back
 // (driver_keep.pl, keepable_mission/1), in place of any kept before.
-bool keep(const std::string& key, const std::string& module, std::vector<Message> messages,
+bool keep(const std::string& key, const std::string& module, std::vector<PrologMessage> messages,
           const std::string& data_file, std::size_t max_bytes) {
-  if (g_kept && g_kept->in_use) return false;  // another Mission has them
-  Frame frame;
+  if (g_kept && g_kept->in_use) return false;  // another PrologMission has them
+  prolog::Frame frame;
   term_t m = new_atom(module);
   term_t files = PL_new_term_ref();
   if (auto r = call_driver_keep("keepable_mission", {m}); !r || !r.value()) return false;
@@ -269,7 +269,7 @@ bool keep(const std::string& key, const std::string& module, std::vector<Message
   term_t head = PL_new_term_ref();
   term_t tail = PL_copy_term_ref(files);
   while (PL_get_list(tail, head, tail)) {
-    std::string file = text_of(head);
+    std::string file = prolog::text_of(head);
     std::string sha256 = content_sha256(file, max_bytes);
     if (sha256.empty()) return false;
     kept.files.emplace_back(std::move(file), std::move(sha256));
@@ -283,7 +283,7 @@ bool keep(const std::string& key, const std::string& module, std::vector<Message
 
 }  // namespace
 
-std::string format_message(const Message& m) {
+std::string format_message(const PrologMessage& m) {
   std::string where = m.file;
   if (!where.empty() && m.line > 0) where += fmt::format(":{}", m.line);
   if (!where.empty() && m.line > 0 && m.column > 0) where += fmt::format(":{}", m.column);
@@ -291,9 +291,11 @@ std::string format_message(const Message& m) {
                      m.kind.empty() ? "" : " [" + m.kind + "]");
 }
 
-core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, const tactical::Catalogue& catalogue,
-                                                     std::vector<Message>& messages, const LoadLimits& limits,
-                                                     KeepRules keep_rules, tactical::ExecutionLevel level) {
+core::Result<std::unique_ptr<PrologMission>> PrologMission::load(const std::string& path,
+                                                                 const tactical::Catalogue& catalogue,
+                                                                 std::vector<PrologMessage>& messages,
+                                                                 const LoadLimits& limits, KeepRules keep_rules,
+                                                                 tactical::ExecutionLevel level) {
   std::error_code ec;
   if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
@@ -302,9 +304,9 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
          fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes), ""});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
-  detail::set_max_rules_bytes(limits.max_bytes);
-  if (auto r = detail::ensure_driver(); !r) return r.error();
-  std::unique_ptr<Mission> mission(new Mission());
+  prolog_detail::set_max_rules_bytes(limits.max_bytes);
+  if (auto r = prolog_detail::ensure_driver(); !r) return r.error();
+  std::unique_ptr<PrologMission> mission(new PrologMission());
   mission->path_ = path;
   mission->name_ = fs::path(path).stem().string();
 
@@ -325,38 +327,38 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   if (g_kept && !g_kept->in_use) close_kept();
   const std::size_t first_message = messages.size();
 
-  Frame frame;
+  prolog::Frame frame;
   term_t module = PL_new_term_ref();
-  auto specs = parse_term(specs_text);
+  auto specs = prolog::parse_term(specs_text);
   if (!specs) return specs.error();
   if (auto r = call_driver("open_mission", {module, specs.value()}); !r || !r.value()) {
     return core::make_error(core::ErrorCode::Internal,
                             "cannot make a module for the mission: " + (r ? std::string("failed") : r.error().message));
   }
-  mission->module_ = text_of(module);
+  mission->module_ = prolog::text_of(module);
 
   term_t file = new_atom(absolute.lexically_normal().string());
   term_t budget = PL_new_term_ref();
   if (!PL_put_int64(budget, static_cast<int64_t>(limits.inferences))) PL_clear_exception();
   // One wall-clock limit for the load (directives included) and the check.
   // The driver loads the rules from a stream, outside the sig_atomic/1 in
-  // which SWI-Prolog 9.0.4 loads a file by name, so the interrupt reaches a
+  // which SWI-Prolog 9.0.4 loads a file by name, so the prolog::interrupt reaches a
   // directive (driver_load.pl, load_mission_file/3).
   TimeLimit time_limit(limits.time);
   // With the driver's exception hook: what must stop the load (the time
   // limit, the inference budget) cannot be caught by a directive.
   core::Result<bool> loaded = false;
   {
-    Query q(driver_goal("load_mission", {new_atom(mission->module_), file, budget}), false,
-            /*exception_hook=*/true);
+    prolog::Query q(driver_goal("load_mission", {new_atom(mission->module_), file, budget}), false,
+                    /*exception_hook=*/true);
     switch (q.next()) {
-      case Query::Status::True:
-      case Query::Status::Last: loaded = true; break;
-      case Query::Status::False: loaded = false; break;
+      case prolog::Query::Status::True:
+      case prolog::Query::Status::Last: loaded = true; break;
+      case prolog::Query::Status::False: loaded = false; break;
       default: loaded = core::make_error(core::ErrorCode::InvalidInput, q.exception_text()); break;
     }
   }
-  (void)call_once("strata_driver:unlimited");
+  (void)prolog::call_once("strata_driver:unlimited");
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
   if (!loaded && loaded.error().message != "'$aborted'") {
@@ -366,7 +368,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   // Rules that did not load whole are not checked: what is missing would
   // only echo the load errors.
   const bool load_errors =
-      !loaded || std::any_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; });
+      !loaded || std::any_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return m.error; });
   if (!load_errors) {
     check_rules(*mission, messages);
     // Literal numbers out of the catalogue's ranges, as CORAL's check finds
@@ -380,7 +382,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
     check_level(*mission, catalogue, level, limits.max_bytes, messages);
   }
   if (time_limit.expired() &&
-      std::none_of(messages.begin(), messages.end(), [](const Message& m) { return m.error; })) {
+      std::none_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return m.error; })) {
     messages.push_back({true, path, 0, 0,
                         fmt::format("loading and checking took longer than their time limit ({} ms, --load-time-limit)",
                                     limits.time.count()),
@@ -388,7 +390,7 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   }
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
-    fs::path written = text_of(data);
+    fs::path written = prolog::text_of(data);
     mission->data_file_ =
         (written.is_absolute() ? written : fs::path(path).parent_path() / written).lexically_normal().string();
   }
@@ -406,48 +408,48 @@ core::Result<std::unique_ptr<Mission>> Mission::load(const std::string& path, co
   return mission;
 }
 
-Mission::~Mission() {
+PrologMission::~PrologMission() {
   if (module_.empty()) return;
   if (kept_ && g_kept && g_kept->module == module_) {
     g_kept->in_use = false;  // put back when taken again
     return;
   }
-  Frame frame;
+  prolog::Frame frame;
   (void)call_driver("close_mission", {new_atom(module_)});
 }
 
-MissionQuery::MissionQuery(Mission& mission, Host& host, std::uint64_t inference_limit)
+PrologMissionQuery::PrologMissionQuery(PrologMission& mission, PrologHost& host, std::uint64_t inference_limit)
     : mission_(mission), host_(host) {
   mission_.started_ = true;
   frame_ = PL_open_foreign_frame();
   term_t limit = PL_new_term_ref();
   if (!PL_put_int64(limit, static_cast<int64_t>(inference_limit))) PL_clear_exception();
   term_t goal = driver_goal("run_mission", {new_atom(mission_.module()), limit});
-  query_ = std::make_unique<Query>(goal, /*allow_yield=*/true, /*exception_hook=*/true);
+  query_ = std::make_unique<prolog::Query>(goal, /*allow_yield=*/true, /*exception_hook=*/true);
 }
 
-MissionQuery::~MissionQuery() { close(); }
+PrologMissionQuery::~PrologMissionQuery() { close(); }
 
-Query::Status MissionQuery::next() {
-  if (!query_) return Query::Status::False;
-  detail::set_running_host(&host_);
-  Query::Status status;
+prolog::Query::Status PrologMissionQuery::next() {
+  if (!query_) return prolog::Query::Status::False;
+  prolog_detail::set_running_host(&host_);
+  prolog::Query::Status status;
   bool interrupted = false;
   {
-    InterruptScope scope(&host_);
+    prolog::InterruptScope scope(&host_);
     status = query_->next();
     interrupted = scope.interrupted();
   }
-  detail::set_running_host(nullptr);
-  if (status != Query::Status::Exception) return status;
+  prolog_detail::set_running_host(nullptr);
+  if (status != prolog::Query::Status::Exception) return status;
   exception_ = query_->exception_text();
   if (exception_ == "'$aborted'") {
     // The driver turned what must end the mission into '$aborted', so the
     // rules could not catch it; it kept the cause.
     close();
-    Frame frame;
+    prolog::Frame frame;
     term_t cause = PL_new_term_ref();
-    if (auto r = call_driver("stop_cause", {cause}); r && r.value()) exception_ = term_text(cause);
+    if (auto r = call_driver("stop_cause", {cause}); r && r.value()) exception_ = prolog::term_text(cause);
   }
   exception_ = without_module(exception_, mission_.module());
   const std::string& e = exception_;
@@ -467,21 +469,21 @@ Query::Status MissionQuery::next() {
   return status;
 }
 
-void MissionQuery::close() {
+void PrologMissionQuery::close() {
   if (!query_) return;
   query_.reset();  // cuts the query
   PL_discard_foreign_frame(frame_);
-  (void)call_once("strata_driver:unlimited");
+  (void)prolog::call_once("strata_driver:unlimited");
 }
 
-bool interrupt_rules(const Host& host) { return interrupt(&host); }
+bool interrupt_rules(const PrologHost& host) { return prolog::interrupt(&host); }
 
-core::Result<RulesOutcome> mission_outcome(const Mission& mission) {
-  Frame frame;
+core::Result<RulesOutcome> mission_outcome(const PrologMission& mission) {
+  prolog::Frame frame;
   term_t outcome = PL_new_term_ref();
   auto r = call_driver("mission_outcome", {new_atom(mission.module()), outcome});
   if (!r) return r.error();
-  return text_of(outcome) == "aborted" ? RulesOutcome::Aborted : RulesOutcome::Completed;
+  return prolog::text_of(outcome) == "aborted" ? RulesOutcome::Aborted : RulesOutcome::Completed;
 }
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

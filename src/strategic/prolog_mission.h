@@ -5,11 +5,11 @@
 // of this lives in prolog/driver*.pl (driver.pl, driver_load.pl,
 // driver_sandbox.pl, driver_check.pl, driver_keep.pl), compiled
 // into the binary; it runs on src/prolog's engine (prolog/engine.h).
-// The names stay in strata::prolog (prolog::Mission, prolog::Host...), as
+// The names stay in strata::prolog (PrologMission, PrologHost...), as
 // before the driver moved here from src/prolog.
 //
 // One mission runs at a time per process (SWI-Prolog has one engine here):
-// while a MissionQuery is open, no other Prolog may run.
+// while a PrologMissionQuery is open, no other Prolog may run.
 //
 // Threads: the one that called prolog::initialise().
 #include <chrono>
@@ -26,11 +26,11 @@
 #include "tactical/execution_level.h"
 #include "tactical/value.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 
 // An error or warning SWI-Prolog printed while loading, or a problem the
 // check found: where, and what.
-struct Message {
+struct PrologMessage {
   bool error = true;  // false: a warning
   std::string file;   // "" when SWI gave no place
   std::uint32_t line = 0;
@@ -39,12 +39,12 @@ struct Message {
   std::string kind;  // a diagnostic kind (core/diagnostic_kind.def) when Strata's own check found it, or ""
 };
 // "file:line:col: error: text [Kind]", as the CORAL checker prints its diagnostics.
-std::string format_message(const Message& message);
+std::string format_message(const PrologMessage& message);
 
 // What the rules reach while they run. The executor implements it.
-class Host {
+class PrologHost {
  public:
-  virtual ~Host() = default;
+  virtual ~PrologHost() = default;
   // A primitive call (exec, ask, ood); the query yields right after.
   virtual void primitive(const std::string& name, std::vector<tactical::Value> args) = 0;
   // On resuming: the answer to unify with the rules' variable (1 or 0), or
@@ -66,11 +66,11 @@ struct LoadLimits {
   std::size_t max_bytes = 4u << 20;       // each rule file; a larger one is not read
 };
 
-// Whether Mission::load may take back rules it loaded before (a campaign's
+// Whether PrologMission::load may take back rules it loaded before (a campaign's
 // worker runs one mission's rules case after case).
 //  - No: the files are loaded and checked again.
 //  - Yes: rules that loaded and checked without an error stay loaded when
-//    their Mission ends (one set per process). The next load with the same
+//    their PrologMission ends (one set per process). The next load with the same
 //    path, catalogue and limits, while every file they loaded holds what it
 //    held then, takes them back instead of loading them again: each dynamic
 //    predicate gets back its clauses of right after the load, and the
@@ -79,12 +79,12 @@ struct LoadLimits {
 //    Rules whose state could not be put back so (tabled or thread-local
 //    predicates; calls to set_prolog_flag/2, set_prolog_stack/2,
 //    predicate_property/2, global variables) are loaded afresh every time,
-//    as are rules another Mission still has. What the
+//    as are rules another PrologMission still has. What the
 //    directives computed is not computed again: get_time/1 in a directive
 //    gives the first load's time. The messages are the first load's.
 enum class KeepRules { No, Yes };
 
-class Mission {
+class PrologMission {
  public:
   // Loads the rules at path (and the files they load) with the primitives
   // of catalogue, then checks them: for a vehicle at `level` too, whose
@@ -93,13 +93,13 @@ class Mission {
   // Every message goes to messages.
   // Errors: Io when path cannot be read; InvalidInput when loading printed
   // an error or the check found a problem (the messages say where).
-  static core::Result<std::unique_ptr<Mission>> load(
-      const std::string& path, const tactical::Catalogue& catalogue, std::vector<Message>& messages,
+  static core::Result<std::unique_ptr<PrologMission>> load(
+      const std::string& path, const tactical::Catalogue& catalogue, std::vector<PrologMessage>& messages,
       const LoadLimits& limits = {}, KeepRules keep = KeepRules::No,
       tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix);
-  ~Mission();
-  Mission(const Mission&) = delete;
-  Mission& operator=(const Mission&) = delete;
+  ~PrologMission();
+  PrologMission(const PrologMission&) = delete;
+  PrologMission& operator=(const PrologMission&) = delete;
 
   const std::string& path() const { return path_; }
   const std::string& name() const { return name_; }  // the file's stem: "tank"
@@ -107,14 +107,14 @@ class Mission {
   // The mission data file named by a mission_data/1 fact, resolved against
   // the mission's folder; "" when the rules name none.
   const std::string& data_file() const { return data_file_; }
-  // A MissionQuery has run the rules: the facts they asserted stay, so a
+  // A PrologMissionQuery has run the rules: the facts they asserted stay, so a
   // new run needs a new load (with KeepRules::Yes, perhaps the same rules
   // taken back).
   bool started() const { return started_; }
 
  private:
-  friend class MissionQuery;
-  Mission() = default;
+  friend class PrologMissionQuery;
+  PrologMission() = default;
   std::string path_, name_, module_, data_file_;
   bool started_ = false;
   bool kept_ = false;  // kept loaded when this ends (KeepRules::Yes)
@@ -123,15 +123,15 @@ class Mission {
 // mission/0 running: next() runs the rules until they call a primitive
 // (Yield: host.primitive() has the call; answer it with host.answer() on
 // the next next()), finish (True), fail (False) or raise (Exception).
-class MissionQuery {
+class PrologMissionQuery {
  public:
   // inference_limit: inferences allowed between two primitive calls.
-  MissionQuery(Mission& mission, Host& host, std::uint64_t inference_limit);
-  ~MissionQuery();
-  MissionQuery(const MissionQuery&) = delete;
-  MissionQuery& operator=(const MissionQuery&) = delete;
+  PrologMissionQuery(PrologMission& mission, PrologHost& host, std::uint64_t inference_limit);
+  ~PrologMissionQuery();
+  PrologMissionQuery(const PrologMissionQuery&) = delete;
+  PrologMissionQuery& operator=(const PrologMissionQuery&) = delete;
 
-  Query::Status next();
+  prolog::Query::Status next();
   // After Status::Exception: the exception's text (for a stop the rules
   // could not catch, its cause), without the mission's module name.
   const std::string& exception_text() const { return exception_; }
@@ -148,10 +148,10 @@ class MissionQuery {
   void close();
 
  private:
-  Mission& mission_;
-  Host& host_;
+  PrologMission& mission_;
+  PrologHost& host_;
   fid_t frame_ = 0;
-  std::unique_ptr<Query> query_;
+  std::unique_ptr<prolog::Query> query_;
   std::optional<int> halted_;
   bool limit_exceeded_ = false;
   bool out_of_stack_ = false;
@@ -160,17 +160,17 @@ class MissionQuery {
   std::string exception_;
 };
 
-// From any thread (prolog/interrupt.h): stops the rules of the MissionQuery
+// From any thread (prolog/interrupt.h): stops the rules of the PrologMissionQuery
 // whose host is host while its next() runs them; next() then returns
 // Status::Exception with interrupted() set, soon (at the rules' next call,
 // or as sleep/1 returns), whatever the rules catch. Returns false and does
 // nothing when they do not run (they wait for an answer, or no query of
 // host is open): the next next() runs them as usual.
-bool interrupt_rules(const Host& host);
+bool interrupt_rules(const PrologHost& host);
 
 // After mission/0 succeeded or halted: aborted when the rules left
 // current_phase(mission_abort) (Figure 10's `done`), completed otherwise.
 enum class RulesOutcome { Completed, Aborted };
-core::Result<RulesOutcome> mission_outcome(const Mission& mission);
+core::Result<RulesOutcome> mission_outcome(const PrologMission& mission);
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -16,13 +16,13 @@
 
 #include "strategic/prolog_mission_test_support.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_support::PrologMission;
-using testing_support::Rules;
-using testing_support::ScriptedHost;
+using prolog_mission_testing::PrologMissionTest;
+using prolog_mission_testing::Rules;
+using prolog_mission_testing::ScriptedHost;
 
 using Clock = std::chrono::steady_clock;
 
@@ -68,16 +68,16 @@ class Interrupter {
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-TEST_F(PrologMission, InterruptFromAnotherThreadStopsRulesInSleep) {
+TEST_F(PrologMissionTest, InterruptFromAnotherThreadStopsRulesInSleep) {
   auto m =
       load_ok(rules_.write("m.pl", "mission :- exec_start_timer(_), report(ready), sleep(30), exec_surface(_).\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
-  MissionQuery q(*m, host, 100000);
-  ASSERT_EQ(Query::Status::Yield, q.next());
+  PrologMissionQuery q(*m, host, 100000);
+  ASSERT_EQ(prolog::Query::Status::Yield, q.next());
   Interrupter interrupter(host, std::chrono::milliseconds(50));
   Clock::time_point start = Clock::now();
-  EXPECT_EQ(Query::Status::Exception, q.next());
+  EXPECT_EQ(prolog::Query::Status::Exception, q.next());
   double latency_ms = ms_since(interrupter.at());
   interrupter.join();
   ASSERT_TRUE(interrupter.interrupted());
@@ -88,7 +88,7 @@ TEST_F(PrologMission, InterruptFromAnotherThreadStopsRulesInSleep) {
   EXPECT_EQ((std::vector<std::string>{"call start_timer", "report ready"}), host.events);
 }
 
-TEST_F(PrologMission, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAll) {
+TEST_F(PrologMissionTest, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAll) {
   for (std::string loop : {"repeat, fail", "count(0)", "catch((repeat, fail), _, true), exec_surface(_)",
                            "repeat, catch(count(0), _, true), fail"}) {
     auto m = load_ok(rules_.write("m.pl", "mission :- report(ready), " + loop +
@@ -96,10 +96,10 @@ TEST_F(PrologMission, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAl
                                               "count(N) :- M is N + 1, count(M).\n"));
     ASSERT_TRUE(m);
     ScriptedHost host;
-    MissionQuery q(*m, host, 1'000'000'000'000);
+    PrologMissionQuery q(*m, host, 1'000'000'000'000);
     Interrupter interrupter(host, std::chrono::milliseconds(0));
     Clock::time_point start = Clock::now();
-    EXPECT_EQ(Query::Status::Exception, q.next()) << loop;
+    EXPECT_EQ(prolog::Query::Status::Exception, q.next()) << loop;
     double latency_ms = ms_since(interrupter.at());
     interrupter.join();
     ASSERT_TRUE(interrupter.interrupted()) << loop;
@@ -111,25 +111,25 @@ TEST_F(PrologMission, InterruptStopsABusyLoopUnderAHugeInferenceLimitAndACatchAl
   }
 }
 
-TEST_F(PrologMission, InterruptWhileTheRulesWaitForTheVehicleDoesNothing) {
+TEST_F(PrologMissionTest, InterruptWhileTheRulesWaitForTheVehicleDoesNothing) {
   auto m = load_ok(rules_.write("m.pl",
                                 "mission :- exec_sleep(1, _), burn, exec_surface(_).\n"
                                 "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(m);
   ScriptedHost host;
-  MissionQuery q(*m, host, 100000);
-  ASSERT_EQ(Query::Status::Yield, q.next());
+  PrologMissionQuery q(*m, host, 100000);
+  ASSERT_EQ(prolog::Query::Status::Yield, q.next());
   EXPECT_FALSE(interrupt_rules(host)) << "the rules wait for the vehicle: nothing runs to stop";
   ScriptedHost other;
   EXPECT_FALSE(interrupt_rules(other)) << "not the host whose rules run";
-  EXPECT_EQ(Query::Status::Yield, q.next()) << q.exception_text();
+  EXPECT_EQ(prolog::Query::Status::Yield, q.next()) << q.exception_text();
   auto s = q.next();
-  EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
+  EXPECT_TRUE(s == prolog::Query::Status::True || s == prolog::Query::Status::Last) << q.exception_text();
   EXPECT_FALSE(q.interrupted());
   EXPECT_EQ((std::vector<std::string>{"call sleep 1", "call surface"}), host.events);
 }
 
-TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
+TEST_F(PrologMissionTest, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
   // Raised as the rules yield (from inside the primitive call, on the
   // engine's thread): the query returns before it reaches a call port, so
   // the raise is still pending in SWI when next() returns.
@@ -142,14 +142,14 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
   host.on_primitive = [&] {
     if (!raised) raised = interrupt_rules(host);
   };
-  MissionQuery q(*m, host, 100000);
-  ASSERT_EQ(Query::Status::Yield, q.next()) << q.exception_text();
+  PrologMissionQuery q(*m, host, 100000);
+  ASSERT_EQ(prolog::Query::Status::Yield, q.next()) << q.exception_text();
   ASSERT_TRUE(raised) << "the rules were running: the raise was made";
   EXPECT_FALSE(q.interrupted());
   // Resumed, the rules run on: the raise belonged to the scope that closed.
-  EXPECT_EQ(Query::Status::Yield, q.next()) << q.exception_text();
+  EXPECT_EQ(prolog::Query::Status::Yield, q.next()) << q.exception_text();
   auto s = q.next();
-  EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
+  EXPECT_TRUE(s == prolog::Query::Status::True || s == prolog::Query::Status::Last) << q.exception_text();
   EXPECT_FALSE(q.interrupted());
   q.close();
 
@@ -164,8 +164,8 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
     if (!raised_last) raised_last = interrupt_rules(last);
   };
   {
-    MissionQuery first(*again, last, 100000);
-    ASSERT_EQ(Query::Status::Yield, first.next());
+    PrologMissionQuery first(*again, last, 100000);
+    ASSERT_EQ(prolog::Query::Status::Yield, first.next());
     ASSERT_TRUE(raised_last);
   }  // closed while the raise is pending
   auto third = load_ok(rules_.write("third.pl",
@@ -173,12 +173,12 @@ TEST_F(PrologMission, AStaleInterruptCannotStopTheRulesLaterOrTheNextQuery) {
                                     "burn :- between(1, 20000, _), fail ; true.\n"));
   ASSERT_TRUE(third);
   ScriptedHost fresh;
-  MissionQuery next(*third, fresh, 100000);
-  EXPECT_EQ(Query::Status::Yield, next.next()) << next.exception_text();
-  EXPECT_EQ(Query::Status::Last, next.next()) << next.exception_text();
+  PrologMissionQuery next(*third, fresh, 100000);
+  EXPECT_EQ(prolog::Query::Status::Yield, next.next()) << next.exception_text();
+  EXPECT_EQ(prolog::Query::Status::Last, next.next()) << next.exception_text();
   EXPECT_FALSE(next.interrupted());
-  EXPECT_TRUE(call_once("between(1, 1000, _), fail ; true").value()) << "Prolog runs on";
+  EXPECT_TRUE(prolog::call_once("between(1, 1000, _), fail ; true").value()) << "Prolog runs on";
 }
 
 }  // namespace
-}  // namespace strata::prolog
+}  // namespace strata::strategic

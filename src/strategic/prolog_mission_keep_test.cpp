@@ -10,18 +10,18 @@
 #include "strategic/prolog_mission.h"
 #include "strategic/prolog_mission_test_support.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
-using testing_support::PrologMission;
-using testing_support::ScriptedHost;
+using prolog_mission_testing::PrologMissionTest;
+using prolog_mission_testing::ScriptedHost;
 
-class KeptRules : public PrologMission {
+class KeptRules : public PrologMissionTest {
  protected:
-  std::unique_ptr<Mission> load_kept(const std::string& path, std::vector<Message>* messages = nullptr) {
-    std::vector<Message> own;
-    std::vector<Message>& out = messages ? *messages : own;
-    auto m = Mission::load(path, tactical::Catalogue::builtin(), out, {}, KeepRules::Yes);
+  std::unique_ptr<PrologMission> load_kept(const std::string& path, std::vector<PrologMessage>* messages = nullptr) {
+    std::vector<PrologMessage> own;
+    std::vector<PrologMessage>& out = messages ? *messages : own;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), out, {}, KeepRules::Yes);
     if (!m) {
       std::string text;
       for (const auto& msg : out) text += format_message(msg) + "\n";
@@ -37,9 +37,9 @@ class KeptRules : public PrologMission {
     if (!m) return {};
     module = m->module();
     ScriptedHost host;
-    MissionQuery q(*m, host, 1'000'000);
+    PrologMissionQuery q(*m, host, 1'000'000);
     const auto s = run(q);
-    EXPECT_TRUE(s == Query::Status::True || s == Query::Status::Last) << q.exception_text();
+    EXPECT_TRUE(s == prolog::Query::Status::True || s == prolog::Query::Status::Last) << q.exception_text();
     return host.events;
   }
 };
@@ -104,7 +104,7 @@ mission :-
   // Taken back once more: the wrapper's own predicate is still there.
   auto m = load_kept(path);
   ASSERT_TRUE(m);
-  const auto wrapper = call_once("clause(" + first + ":'$wrap$execute_phase'(_), _)");
+  const auto wrapper = prolog::call_once("clause(" + first + ":'$wrap$execute_phase'(_), _)");
   ASSERT_TRUE(wrapper.ok());
   EXPECT_TRUE(wrapper.value());
 }
@@ -143,7 +143,7 @@ TEST_F(KeptRules, KeptRulesAreLoadedAgainWhenAFileTheyConsultChanged) {
 
 TEST_F(KeptRules, KeptRulesGiveTheMessagesOfTheirLoad) {
   const std::string path = rules_.write("m.pl", "p(X) :- true.\nmission :- report(ran).\n");
-  std::vector<Message> first, second;
+  std::vector<PrologMessage> first, second;
   std::string a, b;
   {
     auto m = load_kept(path, &first);
@@ -172,14 +172,14 @@ TEST_F(KeptRules, KeptRulesInUseStayWholeWhenTheirFileIsLoadedAgain) {
   {
     // A file is loaded into one module at a time: a second load while the
     // first holds the rules neither takes them nor closes them.
-    std::vector<Message> messages;
-    auto second = Mission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::Yes);
+    std::vector<PrologMessage> messages;
+    auto second = PrologMission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::Yes);
     if (second) {
       EXPECT_NE(first->module(), second.value()->module());
     }
   }
   ScriptedHost host;
-  MissionQuery q(*first, host, 1'000'000);
+  PrologMissionQuery q(*first, host, 1'000'000);
   run(q);
   EXPECT_EQ((std::vector<std::string>{"report 1 [start] rule absent"}), host.events);
 }
@@ -192,10 +192,10 @@ TEST_F(KeptRules, RulesLoadedWithoutKeepAreNeverTakenBack) {
   ASSERT_TRUE(m);
   EXPECT_NE(a, m->module());
   ScriptedHost host;
-  MissionQuery q(*m, host, 1'000'000);
+  PrologMissionQuery q(*m, host, 1'000'000);
   run(q);
   EXPECT_EQ((std::vector<std::string>{"report 1 [start] rule absent"}), host.events);
 }
 
 }  // namespace
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -11,15 +11,15 @@
 #include "strategic/prolog_mission.h"
 #include "strategic/prolog_mission_test_support.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
-using testing_support::PrologMission;
+using prolog_mission_testing::PrologMissionTest;
 
 // The messages of a load that must fail, one per line.
 std::string failed_load(const std::string& path, const LoadLimits& limits) {
-  std::vector<Message> messages;
-  auto m = Mission::load(path, tactical::Catalogue::builtin(), messages, limits);
+  std::vector<PrologMessage> messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages, limits);
   EXPECT_FALSE(m.ok()) << "the rules loaded";
   std::string text;
   for (const auto& msg : messages) text += format_message(msg) + "\n";
@@ -42,7 +42,7 @@ LoadLimits two_seconds() {
 // Regression: SWI-Prolog 9.0.4 loads a file named by its path inside
 // sig_atomic/1, so the wall-clock limit did not reach a directive that
 // computed within its inference budget (82 s for `strata check`).
-// The limit stops the load; it names the directive when the interrupt lands
+// The limit stops the load; it names the directive when the prolog::interrupt lands
 // in it, as it does here. Under ThreadSanitizer on a loaded machine it once
 // landed only as the load ended (SWI handles it at its next safe point), and
 // was reported for the whole load: also a stop, so also accepted.
@@ -51,19 +51,19 @@ bool stopped_by_the_limit(const std::string& text, const std::string& located) {
          text.find("m.pl: error: loading and checking took longer than their time limit") != std::string::npos;
 }
 
-TEST_F(PrologMission, load_time_limit_reaches_a_directive_that_computes) {
+TEST_F(PrologMissionTest, load_time_limit_reaches_a_directive_that_computes) {
   const std::string text =
       failed_load(rules_.write("m.pl", std::string("mission :- true.\n") + kSlowDirective), two_seconds());
   EXPECT_TRUE(stopped_by_the_limit(text, "m.pl:2: error: loading took longer than its time limit")) << text;
 }
 
-TEST_F(PrologMission, load_time_limit_reaches_a_directive_of_a_consulted_file) {
+TEST_F(PrologMissionTest, load_time_limit_reaches_a_directive_of_a_consulted_file) {
   rules_.write("helper.pl", std::string("p.\n") + kSlowDirective);
   const std::string text = failed_load(rules_.write("m.pl", "mission :- true.\n:- consult(helper).\n"), two_seconds());
   EXPECT_TRUE(stopped_by_the_limit(text, "helper.pl:2: error: loading took longer than its time limit")) << text;
 }
 
-TEST_F(PrologMission, a_rule_file_over_the_size_limit_is_not_read) {
+TEST_F(PrologMissionTest, a_rule_file_over_the_size_limit_is_not_read) {
   LoadLimits limits;
   limits.max_bytes = 100;
   const std::string text =
@@ -71,7 +71,7 @@ TEST_F(PrologMission, a_rule_file_over_the_size_limit_is_not_read) {
   EXPECT_NE(text.find("m.pl: error: the file is over the limit of 100 bytes for rules"), std::string::npos) << text;
 }
 
-TEST_F(PrologMission, a_consulted_file_over_the_size_limit_is_refused_at_the_consult) {
+TEST_F(PrologMissionTest, a_consulted_file_over_the_size_limit_is_refused_at_the_consult) {
   LoadLimits limits;
   limits.max_bytes = 100;
   rules_.write("helper.pl", "% " + std::string(200, 'x') + "\np.\n");
@@ -81,7 +81,7 @@ TEST_F(PrologMission, a_consulted_file_over_the_size_limit_is_refused_at_the_con
 }
 
 // Without a writer, opening a FIFO for reading waits for ever.
-TEST_F(PrologMission, a_consulted_or_included_fifo_is_refused_not_waited_on) {
+TEST_F(PrologMissionTest, a_consulted_or_included_fifo_is_refused_not_waited_on) {
   ASSERT_EQ(::mkfifo((rules_.dir() / "pipe.pl").c_str(), 0600), 0);
   for (const std::string directive : {"consult(pipe)", "ensure_loaded(pipe)", "include(pipe)", "[pipe]"}) {
     const std::string text =
@@ -91,7 +91,7 @@ TEST_F(PrologMission, a_consulted_or_included_fifo_is_refused_not_waited_on) {
   }
 }
 
-TEST_F(PrologMission, an_included_file_outside_the_missions_folders_is_refused) {
+TEST_F(PrologMissionTest, an_included_file_outside_the_missions_folders_is_refused) {
   const std::string text =
       failed_load(rules_.write("missions/tank/m.pl", "mission :- true.\n:- include('/etc/hostname').\n"), LoadLimits{});
   EXPECT_NE(text.find("a mission loads only .pl files in its folder"), std::string::npos) << text;
@@ -99,14 +99,14 @@ TEST_F(PrologMission, an_included_file_outside_the_missions_folders_is_refused) 
 
 // Regression: the folder check compared prefixes, so /x/missions_evil was
 // taken for a folder beside /x/missions/tank.
-TEST_F(PrologMission, a_folder_whose_name_extends_the_missions_folder_is_outside_it) {
+TEST_F(PrologMissionTest, a_folder_whose_name_extends_the_missions_folder_is_outside_it) {
   rules_.write("missions_evil/h.pl", "p.\n");
   const std::string text = failed_load(
       rules_.write("missions/tank/m.pl", "mission :- p.\n:- consult('../../missions_evil/h').\n"), LoadLimits{});
   EXPECT_NE(text.find("a mission loads only .pl files in its folder"), std::string::npos) << text;
 }
 
-TEST_F(PrologMission, a_file_in_a_folder_beside_the_missions_folder_loads) {
+TEST_F(PrologMissionTest, a_file_in_a_folder_beside_the_missions_folder_loads) {
   rules_.write("missions/common/h.pl", "p.\n");
   auto m = load_ok(rules_.write("missions/tank/m.pl", "mission :- p.\n:- consult('../common/h').\n"));
   EXPECT_TRUE(m);
@@ -117,27 +117,27 @@ TEST_F(PrologMission, a_file_in_a_folder_beside_the_missions_folder_loads) {
 // by a quote when the clause's buffer had just grown; prolog_fuzz found it.
 // Any such digit-quote outside quoted text and comments is refused, with its
 // place, before the reader sees the file.
-TEST_F(PrologMission, reader_use_after_free_input_is_refused_before_it_is_read) {
+TEST_F(PrologMissionTest, reader_use_after_free_input_is_refused_before_it_is_read) {
   const std::string text =
       failed_load(std::string(STRATA_SOURCE_DIR) + "/fuzz/known/swi_9_0_4_reader_use_after_free.pl", LoadLimits{});
   EXPECT_NE(text.find("a digit followed by a quote"), std::string::npos) << text;
   EXPECT_NE(text.find("swi_9_0_4_reader_use_after_free.pl:"), std::string::npos) << text;
 }
 
-TEST_F(PrologMission, a_character_code_or_a_radix_number_is_refused_at_its_place) {
+TEST_F(PrologMissionTest, a_character_code_or_a_radix_number_is_refused_at_its_place) {
   std::string text = failed_load(rules_.write("m.pl", "mission :- true.\np(X) :-\n    X = 0'a.\n"), LoadLimits{});
   EXPECT_NE(text.find("m.pl:3:9: error: a digit followed by a quote"), std::string::npos) << text;
   text = failed_load(rules_.write("n.pl", "mission :- X = 16'FF, X > 0.\n"), LoadLimits{});
   EXPECT_NE(text.find("n.pl:1:17: error: a digit followed by a quote"), std::string::npos) << text;
 }
 
-TEST_F(PrologMission, a_character_code_in_a_consulted_file_is_refused_at_the_consult) {
+TEST_F(PrologMissionTest, a_character_code_in_a_consulted_file_is_refused_at_the_consult) {
   rules_.write("helper.pl", "p.\nq(X) :- X = 0'a.\n");
   const std::string text = failed_load(rules_.write("m.pl", "mission :- p.\n:- consult(helper).\n"), LoadLimits{});
   EXPECT_NE(text.find("helper.pl`: 2:13: a digit followed by a quote"), std::string::npos) << text;
 }
 
-TEST_F(PrologMission, a_digit_and_a_quote_in_quoted_text_or_a_comment_load) {
+TEST_F(PrologMissionTest, a_digit_and_a_quote_in_quoted_text_or_a_comment_load) {
   auto m = load_ok(rules_.write("m.pl",
                                 "% the 10's of metres\n/* 0'a */\n"
                                 "mission :- report('depth 10'), X = \"it's 20'\", atom(X) ; true.\n"
@@ -145,7 +145,7 @@ TEST_F(PrologMission, a_digit_and_a_quote_in_quoted_text_or_a_comment_load) {
   EXPECT_TRUE(m);
 }
 
-TEST_F(PrologMission, a_quasi_quotation_and_a_comment_glued_to_an_operator_are_refused) {
+TEST_F(PrologMissionTest, a_quasi_quotation_and_a_comment_glued_to_an_operator_are_refused) {
   std::string text = failed_load(rules_.write("m.pl", "mission :- X = {|x||y|}, atom(X).\n"), LoadLimits{});
   EXPECT_NE(text.find("`||`"), std::string::npos) << text;
   text = failed_load(rules_.write("n.pl", "mission :- X =/* c */ 1, X > 0.\n"), LoadLimits{});
@@ -157,7 +157,7 @@ TEST_F(PrologMission, a_quasi_quotation_and_a_comment_glued_to_an_operator_are_r
 // The same reader bug reached at run time: text a mission builds and
 // parses (term_to_atom/2 found it at 504 characters) cannot be scanned, so
 // the predicates that parse text as a term are refused by the check.
-TEST_F(PrologMission, parsing_text_as_a_term_is_refused_by_the_check) {
+TEST_F(PrologMissionTest, parsing_text_as_a_term_is_refused_by_the_check) {
   for (const std::string call : {"term_to_atom(T, A)", "atom_to_term(A, T, _)", "term_string(T, A)"}) {
     const std::string text = failed_load(
         rules_.write("m.pl", "mission :- atom_concat(p, '(1)', A),\n    " + call + ", write(T).\n"), LoadLimits{});
@@ -170,4 +170,4 @@ TEST_F(PrologMission, parsing_text_as_a_term_is_refused_by_the_check) {
 }
 
 }  // namespace
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -12,7 +12,7 @@
 
 #include "strategic/prolog_mission.h"
 
-namespace strata::prolog::testing_support {
+namespace strata::strategic::prolog_mission_testing {
 
 namespace fs = std::filesystem;
 
@@ -39,7 +39,7 @@ class Rules {
 };
 
 // Answers every call with the next scripted answer and records what happened.
-class ScriptedHost final : public Host {
+class ScriptedHost final : public PrologHost {
  public:
   std::vector<int> answers;
   std::size_t next_answer = 0;
@@ -68,27 +68,27 @@ class ScriptedHost final : public Host {
   }
 };
 
-class PrologMission : public ::testing::Test {
+class PrologMissionTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { ASSERT_TRUE(initialise().ok()); }
+  static void SetUpTestSuite() { ASSERT_TRUE(prolog::initialise().ok()); }
 
-  std::unique_ptr<Mission> load_ok(const std::string& path) {
-    std::vector<Message> messages;
-    auto m = Mission::load(path, tactical::Catalogue::builtin(), messages);
+  std::unique_ptr<PrologMission> load_ok(const std::string& path) {
+    std::vector<PrologMessage> messages;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
     for (const auto& msg : messages) ADD_FAILURE() << format_message(msg);
     if (!m) ADD_FAILURE() << m.error().message;
     return m ? std::move(m.value()) : nullptr;
   }
 
   // Runs the query to its end, counting yields (bounded).
-  static Query::Status run(MissionQuery& q, int max_yields = 1000) {
-    Query::Status s;
+  static prolog::Query::Status run(PrologMissionQuery& q, int max_yields = 1000) {
+    prolog::Query::Status s;
     int yields = 0;
-    while ((s = q.next()) == Query::Status::Yield && ++yields < max_yields) {}
+    while ((s = q.next()) == prolog::Query::Status::Yield && ++yields < max_yields) {}
     return s;
   }
 
   Rules rules_;
 };
 
-}  // namespace strata::prolog::testing_support
+}  // namespace strata::strategic::prolog_mission_testing

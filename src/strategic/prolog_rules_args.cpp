@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
 bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
@@ -246,4 +246,4 @@ std::vector<RulesScanProblem> scan_unavailable_primitives(std::string_view text,
   return Scanner(text, catalogue, level).run();
 }
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

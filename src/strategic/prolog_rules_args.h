@@ -15,7 +15,7 @@
 #include "tactical/catalogue.h"
 #include "tactical/execution_level.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 
 // Every literal number given to exec_<name>(...) or ask_<name>(...) (a
 // primitive of that kind in catalogue) outside the range of its argument,
@@ -32,4 +32,4 @@ std::vector<RulesScanProblem> scan_primitive_arguments(std::string_view text, co
 std::vector<RulesScanProblem> scan_unavailable_primitives(std::string_view text, const tactical::Catalogue& catalogue,
                                                           tactical::ExecutionLevel level);
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

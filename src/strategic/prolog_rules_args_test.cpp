@@ -12,10 +12,10 @@
 #include "strategic/prolog_mission.h"
 #include "strategic/prolog_mission_test_support.h"
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
-using testing_support::PrologMission;
+using prolog_mission_testing::PrologMissionTest;
 
 std::vector<std::string> found(std::string_view text) {
   std::vector<std::string> out;
@@ -64,13 +64,13 @@ TEST(RulesArguments, ACallInsideAnotherCallsArgumentsIsChecked) {
             found("m :- findall(X, exec_heading(361, X), _)."));
 }
 
-TEST_F(PrologMission, check_reports_a_literal_out_of_range_with_its_place) {
+TEST_F(PrologMissionTest, check_reports_a_literal_out_of_range_with_its_place) {
   const std::string path = rules_.write("m.pl",
                                         "mission :-\n"
                                         "    exec_heading(400, X),\n"
                                         "    X == 1.\n");
-  std::vector<Message> messages;
-  auto m = Mission::load(path, tactical::Catalogue::builtin(), messages);
+  std::vector<PrologMessage> messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
   EXPECT_FALSE(m.ok());
   ASSERT_EQ(1u, messages.size());
   EXPECT_EQ(path +
@@ -115,7 +115,7 @@ TEST(RulesExecutionLevel, WhatIsNoCallOfAPrimitiveIsLeftAlone) {
                   .empty());
 }
 
-TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_calls_at_their_place_in_every_file) {
+TEST_F(PrologMissionTest, check_for_an_imc_vehicle_refuses_calls_at_their_place_in_every_file) {
   rules_.write("search.pl",
                "% the search, consulted: the sonar's start passes, set_sway is refused\n"
                "search(X) :-\n"
@@ -125,9 +125,9 @@ TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_calls_at_their_place_in_e
                                         "mission :-\n"
                                         "    search(X),\n"
                                         "    ask_target_detected(X).\n");
-  std::vector<Message> messages;
-  auto m =
-      Mission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::No, tactical::ExecutionLevel::Imc);
+  std::vector<PrologMessage> messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::No,
+                               tactical::ExecutionLevel::Imc);
   EXPECT_FALSE(m.ok());
   std::vector<std::string> got;
   for (const auto& message : messages) {
@@ -141,9 +141,9 @@ TEST_F(PrologMission, check_for_an_imc_vehicle_refuses_calls_at_their_place_in_e
             got);
   // The same rules for the Phoenix protocol (the default): clean.
   messages.clear();
-  EXPECT_TRUE(Mission::load(path, tactical::Catalogue::builtin(), messages).ok());
+  EXPECT_TRUE(PrologMission::load(path, tactical::Catalogue::builtin(), messages).ok());
   EXPECT_TRUE(messages.empty());
 }
 
 }  // namespace
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-namespace strata::prolog {
+namespace strata::strategic {
 
 // What SWI-Prolog's reader should not be given. It parses nested brackets
 // by C recursion (about 20,000 levels overran the C stack before the engine
@@ -105,4 +105,4 @@ std::optional<RulesScanProblem> scan_rules_text(std::string_view text) {
   return std::nullopt;
 }
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-namespace strata::prolog {
+namespace strata::strategic {
 
 struct RulesScanProblem {
   std::size_t line = 0;    // from 1
@@ -21,4 +21,4 @@ struct RulesScanProblem {
 // symbol character.
 std::optional<RulesScanProblem> scan_rules_text(std::string_view text);
 
-}  // namespace strata::prolog
+}  // namespace strata::strategic

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-namespace strata::prolog {
+namespace strata::strategic {
 namespace {
 
 std::string where(std::string_view text) {
@@ -55,4 +55,4 @@ TEST(RulesScan, DeepNestingAndLongLinesAreRefused) {
 }
 
 }  // namespace
-}  // namespace strata::prolog
+}  // namespace strata::strategic

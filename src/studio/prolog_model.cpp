@@ -34,10 +34,10 @@ json prolog_model(const Sandbox& sandbox, const tactical::Catalogue& catalogue, 
   model["etag"] = etag;
   // The rules checked as `strata check` does, on the process's PROLOG
   // thread; while a PROLOG run holds it, the text comes without a check.
-  std::vector<prolog::Message> messages;
+  std::vector<strategic::PrologMessage> messages;
   const std::string absolute = (sandbox.root() / relative).string();
   const bool checked = PrologThread::instance().try_run([&] {
-    auto loaded = prolog::Mission::load(absolute, catalogue, messages);
+    auto loaded = strategic::PrologMission::load(absolute, catalogue, messages);
     if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message, ""});
   });
   if (!checked) {
