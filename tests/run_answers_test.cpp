@@ -52,9 +52,8 @@ TEST(RunAnswers, AVerifyCounterexampleRunsDownItsPathInTheLog) {
   // What `strata verify stuck_mission.coral --witness-out FILE` does.
   auto catalogue = run::load_catalogue_option("");
   ASSERT_TRUE(catalogue.ok());
-  std::ostringstream load_err;
-  run::CoralLoad load = run::load_coral_file(kStuckMission, catalogue.value(), load_err, "test");
-  ASSERT_TRUE(load.program) << load_err.str();
+  run::CoralLoad load = run::load_coral_file(kStuckMission, catalogue.value());
+  ASSERT_TRUE(load.program) << load.diagnostics_json().dump();
   const coral::VerifyReport report = coral::verify_program(*load.program);
   const std::string witness = dir.file("stuck.json");
   ASSERT_EQ(0, write_report_witness(report, kStuckMission, "", witness));

@@ -116,12 +116,12 @@ std::string shell_quote(const std::string& s) {
 // Times from the vehicle's clock, to the microsecond: 3.4, not 3.4000000000000004.
 double tidy_s(double t) { return std::round(t * 1e6) / 1e6; }
 
-// The last line of what the run said on err: why it did not start.
-std::string last_line(const std::string& text) {
-  std::string t = text;
-  while (!t.empty() && t.back() == '\n') t.pop_back();
-  const auto nl = t.rfind('\n');
-  std::string line = nl == std::string::npos ? t : t.substr(nl + 1);
+// Why a case's run did not start, in the campaign's words: the input and
+// the run's message, at most 500 bytes.
+std::string not_started_reason(const run::RunReport& report) {
+  if (!report.error) return "the run did not start";
+  const run::Error& e = *report.error;
+  std::string line = e.input.empty() ? e.message : e.input + ": " + e.message;
   if (line.size() > 500) line.resize(500);
   return line;
 }
@@ -152,11 +152,11 @@ std::vector<ScriptedExecFailure> scripted_exec_failures(const std::string& log) 
 }
 
 Observation observe(const run::RunReport& report, const CaseWatcher& watcher, const Case& c, double surface_depth_m,
-                    const std::string& err, const std::vector<ScriptedExecFailure>& scripted_failures) {
+                    const std::vector<ScriptedExecFailure>& scripted_failures) {
   Observation o;
   if (!report.result) {
     o.outcome = "error";
-    o.reason = last_line(err);
+    o.reason = not_started_reason(report);
     return o;
   }
   const strategic::MissionResult& r = *report.result;
@@ -277,12 +277,11 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   const vehicle::VehicleParams params = case_params(spec, c);
   const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
   CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
-  std::ostringstream err;
   run::RunSession session(std::move(o));
   session.add_observer(watcher);
-  const run::RunReport report = session.run(err);
+  const run::RunReport report = session.run();
   const Observation seen =
-      observe(report, watcher, c, surface_depth_m, err.str(),
+      observe(report, watcher, c, surface_depth_m,
               family.answers.empty() ? std::vector<ScriptedExecFailure>{} : scripted_exec_failures(log.str()));
 
   nlohmann::ordered_json j = result_line(spec, c, seen);

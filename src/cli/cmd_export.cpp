@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/run_problems.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "cli/mission_files.h"
@@ -50,8 +51,8 @@ int run_export(const ExportOptions& o) {
     std::cerr << "strata export: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value(), std::cerr, "strata export");
-  if (!load.program) return load.exit_code;
+  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value());
+  if (int code = print_coral_load(std::cerr, load, "strata export"); code != kExitOk) return code;
   const coral::Program& program = *load.program;
 
   std::vector<const coral::CompiledNet*> nets;

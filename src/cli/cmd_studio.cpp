@@ -17,6 +17,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/console.h"
+#include "cli/run_problems.h"
 #include "cli/signal_watcher.h"
 #include "cli/studio_serve.h"
 #include "cli/user_config.h"
@@ -203,8 +204,10 @@ RunReport serve_studio_run(RunOptions options, const std::string& host, std::uin
       const std::string name = signal_name(signal);
       runner.stop(name, "interrupted by " + name, kExitSignalBase + signal);
     });
-    report = runner.run_here(request, options, {&console}, err);
+    report = runner.run_here(request, options, {&console},
+                             [&](const run::LoadedMission& loaded) { print_load_findings(err, loaded, options); });
   }
+  print_run_errors(err, report);
   out << run::summary_text(report);
   if (wait.seconds ? *wait.seconds > 0 : wait.terminal) {
     const sigset_t stop_signals = block_stop_signals();

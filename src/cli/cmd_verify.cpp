@@ -18,6 +18,7 @@
 #include "cli/validators.h"
 #include "cli/verbosity.h"
 #include "cli/commands.h"
+#include "cli/run_problems.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "cli/verify_question.h"
@@ -202,10 +203,10 @@ int run_verify_mission(const VerifyOptions& o) {
     if (json) print_unverified_json(catalogue.error().message, nullptr);
     return exit_code_for_input(catalogue.error());
   }
-  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value(), std::cerr, "strata verify");
-  if (!load.program) {
-    if (json) print_unverified_json("the mission does not compile", load.diagnostics);
-    return load.exit_code;
+  run::CoralLoad load = run::load_coral_file(o.mission, catalogue.value());
+  if (int code = print_coral_load(std::cerr, load, "strata verify"); code != kExitOk) {
+    if (json) print_unverified_json("the mission does not compile", load.diagnostics_json());
+    return code;
   }
   coral::VerifyOptions vo;
   vo.max_states = o.max_states;
@@ -215,7 +216,7 @@ int run_verify_mission(const VerifyOptions& o) {
   const coral::VerifyReport report = coral::verify_program(*load.program, vo);
   if (json) {
     nlohmann::ordered_json j = coral::verify_json(report);
-    j["diagnostics"] = load.diagnostics;  // warnings
+    j["diagnostics"] = load.diagnostics_json();  // warnings
     std::cout << j.dump(2) << "\n";
   } else {
     const std::string text = coral::verify_text(report);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "cli/console.h"
+#include "cli/run_problems.h"
 #include "cli/signal_watcher.h"
 #include "core/exit_codes.h"
 
@@ -24,8 +25,13 @@ RunReport run_mission(const RunOptions& options, std::ostream& out, std::ostream
   for (run::RunObserver* o : console_options.observers) session.add_observer(*o);
   std::optional<SignalWatcher> signals;
   if (console_options.handle_signals) signals.emplace([&session](int signal) { stop_on_signal(session, signal); });
-  RunReport report = session.run(err);
+  // What the mission text holds (warnings too) is printed before anything
+  // moves; why the run cannot start, after run() says so.
+  (void)session.load();
+  print_load_findings(err, session.loaded(), options);
+  RunReport report = session.run();
   signals.reset();
+  print_run_errors(err, report);
   if (console_options.json) {
     out << run::summary_json(report).dump(2) << "\n";
   } else {

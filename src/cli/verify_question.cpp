@@ -16,6 +16,7 @@
 #include "cli/exit_codes.h"
 #include "cli/witness_out.h"
 #include "coral/verify_question.h"
+#include "cli/run_problems.h"
 #include "run/coral_load.h"
 #include "core/file.h"
 #include "petri/pnml.h"
@@ -304,8 +305,8 @@ int run_mission_question(const std::string& mission, const std::string& catalogu
     std::cerr << "strata verify: " << catalogue.error().message << "\n";
     return exit_code_for_input(catalogue.error());
   }
-  run::CoralLoad load = run::load_coral_file(mission, catalogue.value(), std::cerr, "strata verify");
-  if (!load.program) return load.exit_code;
+  run::CoralLoad load = run::load_coral_file(mission, catalogue.value());
+  if (int code = print_coral_load(std::cerr, load, "strata verify"); code != kExitOk) return code;
   petri::QuestionOptions qo = question_options(f, limits);
   auto an = coral::question_analysis_net(*load.program, f.net, qo);
   if (!an) {

@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 
-#include "core/exit_codes.h"
 #include "core/file.h"
 #include "coral/verify_report.h"
 #include "run/coral_load.h"
@@ -51,52 +50,56 @@ class ReaderFileProvider final : public coral::FileProvider {
   const RunOptions& o_;
 };
 
-// Compiles the mission; diagnostics (warnings too) go to err.
-int load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded, std::ostream& err) {
+using Loaded = core::Result<void, Error>;
+
+// Compiles the mission; its diagnostics (warnings too) are kept in `loaded`.
+Loaded load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded) {
   std::optional<ReaderFileProvider> reader;
   if (o.read_file) reader.emplace(o);
   // Checked for the vehicle it is to run on: an IMC vehicle's refusals
   // stop the run here, before anything starts.
-  CoralLoad load = load_coral_file(path, loaded.catalogue, err, "strata run", "; not running",
-                                   reader ? &*reader : nullptr, tactical::execution_level_of(o.vehicle));
-  if (!load.program) return load.exit_code;
-  if (!load.program->mission) {
-    err << fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)\n", path);
-    return kExitInvalid;
-  }
+  CoralLoad load =
+      load_coral_file(path, loaded.catalogue, reader ? &*reader : nullptr, tactical::execution_level_of(o.vehicle));
+  std::optional<Error> failed = load.error();
+  loaded.diagnostics = std::move(load.diagnostics);
   loaded.sources = std::move(load.sources);
+  if (failed) {
+    failed->message += "; not running";
+    return *failed;
+  }
+  if (!load.program->mission) {
+    return Error{ErrorKind::Invalid, "",
+                 fmt::format("{}: error: no `mission` net to run (the file holds only phase nets)", path),
+                 Place{path, 0, 0}};
+  }
   loaded.program = std::move(load.program);
   const coral::CompiledNet& mission = loaded.program->nets[*loaded.program->mission];
   loaded.name = mission.name;
   loaded.data_path = mission.data_file;
-  return kExitOk;
+  return {};
 }
 
-// Loads and checks the rules; messages (warnings too) go to err.
-int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+// Loads and checks the rules; their messages (warnings too) are kept in `loaded`.
+Loaded load_prolog(const RunOptions& o, LoadedMission& loaded) {
   const std::string& path = o.mission;
-  std::vector<strategic::PrologMessage> messages;
-  auto rules = strategic::PrologMission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
+  auto rules = strategic::PrologMission::load(path, loaded.catalogue, loaded.rule_messages, load_limits(o.rule_load),
                                               o.keep_rules ? strategic::KeepRules::Yes : strategic::KeepRules::No,
                                               tactical::execution_level_of(o.vehicle));
-  for (const auto& m : messages) err << strategic::format_message(m) << "\n";
   if (!rules) {
-    err << "strata run: " << rules.error().message << "; not running\n";
-    return exit_code_for_input(rules.error());
+    Error e = input_error(rules.error());
+    e.message += "; not running";
+    return e;
   }
   loaded.rules = std::move(rules.value());
   loaded.name = loaded.rules->name();
   loaded.data_path = loaded.rules->data_file();
-  return kExitOk;
+  return {};
 }
 
 // The answers file read, parsed and checked against the mission.
-int load_answers(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+Loaded load_answers(const RunOptions& o, LoadedMission& loaded) {
   auto text = o.read_file ? o.read_file(o.answers) : core::read_regular_file(o.answers, kMaxAnswersFileBytes);
-  if (!text) {
-    err << "strata run: --answers: " << text.error().message << "\n";
-    return exit_code_for_input(text.error());
-  }
+  if (!text) return input_error(text.error(), "--answers");
   auto script = parse_answers(text.value(), o.answers);
   if (script) {
     if (auto checked = check_answers(script.value(), loaded.catalogue, loaded.program ? &*loaded.program : nullptr);
@@ -105,78 +108,60 @@ int load_answers(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
     }
   }
   if (!script) {
-    err << "strata run: --answers: " << script.error().message << "; not running\n";
-    return exit_code_for_input(script.error());
+    Error e = input_error(script.error(), "--answers");
+    e.message += "; not running";
+    return e;
   }
   loaded.answers = std::move(script).value();
-  return kExitOk;
+  return {};
 }
 
 // CORAL: the nets are verified before anything moves.
-int verify(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+Loaded verify(const RunOptions& o, LoadedMission& loaded) {
   coral::VerifyOptions vo;
   vo.mission_only = true;  // what this run can reach
   loaded.verification = coral::verify_program(*loaded.program, vo);
-  if (loaded.verification->ok()) {
-    // one_safe, no_dead: information, not a veto.
-    if (!loaded.verification->all_hold())
-      err << "strata run: warning:\n" << coral::verify_failures_text(*loaded.verification);
-    return kExitOk;
-  }
-  err << coral::verify_failures_text(*loaded.verification);
-  if (!o.unverified && o.answers.empty()) {
-    err << fmt::format(
-        "strata run: {} fails verification; not running (`strata verify {}` shows every "
-        "property; --unverified runs it anyway, and its log records that)\n",
-        o.mission, o.mission);
-    return kExitInvalid;
-  }
-  err << (o.unverified ? "strata run: warning: running a mission that fails verification (--unverified)\n"
-                       : "strata run: warning: running a mission that fails verification, to follow the answers "
-                         "of --answers\n");
-  return kExitOk;
+  if (loaded.verification->ok() || o.unverified || !o.answers.empty()) return {};
+  return Error{ErrorKind::FailsVerification, "",
+               fmt::format("{} fails verification; not running (`strata verify {}` shows every property; "
+                           "--unverified runs it anyway, and its log records that)",
+                           o.mission, o.mission),
+               std::nullopt};
 }
 
-int load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+Loaded load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded) {
   loaded.params = vehicle::default_params();
   if (!o.params.empty()) {
     auto p = vehicle::load_params(o.params);
-    if (!p) {
-      err << "strata run: " << p.error().message << "\n";
-      return exit_code_for_input(p.error());
-    }
+    if (!p) return input_error(p.error());
     loaded.params = p.value();
   }
   for (const auto& [name, value] : o.param_overrides) {
     if (auto r = vehicle::set_param(loaded.params, name, value); !r) {
-      err << "strata run: vehicle parameter override: " << r.error().message << "\n";
-      return kExitInvalid;
+      return Error{ErrorKind::Invalid, "vehicle parameter override", r.error().message, std::nullopt};
     }
   }
   if (!o.param_overrides.empty()) {
     if (auto r = vehicle::check_param_relations(loaded.params); !r) {
-      err << "strata run: vehicle parameter overrides: " << r.error().message << "\n";
-      return kExitInvalid;
+      return Error{ErrorKind::Invalid, "vehicle parameter overrides", r.error().message, std::nullopt};
     }
   }
   auto scenario = o.read_file ? load_scenario_through(o.read_file, o.scenario, o.mission)
                               : load_scenario_option(o.scenario, o.mission);
-  if (!scenario) {
-    err << "strata run: " << scenario.error().message << "\n";
-    return exit_code_for_input(scenario.error());
-  }
+  if (!scenario) return input_error(scenario.error());
   loaded.scenario = std::move(scenario.value());
   if (!o.vehicle.empty() && (!o.scenario.empty() || !o.params.empty() || !o.param_overrides.empty() || o.realtime)) {
-    err << "strata run: --scenario, --params and --realtime set up the embedded vehicle; with "
-           "--vehicle they belong to that vehicle's own command line\n";
-    return kExitUsage;
+    return Error{ErrorKind::Usage, "",
+                 "--scenario, --params and --realtime set up the embedded vehicle; with "
+                 "--vehicle they belong to that vehicle's own command line",
+                 std::nullopt};
   }
-  return kExitOk;
+  return {};
 }
 
-int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+Loaded load_data(const RunOptions& o, LoadedMission& loaded) {
   if (!o.data.empty()) loaded.data_path = o.data;
-  if (loaded.data_path.empty()) return kExitOk;
+  if (loaded.data_path.empty()) return {};
   const tactical::DataLimits limits{loaded.params.tank_depth_m};
   core::Result<tactical::MissionData> d = core::Error{core::ErrorCode::Internal, "not read"};
   if (o.read_file) {
@@ -187,35 +172,30 @@ int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   } else {
     d = tactical::MissionData::load(loaded.data_path, limits);
   }
-  if (!d) {
-    err << "strata run: " << d.error().message << "\n";
-    return exit_code_for_input(d.error());
-  }
+  if (!d) return input_error(d.error());
   loaded.data = std::move(d.value());
   loaded.cursor.emplace(*loaded.data);
-  return kExitOk;
+  return {};
 }
 
 }  // namespace
 
-int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
+core::Result<void, Error> load_mission(const RunOptions& o, LoadedMission& loaded) {
   const auto extension = fs::path(o.mission).extension();
   if (extension != ".coral" && extension != ".pl") {
-    err << fmt::format("strata run: '{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)\n", o.mission);
-    return kExitUsage;
+    return Error{ErrorKind::Usage, "",
+                 fmt::format("'{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)", o.mission),
+                 std::nullopt};
   }
   auto catalogue = load_catalogue_option(o.catalogue);
-  if (!catalogue) {
-    err << "strata run: " << catalogue.error().message << "\n";
-    return exit_code_for_input(catalogue.error());
-  }
+  if (!catalogue) return input_error(catalogue.error());
   loaded.catalogue = std::move(catalogue.value());
-  int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o, o.mission, loaded, err);
-  if (code == kExitOk && !o.answers.empty()) code = load_answers(o, loaded, err);
-  if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
-  if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
-  if (code == kExitOk) code = load_data(o, loaded, err);
-  return code;
+  Loaded r = extension == ".pl" ? load_prolog(o, loaded) : load_coral(o, o.mission, loaded);
+  if (r && !o.answers.empty()) r = load_answers(o, loaded);
+  if (r && loaded.program) r = verify(o, loaded);
+  if (r) r = load_vehicle_inputs(o, loaded);
+  if (r) r = load_data(o, loaded);
+  return r;
 }
 
 strategic::LoadLimits load_limits(const RuleLoadLimits& limits) {

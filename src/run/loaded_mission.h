@@ -4,16 +4,18 @@
 // checked), the vehicle's parameters and scenario, the mission data.
 #include <memory>
 #include <optional>
-#include <ostream>
+#include <vector>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "coral/program.h"
 #include "coral/verifier.h"
+#include "core/diagnostic.h"
 #include "core/source.h"
 #include "strategic/prolog_mission.h"
 #include "run/answers.h"
+#include "run/error.h"
 #include "run/options.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"
@@ -30,6 +32,10 @@ struct LoadedMission {
 
   tactical::Catalogue catalogue;
   core::SourceManager sources;
+  // What the load found in the mission text, warnings too, for the
+  // caller to print: CORAL diagnostics (in `sources`), PROLOG messages.
+  std::vector<core::Diagnostic> diagnostics;
+  std::vector<strategic::PrologMessage> rule_messages;
   std::optional<coral::Program> program;            // a .coral mission
   std::unique_ptr<strategic::PrologMission> rules;  // a .pl mission
   std::string name;                                 // the mission net's name, or the rules' file stem
@@ -38,13 +44,17 @@ struct LoadedMission {
   std::optional<tactical::DataCursor> cursor;
   vehicle::VehicleParams params;
   vehicle::Scenario scenario;
-  std::optional<coral::VerifyReport> verification;  // CORAL
-  std::optional<AnswerScript> answers;              // --answers: checked against the mission
+  // CORAL: the verification. A run goes on with a report that is not ok()
+  // only with --unverified or --answers; one that is ok() but not
+  // all_hold() is information, not a veto.
+  std::optional<coral::VerifyReport> verification;
+  std::optional<AnswerScript> answers;  // --answers: checked against the mission
 };
 
-// Loads everything the options name into `loaded`; diagnostics and problems
-// go to err. Returns 0, or the exit code (64 usage, 65 invalid, 74 unreadable).
-int load_mission(const RunOptions& options, LoadedMission& loaded, std::ostream& err);
+// Loads everything the options name into `loaded`, stopping at the first
+// problem. Nothing is printed: what the mission text holds (warnings too)
+// is in loaded.diagnostics and loaded.rule_messages either way.
+core::Result<void, Error> load_mission(const RunOptions& options, LoadedMission& loaded);
 
 // The strategic::LoadLimits of the options' limits.
 strategic::LoadLimits load_limits(const RuleLoadLimits& limits);

@@ -80,7 +80,18 @@ std::string summary_text(const RunReport& r) {
 nlohmann::json summary_json(const RunReport& r) {
   using nlohmann::json;
   json j{{"started", r.result.has_value()}, {"exit_code", r.exit_code}, {"mission", r.mission_name}};
-  if (!r.result) return j;
+  if (!r.result) {
+    if (r.error) {
+      j["error"] = {{"kind", std::string(to_string(r.error->kind))},
+                    {"input", r.error->input.empty() ? json(nullptr) : json(r.error->input)},
+                    {"message", r.error->message}};
+      if (r.error->place) {
+        j["error"]["place"] = {
+            {"file", r.error->place->file}, {"line", r.error->place->line}, {"column", r.error->place->column}};
+      }
+    }
+    return j;
+  }
   auto optional = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
   j["outcome"] = std::string(strategic::to_string(r.result->outcome));
   j["ending"] = ending_text(r);

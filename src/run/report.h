@@ -8,15 +8,22 @@
 #include <nlohmann/json.hpp>
 
 #include "protocol/message.h"
+#include "run/error.h"
 #include "strategic/executor.h"
 #include "tactical/tactical_level.h"
 
 namespace strata::run {
 
 struct RunReport {
-  int exit_code = 0;  // core/exit_codes.h: 0 only for a completed mission
+  // core/exit_codes.h: 0 only for a completed mission. For a run that never
+  // started the run library leaves it 0 and says why in `error`; its caller
+  // picks the code (cli::exit_code).
+  int exit_code = 0;
   std::string mission_name;
   std::optional<strategic::MissionResult> result;  // unset if the mission never started
+  std::optional<Error> error;                      // why it never started
+  // The mission log could not be written to its end (the run itself went on).
+  std::optional<Error> log_error;
   // What ended the run when it was not the mission itself: "SIGINT",
   // "SIGTERM", "SIGHUP", "studio", "limit"; "" otherwise.
   std::string stopped_by;

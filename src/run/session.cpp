@@ -17,7 +17,7 @@ using namespace detail;
 
 }  // namespace
 
-RunSession::RunSession(RunOptions options) : options_(std::move(options)) {}
+RunSession::RunSession(RunOptions options) : options_(std::move(options)), loaded_(std::make_unique<LoadedMission>()) {}
 RunSession::~RunSession() = default;
 
 void RunSession::add_observer(RunObserver& observer) { observers_.push_back(&observer); }
@@ -42,23 +42,28 @@ void RunSession::stop(const std::string& who, const std::string& reason, int exi
   run->interrupt(stop_->reason);
 }
 
-RunReport RunSession::run(std::ostream& err) {
-  Run run(*this, err);
+core::Result<void, Error> RunSession::load() {
+  if (!load_result_) load_result_ = load_mission(options_, *loaded_);
+  return *load_result_;
+}
+
+RunReport RunSession::run() {
+  Run run(*this);
   return run.execute();
 }
 
 RunReport RunSession::Run::execute() {
   report_.lockstep = !o_.realtime;
-  int code = load_inputs();
-  if (code == kExitOk) code = open_log();
-  if (code == kExitOk) code = open_vehicle();
-  if (code == kExitOk) {
+  Stage stage = load_inputs();
+  if (stage) stage = open_log();
+  if (stage) stage = open_vehicle();
+  if (stage) {
     std::lock_guard lock(session_.mutex_);
     session_.active_ = this;
   }
-  if (code == kExitOk) code = connect();
-  if (code == kExitOk) code = start_sonar();
-  if (code == kExitOk) {
+  if (stage) stage = connect();
+  if (stage) stage = start_sonar();
+  if (stage) {
     build_levels();
     drive();
   }
@@ -70,8 +75,8 @@ RunReport RunSession::Run::execute() {
   // request) run now, before the objects they point at go.
   io_.restart();
   io_.poll();
-  if (code != kExitOk) {
-    report_.exit_code = code;
+  if (!stage) {
+    report_.error = stage.error();
     for (RunObserver* obs : session_.observers_) obs->run_ended(report_);
     return report_;
   }
@@ -318,8 +323,7 @@ void RunSession::Run::write_end_of_log() {
   end["sim_time"] = tactical::log_time(std::max({r.sim_time_s, tactical_->sim_time_s(), sim_ ? sim_->time_s() : 0.0}));
   log_->write(end);
   if (auto s = log_->status(); !s) {
-    err_ << "strata run: the mission log is incomplete: " << s.error().message << "\n";
-    report_.exit_code = kExitIo;
+    report_.log_error = Error{ErrorKind::LogUnwritable, "", "the mission log is incomplete: " + s.error().message, {}};
   }
   report_.log_lines = log_->lines();
   log_.reset();  // closed and flushed

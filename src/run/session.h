@@ -21,11 +21,13 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/result.h"
+#include "run/error.h"
+#include "run/loaded_mission.h"
 #include "run/observer.h"
 #include "run/options.h"
 #include "run/report.h"
@@ -54,11 +56,20 @@ class RunSession {
   // Observers are told in the order added; each must outlive run().
   void add_observer(RunObserver& observer);
 
+  // Loads and checks the inputs (mission, catalogue, answers, vehicle
+  // parameters, scenario, data) and returns why the run cannot start, if it
+  // cannot. Either way loaded() then holds what was found in the mission
+  // text (warnings too), for the caller to print before the run starts.
+  // Optional: run() loads first when it was not called. Call at most once.
+  core::Result<void, Error> load();
+  // What load() loaded and found. Valid after load(), until the session goes.
+  const LoadedMission& loaded() const { return *loaded_; }
+
   // Runs the mission to its end on the calling thread and returns what
-  // happened. Problems before the mission starts (a bad mission, a file not
-  // there, a vehicle not reachable) go to err and leave report.result unset.
-  // Call once.
-  RunReport run(std::ostream& err);
+  // happened. Nothing is printed: a run that cannot start (a bad mission,
+  // a file not there, a vehicle not reachable) leaves report.result unset
+  // and says why in report.error. Call once.
+  RunReport run();
 
   // Ends the run through the safe end. `who` names the cause for the report
   // and the log ("SIGINT", "studio"), `reason` says it to people, exit_code
@@ -80,6 +91,8 @@ class RunSession {
   };
 
   RunOptions options_;
+  std::unique_ptr<LoadedMission> loaded_;
+  std::optional<core::Result<void, Error>> load_result_;  // once load() ran
   std::vector<RunObserver*> observers_;
   std::mutex mutex_;  // guards the three below
   std::optional<StopRequest> stop_;

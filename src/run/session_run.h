@@ -6,7 +6,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <ostream>
 #include <string>
 #include <vector>
 
@@ -63,11 +62,16 @@ inline bool link_error(const strategic::MissionResult& r) {
 }  // namespace detail
 
 // The objects of one run, alive inside RunSession::run(). Each stage is a
-// member function; those before the mission return an exit code (0: go on).
+// member function; those before the mission return why the run cannot start.
+using Stage = core::Result<void, Error>;
+
 class RunSession::Run {
  public:
-  Run(RunSession& session, std::ostream& err)
-      : session_(session), o_(session.options_), err_(err), wall_start_(std::chrono::steady_clock::now()) {}
+  explicit Run(RunSession& session)
+      : session_(session),
+        o_(session.options_),
+        loaded_(*session.loaded_),
+        wall_start_(std::chrono::steady_clock::now()) {}
 
   RunReport execute();
 
@@ -80,22 +84,18 @@ class RunSession::Run {
   asio::io_context& io() { return io_; }
 
  private:
-  int fail(int code) {
-    report_.exit_code = code;
-    return code;
-  }
   // Mission, catalogue, parameters, scenario, data: loaded and checked.
-  int load_inputs();
+  Stage load_inputs();
   // The mission log created, with its header and the verification.
-  int open_log();
+  Stage open_log();
   // The embedded vehicle started on a free port, or --vehicle parsed.
-  int open_vehicle();
+  Stage open_vehicle();
   // The link connected and hello answered; the vehicle's clock known.
-  int connect();
+  Stage connect();
   // The same for an IMC vehicle (--vehicle imc://HOST:PORT[/ID]).
-  int connect_imc();
+  Stage connect_imc();
   // The Sonar Manager started and connected, when a folder is given.
-  int start_sonar();
+  Stage start_sonar();
   // The Tactical level, the executor and their observers, wired.
   void build_levels();
   // The loop run until the mission and its safe end are over.
@@ -122,11 +122,10 @@ class RunSession::Run {
 
   RunSession& session_;
   const RunOptions& o_;
-  std::ostream& err_;
   std::chrono::steady_clock::time_point wall_start_;
   RunReport report_;
 
-  LoadedMission loaded_;
+  LoadedMission& loaded_;  // the session's
   std::optional<tactical::MissionLog> log_;
   asio::io_context io_;
   std::vector<std::string> vehicle_log_;

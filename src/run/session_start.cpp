@@ -12,20 +12,18 @@ namespace strata::run {
 
 using namespace detail;
 
-int RunSession::Run::load_inputs() {
-  if (auto r = load_mission(o_, loaded_, err_); r != kExitOk) return fail(r);
-  report_.mission_name = loaded_.name;
-  return kExitOk;
+Stage RunSession::Run::load_inputs() {
+  Stage loaded = session_.load();
+  if (loaded) report_.mission_name = loaded_.name;
+  return loaded;
 }
 
-int RunSession::Run::open_log() {
-  if (o_.log.empty() && !o_.log_stream) return kExitOk;
+Stage RunSession::Run::open_log() {
+  if (o_.log.empty() && !o_.log_stream) return {};
   auto opened = o_.log_stream ? tactical::MissionLog::to_stream(*o_.log_stream, run_info(o_, loaded_))
                               : tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
-  if (!opened) {
-    err_ << "strata run: cannot write the mission log: " << opened.error().message << "\n";
-    return fail(kExitIo);
-  }
+  if (!opened)
+    return Error{ErrorKind::LogUnwritable, "", "cannot write the mission log: " + opened.error().message, {}};
   log_ = std::move(opened.value());
   report_.log_path = o_.log_stream ? o_.log : log_->path();
   if (o_.seed) log_->write({{"event", "choice"}, {"seed", *o_.seed}});
@@ -37,24 +35,18 @@ int RunSession::Run::open_log() {
     log_->write(
         {{"event", "answers"}, {"file", a.path}, {"answers", a.answers.size()}, {"net", a.net}, {"from", a.from}});
   }
-  return kExitOk;
+  return {};
 }
 
-int RunSession::Run::open_vehicle() {
-  if (tactical::execution_level_of(o_.vehicle) == tactical::ExecutionLevel::Imc) return kExitOk;  // connect_imc()
+Stage RunSession::Run::open_vehicle() {
+  if (tactical::execution_level_of(o_.vehicle) == tactical::ExecutionLevel::Imc) return {};  // connect_imc()
   if (!o_.vehicle.empty()) {
     auto endpoint = parse_listen(o_.vehicle);
-    if (!endpoint) {
-      err_ << "strata run: --vehicle: " << endpoint.error().message << "\n";
-      return fail(kExitUsage);
-    }
+    if (!endpoint) return Error{ErrorKind::Usage, "--vehicle", endpoint.error().message, {}};
     link_options_.host = endpoint.value().first;
     link_options_.port = endpoint.value().second;
-    if (link_options_.port == 0) {
-      err_ << "strata run: --vehicle needs a port (HOST:PORT)\n";
-      return fail(kExitUsage);
-    }
-    return kExitOk;
+    if (link_options_.port == 0) return Error{ErrorKind::Usage, "", "--vehicle needs a port (HOST:PORT)", {}};
+    return {};
   }
   sim_.emplace(loaded_.params, loaded_.scenario);
   vehicle::ServerOptions so;
@@ -66,17 +58,16 @@ int RunSession::Run::open_vehicle() {
   so.log = [this](const std::string& line) { vehicle_log_.push_back(line); };
   server_ = std::make_unique<vehicle::VehicleServer>(io_, *sim_, so);
   if (auto r = server_->start(); !r) {
-    err_ << "strata run: cannot start the simulated vehicle: " << r.error().message << "\n";
-    return fail(kExitIo);
+    return Error{ErrorKind::VehicleUnavailable, "", "cannot start the simulated vehicle: " + r.error().message, {}};
   }
   link_options_.port = server_->port();
   // In lockstep the vehicle answers within microseconds: a second of
   // silence is a lost link, not a slow vehicle.
   if (!o_.realtime) link_options_.reply_timeout = std::chrono::milliseconds(1000);
-  return kExitOk;
+  return {};
 }
 
-int RunSession::Run::connect() {
+Stage RunSession::Run::connect() {
   if (tactical::execution_level_of(o_.vehicle) == tactical::ExecutionLevel::Imc) return connect_imc();
   link_options_.tap = o_.wire_tap;
   auto link = tactical::VehicleLink::create(io_, link_options_);
@@ -85,9 +76,10 @@ int RunSession::Run::connect() {
   link->connect([&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
   while (!welcome && io_.run_one() > 0) {}
   if (!welcome || !welcome->ok()) {
-    err_ << "strata run: " << (welcome ? welcome->error().message : std::string("the vehicle link ended before hello"))
-         << "\n";
-    return fail(kExitIo);
+    return Error{ErrorKind::VehicleUnavailable,
+                 "",
+                 welcome ? welcome->error().message : std::string("the vehicle link ended before hello"),
+                 {}};
   }
   const protocol::Welcome& w = welcome->value();
   report_.lockstep = w.clock == protocol::ClockMode::Lockstep;
@@ -103,19 +95,18 @@ int RunSession::Run::connect() {
   note(fmt::format("vehicle {} at {}:{} ({}{})", w.vehicle_name, link_options_.host, link_options_.port,
                    report_.lockstep ? "lockstep" : "wall clock",
                    o_.vehicle.empty() ? fmt::format(", embedded, scenario {}", scenario_name(o_)) : ""));
-  return kExitOk;
+  return {};
 }
 
-int RunSession::Run::connect_imc() {
+Stage RunSession::Run::connect_imc() {
   if (!o_.sonar_dir.empty()) {
-    err_ << "strata run: --sonar needs the Phoenix protocol's sonar socket; an IMC vehicle has none (docs/imc.md)\n";
-    return fail(kExitUsage);
+    return Error{ErrorKind::Usage,
+                 "",
+                 "--sonar needs the Phoenix protocol's sonar socket; an IMC vehicle has none (docs/imc.md)",
+                 {}};
   }
   auto options = tactical::parse_imc_vehicle(o_.vehicle);
-  if (!options) {
-    err_ << "strata run: --vehicle: " << options.error().message << "\n";
-    return fail(kExitUsage);
-  }
+  if (!options) return Error{ErrorKind::Usage, "--vehicle", options.error().message, {}};
   // --speed: how much faster than real time the vehicle runs (a simulated
   // one: `strata vehicle --imc --speed K`). The FollowReference timeout is
   // 10 s of the vehicle's clock on DUNE; here it is 10 wall seconds, so a
@@ -130,9 +121,10 @@ int RunSession::Run::connect_imc() {
   imc_->connect([&](core::Result<tactical::ImcVehicleInfo> v) { heard = std::move(v); });
   while (!heard && io_.run_one() > 0) {}
   if (!heard || !heard->ok()) {
-    err_ << "strata run: "
-         << (heard ? heard->error().message : std::string("the IMC link ended before the vehicle answered")) << "\n";
-    return fail(kExitIo);
+    return Error{ErrorKind::VehicleUnavailable,
+                 "",
+                 heard ? heard->error().message : std::string("the IMC link ended before the vehicle answered"),
+                 {}};
   }
   const tactical::ImcVehicleInfo& v = heard->value();
   report_.lockstep = false;
@@ -149,21 +141,18 @@ int RunSession::Run::connect_imc() {
       fmt::format("vehicle {} (IMC id 0x{:04X}) at {} (IMC over UDP, the vehicle's clock; plan '{}' started from "
                   "udp://{}:{})",
                   v.name, v.id, o_.vehicle, imc_->plan_id(), imc_->bind_address(), imc_->local_port()));
-  return kExitOk;
+  return {};
 }
 
-int RunSession::Run::start_sonar() {
-  if (o_.sonar_dir.empty()) return kExitOk;
+Stage RunSession::Run::start_sonar() {
+  if (o_.sonar_dir.empty()) return {};
   auto started =
       start_sonar_manager(o_.sonar_dir, link_options_.host, sonar_port_, io_, server_ ? server_->sonar() : nullptr);
-  if (!started) {
-    err_ << "strata run: --sonar: " << started.error().message << "\n";
-    return fail(exit_code_for_input(started.error()));
-  }
+  if (!started) return input_error(started.error(), "--sonar");
   sonar_.emplace(std::move(started).value());
   note(fmt::format("sonar manager: pid {}, scans in {}", sonar_->pid(), o_.sonar_dir));
   if (log_) log_->write({{"event", "sonar_manager"}, {"dir", o_.sonar_dir}});
-  return kExitOk;
+  return {};
 }
 
 void RunSession::Run::build_levels() {

@@ -17,6 +17,42 @@ namespace strata::studio {
 
 namespace fs = std::filesystem;
 
+std::string not_started_text(const run::LoadedMission& loaded, const run::Error& error) {
+  using run::ErrorKind;
+  std::string first;  // the first error in the mission text, placed
+  std::size_t errors = 0;
+  for (const core::Diagnostic& d : loaded.diagnostics) {
+    if (d.severity != core::Severity::Error) continue;
+    if (errors++ == 0) {
+      first = d.message;
+      if (d.span.file < loaded.sources.size()) {
+        const core::LineCol at = loaded.sources.line_col(d.span.file, d.span.offset);
+        first = fmt::format("{}:{}:{}: {}", fs::path(loaded.sources.path(d.span.file)).filename().string(), at.line,
+                            at.col, d.message);
+      }
+    }
+  }
+  for (const auto& m : loaded.rule_messages) {
+    if (!m.error) continue;
+    if (errors++ == 0) first = fmt::format("{}:{}: {}", fs::path(m.file).filename().string(), m.line, m.text);
+  }
+  const std::string more =
+      errors > 1 ? fmt::format(" (and {} more error{})", errors - 1, errors == 2 ? "" : "s") : std::string();
+  const std::string what = error.input.empty() ? error.message : error.input + ": " + error.message;
+  switch (error.kind) {
+    case ErrorKind::Invalid:
+      if (errors > 0) return fmt::format("the mission does not load: {}{}", first, more);
+      return "an input is invalid: " + what;
+    case ErrorKind::Unreadable: return "an input cannot be read: " + what;
+    case ErrorKind::FailsVerification:
+      return "the mission fails verification (the Verify panel shows which property and a witness)";
+    case ErrorKind::Usage: return "the run's settings do not go together: " + what;
+    case ErrorKind::LogUnwritable: return "the run's log cannot be written: " + what;
+    case ErrorKind::VehicleUnavailable: return "the vehicle cannot be reached: " + what;
+  }
+  return what;
+}
+
 std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc) {
   const std::time_t t = std::chrono::system_clock::to_time_t(utc);
   std::tm tm{};
@@ -87,8 +123,7 @@ core::Result<void> StudioRunner::start(const RunRequest& request) {
     // Every input the run reads itself goes through the sandbox: a file
     // swapped for a link after the server checked it is still refused.
     o.read_file = [this](const std::string& path) { return sandbox_.read_path(path); };
-    std::ostringstream err;
-    run_impl(request, o, {}, err, /*studio_log=*/true);
+    run_impl(request, o, {}, {}, /*studio_log=*/true);
     running_ = false;
   };
   if (extension == ".pl") {
@@ -113,12 +148,12 @@ void StudioRunner::stop(const std::string& who, const std::string& reason, int e
 }
 
 run::RunReport StudioRunner::run_here(const RunRequest& request, run::RunOptions o,
-                                      const std::vector<run::RunObserver*>& observers, std::ostream& err) {
-  return run_impl(request, std::move(o), observers, err, /*studio_log=*/false);
+                                      const std::vector<run::RunObserver*>& observers, const OnLoaded& on_loaded) {
+  return run_impl(request, std::move(o), observers, on_loaded, /*studio_log=*/false);
 }
 
 run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions o,
-                                      const std::vector<run::RunObserver*>& observers, std::ostream& err,
+                                      const std::vector<run::RunObserver*>& observers, const OnLoaded& on_loaded,
                                       bool studio_log) {
   RunPublisher publisher(hub_);
   const std::uint64_t run = ++runs_;
@@ -166,9 +201,10 @@ run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions
     stop_asked_ = false;
   }
   // Problems before the mission starts (it fails verification, say) reach
-  // the page as the run's end, with what strata run would print.
-  std::ostringstream problems;
-  run::RunReport report = session.run(problems);
+  // the page as the run's end, in the studio's words.
+  (void)session.load();
+  if (on_loaded) on_loaded(session.loaded());
+  run::RunReport report = session.run();
   {
     std::lock_guard lock(mutex_);
     session_ = nullptr;
@@ -182,15 +218,15 @@ run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions
       log->relative.clear();
     }
   }
-  err << problems.str();
   if (!report.result) {
     hub_.publish("run_end", {{"outcome", "failed"},
                              {"exit", ""},
-                             {"reason", problems.str()},
+                             {"reason", report.error ? not_started_text(session.loaded(), *report.error)
+                                                     : std::string("the run did not start")},
+                             {"error", report.error ? std::string(run::to_string(report.error->kind)) : "internal"},
                              {"phase", ""},
                              {"stopped_by", ""},
                              {"stop", ""},
-                             {"exit_code", report.exit_code},
                              {"final_depth_m", nullptr},
                              {"surfaced", false},
                              {"log", log ? log->relative : ""},

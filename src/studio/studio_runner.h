@@ -13,9 +13,9 @@
 // the run itself on its own thread, joined by the next start() or the
 // destructor. run_here() runs on the calling thread (`strata run --studio`).
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
-#include <ostream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -35,6 +35,11 @@ namespace strata::studio {
 // "DIR/runs/20261125T214638Z-tank.coral.jsonl" (the file's name, so the
 // runs of tank.coral and of tank.pl are told apart).
 std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc);
+
+// Why a run never started, as the page says it: "the mission does not
+// compile: tank.coral:12:9: unknown primitive 'x' (and 1 more error)", "the
+// answers file cannot be read: ...". No command names, no flags.
+std::string not_started_text(const run::LoadedMission& loaded, const run::Error& error);
 
 class StudioRunner final : public RunLauncher {
  public:
@@ -57,17 +62,22 @@ class StudioRunner final : public RunLauncher {
   // Runs started by start() get a Sonar Manager writing here ("" none).
   void set_sonar_dir(std::string dir) { sonar_dir_ = std::move(dir); }
 
+  // Called once the inputs are loaded (or failed to load), before anything
+  // moves: what the mission text holds, for a console to print.
+  using OnLoaded = std::function<void(const run::LoadedMission&)>;
+
   // The same run on the calling thread, with more observers (the console);
   // options says everything but the mission and scenario, which come from
-  // the request. Returns its report.
+  // the request. Returns its report; a run that never started says why in
+  // report.error (the page was told in the studio's words).
   run::RunReport run_here(const RunRequest& request, run::RunOptions options,
-                          const std::vector<run::RunObserver*>& observers, std::ostream& err);
+                          const std::vector<run::RunObserver*>& observers, const OnLoaded& on_loaded = {});
 
  private:
   // studio_log: the run was asked for by the page: it writes its log in
   // runs/ beside the mission.
   run::RunReport run_impl(const RunRequest& request, run::RunOptions options,
-                          const std::vector<run::RunObserver*>& observers, std::ostream& err, bool studio_log);
+                          const std::vector<run::RunObserver*>& observers, const OnLoaded& on_loaded, bool studio_log);
 
   EventHub& hub_;
   const Sandbox& sandbox_;
