@@ -125,6 +125,10 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   const auto remove_own_sonar = [&] {
     if (!o.no_sonar && o.sonar.empty()) fs::remove_all(so.sonar_dir, ec);
   };
+  // Runs started from the page: the run library on a thread of its own.
+  studio::StudioRunner runner(hub, sandbox, catalogue.value());
+  runner.set_sonar_dir(so.sonar_dir.string());
+  so.runs = &runner;
   auto server = studio::make_http_server(so, hub);
   if (!server) {
     std::cerr << "strata studio: " << server.error().message << "\n";
@@ -147,7 +151,8 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   int signal = 0;
   sigwait(&stop_signals, &signal);
   if (!quiet) std::cerr << "strata studio: stopping\n";
-  server.value()->stop();  // a run going ends through its safe end first
+  runner.abort();  // a run going ends through its safe end first
+  server.value()->stop();
   remove_own_sonar();
   return kExitOk;
 }

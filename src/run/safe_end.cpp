@@ -15,8 +15,8 @@ using CallResult = core::Result<tactical::CallOutcome>;
 
 }  // namespace
 
-SafeEnd::SafeEnd(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say)
-    : tactical_(tactical), catalogue_(catalogue), say_(std::move(say)) {}
+SafeEnd::SafeEnd(strategic::Tactics& vehicle, const tactical::Catalogue& catalogue, Say say)
+    : vehicle_(vehicle), catalogue_(catalogue), say_(std::move(say)) {}
 
 bool SafeEnd::possible() const { return catalogue_.find(kShutdownNetwork) != nullptr; }
 
@@ -37,7 +37,7 @@ void SafeEnd::run(bool link_gone, std::function<void()> done) {
     return;
   }
   // Already at the surface (or the vehicle will not say): done at once.
-  tactical_.call(kSurfaceReached, {}, [this](CallResult at_surface) {
+  vehicle_.call(kSurfaceReached, {}, [this](CallResult at_surface) {
     if (!done_) return;  // abandoned
     if (!at_surface || at_surface.value().value) {
       if (!at_surface) say_(fmt::format("ask {} failed: {}", kSurfaceReached, at_surface.error().message));
@@ -46,7 +46,7 @@ void SafeEnd::run(bool link_gone, std::function<void()> done) {
       return;
     }
     surface_commanded_ = true;
-    tactical_.call(kSurface, {}, [this](CallResult r) {
+    vehicle_.call(kSurface, {}, [this](CallResult r) {
       if (!done_) return;
       if (!r || !r.value().value) {
         say_(r ? fmt::format("exec {}: the vehicle answered 0", kSurface)
@@ -60,7 +60,7 @@ void SafeEnd::run(bool link_gone, std::function<void()> done) {
 }
 
 void SafeEnd::poll(int seconds_left) {
-  tactical_.call(kSurfaceReached, {}, [this, seconds_left](CallResult r) {
+  vehicle_.call(kSurfaceReached, {}, [this, seconds_left](CallResult r) {
     if (!done_) return;
     if (r && r.value().value) {
       surfaced_ = true;
@@ -70,7 +70,7 @@ void SafeEnd::poll(int seconds_left) {
              : fmt::format("ask {} failed: {}", kSurfaceReached, r.error().message));
       send_done();
     } else {
-      tactical_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](const CallResult& s) {
+      vehicle_.call(kSleep, {tactical::Value::of(1.0)}, [this, seconds_left](const CallResult& s) {
         if (!done_) return;
         if (!s) {
           send_done();
@@ -84,7 +84,7 @@ void SafeEnd::poll(int seconds_left) {
 
 void SafeEnd::send_done() {
   shutdown_sent_ = true;
-  tactical_.call(kShutdownNetwork, {}, [this](const CallResult& r) {
+  vehicle_.call(kShutdownNetwork, {}, [this](const CallResult& r) {
     if (!done_) return;
     if (!r) {
       shutdown_error_ = r.error().message;

@@ -12,19 +12,24 @@
 // On a lost link only the shutdown is tried: surfacing is then the vehicle's
 // own watchdog's job. abandon() (a second Ctrl-C) ends the procedure at once.
 //
+// It calls the vehicle through the Strategic level's interface
+// (strategic::Tactics): a run gives it the Tactical level itself (never the
+// scripted answers of --answers), a test a fake vehicle it answers by hand.
+//
 // Threads: one; the event loop's. The object must outlive the procedure.
 #include <functional>
 #include <string>
 
+#include "strategic/tactics.h"
 #include "tactical/catalogue.h"
-#include "tactical/tactical_level.h"
 
 namespace strata::run {
 
 class SafeEnd {
  public:
   using Say = std::function<void(const std::string&)>;
-  SafeEnd(tactical::TacticalLevel& tactical, const tactical::Catalogue& catalogue, Say say);
+  // vehicle and catalogue must outlive this object.
+  SafeEnd(strategic::Tactics& vehicle, const tactical::Catalogue& catalogue, Say say);
 
   // The catalogue has the shutdown primitive: there is something to do.
   bool possible() const;
@@ -48,7 +53,7 @@ class SafeEnd {
   void send_done();
   void finish();
 
-  tactical::TacticalLevel& tactical_;
+  strategic::Tactics& vehicle_;
   const tactical::Catalogue& catalogue_;
   Say say_;
   std::function<void()> done_;

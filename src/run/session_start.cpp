@@ -218,7 +218,8 @@ void RunSession::Run::build_levels() {
   phase_recorder_.emplace(report_.phases);
   executor_->add_observer(*phase_recorder_);
   for (RunObserver* obs : session_.observers_) executor_->add_observer(*obs);
-  safe_end_.emplace(*tactical_, loaded_.catalogue, [this](const std::string& text) { note(text); });
+  // The vehicle itself, not the scripted answers in front of it.
+  safe_end_.emplace(*tactics_, loaded_.catalogue, [this](const std::string& text) { note(text); });
   link_->on_lost([this](const core::Error& e) {
     report_.link_lost = true;
     report_.link_lost_why = e.message;

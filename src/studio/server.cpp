@@ -11,7 +11,6 @@
 #include "studio/assets.h"
 #include "studio/file_watcher.h"
 #include "studio/http_answers.h"
-#include "studio/studio_runner.h"
 
 namespace strata::studio {
 namespace {
@@ -41,11 +40,6 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
     : options_(std::move(options)), hub_(hub), sandbox_(options_.root), server_(std::make_unique<httplib::Server>()) {
   if (!options_.catalogue) options_.catalogue = &tactical::Catalogue::builtin();
   runs_ = options_.runs;
-  if (!runs_) {
-    own_runner_ = std::make_unique<StudioRunner>(hub_, sandbox_, *options_.catalogue);
-    own_runner_->set_sonar_dir(options_.sonar_dir.string());
-    runs_ = own_runner_.get();
-  }
   const int threads = options_.threads;
   // Debian's library fixes its own pool at 8 threads; an open event stream
   // holds one, so a few tabs would starve every other request.
@@ -106,7 +100,6 @@ core::Result<std::uint16_t> StudioServer::start() {
 }
 
 void StudioServer::stop() {
-  if (own_runner_) own_runner_->abort();  // a run going ends through its safe end
   if (watcher_) watcher_->stop();
   hub_.close();  // every event stream ends
   if (server_) server_->stop();

@@ -2,10 +2,10 @@
 // `strata studio`'s HTTP server (docs/studio.md): the page, the JSON API and
 // the Server-Sent Events stream of a run, on 127.0.0.1 by default.
 //
-// Runs started from the page go through a RunLauncher: by default the
-// studio's own StudioRunner (the run library on a thread of its own); tests
-// may give another. The run tells the EventHub what happens, and the hub
-// feeds every open stream.
+// Runs started from the page go through the RunLauncher its caller gives
+// (`strata studio`: a StudioRunner, the run library on a thread of its
+// own; tests: a recorder); the server never makes one. The run tells the
+// EventHub what happens, and the hub feeds every open stream.
 //
 // Threads: start() returns once the socket is bound and listening on a
 // thread of its own; requests are served by a pool of `threads` workers
@@ -37,7 +37,6 @@ struct Response;
 
 namespace strata::studio {
 
-class StudioRunner;
 class FileWatcher;
 
 class StudioServer final : public HttpServer {
@@ -75,7 +74,6 @@ class StudioServer final : public HttpServer {
   std::mutex write_mutex_;
   // The models last answered, for edits answered with a patch.
   ModelCache models_;
-  std::unique_ptr<StudioRunner> own_runner_;  // when options_.runs is null
   std::unique_ptr<FileWatcher> watcher_;
   RunLauncher* runs_ = nullptr;
   std::unique_ptr<httplib::Server> server_;

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <future>
 
+#include <fmt/format.h>
+
 #include "studio/server_test_support.h"
 
 namespace strata::studio {
@@ -81,6 +83,36 @@ TEST(StudioServerLife, AStopRightAfterTheStartEnds) {
     if (stopped.wait_for(10s) != std::future_status::ready) {
       ADD_FAILURE() << "stop() right after start() did not end within 10 s (start " << i << ")";
       std::_Exit(1);  // the listener would hold the test for ever
+    }
+  }
+  fs::remove_all(root);
+}
+
+// The server takes its runner from its caller only: without one it starts
+// no run of its own (it used to make a spare StudioRunner), and says so.
+TEST(StudioServerLife, AServerGivenNoRunnerRunsNoMissions) {
+  const fs::path root = make_temp_dir("strata_norunner");
+  ASSERT_FALSE(root.empty());
+  fs::copy(fs::path(STRATA_SOURCE_DIR) / "missions/tank", root / "tank", fs::copy_options::recursive);
+  EventHub hub;
+  StudioOptions o;
+  o.root = root;
+  o.threads = 2;
+  {
+    StudioServer server(o, hub);
+    auto port = server.start();
+    ASSERT_TRUE(port.ok()) << port.error().message;
+    httplib::Client c("127.0.0.1", port.value());
+    c.set_read_timeout(5, 0);
+    const httplib::Headers origin{{"Origin", fmt::format("http://127.0.0.1:{}", port.value())}};
+    auto run = c.Post("/api/run", origin, R"({"path": "tank/tank.coral"})", "application/json");
+    ASSERT_TRUE(run);
+    EXPECT_EQ(503, run->status) << run->body;
+    EXPECT_NE(std::string::npos, run->body.find("runs no missions")) << run->body;
+    for (const char* path : {"/api/run/stop", "/api/run/abort"}) {
+      auto r = c.Post(path, origin, "{}", "application/json");
+      ASSERT_TRUE(r) << path;
+      EXPECT_EQ(200, r->status) << path;  // nothing to stop
     }
   }
   fs::remove_all(root);

@@ -95,6 +95,7 @@ void StudioServer::run_routes(httplib::Server& s) {
                           fmt::format("'{}': its data file is outside the studio's folder; not running", *path));
       }
     }
+    if (!runs_) return send_error(res, 503, "this studio runs no missions");
     auto started = runs_->start(run);
     if (!started) {
       return send_error(res, started.error().code == core::ErrorCode::Overflow ? 409 : 400, started.error().message);
@@ -103,11 +104,11 @@ void StudioServer::run_routes(httplib::Server& s) {
   });
 
   s.Post("/api/run/stop", [this](const httplib::Request&, httplib::Response& res) {
-    runs_->stop();
+    if (runs_) runs_->stop();
     send_json(res, {{"ok", true}});
   });
   s.Post("/api/run/abort", [this](const httplib::Request&, httplib::Response& res) {
-    runs_->abort();
+    if (runs_) runs_->abort();
     send_json(res, {{"ok", true}});
   });
 

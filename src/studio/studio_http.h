@@ -56,8 +56,9 @@ struct StudioOptions {
   // one go: 25 writes a second is plenty for a page, and 20 pages cost a
   // run little.
   std::chrono::milliseconds batch{40};
-  // POST /api/run and /api/run/stop go here; null: the studio's own
-  // StudioRunner (which must then outlive nothing: the server owns it).
+  // POST /api/run, /api/run/stop and /api/run/abort go here (the caller's
+  // StudioRunner, which must outlive the server); null: this studio runs no
+  // missions, and those requests are answered 503.
   RunLauncher* runs = nullptr;
   // Where the Sonar Manager of a run writes its scans (latest.png and
   // sonar.jsonl): GET /api/sonar says what is there, and
