@@ -65,8 +65,8 @@ def a_run_is_logged_to_a_dated_file_by_default():
     r = strata(["run", "-q", TANK], XDG_STATE_HOME=state)
     logs = logs_in(os.path.join(state, "strata", "logs"))
     expect("dated", r.returncode == 0, "the run completes", r)
-    expect("dated", len(logs) == 1 and logs[0].startswith(before) and logs[0].endswith("Z-tank.jsonl"),
-           f"one dated log YYYYMMDDTHHMMSSZ-tank.jsonl, found {logs}", r)
+    expect("dated", len(logs) == 1 and logs[0].startswith(before) and logs[0].endswith("Z-tank.coral.jsonl"),
+           f"one dated log YYYYMMDDTHHMMSSZ-tank.coral.jsonl, found {logs}", r)
     expect("dated", "  log: " in r.stdout, "the summary names the log", r)
 
 
@@ -159,12 +159,12 @@ def a_planted_link_at_the_dated_name_is_never_written_through():
     now = datetime.datetime.now(datetime.timezone.utc)
     for s in range(0, 6):  # the names of this second and the next five
         stamp = (now + datetime.timedelta(seconds=s)).strftime("%Y%m%dT%H%M%SZ")
-        os.symlink(victim, os.path.join(d, f"{stamp}-tank.jsonl"))
+        os.symlink(victim, os.path.join(d, f"{stamp}-tank.coral.jsonl"))
     r = strata(["run", "-q", TANK], STRATA_LOG_DIR=d)
     expect("planted", r.returncode == 0, "the run completes", r)
     expect("planted", open(victim).read() == "untouched\n", "the link's target is untouched", r)
     real = [f for f in logs_in(d) if not os.path.islink(os.path.join(d, f))]
-    expect("planted", len(real) == 1 and real[0].endswith("-tank-2.jsonl"), f"logged beside the link: {real}", r)
+    expect("planted", len(real) == 1 and real[0].endswith("-tank.coral-2.jsonl"), f"logged beside the link: {real}", r)
 
 
 def a_mission_that_never_starts_leaves_no_empty_log():

@@ -36,13 +36,6 @@ int usage(const std::string& text) {
   return kExitUsage;
 }
 
-// A dated log of a mission that never started is not left behind empty.
-void drop_if_empty(const std::optional<std::filesystem::path>& dated_log, const RunReport& report) {
-  if (!dated_log || report.log_lines > 0) return;
-  std::error_code ec;
-  std::filesystem::remove(*dated_log, ec);
-}
-
 int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const LoadedConfig& config) {
   if (auto failed = config_failure(config, "run")) return *failed;
   const bool embedded = o.vehicle.empty() || o.vehicle == "embedded";
@@ -65,19 +58,12 @@ int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const
   // Every run is logged unless the operator says not (--no-log, or log =
   // false in the config): to a dated file under the log folder.
   const UserConfig& settings = config.config;
-  std::optional<std::filesystem::path> dated_log;
+  // The run creates it (tactical::MissionLog::open_dated), once its inputs load.
   if (options.log.empty() && !c.no_log && settings.run_log.value) {
     if (settings.run_log_dir.value.empty()) {
       std::cerr << "strata run: note: not logging this run: no log folder (set STRATA_LOG_DIR, or --log FILE)\n";
     } else {
-      auto path = create_dated_log(settings.run_log_dir.value, options.mission);
-      if (!path) {
-        std::cerr << "strata run: " << path.error().message
-                  << "\n(the default log: --log FILE puts it elsewhere, --no-log runs without one)\n";
-        return kExitIo;
-      }
-      dated_log = path.value();
-      options.log = dated_log->string();
+      options.log_dir = settings.run_log_dir.value;
     }
   }
   if (c.studio) {
@@ -94,7 +80,6 @@ int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const
     wait.terminal = isatty(STDIN_FILENO) == 1 && isatty(STDOUT_FILENO) == 1;
     const RunReport report =
         serve_studio_run(options, endpoint.value().first, endpoint.value().second, wait, std::cout, std::cerr);
-    drop_if_empty(dated_log, report);
     return report.exit_code;
   }
   ConsoleOptions console;
@@ -103,7 +88,6 @@ int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const
   console.verbosity = c.verbosity.level();
   console.json = c.format == "json";
   const RunReport report = run_mission(options, std::cout, std::cerr, console);
-  drop_if_empty(dated_log, report);
   return report.exit_code;
 }
 

@@ -46,6 +46,9 @@ void print_load_findings(std::ostream& err, const run::LoadedMission& loaded, co
 void print_run_errors(std::ostream& err, run::RunReport& report) {
   if (report.error) {
     err << error_line("strata run", *report.error) << "\n";
+    if (report.error->kind == run::ErrorKind::LogUnwritable && report.log_dated) {
+      err << "(the default log: --log FILE puts it elsewhere, --no-log runs without one)\n";
+    }
     report.exit_code = exit_code(*report.error);
   }
   if (report.log_error) {

@@ -219,34 +219,4 @@ std::string config_text(const UserConfig& c) {
   return out;
 }
 
-core::Result<fs::path> create_dated_log(const fs::path& log_dir, const std::string& mission_path) {
-  std::error_code ec;
-  fs::create_directories(log_dir, ec);
-  if (ec || !fs::is_directory(log_dir, ec)) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("{}: cannot make the log folder: {}", log_dir.string(),
-                                                             ec ? ec.message() : "not a folder"));
-  }
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
-  std::string stem = fs::path(mission_path).stem().string();
-  if (stem.empty()) stem = "run";
-  for (int n = 1; n <= 100; ++n) {
-    const fs::path path = log_dir / fmt::format("{}-{}{}.jsonl", stamp, stem, n == 1 ? "" : fmt::format("-{}", n));
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd >= 0) {
-      ::close(fd);
-      return path;
-    }
-    if (errno != EEXIST) {
-      return core::make_error(core::ErrorCode::Io, fmt::format("{}: cannot create the mission log: {}", path.string(),
-                                                               std::strerror(errno)));
-    }
-  }
-  return core::make_error(core::ErrorCode::Io, fmt::format("{}: 100 logs of '{}' in one second already; not logging",
-                                                           log_dir.string(), stem));
-}
-
 }  // namespace strata::cli

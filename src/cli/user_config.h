@@ -68,11 +68,4 @@ core::Result<UserConfig> load_user_config(const Getenv& getenv = std::getenv);
 // Every setting, one a line: "run.log_dir = "/root/..."   # from STRATA_LOG_DIR".
 std::string config_text(const UserConfig& config);
 
-// The file a run with default logging writes: LOG_DIR/YYYYMMDDTHHMMSSZ-STEM.jsonl
-// (UTC), created here with O_EXCL|O_NOFOLLOW (so an existing file or a
-// planted link is never written through; a second run in the same second
-// gets -2, -3, ...), the folder made if missing.
-core::Result<std::filesystem::path> create_dated_log(const std::filesystem::path& log_dir,
-                                                     const std::string& mission_path);
-
 }  // namespace strata::cli

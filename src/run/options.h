@@ -38,7 +38,12 @@ struct RunOptions {
   bool realtime = false;                       // the embedded vehicle on the wall clock
   double speed = 1.0;                          // with realtime: simulated seconds per wall second
   std::string vehicle;                         // HOST:PORT of a running vehicle; "" embedded
-  std::string log;                             // mission log path; "" none
+  // The mission log: this file (created, or a regular file replaced; never
+  // through a link), or else a new dated file in log_dir
+  // (tactical::dated_log_name); both "": none. The run creates it once,
+  // after the inputs load: a run that never loads leaves no file.
+  std::string log;
+  std::string log_dir;
   // The mission log written to this stream instead (the caller owns it and
   // keeps it open past run(); `log` then only names it in the report). The
   // studio opens its logs itself, inside its folder, never through a link.

@@ -66,7 +66,8 @@ struct RunReport {
   // not started or did not end), and one line on what it saw.
   std::optional<int> sonar_exit;
   std::string sonar_summary;
-  std::string log_path;  // "" none
+  std::string log_path;    // "" none
+  bool log_dated = false;  // the log was (to be) a dated one in RunOptions::log_dir
   std::uint64_t log_lines = 0;
   // With RunOptions::answers: how many of the script's answers the run used,
   // of how many, and why it left the script ("" it did not).

@@ -70,8 +70,8 @@ class RunSession::Run {
   explicit Run(RunSession& session)
       : session_(session),
         o_(session.options_),
-        loaded_(*session.loaded_),
-        wall_start_(std::chrono::steady_clock::now()) {}
+        wall_start_(std::chrono::steady_clock::now()),
+        loaded_(*session.loaded_) {}
 
   RunReport execute();
 

@@ -19,9 +19,11 @@ Stage RunSession::Run::load_inputs() {
 }
 
 Stage RunSession::Run::open_log() {
-  if (o_.log.empty() && !o_.log_stream) return {};
-  auto opened = o_.log_stream ? tactical::MissionLog::to_stream(*o_.log_stream, run_info(o_, loaded_))
-                              : tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
+  report_.log_dated = o_.log.empty() && !o_.log_dir.empty() && !o_.log_stream;
+  if (o_.log.empty() && o_.log_dir.empty() && !o_.log_stream) return {};
+  auto opened = o_.log_stream    ? tactical::MissionLog::to_stream(*o_.log_stream, run_info(o_, loaded_))
+                : o_.log.empty() ? tactical::MissionLog::open_dated(o_.log_dir, o_.mission, run_info(o_, loaded_))
+                                 : tactical::MissionLog::open(o_.log, run_info(o_, loaded_));
   if (!opened)
     return Error{ErrorKind::LogUnwritable, "", "cannot write the mission log: " + opened.error().message, {}};
   log_ = std::move(opened.value());

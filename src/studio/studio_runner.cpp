@@ -53,15 +53,9 @@ std::string not_started_text(const run::LoadedMission& loaded, const run::Error&
   return what;
 }
 
-std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc) {
-  const std::time_t t = std::chrono::system_clock::to_time_t(utc);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &tm);
-  const fs::path m(mission);
-  const std::string dir = m.parent_path().generic_string();
-  return fmt::format("{}runs/{}-{}.jsonl", dir.empty() ? "" : dir + "/", stamp, m.filename().string());
+std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc, int n) {
+  const std::string dir = fs::path(mission).parent_path().generic_string();
+  return fmt::format("{}runs/{}", dir.empty() ? "" : dir + "/", tactical::dated_log_name(mission, utc, n));
 }
 
 namespace {
@@ -74,11 +68,11 @@ struct StudioLog {
 };
 
 core::Result<StudioLog> create_log(const Sandbox& sandbox, const std::string& mission) {
-  const std::string first = run_log_name(mission, std::chrono::system_clock::now());
-  const fs::path path(first);
-  const std::string folder = path.parent_path().generic_string();
+  const auto now = std::chrono::system_clock::now();
+  const std::string first = run_log_name(mission, now);
+  const std::string folder = fs::path(first).parent_path().generic_string();
   for (int n = 1; n <= 20; ++n) {
-    const std::string name = n == 1 ? path.filename().string() : fmt::format("{}-{}.jsonl", path.stem().string(), n);
+    const std::string name = fs::path(run_log_name(mission, now, n)).filename().string();
     auto fd = sandbox.create_new(folder, name);
     if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
     if (!fd) return fd.error();

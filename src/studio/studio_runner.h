@@ -7,7 +7,7 @@
 // Every run reads its inputs through the studio's Sandbox
 // (RunOptions::read_file) and writes its mission log into a `runs/` folder
 // beside the mission, created through the Sandbox:
-// runs/YYYYMMDDTHHMMSSZ-STEM.jsonl (UTC; -2, -3... when the name is taken).
+// runs/YYYYMMDDTHHMMSSZ-FILE.jsonl (UTC; -2, -3... when the name is taken).
 //
 // Threads: start(), abort() and stop() from any thread (the HTTP workers);
 // the run itself on its own thread, joined by the next start() or the
@@ -31,10 +31,10 @@
 
 namespace strata::studio {
 
-// The name of a new log for `mission` (relative) started at `utc`:
-// "DIR/runs/20261125T214638Z-tank.coral.jsonl" (the file's name, so the
-// runs of tank.coral and of tank.pl are told apart).
-std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc);
+// The name of the n-th new log for `mission` (relative) started at `utc`:
+// "DIR/runs/20261125T214638Z-tank.coral.jsonl", the name every dated log
+// has (tactical::dated_log_name), in runs/ beside the mission.
+std::string run_log_name(const std::string& mission, std::chrono::system_clock::time_point utc, int n = 1);
 
 // Why a run never started, as the page says it: "the mission does not
 // compile: tank.coral:12:9: unknown primitive 'x' (and 1 more error)", "the

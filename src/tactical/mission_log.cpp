@@ -5,7 +5,12 @@
 #include <cmath>
 #include <cstring>
 #include <ctime>
-#include <fstream>
+#include <ext/stdio_filebuf.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include <fmt/format.h>
 
@@ -101,14 +106,87 @@ core::Result<MissionLog> MissionLog::start(MissionLog log, const RunInfo& run) {
   return log;
 }
 
-core::Result<MissionLog> MissionLog::open(const std::string& path, const RunInfo& run, WallTimeSource wall) {
-  auto file = std::make_unique<std::ofstream>(path, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!*file) {
+namespace {
+
+// An output stream over a file descriptor it owns (closed with it).
+class FdStream final : public std::ostream {
+ public:
+  explicit FdStream(int fd) : std::ostream(nullptr), buf_(fd, std::ios::out | std::ios::binary) { rdbuf(&buf_); }
+
+ private:
+  __gnu_cxx::stdio_filebuf<char> buf_;
+};
+
+// Opens path for the log: O_NOFOLLOW (a link at the name is refused),
+// O_NONBLOCK (a FIFO never blocks the open), then only a regular file is
+// kept, and emptied only then. `exclusive`: only a new file.
+core::Result<int> open_log_file(const std::string& path, bool exclusive) {
+  const int fd =
+      ::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK | (exclusive ? O_EXCL : 0), 0644);
+  if (fd < 0) {
+    const int e = errno;
+    if (e == EEXIST) return core::make_error(core::ErrorCode::Overflow, fmt::format("{}: exists", path));
     return core::make_error(core::ErrorCode::Io,
-                            fmt::format("{}: cannot create the mission log: {}", path, std::strerror(errno)));
+                            fmt::format("{}: cannot create the mission log: {}", path,
+                                        e == ELOOP ? "it is a symbolic link (not written through)" : std::strerror(e)));
   }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("{}: cannot create the mission log: not a regular file", path));
+  }
+  if ((!exclusive && ::ftruncate(fd, 0) != 0) || ::fcntl(fd, F_SETFL, 0) != 0) {
+    const int e = errno;
+    ::close(fd);
+    return core::make_error(core::ErrorCode::Io,
+                            fmt::format("{}: cannot create the mission log: {}", path, std::strerror(e)));
+  }
+  return fd;
+}
+
+}  // namespace
+
+core::Result<MissionLog> MissionLog::open(const std::string& path, const RunInfo& run, WallTimeSource wall) {
+  auto fd = open_log_file(path, /*exclusive=*/false);
+  if (!fd) return fd.error();
+  auto file = std::make_unique<FdStream>(fd.value());
   std::ostream* out = file.get();
   return start(MissionLog(std::move(file), out, path, std::move(wall)), run);
+}
+
+core::Result<MissionLog> MissionLog::open_dated(const std::string& folder, const std::string& mission,
+                                                const RunInfo& run, WallTimeSource wall) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec || !fs::is_directory(folder, ec)) {
+    return core::make_error(core::ErrorCode::Io, fmt::format("{}: cannot make the log folder: {}", folder,
+                                                             ec ? ec.message() : "not a folder"));
+  }
+  const auto now = std::chrono::system_clock::now();
+  for (int n = 1; n <= 100; ++n) {
+    const std::string path = (fs::path(folder) / dated_log_name(mission, now, n)).string();
+    auto fd = open_log_file(path, /*exclusive=*/true);
+    if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
+    if (!fd) return fd.error();
+    auto file = std::make_unique<FdStream>(fd.value());
+    std::ostream* out = file.get();
+    return start(MissionLog(std::move(file), out, path, std::move(wall)), run);
+  }
+  return core::make_error(core::ErrorCode::Io, fmt::format("{}: 100 logs of '{}' in one second already; not logging",
+                                                           folder, fs::path(mission).filename().string()));
+}
+
+std::string dated_log_name(const std::string& mission, std::chrono::system_clock::time_point utc, int n) {
+  const std::time_t t = std::chrono::system_clock::to_time_t(utc);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &tm);
+  std::string file = std::filesystem::path(mission).filename().string();
+  if (file.empty()) file = "run";
+  return n <= 1 ? fmt::format("{}-{}.jsonl", stamp, file) : fmt::format("{}-{}-{}.jsonl", stamp, file, n);
 }
 
 core::Result<MissionLog> MissionLog::to_stream(std::ostream& out, const RunInfo& run, WallTimeSource wall) {

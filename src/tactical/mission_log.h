@@ -55,10 +55,19 @@ struct RunInfo {
 
 class MissionLog {
  public:
-  // Creates (truncates) path and writes the run header. Io error if the file
-  // cannot be opened; InvalidInput if run.clock is neither lockstep nor wall.
+  // The one way a mission log file comes to be (the run calls it; the CLI
+  // and the studio only name the file or its folder). Creates path, or
+  // replaces a regular file there, and writes the run header. Never written
+  // through: a symbolic link at path, a FIFO, a device or a folder (an Io
+  // error, at once, never waiting on a FIFO). InvalidInput if run.clock is
+  // neither lockstep nor wall.
   static core::Result<MissionLog> open(const std::string& path, const RunInfo& run,
                                        WallTimeSource wall = WallTimeSource::system());
+  // A new log in `folder` (made if missing), named for the mission and the
+  // time (dated_log_name): never an existing file; -2, -3... when the name
+  // is taken, up to 100 in one second.
+  static core::Result<MissionLog> open_dated(const std::string& folder, const std::string& mission, const RunInfo& run,
+                                             WallTimeSource wall = WallTimeSource::system());
   // The same onto a stream the caller owns and keeps alive (tests).
   static core::Result<MissionLog> to_stream(std::ostream& out, const RunInfo& run,
                                             WallTimeSource wall = WallTimeSource::system());
@@ -116,6 +125,12 @@ class MissionLog {
 
 // The run header line's object (without writing it).
 nlohmann::ordered_json run_header(const RunInfo& run, std::chrono::system_clock::time_point wall_time);
+
+// The name of the n-th (1-based) new log of `mission` started at `utc`:
+// "20261125T214638Z-tank.coral.jsonl", then "...-tank.coral-2.jsonl" (UTC;
+// the mission's file name, so runs of tank.coral and tank.pl are told
+// apart). The CLI's dated logs and the studio's runs/ share it.
+std::string dated_log_name(const std::string& mission, std::chrono::system_clock::time_point utc, int n = 1);
 
 // "2024-05-01T12:34:56.123456Z"
 std::string iso8601_utc(std::chrono::system_clock::time_point t);

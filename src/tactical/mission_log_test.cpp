@@ -5,7 +5,12 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <iterator>
+#include <string>
+#include <vector>
 
 namespace strata::tactical {
 namespace {
@@ -216,6 +221,80 @@ TEST(MissionLog, AnUnwritablePathIsAnIoError) {
   auto log = MissionLog::open((dir.path() / "no" / "such" / "dir.jsonl").string(), tank_run(), fake_clock({}, 1us));
   ASSERT_FALSE(log.ok());
   EXPECT_EQ(core::ErrorCode::Io, log.error().code);
+}
+
+std::string file_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// --log FILE: a regular file there is replaced, whole.
+TEST(MissionLog, AnExistingRegularFileIsReplaced) {
+  TempDir dir;
+  const auto path = dir.path() / "old.jsonl";
+  std::ofstream(path) << std::string(5000, 'x');
+  {
+    auto log = MissionLog::open(path.string(), tank_run(), fake_clock({}, 1us));
+    ASSERT_TRUE(log.ok()) << log.error().message;
+  }
+  const std::string text = file_text(path);
+  EXPECT_EQ(std::string::npos, text.find('x'));
+  EXPECT_EQ(0u, text.find("{\"event\":\"run\""));
+}
+
+// Regression: the log was opened with an ofstream, which wrote through a
+// link planted at its name into whatever it pointed at.
+TEST(MissionLog, ALinkAtTheLogsNameIsNeverWrittenThrough) {
+  TempDir dir;
+  const auto victim = dir.path() / "victim.txt";
+  std::ofstream(victim) << "untouched\n";
+  std::filesystem::create_symlink(victim, dir.path() / "run.jsonl");
+  auto log = MissionLog::open((dir.path() / "run.jsonl").string(), tank_run(), fake_clock({}, 1us));
+  ASSERT_FALSE(log.ok());
+  EXPECT_EQ(core::ErrorCode::Io, log.error().code);
+  EXPECT_NE(std::string::npos, log.error().message.find("symbolic link")) << log.error().message;
+  EXPECT_EQ("untouched\n", file_text(victim));
+}
+
+// Regression: a FIFO at the log's name held the run at the open for ever.
+TEST(MissionLog, AFifoAtTheLogsNameIsRefusedAtOnce) {
+  TempDir dir;
+  const auto fifo = dir.path() / "run.jsonl";
+  ASSERT_EQ(0, ::mkfifo(fifo.c_str(), 0600));
+  auto log = MissionLog::open(fifo.string(), tank_run(), fake_clock({}, 1us));
+  ASSERT_FALSE(log.ok());
+  EXPECT_EQ(core::ErrorCode::Io, log.error().code);
+}
+
+TEST(MissionLog, AFolderAtTheLogsNameIsRefused) {
+  TempDir dir;
+  auto log = MissionLog::open(dir.path().string(), tank_run(), fake_clock({}, 1us));
+  ASSERT_FALSE(log.ok());
+  EXPECT_EQ(core::ErrorCode::Io, log.error().code);
+}
+
+TEST(MissionLog, ADatedLogIsAlwaysANewFileNamedForTheMissionsFile) {
+  TempDir dir;
+  const std::string folder = (dir.path() / "logs").string();  // made when missing
+  std::vector<std::string> names;
+  for (int i = 0; i < 3; ++i) {
+    auto log = MissionLog::open_dated(folder, "missions/tank/tank.coral", tank_run(), fake_clock({}, 1us));
+    ASSERT_TRUE(log.ok()) << log.error().message;
+    names.push_back(std::filesystem::path(log.value().path()).filename().string());
+  }
+  // Three in one second, unless the second turned: each a file of its own.
+  EXPECT_NE(names[0], names[1]);
+  EXPECT_NE(names[1], names[2]);
+  for (const auto& n : names) {
+    EXPECT_NE(std::string::npos, n.find("Z-tank.coral")) << n;
+    EXPECT_TRUE(n.ends_with(".jsonl")) << n;
+  }
+}
+
+TEST(MissionLog, TheDatedNameIsTheStartTimeInUtcAndTheFilesName) {
+  const auto t = std::chrono::system_clock::from_time_t(1795643198);  // 2026-11-25T21:46:38Z
+  EXPECT_EQ("20261125T214638Z-tank.coral.jsonl", dated_log_name("a/b/tank.coral", t));
+  EXPECT_EQ("20261125T214638Z-tank.pl-3.jsonl", dated_log_name("tank.pl", t, 3));
 }
 
 TEST(MissionLog, AFailedWriteIsKept) {
