@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "core/mission_language.h"
 #include "studio/mission_model.h"
 #include "studio/prolog_thread.h"
 #include "studio/run_publisher.h"
@@ -73,8 +74,8 @@ StudioRunner::~StudioRunner() {
 }
 
 core::Result<void> StudioRunner::start(const RunRequest& request) {
-  const auto extension = request.mission.extension();
-  if (extension != ".coral" && extension != ".pl") {
+  const core::MissionLanguage language = core::mission_language(request.mission.string());
+  if (language == core::MissionLanguage::None) {
     return core::Error{core::ErrorCode::InvalidInput, "the studio runs CORAL (.coral) and PROLOG (.pl) missions"};
   }
   std::lock_guard lock(mutex_);
@@ -91,7 +92,7 @@ core::Result<void> StudioRunner::start(const RunRequest& request) {
     run_impl(request, o, {}, err, /*studio_log=*/true);
     running_ = false;
   };
-  if (extension == ".pl") {
+  if (language == core::MissionLanguage::Prolog) {
     // SWI-Prolog lives on one thread of the process.
     if (!PrologThread::instance().post(job)) {
       running_ = false;
@@ -122,7 +123,7 @@ run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions
                                       bool studio_log) {
   RunPublisher publisher(hub_);
   const std::uint64_t run = ++runs_;
-  const bool prolog = request.mission.extension() == ".pl";
+  const bool prolog = core::mission_language(request.mission.string()) == core::MissionLanguage::Prolog;
   nlohmann::json nets = nlohmann::json::array();
   if (!prolog) nets = compile_mission(sandbox_, request.relative, std::nullopt, catalogue_).model["nets"];
   // The mission log: in runs/ beside the mission, created inside the folder.
