@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 
 #include "core/exit_codes.h"
+#include "core/diagnostic_printer.h"
 #include "core/file.h"
+#include "core/mission_language.h"
 #include "coral/verify_report.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
@@ -75,11 +77,12 @@ int load_coral(const RunOptions& o, const std::string& path, LoadedMission& load
 // Loads and checks the rules; messages (warnings too) go to err.
 int load_prolog(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
   const std::string& path = o.mission;
-  std::vector<strategic::PrologMessage> messages;
-  auto rules = strategic::PrologMission::load(path, loaded.catalogue, messages, load_limits(o.rule_load),
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+  auto rules = strategic::PrologMission::load(path, loaded.catalogue, sources, sink, load_limits(o.rule_load),
                                               o.keep_rules ? strategic::KeepRules::Yes : strategic::KeepRules::No,
                                               tactical::execution_level_of(o.vehicle));
-  for (const auto& m : messages) err << strategic::format_message(m) << "\n";
+  core::print_diagnostics(err, sources, sink.diagnostics());
   if (!rules) {
     err << "strata run: " << rules.error().message << "; not running\n";
     return exit_code_for_input(rules.error());
@@ -199,8 +202,8 @@ int load_data(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
 }  // namespace
 
 int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) {
-  const auto extension = fs::path(o.mission).extension();
-  if (extension != ".coral" && extension != ".pl") {
+  const core::MissionLanguage language = core::mission_language(o.mission);
+  if (language == core::MissionLanguage::None) {
     err << fmt::format("strata run: '{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)\n", o.mission);
     return kExitUsage;
   }
@@ -210,7 +213,8 @@ int load_mission(const RunOptions& o, LoadedMission& loaded, std::ostream& err) 
     return exit_code_for_input(catalogue.error());
   }
   loaded.catalogue = std::move(catalogue.value());
-  int code = extension == ".pl" ? load_prolog(o, loaded, err) : load_coral(o, o.mission, loaded, err);
+  int code =
+      language == core::MissionLanguage::Prolog ? load_prolog(o, loaded, err) : load_coral(o, o.mission, loaded, err);
   if (code == kExitOk && !o.answers.empty()) code = load_answers(o, loaded, err);
   if (code == kExitOk && loaded.program) code = verify(o, loaded, err);
   if (code == kExitOk) code = load_vehicle_inputs(o, loaded, err);
