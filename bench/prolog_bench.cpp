@@ -65,6 +65,7 @@
 #include <fmt/format.h>
 
 #include "cli/mission_run.h"
+#include "core/diagnostic_printer.h"
 #include "strategic/prolog_mission.h"
 #include "strategic/prolog_executor.h"
 #include "tactical/catalogue.h"
@@ -138,13 +139,16 @@ class LoopRules {
 // Loads rules after the first PROLOG run, or says why not.
 std::unique_ptr<strategic::PrologMission> load(const std::string& path, benchmark::State& st) {
   std::string why = first_prolog_run().error;
-  std::vector<strategic::PrologMessage> messages;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
   if (why.empty()) {
-    auto mission = strategic::PrologMission::load(path, tactical::Catalogue::builtin(), messages);
+    auto mission = strategic::PrologMission::load(path, tactical::Catalogue::builtin(), sources, sink);
     if (mission) return std::move(mission.value());
     why = mission.error().message;
   }
-  for (const auto& m : messages) why += "; " + strategic::format_message(m);
+  std::ostringstream text;
+  core::print_diagnostics(text, sources, sink.diagnostics());
+  if (!text.str().empty()) why += "\n" + text.str();
   st.SkipWithError(why.c_str());
   return nullptr;
 }

@@ -12,9 +12,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/diagnostic_printer.h"
 #include "strategic/prolog_mission.h"
 #include "tactical/catalogue.h"
 
@@ -53,12 +55,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
-  std::vector<strategic::PrologMessage> messages;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
   strategic::LoadLimits limits;
   limits.time = std::chrono::milliseconds(2000);
   limits.inferences = 2'000'000;
-  auto mission = strategic::PrologMission::load(file.string(), tactical::Catalogue::builtin(), messages, limits);
-  for (const auto& m : messages) (void)strategic::format_message(m);
+  auto mission = strategic::PrologMission::load(file.string(), tactical::Catalogue::builtin(), sources, sink, limits);
+  {
+    // Both printers, on whatever places SWI-Prolog gave.
+    std::ostringstream text;
+    core::print_diagnostics(text, sources, sink.diagnostics());
+    (void)core::dump_json(core::diagnostics_to_json(sources, sink.diagnostics()));
+  }
   if (mission) {
     Vehicle vehicle;
     strategic::PrologMissionQuery query(*mission.value(), vehicle, 1'000'000);

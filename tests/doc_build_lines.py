@@ -68,11 +68,11 @@ LINES = {
         "ctest --preset tsan": ("presets", "test:tsan", "configure:tsan"),
         "ctest --preset dev -L threads": ("ctest", "-L", "threads"),
         "cmake --preset fuzz && cmake --build --preset fuzz": ("presets", "configure:fuzz", "build:fuzz"),
-        "mkdir -p fuzz/work && cp fuzz/corpus/coral/* fuzz/work/": ("fuzz", None, "fuzz/corpus/coral"),
+        "scripts/fuzz-seeds coral fuzz/work": ("script", "scripts/fuzz-seeds"),
         "build/fuzz/fuzz/coral_fuzz -dict=fuzz/coral.dict -max_len=4096 -max_total_time=600 -rss_limit_mb=2048 "
         "fuzz/work": ("fuzz", "coral_fuzz", "fuzz/coral.dict"),
         "cmake --preset fuzz && cmake --build build/fuzz --target prolog_fuzz": ("fuzz", "prolog_fuzz"),
-        "mkdir -p fuzz/work/prolog && cp fuzz/corpus/prolog/* fuzz/work/prolog/": ("fuzz", None, "fuzz/corpus/prolog"),
+        "scripts/fuzz-seeds prolog fuzz/work/prolog": ("script", "scripts/fuzz-seeds"),
         "cd fuzz/work && ASAN_OPTIONS=detect_leaks=0:handle_segv=0:allow_user_segv_handler=1 "
         "../../build/fuzz/fuzz/prolog_fuzz -handle_usr2=0 -max_len=4096 -max_total_time=600 -timeout=20 "
         "-rss_limit_mb=3072 -artifact_prefix=$PWD/ $PWD/prolog": ("fuzz", "prolog_fuzz"),

@@ -10,6 +10,7 @@
 #include "campaign/spec_files.h"
 #include "campaign/spec_perturb.h"
 #include "core/file.h"
+#include "core/mission_language.h"
 #include "core/toml_reader.h"
 #include "run/answers.h"
 #include "vehicle/scenario.h"
@@ -123,9 +124,9 @@ class SpecReader {
       m.path = *text;
       const fs::path p(*text);
       m.resolved = (p.is_absolute() || base.empty() ? p : base / p).lexically_normal().string();
-      if (p.extension() == ".coral") {
+      if (const auto language = core::mission_language(*text); language == core::MissionLanguage::Coral) {
         m.kind = MissionKind::Coral;
-      } else if (p.extension() == ".pl") {
+      } else if (language == core::MissionLanguage::Prolog) {
         m.kind = MissionKind::Prolog;
       } else {
         errors_.add(item, fmt::format("mission '{}' is neither CORAL (.coral) nor PROLOG (.pl)", *text));

@@ -18,6 +18,7 @@
 #include "run/loaded_mission.h"
 #include "strategic/coral_catalogue.h"
 #include "core/diagnostic_printer.h"
+#include "core/mission_language.h"
 #include "tactical/execution_level.h"
 
 namespace strata::cli {
@@ -84,50 +85,36 @@ int run_check(const CheckOptions& o) {
   Report report;
   nlohmann::json files = nlohmann::json::array();
   std::vector<std::string> summaries;
-  std::size_t rule_errors = 0, rule_warnings = 0;
   bool rules_unreadable = false;
   for (const auto& file : o.files) {
-    if (auto why = not_a_mission(file, {".coral", ".pl"})) {
+    if (auto why = not_a_mission(file, {core::MissionLanguage::Coral, core::MissionLanguage::Prolog})) {
       std::cerr << "strata check: " << *why << "\n";
       return kExitUsage;
     }
   }
   for (const auto& file : o.files) {
-    if (file.ends_with(".pl")) {
+    if (core::mission_language(file) == core::MissionLanguage::Prolog) {
       // PROLOG rules: loaded and checked as `strata run` does (docs/prolog.md).
-      std::vector<strategic::PrologMessage> messages;
-      auto rules = strategic::PrologMission::load(file, catalogue.value(), messages, run::load_limits(o.rule_load),
+      core::SourceManager sources;
+      core::DiagnosticSink sink;
+      auto rules = strategic::PrologMission::load(file, catalogue.value(), sources, sink, run::load_limits(o.rule_load),
                                                   strategic::KeepRules::No, level);
-      std::size_t errors = 0, warnings = 0;
-      nlohmann::json diagnostics = nlohmann::json::array();
-      for (const auto& m : messages) {
-        (m.error ? errors : warnings) += 1;
-        if (o.format != "json") std::cerr << strategic::format_message(m) << "\n";
-        diagnostics.push_back({{"file", m.file},
-                               {"line", m.line},
-                               {"column", m.column},
-                               {"severity", m.error ? "error" : "warning"},
-                               {"message", m.text}});
-        if (!m.kind.empty()) diagnostics.back()["kind"] = m.kind;
+      if (!rules && !sink.has_errors()) {  // a file it cannot read, or no driver: nothing reported yet
+        core::Diagnostic* d =
+            sink.report(rules.error().code == core::ErrorCode::Io ? core::DiagnosticKind::FileUnreadable
+                                                                  : core::DiagnosticKind::PrologLoadError,
+                        {sources.add(file, ""), 0, 0}, rules.error().message);
+        if (d) d->precision = core::Precision::File;
       }
-      if (!rules && errors == 0) {  // the messages say why, when there are any
-        errors = 1;
-        if (o.format != "json") std::cerr << file << ": " << rules.error().message << "\n";
-        diagnostics.push_back({{"file", file}, {"severity", "error"}, {"message", rules.error().message}});
-      }
-      if (!rules) {
-        if (rules.error().code == core::ErrorCode::Io) rules_unreadable = true;
-      }
-      rule_errors += errors;
-      rule_warnings += warnings;
+      if (!rules && rules.error().code == core::ErrorCode::Io) rules_unreadable = true;
+      report.add(sources, sink);
       files.push_back(nlohmann::json{{"file", file},
                                      {"language", "prolog"},
                                      {"ok", rules.ok()},
-                                     {"errors", errors},
-                                     {"warnings", warnings},
-                                     {"diagnostics", diagnostics}});
+                                     {"errors", sink.error_count()},
+                                     {"warnings", sink.warning_count()}});
       summaries.push_back(rules ? fmt::format("{}: ok (PROLOG rules, mission {})", file, rules.value()->name())
-                                : fmt::format("{}: {}", file, plural(errors, "error")));
+                                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
       continue;
     }
     core::SourceManager sources;
@@ -141,6 +128,7 @@ int run_check(const CheckOptions& o) {
       for (const auto& n : program->nets) transitions += n.net.transition_count();
     }
     files.push_back(nlohmann::json{{"file", file},
+                                   {"language", "coral"},
                                    {"ok", program.has_value()},
                                    {"nets", nets},
                                    {"transitions", transitions},
@@ -151,10 +139,8 @@ int run_check(const CheckOptions& o) {
                 : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
   }
   if (o.format == "json") {
-    nlohmann::json out = {{"diagnostics", report.json()},
-                          {"files", files},
-                          {"errors", report.errors() + rule_errors},
-                          {"warnings", report.warnings() + rule_warnings}};
+    nlohmann::json out = {
+        {"diagnostics", report.json()}, {"files", files}, {"errors", report.errors()}, {"warnings", report.warnings()}};
     std::cout << core::dump_json(out) << "\n";
   } else {
     std::cerr << report.text();
@@ -162,23 +148,21 @@ int run_check(const CheckOptions& o) {
     if (o.verbosity.level() != Verbosity::Quiet) {
       for (const auto& s : summaries) std::cout << s << "\n";
     }
-    if (report.errors() + report.warnings() + rule_errors + rule_warnings > 0) {
-      std::cout << plural(report.errors() + rule_errors, "error") << ", "
-                << plural(report.warnings() + rule_warnings, "warning") << "\n";
+    if (report.errors() + report.warnings() > 0) {
+      std::cout << plural(report.errors(), "error") << ", " << plural(report.warnings(), "warning") << "\n";
     }
   }
-  if (rules_unreadable && !report.unreadable_root()) return kExitIo;
-  if (rule_errors > 0 && report.errors() == 0) return kExitInvalid;
+  if (rules_unreadable) return kExitIo;
   return exit_code_for(report);
 }
 
 int run_dump(const CheckOptions& o) {
-  if (o.files.front().ends_with(".pl")) {
+  if (core::mission_language(o.files.front()) == core::MissionLanguage::Prolog) {
     std::cerr << "strata dump: '" << o.files.front() << "' holds PROLOG rules, not nets: dump prints a CORAL "
               << "mission's nets (`strata check` checks rules)\n";
     return kExitUsage;
   }
-  if (auto why = not_a_mission(o.files.front(), {".coral"})) {
+  if (auto why = not_a_mission(o.files.front(), {core::MissionLanguage::Coral})) {
     std::cerr << "strata dump: " << *why << "\n";
     return kExitUsage;
   }

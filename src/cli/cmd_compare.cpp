@@ -14,6 +14,7 @@
 #include "cli/rule_load_flags.h"
 #include "cli/trace_compare.h"
 #include "cli/verbosity.h"
+#include "core/mission_language.h"
 #include "tactical/execution_level.h"
 
 namespace strata::cli {
@@ -34,7 +35,9 @@ struct CompareOptions {
   VerbosityFlags verbosity;
 };
 
-std::string language(const std::string& path) { return path.ends_with(".pl") ? "PROLOG" : "CORAL"; }
+std::string language(const std::string& path) {
+  return core::mission_language(path) == core::MissionLanguage::Prolog ? "PROLOG" : "CORAL";
+}
 
 tactical::ExecutionLevel level_of(const std::string& vehicle) { return tactical::execution_level_of(vehicle); }
 

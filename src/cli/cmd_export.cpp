@@ -13,6 +13,7 @@
 #include "cli/mission_files.h"
 #include "coral/export.h"
 #include "coral/verifier.h"
+#include "core/mission_language.h"
 
 namespace strata::cli {
 namespace {
@@ -41,7 +42,7 @@ bool write_file(const fs::path& path, const std::string& text) {
 }
 
 int run_export(const ExportOptions& o) {
-  if (!o.mission.ends_with(".coral")) {
+  if (core::mission_language(o.mission) != core::MissionLanguage::Coral) {
     std::cerr << fmt::format("strata export: '{}' is not a CORAL mission (.coral); PROLOG rules are not nets\n",
                              o.mission);
     return kExitUsage;

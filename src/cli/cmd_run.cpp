@@ -16,6 +16,7 @@
 #include "cli/studio_serve.h"
 #include "cli/user_config.h"
 #include "cli/verbosity.h"
+#include "core/mission_language.h"
 
 namespace strata::cli {
 namespace {
@@ -47,14 +48,15 @@ int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const
   if (cmd.count("--listen") > 0 && c.studio_port) return usage("give --listen alone (--studio-port is its old name)");
   if (c.studio && c.format == "json")
     return usage("--format json prints one document; --studio prints the page's address");
-  if (o.seed && o.mission.ends_with(".pl")) {
+  if (o.seed && core::mission_language(o.mission) == core::MissionLanguage::Prolog) {
     std::cerr << "strata run: note: --seed chooses among enabled CORAL transitions; PROLOG rules "
                  "try their clauses in order, so it changes nothing here\n";
   }
   if (c.no_log && !o.log.empty()) return usage("--log FILE and --no-log: give one");
   RunOptions options = o;
   if (options.vehicle == "embedded") options.vehicle.clear();
-  if (c.studio && !o.mission.ends_with(".coral")) return usage("--studio shows CORAL missions (.coral)");
+  if (c.studio && core::mission_language(o.mission) != core::MissionLanguage::Coral)
+    return usage("--studio shows CORAL missions (.coral)");
   // Every run is logged unless the operator says not (--no-log, or log =
   // false in the config): to a dated file under the log folder.
   const UserConfig& settings = config.config;

@@ -25,6 +25,7 @@
 #include "cli/witness_out.h"
 #include "coral/verify_report.h"
 #include "core/memory.h"
+#include "core/mission_language.h"
 #include "petri/explorer.h"
 #include "petri/pnml.h"
 
@@ -188,7 +189,7 @@ void print_unverified_json(const std::string& error, const nlohmann::json& diagn
 
 int run_verify_mission(const VerifyOptions& o) {
   const bool json = o.format == "json";
-  if (!o.mission.ends_with(".coral")) {
+  if (core::mission_language(o.mission) != core::MissionLanguage::Coral) {
     const std::string error = fmt::format(
         "'{}' is not a CORAL mission (.coral); PROLOG rules are not nets (`strata run` checks them at load, "
         "docs/prolog.md), and a PNML net needs --pnml",

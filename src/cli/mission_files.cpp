@@ -7,16 +7,18 @@
 
 namespace strata::cli {
 
-std::optional<std::string> not_a_mission(const std::string& path, std::initializer_list<std::string_view> extensions) {
-  const std::string ext = std::filesystem::path(path).extension().string();
+std::optional<std::string> not_a_mission(const std::string& path,
+                                         std::initializer_list<core::MissionLanguage> languages) {
+  const core::MissionLanguage language = core::mission_language(path);
   bool known = false;
   std::string wanted;
-  for (auto e : extensions) {
-    known = known || ext == e;
-    wanted +=
-        fmt::format("{}{} ({})", wanted.empty() ? "" : " or ", e, e == ".pl" ? "PROLOG rules" : "a CORAL mission");
+  for (auto l : languages) {
+    known = known || language == l;
+    wanted += fmt::format("{}{} ({})", wanted.empty() ? "" : " or ", core::mission_extension(l),
+                          l == core::MissionLanguage::Prolog ? "PROLOG rules" : "a CORAL mission");
   }
   if (!known) {
+    const std::string ext = std::filesystem::path(path).extension().string();
     std::string what = ext == ".toml"    ? " (a scenario, parameter, catalogue or mission-data file?)"
                        : ext == ".jsonl" ? " (a mission log?)"
                        : ext == ".pnml"  ? " (a P/T net: `strata verify --pnml`)"

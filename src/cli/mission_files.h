@@ -6,15 +6,17 @@
 #include <string>
 #include <string_view>
 
+#include "core/mission_language.h"
 #include "coral/program.h"
 
 namespace strata::cli {
 
-// Why `path` is not a mission file for a command that takes the given
-// extensions (".coral", ".pl"): a wrong extension (a scenario, a log), or
+// Why `path` is not a mission file for a command that takes missions in
+// the given languages: a wrong extension (a scenario, a log), or
 // bytes that are not text (a NUL in its first 4 KB). nullopt when it may
 // be; a file that cannot be opened is left to the parser's own error.
-std::optional<std::string> not_a_mission(const std::string& path, std::initializer_list<std::string_view> extensions);
+std::optional<std::string> not_a_mission(const std::string& path,
+                                         std::initializer_list<core::MissionLanguage> languages);
 
 // "tank, initialize, dive_from_surface": the program's nets, in order.
 std::string net_names(const coral::Program& program);

@@ -27,7 +27,6 @@ std::string error_line(std::string_view command, const run::Error& error) {
 
 void print_load_findings(std::ostream& err, const run::LoadedMission& loaded, const run::RunOptions& options) {
   core::print_diagnostics(err, loaded.sources, loaded.diagnostics);
-  for (const auto& m : loaded.rule_messages) err << strategic::format_message(m) << "\n";
   if (!loaded.verification) return;
   const coral::VerifyReport& v = *loaded.verification;
   if (v.ok()) {

@@ -54,14 +54,12 @@ std::string sequence_text(const petri::Net& net, const std::vector<petri::Transi
   return out;
 }
 
-// "strata verify: --question 'EF p9 >= 1': column 4: no place 'p9'" and the
-// text with a caret under the column.
-void print_text_error(const std::string& flag, const std::string& text, const std::string& message) {
-  std::cerr << fmt::format("strata verify: {} '{}': {}\n", flag, text, message);
-  std::size_t column = 0;
-  if (message.starts_with("column ")) column = std::strtoul(message.c_str() + 7, nullptr, 10);
-  if (column > 0 && text.find('\n') == std::string::npos) {
-    std::cerr << "  " << text << "\n  " << std::string(column - 1, ' ') << "^\n";
+// "strata verify: --question 'EF p9 >= 1': column 4: no place 'p9'" and,
+// for a text of one line, the text with a caret under the column.
+void print_text_error(const std::string& flag, const std::string& text, const petri::TextError& error) {
+  std::cerr << fmt::format("strata verify: {} '{}': {}\n", flag, text, error.text());
+  if (error.column > 0 && error.line == 0 && text.find('\n') == std::string::npos) {
+    std::cerr << "  " << text << "\n  " << std::string(error.column - 1, ' ') << "^\n";
   }
 }
 
@@ -114,10 +112,10 @@ int run_replay(const petri::Net& net, const std::string& header, const QuestionF
   auto seq = petri::parse_sequence(text, net);
   if (!seq) {
     if (flag == "--replay") {
-      print_text_error(flag, text, seq.error().message);
+      print_text_error(flag, text, seq.error());
       return kExitUsage;
     }
-    std::cerr << fmt::format("strata verify: {}: {}\n", f.replay_file, seq.error().message);
+    std::cerr << fmt::format("strata verify: {}: {}\n", f.replay_file, seq.error().text());
     return kExitInvalid;
   }
   petri::ReplayResult r = petri::replay(net, seq.value());
@@ -211,7 +209,7 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
   if (!f.question.empty()) {
     auto parsed = petri::parse_question(f.question, petri::net_place_resolver(net, labels));
     if (!parsed) {
-      print_text_error("--question", f.question, parsed.error().message);
+      print_text_error("--question", f.question, parsed.error());
       return kExitUsage;
     }
     q = std::move(parsed).value();

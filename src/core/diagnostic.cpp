@@ -47,13 +47,13 @@ Diagnostic* DiagnosticSink::report(DiagnosticKind kind, SourceSpan span, std::st
   if (severity == Severity::Error && errors_ >= max_errors_) {
     saturated_ = true;
     diagnostics_.push_back(
-        {Severity::Error, DiagnosticKind::TooManyErrors, span, "too many errors; stopping here", {}});
+        {Severity::Error, DiagnosticKind::TooManyErrors, span, "too many errors; stopping here", {}, Precision::Span});
     ++errors_;
     return nullptr;
   }
   if (severity == Severity::Error) ++errors_;
   if (severity == Severity::Warning) ++warnings_;
-  diagnostics_.push_back({severity, kind, span, std::move(message), {}});
+  diagnostics_.push_back({severity, kind, span, std::move(message), {}, Precision::Span});
   return &diagnostics_.back();
 }
 

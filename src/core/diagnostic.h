@@ -30,12 +30,19 @@ struct DiagnosticNote {
   std::string message;
 };
 
+// How much of its span a diagnostic knows. CORAL's know all of it; a
+// message of SWI-Prolog's may give a line without a column, or its file
+// alone (the span's offset is then the line's start, or 0). The printers
+// show no more than is known.
+enum class Precision { Span, Line, File };
+
 struct Diagnostic {
   Severity severity = Severity::Error;
   DiagnosticKind kind{};
   SourceSpan span;
   std::string message;
   std::vector<DiagnosticNote> notes;
+  Precision precision = Precision::Span;
 };
 
 // Collects diagnostics up to a limit on errors; past it, one TooManyErrors

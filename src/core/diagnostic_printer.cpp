@@ -20,17 +20,27 @@ std::string printable(std::string_view s) {
   return out;
 }
 
-// "file:line:col: ", or "strata: " for a problem that has no place in a file.
-std::string location(const SourceManager& sources, SourceSpan span) {
+// "file:line:col: " (no more than precision knows), or "strata: " for a
+// problem that has no place in a file.
+std::string location(const SourceManager& sources, SourceSpan span, Precision precision) {
   if (span.file >= sources.size()) return "strata: ";
+  if (precision == Precision::File) return fmt::format("{}: ", sources.path(span.file));
   LineCol lc = sources.line_col(span.file, span.offset);
+  if (precision == Precision::Line) return fmt::format("{}:{}: ", sources.path(span.file), lc.line);
   return fmt::format("{}:{}:{}: ", sources.path(span.file), lc.line, lc.col);
 }
 
-void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan span) {
-  if (span.file >= sources.size()) return;
+// The span's line with a caret under the span; a line without a column has
+// no caret, a file without a line no excerpt.
+void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan span, Precision precision) {
+  if (span.file >= sources.size() || precision == Precision::File) return;
   LineCol lc = sources.line_col(span.file, span.offset);
   std::string_view line = sources.line_text(span.file, lc.line);
+  if (precision == Precision::Line) {
+    if (line.size() > kMaxShownLine) line = line.substr(0, kMaxShownLine);
+    out << "   " << printable(line) << "\n";
+    return;
+  }
   std::size_t col = lc.col - 1;
   if (col > line.size()) col = line.size();
   // Long lines: show a window around the column.
@@ -52,12 +62,13 @@ void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan s
 }  // namespace
 
 void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d) {
-  out << location(sources, d.span) << severity_name(d.severity) << ": " << printable(d.message) << " ["
+  out << location(sources, d.span, d.precision) << severity_name(d.severity) << ": " << printable(d.message) << " ["
       << kind_name(d.kind) << "]\n";
-  print_excerpt(out, sources, d.span);
+  print_excerpt(out, sources, d.span, d.precision);
   for (const auto& note : d.notes) {
-    out << location(sources, note.has_span ? note.span : d.span) << "note: " << printable(note.message) << "\n";
-    if (note.has_span) print_excerpt(out, sources, note.span);
+    out << location(sources, note.has_span ? note.span : d.span, note.has_span ? Precision::Span : d.precision)
+        << "note: " << printable(note.message) << "\n";
+    if (note.has_span) print_excerpt(out, sources, note.span, Precision::Span);
   }
 }
 
@@ -66,12 +77,14 @@ void print_diagnostics(std::ostream& out, const SourceManager& sources, std::spa
 }
 
 nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const Diagnostic> diagnostics) {
-  auto place = [&](nlohmann::json& j, SourceSpan span) {
+  auto place = [&](nlohmann::json& j, SourceSpan span, Precision precision) {
     if (span.file >= sources.size()) return;
+    j["file"] = sources.path(span.file);
+    if (precision == Precision::File) return;
     LineCol b = sources.line_col(span.file, span.offset);
     LineCol e = sources.line_col(span.file, span.offset + span.length);
-    j["file"] = sources.path(span.file);
     j["line"] = b.line;
+    if (precision == Precision::Line) return;
     j["col"] = b.col;
     j["end_line"] = e.line;
     j["end_col"] = e.col;
@@ -81,12 +94,12 @@ nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const
     nlohmann::json j;
     j["severity"] = severity_name(d.severity);
     j["kind"] = kind_name(d.kind);
-    place(j, d.span);
+    place(j, d.span, d.precision);
     j["message"] = d.message;
     j["notes"] = nlohmann::json::array();
     for (const auto& n : d.notes) {
       nlohmann::json nj;
-      if (n.has_span) place(nj, n.span);
+      if (n.has_span) place(nj, n.span, Precision::Span);
       nj["message"] = n.message;
       j["notes"].push_back(std::move(nj));
     }

@@ -17,6 +17,9 @@ void print_diagnostics(std::ostream& out, const SourceManager& sources, std::spa
 
 // One object per diagnostic: severity, kind, file, line, col, end_line,
 // end_col, message, notes[] (each with file/line/col when it has a span).
+// The place has no more than the diagnostic knows (Precision): no col nor
+// end_* without a column, no line without a line, no file without a file.
+// docs/schema/check.schema.json describes it (`strata check --format json`).
 nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const Diagnostic> diagnostics);
 
 // Serialises j; invalid UTF-8 from user input is replaced, never thrown on.

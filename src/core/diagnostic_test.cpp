@@ -50,6 +50,51 @@ TEST(DiagnosticPrinter, ProblemWithoutFileHasNoLocation) {
   EXPECT_EQ("strata: error: cannot open 'x' [FileUnreadable]\n", out.str());
 }
 
+TEST(SourceManager, OffsetOfALineAndColumnIsClampedToTheText) {
+  SourceManager sm;
+  FileId f = sm.add("m.pl", "ab\ncd\r\nef");
+  EXPECT_EQ(0u, sm.offset_of(f, {1, 1}));
+  EXPECT_EQ(4u, sm.offset_of(f, {2, 2}));
+  EXPECT_EQ(5u, sm.offset_of(f, {2, 9}));   // past the line: its end (before \r\n)
+  EXPECT_EQ(7u, sm.offset_of(f, {3, 0}));   // no column: the line's start
+  EXPECT_EQ(9u, sm.offset_of(f, {8, 99}));  // past the last line: the last line's end
+}
+
+// A tool outside Strata (SWI-Prolog) may give a line without a column, or a
+// file alone: the printers show no more than is known.
+TEST(DiagnosticPrinter, ALineWithoutColumnHasNoColumnAndNoCaret) {
+  SourceManager sm;
+  FileId f = sm.add("m.pl", "p(X) :- true.\nmission.\n");
+  DiagnosticSink sink;
+  sink.report(DiagnosticKind::PrologLoadWarning, {f, sm.offset_of(f, {1, 1}), 0}, "Singleton variables: [X]")
+      ->precision = Precision::Line;
+  sink.report(DiagnosticKind::PrologLoadError, {f, 0, 0}, "loading took too long")->precision = Precision::File;
+  std::ostringstream out;
+  print_diagnostics(out, sm, sink.diagnostics());
+  EXPECT_EQ(
+      "m.pl:1: warning: Singleton variables: [X] [PrologLoadWarning]\n"
+      "   p(X) :- true.\n"
+      "m.pl: error: loading took too long [PrologLoadError]\n",
+      out.str());
+  auto j = diagnostics_to_json(sm, sink.diagnostics());
+  EXPECT_EQ(R"({"file":"m.pl","kind":"PrologLoadWarning","line":1,"message":"Singleton variables: [X]","notes":[],)"
+            R"("severity":"warning"})",
+            j[0].dump());
+  EXPECT_EQ(
+      R"({"file":"m.pl","kind":"PrologLoadError","message":"loading took too long","notes":[],"severity":"error"})",
+      j[1].dump());
+}
+
+TEST(DiagnosticJson, APlaceHasFileLineColAndItsEnd) {
+  SourceManager sm;
+  FileId f = sm.add("x.coral", "net n { place a b; }\n");
+  DiagnosticSink sink;
+  sink.report(DiagnosticKind::UnexpectedToken, {f, 16, 1}, "expected ';'");
+  EXPECT_EQ(R"({"col":17,"end_col":18,"end_line":1,"file":"x.coral","kind":"UnexpectedToken","line":1,)"
+            R"("message":"expected ';'","notes":[],"severity":"error"})",
+            diagnostics_to_json(sm, sink.diagnostics())[0].dump());
+}
+
 TEST(DiagnosticJson, InvalidUtf8InMessagesIsReplacedNotThrown) {
   SourceManager sm;
   FileId f = sm.add("x.coral", "\xff\xfe");

@@ -20,6 +20,14 @@ LineCol SourceManager::line_col(FileId id, std::uint32_t offset) const {
   return {line, offset - f.line_starts[line - 1] + 1};
 }
 
+std::uint32_t SourceManager::offset_of(FileId id, LineCol at) const {
+  const File& f = files_.at(id);
+  const std::uint32_t line = std::clamp<std::uint32_t>(at.line, 1, static_cast<std::uint32_t>(f.line_starts.size()));
+  const std::uint32_t begin = f.line_starts[line - 1];
+  const auto length = static_cast<std::uint32_t>(line_text(id, line).size());
+  return begin + std::min(at.col > 0 ? at.col - 1 : 0, length);
+}
+
 std::string_view SourceManager::line_text(FileId id, std::uint32_t line) const {
   const File& f = files_.at(id);
   if (line == 0 || line > f.line_starts.size()) return {};

@@ -32,6 +32,10 @@ class SourceManager {
   std::size_t size() const { return files_.size(); }
 
   LineCol line_col(FileId id, std::uint32_t offset) const;
+  // The offset of a 1-based line and column (in bytes), as a tool outside
+  // Strata gives them (SWI-Prolog): a column past its line's end is taken
+  // as the end, a line past the last as the last.
+  std::uint32_t offset_of(FileId id, LineCol at) const;
   // The whole line holding offset, without its line terminator.
   std::string_view line_text(FileId id, std::uint32_t line) const;
 

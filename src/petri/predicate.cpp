@@ -139,6 +139,14 @@ std::string Predicate::text(const Net& net, std::uint32_t i) const {
 
 std::string Predicate::to_string(const Net& net) const { return text(net, root_); }
 
+std::string TextError::text() const {
+  if (column == 0) return message;
+  if (line > 0) return fmt::format("line {}, column {}: {}", line, column, message);
+  return fmt::format("column {}: {}", column, message);
+}
+
+core::Error TextError::to_core() const { return core::Error{core::ErrorCode::InvalidInput, text()}; }
+
 // Recursive descent over the question text; `!` is applied while parsing
 // (each node is built already negated when under an odd number of `!`).
 class PredicateParser {
@@ -146,12 +154,12 @@ class PredicateParser {
   PredicateParser(std::string_view text, std::size_t column0, const PlaceResolver& places)
       : s_(text), column0_(column0), places_(places) {}
 
-  core::Result<Predicate> parse_all() {
+  core::Result<Predicate, TextError> parse_all() {
     out_.nodes_.clear();
     skip_space();
     if (at_end()) return fail(pos_, "expected a predicate");
     auto root = parse_or(false, 0);
-    if (!error_.empty()) return core::Error{core::ErrorCode::InvalidInput, error_};
+    if (failed()) return error_;
     skip_space();
     if (!at_end()) {
       if (peek() == ')') return fail(pos_, "unmatched ')'");
@@ -186,9 +194,10 @@ class PredicateParser {
     }
     return std::string(s_.substr(pos_, end - pos_));
   }
-  core::Error fail(std::size_t at, std::string message) {
-    if (error_.empty()) error_ = fmt::format("column {}: {}", column0_ + at, message);
-    return core::Error{core::ErrorCode::InvalidInput, error_};
+  bool failed() const { return !error_.message.empty(); }
+  TextError fail(std::size_t at, std::string message) {
+    if (!failed()) error_ = TextError{0, column0_ + at, std::move(message)};
+    return error_;
   }
   std::uint32_t add(PredicateNode n) {
     out_.nodes_.push_back(std::move(n));
@@ -205,16 +214,16 @@ class PredicateParser {
 
   std::uint32_t parse_or(bool negated, int depth) {
     std::vector<std::uint32_t> kids{parse_and(negated, depth)};
-    while (error_.empty() && eat("||")) kids.push_back(parse_and(negated, depth));
+    while (!failed() && eat("||")) kids.push_back(parse_and(negated, depth));
     return junction(false, negated, std::move(kids));
   }
   std::uint32_t parse_and(bool negated, int depth) {
     std::vector<std::uint32_t> kids{parse_unary(negated, depth)};
-    while (error_.empty() && eat("&&")) kids.push_back(parse_unary(negated, depth));
+    while (!failed() && eat("&&")) kids.push_back(parse_unary(negated, depth));
     return junction(true, negated, std::move(kids));
   }
   std::uint32_t parse_unary(bool negated, int depth) {
-    if (!error_.empty()) return 0;
+    if (failed()) return 0;
     if (depth > kMaxDepth) {
       fail(pos_, fmt::format("nested more than {} deep", kMaxDepth));
       return 0;
@@ -231,7 +240,7 @@ class PredicateParser {
     if (peek() == '(') {
       const std::size_t open = pos_++;
       const std::uint32_t inner = parse_or(negated, depth + 1);
-      if (!error_.empty()) return 0;
+      if (failed()) return 0;
       if (!eat(")")) {
         skip_space();
         fail(pos_,
@@ -345,15 +354,15 @@ class PredicateParser {
   std::size_t column0_;
   const PlaceResolver& places_;
   std::size_t pos_ = 0;
-  std::string error_;
+  TextError error_;  // the first mistake; its message is empty while there is none
   Predicate out_;
 };
 
-core::Result<Predicate> parse_predicate(std::string_view text, const PlaceResolver& places) {
+core::Result<Predicate, TextError> parse_predicate(std::string_view text, const PlaceResolver& places) {
   return PredicateParser(text, 1, places).parse_all();
 }
 
-core::Result<Question> parse_question(std::string_view text, const PlaceResolver& places) {
+core::Result<Question, TextError> parse_question(std::string_view text, const PlaceResolver& places) {
   std::size_t i = 0;
   while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
   std::size_t end = i;
@@ -364,16 +373,15 @@ core::Result<Question> parse_question(std::string_view text, const PlaceResolver
     std::size_t rest = end;
     while (rest < text.size() && std::isspace(static_cast<unsigned char>(text[rest]))) ++rest;
     if (rest < text.size()) {
-      return core::Error{core::ErrorCode::InvalidInput,
-                         fmt::format("column {}: nothing may follow 'deadlock'", rest + 1)};
+      return TextError{0, rest + 1, "nothing may follow 'deadlock'"};
     }
     q.kind = QuestionKind::Deadlock;
     return q;
   }
   if (word != "EF" && word != "AG") {
-    return core::Error{core::ErrorCode::InvalidInput,
-                       fmt::format("column {}: a question is 'deadlock', 'EF <predicate>' or 'AG <predicate>'{}", i + 1,
-                                   word.empty() ? "" : fmt::format(", not '{}'", word))};
+    return TextError{0, i + 1,
+                     fmt::format("a question is 'deadlock', 'EF <predicate>' or 'AG <predicate>'{}",
+                                 word.empty() ? "" : fmt::format(", not '{}'", word))};
   }
   auto pred = PredicateParser(text.substr(end), end + 1, places).parse_all();
   if (!pred) return pred.error();

@@ -31,6 +31,19 @@
 
 namespace strata::petri {
 
+// A mistake in a text a person typed (a --question, a --replay): its place
+// and what is wrong. Columns count bytes from 1.
+struct TextError {
+  std::size_t line = 0;    // from 1; 0 when the text is one line
+  std::size_t column = 0;  // from 1; 0 when the mistake has no column
+  std::string message;     // without the place: "no place 'p9'"
+  // "column 4: no place 'p9'", or "line 2, column 3: ..." for a text of
+  // several lines: the message with its place, for people.
+  std::string text() const;
+  // InvalidInput, text() as its message.
+  core::Error to_core() const;
+};
+
 enum class CompareOp { Eq, Ne, Lt, Le, Gt, Ge };
 
 // One side of a comparison: a place's token count or a constant.
@@ -90,9 +103,9 @@ struct Question {
   Predicate target;
 };
 
-// Errors: InvalidInput "column N: message".
-core::Result<Question> parse_question(std::string_view text, const PlaceResolver& places);
+// Errors: the column of the question text where the mistake is.
+core::Result<Question, TextError> parse_question(std::string_view text, const PlaceResolver& places);
 // A predicate alone (columns from 1 at its first character).
-core::Result<Predicate> parse_predicate(std::string_view text, const PlaceResolver& places);
+core::Result<Predicate, TextError> parse_predicate(std::string_view text, const PlaceResolver& places);
 
 }  // namespace strata::petri

@@ -22,7 +22,7 @@ Net three_places() {
 
 std::string question_error_of(std::string_view text, const Net& net) {
   auto q = parse_question(text, net_place_resolver(net));
-  return q ? std::string("ok") : q.error().message;
+  return q ? std::string("ok") : q.error().text();
 }
 
 bool holds(std::string_view text, const Net& net, const Marking& m) {
@@ -94,7 +94,7 @@ TEST(Predicate, QuotedNamesAndLabels) {
   EXPECT_TRUE(p.value().holds(Marking{3, 0, 0}));
   auto dup = parse_predicate("dup >= 1", resolve);
   ASSERT_FALSE(dup.ok());
-  EXPECT_EQ("column 1: 'dup' names 2 places (id-2, id-3): use an id", dup.error().message);
+  EXPECT_EQ("column 1: 'dup' names 2 places (id-2, id-3): use an id", dup.error().text());
 }
 
 TEST(Question, Kinds) {
@@ -134,6 +134,19 @@ TEST(Question, ErrorsGiveTheColumn) {
   EXPECT_EQ("column 4: unterminated quoted place name", question_error_of("EF \"p1 >= 1", net));
   EXPECT_EQ("column 12: unexpected 'p2' after the predicate", question_error_of("EF p1 >= 1 p2", net));
   EXPECT_EQ("column 10: expected a place name or a number, found '?'", question_error_of("EF p1 >= ?", net));
+}
+
+// Regression: the column was only inside the message, and `strata verify
+// --question` read it back from the text to place its caret.
+TEST(Question, TheColumnIsAFieldApartFromTheMessage) {
+  const Net net = three_places();
+  auto q = parse_question("EF p9 >= 1", net_place_resolver(net));
+  ASSERT_FALSE(q.ok());
+  EXPECT_EQ(4u, q.error().column);
+  EXPECT_EQ(0u, q.error().line);
+  EXPECT_EQ("no place 'p9'", q.error().message);
+  EXPECT_EQ(core::ErrorCode::InvalidInput, q.error().to_core().code);
+  EXPECT_EQ("column 4: no place 'p9'", q.error().to_core().message);
 }
 
 TEST(Question, DeepNestingIsAnErrorNotACrash) {

@@ -409,7 +409,7 @@ ReplayResult replay(const Net& net, std::span<const TransitionId> sequence) {
   return r;
 }
 
-core::Result<std::vector<TransitionId>> parse_sequence(std::string_view text, const Net& net) {
+core::Result<std::vector<TransitionId>, TextError> parse_sequence(std::string_view text, const Net& net) {
   std::vector<TransitionId> out;
   const bool lines = text.find('\n') != std::string_view::npos;
   std::size_t line = 1, line_start = 0;
@@ -433,10 +433,7 @@ core::Result<std::vector<TransitionId>> parse_sequence(std::string_view text, co
     const std::string_view name = text.substr(start, i - start);
     auto t = net.find_transition(name);
     if (!t) {
-      const std::size_t column = start - line_start + 1;
-      return core::Error{core::ErrorCode::InvalidInput,
-                         lines ? fmt::format("line {}, column {}: no transition '{}'", line, column, name)
-                               : fmt::format("column {}: no transition '{}'", column, name)};
+      return TextError{lines ? line : 0, start - line_start + 1, fmt::format("no transition '{}'", name)};
     }
     out.push_back(*t);
   }

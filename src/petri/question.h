@@ -95,8 +95,8 @@ struct ReplayResult {
 ReplayResult replay(const Net& net, std::span<const TransitionId> sequence);
 
 // Transition names separated by spaces, commas or newlines ('#' starts a
-// comment to the end of its line). Errors: InvalidInput "column N: ...",
-// or "line L, column N: ..." when the text has several lines.
-core::Result<std::vector<TransitionId>> parse_sequence(std::string_view text, const Net& net);
+// comment to the end of its line). Errors: the name's column, and its line
+// when the text has several lines.
+core::Result<std::vector<TransitionId>, TextError> parse_sequence(std::string_view text, const Net& net);
 
 }  // namespace strata::petri

@@ -290,10 +290,13 @@ TEST(Replay, SequenceErrorsGiveLineAndColumn) {
   const Net net = ring(3, 1);
   auto one = parse_sequence("step0  stepX", net);
   ASSERT_FALSE(one.ok());
-  EXPECT_EQ("column 8: no transition 'stepX'", one.error().message);
+  EXPECT_EQ("column 8: no transition 'stepX'", one.error().text());
+  EXPECT_EQ(0u, one.error().line);
+  EXPECT_EQ(8u, one.error().column);
+  EXPECT_EQ("no transition 'stepX'", one.error().message);
   auto lines = parse_sequence("# a witness\nstep0\n  step9 # last\n", net);
   ASSERT_FALSE(lines.ok());
-  EXPECT_EQ("line 3, column 3: no transition 'step9'", lines.error().message);
+  EXPECT_EQ("line 3, column 3: no transition 'step9'", lines.error().text());
   auto empty = parse_sequence(" # nothing\n", net);
   ASSERT_TRUE(empty.ok());
   EXPECT_TRUE(empty.value().empty());

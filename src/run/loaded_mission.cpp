@@ -4,7 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "core/mission_language.h"
 #include "core/file.h"
+#include "core/mission_language.h"
 #include "coral/verify_report.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
@@ -82,9 +84,11 @@ Loaded load_coral(const RunOptions& o, const std::string& path, LoadedMission& l
 // Loads and checks the rules; their messages (warnings too) are kept in `loaded`.
 Loaded load_prolog(const RunOptions& o, LoadedMission& loaded) {
   const std::string& path = o.mission;
-  auto rules = strategic::PrologMission::load(path, loaded.catalogue, loaded.rule_messages, load_limits(o.rule_load),
+  core::DiagnosticSink sink;
+  auto rules = strategic::PrologMission::load(path, loaded.catalogue, loaded.sources, sink, load_limits(o.rule_load),
                                               o.keep_rules ? strategic::KeepRules::Yes : strategic::KeepRules::No,
                                               tactical::execution_level_of(o.vehicle));
+  loaded.diagnostics = sink.diagnostics();
   if (!rules) {
     Error e = input_error(rules.error());
     e.message += "; not running";
@@ -181,8 +185,8 @@ Loaded load_data(const RunOptions& o, LoadedMission& loaded) {
 }  // namespace
 
 core::Result<void, Error> load_mission(const RunOptions& o, LoadedMission& loaded) {
-  const auto extension = fs::path(o.mission).extension();
-  if (extension != ".coral" && extension != ".pl") {
+  const core::MissionLanguage language = core::mission_language(o.mission);
+  if (language == core::MissionLanguage::None) {
     return Error{ErrorKind::Usage, "",
                  fmt::format("'{}': a mission is a .coral file (CORAL) or a .pl file (PROLOG)", o.mission),
                  std::nullopt};
@@ -190,7 +194,7 @@ core::Result<void, Error> load_mission(const RunOptions& o, LoadedMission& loade
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) return input_error(catalogue.error());
   loaded.catalogue = std::move(catalogue.value());
-  Loaded r = extension == ".pl" ? load_prolog(o, loaded) : load_coral(o, o.mission, loaded);
+  Loaded r = language == core::MissionLanguage::Prolog ? load_prolog(o, loaded) : load_coral(o, o.mission, loaded);
   if (r && !o.answers.empty()) r = load_answers(o, loaded);
   if (r && loaded.program) r = verify(o, loaded);
   if (r) r = load_vehicle_inputs(o, loaded);

@@ -32,10 +32,9 @@ struct LoadedMission {
 
   tactical::Catalogue catalogue;
   core::SourceManager sources;
-  // What the load found in the mission text, warnings too, for the
-  // caller to print: CORAL diagnostics (in `sources`), PROLOG messages.
+  // What the load found in the mission text (CORAL or PROLOG), warnings
+  // too, placed in `sources`, for the caller to print.
   std::vector<core::Diagnostic> diagnostics;
-  std::vector<strategic::PrologMessage> rule_messages;
   std::optional<coral::Program> program;            // a .coral mission
   std::unique_ptr<strategic::PrologMission> rules;  // a .pl mission
   std::string name;                                 // the mission net's name, or the rules' file stem

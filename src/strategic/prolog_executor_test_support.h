@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include <asio.hpp>
@@ -20,6 +21,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/diagnostic_printer.h"
 #include "prolog/engine.h"
 #include "strategic/fake_tactics.h"
 #include "tactical/catalogue.h"
@@ -138,9 +140,14 @@ class PrologExecutorTest : public ::testing::Test {
     return (dir_ / name).string();
   }
   static std::unique_ptr<PrologMission> load(const std::string& path) {
-    std::vector<PrologMessage> messages;
-    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
-    for (const auto& msg : messages) ADD_FAILURE() << strategic::format_message(msg);
+    core::SourceManager sources;
+    core::DiagnosticSink sink;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), sources, sink);
+    if (!sink.diagnostics().empty()) {
+      std::ostringstream text;
+      core::print_diagnostics(text, sources, sink.diagnostics());
+      ADD_FAILURE() << text.str();
+    }
     if (!m) ADD_FAILURE() << m.error().message;
     return m ? std::move(m.value()) : nullptr;
   }

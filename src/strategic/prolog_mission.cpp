@@ -14,6 +14,7 @@
 #include "core/file.h"
 #include "core/diagnostic.h"
 #include "strategic/prolog_driver.h"
+#include "strategic/prolog_messages.h"
 #include "strategic/prolog_rules_args.h"
 #include "prolog/interrupt.h"
 #include "tactical/sha256.h"
@@ -76,7 +77,8 @@ void collect_load_messages(const std::string& module, const std::string& root, s
     auto s = q.next();
     if (s != prolog::Query::Status::True && s != prolog::Query::Status::Last) break;
     PrologMessage m;
-    m.error = prolog::text_of(a) == "error";
+    m.kind =
+        prolog::text_of(a) == "error" ? core::DiagnosticKind::PrologLoadError : core::DiagnosticKind::PrologLoadWarning;
     m.file = shown_path(prolog::text_of(a + 1));
     if (m.file.empty()) m.file = root;  // SWI gave no place: the mission's file
     m.line = get_uint(a + 2);
@@ -94,14 +96,15 @@ void check_rules(const PrologMission& mission, std::vector<PrologMessage>& messa
   auto checked = call_driver("check_mission", {new_atom(mission.module()), problems});
   if (!checked || !checked.value()) {
     messages.push_back(
-        {true, mission.path(), 0, 0,
-         "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message), ""});
+        {core::DiagnosticKind::PrologCheckError, mission.path(), 0, 0,
+         "the rules could not be checked: " + (checked ? std::string("failed") : checked.error().message)});
   } else {
     term_t head = PL_new_term_ref();
     term_t arg = PL_new_term_ref();
     term_t tail = PL_copy_term_ref(problems);
     while (PL_get_list(tail, head, tail)) {
       PrologMessage m;
+      m.kind = core::DiagnosticKind::PrologCheckError;
       PL_get_arg(1, head, arg);
       m.file = shown_path(prolog::text_of(arg));
       if (m.file.empty()) m.file = mission.path();
@@ -153,8 +156,8 @@ void check_level(const PrologMission& mission, const tactical::Catalogue& catalo
     auto text = core::read_regular_file(shown, max_bytes);
     if (!text) continue;  // the load read it: a file gone since holds no call
     for (auto& p : scan_unavailable_primitives(text.value(), catalogue, level)) {
-      messages.push_back({true, shown, static_cast<std::uint32_t>(p.line), static_cast<std::uint32_t>(p.column),
-                          std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::PrimitiveUnavailable))});
+      messages.push_back({core::DiagnosticKind::PrimitiveUnavailable, shown, static_cast<std::uint32_t>(p.line),
+                          static_cast<std::uint32_t>(p.column), std::move(p.text)});
     }
   }
 }
@@ -283,25 +286,26 @@ bool keep(const std::string& key, const std::string& module, std::vector<PrologM
 
 }  // namespace
 
-std::string format_message(const PrologMessage& m) {
-  std::string where = m.file;
-  if (!where.empty() && m.line > 0) where += fmt::format(":{}", m.line);
-  if (!where.empty() && m.line > 0 && m.column > 0) where += fmt::format(":{}", m.column);
-  return fmt::format("{}{}{}: {}{}", where, where.empty() ? "" : ": ", m.error ? "error" : "warning", m.text,
-                     m.kind.empty() ? "" : " [" + m.kind + "]");
-}
-
 core::Result<std::unique_ptr<PrologMission>> PrologMission::load(const std::string& path,
                                                                  const tactical::Catalogue& catalogue,
-                                                                 std::vector<PrologMessage>& messages,
-                                                                 const LoadLimits& limits, KeepRules keep_rules,
-                                                                 tactical::ExecutionLevel level) {
+                                                                 core::SourceManager& sources,
+                                                                 core::DiagnosticSink& sink, const LoadLimits& limits,
+                                                                 KeepRules keep, tactical::ExecutionLevel level) {
+  std::vector<PrologMessage> messages;
+  auto mission = load_collecting(path, catalogue, messages, limits, keep, level);
+  report_messages(messages, limits.max_bytes, sources, sink);
+  return mission;
+}
+
+core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
+    const std::string& path, const tactical::Catalogue& catalogue, std::vector<PrologMessage>& messages,
+    const LoadLimits& limits, KeepRules keep_rules, tactical::ExecutionLevel level) {
   std::error_code ec;
   if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
     messages.push_back(
-        {true, path, 0, 0,
-         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes), ""});
+        {core::DiagnosticKind::FileTooLarge, path, 0, 0,
+         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes)});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
   prolog_detail::set_max_rules_bytes(limits.max_bytes);
@@ -362,31 +366,30 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load(const std::stri
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
   if (!loaded && loaded.error().message != "'$aborted'") {
-    messages.push_back({true, path, 0, 0, loaded.error().message, ""});
+    messages.push_back({core::DiagnosticKind::PrologLoadError, path, 0, 0, loaded.error().message});
   }
 
   // Rules that did not load whole are not checked: what is missing would
   // only echo the load errors.
   const bool load_errors =
-      !loaded || std::any_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return m.error; });
+      !loaded || std::any_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return is_error(m); });
   if (!load_errors) {
     check_rules(*mission, messages);
     // Literal numbers out of the catalogue's ranges, as CORAL's check finds
     // them: in the mission's own file (the files it loads are its library).
     if (auto text = core::read_regular_file(path, limits.max_bytes)) {
       for (auto& p : scan_primitive_arguments(text.value(), catalogue)) {
-        messages.push_back({true, path, static_cast<std::uint32_t>(p.line), static_cast<std::uint32_t>(p.column),
-                            std::move(p.text), std::string(core::kind_name(core::DiagnosticKind::ArgumentOutOfRange))});
+        messages.push_back({core::DiagnosticKind::ArgumentOutOfRange, path, static_cast<std::uint32_t>(p.line),
+                            static_cast<std::uint32_t>(p.column), std::move(p.text)});
       }
     }
     check_level(*mission, catalogue, level, limits.max_bytes, messages);
   }
   if (time_limit.expired() &&
-      std::none_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return m.error; })) {
-    messages.push_back({true, path, 0, 0,
+      std::none_of(messages.begin(), messages.end(), [](const PrologMessage& m) { return is_error(m); })) {
+    messages.push_back({core::DiagnosticKind::PrologLoadError, path, 0, 0,
                         fmt::format("loading and checking took longer than their time limit ({} ms, --load-time-limit)",
-                                    limits.time.count()),
-                        ""});
+                                    limits.time.count())});
   }
   term_t data = PL_new_term_ref();
   if (auto r = call_driver("mission_data", {new_atom(mission->module_), data}); r && r.value()) {
@@ -395,7 +398,7 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load(const std::stri
         (written.is_absolute() ? written : fs::path(path).parent_path() / written).lexically_normal().string();
   }
   std::size_t errors = 0;
-  for (const auto& m : messages) errors += m.error ? 1 : 0;
+  for (const auto& m : messages) errors += is_error(m) ? 1 : 0;
   if (errors > 0) {
     return core::make_error(core::ErrorCode::InvalidInput,
                             fmt::format("{}: {} error{}", path, errors, errors == 1 ? "" : "s"));

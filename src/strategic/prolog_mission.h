@@ -20,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.h"
 #include "core/result.h"
+#include "core/source.h"
 #include "prolog/engine.h"
 #include "tactical/catalogue.h"
 #include "tactical/execution_level.h"
@@ -28,18 +30,7 @@
 
 namespace strata::strategic {
 
-// An error or warning SWI-Prolog printed while loading, or a problem the
-// check found: where, and what.
-struct PrologMessage {
-  bool error = true;  // false: a warning
-  std::string file;   // "" when SWI gave no place
-  std::uint32_t line = 0;
-  std::uint32_t column = 0;  // 0 when unknown
-  std::string text;
-  std::string kind;  // a diagnostic kind (core/diagnostic_kind.def) when Strata's own check found it, or ""
-};
-// "file:line:col: error: text [Kind]", as the CORAL checker prints its diagnostics.
-std::string format_message(const PrologMessage& message);
+struct PrologMessage;  // the driver's own (prolog_messages.h)
 
 // What the rules reach while they run. The executor implements it.
 class PrologHost {
@@ -90,12 +81,15 @@ class PrologMission {
   // of catalogue, then checks them: for a vehicle at `level` too, whose
   // check refuses every call, in any of those files, of a primitive it
   // cannot carry out (PrimitiveUnavailable, at the call).
-  // Every message goes to messages.
-  // Errors: Io when path cannot be read; InvalidInput when loading printed
-  // an error or the check found a problem (the messages say where).
+  // Every problem (warnings too) goes to sink as a core::Diagnostic, as
+  // CORAL's do (PrologLoadError, PrologLoadWarning, PrologCheckError,
+  // ArgumentOutOfRange, PrimitiveUnavailable, FileTooLarge), in the order
+  // found; each file they name is added to sources, with its text.
+  // Errors: Io when path cannot be read, Internal when the driver cannot
+  // start (neither reported to sink); InvalidInput when an error was.
   static core::Result<std::unique_ptr<PrologMission>> load(
-      const std::string& path, const tactical::Catalogue& catalogue, std::vector<PrologMessage>& messages,
-      const LoadLimits& limits = {}, KeepRules keep = KeepRules::No,
+      const std::string& path, const tactical::Catalogue& catalogue, core::SourceManager& sources,
+      core::DiagnosticSink& sink, const LoadLimits& limits = {}, KeepRules keep = KeepRules::No,
       tactical::ExecutionLevel level = tactical::ExecutionLevel::Phoenix);
   ~PrologMission();
   PrologMission(const PrologMission&) = delete;
@@ -115,6 +109,12 @@ class PrologMission {
  private:
   friend class PrologMissionQuery;
   PrologMission() = default;
+  // load(), with the problems as the driver collects them.
+  static core::Result<std::unique_ptr<PrologMission>> load_collecting(const std::string& path,
+                                                                      const tactical::Catalogue& catalogue,
+                                                                      std::vector<PrologMessage>& messages,
+                                                                      const LoadLimits& limits, KeepRules keep,
+                                                                      tactical::ExecutionLevel level);
   std::string path_, name_, module_, data_file_;
   bool started_ = false;
   bool kept_ = false;  // kept loaded when this ends (KeepRules::Yes)

@@ -14,19 +14,16 @@ namespace strata::strategic {
 namespace {
 
 using prolog_mission_testing::PrologMissionTest;
+using prolog_mission_testing::Reported;
 using prolog_mission_testing::ScriptedHost;
 
 class KeptRules : public PrologMissionTest {
  protected:
-  std::unique_ptr<PrologMission> load_kept(const std::string& path, std::vector<PrologMessage>* messages = nullptr) {
-    std::vector<PrologMessage> own;
-    std::vector<PrologMessage>& out = messages ? *messages : own;
-    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), out, {}, KeepRules::Yes);
-    if (!m) {
-      std::string text;
-      for (const auto& msg : out) text += format_message(msg) + "\n";
-      ADD_FAILURE() << m.error().message << "\n" << text;
-    }
+  std::unique_ptr<PrologMission> load_kept(const std::string& path, Reported* messages = nullptr) {
+    Reported own;
+    Reported& out = messages ? *messages : own;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), out.sources, out.sink, {}, KeepRules::Yes);
+    if (!m) ADD_FAILURE() << m.error().message << "\n" << out.text();
     return m ? std::move(m.value()) : nullptr;
   }
 
@@ -143,7 +140,7 @@ TEST_F(KeptRules, KeptRulesAreLoadedAgainWhenAFileTheyConsultChanged) {
 
 TEST_F(KeptRules, KeptRulesGiveTheMessagesOfTheirLoad) {
   const std::string path = rules_.write("m.pl", "p(X) :- true.\nmission :- report(ran).\n");
-  std::vector<PrologMessage> first, second;
+  Reported first, second;
   std::string a, b;
   {
     auto m = load_kept(path, &first);
@@ -157,9 +154,10 @@ TEST_F(KeptRules, KeptRulesGiveTheMessagesOfTheirLoad) {
   }
   EXPECT_EQ(a, b);
   ASSERT_EQ(1u, first.size());
-  EXPECT_FALSE(first[0].error);
+  EXPECT_EQ(core::Severity::Warning, first[0].severity);
+  EXPECT_EQ(core::DiagnosticKind::PrologLoadWarning, first[0].kind);
   ASSERT_EQ(first.size(), second.size());
-  EXPECT_EQ(format_message(first[0]), format_message(second[0]));
+  EXPECT_EQ(first.headline(0), second.headline(0));
 }
 
 TEST_F(KeptRules, KeptRulesInUseStayWholeWhenTheirFileIsLoadedAgain) {
@@ -172,8 +170,9 @@ TEST_F(KeptRules, KeptRulesInUseStayWholeWhenTheirFileIsLoadedAgain) {
   {
     // A file is loaded into one module at a time: a second load while the
     // first holds the rules neither takes them nor closes them.
-    std::vector<PrologMessage> messages;
-    auto second = PrologMission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::Yes);
+    Reported messages;
+    auto second =
+        PrologMission::load(path, tactical::Catalogue::builtin(), messages.sources, messages.sink, {}, KeepRules::Yes);
     if (second) {
       EXPECT_NE(first->module(), second.value()->module());
     }

@@ -18,12 +18,10 @@ using prolog_mission_testing::PrologMissionTest;
 
 // The messages of a load that must fail, one per line.
 std::string failed_load(const std::string& path, const LoadLimits& limits) {
-  std::vector<PrologMessage> messages;
-  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages, limits);
+  prolog_mission_testing::Reported messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages.sources, messages.sink, limits);
   EXPECT_FALSE(m.ok()) << "the rules loaded";
-  std::string text;
-  for (const auto& msg : messages) text += format_message(msg) + "\n";
-  return text;
+  return messages.text();
 }
 
 // Each `X is 7^(7^8)` is one inference and tens of milliseconds: a thousand

@@ -19,6 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using prolog_mission_testing::PrologMissionTest;
+using prolog_mission_testing::Reported;
 using prolog_mission_testing::Rules;
 using prolog_mission_testing::ScriptedHost;
 
@@ -138,27 +139,27 @@ next_phase(2) :- retract(current_phase(2)), asserta(current_phase(mission_abort)
 }
 
 TEST_F(PrologMissionTest, SyntaxErrorsHaveFileAndLine) {
-  std::vector<PrologMessage> messages;
+  Reported messages;
   auto m = PrologMission::load(rules_.write("bad.pl", "mission :- exec_submerge(X.\nok.\n"),
-                               tactical::Catalogue::builtin(), messages);
+                               tactical::Catalogue::builtin(), messages.sources, messages.sink);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(core::ErrorCode::InvalidInput, m.error().code);
   ASSERT_FALSE(messages.empty());
-  EXPECT_TRUE(messages[0].error);
-  EXPECT_NE(std::string::npos, messages[0].file.find("bad.pl")) << format_message(messages[0]);
-  EXPECT_EQ(1u, messages[0].line) << format_message(messages[0]);
-  EXPECT_GT(messages[0].column, 0u);
+  EXPECT_EQ(core::Severity::Error, messages[0].severity);
+  EXPECT_EQ(core::DiagnosticKind::PrologLoadError, messages[0].kind);
+  EXPECT_NE(std::string::npos, messages.file(0).find("bad.pl")) << messages.headline(0);
+  EXPECT_EQ(1u, messages.place(0).line) << messages.headline(0);
+  EXPECT_EQ(core::Precision::Span, messages[0].precision) << messages.headline(0);
 }
 
 TEST_F(PrologMissionTest, UnknownPrimitivesAreFoundWhenTheRulesLoad) {
-  std::vector<PrologMessage> messages;
+  Reported messages;
   auto m = PrologMission::load(rules_.write("m.pl",
                                             "mission :- start.\nstart :- exec_warp_drive(X), X = 1.\n"
                                             "start :- exec_sleep(1), ask_nothing(_).\n"),
-                               tactical::Catalogue::builtin(), messages);
+                               tactical::Catalogue::builtin(), messages.sources, messages.sink);
   ASSERT_FALSE(m.ok());
-  std::string all;
-  for (const auto& msg : messages) all += format_message(msg) + "\n";
+  std::string all = messages.text();
   EXPECT_NE(std::string::npos, all.find("m.pl:2: error: exec_warp_drive/1: `warp_drive` is not an exec primitive"))
       << all;
   EXPECT_NE(std::string::npos, all.find("m.pl:3: error: exec_sleep/1: sleep takes 1 argument(s) here: use "
@@ -176,28 +177,29 @@ TEST_F(PrologMissionTest, EveryRefusedClauseAmongSafeOnesIsPlacedAtItsLine) {
   text += "clean :- shell('rm -rf /tmp/x').\n";                                                    // line 12
   for (int i = 1; i <= 5; ++i) text += "safe(" + std::to_string(i) + ") :- X is 1 + 2, X > 0.\n";  // 13-17
   text += "peek :- open('/etc/passwd', read, _).\n";                                               // line 18
-  std::vector<PrologMessage> messages;
-  auto m = PrologMission::load(rules_.write("m.pl", text), tactical::Catalogue::builtin(), messages);
+  Reported messages;
+  auto m =
+      PrologMission::load(rules_.write("m.pl", text), tactical::Catalogue::builtin(), messages.sources, messages.sink);
   ASSERT_FALSE(m.ok());
-  std::string all;
-  for (const auto& msg : messages) all += format_message(msg) + "\n";
+  std::string all = messages.text();
   EXPECT_NE(std::string::npos, all.find("m.pl:12:")) << all;
   EXPECT_NE(std::string::npos, all.find("m.pl:18:")) << all;
   EXPECT_EQ(2u, messages.size()) << all;
 }
 
 TEST_F(PrologMissionTest, RulesWithoutMissionAreRefused) {
-  std::vector<PrologMessage> messages;
-  auto m =
-      PrologMission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(), messages);
+  Reported messages;
+  auto m = PrologMission::load(rules_.write("m.pl", "go :- exec_submerge(_).\n"), tactical::Catalogue::builtin(),
+                               messages.sources, messages.sink);
   ASSERT_FALSE(m.ok());
   ASSERT_EQ(1u, messages.size());
-  EXPECT_NE(std::string::npos, messages[0].text.find("no mission/0")) << messages[0].text;
+  EXPECT_NE(std::string::npos, messages[0].message.find("no mission/0")) << messages[0].message;
 }
 
 TEST_F(PrologMissionTest, AnUnreadableFileIsAnIoError) {
-  std::vector<PrologMessage> messages;
-  auto m = PrologMission::load("/nonexistent/strata/m.pl", tactical::Catalogue::builtin(), messages);
+  Reported messages;
+  auto m =
+      PrologMission::load("/nonexistent/strata/m.pl", tactical::Catalogue::builtin(), messages.sources, messages.sink);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(core::ErrorCode::Io, m.error().code);
 }
@@ -279,13 +281,13 @@ TEST_F(PrologMissionTest, DirectivesThatLoopOrHaltOrLoadNothingAreLoadErrors) {
            {":- halt.\nmission.\n", "the rules called halt while loading"},
            {":- system:halt(0).\nmission.\n", "the rules called halt while loading"},
            {":- consult(not_there).\nmission.\n", "not_there"}}) {
-    std::vector<PrologMessage> messages;
+    Reported messages;
     LoadLimits limits;  // the loop meets its inference limit first, however loaded the machine
     limits.time = std::chrono::seconds(120);
-    auto m = PrologMission::load(rules_.write("d.pl", text), tactical::Catalogue::builtin(), messages, limits);
+    auto m = PrologMission::load(rules_.write("d.pl", text), tactical::Catalogue::builtin(), messages.sources,
+                                 messages.sink, limits);
     ASSERT_FALSE(m.ok()) << text;
-    std::string all;
-    for (const auto& msg : messages) all += format_message(msg) + "\n";
+    std::string all = messages.text();
     EXPECT_NE(std::string::npos, all.find(expected)) << text << all;
     EXPECT_NE(std::string::npos, all.find("d.pl")) << "every message has a place: " << all;
     EXPECT_EQ(std::string::npos, all.find("Unknown message")) << all;
@@ -363,14 +365,15 @@ TEST_F(PrologMissionTest, FilesLoadedByTheMissionComeFromItsFolder) {
 
 TEST_F(PrologMissionTest, APredicateSplitAcrossFilesWithoutMultifileIsAnError) {
   rules_.write("phase2.pl", "execute_phase(2) :- exec_submerge(_).\n");
-  std::vector<PrologMessage> messages;
+  Reported messages;
   auto m = PrologMission::load(rules_.write("m.pl", ":- consult(phase2).\nexecute_phase(1).\nmission.\n"),
-                               tactical::Catalogue::builtin(), messages);
+                               tactical::Catalogue::builtin(), messages.sources, messages.sink);
   ASSERT_FALSE(m.ok()) << "the second file would silently wipe the first one's clauses";
   ASSERT_EQ(1u, messages.size());
-  EXPECT_EQ(2u, messages[0].line);
-  EXPECT_NE(std::string::npos, messages[0].text.find("declare `:- multifile execute_phase/1.`")) << messages[0].text;
-  EXPECT_EQ(std::string::npos, messages[0].text.find("strata_mission_")) << "no internal module names";
+  EXPECT_EQ(2u, messages.place(0).line);
+  EXPECT_NE(std::string::npos, messages[0].message.find("declare `:- multifile execute_phase/1.`"))
+      << messages[0].message;
+  EXPECT_EQ(std::string::npos, messages[0].message.find("strata_mission_")) << "no internal module names";
 }
 
 TEST_F(PrologMissionTest, ABadArgumentRaisesInTheRules) {
@@ -405,9 +408,9 @@ TEST_F(PrologMissionTest, SystemHaltInEarlierRulesLeavesStopsUncatchableAndThePr
     EXPECT_EQ(std::vector<std::string>{"call start_timer"}, host.events) << "halt " << i;
   };
   halting(0);
-  std::vector<PrologMessage> messages;
+  Reported messages;
   auto d = PrologMission::load(rules_.write("d.pl", ":- system:halt(0).\nmission.\n"), tactical::Catalogue::builtin(),
-                               messages);
+                               messages.sources, messages.sink);
   ASSERT_FALSE(d.ok());
 
   auto m = load_ok(rules_.write("m.pl",

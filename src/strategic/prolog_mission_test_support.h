@@ -5,11 +5,13 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "core/diagnostic_printer.h"
 #include "strategic/prolog_mission.h"
 
 namespace strata::strategic::prolog_mission_testing {
@@ -36,6 +38,31 @@ class Rules {
 
  private:
   fs::path dir_;
+};
+
+// What a load reported, as the tests read it.
+struct Reported {
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
+
+  std::size_t size() const { return sink.diagnostics().size(); }
+  bool empty() const { return size() == 0; }
+  const core::Diagnostic& operator[](std::size_t i) const { return sink.diagnostics().at(i); }
+  // Diagnostic i's first line as `strata check` prints it: "file:line:col: error: text [Kind]".
+  std::string headline(std::size_t i) const {
+    std::ostringstream out;
+    core::print_diagnostic(out, sources, (*this)[i]);
+    std::string text = out.str();
+    return text.substr(0, text.find('\n'));
+  }
+  // Every headline, one a line.
+  std::string text() const {
+    std::string all;
+    for (std::size_t i = 0; i < size(); ++i) all += headline(i) + "\n";
+    return all;
+  }
+  std::string file(std::size_t i) const { return sources.path((*this)[i].span.file); }
+  core::LineCol place(std::size_t i) const { return sources.line_col((*this)[i].span.file, (*this)[i].span.offset); }
 };
 
 // Answers every call with the next scripted answer and records what happened.
@@ -73,9 +100,9 @@ class PrologMissionTest : public ::testing::Test {
   static void SetUpTestSuite() { ASSERT_TRUE(prolog::initialise().ok()); }
 
   std::unique_ptr<PrologMission> load_ok(const std::string& path) {
-    std::vector<PrologMessage> messages;
-    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
-    for (const auto& msg : messages) ADD_FAILURE() << format_message(msg);
+    Reported reported;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), reported.sources, reported.sink);
+    if (!reported.empty()) ADD_FAILURE() << reported.text();
     if (!m) ADD_FAILURE() << m.error().message;
     return m ? std::move(m.value()) : nullptr;
   }

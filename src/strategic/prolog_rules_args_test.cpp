@@ -69,14 +69,14 @@ TEST_F(PrologMissionTest, check_reports_a_literal_out_of_range_with_its_place) {
                                         "mission :-\n"
                                         "    exec_heading(400, X),\n"
                                         "    X == 1.\n");
-  std::vector<PrologMessage> messages;
-  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages);
+  prolog_mission_testing::Reported messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages.sources, messages.sink);
   EXPECT_FALSE(m.ok());
   ASSERT_EQ(1u, messages.size());
   EXPECT_EQ(path +
                 ":2:18: error: exec_heading/2: 'heading' argument 'degrees' is 400, above the maximum 360 deg "
                 "[ArgumentOutOfRange]",
-            format_message(messages[0]));
+            messages.headline(0));
 }
 
 std::vector<std::string> unavailable_on_imc(std::string_view text) {
@@ -125,24 +125,26 @@ TEST_F(PrologMissionTest, check_for_an_imc_vehicle_refuses_calls_at_their_place_
                                         "mission :-\n"
                                         "    search(X),\n"
                                         "    ask_target_detected(X).\n");
-  std::vector<PrologMessage> messages;
-  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages, {}, KeepRules::No,
+  prolog_mission_testing::Reported messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages.sources, messages.sink, {}, KeepRules::No,
                                tactical::ExecutionLevel::Imc);
   EXPECT_FALSE(m.ok());
   std::vector<std::string> got;
-  for (const auto& message : messages) {
-    EXPECT_EQ("PrimitiveUnavailable", message.kind);
-    got.push_back(std::filesystem::path(message.file).filename().string() + ":" + std::to_string(message.line) + ":" +
-                  std::to_string(message.column) + " " + message.text.substr(0, message.text.find(':')));
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    const core::Diagnostic& message = messages[i];
+    EXPECT_EQ(core::DiagnosticKind::PrimitiveUnavailable, message.kind);
+    got.push_back(std::filesystem::path(messages.file(i)).filename().string() + ":" +
+                  std::to_string(messages.place(i).line) + ":" + std::to_string(messages.place(i).col) + " " +
+                  message.message.substr(0, message.message.find(':')));
   }
   std::sort(got.begin(), got.end());
   EXPECT_EQ((std::vector<std::string>{"m.pl:4:5 'target_detected' is not available on an IMC vehicle",
                                       "search.pl:3:26 'set_sway' is not available on an IMC vehicle"}),
             got);
   // The same rules for the Phoenix protocol (the default): clean.
-  messages.clear();
-  EXPECT_TRUE(PrologMission::load(path, tactical::Catalogue::builtin(), messages).ok());
-  EXPECT_TRUE(messages.empty());
+  prolog_mission_testing::Reported phoenix;
+  EXPECT_TRUE(PrologMission::load(path, tactical::Catalogue::builtin(), phoenix.sources, phoenix.sink).ok());
+  EXPECT_TRUE(phoenix.empty()) << phoenix.text();
 }
 
 }  // namespace

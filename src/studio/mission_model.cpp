@@ -13,6 +13,7 @@
 #include "coral/compiler.h"
 #include "coral/lexer.h"
 #include "core/diagnostic_printer.h"
+#include "core/mission_language.h"
 #include "strategic/coral_catalogue.h"
 #include "tactical/sha256.h"
 
@@ -209,9 +210,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
 std::string etag_of(std::string_view bytes) { return fmt::format("\"{}\"", tactical::sha256_hex(bytes).substr(0, 32)); }
 
 std::string mission_kind(const std::string& path) {
-  if (path.ends_with(".coral")) return "coral";
-  if (path.ends_with(".pl")) return "prolog";
-  return "";
+  return std::string(core::language_key(core::mission_language(path)));
 }
 
 bool plain_scenario_name(std::string_view name) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/diagnostic_printer.h"
 #include "strategic/prolog_mission.h"
 #include "studio/mission_model.h"
 #include "studio/prolog_thread.h"
@@ -34,27 +35,27 @@ json prolog_model(const Sandbox& sandbox, const tactical::Catalogue& catalogue, 
   model["etag"] = etag;
   // The rules checked as `strata check` does, on the process's PROLOG
   // thread; while a PROLOG run holds it, the text comes without a check.
-  std::vector<strategic::PrologMessage> messages;
+  core::SourceManager sources;
+  core::DiagnosticSink sink;
   const std::string absolute = (sandbox.root() / relative).string();
   const bool checked = PrologThread::instance().try_run([&] {
-    auto loaded = strategic::PrologMission::load(absolute, catalogue, messages);
-    if (!loaded && messages.empty()) messages.push_back({true, absolute, 0, 0, loaded.error().message, ""});
+    auto loaded = strategic::PrologMission::load(absolute, catalogue, sources, sink);
+    if (!loaded && !sink.has_errors()) {  // nothing reported: the driver could not start
+      if (auto* d = sink.report(core::DiagnosticKind::PrologLoadError, {sources.add(absolute, ""), 0, 0},
+                                loaded.error().message)) {
+        d->precision = core::Precision::File;
+      }
+    }
   });
   if (!checked) {
     model["check"] = "busy";
     return model;
   }
-  for (const auto& m : messages) {
-    json d = {{"severity", m.error ? "error" : "warning"},
-              {"kind", m.kind.empty() ? std::string("Prolog") : m.kind},
-              {"message", m.text},
-              {"notes", json::array()}};
-    if (!m.file.empty()) {
-      d["file"] = sandbox.lexically_inside(m.file) ? sandbox.relative(fs::path(m.file).lexically_normal()) : m.file;
-    }
-    if (m.line > 0) {
-      d["line"] = m.line;
-      d["col"] = m.column;
+  // As `strata check --format json` gives them, each file named inside the folder as the page names it.
+  for (auto& d : core::diagnostics_to_json(sources, sink.diagnostics())) {
+    if (d.contains("file")) {
+      const std::string file = d["file"];
+      if (sandbox.lexically_inside(file)) d["file"] = sandbox.relative(fs::path(file).lexically_normal());
     }
     model["diagnostics"].push_back(std::move(d));
   }

@@ -170,6 +170,8 @@ TEST_F(StudioServerTest, PrologMissionsAreListedShownReadOnlyAndRun) {
   ASSERT_FALSE(model["diagnostics"].empty()) << model.dump();
   EXPECT_EQ("error", model["diagnostics"][0]["severity"]);
   EXPECT_EQ(1, model["diagnostics"][0].value("line", 0)) << model["diagnostics"].dump();
+  EXPECT_EQ("tank/bad.pl", model["diagnostics"][0].value("file", "")) << "named inside the folder";
+  EXPECT_EQ("PrologLoadError", model["diagnostics"][0].value("kind", "")) << model["diagnostics"].dump();
 
   const std::string before = slurp(base_ / "root/tank/tank.pl");
   auto put = c.Put("/api/file?path=tank/tank.pl", {{"If-Match", "*"}}, "mission.\n", "text/plain");

@@ -12,6 +12,7 @@
 #include <httplib.h>
 
 #include "coral/verify_report.h"
+#include "core/mission_language.h"
 #include "studio/file_watcher.h"
 #include "studio/http_answers.h"
 #include "studio/mission_model.h"
@@ -78,7 +79,7 @@ void StudioServer::file_routes(httplib::Server& s) {
     const std::string path = req.get_param_value("path");
     auto real = sandbox_.resolve(path);
     if (!real) return send_path_error(res, real.error());
-    if (path.ends_with(".pl")) {
+    if (core::mission_language(path) == core::MissionLanguage::Prolog) {
       std::string etag;
       json model = prolog_model(sandbox_, catalogue, path, etag);
       if (!etag.empty()) {
@@ -170,11 +171,12 @@ void StudioServer::file_routes(httplib::Server& s) {
 
   s.Put("/api/file", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
-    if (path.ends_with(".pl")) {
+    const core::MissionLanguage language = core::mission_language(path);
+    if (language == core::MissionLanguage::Prolog) {
       return send_error(
           res, 403, fmt::format("'{}': PROLOG missions are read-only in the studio; edit them in a text editor", path));
     }
-    if (!path.ends_with(".coral"))
+    if (language != core::MissionLanguage::Coral)
       return send_error(res, 403, fmt::format("'{}': only .coral files are written", path));
     std::lock_guard lock(write_mutex_);
     int status = 0;
@@ -188,7 +190,7 @@ void StudioServer::file_routes(httplib::Server& s) {
 
   s.Put("/api/layout", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
-    if (!path.ends_with(".coral"))
+    if (core::mission_language(path) != core::MissionLanguage::Coral)
       return send_error(res, 403, fmt::format("'{}': a layout belongs to a .coral file", path));
     auto body = json_body(req, res);
     if (!body) return;

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "core/mission_language.h"
 #include "studio/mission_model.h"
 #include "studio/prolog_thread.h"
 #include "studio/run_publisher.h"
@@ -26,15 +27,15 @@ std::string not_started_text(const run::LoadedMission& loaded, const run::Error&
     if (errors++ == 0) {
       first = d.message;
       if (d.span.file < loaded.sources.size()) {
+        const std::string file = fs::path(loaded.sources.path(d.span.file)).filename().string();
         const core::LineCol at = loaded.sources.line_col(d.span.file, d.span.offset);
-        first = fmt::format("{}:{}:{}: {}", fs::path(loaded.sources.path(d.span.file)).filename().string(), at.line,
-                            at.col, d.message);
+        switch (d.precision) {
+          case core::Precision::Span: first = fmt::format("{}:{}:{}: {}", file, at.line, at.col, d.message); break;
+          case core::Precision::Line: first = fmt::format("{}:{}: {}", file, at.line, d.message); break;
+          case core::Precision::File: first = fmt::format("{}: {}", file, d.message); break;
+        }
       }
     }
-  }
-  for (const auto& m : loaded.rule_messages) {
-    if (!m.error) continue;
-    if (errors++ == 0) first = fmt::format("{}:{}: {}", fs::path(m.file).filename().string(), m.line, m.text);
   }
   const std::string more =
       errors > 1 ? fmt::format(" (and {} more error{})", errors - 1, errors == 2 ? "" : "s") : std::string();
@@ -103,8 +104,8 @@ StudioRunner::~StudioRunner() {
 }
 
 core::Result<void> StudioRunner::start(const RunRequest& request) {
-  const auto extension = request.mission.extension();
-  if (extension != ".coral" && extension != ".pl") {
+  const core::MissionLanguage language = core::mission_language(request.mission.string());
+  if (language == core::MissionLanguage::None) {
     return core::Error{core::ErrorCode::InvalidInput, "the studio runs CORAL (.coral) and PROLOG (.pl) missions"};
   }
   std::lock_guard lock(mutex_);
@@ -120,7 +121,7 @@ core::Result<void> StudioRunner::start(const RunRequest& request) {
     run_impl(request, o, {}, {}, /*studio_log=*/true);
     running_ = false;
   };
-  if (extension == ".pl") {
+  if (language == core::MissionLanguage::Prolog) {
     // SWI-Prolog lives on one thread of the process.
     if (!PrologThread::instance().post(job)) {
       running_ = false;
@@ -151,7 +152,7 @@ run::RunReport StudioRunner::run_impl(const RunRequest& request, run::RunOptions
                                       bool studio_log) {
   RunPublisher publisher(hub_);
   const std::uint64_t run = ++runs_;
-  const bool prolog = request.mission.extension() == ".pl";
+  const bool prolog = core::mission_language(request.mission.string()) == core::MissionLanguage::Prolog;
   nlohmann::json nets = nlohmann::json::array();
   if (!prolog) nets = compile_mission(sandbox_, request.relative, std::nullopt, catalogue_).model["nets"];
   // The mission log: in runs/ beside the mission, created inside the folder.
