@@ -91,16 +91,7 @@ class CaseWatcher final : public run::RunObserver {
 
 // Written whole, never through a link (the folder was checked when made).
 bool write_new_file(const std::string& path, const std::string& text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) return false;
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<std::size_t>(n);
-  }
-  return ::close(fd) == 0 && done == text.size();
+  return core::write_file_atomically(path, text).ok();
 }
 
 std::string shell_quote(const std::string& s) {

@@ -109,12 +109,7 @@ core::Result<void> prepare_out_dir(const std::string& dir) {
 
 core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text,
                                   mode_t mode) {
-  const std::string path = (fs::path(dir) / name).string();
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, mode);
-  if (fd < 0) return core::errno_error(fmt::format("cannot write {}", path));
-  const bool ok = write_all_fd(fd, text) && ::fchmod(fd, mode) == 0;
-  if (::close(fd) != 0 || !ok) return core::errno_error(fmt::format("cannot write {}", path));
-  return {};
+  return core::write_file_atomically((fs::path(dir) / name).string(), text, {.mode = mode});
 }
 
 core::Result<ResultsFile> ResultsFile::create(const std::string& dir) {

@@ -1,8 +1,9 @@
 #pragma once
 // The campaign's folder (--out DIR): results.jsonl, report.json,
 // report.html, logs/case-I.jsonl and scenarios/case-I.toml. Nothing is
-// written through a symbolic link: DIR itself must not be one, and every
-// file is opened with O_NOFOLLOW.
+// written through a symbolic link: DIR itself must not be one, results.jsonl
+// is opened with O_NOFOLLOW, and every other file is written whole by
+// core::write_file_atomically (which refuses a link at its name).
 #include <cstddef>
 #include <cstdio>
 #include <sys/types.h>
@@ -32,8 +33,9 @@ core::Result<void> prepare_out_dir(const std::string& dir);
 // folder, not a link to one (Io error otherwise).
 core::Result<void> make_real_dir(const std::string& path);
 
-// Writes text to DIR/name whole (O_NOFOLLOW), the file's mode set to mode;
-// Io error on failure.
+// Writes text to DIR/name whole and atomically (core::write_file_atomically:
+// a link, a folder or a FIFO at the name is refused), with permissions mode
+// less the umask; Io error on failure.
 core::Result<void> write_out_file(const std::string& dir, const std::string& name, const std::string& text,
                                   mode_t mode = 0644);
 

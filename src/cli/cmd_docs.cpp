@@ -4,7 +4,6 @@
 
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <vector>
@@ -12,6 +11,7 @@
 #include "cli/cli_docs.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "core/file.h"
 
 namespace strata::cli {
 namespace {
@@ -36,15 +36,9 @@ int write_files(const std::string& dir, const std::vector<GeneratedFile>& files)
     return kExitIo;
   }
   for (const auto& f : files) {
-    const fs::path path = fs::path(dir) / f.file;
-    if (fs::is_symlink(path)) {
-      std::cerr << "strata manpages: " << path.string() << " is a symbolic link: not written through\n";
-      return kExitIo;
-    }
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << f.text;
-    if (!out.flush()) {
-      std::cerr << "strata manpages: cannot write " << path.string() << "\n";
+    // A link at a page's name is refused, not written through.
+    if (auto written = core::write_file_atomically((fs::path(dir) / f.file).string(), f.text); !written) {
+      std::cerr << "strata manpages: " << written.error().message << "\n";
       return kExitIo;
     }
   }

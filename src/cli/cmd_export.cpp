@@ -1,6 +1,5 @@
 // `strata export --pnml|--dot MISSION`: a mission's nets for other tools.
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -13,6 +12,7 @@
 #include "cli/mission_files.h"
 #include "coral/export.h"
 #include "coral/verifier.h"
+#include "core/file.h"
 #include "core/mission_language.h"
 
 namespace strata::cli {
@@ -30,11 +30,8 @@ struct ExportOptions {
 };
 
 bool write_file(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) {
-    std::cerr << fmt::format("strata export: cannot write {}\n", path.string());
+  if (auto written = core::write_file_atomically(path, text); !written) {
+    std::cerr << fmt::format("strata export: {}\n", written.error().message);
     return false;
   }
   std::cerr << fmt::format("wrote {}\n", path.string());

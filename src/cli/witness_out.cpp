@@ -1,22 +1,19 @@
 #include "cli/witness_out.h"
 
-#include <fstream>
 #include <iostream>
 
 #include <fmt/format.h>
 
 #include "cli/exit_codes.h"
 #include "coral/witness.h"
+#include "core/file.h"
 
 namespace strata::cli {
 namespace {
 
 int write_json(const nlohmann::ordered_json& j, const std::string& file, const std::string& what, std::size_t answers) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << j.dump(2) << "\n";
-  out.close();
-  if (!out) {
-    std::cerr << fmt::format("strata verify: --witness-out: cannot write '{}'\n", file);
+  if (auto written = core::write_file_atomically(file, j.dump(2) + "\n"); !written) {
+    std::cerr << fmt::format("strata verify: --witness-out: {}\n", written.error().message);
     return kExitIo;
   }
   std::cerr << fmt::format(

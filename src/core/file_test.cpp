@@ -1,11 +1,19 @@
 #include "core/file.h"
 
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 namespace strata::core {
@@ -67,6 +75,144 @@ TEST_F(ReadRegularFile, AMissingFileIsAnIoError) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::Io);
   EXPECT_NE(r.error().message.find("nosuch.pl"), std::string::npos);
+}
+
+class WriteFileAtomically : public ReadRegularFile {
+ protected:
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  // The names in the test's folder, sorted: a temporary file left behind
+  // shows up here.
+  std::string names() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    std::string joined;
+    for (const auto& n : out) joined += (joined.empty() ? "" : " ") + n;
+    return joined;
+  }
+  static mode_t mode_of(const fs::path& p) {
+    struct stat st {};
+    EXPECT_EQ(0, ::lstat(p.c_str(), &st));
+    return st.st_mode & 07777;
+  }
+  static mode_t umask_now() {
+    const mode_t m = ::umask(022);
+    ::umask(m);
+    return m;
+  }
+};
+
+TEST_F(WriteFileAtomically, CreatesTheFileWithMode0644LessTheUmask) {
+  const fs::path p = dir_ / "out.dot";
+  auto w = write_file_atomically(p.string(), "digraph {}\n");
+  ASSERT_TRUE(w) << w.error().message;
+  EXPECT_EQ("digraph {}\n", slurp(p));
+  EXPECT_EQ(0644 & ~umask_now(), mode_of(p));
+  EXPECT_EQ("out.dot", names());
+}
+
+TEST_F(WriteFileAtomically, ReplacesAnExistingFileAndLeavesNoTemporaryFile) {
+  const std::string p = write("report.json", "old, and longer than the new");
+  auto w = write_file_atomically(p, "new");
+  ASSERT_TRUE(w) << w.error().message;
+  EXPECT_EQ("new", slurp(p));
+  EXPECT_EQ("report.json", names());
+}
+
+TEST_F(WriteFileAtomically, AGivenModeIsTheNewFilesAndKeepExistingModeKeepsTheOld) {
+  const fs::path script = dir_ / "run.sh";
+  ASSERT_TRUE(write_file_atomically(script.string(), "#!/bin/sh\n", {.mode = 0755}));
+  EXPECT_EQ(0755 & ~umask_now(), mode_of(script));
+  ::chmod(script.c_str(), 0700);
+  ASSERT_TRUE(write_file_atomically(script.string(), "#!/bin/sh\ntrue\n", {.keep_existing_mode = true}));
+  EXPECT_EQ(0700, mode_of(script));
+  ASSERT_TRUE(write_file_atomically(script.string(), "#!/bin/sh\n"));
+  EXPECT_EQ(0644 & ~umask_now(), mode_of(script));
+}
+
+TEST_F(WriteFileAtomically, AFifoTargetIsRefusedWithoutBlocking) {
+  const fs::path fifo = dir_ / "pipe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto w = write_file_atomically(fifo.string(), "{}");  // no reader: opening it to write would block
+  ASSERT_FALSE(w);
+  EXPECT_EQ(ErrorCode::Io, w.error().code);
+  EXPECT_NE(w.error().message.find("a FIFO"), std::string::npos) << w.error().message;
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
+  EXPECT_EQ("pipe.json", names());
+}
+
+TEST_F(WriteFileAtomically, ASymlinkTargetIsNotWrittenThroughIntoAnotherFolder) {
+  const fs::path other = dir_ / "other";
+  fs::create_directories(other);
+  std::ofstream(other / "victim") << "precious";
+  fs::create_directories(dir_ / "out");
+  fs::create_symlink("../other/victim", dir_ / "out/report.html");
+  auto w = write_file_atomically((dir_ / "out/report.html").string(), "<html>");
+  ASSERT_FALSE(w);
+  EXPECT_EQ(ErrorCode::Io, w.error().code);
+  EXPECT_NE(w.error().message.find("a symbolic link"), std::string::npos) << w.error().message;
+  EXPECT_EQ("precious", slurp(other / "victim"));
+  EXPECT_TRUE(fs::is_symlink(dir_ / "out/report.html"));
+  EXPECT_EQ(1, std::distance(fs::directory_iterator(dir_ / "out"), fs::directory_iterator()));
+}
+
+TEST_F(WriteFileAtomically, ADanglingSymlinkTargetIsRefusedAndNothingIsCreatedWhereItPoints) {
+  fs::create_symlink("created-through-the-link", dir_ / "out.png");
+  ASSERT_FALSE(write_file_atomically((dir_ / "out.png").string(), "png"));
+  EXPECT_FALSE(fs::exists(dir_ / "created-through-the-link"));
+  EXPECT_EQ("out.png", names());
+}
+
+TEST_F(WriteFileAtomically, AFolderTargetIsRefusedAndKept) {
+  fs::create_directories(dir_ / "man");
+  auto w = write_file_atomically((dir_ / "man").string(), "x");
+  ASSERT_FALSE(w);
+  EXPECT_NE(w.error().message.find("a folder"), std::string::npos) << w.error().message;
+  EXPECT_TRUE(fs::is_directory(dir_ / "man"));
+  EXPECT_FALSE(write_file_atomically(dir_.string() + "/", "x"));
+  EXPECT_EQ("man", names());
+}
+
+TEST_F(WriteFileAtomically, AFailedWriteLeavesTheOldContentAndNoTemporaryFile) {
+  const std::string p = write("frame.png", "the old frame");
+  // The file size limit makes write(2) fail with EFBIG part way (SIGXFSZ,
+  // which would end the process, is ignored for the test).
+  rlimit old{};
+  ASSERT_EQ(0, ::getrlimit(RLIMIT_FSIZE, &old));
+  auto* old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old;
+  small.rlim_cur = 1024;
+  ASSERT_EQ(0, ::setrlimit(RLIMIT_FSIZE, &small));
+  auto w = write_file_atomically(p, std::string(8192, 'x'));
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  ASSERT_FALSE(w);
+  EXPECT_EQ(ErrorCode::Io, w.error().code);
+  EXPECT_NE(w.error().message.find(p), std::string::npos) << w.error().message;
+  EXPECT_NE(w.error().message.find(std::strerror(EFBIG)), std::string::npos) << w.error().message;
+  EXPECT_EQ("the old frame", slurp(p));
+  EXPECT_EQ("frame.png", names());
+}
+
+TEST_F(WriteFileAtomically, AMissingFolderIsAnIoErrorNamingThePathAndTheReason) {
+  const std::string p = (dir_ / "no_such_dir/out.dot").string();
+  auto w = write_file_atomically(p, "x");
+  ASSERT_FALSE(w);
+  EXPECT_EQ(ErrorCode::Io, w.error().code);
+  EXPECT_EQ(fmt::format("cannot write '{}': {}", p, std::strerror(ENOENT)), w.error().message);
+}
+
+TEST_F(WriteFileAtomically, WritesAnEntryOfAnOpenFolder) {
+  const int dir = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  ASSERT_GE(dir, 0);
+  auto w = write_file_atomically_at(dir, "a.coral", "net a {}", "missions/a.coral");
+  ::close(dir);
+  ASSERT_TRUE(w) << w.error().message;
+  EXPECT_EQ("net a {}", slurp(dir_ / "a.coral"));
+  EXPECT_EQ("a.coral", names());
 }
 
 }  // namespace

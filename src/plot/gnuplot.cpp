@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -129,6 +128,9 @@ std::optional<fs::path> find_on_path(std::string_view name) {
 
 namespace {
 
+// The largest picture put in place: far beyond any plot gnuplot draws here.
+constexpr std::size_t kMaxPictureBytes = std::size_t{256} << 20;
+
 // What gnuplot wrote to its stderr file ("" if it cannot be read; a
 // gnuplot that writes more than a few megabytes of messages is not heard).
 std::string read_text(const fs::path& file) {
@@ -187,11 +189,8 @@ Rendered render_in(const MissionPlot& plot, const RenderOptions& o, const fs::pa
   if (!written) return {RenderStatus::Io, written.error().message, {}, {}};
   const fs::path picture = folder / (o.format == Format::Svg ? "plot.svg" : "plot.png");
   const fs::path script = folder / "plot.gp";
-  {
-    std::ofstream out(script, std::ios::binary);
-    out << gnuplot_script(plot, o.format, folder, picture);
-    out.close();
-    if (!out) return {RenderStatus::Io, fmt::format("cannot write '{}'", script.string()), {}, {}};
+  if (auto w = write_scratch(script, gnuplot_script(plot, o.format, folder, picture)); !w) {
+    return {RenderStatus::Io, w.error().message, {}, {}};
   }
   auto gnuplot = find_on_path("gnuplot");
   if (!gnuplot) return {RenderStatus::GnuplotMissing, "gnuplot not found: install gnuplot-nox", {}, {}};
@@ -201,10 +200,14 @@ Rendered render_in(const MissionPlot& plot, const RenderOptions& o, const fs::pa
   if (fs::file_size(picture, ec) == 0 || ec) {
     return {RenderStatus::GnuplotFailed, fmt::format("gnuplot exited without drawing {}", picture.string()), {}, {}};
   }
-  // gnuplot draws inside the folder, so a failed run never leaves half a
-  // picture where the user asked for one.
-  fs::copy_file(picture, o.output, fs::copy_options::overwrite_existing, ec);
-  if (ec) return {RenderStatus::Io, fmt::format("cannot write '{}': {}", o.output.string(), ec.message()), {}, {}};
+  // gnuplot draws inside the folder, and the picture is then put in place
+  // whole: a failed run never leaves half a picture where the user asked
+  // for one, nor writes through a link there.
+  auto drawn = core::read_regular_file(picture.string(), kMaxPictureBytes);
+  if (!drawn) return {RenderStatus::Io, drawn.error().message, {}, {}};
+  if (auto w = core::write_file_atomically(o.output.string(), drawn.value()); !w) {
+    return {RenderStatus::Io, w.error().message, {}, {}};
+  }
   return r;
 }
 

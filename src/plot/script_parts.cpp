@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "core/file.h"
 
 namespace strata::plot::script {
 
@@ -27,16 +28,18 @@ std::string gp_string(std::string_view text) {
 std::string num(double v) { return fmt::format("{:.12g}", v); }
 
 core::Result<void> write_series(const fs::path& file, const Series& s, bool break_at_wrap) {
-  std::ofstream out(file, std::ios::binary);
+  std::string out;
   for (std::size_t i = 0; i < s.size(); ++i) {
     // A blank line lifts the pen: a heading crossing north is no sweep
     // across the whole panel.
-    if (break_at_wrap && i > 0 && std::abs(s.value[i] - s.value[i - 1]) > 180.0) out << "\n";
-    out << fmt::format("{} {}\n", s.time_s[i], s.value[i]);
+    if (break_at_wrap && i > 0 && std::abs(s.value[i] - s.value[i - 1]) > 180.0) out += "\n";
+    out += fmt::format("{} {}\n", s.time_s[i], s.value[i]);
   }
-  out.close();
-  if (!out) return core::make_error(core::ErrorCode::Io, fmt::format("cannot write '{}'", file.string()));
-  return {};
+  return write_scratch(file, out);
+}
+
+core::Result<void> write_scratch(const fs::path& file, const std::string& text) {
+  return core::write_file_atomically(file, text, {.durable = false});
 }
 
 namespace {

@@ -34,6 +34,11 @@ std::string num(double v);
 // by more than 180 (a heading crossing north). Io on failure.
 core::Result<void> write_series(const std::filesystem::path& file, const Series& s, bool break_at_wrap);
 
+// A file of the plot's temporary folder (data, the script), written whole
+// and not synced: gnuplot reads it at once and the folder goes after.
+// "cannot write 'FILE': reason" on failure.
+core::Result<void> write_scratch(const std::filesystem::path& file, const std::string& text);
+
 // The rectangles of the depth-1 bands (every time panel), and with `nested`
 // the strips of deeper phases (the depth panel only).
 void bands(std::string& s, const MissionPlot& plot, bool nested);

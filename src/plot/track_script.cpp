@@ -1,7 +1,6 @@
 #include "plot/track_script.h"
 
 #include <algorithm>
-#include <fstream>
 
 #include <fmt/format.h>
 
@@ -19,14 +18,6 @@ constexpr const char* kFixColour = "#cc3311";
 constexpr const char* kSeabedColour = "#8c510a";
 constexpr const char* kAltitudeColour = "#aa3377";
 constexpr std::size_t kAbortWrap = 34;  // characters: an abort label fits half a time panel
-
-core::Result<void> write_text(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) return core::make_error(core::ErrorCode::Io, fmt::format("cannot write '{}'", file.string()));
-  return {};
-}
 
 std::string xy(const Point& p) { return fmt::format("{} {}\n", p.x_m, p.y_m); }
 
@@ -57,7 +48,7 @@ core::Result<void> write_track_data(const MissionPlot& plot, const fs::path& fol
     if (path->empty()) continue;
     std::string text;
     for (const Point& p : path->at) text += xy(p);
-    auto written = write_text(folder / name, text);
+    auto written = write_scratch(folder / name, text);
     if (!written) return written;
   }
   std::string waypoints;
@@ -68,7 +59,7 @@ core::Result<void> write_track_data(const MissionPlot& plot, const fs::path& fol
        {std::pair{"track_lines.dat", lines(plot, true)}, std::pair{"goto_lines.dat", lines(plot, false)},
         std::pair{"waypoints.dat", waypoints}, std::pair{"fixes.dat", fixes}}) {
     if (text.empty()) continue;
-    auto written = write_text(folder / name, text);
+    auto written = write_scratch(folder / name, text);
     if (!written) return written;
   }
   for (const auto& [name, series] :

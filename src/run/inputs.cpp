@@ -1,13 +1,13 @@
 #include "run/inputs.h"
 
-#include <algorithm>
-
 #include <cstdlib>
 #include <filesystem>
 
 #include <asio.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include "run/scenario_folder.h"
 
 namespace strata::run {
 
@@ -46,21 +46,17 @@ core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario
     // The mission's own nominal scenario (where its target is, say), else
     // the built-in one: no faults, seed 1.
     if (!mission.empty()) {
-      fs::path nominal = fs::path(mission).parent_path() / "scenarios" / "nominal.toml";
+      fs::path nominal = scenario_path(mission, "nominal");
       if (fs::is_regular_file(nominal, ec)) return vehicle::load_scenario(nominal.string());
     }
     return vehicle::Scenario::nominal();
   }
   if (fs::is_regular_file(scenario, ec)) return vehicle::load_scenario(scenario);
   if (!mission.empty()) {
-    fs::path beside = fs::path(mission).parent_path() / "scenarios" / (scenario + ".toml");
+    fs::path beside = scenario_path(mission, scenario);
     if (fs::is_regular_file(beside, ec)) return vehicle::load_scenario(beside.string());
     // The names there, so that a typo is one look away.
-    std::vector<std::string> names;
-    for (fs::directory_iterator it(beside.parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
-      if (it->path().extension() == ".toml" && it->is_regular_file(ec)) names.push_back(it->path().stem().string());
-    }
-    std::sort(names.begin(), names.end());
+    const std::vector<std::string> names = scenario_names_in(beside.parent_path());
     return core::make_error(core::ErrorCode::Io,
                             fmt::format("no scenario '{}': neither a file nor {}; {}", scenario, beside.string(),
                                         names.empty() ? "that folder has no scenarios"
@@ -74,10 +70,9 @@ core::Result<vehicle::Scenario> load_scenario_option(const std::string& scenario
 core::Result<vehicle::Scenario> load_scenario_through(
     const std::function<core::Result<std::string>(const std::string&)>& read, const std::string& scenario,
     const std::string& mission) {
-  namespace fs = std::filesystem;
   if (scenario.empty()) {
     if (mission.empty()) return vehicle::Scenario::nominal();
-    const std::string nominal = (fs::path(mission).parent_path() / "scenarios" / "nominal.toml").string();
+    const std::string nominal = scenario_path(mission, "nominal").string();
     auto text = read(nominal);
     if (text) return vehicle::parse_scenario(text.value(), nominal);
     if (text.error().code == core::ErrorCode::Io) return vehicle::Scenario::nominal();

@@ -14,6 +14,7 @@
 
 #include "sonar/manager.h"
 #include "sonar/output.h"
+#include "core/file.h"
 #include "sonar/png_io.h"
 #include "sonar/test_support.h"
 
@@ -185,7 +186,7 @@ TEST(Manager, StopWritesWhatItHasAndIsNoFailure) {
 
 TEST(Manager, AFolderThatCannotBeMadeExits74WithoutConnecting) {
   const auto dir = testing::fresh_dir("not_a_folder");
-  ASSERT_TRUE(write_file_atomic(dir / "file", "x"));
+  ASSERT_TRUE(core::write_file_atomically(dir / "file", "x"));
   ManagerOptions o = options_for(testing::closed_port(), "unused");
   o.out_dir = dir / "file" / "sonar";
   const ManagerSummary s = run_sonar_manager(o);

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "core/file.h"
 #include "sonar/png_io.h"
 
 namespace strata::sonar {
@@ -37,8 +38,11 @@ core::Result<std::string> OutputDir::write_frame(std::uint64_t frame, const Grey
   auto png = encode_png(image);
   if (!png) return png.error();
   std::string name = scan_file_name(frame);
-  if (auto r = write_file_atomic(dir_ / name, png.value()); !r) return r.error();
-  if (auto r = write_file_atomic(dir_ / "latest.png", png.value()); !r) return r.error();
+  // Whole for the studio that shows them; not synced: one comes several
+  // times a second, and the next replaces it.
+  const core::WriteOptions not_synced{.durable = false};
+  if (auto r = core::write_file_atomically(dir_ / name, png.value(), not_synced); !r) return r.error();
+  if (auto r = core::write_file_atomically(dir_ / "latest.png", png.value(), not_synced); !r) return r.error();
   return name;
 }
 

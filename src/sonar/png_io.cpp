@@ -1,10 +1,8 @@
 #include "sonar/png_io.h"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -38,35 +36,6 @@ core::Result<std::string> encode_png(const GreyImage& image) {
   }
   out.resize(size);
   return out;
-}
-
-core::Result<void> write_file_atomic(const std::filesystem::path& path, const std::string& bytes) {
-  const std::filesystem::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return io_error(temp, "create");
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      auto e = io_error(temp, "write");
-      ::close(fd);
-      ::unlink(temp.c_str());
-      return e;
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::close(fd) != 0) {
-    auto e = io_error(temp, "write");
-    ::unlink(temp.c_str());
-    return e;
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    auto e = io_error(path, "rename a file onto");
-    ::unlink(temp.c_str());
-    return e;
-  }
-  return {};
 }
 
 core::Result<GreyImage> read_png(const std::filesystem::path& path) {

@@ -13,10 +13,6 @@ namespace strata::sonar {
 // second).
 core::Result<std::string> encode_png(const GreyImage& image);
 
-// Writes `bytes` to `path` so that a reader never sees half a file: to a
-// temporary name beside it, then rename(2) over `path`.
-core::Result<void> write_file_atomic(const std::filesystem::path& path, const std::string& bytes);
-
 // A PNG file as 8-bit grey (colour is converted, alpha dropped, 16 bits
 // reduced): ErrorCode::Io when it cannot be read, InvalidInput when it is
 // not a PNG.

@@ -8,6 +8,7 @@
 
 #include "core/units.h"
 #include "sonar/output.h"
+#include "core/file.h"
 #include "sonar/png_io.h"
 #include "sonar/processor.h"
 #include "sonar/scan_image.h"
@@ -152,7 +153,7 @@ TEST(ScanImage, ReadPngSaysWhatIsWrong) {
   auto missing = read_png(dir / "none.png");
   ASSERT_FALSE(missing);
   EXPECT_EQ(core::ErrorCode::Io, missing.error().code);
-  ASSERT_TRUE(write_file_atomic(dir / "text.png", "not a png"));
+  ASSERT_TRUE(core::write_file_atomically(dir / "text.png", "not a png"));
   auto text = read_png(dir / "text.png");
   ASSERT_FALSE(text);
   EXPECT_EQ(core::ErrorCode::InvalidInput, text.error().code);

@@ -97,9 +97,9 @@ std::size_t CoralEngine::net_index(const coral::CompiledNet& net) const {
 }
 
 void CoralEngine::start(std::function<void(const MissionResult&)> on_end) {
-  assert(!running_ && !ended_);
-  on_end_ = std::move(on_end);
-  running_ = true;
+  const bool first = begin(std::move(on_end));
+  assert(first && "an engine runs one mission");
+  if (!first) return;
   draining_ = true;
   firings_this_event_ = 0;
   start_instance(program_.nets[*program_.mission], std::nullopt, nullptr, "");
@@ -142,7 +142,7 @@ InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optio
   instances_.push_back(std::move(inst));
   Instance& i = *instances_[id];
   PhaseStart event{id, parent.value_or(id), net.name, caller, i.depth, &*i.state, now()};
-  for (Observer* o : observers_) o->phase_started(event);
+  observers_.phase_started(event);
   i.dirty = true;
   dirty_.push_back(id);
   // An exit marked from the start ends the phase before it fires anything.
@@ -159,7 +159,7 @@ void CoralEngine::deliver(ActionId id, core::Result<tactical::CallOutcome> outco
   if (!running_) {
     if (ended_) {
       Notice n{fmt::format("reply for action {} after the mission ended, ignored", id), now()};
-      for (Observer* o : observers_) o->notice(n);
+      observers_.notice(n);
     }
     return;
   }
@@ -196,7 +196,7 @@ void CoralEngine::handle(Message& message) {
     Notice n{late ? fmt::format("reply for action {} of a phase that has ended, ignored", message.id)
                   : fmt::format("reply for unknown action {}, ignored", message.id),
              now()};
-    for (Observer* o : observers_) o->notice(n);
+    observers_.notice(n);
     return;
   }
   InFlight action = it->second;
@@ -230,7 +230,7 @@ void CoralEngine::handle(Message& message) {
   ActionFinish f{message.id,      action.instance, inst.net->name,
                  primitive_of(a), out.value,       place ? inst.net->net.place_name(*place) : std::string_view(),
                  out.sim_time_s};
-  for (Observer* o : observers_) o->action_finished(f);
+  observers_.action_finished(f);
   if (place) mark(action.instance, *place, 1);
 }
 
@@ -297,7 +297,7 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
     event.state = &*inst.state;
     event.index = firings_;
     event.sim_time_s = now();
-    for (Observer* o : observers_) o->fired(event);
+    observers_.fired(event);
   }
   const auto& actions = inst.net->actions[t];
   for (std::size_t i = 0; i < actions.size() && running_ && inst.state; ++i) issue(inst, t, i, actions[i]);
@@ -316,7 +316,7 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   ActionId id = next_action_++;
   std::string_view transition = inst.net->net.transition_name(t);
   ActionStart event{id, inst.id, kind_name(a), primitive_of(a), transition, now()};
-  for (Observer* o : observers_) o->action_started(event);
+  observers_.action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     const coral::CompiledNet* phase = program_.find(a.target);
     assert(phase && "the checker guarantees PHASE names a phase net");
@@ -362,7 +362,7 @@ void CoralEngine::check_exits(InstanceId id, petri::PlaceId) {
     if (inst.state->tokens(exits[e]) == 0) continue;
     if (!inst.parent) {
       PhaseEnd end{id, inst.net->name, inst.net->net.place_name(exits[e]), e, false, now()};
-      for (Observer* o : observers_) o->phase_ended(end);
+      observers_.phase_ended(end);
       MissionResult result{e == 0 ? Outcome::Completed : Outcome::Aborted,
                            std::string(inst.net->net.place_name(exits[e])), "", std::nullopt, now()};
       finish(result);
@@ -379,7 +379,7 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
   for (InstanceId child : inst.children) end_instance(child, std::nullopt, true);
   std::string_view exit = exit_index ? inst.net->net.place_name(inst.net->exits[*exit_index]) : std::string_view();
   PhaseEnd event{id, inst.net->name, exit, exit_index.value_or(0), cancelled, now()};
-  for (Observer* o : observers_) o->phase_ended(event);
+  observers_.phase_ended(event);
   inst.state.reset();
   for (auto it = in_flight_.begin(); it != in_flight_.end();) {
     if (it->second.instance == id) {
@@ -395,17 +395,14 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
     // The phase's exit marks its caller's place: told like a reply's mark.
     ActionFinish f{
         0, parent.id, parent.net->name, inst.net->name, *exit_index == 0, parent.net->net.place_name(place), now()};
-    for (Observer* o : observers_) o->action_finished(f);
+    observers_.action_finished(f);
     mark(*inst.parent, place, 1);
   }
 }
 
 void CoralEngine::fail(std::string reason) { finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()}); }
 
-void CoralEngine::finish(const MissionResult& result) {
-  if (!running_) return;
-  running_ = false;
-  ended_ = true;
+void CoralEngine::wind_down(const MissionResult& result) {
   // Phases still running end with the mission.
   if (!instances_.empty()) {
     Instance& mission = *instances_[0];
@@ -413,19 +410,13 @@ void CoralEngine::finish(const MissionResult& result) {
     if (mission.state && result.outcome == Outcome::Failed) {
       // Ended without an exit: say so, so every phase_start has its phase_end.
       PhaseEnd end{0, mission.net->name, "", 0, true, result.sim_time_s};
-      for (Observer* o : observers_) o->phase_ended(end);
+      observers_.phase_ended(end);
     }
     mission.state.reset();
   }
   for (const auto& [id, action] : in_flight_) orphaned_.insert(id);
   in_flight_.clear();
   buffer_.clear();
-  for (Observer* o : observers_) o->mission_ended(result);
-  if (on_end_) {
-    auto on_end = std::move(on_end_);
-    on_end_ = nullptr;
-    on_end(result);
-  }
 }
 
 std::optional<CoralEngine::InstanceView> CoralEngine::instance(InstanceId id) const {

@@ -58,18 +58,16 @@ struct EngineOptions {
   std::size_t max_phase_depth = coral::kMaxPhaseDepth;
 };
 
-class CoralEngine final : public Executor {
+class CoralEngine final : public ExecutorBase {
  public:
   // program must hold a mission net; program and tactics must outlive the engine.
   CoralEngine(const coral::Program& program, Tactics& tactics, EngineOptions options = {});
   ~CoralEngine() override;
 
-  void add_observer(Observer& observer) override { observers_.push_back(&observer); }
   // on_end may be called inside start() if the mission ends without issuing
   // a single action.
   void start(std::function<void(const MissionResult&)> on_end) override;
   void cancel(std::string reason) override;
-  bool running() const override { return running_; }
 
   // The input buffer: the reply to action id. Tactics replies come here; a
   // reply for an id the engine never issued, or for an action whose phase
@@ -125,14 +123,14 @@ class CoralEngine final : public Executor {
   void check_exits(InstanceId id, petri::PlaceId p);
   void end_instance(InstanceId id, std::optional<std::size_t> exit_index, bool cancelled);
   void fail(std::string reason);
-  void finish(const MissionResult& result);
+  // finish()'s part: the phases still running end, replies still to come are ignored.
+  void wind_down(const MissionResult& result) override;
   std::size_t net_index(const coral::CompiledNet& net) const;
   double now() const { return tactics_.sim_time_s(); }
 
   const coral::Program& program_;
   Tactics& tactics_;
   EngineOptions options_;
-  std::vector<Observer*> observers_;
   ArgTable args_;
   ParamTable params_;
   std::vector<std::vector<bool>> is_exit_;  // [net][place]
@@ -143,13 +141,10 @@ class CoralEngine final : public Executor {
   std::vector<InstanceId> dirty_;
   std::optional<std::mt19937_64> rng_;
   Firing firing_;  // scratch for the event told to observers
-  std::function<void(const MissionResult&)> on_end_;
   ActionId next_action_ = 1;
   std::uint64_t firings_ = 0;
   std::uint64_t firings_this_event_ = 0;
-  bool running_ = false;
   bool draining_ = false;
-  bool ended_ = false;
   // Keeps callbacks from the Tactics level harmless after the engine is gone.
   std::shared_ptr<CoralEngine*> self_;
 };

@@ -147,4 +147,67 @@ class Executor {
   virtual bool running() const = 0;
 };
 
+// The observers of one executor, told in the order added: one call per kind
+// of event, so that an executor says what happened in one line.
+class ObserverList {
+ public:
+  void add(Observer& observer) { observers_.push_back(&observer); }
+  bool empty() const { return observers_.empty(); }
+
+  void phase_started(const PhaseStart& e) const {
+    for (Observer* o : observers_) o->phase_started(e);
+  }
+  void phase_ended(const PhaseEnd& e) const {
+    for (Observer* o : observers_) o->phase_ended(e);
+  }
+  void fired(const Firing& e) const {
+    for (Observer* o : observers_) o->fired(e);
+  }
+  void action_started(const ActionStart& e) const {
+    for (Observer* o : observers_) o->action_started(e);
+  }
+  void action_finished(const ActionFinish& e) const {
+    for (Observer* o : observers_) o->action_finished(e);
+  }
+  void notice(const Notice& e) const {
+    for (Observer* o : observers_) o->notice(e);
+  }
+  void mission_ended(const MissionResult& result) const {
+    for (Observer* o : observers_) o->mission_ended(result);
+  }
+
+ private:
+  std::vector<Observer*> observers_;
+};
+
+// What both executors share: their observers, whether the mission runs,
+// and the one end of a run. An executor calls begin() as its start()
+// begins, and finish() for every way its mission ends.
+class ExecutorBase : public Executor {
+ public:
+  void add_observer(Observer& observer) final { observers_.add(observer); }
+  bool running() const final { return running_; }
+
+ protected:
+  // Keeps on_end and marks the mission running. False, and nothing
+  // changed, when the executor runs or has run: one mission per executor.
+  [[nodiscard]] bool begin(std::function<void(const MissionResult&)> on_end);
+  // The end of the run, once: nothing when not running. Otherwise, in this
+  // order: running_ false and ended_ true; wind_down(result), the
+  // executor's own end (phases still running end, calls in flight are
+  // forgotten); observers hear mission_ended(result); on_end is called,
+  // and dropped. Nothing is issued after it.
+  void finish(const MissionResult& result);
+  // The executor's part of finish(): told the phases' ends it owes.
+  virtual void wind_down(const MissionResult& result) = 0;
+
+  ObserverList observers_;
+  // Set by begin() and finish() alone; the executors read them.
+  bool running_ = false;  // between begin() and finish()
+  bool ended_ = false;    // finish() has run
+
+ private:
+  std::function<void(const MissionResult&)> on_end_;
+};
+
 }  // namespace strata::strategic

@@ -33,11 +33,9 @@ PrologExecutor::~PrologExecutor() {
 }
 
 void PrologExecutor::start(std::function<void(const MissionResult&)> on_end) {
-  if (running_ || ended_) return;
-  on_end_ = std::move(on_end);
-  running_ = true;
+  if (!begin(std::move(on_end))) return;
   PhaseStart event{0, 0, mission_.name(), "", 0, nullptr, now()};
-  for (Observer* o : observers_) o->phase_started(event);
+  observers_.phase_started(event);
   // SWI-Prolog runs one suspended query at a time here; and a mission's
   // rules keep the facts they asserted, so they run once per load.
   if (g_running) {
@@ -139,7 +137,7 @@ void PrologExecutor::issue() {
   ActionId id = next_action_++;
   in_flight_ = id;
   ActionStart event{id, current_instance(), kind, pending_name_, "", now()};
-  for (Observer* o : observers_) o->action_started(event);
+  observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.call(pending_name_, std::move(pending_args_), [self, id](core::Result<tactical::CallOutcome> outcome) {
     if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
@@ -149,7 +147,7 @@ void PrologExecutor::issue() {
 void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
   if (!running_ || id != in_flight_) {
     Notice n{fmt::format("a reply for call {}, which the mission no longer waits for, was ignored", id), now()};
-    for (Observer* o : observers_) o->notice(n);
+    observers_.notice(n);
     return;
   }
   in_flight_ = 0;
@@ -167,7 +165,7 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
   const tactical::CallOutcome& out = outcome.value();
   std::string net = phases_.empty() ? mission_.name() : phases_.back().name;
   ActionFinish f{id, current_instance(), net, pending_name_, out.value, "", out.sim_time_s};
-  for (Observer* o : observers_) o->action_finished(f);
+  observers_.action_finished(f);
   if (!out.value && p && (p->kind == tactical::Kind::Exec || p->kind == tactical::Kind::Ood)) {
     // As in CORAL: a command the vehicle did not carry out ends the mission.
     fail(
@@ -180,7 +178,7 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
 
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
   ActionStart event{next_action_++, current_instance(), "report", name, "", now()};
-  for (Observer* o : observers_) o->action_started(event);
+  observers_.action_started(event);
   tactics_.call(name, std::move(args), [](const core::Result<tactical::CallOutcome>&) {});
 }
 
@@ -188,7 +186,7 @@ void PrologExecutor::phase_started(const std::string& phase) {
   InstanceId parent = current_instance();
   phases_.push_back({next_instance_++, phase});
   PhaseStart event{phases_.back().instance, parent, phases_.back().name, "", phases_.size(), nullptr, now()};
-  for (Observer* o : observers_) o->phase_started(event);
+  observers_.phase_started(event);
 }
 
 void PrologExecutor::phase_ended(const std::string& phase, const std::string& exit) {
@@ -197,11 +195,11 @@ void PrologExecutor::phase_ended(const std::string& phase, const std::string& ex
                          "execute_phase/1?)",
                          phase),
              now()};
-    for (Observer* o : observers_) o->notice(n);
+    observers_.notice(n);
     return;
   }
   PhaseEnd event{phases_.back().instance, phases_.back().name, exit, completes(exit) ? 0u : 1u, false, now()};
-  for (Observer* o : observers_) o->phase_ended(event);
+  observers_.phase_ended(event);
   phases_.pop_back();
 }
 
@@ -224,10 +222,7 @@ void PrologExecutor::fail(std::string reason, std::optional<core::ErrorCode> cod
   finish({Outcome::Failed, "", std::move(reason), code, now()});
 }
 
-void PrologExecutor::finish(const MissionResult& result) {
-  if (!running_) return;
-  running_ = false;
-  ended_ = true;
+void PrologExecutor::wind_down(const MissionResult& result) {
   {
     std::lock_guard lock(interrupt_mutex_);
     interruptible_ = false;
@@ -241,7 +236,7 @@ void PrologExecutor::finish(const MissionResult& result) {
   // Phases still running end with the mission, innermost first.
   while (!phases_.empty()) {
     PhaseEnd end{phases_.back().instance, phases_.back().name, "", 0, true, result.sim_time_s};
-    for (Observer* o : observers_) o->phase_ended(end);
+    observers_.phase_ended(end);
     phases_.pop_back();
   }
   PhaseEnd mission{0,
@@ -250,13 +245,7 @@ void PrologExecutor::finish(const MissionResult& result) {
                    result.outcome == Outcome::Completed ? 0u : 1u,
                    result.outcome == Outcome::Failed,
                    result.sim_time_s};
-  for (Observer* o : observers_) o->phase_ended(mission);
-  for (Observer* o : observers_) o->mission_ended(result);
-  if (on_end_) {
-    auto on_end = std::move(on_end_);
-    on_end_ = nullptr;
-    on_end(result);
-  }
+  observers_.phase_ended(mission);
 }
 
 }  // namespace strata::strategic

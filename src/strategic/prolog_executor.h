@@ -38,7 +38,7 @@ struct PrologOptions {
   std::uint64_t inference_limit = 10'000'000;
 };
 
-class PrologExecutor final : public Executor, private PrologHost {
+class PrologExecutor final : public ExecutorBase, private PrologHost {
  public:
   // mission, tactics and catalogue must outlive the executor.
   PrologExecutor(PrologMission& mission, Tactics& tactics, const tactical::Catalogue& catalogue,
@@ -47,7 +47,6 @@ class PrologExecutor final : public Executor, private PrologHost {
   PrologExecutor(const PrologExecutor&) = delete;
   PrologExecutor& operator=(const PrologExecutor&) = delete;
 
-  void add_observer(Observer& observer) override { observers_.push_back(&observer); }
   void start(std::function<void(const MissionResult&)> on_end) override;
   void cancel(std::string reason) override;
   // Any thread. Rules that run (computing, in sleep/1, in a loop, inside a
@@ -57,7 +56,6 @@ class PrologExecutor final : public Executor, private PrologHost {
   // or the reply does if it comes first. From the interrupt on the rules
   // never run again.
   void interrupt(const std::string& reason) override;
-  bool running() const override { return running_; }
 
  private:
   struct Phase {
@@ -79,7 +77,9 @@ class PrologExecutor final : public Executor, private PrologHost {
   void fail(std::string reason, std::optional<core::ErrorCode> code = std::nullopt);
   // The reason interrupt() gave, once it was called on the running executor.
   std::optional<std::string> interrupt_reason() const;
-  void finish(const MissionResult& result);
+  // finish()'s part: the engine let go, the phases still running end
+  // (innermost first), then the mission's own phase.
+  void wind_down(const MissionResult& result) override;
   double now() const { return tactics_.sim_time_s(); }
   InstanceId current_instance() const { return phases_.empty() ? 0 : phases_.back().instance; }
 
@@ -87,13 +87,9 @@ class PrologExecutor final : public Executor, private PrologHost {
   Tactics& tactics_;
   const tactical::Catalogue& catalogue_;
   PrologOptions options_;
-  std::vector<Observer*> observers_;
-  std::function<void(const MissionResult&)> on_end_;
   std::unique_ptr<PrologMissionQuery> query_;
   std::shared_ptr<PrologExecutor*> self_;
 
-  bool running_ = false;
-  bool ended_ = false;
   // Shared with interrupt()'s thread.
   mutable std::mutex interrupt_mutex_;
   bool interruptible_ = false;  // between start() and the end

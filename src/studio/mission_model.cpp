@@ -14,6 +14,7 @@
 #include "coral/lexer.h"
 #include "core/diagnostic_printer.h"
 #include "core/mission_language.h"
+#include "run/scenario_folder.h"
 #include "strategic/coral_catalogue.h"
 #include "tactical/sha256.h"
 
@@ -219,25 +220,13 @@ bool plain_scenario_name(std::string_view name) {
                      [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
 }
 
-namespace {
-
-// The mission's scenarios/ folder, relative to the root (it need not exist).
-std::string scenarios_folder(const std::string& mission) {
-  const std::string dir = fs::path(mission).parent_path().generic_string();
-  return dir.empty() ? "scenarios" : dir + "/scenarios";
-}
-
-}  // namespace
-
 std::vector<std::string> scenario_names(const Sandbox& sandbox, const std::string& mission) {
   std::vector<std::string> names;
-  auto folder = sandbox.resolve(scenarios_folder(mission));
+  auto folder = sandbox.resolve(run::scenarios_folder(mission).generic_string());
   if (!folder) return {"nominal"};  // none, or a link out: the built-in nominal only
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(folder.value(), ec)) {
-    const fs::path& p = e.path();
-    if (p.extension() != ".toml" || !plain_scenario_name(p.stem().string())) continue;
-    if (scenario_file(sandbox, mission, p.stem().string())) names.push_back(p.stem().string());
+  for (const std::string& name : run::scenario_names_in(folder.value())) {
+    // Only what scenario_file() would give: a plain name, a file inside.
+    if (plain_scenario_name(name) && scenario_file(sandbox, mission, name)) names.push_back(name);
   }
   // nominal is always there: the mission's nominal.toml, else the built-in
   // one (no faults).
@@ -254,7 +243,7 @@ core::Result<std::filesystem::path> scenario_file(const Sandbox& sandbox, const 
                                    "scenarios/ folder)",
                                    name)};
   }
-  const std::string rel = scenarios_folder(mission) + "/" + name + ".toml";
+  const std::string rel = run::scenario_path(mission, name).generic_string();
   auto real = sandbox.resolve(rel);
   if (!real) {
     if (real.error().code == core::ErrorCode::Io) {

@@ -5,14 +5,14 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include <fmt/format.h>
+
+#include "core/file.h"
 
 namespace strata::studio {
 
@@ -182,43 +182,17 @@ core::Result<void> Sandbox::write(std::string_view rel, std::string_view bytes) 
   };
   struct stat before {};
   if (auto e = check_target(before)) return *e;
-  const bool existed = before.st_mode != 0;
-
-  // A fresh name each time: a link (or anything) planted at a temporary
-  // name makes O_EXCL fail, and the next name is tried.
-  static std::atomic<std::uint64_t> counter{0};
-  thread_local std::mt19937_64 random{std::random_device{}()};
-  std::string tmp;
-  int fd = -1;
-  for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
-    tmp = fmt::format("{}.strata-tmp-{}-{}-{:x}", name, ::getpid(), counter++, random() & 0xffffffffu);
-    fd = ::openat(dir.fd, tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0 && errno != EEXIST) return disk_error("create a temporary file for", rel);
-  }
-  if (fd < 0) return disk_error("create a temporary file for", rel);
-  Fd out(fd);
-  auto fail = [&](std::string_view what) {
-    core::Error e = disk_error(what, rel);
-    ::unlinkat(dir.fd, tmp.c_str(), 0);
-    return e;
-  };
-  for (std::size_t done = 0; done < bytes.size();) {
-    const ssize_t n = ::write(out.fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return fail("write");
-    done += static_cast<std::size_t>(n);
-  }
-  // The file keeps its permissions (a script stays executable, say).
-  if (existed && ::fchmod(out.fd, before.st_mode & 07777) != 0) return fail("set the permissions of");
-  if (::fsync(out.fd) != 0) return fail("sync");
+  // Beneath these checks, the one atomic writer: a fresh temporary name
+  // (a link planted at any name is never written through), fsync, rename
+  // over the target; the file keeps its permissions (a script stays
+  // executable, say).
+  auto written = core::write_file_atomically_at(dir.fd, name, bytes, std::string(rel), {.keep_existing_mode = true});
+  if (written) return written;
+  // The target swapped for a link, a folder or a device meanwhile is a way
+  // out like the others (403); anything else is the disk's refusal.
   struct stat now {};
-  if (auto e = check_target(now)) {
-    ::unlinkat(dir.fd, tmp.c_str(), 0);
-    return *e;
-  }
-  if (::renameat(dir.fd, tmp.c_str(), dir.fd, name.c_str()) != 0) return fail("rename over");
-  ::fsync(dir.fd);  // the rename itself survives a crash
-  return core::Result<void>();
+  if (auto e = check_target(now)) return *e;
+  return core::Error{core::ErrorCode::Internal, written.error().message};
 }
 
 core::Result<int> Sandbox::create_new(std::string_view folder, std::string_view name) const {

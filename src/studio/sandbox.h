@@ -43,10 +43,11 @@ class Sandbox {
   // The same for an absolute path or one relative to the process (imports,
   // joined to their importer's folder by the loader).
   core::Result<std::string> read_path(const std::filesystem::path& path, std::size_t max_bytes = kMaxReadBytes) const;
-  // Replaces (or creates) a file inside the root with `bytes`, atomically:
-  // a fresh temporary file beside it (O_CREAT|O_EXCL|O_NOFOLLOW, a unique
+  // Replaces (or creates) a file inside the root with `bytes`, atomically,
+  // by core::write_file_atomically_at in the folder opened and checked: a
+  // fresh temporary file beside it (O_CREAT|O_EXCL|O_NOFOLLOW, a unique
   // name, so a link planted at any name is never written through), fsync,
-  // then renamed over the target. The target, when it exists, must be a
+  // then renamed over the target; an existing file keeps its permissions. The target, when it exists, must be a
   // regular file inside the root; a link at it is followed only when it
   // resolves inside (the file it points to is replaced). InvalidInput (403)
   // for every way out; Internal (500) when the disk refuses.

@@ -14,6 +14,8 @@
 #include <optional>
 #include <string>
 
+#include "core/file.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -47,10 +49,13 @@ std::optional<std::string> brotli(const std::string& in) {
   return out;
 }
 
-bool write(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  return static_cast<bool>(out);
+// A variant, when smaller than the file (else nothing is written): true,
+// or false with the reason told.
+bool write_if_smaller(const fs::path& path, const std::string& bytes, std::size_t original) {
+  if (bytes.size() >= original) return true;
+  auto written = strata::core::write_file_atomically(path.string(), bytes, {.durable = false});
+  if (!written) std::cerr << "strata_precompress: " << written.error().message << "\n";
+  return written.ok();
 }
 
 }  // namespace
@@ -82,10 +87,7 @@ int main(int argc, char** argv) {
     br_path += ".br";
     fs::remove(gz_path, ec);
     fs::remove(br_path, ec);
-    if ((gz->size() < bytes.size() && !write(gz_path, *gz)) || (br->size() < bytes.size() && !write(br_path, *br))) {
-      std::cerr << "strata_precompress: cannot write beside " << p << "\n";
-      return 1;
-    }
+    if (!write_if_smaller(gz_path, *gz, bytes.size()) || !write_if_smaller(br_path, *br, bytes.size())) return 1;
   }
   if (ec) {
     std::cerr << "strata_precompress: " << argv[1] << ": " << ec.message() << "\n";
