@@ -50,20 +50,6 @@ struct VerifyOptions {
   std::string witness_net;  // ... from this net only ("" any)
 };
 
-// Quiet: the report without its "ok" lines (what failed or is not decided,
-// and the facts around it).
-std::string without_ok_lines(const std::string& text) {
-  std::string out;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    std::string_view line(text.data() + start, end - start);
-    if (!line.starts_with("  ok ")) out.append(line).push_back('\n');
-    start = end + 1;
-  }
-  return out;
-}
-
 std::chrono::steady_clock::time_point deadline_after(double seconds) {
   if (seconds <= 0) return std::chrono::steady_clock::time_point::max();
   return std::chrono::steady_clock::now() +
@@ -220,8 +206,9 @@ int run_verify_mission(const VerifyOptions& o) {
     j["diagnostics"] = load.diagnostics_json();  // warnings
     std::cout << j.dump(2) << "\n";
   } else {
-    const std::string text = coral::verify_text(report);
-    std::cout << (o.verbosity.level() == Verbosity::Quiet ? without_ok_lines(text) : text);
+    // Quiet: the report without the properties that hold (what failed or
+    // is not decided, and the facts around it).
+    std::cout << coral::verify_text(report, /*holding=*/o.verbosity.level() != Verbosity::Quiet);
   }
   if (!o.witness_out.empty()) {
     const int written = write_report_witness(report, o.mission, o.witness_net, o.witness_out);

@@ -166,12 +166,14 @@ std::string step_text(const TraceStep& s) {
   return fmt::format("{} ({}) answers {}{}", s.action, s.transition, s.answer, marks);
 }
 
-std::string verify_text(const VerifyReport& report) {
+std::string verify_text(const VerifyReport& report, bool holding) {
   std::string out;
   for (const auto& n : report.nets) {
     out += net_heading(n);
     std::vector<std::pair<std::string, std::string>> shown;
-    for (const auto& p : n.properties) out += property_line(p, shown);
+    for (const auto& p : n.properties) {
+      if (holding || p.status != Property::Status::Holds) out += property_line(p, shown);
+    }
     std::vector<std::string> exits;
     for (std::size_t e = 0; e < n.exits.size(); ++e) {
       exits.push_back(n.exit_reachable[e] ? n.exits[e] : n.exits[e] + (n.complete ? " (never)" : " (not yet)"));

@@ -13,8 +13,9 @@ namespace strata::coral {
 std::string_view status_name(Property::Status status);  // "holds", "fails", "undecided"
 
 // Every net, its properties, bounds and P-invariants; counterexamples under
-// the properties that fail.
-std::string verify_text(const VerifyReport& report);
+// the properties that fail. holding = false leaves out the properties that
+// hold (`strata verify -q`).
+std::string verify_text(const VerifyReport& report, bool holding = true);
 // Only what fails, with counterexamples, and one line per net that is
 // fine; for `strata run`.
 std::string verify_failures_text(const VerifyReport& report);

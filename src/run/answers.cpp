@@ -70,6 +70,7 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
     auto [line, col] = line_col(text, e.byte > 0 ? e.byte - 1 : 0);
     std::string what = e.what();
     // "[json.exception.parse_error.101] parse error at line 1, column 3: syntax error ..."
+    // text-ok: nlohmann's own prefix is cut for the reader; nothing is decided on it.
     if (auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
     return invalid(fmt::format("{}:{}:{}: not JSON: {}", path, line, col, what));
   }

@@ -120,7 +120,8 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
         problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0}, PL_UTF8_STRING,
         fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", g_max_rules_bytes).c_str());
   }
-  if (!read && read.error().message.ends_with("not a regular file")) {
+  std::error_code ec;
+  if (!read && std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec)) {
     return PL_unify_term(problem_t, PL_FUNCTOR_CHARS, "problem", 3, PL_INT64, int64_t{0}, PL_INT64, int64_t{0},
                          PL_UTF8_STRING, "not a regular file (a FIFO or a device is never read)");
   }

@@ -365,7 +365,7 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
   (void)prolog::call_once("strata_driver:unlimited");
   collect_load_messages(mission->module_, path, messages);
   // '$aborted': a stop while loading, already among the messages.
-  if (!loaded && loaded.error().message != "'$aborted'") {
+  if (!loaded && loaded.error().message != "'$aborted'") {  // text-ok: a Prolog exception term, not words
     messages.push_back({core::DiagnosticKind::PrologLoadError, path, 0, 0, loaded.error().message});
   }
 
