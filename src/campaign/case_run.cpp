@@ -56,7 +56,7 @@ class CaseWatcher final : public run::RunObserver {
   }
   void fired(const strategic::Firing& f) override { fired_.insert(fmt::format("{}.{}", f.net, f.transition_name)); }
   void action_started(const strategic::ActionStart& a) override {
-    if (a.kind == "ask") asks_[a.id] = std::string(a.primitive);
+    if (a.is_call(core::CallVerb::Ask)) asks_[a.id] = std::string(a.primitive);
   }
   void action_finished(const strategic::ActionFinish& a) override {
     auto it = asks_.find(a.id);

@@ -53,10 +53,10 @@ void ScriptedTactics::phase_started(const strategic::PhaseStart& e) {
 
 void ScriptedTactics::action_started(const strategic::ActionStart& e) {
   pending_.reset();
-  if (e.kind != "exec" && e.kind != "ask" && e.kind != "ood") return;
+  if (e.is_phase() || e.is_call(core::CallVerb::Report)) return;
   auto it = instances_.find(e.instance);
   pending_ = Pending{it == instances_.end() ? std::string() : it->second.net, std::string(e.transition),
-                     std::string(e.kind), std::string(e.primitive)};
+                     std::string(e.kind_name()), std::string(e.primitive)};
 }
 
 void ScriptedTactics::phase_ended(const strategic::PhaseEnd& e) {

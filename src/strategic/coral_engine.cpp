@@ -21,16 +21,10 @@ std::string_view to_string(Outcome outcome) {
 
 namespace {
 
-std::string_view kind_name(const coral::ActionSpec& a) {
-  if (a.kind == coral::ActionSpec::Kind::Phase) return "phase";
-  switch (a.tactic) {
-    case coral::ast::TacticType::Exec: return "exec";
-    case coral::ast::TacticType::Ask: return "ask";
-    case coral::ast::TacticType::Report: return "report";
-    case coral::ast::TacticType::Ood: return "ood";
-    case coral::ast::TacticType::Unknown: break;
-  }
-  return "unknown";
+// A TACTIC's call verb; nullopt for a PHASE.
+std::optional<core::CallVerb> verb_of(const coral::ActionSpec& a) {
+  if (a.kind == coral::ActionSpec::Kind::Phase) return std::nullopt;
+  return a.tactic;
 }
 
 // The primitive a TACTIC calls: REPORT goes to the catalogue's `report`.
@@ -202,7 +196,7 @@ void CoralEngine::handle(Message& message) {
   InFlight action = it->second;
   in_flight_.erase(it);
   const coral::ActionSpec& a = *action.spec;
-  std::string_view kind = kind_name(a);
+  std::string_view kind = core::call_verb_name(a.tactic);  // only TACTICs are in flight
   if (!message.outcome) {
     MissionResult result{Outcome::Failed, "",
                          fmt::format("{} {} failed: {}", kind, primitive_of(a), message.outcome.error().message),
@@ -223,8 +217,7 @@ void CoralEngine::handle(Message& message) {
       }
       place = a.outcomes.at(0);
       break;
-    case coral::ast::TacticType::Report:
-    case coral::ast::TacticType::Unknown: break;
+    case coral::ast::TacticType::Report: break;
   }
   Instance& inst = *instances_[action.instance];
   ActionFinish f{message.id,      action.instance, inst.net->name,
@@ -315,7 +308,7 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
 void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a) {
   ActionId id = next_action_++;
   std::string_view transition = inst.net->net.transition_name(t);
-  ActionStart event{id, inst.id, kind_name(a), primitive_of(a), transition, now()};
+  ActionStart event{id, inst.id, verb_of(a), primitive_of(a), transition, now()};
   for (Observer* o : observers_) o->action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     const coral::CompiledNet* phase = program_.find(a.target);

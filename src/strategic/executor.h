@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/call_verb.h"
 #include "core/result.h"
 #include "petri/net.h"
 
@@ -81,13 +82,19 @@ struct Firing {
   double sim_time_s = 0.0;
 };
 
+// A primitive call (verb set) or a PHASE (verb nullopt) being issued.
 struct ActionStart {
   ActionId id = 0;
   InstanceId instance = 0;
-  std::string_view kind;        // "exec" | "ask" | "report" | "ood" | "phase"
-  std::string_view primitive;   // the primitive, or the phase net
-  std::string_view transition;  // CORAL: the transition that issued it
+  std::optional<core::CallVerb> verb;  // the call's verb; nullopt: a PHASE
+  std::string_view primitive;          // the primitive, or the phase net
+  std::string_view transition;         // CORAL: the transition that issued it
   double sim_time_s = 0.0;
+
+  bool is_phase() const { return !verb.has_value(); }
+  bool is_call(core::CallVerb v) const { return verb == v; }
+  // "exec", "ask", "ood", "report" (core::call_verb_name) or "phase".
+  std::string_view kind_name() const { return verb ? core::call_verb_name(*verb) : std::string_view("phase"); }
 };
 
 // A reply marked a place; or (id 0, primitive = the phase's name) a phase's

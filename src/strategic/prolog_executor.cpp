@@ -135,10 +135,9 @@ void PrologExecutor::primitive(const std::string& name, std::vector<tactical::Va
 
 void PrologExecutor::issue() {
   const tactical::Primitive* p = catalogue_.find(pending_name_);
-  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
   ActionId id = next_action_++;
   in_flight_ = id;
-  ActionStart event{id, current_instance(), kind, pending_name_, "", now()};
+  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now()};
   for (Observer* o : observers_) o->action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.call(pending_name_, std::move(pending_args_), [self, id](core::Result<tactical::CallOutcome> outcome) {
@@ -159,7 +158,7 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
     return;
   }
   const tactical::Primitive* p = catalogue_.find(pending_name_);
-  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
+  std::string_view kind = core::call_verb_name(p ? p->kind : core::CallVerb::Exec);
   if (!outcome) {
     fail(fmt::format("{} {} failed: {}", kind, pending_name_, outcome.error().message), outcome.error().code);
     return;
@@ -179,7 +178,7 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
 }
 
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
-  ActionStart event{next_action_++, current_instance(), "report", name, "", now()};
+  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now()};
   for (Observer* o : observers_) o->action_started(event);
   tactics_.call(name, std::move(args), [](const core::Result<tactical::CallOutcome>&) {});
 }

@@ -73,7 +73,7 @@ struct Recorder final : Observer {
                                  : fmt::format("end {}#{} '{}' {}", e.name, e.instance, e.exit, e.exit_index));
   }
   void action_started(const ActionStart& e) override {
-    events.push_back(fmt::format("action {} {} {} in {}", e.id, e.kind, e.primitive, e.instance));
+    events.push_back(fmt::format("action {} {} {} in {}", e.id, e.kind_name(), e.primitive, e.instance));
   }
   void action_finished(const ActionFinish& e) override {
     events.push_back(fmt::format("finish {} {}={} in {}#{}", e.id, e.primitive, e.value ? 1 : 0, e.net, e.instance));

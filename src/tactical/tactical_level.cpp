@@ -1,5 +1,6 @@
 #include "tactical/tactical_level.h"
 
+#include <cassert>
 #include <charconv>
 #include <cmath>
 
@@ -9,9 +10,20 @@
 
 namespace strata::tactical {
 
+std::optional<protocol::Verb> wire_verb(core::CallVerb verb) {
+  switch (verb) {
+    case core::CallVerb::Exec: return protocol::Verb::Exec;
+    case core::CallVerb::Ask: return protocol::Verb::Ask;
+    case core::CallVerb::Ood: return protocol::Verb::Ood;
+    case core::CallVerb::Report: return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 protocol::Request to_request(const RenderedCall& call) {
+  assert(call.to_vehicle());
   protocol::Request r;
-  r.verb = call.verb == "ask" ? protocol::Verb::Ask : call.verb == "ood" ? protocol::Verb::Ood : protocol::Verb::Exec;
+  r.verb = *wire_verb(call.verb);
   r.name = call.name;
   for (const auto& v : call.args) {
     if (v.type == Value::Type::String) {

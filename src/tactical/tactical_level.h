@@ -106,7 +106,12 @@ class TacticalLevel {
   std::uint64_t next_report_id_ = 1;
 };
 
+// The protocol verb a call goes out with: exec, ask, ood; nullopt for
+// report, which is never sent.
+std::optional<protocol::Verb> wire_verb(core::CallVerb verb);
+
 // A protocol request for a rendered call (verb, name and typed arguments).
+// call.to_vehicle() must hold.
 protocol::Request to_request(const RenderedCall& call);
 
 // The fields a telemetry line gives the mission log's "telemetry" record, in

@@ -155,6 +155,21 @@ TEST(TacticalLevel, RequestsToAVanishedVehicleFailWithAReason) {
       << r.error().message;
 }
 
+TEST(ToRequest, EachCallVerbGoesOutAsItsOwnWireVerbAndReportNever) {
+  EXPECT_EQ(protocol::Verb::Exec, wire_verb(core::CallVerb::Exec));
+  EXPECT_EQ(protocol::Verb::Ask, wire_verb(core::CallVerb::Ask));
+  EXPECT_EQ(protocol::Verb::Ood, wire_verb(core::CallVerb::Ood));
+  EXPECT_FALSE(wire_verb(core::CallVerb::Report).has_value());
+  for (core::CallVerb v : core::kCallVerbs) {
+    if (v == core::CallVerb::Report) continue;
+    RenderedCall call{v, "f", {Value::of(1.0), Value::of("x")}, 2.0};
+    const protocol::Request r = to_request(call);
+    EXPECT_EQ(core::call_verb_name(v), protocol::verb_name(r.verb)) << "the same word on both sides";
+    EXPECT_EQ("f", r.name);
+    EXPECT_EQ((std::vector<protocol::Value>{protocol::Value::integer(1), protocol::Value::string("x")}), r.args);
+  }
+}
+
 TEST(TelemetryLogFields, OpenWaterAddsThePlaneAfterTheTankFields) {
   protocol::Telemetry t;
   t.depth_m = 2.0;
