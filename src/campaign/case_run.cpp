@@ -151,6 +151,16 @@ std::vector<ScriptedExecFailure> scripted_exec_failures(const std::string& log) 
   return out;
 }
 
+}  // namespace
+
+bool refused_exec(const tactical::CallRecord& call) {
+  if (call.verb != core::CallVerb::Exec) return false;
+  if (call.error) return call.error->kind == tactical::CallError::Kind::Refused;
+  return call.value == false;
+}
+
+namespace {
+
 Observation observe(const run::RunReport& report, const CaseWatcher& watcher, const Case& c, double surface_depth_m,
                     const std::string& err, const std::vector<ScriptedExecFailure>& scripted_failures) {
   Observation o;
@@ -185,13 +195,11 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   }
   std::optional<double> first_refused_s;
   for (const tactical::CallRecord& call : report.trace) {
-    if (!call.message.starts_with("exec ")) continue;
-    const bool refused = call.error.starts_with("vehicle error") || (call.error.empty() && call.value == false);
-    if (!refused) continue;
+    if (!refused_exec(call)) continue;
     if (o.refused_execs++ == 0) {
       first_refused_s = call.sim_time_s;
       o.first_refused = fmt::format("{} at {:.1f} s{}", call.message, call.sim_time_s,
-                                    call.error.empty() ? ": answered 0" : ": " + call.error);
+                                    call.error ? ": " + call.error->message : ": answered 0");
     }
   }
   if (!report.vehicle_reason.empty() && !o.first_refused.empty()) o.first_refused += " (" + report.vehicle_reason + ")";

@@ -15,7 +15,7 @@ struct ActionSpec {
   enum class Kind { Tactic, Phase };
   Kind kind = Kind::Tactic;
   ast::TacticType tactic = ast::TacticType::Exec;  // Kind::Tactic only
-  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  std::string target;                              // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
   // The arguments of the primitive, or of the PHASE call (the phase's
   // parameters, in order). In a parameterised net an argument may be
   // Kind::Parameter: the engine substitutes the value the phase was run with.

@@ -42,8 +42,8 @@ void ScriptedTactics::diverge(const std::string& why) {
 
 void ScriptedTactics::withhold(std::string_view name, tactical::CallHandler&& done) {
   asio::post(io_, [done = std::move(done), what = std::string(name)] {
-    done(core::make_error(core::ErrorCode::InvalidInput,
-                          fmt::format("{} not sent: the run left the scripted answers", what)));
+    done(tactical::CallError{tactical::CallError::Kind::Withheld, std::nullopt,
+                             fmt::format("{} not sent: the run left the scripted answers", what)});
   });
 }
 
@@ -127,7 +127,7 @@ void ScriptedTactics::call(std::string_view name, std::vector<tactical::Value> a
   used_[*entry] = true;
   ++used_count_;
   const ScriptedAnswer a = script_.answers[*entry];
-  inner_.call(name, std::move(args), [this, a, done = std::move(done)](core::Result<tactical::CallOutcome> r) {
+  inner_.call(name, std::move(args), [this, a, done = std::move(done)](tactical::CallResult r) {
     // An error (the vehicle refused the call, the link is gone) stands: the
     // script says what a call answered, not that it could be made.
     if (!r) {

@@ -14,8 +14,7 @@ coral::CheckOptions coral_check_options(const tactical::Catalogue& catalogue, ta
   coral::CheckOptions options;
   options.execution_level = tactical::execution_level_name(level);
   for (const auto& p : catalogue.all()) {
-    coral::PrimitiveSignature sig{
-        p.kind, p.min_args(), p.max_args(), {}, tactical::unavailable_on(level, p)};
+    coral::PrimitiveSignature sig{p.kind, p.min_args(), p.max_args(), {}, tactical::unavailable_on(level, p)};
     for (const auto& a : p.args) {
       sig.args.push_back({a.name, a.type == tactical::Value::Type::Number, a.unit, a.min, a.max});
     }

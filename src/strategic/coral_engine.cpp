@@ -149,7 +149,7 @@ InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optio
   return id;
 }
 
-void CoralEngine::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
+void CoralEngine::deliver(ActionId id, tactical::CallResult outcome) {
   if (!running_) {
     if (ended_) {
       Notice n{fmt::format("reply for action {} after the mission ended, ignored", id), now()};
@@ -200,7 +200,7 @@ void CoralEngine::handle(Message& message) {
   if (!message.outcome) {
     MissionResult result{Outcome::Failed, "",
                          fmt::format("{} {} failed: {}", kind, primitive_of(a), message.outcome.error().message),
-                         message.outcome.error().code, now()};
+                         message.outcome.error().kind, now()};
     finish(result);
     return;
   }
@@ -323,12 +323,12 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   }
   if (a.tactic == coral::ast::TacticType::Report) {
     // A REPORT marks nothing and waits for nothing: sent, not tracked.
-    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const core::Result<tactical::CallOutcome>&) {});
+    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const tactical::CallResult&) {});
     return;
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
   std::weak_ptr<CoralEngine*> self = self_;
-  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](core::Result<tactical::CallOutcome> outcome) {
+  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](tactical::CallResult outcome) {
     if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
   });
 }

@@ -74,7 +74,7 @@ class CoralEngine final : public Executor {
   // The input buffer: the reply to action id. Tactics replies come here; a
   // reply for an id the engine never issued, or for an action whose phase
   // has ended, is told to observers as a Notice and otherwise ignored.
-  void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
+  void deliver(ActionId id, tactical::CallResult outcome);
 
   // Inspection, for observers and tests.
   struct InstanceView {
@@ -99,7 +99,7 @@ class CoralEngine final : public Executor {
   };
   struct Message {
     ActionId id;
-    core::Result<tactical::CallOutcome> outcome;
+    tactical::CallResult outcome;
   };
   // Arguments of each action, converted once: [net][transition][action].
   // An argument naming a parameter holds a placeholder there, and its

@@ -17,6 +17,7 @@
 #include "core/call_verb.h"
 #include "core/result.h"
 #include "petri/net.h"
+#include "tactical/call_error.h"
 
 namespace strata::petri {
 class State;
@@ -37,9 +38,9 @@ struct MissionResult {
   Outcome outcome = Outcome::Failed;
   std::string exit;    // CORAL: the exit place of the mission net that ended it
   std::string reason;  // Failed (and Aborted when known): why, for people
-  // Failed because a primitive call failed: that call's error code
-  // (Timeout or Closed mean the link to the vehicle is gone).
-  std::optional<core::ErrorCode> call_error;
+  // Failed because a primitive call failed: how it failed (TimedOut or
+  // LinkLost mean the link to the vehicle is gone).
+  std::optional<tactical::CallError::Kind> call_error;
   double sim_time_s = 0.0;
 };
 

@@ -48,7 +48,7 @@ struct FakeTactics final : testing::FakeTacticsBase {
     time_s += 0.1;
     take(i)(tactical::CallOutcome{value, time_s});
   }
-  void fail_call(core::Error error) {
+  void fail_call(tactical::CallError error) {
     std::size_t i = waited_for();
     ASSERT_LT(i, calls.size()) << "no call to fail";
     take(i)(std::move(error));

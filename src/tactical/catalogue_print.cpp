@@ -61,8 +61,8 @@ std::string format_catalogue(const Catalogue& catalogue) {
       args += describe_argument(a);
     }
     std::string message = p.kind == Kind::Report ? "(console and log only)" : p.message;
-    rows.push_back({p.name, std::string(core::call_verb_name(p.kind)), args.empty() ? "-" : args, timeout_text(p), p.prolog_call(),
-                    message, p.doc});
+    rows.push_back({p.name, std::string(core::call_verb_name(p.kind)), args.empty() ? "-" : args, timeout_text(p),
+                    p.prolog_call(), message, p.doc});
   }
   std::array<std::size_t, 7> width{};
   for (const auto& row : rows) {

@@ -22,7 +22,7 @@ namespace strata::tactical {
 
 struct RenderedCall {
   core::CallVerb verb = core::CallVerb::Exec;  // the primitive's kind; report: nothing is sent
-  std::string name;  // the function's name on the wire ("setpoint" for next_setpt_data)
+  std::string name;                            // the function's name on the wire ("setpoint" for next_setpt_data)
   // The argument fields, filled. A field that is exactly one placeholder
   // keeps its argument's type (number or string); a field with literal text
   // around or instead of placeholders is a string. For report: { text }.
