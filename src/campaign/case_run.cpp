@@ -173,7 +173,7 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   o.outcome = std::string(strategic::to_string(r.outcome));
   o.reason = r.reason;
   o.stopped_by = report.stopped_by;
-  o.stalled = r.reason.starts_with("mission stalled");
+  o.stalled = r.stalled;
   const double end_s = std::max(report.sim_time_s, report.final_time_s.value_or(0.0));
   o.sim_time_s = end_s;
   o.max_depth_m = watcher.max_depth_m;

@@ -180,7 +180,12 @@ void CoralEngine::drain() {
     finish({Outcome::Completed, "", "", std::nullopt, now()});
     return;
   }
-  fail(fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}", marking_text("; ")));
+  MissionResult stalled{
+      Outcome::Failed, "",
+      fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}", marking_text("; ")),
+      std::nullopt, now()};
+  stalled.stalled = true;
+  finish(stalled);
 }
 
 void CoralEngine::handle(Message& message) {

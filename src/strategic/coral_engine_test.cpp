@@ -310,6 +310,7 @@ TEST(CoralEngine, StallIsReportedWithTheMarking) {
   ASSERT_TRUE(h.on_end_result);
   EXPECT_EQ(Outcome::Failed, h.on_end_result->outcome);
   EXPECT_EQ("mission stalled: no transition enabled and no action in flight; marking: m: a:1", h.on_end_result->reason);
+  EXPECT_TRUE(h.on_end_result->stalled) << "typed: the campaign's no_stall reads this, not the words";
 }
 
 TEST(CoralEngine, MissionWithoutExitsCompletesWhenAtRest) {

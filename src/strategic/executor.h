@@ -42,6 +42,9 @@ struct MissionResult {
   // LinkLost mean the link to the vehicle is gone).
   std::optional<tactical::CallError::Kind> call_error;
   double sim_time_s = 0.0;
+  // Failed because the mission could never move again (CORAL: no transition
+  // enabled anywhere and no action in flight).
+  bool stalled = false;
 };
 
 // A net (or a PROLOG phase) being run: the mission itself is instance 0,
