@@ -58,7 +58,7 @@ class RecordingTactics final : public strategic::Tactics {
   explicit RecordingTactics(tactical::TacticalLevel& level) : level_(level) {}
   void call(std::string_view name, std::vector<tactical::Value> args, tactical::CallHandler done) override {
     level_.call(name, std::move(args),
-                [this, name = std::string(name), done = std::move(done)](core::Result<tactical::CallOutcome> r) {
+                [this, name = std::string(name), done = std::move(done)](tactical::CallResult r) {
                   EXPECT_TRUE(r.ok()) << name << ": " << r.error().message;
                   if (r.ok()) calls.push_back({name, r.value().value, r.value().sim_time_s});
                   done(std::move(r));

@@ -284,8 +284,9 @@ TEST(TankScenario, LinkLossFailsAndTheVehicleSurfacesByItsWatchdog) {
   EXPECT_EQ("", result.exit);
   EXPECT_EQ(1, r.report.exit_code);
   ASSERT_TRUE(result.call_error.has_value());
-  EXPECT_TRUE(*result.call_error == core::ErrorCode::Timeout || *result.call_error == core::ErrorCode::Closed)
-      << "Timeout or Closed: the link to the vehicle is gone";
+  EXPECT_TRUE(*result.call_error == tactical::CallError::Kind::TimedOut ||
+              *result.call_error == tactical::CallError::Kind::LinkLost)
+      << "TimedOut or LinkLost: the link to the vehicle is gone";
   EXPECT_NE(std::string::npos, result.reason.find("no reply")) << result.reason;
   EXPECT_NE(std::string::npos, r.out.find("mission tank: failed: lost the link to the vehicle")) << r.out;
   EXPECT_EQ((std::vector<std::string>{"initialize completed", "dive_from_surface cancelled"}), r.report.phases);

@@ -43,12 +43,11 @@ std::shared_ptr<VehicleLink> connect(asio::io_context& io, std::uint16_t port,
   return link;
 }
 
-core::Result<CallOutcome> call(asio::io_context& io, TacticalLevel& t, std::string_view name,
-                               std::vector<Value> args = {}) {
-  std::optional<core::Result<CallOutcome>> out;
-  t.call(name, std::move(args), [&](core::Result<CallOutcome> r) { out = std::move(r); });
+CallResult call(asio::io_context& io, TacticalLevel& t, std::string_view name, std::vector<Value> args = {}) {
+  std::optional<CallResult> out;
+  t.call(name, std::move(args), [&](CallResult r) { out = std::move(r); });
   EXPECT_TRUE(run_until(io, [&] { return out.has_value(); }));
-  if (!out) return core::make_error(core::ErrorCode::Internal, "no outcome within the test's bound");
+  if (!out) return CallError{CallError::Kind::TimedOut, std::nullopt, "no outcome within the test's bound"};
   return std::move(*out);
 }
 
@@ -113,13 +112,13 @@ TEST(VehicleProcess, AVehicleThatDiesMidRequestIsAClearErrorNotAHang) {
   std::optional<core::Error> lost;
   link->on_lost([&](const core::Error& e) { lost = e; });
   TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
-  std::optional<core::Result<CallOutcome>> out;
-  t.call("sleep", {Value::of(3000.0)}, [&](core::Result<CallOutcome> r) { out = std::move(r); });
+  std::optional<CallResult> out;
+  t.call("sleep", {Value::of(3000.0)}, [&](CallResult r) { out = std::move(r); });
   v.child->kill_now();
   ASSERT_TRUE(run_until(
       io, [&] { return out.has_value() && lost.has_value(); }, 10s));
   ASSERT_FALSE(out->ok());
-  EXPECT_EQ(core::ErrorCode::Closed, out->error().code) << out->error().message;
+  EXPECT_EQ(CallError::Kind::LinkLost, out->error().kind) << out->error().message;
   EXPECT_NE(std::string::npos, out->error().message.find("sleep")) << out->error().message;
   auto after = call(io, t, "depth_reached");
   ASSERT_FALSE(after.ok());

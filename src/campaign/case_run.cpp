@@ -56,7 +56,7 @@ class CaseWatcher final : public run::RunObserver {
   }
   void fired(const strategic::Firing& f) override { fired_.insert(fmt::format("{}.{}", f.net, f.transition_name)); }
   void action_started(const strategic::ActionStart& a) override {
-    if (a.kind == "ask") asks_[a.id] = std::string(a.primitive);
+    if (a.is_call(core::CallVerb::Ask)) asks_[a.id] = std::string(a.primitive);
   }
   void action_finished(const strategic::ActionFinish& a) override {
     auto it = asks_.find(a.id);
@@ -142,6 +142,16 @@ std::vector<ScriptedExecFailure> scripted_exec_failures(const std::string& log) 
   return out;
 }
 
+}  // namespace
+
+bool refused_exec(const tactical::CallRecord& call) {
+  if (call.verb != core::CallVerb::Exec) return false;
+  if (call.error) return call.error->kind == tactical::CallError::Kind::Refused;
+  return call.value == false;
+}
+
+namespace {
+
 Observation observe(const run::RunReport& report, const CaseWatcher& watcher, const Case& c, double surface_depth_m,
                     const std::vector<ScriptedExecFailure>& scripted_failures) {
   Observation o;
@@ -154,7 +164,7 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   o.outcome = std::string(strategic::to_string(r.outcome));
   o.reason = r.reason;
   o.stopped_by = report.stopped_by;
-  o.stalled = r.reason.starts_with("mission stalled");
+  o.stalled = r.stalled;
   const double end_s = std::max(report.sim_time_s, report.final_time_s.value_or(0.0));
   o.sim_time_s = end_s;
   o.max_depth_m = watcher.max_depth_m;
@@ -176,13 +186,11 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   }
   std::optional<double> first_refused_s;
   for (const tactical::CallRecord& call : report.trace) {
-    if (!call.message.starts_with("exec ")) continue;
-    const bool refused = call.error.starts_with("vehicle error") || (call.error.empty() && call.value == false);
-    if (!refused) continue;
+    if (!refused_exec(call)) continue;
     if (o.refused_execs++ == 0) {
       first_refused_s = call.sim_time_s;
       o.first_refused = fmt::format("{} at {:.1f} s{}", call.message, call.sim_time_s,
-                                    call.error.empty() ? ": answered 0" : ": " + call.error);
+                                    call.error ? ": " + call.error->message : ": answered 0");
     }
   }
   if (!report.vehicle_reason.empty() && !o.first_refused.empty()) o.first_refused += " (" + report.vehicle_reason + ")";

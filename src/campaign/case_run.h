@@ -12,6 +12,7 @@
 #include "campaign/cases.h"
 #include "campaign/expectations.h"
 #include "campaign/spec.h"
+#include "tactical/tactical_level.h"
 
 namespace strata::campaign {
 
@@ -32,6 +33,12 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
 // The line for a case that never gave its own (its worker died): outcome
 // "crashed" with why, every expectation failed through "ran".
 nlohmann::ordered_json crashed_case(const Spec& spec, const Case& c, const std::string& why);
+
+// Whether a call counts among the EXECs the vehicle refused (refused_execs,
+// no_refused_exec): an exec answered 0, or one the Execution level refused
+// (CallError::Kind::Refused). Decided by the call's verb and error kind, never
+// by its words: a timeout or a lost link is not a refusal.
+bool refused_exec(const tactical::CallRecord& call);
 
 // The command that runs the case alone again.
 std::string repro_command(const Spec& spec, const Case& c);

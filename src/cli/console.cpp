@@ -65,9 +65,9 @@ void Console::phase_ended(const strategic::PhaseEnd& e) {
 }
 
 void Console::action_started(const strategic::ActionStart& e) {
-  if (e.kind == "phase" || e.kind == "report") return;
+  if (e.is_phase() || e.is_call(core::CallVerb::Report)) return;
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
-  action_ = fmt::format("{} {}", e.kind, e.primitive);
+  action_ = fmt::format("{} {}", e.kind_name(), e.primitive);
   if (calls_) calls_in_flight_[e.id] = action_;
   draw_status(false);
 }

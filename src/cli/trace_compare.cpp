@@ -31,12 +31,13 @@ bool TraceRow::operator==(const TraceRow& o) const {
 
 TraceRow trace_row(const tactical::CallRecord& r) {
   TraceRow row;
-  const bool to_vehicle =
-      r.message.starts_with("exec ") || r.message.starts_with("ask ") || r.message.starts_with("ood ");
+  row.verb = r.verb;
+  const bool to_vehicle = r.verb && *r.verb != core::CallVerb::Report;
   row.call = to_vehicle ? r.message : fmt::format("{} \"{}\"", r.primitive, r.message);
-  if (!r.error.empty()) {
+  if (r.error) {
     if (r.message.empty()) row.call = r.primitive;
-    row.answer = "error: " + r.error;
+    row.answer = "error: " + r.error->message;
+    row.failed = true;
   } else {
     row.answer.push_back(r.value && *r.value ? '1' : '0');
   }
@@ -54,11 +55,11 @@ std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& record
 std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows) {
   std::vector<TraceRow> out;
   for (const TraceRow& row : rows) {
-    if (row.call.starts_with("ask ")) continue;
+    if (row.verb == core::CallVerb::Ask) continue;
     TraceRow r = row;
     r.sim_time_s = 0.0;
     // Failed, either way: how it failed is in each vehicle's own words.
-    if (r.answer.starts_with("error: ")) r.answer = "error";
+    if (r.failed) r.answer = "error";
     if (!out.empty() && out.back() == r) {
       ++out.back().repeats;
       continue;

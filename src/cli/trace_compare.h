@@ -16,6 +16,8 @@ struct TraceRow {
   std::string call;    // "exec sleep 1", "report \"text\""
   std::string answer;  // "1", "0", or "error: ..."
   double sim_time_s = 0.0;
+  std::optional<core::CallVerb> verb;      // the call's verb; nullopt for an unknown primitive (not compared)
+  bool failed = false;                     // the call failed: answer is "error: ..." (not compared)
   std::size_t repeats = 1;                 // command_rows(): how many calls in a row this one stands for (not compared)
   bool operator==(const TraceRow&) const;  // sim time to the millisecond
 };

@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/call_verb.h"
 #include "core/source.h"
 
 namespace strata::coral::ast {
@@ -58,10 +59,11 @@ struct ArcRef {
   core::SourceSpan span;  // the whole `b*2`
 };
 
-enum class TacticType { Exec, Ask, Report, Ood, Unknown };
+// A TACTIC's type is the call verb of its primitive (EXEC, ASK, OOD, REPORT).
+using TacticType = core::CallVerb;
 
 struct Tactic {
-  TacticType type = TacticType::Unknown;
+  std::optional<TacticType> type;  // nullopt: not one of the four (diagnosed by the parser)
   Name type_name;
   std::optional<Call> function;  // EXEC, ASK, OOD
   std::optional<Literal> text;   // REPORT

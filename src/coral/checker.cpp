@@ -137,12 +137,12 @@ class NetChecker {
 
   void check_tactic(const ast::Tactic& a) {
     for (const auto& p : a.places) resolve(p);
-    if (a.type == ast::TacticType::Unknown) return;
-    std::size_t want = expected_places(a.type);
+    if (!a.type) return;
+    std::size_t want = expected_places(*a.type);
     if (a.places.size() != want) {
       auto* d = sink_.report(DiagnosticKind::TacticArity, a.type_name.span,
                              fmt::format("TACTIC({}, ...) takes {}, but {} given", a.type_name.text,
-                                         expected_places_text(a.type), a.places.size()));
+                                         expected_places_text(*a.type), a.places.size()));
       if (a.type == ast::TacticType::Ask) {
         core::add_note(d, "ASK marks its first place when the predicate is true, its second when false");
       }

@@ -42,7 +42,7 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
       ActionSpec spec;
       if (const auto* tactic = std::get_if<ast::Tactic>(&action)) {
         spec.kind = ActionSpec::Kind::Tactic;
-        spec.tactic = tactic->type;
+        spec.tactic = *tactic->type;  // checked: no unknown type gets here
         if (tactic->function) {
           spec.target = tactic->function->name.text;
           spec.args = tactic->function->args;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "coral/lexer.h"
+#include "coral/program.h"
 #include "coral/token_cursor.h"
 
 namespace strata::coral {
@@ -293,22 +294,15 @@ class Parser : private TokenCursor {
     auto type = name("a TACTIC type: EXEC, ASK, REPORT or OOD");
     if (!type) return std::nullopt;
     a.type_name = *type;
-    if (type->text == "EXEC")
-      a.type = ast::TacticType::Exec;
-    else if (type->text == "ASK")
-      a.type = ast::TacticType::Ask;
-    else if (type->text == "REPORT")
-      a.type = ast::TacticType::Report;
-    else if (type->text == "OOD")
-      a.type = ast::TacticType::Ood;
-    else {
+    a.type = parse_tactic_type(type->text);
+    if (!a.type) {
       sink_.report(DiagnosticKind::UnknownTacticType, type->span,
                    fmt::format("unknown TACTIC type '{}'; expected EXEC, ASK, REPORT or OOD", type->text));
     }
     if (!expect(TK::Comma, "after the TACTIC type")) return std::nullopt;
     if (at(TK::String)) {
       ast::Literal text = literal();
-      if (a.type != ast::TacticType::Report && a.type != ast::TacticType::Unknown) {
+      if (a.type && *a.type != ast::TacticType::Report) {
         sink_.report(DiagnosticKind::TacticArguments, text.span,
                      fmt::format("TACTIC({}, ...) takes a primitive name, not a string", a.type_name.text));
       }

@@ -20,9 +20,15 @@ std::string_view tactic_type_name(ast::TacticType type) {
     case ast::TacticType::Ask: return "ASK";
     case ast::TacticType::Report: return "REPORT";
     case ast::TacticType::Ood: return "OOD";
-    case ast::TacticType::Unknown: break;
   }
   return "?";
+}
+
+std::optional<ast::TacticType> parse_tactic_type(std::string_view text) {
+  for (ast::TacticType t : core::kCallVerbs) {
+    if (tactic_type_name(t) == text) return t;
+  }
+  return std::nullopt;
 }
 
 namespace {

@@ -14,8 +14,8 @@ namespace strata::coral {
 struct ActionSpec {
   enum class Kind { Tactic, Phase };
   Kind kind = Kind::Tactic;
-  ast::TacticType tactic = ast::TacticType::Unknown;  // Kind::Tactic only
-  std::string target;  // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
+  ast::TacticType tactic = ast::TacticType::Exec;  // Kind::Tactic only
+  std::string target;                              // EXEC/ASK/OOD: the primitive; PHASE: the phase net; REPORT: empty
   // The arguments of the primitive, or of the PHASE call (the phase's
   // parameters, in order). In a parameterised net an argument may be
   // Kind::Parameter: the engine substitutes the value the phase was run with.
@@ -55,7 +55,10 @@ struct Program {
   const CompiledNet* find(std::string_view name) const;
 };
 
+// CORAL's spelling of a TACTIC type: "EXEC", "ASK", "REPORT", "OOD".
 std::string_view tactic_type_name(ast::TacticType type);
+// The type CORAL spells so; nullopt for anything else.
+std::optional<ast::TacticType> parse_tactic_type(std::string_view text);
 
 // "leg(0, 0, 100, 0)" for a PHASE action with arguments, "leg" without:
 // how dumps, exports and the studio show the call.

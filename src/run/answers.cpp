@@ -174,9 +174,9 @@ core::Result<void> check_answers(const AnswerScript& script, const tactical::Cat
         return invalid(fmt::format("{}: unknown primitive '{}'{}", where, a.primitive,
                                    s ? fmt::format(" (did you mean '{}'?)", *s) : std::string()));
       }
-      if (tactical::kind_name(p->kind) != a.action) {
+      if (core::call_verb_name(p->kind) != a.action) {
         return invalid(fmt::format("{}: '{}' is an {} primitive, not {}", where, a.primitive,
-                                   tactical::kind_name(p->kind), a.action));
+                                   core::call_verb_name(p->kind), a.action));
       }
     }
     if (!program) {

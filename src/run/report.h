@@ -41,8 +41,8 @@ struct RunReport {
   std::string surface_method;
   // IMC: what the link did not use, in a few words; "" not IMC.
   std::string imc_dropped;
-  // The vehicle's own words when it refused a call or answered an exec 0
-  // ("exec submerge failed: ..."), the last such; "" none.
+  // The vehicle's own words for an exec or ood it answered 0 ("exec submerge
+  // failed: ..."): the last such call's CallRecord::vehicle_said; "" none.
   std::string vehicle_reason;
   std::vector<std::string> phases;  // "initialize completed", depth-1 phases in the order they ended
   std::uint64_t primitive_calls = 0;

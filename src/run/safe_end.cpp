@@ -11,7 +11,7 @@ constexpr const char* kSurfaceReached = "surface_reached";
 constexpr const char* kSleep = "sleep";
 constexpr int kSurfaceLimitS = 120;
 
-using CallResult = core::Result<tactical::CallOutcome>;
+using CallResult = tactical::CallResult;
 
 }  // namespace
 

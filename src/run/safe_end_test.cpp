@@ -16,7 +16,7 @@
 namespace strata::run {
 namespace {
 
-using Answer = core::Result<tactical::CallOutcome>;
+using Answer = tactical::CallResult;
 
 // The vehicle: each call is answered by `policy` (the call's name and the
 // how-many-th call of that name it is), in the order the calls were made.
@@ -37,7 +37,9 @@ struct FakeVehicle : strategic::testing::FakeTacticsBase {
 
 Answer yes() { return tactical::CallOutcome{true, 0.0}; }
 Answer no() { return tactical::CallOutcome{false, 0.0}; }
-Answer failed(std::string why) { return core::Error{core::ErrorCode::Timeout, std::move(why)}; }
+Answer failed(std::string why) {
+  return tactical::CallError{tactical::CallError::Kind::TimedOut, std::nullopt, std::move(why)};
+}
 
 struct SafeEndRig {
   FakeVehicle vehicle;

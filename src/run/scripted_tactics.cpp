@@ -42,8 +42,8 @@ void ScriptedTactics::diverge(const std::string& why) {
 
 void ScriptedTactics::withhold(std::string_view name, tactical::CallHandler&& done) {
   asio::post(io_, [done = std::move(done), what = std::string(name)] {
-    done(core::make_error(core::ErrorCode::InvalidInput,
-                          fmt::format("{} not sent: the run left the scripted answers", what)));
+    done(tactical::CallError{tactical::CallError::Kind::Withheld, std::nullopt,
+                             fmt::format("{} not sent: the run left the scripted answers", what)});
   });
 }
 
@@ -53,10 +53,10 @@ void ScriptedTactics::phase_started(const strategic::PhaseStart& e) {
 
 void ScriptedTactics::action_started(const strategic::ActionStart& e) {
   pending_.reset();
-  if (e.kind != "exec" && e.kind != "ask" && e.kind != "ood") return;
+  if (e.is_phase() || e.is_call(core::CallVerb::Report)) return;
   auto it = instances_.find(e.instance);
   pending_ = Pending{it == instances_.end() ? std::string() : it->second.net, std::string(e.transition),
-                     std::string(e.kind), std::string(e.primitive)};
+                     std::string(e.kind_name()), std::string(e.primitive)};
 }
 
 void ScriptedTactics::phase_ended(const strategic::PhaseEnd& e) {
@@ -127,7 +127,7 @@ void ScriptedTactics::call(std::string_view name, std::vector<tactical::Value> a
   used_[*entry] = true;
   ++used_count_;
   const ScriptedAnswer a = script_.answers[*entry];
-  inner_.call(name, std::move(args), [this, a, done = std::move(done)](core::Result<tactical::CallOutcome> r) {
+  inner_.call(name, std::move(args), [this, a, done = std::move(done)](tactical::CallResult r) {
     // An error (the vehicle refused the call, the link is gone) stands: the
     // script says what a call answered, not that it could be made.
     if (!r) {

@@ -56,7 +56,8 @@ class PhaseRecorder final : public strategic::Observer {
 };
 
 inline bool link_error(const strategic::MissionResult& r) {
-  return r.call_error && (*r.call_error == core::ErrorCode::Timeout || *r.call_error == core::ErrorCode::Closed);
+  return r.call_error &&
+         (*r.call_error == tactical::CallError::Kind::TimedOut || *r.call_error == tactical::CallError::Kind::LinkLost);
 }
 
 }  // namespace detail

@@ -174,14 +174,13 @@ void RunSession::Run::build_levels() {
     check_limits();
   });
   tactical_->on_vehicle_event([this](const protocol::Event& e) {
-    // "exec submerge failed: ...": the vehicle's reason for an answer of 0.
-    if (e.text.find(" failed: ") != std::string::npos) report_.vehicle_reason = e.text;
     for (RunObserver* obs : session_.observers_) obs->vehicle_event(e.text, e.sim_time_s);
   });
   tactical_->on_call([this](const tactical::CallRecord& c) {
     if (o_.trace) report_.trace.push_back(c);
     if (c.primitive == kShutdown && c.value == true && !safe_end_running_) mission_sent_done_ = true;
-    if (c.error.starts_with("vehicle error ")) report_.vehicle_reason = c.error;
+    // An exec or ood answered 0: what the vehicle said meanwhile is its reason.
+    if (!c.vehicle_said.empty()) report_.vehicle_reason = c.vehicle_said;
     check_limits();
   });
   if (o_.telemetry_hz > 0) {

@@ -8,24 +8,13 @@
 
 namespace strata::strategic {
 
-coral::ast::TacticType tactic_type(tactical::Kind kind) {
-  switch (kind) {
-    case tactical::Kind::Exec: return coral::ast::TacticType::Exec;
-    case tactical::Kind::Ask: return coral::ast::TacticType::Ask;
-    case tactical::Kind::Ood: return coral::ast::TacticType::Ood;
-    case tactical::Kind::Report: return coral::ast::TacticType::Report;
-  }
-  return coral::ast::TacticType::Unknown;
-}
-
 coral::CheckOptions coral_check_options(const tactical::Catalogue& catalogue, tactical::ExecutionLevel level) {
   using Signatures = std::map<std::string, coral::PrimitiveSignature, std::less<>>;
   auto signatures = std::make_shared<Signatures>();
   coral::CheckOptions options;
   options.execution_level = tactical::execution_level_name(level);
   for (const auto& p : catalogue.all()) {
-    coral::PrimitiveSignature sig{
-        tactic_type(p.kind), p.min_args(), p.max_args(), {}, tactical::unavailable_on(level, p)};
+    coral::PrimitiveSignature sig{p.kind, p.min_args(), p.max_args(), {}, tactical::unavailable_on(level, p)};
     for (const auto& a : p.args) {
       sig.args.push_back({a.name, a.type == tactical::Value::Type::Number, a.unit, a.min, a.max});
     }

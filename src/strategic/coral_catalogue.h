@@ -13,9 +13,6 @@
 
 namespace strata::strategic {
 
-// The TACTIC type a CORAL call of a primitive of this kind must name.
-coral::ast::TacticType tactic_type(tactical::Kind kind);
-
 // The lookup and the names the CORAL checker needs. The options hold their
 // own copy of the signatures: they stay valid when the catalogue is gone.
 // With an Execution level other than the Phoenix protocol, a primitive it

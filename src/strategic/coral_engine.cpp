@@ -21,16 +21,10 @@ std::string_view to_string(Outcome outcome) {
 
 namespace {
 
-std::string_view kind_name(const coral::ActionSpec& a) {
-  if (a.kind == coral::ActionSpec::Kind::Phase) return "phase";
-  switch (a.tactic) {
-    case coral::ast::TacticType::Exec: return "exec";
-    case coral::ast::TacticType::Ask: return "ask";
-    case coral::ast::TacticType::Report: return "report";
-    case coral::ast::TacticType::Ood: return "ood";
-    case coral::ast::TacticType::Unknown: break;
-  }
-  return "unknown";
+// A TACTIC's call verb; nullopt for a PHASE.
+std::optional<core::CallVerb> verb_of(const coral::ActionSpec& a) {
+  if (a.kind == coral::ActionSpec::Kind::Phase) return std::nullopt;
+  return a.tactic;
 }
 
 // The primitive a TACTIC calls: REPORT goes to the catalogue's `report`.
@@ -155,7 +149,7 @@ InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optio
   return id;
 }
 
-void CoralEngine::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
+void CoralEngine::deliver(ActionId id, tactical::CallResult outcome) {
   if (!running_) {
     if (ended_) {
       Notice n{fmt::format("reply for action {} after the mission ended, ignored", id), now()};
@@ -186,7 +180,12 @@ void CoralEngine::drain() {
     finish({Outcome::Completed, "", "", std::nullopt, now()});
     return;
   }
-  fail(fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}", marking_text("; ")));
+  MissionResult stalled{
+      Outcome::Failed, "",
+      fmt::format("mission stalled: no transition enabled and no action in flight; marking: {}", marking_text("; ")),
+      std::nullopt, now()};
+  stalled.stalled = true;
+  finish(stalled);
 }
 
 void CoralEngine::handle(Message& message) {
@@ -202,11 +201,11 @@ void CoralEngine::handle(Message& message) {
   InFlight action = it->second;
   in_flight_.erase(it);
   const coral::ActionSpec& a = *action.spec;
-  std::string_view kind = kind_name(a);
+  std::string_view kind = core::call_verb_name(a.tactic);  // only TACTICs are in flight
   if (!message.outcome) {
     MissionResult result{Outcome::Failed, "",
                          fmt::format("{} {} failed: {}", kind, primitive_of(a), message.outcome.error().message),
-                         message.outcome.error().code, now()};
+                         message.outcome.error().kind, now()};
     finish(result);
     return;
   }
@@ -223,8 +222,7 @@ void CoralEngine::handle(Message& message) {
       }
       place = a.outcomes.at(0);
       break;
-    case coral::ast::TacticType::Report:
-    case coral::ast::TacticType::Unknown: break;
+    case coral::ast::TacticType::Report: break;
   }
   Instance& inst = *instances_[action.instance];
   ActionFinish f{message.id,      action.instance, inst.net->name,
@@ -315,7 +313,7 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
 void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a) {
   ActionId id = next_action_++;
   std::string_view transition = inst.net->net.transition_name(t);
-  ActionStart event{id, inst.id, kind_name(a), primitive_of(a), transition, now()};
+  ActionStart event{id, inst.id, verb_of(a), primitive_of(a), transition, now()};
   observers_.action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     const coral::CompiledNet* phase = program_.find(a.target);
@@ -330,12 +328,12 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   }
   if (a.tactic == coral::ast::TacticType::Report) {
     // A REPORT marks nothing and waits for nothing: sent, not tracked.
-    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const core::Result<tactical::CallOutcome>&) {});
+    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const tactical::CallResult&) {});
     return;
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition});
   std::weak_ptr<CoralEngine*> self = self_;
-  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](core::Result<tactical::CallOutcome> outcome) {
+  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](tactical::CallResult outcome) {
     if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
   });
 }

@@ -72,7 +72,7 @@ class CoralEngine final : public ExecutorBase {
   // The input buffer: the reply to action id. Tactics replies come here; a
   // reply for an id the engine never issued, or for an action whose phase
   // has ended, is told to observers as a Notice and otherwise ignored.
-  void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
+  void deliver(ActionId id, tactical::CallResult outcome);
 
   // Inspection, for observers and tests.
   struct InstanceView {
@@ -97,7 +97,7 @@ class CoralEngine final : public ExecutorBase {
   };
   struct Message {
     ActionId id;
-    core::Result<tactical::CallOutcome> outcome;
+    tactical::CallResult outcome;
   };
   // Arguments of each action, converted once: [net][transition][action].
   // An argument naming a parameter holds a placeholder there, and its

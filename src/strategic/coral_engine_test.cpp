@@ -27,7 +27,7 @@ struct FakeTactics final : testing::FakeTacticsBase {
     reply(pending.front(), tactical::CallOutcome{value, time_s});
   }
   void answer_call(std::size_t i, bool value) { reply(i, tactical::CallOutcome{value, time_s}); }
-  void fail_oldest(core::Error error) { take(pending.front())(std::move(error)); }
+  void fail_oldest(tactical::CallError error) { take(pending.front())(std::move(error)); }
   void reply(std::size_t i, tactical::CallOutcome outcome) {
     auto h = take(i);
     time_s += 0.1;
@@ -284,10 +284,11 @@ TEST(CoralEngine, FailedCallEndsTheMissionWithTheReason) {
   Harness h(R"(mission m { place s = 1; exit done;
     transition t { wait { s } action { TACTIC(ASK, depth_reached, done, s) } } })");
   h.start();
-  h.tactics.fail_oldest(core::make_error(core::ErrorCode::Closed, "link lost"));
+  h.tactics.fail_oldest({tactical::CallError::Kind::LinkLost, std::nullopt, "link lost"});
   ASSERT_TRUE(h.on_end_result);
   EXPECT_EQ(Outcome::Failed, h.on_end_result->outcome);
   EXPECT_EQ("ask depth_reached failed: link lost", h.on_end_result->reason);
+  EXPECT_EQ(tactical::CallError::Kind::LinkLost, h.on_end_result->call_error);
   EXPECT_EQ(1, h.recorder.ended);
 }
 
@@ -309,6 +310,7 @@ TEST(CoralEngine, StallIsReportedWithTheMarking) {
   ASSERT_TRUE(h.on_end_result);
   EXPECT_EQ(Outcome::Failed, h.on_end_result->outcome);
   EXPECT_EQ("mission stalled: no transition enabled and no action in flight; marking: m: a:1", h.on_end_result->reason);
+  EXPECT_TRUE(h.on_end_result->stalled) << "typed: the campaign's no_stall reads this, not the words";
 }
 
 TEST(CoralEngine, MissionWithoutExitsCompletesWhenAtRest) {

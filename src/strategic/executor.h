@@ -14,8 +14,10 @@
 #include <utility>
 #include <vector>
 
+#include "core/call_verb.h"
 #include "core/result.h"
 #include "petri/net.h"
+#include "tactical/call_error.h"
 
 namespace strata::petri {
 class State;
@@ -36,10 +38,13 @@ struct MissionResult {
   Outcome outcome = Outcome::Failed;
   std::string exit;    // CORAL: the exit place of the mission net that ended it
   std::string reason;  // Failed (and Aborted when known): why, for people
-  // Failed because a primitive call failed: that call's error code
-  // (Timeout or Closed mean the link to the vehicle is gone).
-  std::optional<core::ErrorCode> call_error;
+  // Failed because a primitive call failed: how it failed (TimedOut or
+  // LinkLost mean the link to the vehicle is gone).
+  std::optional<tactical::CallError::Kind> call_error;
   double sim_time_s = 0.0;
+  // Failed because the mission could never move again (CORAL: no transition
+  // enabled anywhere and no action in flight).
+  bool stalled = false;
 };
 
 // A net (or a PROLOG phase) being run: the mission itself is instance 0,
@@ -81,13 +86,19 @@ struct Firing {
   double sim_time_s = 0.0;
 };
 
+// A primitive call (verb set) or a PHASE (verb nullopt) being issued.
 struct ActionStart {
   ActionId id = 0;
   InstanceId instance = 0;
-  std::string_view kind;        // "exec" | "ask" | "report" | "ood" | "phase"
-  std::string_view primitive;   // the primitive, or the phase net
-  std::string_view transition;  // CORAL: the transition that issued it
+  std::optional<core::CallVerb> verb;  // the call's verb; nullopt: a PHASE
+  std::string_view primitive;          // the primitive, or the phase net
+  std::string_view transition;         // CORAL: the transition that issued it
   double sim_time_s = 0.0;
+
+  bool is_phase() const { return !verb.has_value(); }
+  bool is_call(core::CallVerb v) const { return verb == v; }
+  // "exec", "ask", "ood", "report" (core::call_verb_name) or "phase".
+  std::string_view kind_name() const { return verb ? core::call_verb_name(*verb) : std::string_view("phase"); }
 };
 
 // A reply marked a place; or (id 0, primitive = the phase's name) a phase's

@@ -133,18 +133,17 @@ void PrologExecutor::primitive(const std::string& name, std::vector<tactical::Va
 
 void PrologExecutor::issue() {
   const tactical::Primitive* p = catalogue_.find(pending_name_);
-  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
   ActionId id = next_action_++;
   in_flight_ = id;
-  ActionStart event{id, current_instance(), kind, pending_name_, "", now()};
+  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now()};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
-  tactics_.call(pending_name_, std::move(pending_args_), [self, id](core::Result<tactical::CallOutcome> outcome) {
+  tactics_.call(pending_name_, std::move(pending_args_), [self, id](tactical::CallResult outcome) {
     if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
   });
 }
 
-void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> outcome) {
+void PrologExecutor::deliver(ActionId id, tactical::CallResult outcome) {
   if (!running_ || id != in_flight_) {
     Notice n{fmt::format("a reply for call {}, which the mission no longer waits for, was ignored", id), now()};
     observers_.notice(n);
@@ -157,9 +156,9 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
     return;
   }
   const tactical::Primitive* p = catalogue_.find(pending_name_);
-  std::string_view kind = p ? tactical::kind_name(p->kind) : std::string_view("exec");
+  std::string_view kind = core::call_verb_name(p ? p->kind : core::CallVerb::Exec);
   if (!outcome) {
-    fail(fmt::format("{} {} failed: {}", kind, pending_name_, outcome.error().message), outcome.error().code);
+    fail(fmt::format("{} {} failed: {}", kind, pending_name_, outcome.error().message), outcome.error().kind);
     return;
   }
   const tactical::CallOutcome& out = outcome.value();
@@ -177,9 +176,9 @@ void PrologExecutor::deliver(ActionId id, core::Result<tactical::CallOutcome> ou
 }
 
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
-  ActionStart event{next_action_++, current_instance(), "report", name, "", now()};
+  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now()};
   observers_.action_started(event);
-  tactics_.call(name, std::move(args), [](const core::Result<tactical::CallOutcome>&) {});
+  tactics_.call(name, std::move(args), [](const tactical::CallResult&) {});
 }
 
 void PrologExecutor::phase_started(const std::string& phase) {
@@ -218,8 +217,8 @@ void PrologExecutor::rules_ended() {
   }
 }
 
-void PrologExecutor::fail(std::string reason, std::optional<core::ErrorCode> code) {
-  finish({Outcome::Failed, "", std::move(reason), code, now()});
+void PrologExecutor::fail(std::string reason, std::optional<tactical::CallError::Kind> call_error) {
+  finish({Outcome::Failed, "", std::move(reason), call_error, now()});
 }
 
 void PrologExecutor::wind_down(const MissionResult& result) {

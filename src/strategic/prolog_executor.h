@@ -72,9 +72,9 @@ class PrologExecutor final : public ExecutorBase, private PrologHost {
 
   void resume();  // runs the rules until they yield or end
   void issue();   // sends the call the rules just made
-  void deliver(ActionId id, core::Result<tactical::CallOutcome> outcome);
+  void deliver(ActionId id, tactical::CallResult outcome);
   void rules_ended();
-  void fail(std::string reason, std::optional<core::ErrorCode> code = std::nullopt);
+  void fail(std::string reason, std::optional<tactical::CallError::Kind> call_error = std::nullopt);
   // The reason interrupt() gave, once it was called on the running executor.
   std::optional<std::string> interrupt_reason() const;
   // finish()'s part: the engine let go, the phases still running end

@@ -160,10 +160,10 @@ TEST_F(PrologExecutorTest, AskAnsweredZeroIsAnAnswerNotAFailure) {
 TEST_F(PrologExecutorTest, FailedCallEndsTheMissionWithItsErrorCode) {
   auto r = run("timeout", "mission :- exec_sleep(1, _), exec_surface(_).\n", {});
   ASSERT_TRUE(r);
-  r->tactics.fail_call(core::make_error(core::ErrorCode::Timeout, "no reply within 6 s"));
+  r->tactics.fail_call({tactical::CallError::Kind::TimedOut, std::nullopt, "no reply within 6 s"});
   ASSERT_TRUE(r->ended_with(Outcome::Failed));
   EXPECT_EQ("exec sleep failed: no reply within 6 s", r->result->reason);
-  EXPECT_EQ(core::ErrorCode::Timeout, r->result->call_error);
+  EXPECT_EQ(tactical::CallError::Kind::TimedOut, r->result->call_error);
   EXPECT_EQ("sleep(1)", r->tactics.names());
   EXPECT_EQ((Strings{"end timeout#0 cancelled", "mission_ended failed", "on_end"}), r->last(3));
 }

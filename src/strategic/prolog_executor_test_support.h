@@ -50,7 +50,7 @@ struct FakeTactics final : testing::FakeTacticsBase {
     time_s += 0.1;
     take(i)(tactical::CallOutcome{value, time_s});
   }
-  void fail_call(core::Error error) {
+  void fail_call(tactical::CallError error) {
     std::size_t i = waited_for();
     ASSERT_LT(i, calls.size()) << "no call to fail";
     take(i)(std::move(error));
@@ -75,7 +75,7 @@ struct Recorder final : Observer {
                                  : fmt::format("end {}#{} '{}' {}", e.name, e.instance, e.exit, e.exit_index));
   }
   void action_started(const ActionStart& e) override {
-    events.push_back(fmt::format("action {} {} {} in {}", e.id, e.kind, e.primitive, e.instance));
+    events.push_back(fmt::format("action {} {} {} in {}", e.id, e.kind_name(), e.primitive, e.instance));
   }
   void action_finished(const ActionFinish& e) override {
     events.push_back(fmt::format("finish {} {}={} in {}#{}", e.id, e.primitive, e.value ? 1 : 0, e.net, e.instance));

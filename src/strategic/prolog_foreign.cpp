@@ -1,6 +1,7 @@
 // The driver's foreign predicates ('$strata_call'/3, '$strata_report'/2,
 // '$strata_phase'/2, '$strata_scan'/2): where the rules reach the host that
 // runs them (docs/prolog.md).
+#include <filesystem>
 #include <cstdint>
 #include <optional>
 #include <string>

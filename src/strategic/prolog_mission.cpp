@@ -42,7 +42,7 @@ std::string primitive_specs(const tactical::Catalogue& catalogue) {
   std::string out = "[";
   for (const auto& p : catalogue.all()) {
     if (out.size() > 1) out += ",";
-    out += fmt::format("primitive({},{},{},{})", prolog_atom(p.name), tactical::kind_name(p.kind), p.min_args(),
+    out += fmt::format("primitive({},{},{},{})", prolog_atom(p.name), core::call_verb_name(p.kind), p.min_args(),
                        p.max_args());
   }
   return out + "]";

@@ -421,7 +421,7 @@ nlohmann::json primitives_json(const tactical::Catalogue& catalogue) {
                       {"min", a.min ? nlohmann::json(*a.min) : nlohmann::json(nullptr)},
                       {"max", a.max ? nlohmann::json(*a.max) : nlohmann::json(nullptr)}});
     }
-    list.push_back({{"name", p.name}, {"kind", tactical::kind_name(p.kind)}, {"args", args}, {"doc", p.doc}});
+    list.push_back({{"name", p.name}, {"kind", core::call_verb_name(p.kind)}, {"args", args}, {"doc", p.doc}});
   }
   return {{"primitives", list}};
 }

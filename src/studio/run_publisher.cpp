@@ -124,11 +124,11 @@ void RunPublisher::fired(const strategic::Firing& e) {
 void RunPublisher::action_started(const strategic::ActionStart& e) {
   hub_.publish_lazy("action_start", {e.instance, e.id},
                     [id = e.id, instance = e.instance, transition = std::string(e.transition),
-                     kind = std::string(e.kind), primitive = std::string(e.primitive), t = e.sim_time_s] {
+                     kind = std::string(e.kind_name()), primitive = std::string(e.primitive), t = e.sim_time_s] {
                       return json{{"id", id},     {"instance", instance},   {"transition", transition},
                                   {"kind", kind}, {"primitive", primitive}, {"t", t}};
                     });
-  if (e.kind == "report") {
+  if (e.is_call(core::CallVerb::Report)) {
     // Sent, never answered: not in flight once sent.
     Running& r = running_[e.instance];
     hub_.publish_lazy("action_finish", {e.instance, e.id},
@@ -145,7 +145,7 @@ void RunPublisher::action_started(const strategic::ActionStart& e) {
     return;
   }
   in_flight_[e.id] = e.instance;
-  if (e.kind == "phase") pending_phase_action_ = e.id;
+  if (e.is_phase()) pending_phase_action_ = e.id;
 }
 
 void RunPublisher::action_finished(const strategic::ActionFinish& ev) {

@@ -131,7 +131,7 @@ class CatalogueReader {
       if (!t.get("kind")) errors_.add(t, fmt::format("{} has no 'kind' (exec, ask, ood or report)", owner));
       return std::nullopt;
     }
-    auto k = kind_from_name(str(*kind));
+    auto k = core::parse_call_verb(str(*kind));
     if (!k) {
       errors_.add(*kind, fmt::format("{}: unknown kind '{}': expected exec, ask, ood or report", owner, str(*kind)));
       return std::nullopt;
@@ -335,7 +335,7 @@ class CatalogueReader {
       return false;
     }
     const auto& fields = parsed.value().fields;
-    const std::string_view verb = kind_name(p.kind);
+    const std::string_view verb = core::call_verb_name(p.kind);
     if (fields.size() < 2 || !fields[0].is_literal() || fields[0].pieces[0].text != verb) {
       errors_.add(where, fmt::format("{}: the message must start with the verb '{}' and the "
                                      "function's name on the wire, e.g. \"{} {}\"",

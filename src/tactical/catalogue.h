@@ -12,17 +12,16 @@
 #include <string_view>
 #include <vector>
 
+#include "core/call_verb.h"
 #include "core/result.h"
 #include "tactical/message_template.h"
 #include "tactical/value.h"
 
 namespace strata::tactical {
 
-enum class Kind { Exec, Ask, Ood, Report };
-
-// "exec", "ask", "ood", "report": the catalogue's spelling and the wire verb.
-std::string_view kind_name(Kind kind);
-std::optional<Kind> kind_from_name(std::string_view name);
+// A primitive's kind is its call verb: "exec", "ask", "ood", "report" in
+// the catalogue file, spelled by core::call_verb_name().
+using Kind = core::CallVerb;
 
 // Where the Tactical level takes a primitive's data from, beside its arguments.
 enum class DataSource {

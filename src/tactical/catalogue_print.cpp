@@ -61,8 +61,8 @@ std::string format_catalogue(const Catalogue& catalogue) {
       args += describe_argument(a);
     }
     std::string message = p.kind == Kind::Report ? "(console and log only)" : p.message;
-    rows.push_back({p.name, std::string(kind_name(p.kind)), args.empty() ? "-" : args, timeout_text(p), p.prolog_call(),
-                    message, p.doc});
+    rows.push_back({p.name, std::string(core::call_verb_name(p.kind)), args.empty() ? "-" : args, timeout_text(p),
+                    p.prolog_call(), message, p.doc});
   }
   std::array<std::size_t, 7> width{};
   for (const auto& row : rows) {
@@ -91,7 +91,7 @@ nlohmann::ordered_json catalogue_json(const Catalogue& catalogue) {
   for (const auto& p : catalogue.all()) {
     nlohmann::ordered_json j;
     j["name"] = p.name;
-    j["kind"] = kind_name(p.kind);
+    j["kind"] = core::call_verb_name(p.kind);
     nlohmann::ordered_json args = nlohmann::ordered_json::array();
     for (const auto& a : p.args) {
       nlohmann::ordered_json arg;

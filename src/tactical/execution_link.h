@@ -2,8 +2,8 @@
 // The Tactical level's one interface to an Execution level (docs/imc.md):
 // requests go out as protocol::Request values (exec/ask/ood with typed
 // arguments, telemetry), and each is answered once, as a value: the
-// vehicle's reply or a typed error (core::ErrorCode Timeout, Closed,
-// Protocol, InvalidInput). Two implementations: VehicleLink (the Phoenix
+// vehicle's reply (an `err` included) or a typed error (core::ErrorCode
+// Timeout, Closed, Protocol, InvalidInput, Io). Two implementations: VehicleLink (the Phoenix
 // line protocol over TCP) and ImcLink (an IMC vehicle over UDP). The
 // Tactical level, the safe end and the run know only this.
 //
@@ -21,9 +21,12 @@
 
 namespace strata::tactical {
 
-// The reply to one request: ok/done/answer/pong/welcome, or an error whose
-// code says what happened (ErrorCode::Timeout, Closed, Protocol: the vehicle
-// refused it, Io: could not connect).
+// The reply to one request: ok/done/answer/pong/welcome, or protocol::Err
+// when the vehicle refused it (its code and message); or an error whose code
+// says what happened (ErrorCode::Timeout; Closed: no link, or it went;
+// Protocol: the vehicle's answer could not be used (malformed, or `err 0
+// busy`); InvalidInput: the link cannot carry the request (an IMC vehicle has
+// no such function); Io: could not connect). tactical/call_error.h maps them.
 using ReplyHandler = std::function<void(core::Result<protocol::VehicleMessage>)>;
 
 class ExecutionLink : public std::enable_shared_from_this<ExecutionLink> {

@@ -118,7 +118,7 @@ core::Result<void> ImcLink::take(Pending& p) {
   const protocol::Request& r = p.request;
   const std::string_view f = name_of(r);
   if (!imc_mapping(r.verb, f)) {
-    return make_error(ErrorCode::Protocol, fmt::format("an IMC vehicle has no '{}' (docs/imc.md)", f));
+    return make_error(ErrorCode::InvalidInput, fmt::format("an IMC vehicle has no '{}' (docs/imc.md)", f));
   }
   auto arg = [&](std::size_t i) -> core::Result<double> {
     auto v = number_arg(r, i);

@@ -593,7 +593,7 @@ TEST(ImcLink, AFunctionAnImcVehicleHasNotIsRefusedNotSent) {
   rig.connect();
   auto r = rig.call(protocol::make_exec(0, "set_sway", {protocol::Value::real(0.1)}));
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.error().code, core::ErrorCode::Protocol);
+  EXPECT_EQ(r.error().code, core::ErrorCode::InvalidInput) << "the link cannot carry it: refused, not a bad reply";
   EXPECT_EQ(r.error().message, "an IMC vehicle has no 'set_sway' (docs/imc.md)");
 }
 

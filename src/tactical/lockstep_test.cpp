@@ -148,13 +148,13 @@ TEST(Lockstep, ACallMadeFromAReportsOutcomeGoesInTheSameInstant) {
   auto link = rig.connect();
   TacticalLevel t(rig.io, Catalogue::builtin(), link, nullptr, nullptr);
   std::optional<double> asked, asked_after_report;
-  t.call("system_problem", {}, [&](core::Result<CallOutcome> r) {
+  t.call("system_problem", {}, [&](CallResult r) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     asked = r.value().sim_time_s;
   });
-  t.call("report", {tactical::Value::of("looking")}, [&](core::Result<CallOutcome> r) {
+  t.call("report", {tactical::Value::of("looking")}, [&](CallResult r) {
     ASSERT_TRUE(r.ok());
-    t.call("depth_filter_off", {}, [&](core::Result<CallOutcome> r2) {
+    t.call("depth_filter_off", {}, [&](CallResult r2) {
       ASSERT_TRUE(r2.ok()) << r2.error().message;
       asked_after_report = r2.value().sim_time_s;
     });
@@ -171,10 +171,10 @@ TEST(Lockstep, ACallMadeFromALocalErrorGoesInTheSameInstant) {
   auto link = rig.connect();
   TacticalLevel t(rig.io, Catalogue::builtin(), link, nullptr, nullptr);
   std::optional<double> asked, asked_after_error;
-  t.call("system_problem", {}, [&](core::Result<CallOutcome> r) { asked = r.value().sim_time_s; });
-  t.call("warp_drive", {}, [&](core::Result<CallOutcome> r) {
+  t.call("system_problem", {}, [&](CallResult r) { asked = r.value().sim_time_s; });
+  t.call("warp_drive", {}, [&](CallResult r) {
     ASSERT_FALSE(r.ok());
-    t.call("depth_filter_off", {}, [&](core::Result<CallOutcome> r2) { asked_after_error = r2.value().sim_time_s; });
+    t.call("depth_filter_off", {}, [&](CallResult r2) { asked_after_error = r2.value().sim_time_s; });
   });
   ASSERT_TRUE(run_until(rig.io, [&] { return asked && asked_after_error; }));
   EXPECT_DOUBLE_EQ(0.1, *asked);

@@ -13,23 +13,6 @@ std::string join_names(const std::vector<std::string>& names) { return fmt::form
 
 }  // namespace
 
-std::string_view kind_name(Kind kind) {
-  switch (kind) {
-    case Kind::Exec: return "exec";
-    case Kind::Ask: return "ask";
-    case Kind::Ood: return "ood";
-    case Kind::Report: return "report";
-  }
-  return "?";
-}
-
-std::optional<Kind> kind_from_name(std::string_view name) {
-  for (Kind k : {Kind::Exec, Kind::Ask, Kind::Ood, Kind::Report}) {
-    if (kind_name(k) == name) return k;
-  }
-  return std::nullopt;
-}
-
 std::size_t Primitive::min_args() const {
   std::size_t n = 0;
   for (const auto& a : args) {

@@ -44,8 +44,9 @@ bool is_token(std::string_view s) {
 }  // namespace
 
 std::string RenderedCall::text() const {
-  std::string out = verb;
-  if (!out.empty()) {
+  std::string out;
+  if (to_vehicle()) {
+    out = core::call_verb_name(verb);
     out += ' ';
     out += name;
   }
@@ -103,6 +104,7 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
       if (p.args[i].name == p.timeout_plus_arg) call.timeout_s += values[i].number;
     }
   }
+  call.verb = p.kind;
   if (p.kind == Kind::Report) {
     call.name = p.name;
     call.args = values;
@@ -130,7 +132,7 @@ core::Result<RenderedCall> render(const Primitive& p, std::span<const Value> arg
   if (fields.size() < 2 || !fields[0].is_literal() || !fields[1].is_literal()) {
     return invalid(fmt::format("'{}': the message \"{}\" does not start with a verb and a name", p.name, p.message));
   }
-  call.verb = fields[0].pieces[0].text;
+  // The catalogue checked that the first field is the verb (p.kind).
   call.name = fields[1].pieces[0].text;
   for (std::size_t f = 2; f < fields.size(); ++f) {
     std::string field;

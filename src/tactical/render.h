@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/call_verb.h"
 #include "core/result.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"
@@ -20,15 +21,15 @@
 namespace strata::tactical {
 
 struct RenderedCall {
-  std::string verb;  // "exec" | "ask" | "ood"; "" for report: nothing is sent
-  std::string name;  // the function's name on the wire ("setpoint" for next_setpt_data)
+  core::CallVerb verb = core::CallVerb::Exec;  // the primitive's kind; report: nothing is sent
+  std::string name;                            // the function's name on the wire ("setpoint" for next_setpt_data)
   // The argument fields, filled. A field that is exactly one placeholder
   // keeps its argument's type (number or string); a field with literal text
   // around or instead of placeholders is a string. For report: { text }.
   std::vector<Value> args;
   double timeout_s = 0;  // the reply timeout for this call (timeout_s + timeout_plus_arg)
 
-  bool to_vehicle() const { return !verb.empty(); }
+  bool to_vehicle() const { return verb != core::CallVerb::Report; }
   // "exec sleep 1": verb, name and args (to_string) joined by single spaces;
   // for report, the text. For the log and for people; the wire line is built
   // by the protocol layer, which adds the request id.

@@ -47,7 +47,7 @@ TEST(Render, SeparatesTheFieldsForTheProtocol) {
   std::vector<Value> args = {Value::of(2.5)};
   auto r = render(builtin("sleep"), args, nullptr);
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ("exec", r.value().verb);
+  EXPECT_EQ(core::CallVerb::Exec, r.value().verb);
   EXPECT_EQ("sleep", r.value().name);
   EXPECT_EQ((std::vector<Value>{Value::of(2.5)}), r.value().args);
   EXPECT_TRUE(r.value().to_vehicle());

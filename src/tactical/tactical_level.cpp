@@ -1,17 +1,30 @@
 #include "tactical/tactical_level.h"
 
+#include <cassert>
 #include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "tactical/render.h"
+#include "tactical/vehicle_link.h"
 
 namespace strata::tactical {
 
+std::optional<protocol::Verb> wire_verb(core::CallVerb verb) {
+  switch (verb) {
+    case core::CallVerb::Exec: return protocol::Verb::Exec;
+    case core::CallVerb::Ask: return protocol::Verb::Ask;
+    case core::CallVerb::Ood: return protocol::Verb::Ood;
+    case core::CallVerb::Report: return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 protocol::Request to_request(const RenderedCall& call) {
+  assert(call.to_vehicle());
   protocol::Request r;
-  r.verb = call.verb == "ask" ? protocol::Verb::Ask : call.verb == "ood" ? protocol::Verb::Ood : protocol::Verb::Exec;
+  r.verb = *wire_verb(call.verb);
   r.name = call.name;
   for (const auto& v : call.args) {
     if (v.type == Value::Type::String) {
@@ -66,6 +79,8 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
   link_->on_event([this](const protocol::Event& e) {
     sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
     last_heard_s_ = std::max(last_heard_s_, e.sim_time_s);
+    ++events_heard_;
+    last_event_ = e.text;
     if (log_) log_->event("vehicle_event", {{"text", e.text}, {"sim_time", e.sim_time_s}});
     if (on_event_) on_event_(e);
   });
@@ -74,7 +89,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
   });
 }
 
-void TacticalLevel::finish(const CallRecord& record, CallHandler& done, core::Result<CallOutcome> outcome) {
+void TacticalLevel::finish(const CallRecord& record, CallHandler& done, CallResult outcome) {
   --in_flight_;
   if (on_call_) {
     CallRecord r = record;
@@ -93,8 +108,8 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   // The link must not tell a lockstep vehicle to advance while an outcome is
   // queued here: the caller may answer it with more calls for this instant.
   auto hold = [this] { return link_ ? link_->hold() : ExecutionLink::Hold(); };
-  auto fail_later = [this, &hold](CallRecord rec, CallHandler h, core::Error e) {
-    rec.error = e.message;
+  auto fail_later = [this, &hold](CallRecord rec, CallHandler h, CallError e) {
+    rec.error = e;
     if (log_) log_->error(fmt::format("{}: {}", rec.primitive, e.message), sim_time_s_);
     asio::post(io_, [this, rec = std::move(rec), h = std::move(h), e = std::move(e), held = hold()]() mutable {
       finish(rec, h, e);
@@ -102,12 +117,15 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     });
   };
 
+  auto bad_call = [](std::string message) {
+    return CallError{CallError::Kind::BadCall, std::nullopt, std::move(message)};
+  };
   const Primitive* p = catalogue_.find(name);
   if (!p) {
-    fail_later(record, std::move(done),
-               core::make_error(core::ErrorCode::InvalidInput, fmt::format("unknown primitive '{}'", name)));
+    fail_later(record, std::move(done), bad_call(fmt::format("unknown primitive '{}'", name)));
     return;
   }
+  record.verb = p->kind;
   core::Result<RenderedCall> rendered =
       p->data != DataSource::None
           ? (cursor_ ? advance_and_render(*p, args, *cursor_)
@@ -116,7 +134,7 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
                                             fmt::format("'{}' needs mission data, and the mission names none", name))))
           : render(*p, args, cursor_);
   if (!rendered) {
-    fail_later(record, std::move(done), rendered.error());
+    fail_later(record, std::move(done), bad_call(rendered.error().message));
     return;
   }
   const RenderedCall& rc = rendered.value();
@@ -134,10 +152,11 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
     return;
   }
   if (!link_) {
-    fail_later(record, std::move(done), core::make_error(core::ErrorCode::Closed, "no vehicle link"));
+    fail_later(record, std::move(done), CallError{CallError::Kind::LinkLost, std::nullopt, "no vehicle link"});
     return;
   }
   protocol::Request request = to_request(rc);
+  const std::string what = describe(request);
   auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(rc.timeout_s * wall_per_sim_ * 1000.0)));
   // The catalogue's timeout is in simulated seconds: in lockstep the link
   // holds the call to it in simulated time; on the wall clock it is scaled by
@@ -146,15 +165,17 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
   auto id = std::make_shared<std::uint64_t>(0);
   *id = link_->send(
       std::move(request),
-      [this, record, done = std::move(done), id](core::Result<protocol::VehicleMessage> reply) mutable {
+      [this, record, done = std::move(done), id, what,
+       events_before = events_heard_](core::Result<protocol::VehicleMessage> reply) mutable {
+        auto fail = [&](CallError e, const std::string& logged) {
+          record.error = CallError{e.kind, e.vehicle_code, logged};
+          if (log_) log_->reply(*id, {{"error", logged}}, sim_time_s_);
+          finish(record, done, std::move(e));
+        };
         if (!reply) {
           // A simulated-time timeout ends the call at the vehicle's time, later than its last reply.
           if (auto t = link_->sim_time_s(); t && *t > sim_time_s_) sim_time_s_ = *t;
-          record.error = reply.error().message;
-          if (log_) {
-            log_->reply(*id, {{"error", reply.error().message}}, sim_time_s_);
-          }
-          finish(record, done, reply.error());
+          fail(call_error_from_link(reply.error()), reply.error().message);
           return;
         }
         CallOutcome out;
@@ -162,16 +183,22 @@ void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHan
           out = {d->success, d->sim_time_s};
         } else if (auto* a = std::get_if<protocol::Answer>(&reply.value())) {
           out = {a->value, a->sim_time_s};
+        } else if (auto* err = std::get_if<protocol::Err>(&reply.value())) {
+          std::string text = refusal_text(what, *err);
+          fail(CallError{CallError::Kind::Refused, err->code, text}, text);
+          return;
         } else {
-          record.error = "unexpected reply";
-          if (log_) log_->reply(*id, {{"error", "unexpected reply"}}, sim_time_s_);
-          finish(record, done,
-                 core::make_error(core::ErrorCode::Protocol, fmt::format("unexpected reply to `{}`", record.message)));
+          fail(CallError{CallError::Kind::BadReply, std::nullopt,
+                         fmt::format("unexpected reply to `{}`", record.message)},
+               "unexpected reply");
           return;
         }
         sim_time_s_ = std::max(sim_time_s_, out.sim_time_s);
         last_heard_s_ = std::max(last_heard_s_, out.sim_time_s);
         record.value = out.value;
+        if (!out.value && record.verb != core::CallVerb::Ask && events_heard_ > events_before) {
+          record.vehicle_said = last_event_;
+        }
         if (log_) log_->reply(*id, out.value ? 1 : 0, out.sim_time_s);
         finish(record, done, out);
       },

@@ -24,7 +24,9 @@
 
 #include <asio.hpp>
 
+#include "core/call_verb.h"
 #include "core/result.h"
+#include "tactical/call_error.h"
 #include "tactical/catalogue.h"
 #include "tactical/mission_data.h"
 #include "tactical/mission_log.h"
@@ -39,15 +41,23 @@ struct CallOutcome {
   double sim_time_s = 0.0;  // the vehicle's time at the reply
 };
 
-using CallHandler = std::function<void(core::Result<CallOutcome>)>;
+// A call's outcome: its answer, or why it has none (call_error.h).
+using CallResult = core::Result<CallOutcome, CallError>;
+using CallHandler = std::function<void(CallResult)>;
 
 // What one call looked like, for traces (strata compare) and tests.
 struct CallRecord {
   std::string primitive;
-  std::string message;  // "exec sleep 1"; for report, the text
-  std::optional<bool> value;
-  std::string error;
-  double sim_time_s = 0.0;  // the vehicle's time when the call completed
+  std::optional<core::CallVerb> verb;  // the primitive's kind; nullopt when no primitive has the name
+  std::string message;                 // "exec sleep 1"; for report, the text
+  std::optional<bool> value;           // the answer; nullopt when the call failed
+  std::optional<CallError> error;      // set when the call failed
+  double sim_time_s = 0.0;             // the vehicle's time when the call completed
+  // An exec or ood answered 0: the last event the vehicle sent while the
+  // call was in flight ("exec submerge failed: depth filter is off"), its
+  // reason as far as the protocol can tell (events name no request; with
+  // calls in flight together it may be another's). "" if none came.
+  std::string vehicle_said;
 };
 
 class TacticalLevel {
@@ -64,9 +74,10 @@ class TacticalLevel {
   void set_wall_seconds_per_sim_second(double scale) { wall_per_sim_ = scale; }
 
   // Calls primitive `name` with args. done is called exactly once, never
-  // before call() returns: with the outcome, or with an error (unknown
-  // primitive, bad arguments, past the last setpoint, the vehicle refused,
-  // timed out, or the link is gone). REPORT answers 1 at once.
+  // before call() returns: with the outcome, or with a CallError whose kind
+  // says why (BadCall: unknown primitive, bad arguments, no mission data or
+  // past the last setpoint; Refused: the vehicle's `err`, with its code;
+  // TimedOut; LinkLost; BadReply). REPORT answers 1 at once.
   void call(std::string_view name, std::vector<Value> args, CallHandler done);
 
   // Where REPORT text goes besides the log (the operator console).
@@ -87,7 +98,7 @@ class TacticalLevel {
   std::size_t in_flight() const { return in_flight_; }
 
  private:
-  void finish(const CallRecord& record, CallHandler& done, core::Result<CallOutcome> outcome);
+  void finish(const CallRecord& record, CallHandler& done, CallResult outcome);
 
   asio::io_context& io_;
   const Catalogue& catalogue_;
@@ -104,9 +115,17 @@ class TacticalLevel {
   std::uint64_t calls_ = 0;
   std::size_t in_flight_ = 0;
   std::uint64_t next_report_id_ = 1;
+  // Vehicle events heard so far, and the last one's text (CallRecord::vehicle_said).
+  std::uint64_t events_heard_ = 0;
+  std::string last_event_;
 };
 
+// The protocol verb a call goes out with: exec, ask, ood; nullopt for
+// report, which is never sent.
+std::optional<protocol::Verb> wire_verb(core::CallVerb verb);
+
 // A protocol request for a rendered call (verb, name and typed arguments).
+// call.to_vehicle() must hold.
 protocol::Request to_request(const RenderedCall& call);
 
 // The fields a telemetry line gives the mission log's "telemetry" record, in

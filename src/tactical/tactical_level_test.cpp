@@ -2,6 +2,8 @@
 // Strategic level will call them.
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include <gtest/gtest.h>
 
 #include "tactical/tactical_level.h"
@@ -23,11 +25,11 @@ struct Mission {
         rig_(rig) {}
 
   // Calls a primitive and waits for its outcome.
-  core::Result<CallOutcome> call(std::string_view name, std::vector<Value> args = {}) {
-    std::optional<core::Result<CallOutcome>> out;
-    tactical.call(name, std::move(args), [&](core::Result<CallOutcome> r) { out = std::move(r); });
+  CallResult call(std::string_view name, std::vector<Value> args = {}) {
+    std::optional<CallResult> out;
+    tactical.call(name, std::move(args), [&](CallResult r) { out = std::move(r); });
     EXPECT_TRUE(run_until(rig_.io, [&] { return out.has_value(); }));
-    if (!out) return core::make_error(core::ErrorCode::Internal, "no outcome within the test's bound");
+    if (!out) return CallError{CallError::Kind::TimedOut, std::nullopt, "no outcome within the test's bound"};
     return std::move(*out);
   }
   bool yes(std::string_view name, std::vector<Value> args = {}) {
@@ -135,7 +137,7 @@ TEST(TacticalLevel, OutcomesNeverArriveInsideCall) {
   asio::io_context io;
   TacticalLevel t(io, Catalogue::builtin(), nullptr, nullptr, nullptr);
   bool returned = false, early = false, answered = false;
-  t.call("report", {Value::of("hello")}, [&](core::Result<CallOutcome> r) {
+  t.call("report", {Value::of("hello")}, [&](CallResult r) {
     early = !returned;
     answered = r.ok() && r.value().value;
   });
@@ -151,8 +153,184 @@ TEST(TacticalLevel, RequestsToAVanishedVehicleFailWithAReason) {
   rig.server->stop();
   auto r = m.call("depth_reached");
   ASSERT_FALSE(r.ok());
-  EXPECT_TRUE(r.error().code == core::ErrorCode::Closed || r.error().code == core::ErrorCode::Timeout)
-      << r.error().message;
+  EXPECT_TRUE(r.error().link_gone()) << r.error().message;
+}
+
+// A link that answers each request as the test says, from the event loop.
+class ScriptedLink final : public ExecutionLink {
+ public:
+  using Answer = std::function<core::Result<protocol::VehicleMessage>(const protocol::Request&)>;
+  ScriptedLink(asio::io_context& io, Answer answer) : io_(io), answer_(std::move(answer)) {}
+  protocol::RequestId send(protocol::Request request, ReplyHandler handler, std::optional<std::chrono::milliseconds>,
+                           std::optional<double>) override {
+    request.id = next_id_++;
+    asio::post(io_, [this, request, handler = std::move(handler)] { handler(answer_(request)); });
+    return request.id;
+  }
+  bool connected() const override { return true; }
+  std::chrono::milliseconds default_timeout() const override { return std::chrono::milliseconds(100); }
+  std::optional<double> sim_time_s() const override { return std::nullopt; }
+  void close() override {}
+  void event(std::string text) {
+    if (on_event_) on_event_(protocol::Event{0.5, std::move(text)});
+  }
+
+ private:
+  asio::io_context& io_;
+  Answer answer_;
+  protocol::RequestId next_id_ = 1;
+};
+
+TEST(TacticalLevel, AnErrReplyIsRefusedWithTheVehiclesCode) {
+  asio::io_context io;
+  auto refusing = std::make_shared<ScriptedLink>(io, [](const protocol::Request& r) {
+    return core::Result<protocol::VehicleMessage>(
+        protocol::VehicleMessage(protocol::Err{r.id, protocol::ErrorCode::NotReady, "the watchdog tripped"}));
+  });
+  TacticalLevel t(io, Catalogue::builtin(), refusing, nullptr, nullptr);
+  std::optional<CallResult> out;
+  std::optional<CallRecord> record;
+  t.on_call([&](const CallRecord& r) { record = r; });
+  t.call("sleep", {Value::of(1.0)}, [&](CallResult r) { out = std::move(r); });
+  io.run();
+  ASSERT_TRUE(out && !out->ok());
+  EXPECT_EQ(CallError::Kind::Refused, out->error().kind);
+  EXPECT_EQ(protocol::ErrorCode::NotReady, out->error().vehicle_code);
+  EXPECT_EQ("vehicle refused `exec sleep 1` (request 1): not_ready: the watchdog tripped", out->error().message);
+  ASSERT_TRUE(record && record->error);
+  EXPECT_EQ(CallError::Kind::Refused, record->error->kind);
+  EXPECT_EQ(core::CallVerb::Exec, record->verb);
+  EXPECT_FALSE(record->value.has_value());
+}
+
+TEST(TacticalLevel, ATimeoutIsTimedOutAndAClosedLinkIsLinkLost) {
+  for (auto [code, kind] : {std::pair{core::ErrorCode::Timeout, CallError::Kind::TimedOut},
+                            std::pair{core::ErrorCode::Closed, CallError::Kind::LinkLost},
+                            std::pair{core::ErrorCode::Io, CallError::Kind::LinkLost},
+                            std::pair{core::ErrorCode::Protocol, CallError::Kind::BadReply},
+                            std::pair{core::ErrorCode::InvalidInput, CallError::Kind::Refused}}) {
+    asio::io_context io;
+    auto failing = std::make_shared<ScriptedLink>(io, [code = code](const protocol::Request&) {
+      return core::Result<protocol::VehicleMessage>(core::make_error(code, "the link's words"));
+    });
+    TacticalLevel t(io, Catalogue::builtin(), failing, nullptr, nullptr);
+    std::optional<CallResult> out;
+    t.call("depth_reached", {}, [&](CallResult r) { out = std::move(r); });
+    io.run();
+    ASSERT_TRUE(out && !out->ok());
+    EXPECT_EQ(kind, out->error().kind) << kind_name(out->error().kind);
+    EXPECT_FALSE(out->error().vehicle_code.has_value());
+    EXPECT_EQ("the link's words", out->error().message);
+  }
+}
+
+TEST(CallError, ToCoreGivesTheCodeABoundaryExpects) {
+  auto code = [](CallError::Kind k) { return CallError{k, std::nullopt, "m"}.to_core().code; };
+  EXPECT_EQ(core::ErrorCode::Timeout, code(CallError::Kind::TimedOut));
+  EXPECT_EQ(core::ErrorCode::Closed, code(CallError::Kind::LinkLost));
+  EXPECT_EQ(core::ErrorCode::Protocol, code(CallError::Kind::Refused));
+  EXPECT_EQ(core::ErrorCode::Protocol, code(CallError::Kind::BadReply));
+  EXPECT_EQ(core::ErrorCode::InvalidInput, code(CallError::Kind::BadCall));
+  EXPECT_EQ(core::ErrorCode::InvalidInput, code(CallError::Kind::Withheld));
+  const CallError refused{CallError::Kind::Refused, std::nullopt, "m"};
+  EXPECT_EQ("m", refused.to_core().message);
+}
+
+TEST(TacticalLevel, NoLinkIsLinkLost) {
+  asio::io_context io;
+  TacticalLevel t(io, Catalogue::builtin(), nullptr, nullptr, nullptr);
+  std::optional<CallResult> out;
+  t.call("depth_reached", {}, [&](CallResult r) { out = std::move(r); });
+  io.run();
+  ASSERT_TRUE(out && !out->ok());
+  EXPECT_EQ(CallError::Kind::LinkLost, out->error().kind);
+}
+
+TEST(TacticalLevel, AnUnknownPrimitiveABadArgumentOrNoMissionDataIsABadCallNeverSent) {
+  asio::io_context io;
+  bool sent = false;
+  auto link = std::make_shared<ScriptedLink>(io, [&](const protocol::Request& r) {
+    sent = true;
+    return core::Result<protocol::VehicleMessage>(protocol::VehicleMessage(protocol::Done{r.id, true, 1.0}));
+  });
+  TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
+  std::vector<CallRecord> records;
+  t.on_call([&](const CallRecord& r) { records.push_back(r); });
+  std::vector<CallResult> outs;
+  t.call("warp_drive", {}, [&](CallResult r) { outs.push_back(std::move(r)); });
+  t.call("sleep", {Value::of("long")}, [&](CallResult r) { outs.push_back(std::move(r)); });
+  t.call("next_setpt_data", {}, [&](CallResult r) { outs.push_back(std::move(r)); });
+  io.run();
+  ASSERT_EQ(3u, outs.size());
+  for (const CallResult& r : outs) {
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(CallError::Kind::BadCall, r.error().kind) << r.error().message;
+  }
+  EXPECT_FALSE(sent);
+  ASSERT_EQ(3u, records.size());
+  EXPECT_FALSE(records[0].verb.has_value()) << "no primitive has the name";
+  EXPECT_EQ(core::CallVerb::Exec, records[1].verb);
+}
+
+TEST(TacticalLevel, AReplyOfTheWrongKindIsABadReply) {
+  asio::io_context io;
+  auto link = std::make_shared<ScriptedLink>(io, [](const protocol::Request& r) {
+    return core::Result<protocol::VehicleMessage>(protocol::VehicleMessage(protocol::Pong{r.id, 1.0}));
+  });
+  TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
+  std::optional<CallResult> out;
+  t.call("surface", {}, [&](CallResult r) { out = std::move(r); });
+  io.run();
+  ASSERT_TRUE(out && !out->ok());
+  EXPECT_EQ(CallError::Kind::BadReply, out->error().kind);
+}
+
+TEST(TacticalLevel, AnExecAnsweredZeroCarriesWhatTheVehicleSaidMeanwhile) {
+  asio::io_context io;
+  std::shared_ptr<ScriptedLink> link;
+  link = std::make_shared<ScriptedLink>(io, [&](const protocol::Request& r) {
+    link->event(fmt::format("{} {} failed: depth filter is off", protocol::verb_name(r.verb), r.name));
+    return core::Result<protocol::VehicleMessage>(protocol::VehicleMessage(protocol::Done{r.id, false, 1.0}));
+  });
+  TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
+  std::vector<CallRecord> records;
+  t.on_call([&](const CallRecord& r) { records.push_back(r); });
+  t.call("submerge", {}, [](const CallResult&) {});
+  io.run();
+  ASSERT_EQ(1u, records.size());
+  EXPECT_EQ(false, records[0].value);
+  EXPECT_EQ("exec submerge failed: depth filter is off", records[0].vehicle_said);
+}
+
+TEST(TacticalLevel, AnEventBeforeTheCallIsNotItsReason) {
+  asio::io_context io;
+  auto link = std::make_shared<ScriptedLink>(io, [](const protocol::Request& r) {
+    return core::Result<protocol::VehicleMessage>(protocol::VehicleMessage(protocol::Done{r.id, false, 1.0}));
+  });
+  TacticalLevel t(io, Catalogue::builtin(), link, nullptr, nullptr);
+  link->event("13.0 s: at the surface; holding");
+  std::vector<CallRecord> records;
+  t.on_call([&](const CallRecord& r) { records.push_back(r); });
+  t.call("submerge", {}, [](const CallResult&) {});
+  io.run();
+  ASSERT_EQ(1u, records.size());
+  EXPECT_EQ("", records[0].vehicle_said);
+}
+
+TEST(ToRequest, EachCallVerbGoesOutAsItsOwnWireVerbAndReportNever) {
+  EXPECT_EQ(protocol::Verb::Exec, wire_verb(core::CallVerb::Exec));
+  EXPECT_EQ(protocol::Verb::Ask, wire_verb(core::CallVerb::Ask));
+  EXPECT_EQ(protocol::Verb::Ood, wire_verb(core::CallVerb::Ood));
+  EXPECT_FALSE(wire_verb(core::CallVerb::Report).has_value());
+  for (core::CallVerb v : core::kCallVerbs) {
+    if (v == core::CallVerb::Report) continue;
+    RenderedCall call{v, "f", {Value::of(1.0), Value::of("x")}, 2.0};
+    const protocol::Request r = to_request(call);
+    EXPECT_EQ(core::call_verb_name(v), protocol::verb_name(r.verb)) << "the same word on both sides";
+    EXPECT_EQ("f", r.name);
+    const std::vector<protocol::Value> args{protocol::Value::integer(1), protocol::Value::string("x")};
+    EXPECT_EQ(args, r.args);
+  }
 }
 
 TEST(TelemetryLogFields, OpenWaterAddsThePlaneAfterTheTankFields) {

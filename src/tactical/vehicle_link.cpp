@@ -35,6 +35,11 @@ std::string describe(const protocol::Request& request) {
   return out;
 }
 
+std::string refusal_text(std::string_view what, const protocol::Err& err) {
+  return fmt::format("vehicle refused `{}` (request {}): {}: {}", what, err.id, protocol::code_name(err.code),
+                     err.message);
+}
+
 std::shared_ptr<VehicleLink> VehicleLink::create(asio::io_context& io, LinkOptions options) {
   return std::shared_ptr<VehicleLink>(new VehicleLink(io, std::move(options)));
 }
@@ -106,9 +111,10 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     // `self`, or the link would own itself.
     protocol::Request hello = protocol::make_hello(0, options_.client_name);
     hello.version = options_.protocol_version;
+    std::string what = describe(hello);
     send(
         std::move(hello),
-        [this, finished, done](core::Result<protocol::VehicleMessage> r) {
+        [this, finished, done, what](core::Result<protocol::VehicleMessage> r) {
           if (*finished) return;
           *finished = true;
           connect_timer_.cancel();
@@ -120,6 +126,10 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
           };
           if (!r) {
             refuse(r.error());
+            return;
+          }
+          if (auto* err = std::get_if<protocol::Err>(&r.value())) {
+            refuse(make_error(ErrorCode::Protocol, refusal_text(what, *err)));
             return;
           }
           if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
@@ -345,12 +355,8 @@ void VehicleLink::handle_line(const protocol::Frame& frame) {
       finish_advance();
       return;
     }
-    auto it = pending_.find(err->id);
-    if (it != pending_.end()) {
-      text = fmt::format("vehicle refused `{}` (request {}): {}: {}", it->second.what, err->id,
-                         protocol::code_name(err->code), err->message);
-    }
-    deliver(err->id, make_error(ErrorCode::Protocol, text));
+    // The vehicle's answer to that request: its handler reads the code.
+    deliver(err->id, std::move(msg));
     return;
   }
   auto id = protocol::reply_id(msg);

@@ -170,5 +170,8 @@ class VehicleLink final : public ExecutionLink {
 
 // Describes a request for messages: "exec sleep 1".
 std::string describe(const protocol::Request& request);
+// "vehicle refused `exec fly` (request 3): unknown_function: MESSAGE": an
+// `err` reply to the request described as `what`, for people and the log.
+std::string refusal_text(std::string_view what, const protocol::Err& err);
 
 }  // namespace strata::tactical

@@ -101,16 +101,19 @@ TEST(VehicleLink, ProtocolOneServesRequestsOneAfterTheOther) {
 TEST(VehicleLink, UnknownFunctionAndBadArgumentsAreRefusedWithReasons) {
   Rig rig;
   auto link = rig.connect();
-  auto r = rig.call(*link, protocol::make_exec(0, "fly"));
-  ASSERT_FALSE(r.ok());
-  EXPECT_EQ(core::ErrorCode::Protocol, r.error().code);
-  EXPECT_NE(std::string::npos, r.error().message.find("unknown_function")) << r.error().message;
-  r = rig.call(*link, protocol::make_exec(0, "sleep"));
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(std::string::npos, r.error().message.find("bad_argument")) << r.error().message;
-  r = rig.call(*link, protocol::make_exec(0, "depth_reached"));
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(std::string::npos, r.error().message.find("is an ask function")) << r.error().message;
+  // The vehicle's `err` is its answer: handed over as a value, code and all.
+  auto refusal = [&](protocol::Request request) -> protocol::Err {
+    auto r = rig.call(*link, std::move(request));
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    const auto* err = r.ok() ? std::get_if<protocol::Err>(&r.value()) : nullptr;
+    EXPECT_NE(nullptr, err);
+    return err ? *err : protocol::Err{};
+  };
+  EXPECT_EQ(protocol::ErrorCode::UnknownFunction, refusal(protocol::make_exec(0, "fly")).code);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, refusal(protocol::make_exec(0, "sleep")).code);
+  const protocol::Err ask = refusal(protocol::make_exec(0, "depth_reached"));
+  EXPECT_EQ(protocol::ErrorCode::UnknownFunction, ask.code);
+  EXPECT_NE(std::string::npos, ask.message.find("is an ask function")) << ask.message;
 }
 
 TEST(VehicleLink, AFailedFunctionIsDoneZeroWithAnEventSayingWhy) {
