@@ -16,6 +16,8 @@
 
 #include <fmt/format.h>
 
+#include "core/unique_fd.h"
+
 namespace strata::core {
 
 Error errno_error(const std::string& what) {
@@ -66,16 +68,7 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
 
 namespace {
 
-// Closes a descriptor on every way out.
-struct Fd {
-  int fd = -1;
-  explicit Fd(int f) : fd(f) {}
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-  Fd(const Fd&) = delete;
-  Fd& operator=(const Fd&) = delete;
-};
+using Fd = UniqueFd;
 
 Error cannot_write(const std::string& shown, std::string_view why) {
   return make_error(ErrorCode::Io, fmt::format("cannot write '{}': {}", shown, why));

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "core/unique_fd.h"
 #include "core/file.h"
 
 namespace strata::studio {
@@ -68,16 +69,7 @@ core::Result<fs::path> Sandbox::resolve(std::string_view rel, bool for_write) co
 
 namespace {
 
-// Closes a descriptor on every way out.
-struct Fd {
-  int fd = -1;
-  explicit Fd(int f) : fd(f) {}
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-  Fd(const Fd&) = delete;
-  Fd& operator=(const Fd&) = delete;
-};
+using Fd = core::UniqueFd;
 
 // Where an open descriptor really is: the name may have been swapped for a
 // link between the check and the open; the descriptor cannot be.
