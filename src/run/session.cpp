@@ -43,7 +43,10 @@ void RunSession::stop(const std::string& who, const std::string& reason, int exi
 }
 
 core::Result<void, Error> RunSession::load() {
-  if (!load_result_) load_result_ = load_mission(options_, *loaded_);
+  if (!load_result_) {
+    load_started_ = std::chrono::steady_clock::now();
+    load_result_ = load_mission(options_, *loaded_);
+  }
   return *load_result_;
 }
 

@@ -18,6 +18,7 @@
 //
 // Threads: run() on one thread, which becomes the run's event loop (and, for
 // PROLOG rules, SWI-Prolog's thread). stop() from any thread, at any time.
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -93,6 +94,8 @@ class RunSession {
   RunOptions options_;
   std::unique_ptr<LoadedMission> loaded_;
   std::optional<core::Result<void, Error>> load_result_;  // once load() ran
+  // When load() began: the run's wall time counts from there (RunReport::wall_time_s).
+  std::optional<std::chrono::steady_clock::time_point> load_started_;
   std::vector<RunObserver*> observers_;
   std::mutex mutex_;  // guards the three below
   std::optional<StopRequest> stop_;

@@ -71,7 +71,7 @@ class RunSession::Run {
   explicit Run(RunSession& session)
       : session_(session),
         o_(session.options_),
-        wall_start_(std::chrono::steady_clock::now()),
+        wall_start_(session.load_started_.value_or(std::chrono::steady_clock::now())),
         loaded_(*session.loaded_) {}
 
   RunReport execute();
