@@ -39,7 +39,7 @@ std::string not_started_text(const run::LoadedMission& loaded, const run::Error&
   }
   const std::string more =
       errors > 1 ? fmt::format(" (and {} more error{})", errors - 1, errors == 2 ? "" : "s") : std::string();
-  const std::string what = error.input.empty() ? error.message : error.input + ": " + error.message;
+  std::string what = error.input.empty() ? error.message : error.input + ": " + error.message;
   switch (error.kind) {
     case ErrorKind::Invalid:
       if (errors > 0) return fmt::format("the mission does not load: {}{}", first, more);
