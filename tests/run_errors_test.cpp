@@ -17,10 +17,10 @@
 namespace strata::cli::run_testing {
 namespace {
 
-const std::string kSyntaxError = std::string(STRATA_SOURCE_DIR) + "/tests/run/syntax_error.coral";
-const std::string kExitsTogether = std::string(STRATA_SOURCE_DIR) + "/tests/verify/exits_together.coral";
+const std::string kDoesNotCompile = std::string(STRATA_SOURCE_DIR) + "/tests/run/syntax_error.coral";
+const std::string kFailsItsVerification = std::string(STRATA_SOURCE_DIR) + "/tests/verify/exits_together.coral";
 
-run::RunReport run_only(RunOptions o) {
+run::RunReport run_without_a_log(RunOptions o) {
   o.log.clear();
   run::RunSession session(std::move(o));
   return session.run();
@@ -29,7 +29,7 @@ run::RunReport run_only(RunOptions o) {
 TEST(RunErrors, AMissionThatIsNeitherCoralNorPrologIsAUsageError) {
   RunOptions o;
   o.mission = kTankDir + "/tank.csv";
-  const run::RunReport r = run_only(o);
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_FALSE(r.result);
   EXPECT_EQ(run::ErrorKind::Usage, r.error->kind);
@@ -40,7 +40,7 @@ TEST(RunErrors, AMissionThatIsNeitherCoralNorPrologIsAUsageError) {
 TEST(RunErrors, AMissionFileThatIsNotThereIsUnreadable) {
   RunOptions o;
   o.mission = kTankDir + "/no_such_mission.coral";
-  const run::RunReport r = run_only(o);
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(run::ErrorKind::Unreadable, r.error->kind);
   EXPECT_EQ(strata::kExitIo, exit_code(*r.error));
@@ -48,13 +48,13 @@ TEST(RunErrors, AMissionFileThatIsNotThereIsUnreadable) {
 
 TEST(RunErrors, AMissionThatDoesNotCompileIsInvalidAtThePlaceOfItsFirstError) {
   RunOptions o;
-  o.mission = kSyntaxError;
+  o.mission = kDoesNotCompile;
   run::RunSession session(o);
   const auto loaded = session.load();
   ASSERT_FALSE(loaded);
   EXPECT_EQ(run::ErrorKind::Invalid, loaded.error().kind);
   ASSERT_TRUE(loaded.error().place);
-  EXPECT_EQ(kSyntaxError, loaded.error().place->file);
+  EXPECT_EQ(kDoesNotCompile, loaded.error().place->file);
   EXPECT_EQ(5u, loaded.error().place->line);
   EXPECT_GT(loaded.error().place->column, 0u);
   // The diagnostics stay with the session for the caller's printer.
@@ -68,8 +68,8 @@ TEST(RunErrors, AMissionThatDoesNotCompileIsInvalidAtThePlaceOfItsFirstError) {
 
 TEST(RunErrors, AMissionThatFailsVerificationIsItsOwnKind) {
   RunOptions o;
-  o.mission = kExitsTogether;
-  const run::RunReport r = run_only(o);
+  o.mission = kFailsItsVerification;
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(run::ErrorKind::FailsVerification, r.error->kind);
   EXPECT_EQ(strata::kExitInvalid, exit_code(*r.error));
@@ -79,7 +79,7 @@ TEST(RunErrors, AnAnswersFileThatIsNotThereNamesItsInput) {
   RunOptions o;
   o.mission = kMission;
   o.answers = kTankDir + "/no_such_answers.json";
-  const run::RunReport r = run_only(o);
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(run::ErrorKind::Unreadable, r.error->kind);
   EXPECT_EQ("--answers", r.error->input);
@@ -90,7 +90,7 @@ TEST(RunErrors, AVehicleAddressWithoutAPortIsAUsageErrorOfTheVehicleOption) {
   RunOptions o;
   o.mission = kMission;
   o.vehicle = "127.0.0.1:notaport";
-  const run::RunReport r = run_only(o);
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(run::ErrorKind::Usage, r.error->kind);
   EXPECT_EQ("--vehicle", r.error->input);
@@ -105,7 +105,7 @@ TEST(RunErrors, AVehicleNobodyListensForIsUnavailable) {
   RunOptions o;
   o.mission = kMission;
   o.vehicle = "127.0.0.1:" + std::to_string(port);
-  const run::RunReport r = run_only(o);
+  const run::RunReport r = run_without_a_log(o);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(run::ErrorKind::VehicleUnavailable, r.error->kind);
   EXPECT_EQ(strata::kExitIo, exit_code(*r.error));
@@ -113,7 +113,7 @@ TEST(RunErrors, AVehicleNobodyListensForIsUnavailable) {
 
 TEST(RunErrors, TheCliWordsAndCodesWhatTheRunReturns) {
   RunOptions o;
-  o.mission = kExitsTogether;
+  o.mission = kFailsItsVerification;
   o.log.clear();
   std::ostringstream out, err;
   const RunReport r = run_mission(o, out, err);
@@ -121,7 +121,7 @@ TEST(RunErrors, TheCliWordsAndCodesWhatTheRunReturns) {
   // The properties that do not hold first, then the one line that says why.
   const std::string text = err.str();
   const auto fail_at = text.find("FAIL  exits_exclusive");
-  const auto line_at = text.find("strata run: " + kExitsTogether + " fails verification; not running");
+  const auto line_at = text.find("strata run: " + kFailsItsVerification + " fails verification; not running");
   ASSERT_NE(std::string::npos, fail_at) << text;
   ASSERT_NE(std::string::npos, line_at) << text;
   EXPECT_LT(fail_at, line_at);
@@ -129,8 +129,8 @@ TEST(RunErrors, TheCliWordsAndCodesWhatTheRunReturns) {
 
 TEST(RunErrors, ASummaryAsJsonCarriesTheErrorAsAValue) {
   RunOptions o;
-  o.mission = kSyntaxError;
-  run::RunReport r = run_only(o);
+  o.mission = kDoesNotCompile;
+  run::RunReport r = run_without_a_log(o);
   std::ostringstream err;
   print_run_errors(err, r);
   const json j = run::summary_json(r);
@@ -142,7 +142,7 @@ TEST(RunErrors, ASummaryAsJsonCarriesTheErrorAsAValue) {
 
 TEST(RunErrors, TheStudioSaysWhyARunDidNotStartInItsOwnWords) {
   RunOptions o;
-  o.mission = kSyntaxError;
+  o.mission = kDoesNotCompile;
   run::RunSession session(o);
   const auto loaded = session.load();
   ASSERT_FALSE(loaded);

@@ -8,9 +8,9 @@ namespace strata::strategic {
 namespace {
 
 // Records what it hears, in order, as one string.
-struct Recorder : Observer {
+struct EventRecorder : Observer {
   std::string* said;
-  explicit Recorder(std::string* s) : said(s) {}
+  explicit EventRecorder(std::string* s) : said(s) {}
   void phase_ended(const PhaseEnd& e) override { *said += "phase_ended:" + std::string(e.name) + " "; }
   void mission_ended(const MissionResult& r) override { *said += "mission_ended:" + r.reason + " "; }
 };
@@ -34,7 +34,7 @@ class OnePhase final : public ExecutorBase {
 
 TEST(ExecutorBase, FinishWindsDownThenTellsObserversThenCallsOnEndOnce) {
   std::string said;
-  Recorder a(&said), b(&said);
+  EventRecorder a(&said), b(&said);
   OnePhase executor(&said);
   executor.add_observer(a);
   executor.add_observer(b);
