@@ -94,6 +94,9 @@ struct ActionStart {
   std::string_view primitive;          // the primitive, or the phase net
   std::string_view transition;         // CORAL: the transition that issued it
   double sim_time_s = 0.0;
+  // A guard's own poll (its `sleep` or a term of its condition): the name
+  // of the guard; "" for a call of the mission itself.
+  std::string_view guard;
 
   bool is_phase() const { return !verb.has_value(); }
   bool is_call(core::CallVerb v) const { return verb == v; }
@@ -113,6 +116,20 @@ struct ActionFinish {
   double sim_time_s = 0.0;
 };
 
+// A guard tripped (docs/language.md, "guard"): a term of its condition was
+// found true when polled. The phases and calls of its net that were running
+// are pre-empted before its handler starts: the phases end (cancelled), and
+// the replies of the calls still in flight will be ignored.
+struct GuardTrip {
+  InstanceId instance = 0;       // the net (mission or phase) that declares the guard
+  std::string_view net;
+  std::string_view guard;
+  std::string_view condition;    // the term found true: "system_problem", "not gps_available"
+  std::vector<std::string> preempted_phases;  // "leg (instance 3)", outermost first
+  std::vector<std::string> preempted_calls;   // "exec sleep", in the order issued
+  double sim_time_s = 0.0;
+};
+
 // Something worth a line in the log that is not a firing: a reply for an
 // unknown or finished action, an internal limit reached.
 struct Notice {
@@ -129,6 +146,7 @@ class Observer {
   virtual void action_started(const ActionStart&) {}
   virtual void action_finished(const ActionFinish&) {}
   virtual void notice(const Notice&) {}
+  virtual void guard_tripped(const GuardTrip&) {}
   virtual void mission_ended(const MissionResult&) {}
 };
 
@@ -182,6 +200,9 @@ class ObserverList {
   }
   void notice(const Notice& e) const {
     for (Observer* o : observers_) o->notice(e);
+  }
+  void guard_tripped(const GuardTrip& e) const {
+    for (Observer* o : observers_) o->guard_tripped(e);
   }
   void mission_ended(const MissionResult& result) const {
     for (Observer* o : observers_) o->mission_ended(result);

@@ -83,4 +83,17 @@ void LogObserver::notice(const Notice& e) {
   log_.write(line);
 }
 
+void LogObserver::guard_tripped(const GuardTrip& e) {
+  Json line;
+  line["event"] = "guard_tripped";
+  line["instance"] = e.instance;
+  line["net"] = e.net;
+  line["guard"] = e.guard;
+  line["condition"] = e.condition;
+  line["preempted_phases"] = e.preempted_phases;
+  line["preempted_calls"] = e.preempted_calls;
+  line["sim_time"] = t(e.sim_time_s);
+  log_.write(line);
+}
+
 }  // namespace strata::strategic

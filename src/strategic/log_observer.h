@@ -7,6 +7,7 @@
 //   {"event":"phase_end","instance","net","exit","result","sim_time"} (result: completed |
 //                                                                  aborted | cancelled)
 //   {"event":"notice","text","sim_time"}
+//   {"event":"guard_tripped","instance","net","guard","condition","preempted_phases","preempted_calls","sim_time"}
 // The run writes the last lines itself, after its safe end (run/session.h):
 //   {"event":"mission_end","outcome","exit","reason",["stopped_by"],["safe_end"],"exit_code","sim_time"}
 // consumed/produced/marking are objects {place: tokens} in declaration order.
@@ -26,6 +27,7 @@ class LogObserver final : public Observer {
   void fired(const Firing& e) override;
   void action_finished(const ActionFinish& e) override;
   void notice(const Notice& e) override;
+  void guard_tripped(const GuardTrip& e) override;
 
  private:
   tactical::MissionLog& log_;
