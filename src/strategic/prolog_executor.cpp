@@ -1,5 +1,8 @@
 #include "strategic/prolog_executor.h"
 
+#include <algorithm>
+#include <cassert>
+
 #include <fmt/format.h>
 
 #include "core/text.h"
@@ -91,7 +94,10 @@ void PrologExecutor::resume() {
     case Status::Yield: issue(); return;
     case Status::True:
     case Status::Last: rules_ended(); return;
-    case Status::False: fail("mission/0 failed: none of its rules succeeded"); return;
+    case Status::False:
+      fail(mission_handler_ ? fmt::format("the handler of guard {} failed", *mission_handler_)
+                            : std::string("mission/0 failed: none of its rules succeeded"));
+      return;
     case Status::Exception: break;
   }
   if (auto code = query_->halted()) {
@@ -135,15 +141,23 @@ void PrologExecutor::issue() {
   const tactical::Primitive* p = catalogue_.find(pending_name_);
   ActionId id = next_action_++;
   in_flight_ = id;
-  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now()};
+  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now(), ""};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.call(pending_name_, std::move(pending_args_), [self, id](tactical::CallResult outcome) {
     if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
   });
+  start_guards();
 }
 
 void PrologExecutor::deliver(ActionId id, tactical::CallResult outcome) {
+  if (forgotten_.erase(id) > 0) return;  // pre-empted by a trip, or by the end: nobody waits
+  if (auto it = guard_calls_.find(id); it != guard_calls_.end()) {
+    GuardCall call = std::move(it->second);
+    guard_calls_.erase(it);
+    guard_reply(call, id, std::move(outcome));
+    return;
+  }
   if (!running_ || id != in_flight_) {
     Notice n{fmt::format("a reply for call {}, which the mission no longer waits for, was ignored", id), now()};
     observers_.notice(n);
@@ -176,12 +190,14 @@ void PrologExecutor::deliver(ActionId id, tactical::CallResult outcome) {
 }
 
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
-  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now()};
+  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now(), ""};
   observers_.action_started(event);
   tactics_.call(name, std::move(args), [](const tactical::CallResult&) {});
 }
 
 void PrologExecutor::phase_started(const std::string& phase) {
+  // Rules that caught a trip and went on: their phases run nowhere, as their calls.
+  if (pending_trip()) return;
   InstanceId parent = current_instance();
   phases_.push_back({next_instance_++, phase});
   PhaseStart event{phases_.back().instance, parent, phases_.back().name, "", phases_.size(), nullptr, now()};
@@ -189,6 +205,7 @@ void PrologExecutor::phase_started(const std::string& phase) {
 }
 
 void PrologExecutor::phase_ended(const std::string& phase, const std::string& exit) {
+  if (pending_trip()) return;  // the trip ended the phases it pre-empted
   if (phases_.empty() || phases_.back().name != phase) {
     Notice n{fmt::format("phase {} ended again: the rules backtracked into it (is a cut missing after "
                          "execute_phase/1?)",
@@ -231,7 +248,9 @@ void PrologExecutor::wind_down(const MissionResult& result) {
     g_running = false;
     holds_engine_ = false;
   }
-  in_flight_ = 0;
+  in_flight_ = 0;  // its reply, if it comes, is a notice
+  stop_guards(0);  // theirs are not: nobody waited for a guard's poll
+  scopes_.clear();
   // Phases still running end with the mission, innermost first.
   while (!phases_.empty()) {
     PhaseEnd end{phases_.back().instance, phases_.back().name, "", 0, true, result.sim_time_s};
@@ -245,6 +264,171 @@ void PrologExecutor::wind_down(const MissionResult& result) {
                    result.outcome == Outcome::Failed,
                    result.sim_time_s};
   observers_.phase_ended(mission);
+}
+
+// Guards (docs/prolog.md §8). A scope's guards start polling right after
+// the first call the rules make in it, as a CORAL scope's sleeps follow its
+// first firings; each guard sleeps its period, asks its terms in order, and
+// trips on the first that holds, or sleeps again.
+
+std::uint64_t PrologExecutor::open_guards(std::vector<GuardSpec> guards) {
+  Scope scope;
+  scope.id = next_scope_++;
+  scope.instance = current_instance();
+  scope.net = phases_.empty() ? mission_.name() : phases_.back().name;
+  scope.depth = phases_.size();
+  for (auto& g : guards) {
+    std::size_t sleeping = g.terms.size();
+    scope.guards.push_back({std::move(g), 0, sleeping});
+  }
+  scopes_.push_back(std::move(scope));
+  return scopes_.back().id;
+}
+
+std::optional<std::string> PrologExecutor::close_guards(std::uint64_t id) {
+  auto it = std::find_if(scopes_.begin(), scopes_.end(), [id](const Scope& s) { return s.id == id; });
+  if (it == scopes_.end()) return std::nullopt;
+  std::optional<std::string> tripped = it->tripped;
+  if (tripped && it->instance == 0 && it->depth == 0) mission_handler_ = tripped;
+  // Scopes inside it that the rules left without closing (an exception
+  // past their clean-up) close with it.
+  const auto from = static_cast<std::size_t>(it - scopes_.begin());
+  stop_guards(from);
+  scopes_.erase(scopes_.begin() + static_cast<std::ptrdiff_t>(from), scopes_.end());
+  return tripped;
+}
+
+std::optional<GuardTripSignal> PrologExecutor::pending_trip() const {
+  for (const Scope& s : scopes_) {
+    if (s.tripped) return GuardTripSignal{s.id, *s.tripped};
+  }
+  return std::nullopt;
+}
+
+void PrologExecutor::call_not_made(const std::string& name) {
+  const tactical::Primitive* p = catalogue_.find(name);
+  auto trip = pending_trip();
+  Notice n{fmt::format("{} {} was not called: guard {} has tripped, and nothing reaches the vehicle before its "
+                       "handler runs (a call in a cleanup handler, or after a catch of the trip)",
+                       core::call_verb_name(p ? p->kind : core::CallVerb::Exec), name, trip ? trip->guard : "?"),
+           now()};
+  observers_.notice(n);
+}
+
+PrologExecutor::Scope* PrologExecutor::find_scope(std::uint64_t id) {
+  auto it = std::find_if(scopes_.begin(), scopes_.end(), [id](const Scope& s) { return s.id == id; });
+  return it == scopes_.end() ? nullptr : &*it;
+}
+
+void PrologExecutor::start_guards() {
+  // By index: poll() may not add scopes, but keep no reference across calls anyway.
+  for (std::size_t i = 0; i < scopes_.size() && running_; ++i) {
+    if (scopes_[i].polling || scopes_[i].tripped) continue;
+    scopes_[i].polling = true;
+    for (std::size_t g = 0; g < scopes_[i].guards.size(); ++g) poll(scopes_[i], g);
+  }
+}
+
+void PrologExecutor::poll(Scope& scope, std::size_t guard) {
+  GuardPoll& g = scope.guards[guard];
+  const bool sleeping = g.term == g.spec.terms.size();
+  std::string name = sleeping ? std::string("sleep") : g.spec.terms[g.term].ask;
+  std::vector<tactical::Value> args =
+      sleeping ? std::vector<tactical::Value>{tactical::Value::of(g.spec.period_s)} : g.spec.terms[g.term].args;
+  const core::CallVerb verb = sleeping ? core::CallVerb::Exec : core::CallVerb::Ask;
+  ActionId id = next_action_++;
+  g.in_flight = id;
+  guard_calls_[id] = {scope.id, guard, fmt::format("{} {}", core::call_verb_name(verb), name)};
+  ActionStart event{id, scope.instance, verb, name, "", now(), g.spec.name};
+  observers_.action_started(event);
+  std::weak_ptr<PrologExecutor*> self = self_;
+  tactics_.call(name, std::move(args), [self, id](tactical::CallResult outcome) {
+    if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
+  });
+}
+
+void PrologExecutor::guard_reply(const GuardCall& call, ActionId id, tactical::CallResult outcome) {
+  if (!running_) return;
+  if (auto why = interrupt_reason()) {
+    fail(std::move(*why));
+    return;
+  }
+  Scope* scope = find_scope(call.scope);
+  assert(scope && "a guard's poll in flight belongs to a scope still open");
+  GuardPoll& g = scope->guards[call.guard];
+  g.in_flight = 0;
+  const bool slept = g.term == g.spec.terms.size();
+  const std::string name = slept ? std::string("sleep") : g.spec.terms[g.term].ask;
+  if (!outcome) {
+    fail(fmt::format("guard {}: {} failed: {}", g.spec.name, call.text, outcome.error().message), outcome.error().kind);
+    return;
+  }
+  const tactical::CallOutcome& out = outcome.value();
+  ActionFinish f{id, scope->instance, scope->net, name, out.value, "", out.sim_time_s};
+  observers_.action_finished(f);
+  if (slept) {
+    if (!out.value) {
+      fail(fmt::format("guard {}: exec sleep was not executed: the vehicle answered 0 at {:.1f} s", g.spec.name,
+                       out.sim_time_s));
+      return;
+    }
+    g.term = 0;
+  } else if (out.value != g.spec.terms[g.term].negated) {
+    trip(static_cast<std::size_t>(scope - scopes_.data()), call.guard);
+    return;
+  } else {
+    ++g.term;  // past the last term: sleep again
+  }
+  poll(*scope, call.guard);
+}
+
+void PrologExecutor::trip(std::size_t index, std::size_t guard) {
+  Scope& scope = scopes_[index];
+  const GuardPoll& g = scope.guards[guard];
+  GuardTrip event{scope.instance, scope.net, g.spec.name, g.spec.terms[g.term].text, {}, {}, now()};
+  for (std::size_t i = scope.depth; i < phases_.size(); ++i) {
+    event.preempted_phases.push_back(fmt::format("{} (instance {})", phases_[i].name, phases_[i].instance));
+  }
+  // The calls in flight in the scope, in the order issued: the rules' own
+  // (they wait in the scope), and the polls of its guards and of the scopes inside it.
+  std::vector<std::pair<ActionId, std::string>> calls;
+  if (in_flight_ != 0) {
+    const tactical::Primitive* p = catalogue_.find(pending_name_);
+    calls.emplace_back(in_flight_,
+                       fmt::format("{} {}", core::call_verb_name(p ? p->kind : core::CallVerb::Exec), pending_name_));
+    forgotten_.insert(in_flight_);
+    in_flight_ = 0;
+  }
+  for (const auto& [id, call] : guard_calls_) {
+    if (const Scope* s = find_scope(call.scope); s && s - scopes_.data() >= static_cast<std::ptrdiff_t>(index)) {
+      calls.emplace_back(id, call.text);
+    }
+  }
+  std::sort(calls.begin(), calls.end());
+  for (auto& [id, text] : calls) event.preempted_calls.push_back(std::move(text));
+  stop_guards(index);
+  scopes_.erase(scopes_.begin() + static_cast<std::ptrdiff_t>(index) + 1, scopes_.end());
+  scopes_[index].tripped = std::string(event.guard);
+  // The phases inside the scope end, innermost first; then the observers
+  // hear the trip, and the rules, resumed, unwind to the scope's handler.
+  while (phases_.size() > scopes_[index].depth) {
+    PhaseEnd end{phases_.back().instance, phases_.back().name, "", 0, true, now()};
+    observers_.phase_ended(end);
+    phases_.pop_back();
+  }
+  observers_.guard_tripped(event);
+  resume();
+}
+
+void PrologExecutor::stop_guards(std::size_t from) {
+  for (std::size_t i = from; i < scopes_.size(); ++i) {
+    for (GuardPoll& g : scopes_[i].guards) {
+      if (g.in_flight == 0) continue;
+      guard_calls_.erase(g.in_flight);
+      forgotten_.insert(g.in_flight);
+      g.in_flight = 0;
+    }
+  }
 }
 
 }  // namespace strata::strategic

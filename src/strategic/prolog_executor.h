@@ -9,6 +9,9 @@
 //    current_phase(mission_abort) holds (Figure 10's `done`).
 //  - the rules call halt/0 or halt/1, at any moment: Aborted ("the rules
 //    called halt", "... halt(N)"); the run's end path surfaces the vehicle.
+//  - a guard (guard/4, phase_guard/5; docs/prolog.md §8) trips: its scope
+//    (mission/0, or the phase) is unwound and its handler runs in its
+//    place; the mission then ends as the rules do.
 //  - Failed: mission/0 fails or raises; a primitive call fails; EXEC or OOD
 //    is answered 0 (as in CORAL); the rules run more than inference_limit
 //    inferences between two primitive calls (an endless loop) or out of
@@ -20,8 +23,10 @@
 // second executor started meanwhile, or on rules that have run, ends
 // Failed at once and says why.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,6 +67,28 @@ class PrologExecutor final : public ExecutorBase, private PrologHost {
     InstanceId instance = 0;
     std::string name;
   };
+  // A guard of a scope, polling: its sleep, then its terms in turn.
+  struct GuardPoll {
+    GuardSpec spec;
+    ActionId in_flight = 0;  // its sleep or ask; 0 when stopped
+    std::size_t term = 0;    // the term asked; spec.terms.size() while it sleeps
+  };
+  // A guarded scope: mission/0 or an execute_phase/1 call, with its guards.
+  struct Scope {
+    std::uint64_t id = 0;
+    InstanceId instance = 0;
+    std::string net;
+    std::size_t depth = 0;  // phases_.size() when it opened: the phases inside it come after
+    std::vector<GuardPoll> guards;
+    bool polling = false;                // its guards' first sleeps are issued
+    std::optional<std::string> tripped;  // the guard that tripped it: its handler is due
+  };
+  // A guard's poll in flight.
+  struct GuardCall {
+    std::uint64_t scope = 0;
+    std::size_t guard = 0;
+    std::string text;  // "exec sleep", "ask system_problem"
+  };
 
   // PrologHost
   void primitive(const std::string& name, std::vector<tactical::Value> args) override;
@@ -69,6 +96,20 @@ class PrologExecutor final : public ExecutorBase, private PrologHost {
   void report(const std::string& name, std::vector<tactical::Value> args) override;
   void phase_started(const std::string& phase) override;
   void phase_ended(const std::string& phase, const std::string& exit) override;
+  std::uint64_t open_guards(std::vector<GuardSpec> guards) override;
+  std::optional<std::string> close_guards(std::uint64_t scope) override;
+  std::optional<GuardTripSignal> pending_trip() const override;
+  void call_not_made(const std::string& name) override;
+
+  // Guards: the first sleeps of the scopes opened since the last call, after
+  // the rules' call; a guard's next poll; a reply to one; a trip.
+  void start_guards();
+  void poll(Scope& scope, std::size_t guard);
+  void guard_reply(const GuardCall& call, ActionId id, tactical::CallResult outcome);
+  void trip(std::size_t scope, std::size_t guard);
+  // Stops the guards of scopes_[from...]: their polls in flight are forgotten.
+  void stop_guards(std::size_t from);
+  Scope* find_scope(std::uint64_t id);
 
   void resume();  // runs the rules until they yield or end
   void issue();   // sends the call the rules just made
@@ -103,6 +144,11 @@ class PrologExecutor final : public ExecutorBase, private PrologHost {
   std::optional<int> answer_;
   std::vector<Phase> phases_;  // the execute_phase/1 calls running, outermost first
   InstanceId next_instance_ = 1;
+  std::vector<Scope> scopes_;                  // the guarded scopes open, outermost first
+  std::map<ActionId, GuardCall> guard_calls_;  // guard polls in flight
+  std::set<ActionId> forgotten_;               // calls a trip or the end pre-empted: replies ignored
+  std::uint64_t next_scope_ = 1;
+  std::optional<std::string> mission_handler_;  // the guard of mission/0 whose handler replaced it
 };
 
 }  // namespace strata::strategic

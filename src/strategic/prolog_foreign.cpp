@@ -1,5 +1,6 @@
 // The driver's foreign predicates ('$strata_call'/3, '$strata_report'/2,
-// '$strata_phase'/2, '$strata_scan'/2): where the rules reach the host that
+// '$strata_phase'/2, '$strata_guards_open'/2, '$strata_guards_close'/2,
+// '$strata_scan'/2): where the rules reach the host that
 // runs them (docs/prolog.md).
 #include <filesystem>
 #include <cstdint>
@@ -57,6 +58,25 @@ bool no_host() {
          PL_raise_exception(ex);
 }
 
+// Raises strata_guard_trip(Scope, Guard).
+bool raise_trip(const GuardTripSignal& trip) {
+  term_t ex = PL_new_term_ref();
+  return PL_unify_term(ex, PL_FUNCTOR_CHARS, "strata_guard_trip", 2, PL_INT64, static_cast<int64_t>(trip.scope),
+                       PL_UTF8_CHARS, trip.guard.c_str()) &&
+         PL_raise_exception(ex);
+}
+
+// A call made while a trip is pending is not made: the trip is raised again
+// (docs/prolog.md §8: a cleanup or a catch-all cannot reach the vehicle).
+// True when it was refused so (the caller returns FALSE).
+bool refuse_during_trip(term_t name_t) {
+  auto trip = g_host->pending_trip();
+  if (!trip) return false;
+  g_host->call_not_made(prolog::text_of(name_t));
+  (void)raise_trip(*trip);
+  return true;
+}
+
 // '$strata_call'(+Name, +Args, -Answer): yields to the host until the
 // vehicle answers, then unifies Answer with 1 or 0.
 foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_t handle) {
@@ -64,6 +84,7 @@ foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_
   switch (PL_foreign_control(handle)) {
     case PL_FIRST_CALL: {
       if (!g_host) return no_host();
+      if (refuse_during_trip(name_t)) return FALSE;
       std::string name;
       std::vector<tactical::Value> args;
       if (!call_arguments(name_t, args_t, name, args)) return FALSE;
@@ -71,6 +92,9 @@ foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_
       PL_yield_address(&token);
     }
     case PL_RESUME: {
+      if (g_host) {
+        if (auto trip = g_host->pending_trip()) return raise_trip(*trip);
+      }
       auto answer = g_host ? g_host->answer() : std::nullopt;
       if (!answer) {
         term_t ex = PL_new_term_ref();
@@ -85,6 +109,7 @@ foreign_t pl_strata_call(term_t name_t, term_t args_t, term_t answer_t, control_
 
 foreign_t pl_strata_report(term_t name_t, term_t args_t) {
   if (!g_host) return no_host();
+  if (refuse_during_trip(name_t)) return FALSE;
   std::string name;
   std::vector<tactical::Value> args;
   if (!call_arguments(name_t, args_t, name, args)) return FALSE;
@@ -107,6 +132,61 @@ foreign_t pl_strata_phase(term_t event_t, term_t phase_t) {
     return TRUE;
   }
   return PL_domain_error("phase_event", event_t);
+}
+
+// One term of a guard's condition: t(Ask, Args, Negated).
+bool guard_term(term_t t, GuardTerm& term) {
+  if (!PL_is_functor(t, PL_new_functor(PL_new_atom("t"), 3))) return PL_domain_error("guard_term", t);
+  term_t name_t = PL_new_term_ref();
+  term_t args_t = PL_new_term_ref();
+  term_t negated_t = PL_new_term_ref();
+  if (!PL_get_arg(1, t, name_t) || !PL_get_arg(2, t, args_t) || !PL_get_arg(3, t, negated_t)) return FALSE;
+  if (!call_arguments(name_t, args_t, term.ask, term.args)) return FALSE;
+  term.negated = prolog::text_of(negated_t) == "true";
+  term.text = term.negated ? "not " + term.ask : term.ask;
+  for (std::size_t i = 0; i < term.args.size(); ++i) {
+    term.text += (i == 0 ? "(" : ", ") + tactical::to_string(term.args[i]);
+  }
+  if (!term.args.empty()) term.text += ")";
+  return TRUE;
+}
+
+// '$strata_guards_open'(+Specs, -Scope): Specs is a list of
+// spec(Name, Period, Terms), Terms a list of t(Ask, Args, Negated).
+foreign_t pl_strata_guards_open(term_t specs_t, term_t scope_t) {
+  if (!g_host) return no_host();
+  std::vector<GuardSpec> guards;
+  term_t head = PL_new_term_ref();
+  term_t tail = PL_copy_term_ref(specs_t);
+  term_t arg = PL_new_term_ref();
+  while (PL_get_list(tail, head, tail)) {
+    GuardSpec g;
+    if (!PL_is_functor(head, PL_new_functor(PL_new_atom("spec"), 3))) return PL_domain_error("guard_spec", head);
+    if (!PL_get_arg(1, head, arg)) return FALSE;
+    g.name = prolog::text_of(arg);
+    if (!PL_get_arg(2, head, arg) || !PL_get_float(arg, &g.period_s)) return PL_type_error("number", arg);
+    if (!PL_get_arg(3, head, arg)) return FALSE;
+    term_t term_head = PL_new_term_ref();
+    term_t term_tail = PL_copy_term_ref(arg);
+    while (PL_get_list(term_tail, term_head, term_tail)) {
+      GuardTerm term;
+      if (!guard_term(term_head, term)) return FALSE;
+      g.terms.push_back(std::move(term));
+    }
+    if (g.terms.empty()) return PL_domain_error("guard_condition", arg);
+    guards.push_back(std::move(g));
+  }
+  return PL_unify_int64(scope_t, static_cast<int64_t>(g_host->open_guards(std::move(guards))));
+}
+
+// '$strata_guards_close'(+Scope, -Trip): Trip is none, or tripped(Guard).
+foreign_t pl_strata_guards_close(term_t scope_t, term_t trip_t) {
+  int64_t scope = 0;
+  if (!PL_get_int64(scope_t, &scope)) return PL_type_error("integer", scope_t);
+  if (!g_host) return PL_unify_atom_chars(trip_t, "none");
+  auto tripped = g_host->close_guards(static_cast<std::uint64_t>(scope));
+  if (!tripped) return PL_unify_atom_chars(trip_t, "none");
+  return PL_unify_term(trip_t, PL_FUNCTOR_CHARS, "tripped", 1, PL_UTF8_CHARS, tripped->c_str());
 }
 
 // '$strata_scan'(+File, -Problem): Problem is ok, or problem(Line, Column,
@@ -147,6 +227,10 @@ void register_foreign_predicates() {
   PL_register_foreign_in_module("strata_driver", "$strata_scan", 2, reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2, reinterpret_cast<pl_function_t>(pl_strata_phase),
                                 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_guards_open", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_guards_open), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_guards_close", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_guards_close), 0);
 }
 
 }  // namespace strata::strategic::prolog_detail

@@ -32,6 +32,29 @@ namespace strata::strategic {
 
 struct PrologMessage;  // the driver's own (prolog_messages.h)
 
+// A guard's condition, one term: ask `ask` (with its literal arguments);
+// it trips the guard when answered 1, or 0 when negated (`not(q)`).
+struct GuardTerm {
+  std::string ask;
+  std::vector<tactical::Value> args;
+  bool negated = false;
+  std::string text;  // as the log says it: "system_problem", "not gps_available", "depth_below(10)"
+};
+
+// A guard as the rules declare it (guard/4, phase_guard/5; docs/prolog.md
+// §8), its handler left on the Prolog side.
+struct GuardSpec {
+  std::string name;
+  double period_s = 1.0;
+  std::vector<GuardTerm> terms;  // asked in order; never empty
+};
+
+// A tripped guard, as the rules see it: strata_guard_trip(Scope, Guard).
+struct GuardTripSignal {
+  std::uint64_t scope = 0;
+  std::string guard;
+};
+
 // What the rules reach while they run. The executor implements it.
 class PrologHost {
  public:
@@ -46,6 +69,19 @@ class PrologHost {
   // execute_phase(P) started, and ended: exit is complete, abort, done or failed.
   virtual void phase_started(const std::string& phase) = 0;
   virtual void phase_ended(const std::string& phase, const std::string& exit) = 0;
+  // A guarded scope (mission/0 with guard/4 facts, or a phase with
+  // phase_guard/5 facts) opens: its guards, in declaration order. Returns
+  // the scope's id (never 0).
+  virtual std::uint64_t open_guards(std::vector<GuardSpec> guards) = 0;
+  // It closes (normally, by an exception, or unwound by its own trip): the
+  // guard that tripped it, if one did. An unknown id (a scope an outer
+  // trip pre-empted) gives nullopt.
+  virtual std::optional<std::string> close_guards(std::uint64_t scope) = 0;
+  // Between a guard's trip and the close of its scope: the trip, which the
+  // rules raise in place of an answer and of every call they make meanwhile.
+  virtual std::optional<GuardTripSignal> pending_trip() const = 0;
+  // A primitive the rules called while a trip was pending: not called.
+  virtual void call_not_made(const std::string& name) = 0;
 };
 
 // The limits on loading and checking rules (directives included): past

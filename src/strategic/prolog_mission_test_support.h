@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include <gtest/gtest.h>
 
 #include "core/diagnostic_printer.h"
@@ -93,6 +95,28 @@ class ScriptedHost final : public PrologHost {
   void phase_ended(const std::string& phase, const std::string& exit) override {
     events.push_back("end " + phase + " " + exit);
   }
+  // Guards: each scope's opening and closing is an event; a test trips a
+  // scope by setting `trip` (then answers the call the rules wait in).
+  std::optional<GuardTripSignal> trip;
+  std::uint64_t open_guards(std::vector<GuardSpec> guards) override {
+    std::string e = fmt::format("guards #{}", ++scopes);
+    for (const auto& g : guards) {
+      e += fmt::format(" {}/{}", g.name, g.period_s);
+      for (const auto& t : g.terms) e += " [" + t.text + "]";
+    }
+    events.push_back(e);
+    return scopes;
+  }
+  std::optional<std::string> close_guards(std::uint64_t scope) override {
+    events.push_back(fmt::format("close #{}", scope));
+    if (!trip || trip->scope != scope) return std::nullopt;
+    std::string guard = trip->guard;
+    trip.reset();
+    return guard;
+  }
+  std::optional<GuardTripSignal> pending_trip() const override { return trip; }
+  void call_not_made(const std::string& name) override { events.push_back("not made " + name); }
+  std::uint64_t scopes = 0;
 };
 
 class PrologMissionTest : public ::testing::Test {

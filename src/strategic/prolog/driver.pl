@@ -12,6 +12,9 @@
       '$strata_report'(+Name, +Args)         a REPORT: sent, not waited for
       '$strata_phase'(+Event, +Phase)        tells observers a phase started
                                              (start) or ended (end(Exit))
+      '$strata_guards_open'(+Specs, -Scope)  a guarded scope starts: the host
+                                             polls its guards (docs/prolog.md §8)
+      '$strata_guards_close'(+Scope, -Trip)  it ends: none, or tripped(Guard)
 */
 :- module(strata_driver,
           [ open_mission/2,          % -Module, +PrimitiveSpecs
@@ -273,9 +276,10 @@ run_mission(Module, Limit) :-
     restore_flags,
     reset_stop,
     wrap_phases(Module),
+    mission_guards(Module, Guards),
     (   setup_call_cleanup(
             asserta(active(Module), Ref),
-            ( rearm, Module:mission, ! ),
+            ( rearm, run_guarded(Module, Guards, Module:mission), ! ),
             ( erase(Ref), restore_flags ))
     ->  unlimited,
         halt_check
@@ -317,7 +321,12 @@ wrap_phases(Module) :-
 
 run_phase(Module, Phase, Wrapped) :-
     '$strata_phase'(start, Phase),
-    (   catch(call(Wrapped), E, ( phase_raised(Phase, E), throw(E) ))
+    phase_guards(Module, Phase, Guards),
+    (   Guards == []
+    ->  Body = Wrapped
+    ;   Body = run_guarded(Module, Guards, Wrapped)
+    ),
+    (   catch(call(Body), E, ( phase_raised(Phase, E), throw(E) ))
     *-> phase_exit(Module, Phase, Exit),
         '$strata_phase'(end(Exit), Phase)
     ;   '$strata_phase'(end(failed), Phase),
@@ -326,9 +335,9 @@ run_phase(Module, Phase, Wrapped) :-
 
 % An error leaving a phase ends it as failed (the rules may catch the error
 % and go on). What ends the mission ends the phase with it: the host closes
-% it as cancelled.
+% it as cancelled; so does the trip of a guard of an enclosing scope.
 phase_raised(Phase, E) :-
-    (   ( E == '$aborted' ; stops_the_mission(E) )
+    (   ( E == '$aborted' ; stops_the_mission(E) ; E = strata_guard_trip(_, _) )
     ->  true
     ;   '$strata_phase'(end(failed), Phase)
     ).
@@ -344,6 +353,79 @@ holds(Module, Goal) :-
     functor(Goal, N, A),
     current_predicate(Module:N/A),
     \+ \+ catch(Module:Goal, _, fail).
+
+                 /*******************************
+                 *            GUARDS            *
+                 *******************************/
+
+% The rules' guards (docs/prolog.md §8): guard(Name, Period, Condition,
+% Handler) facts for the whole mission, phase_guard(Phase, Name, Period,
+% Condition, Handler) facts for the phases whose term unifies with Phase;
+% in declaration order. driver_check.pl checked them at load, and refuses
+% them dynamic: a guard the rules asserted as they run is never read (its
+% handler would be a goal nobody checked).
+
+mission_guards(Module, Guards) :-
+    (   static_facts(Module, guard/4)
+    ->  findall(guard(N, P, C, H), Module:guard(N, P, C, H), Guards)
+    ;   Guards = []
+    ).
+
+phase_guards(Module, Phase, Guards) :-
+    (   static_facts(Module, phase_guard/5)
+    ->  findall(guard(N, P, C, H), Module:phase_guard(Phase, N, P, C, H), Guards)
+    ;   Guards = []
+    ).
+
+static_facts(Module, Name/Arity) :-
+    current_predicate(Module:Name/Arity),
+    functor(Head, Name, Arity),
+    \+ predicate_property(Module:Head, dynamic),
+    \+ predicate_property(Module:Head, imported_from(_)).
+
+%!  run_guarded(+Module, +Guards, :Goal) is semidet.
+%
+%   Runs Goal once while the host polls Guards. When one trips, the host
+%   raises strata_guard_trip(Scope, Guard) in the rules (at the primitive
+%   call they wait in): Goal is unwound, its cleanup handlers run, and the
+%   guard's handler runs in Goal's place; its success or failure is the
+%   scope's. Between the trip and the handler every primitive call raises
+%   the trip again (the host makes none), so rules that catch it cannot go
+%   on: if Goal ends all the same, the handler runs then. The trip of an
+%   enclosing scope passes through (outer wins).
+
+run_guarded(_, [], Goal) :- !,
+    once(Goal).
+run_guarded(Module, Guards, Goal) :-
+    maplist(guard_spec, Guards, Specs),
+    '$strata_guards_open'(Specs, Scope),
+    catch(( once(Goal) -> Ran = true ; Ran = false ),
+          E,
+          guard_caught(E, Scope, Ran)),
+    '$strata_guards_close'(Scope, Trip),
+    (   Trip = tripped(Name)
+    ->  memberchk(guard(Name, _, _, Handler), Guards),
+        once(Module:Handler)
+    ;   Ran == true
+    ).
+
+% The scope's own trip ends its Goal; any other exception closes the scope
+% and goes on.
+guard_caught(E, Scope, tripped) :-
+    nonvar(E),
+    E = strata_guard_trip(Scope, _),
+    !.
+guard_caught(E, Scope, _) :-
+    '$strata_guards_close'(Scope, _),
+    throw(E).
+
+guard_spec(guard(Name, Period, Condition, _), spec(Name, Period, Terms)) :-
+    maplist(guard_term, Condition, Terms).
+
+guard_term(not(Q), t(Name, Args, true)) :- !,
+    Q =.. [Name|Args].
+guard_term(Q, t(Name, Args, false)) :-
+    Q =.. [Name|Args].
 
 % The inference limit is reset after every primitive call: SWI's own
 % '$inference_limit'/2 only lowers it, so restore "none" first.

@@ -45,7 +45,8 @@ parses_text(PI) :-
 %
 %   Problems is a list of problem(File, Line, Text): calls to predicates
 %   nobody defines (a primitive the catalogue does not have among them),
-%   calls the sandbox refuses (sandbox_problems/2), and a missing
+%   calls the sandbox refuses (sandbox_problems/2), guards that are not
+%   what docs/prolog.md §8 says (guard_problems/2), and a missing
 %   mission/0. The line of a refused call carries its column too, as
 %   problem(File, Line:Column, Text).
 
@@ -59,7 +60,8 @@ check_mission(Module, Problems) :-
     ),
     findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
     sandbox_problems(Module, Refused),
-    append(Walked, Refused, All),
+    guard_problems(Module, Guards),
+    append([Walked, Refused, Guards], All),
     sort(All, Sorted),
     (   current_predicate(Module:mission/0)
     ->  Problems = Sorted
@@ -247,6 +249,137 @@ message_to_codes(E, Text) :-
 message_to_codes_(E, Text) :-
     message_to_string(E, Text0),
     normalize_space(string(Text), Text0).
+
+%!  guard_problems(+Module, -Problems) is det.
+%
+%   The rules' guards (docs/prolog.md §8): guard(Name, Period, Condition,
+%   Handler) and phase_guard(Phase, Name, Period, Condition, Handler), each
+%   a fact (not dynamic); Name an atom, unique in its scope; Period a number
+%   of seconds from 0.1 to 3600; Condition a non-empty list of terms, each
+%   an ASK primitive of the catalogue Q or not(Q), with literal arguments;
+%   Handler a goal of a predicate the rules define (or a primitive). Each
+%   problem at the line of its fact.
+
+guard_problems(Module, Problems) :-
+    findall(P, guard_problem(Module, P), Problems).
+
+guard_problem(Module, Problem) :-
+    member(PI, [guard/4, phase_guard/5]),
+    current_predicate(Module:PI),
+    PI = Name/Arity,
+    functor(Head, Name, Arity),
+    \+ predicate_property(Module:Head, imported_from(_)),
+    (   predicate_property(Module:Head, dynamic)
+    ->  first_clause_place(Module:Head, File, Line),
+        format(string(Text), "~w must not be dynamic: the guards are the facts the rules load \c
+                              (a guard asserted while they run is never polled)", [PI]),
+        Problem = problem(File, Line, Text)
+    ;   PI == phase_guard/5,
+        \+ current_predicate(Module:execute_phase/1)
+    ->  first_clause_place(Module:Head, File, Line),
+        Problem = problem(File, Line, "phase_guard/5 guards phases, which are execute_phase/1 calls: \c
+                                       the rules define no execute_phase/1")
+    ;   clause(Module:Head, Body, Ref),
+        clause_file_line(Ref, File, Line),
+        guard_fact_problem(Module, PI, Head, Body, Ref, Text),
+        Problem = problem(File, Line, Text)
+    ).
+
+first_clause_place(Head, File, Line) :-
+    (   clause(Head, _, Ref)
+    ->  clause_file_line(Ref, File, Line)
+    ;   File = '', Line = 0
+    ).
+
+guard_fact_problem(_, PI, _, Body, _, Text) :-
+    Body \== true,
+    !,
+    format(string(Text), "~w must be a fact: a guard is declared, not computed", [PI]).
+guard_fact_problem(Module, PI, Head, _, Ref, Text) :-
+    guard_fields(PI, Head, Scope, Name, Period, Condition, Handler),
+    (   \+ atom(Name)
+    ->  format(string(Text), "~w: the guard's name must be an atom, not ~q", [PI, Name])
+    ;   duplicate_guard(Module, PI, Scope, Name, Ref)
+    ->  format(string(Text), "~w: a guard named ~q is declared twice for the same scope", [PI, Name])
+    ;   \+ ( number(Period), Period >= 0.1, Period =< 3600 )
+    ->  format(string(Text), "guard ~w: the period is ~q: it must be a number of seconds \c
+                              from 0.1 to 3600", [Name, Period])
+    ;   condition_problem(Module, Condition, Problem)
+    ->  format(string(Text), "guard ~w: ~w", [Name, Problem])
+    ;   handler_problem(Module, Handler, Problem)
+    ->  format(string(Text), "guard ~w: ~w", [Name, Problem])
+    ).
+
+guard_fields(guard/4, guard(N, P, C, H), mission, N, P, C, H).
+guard_fields(phase_guard/5, phase_guard(S, N, P, C, H), S, N, P, C, H).
+
+% Reported at the second declaration.
+duplicate_guard(Module, F/A, Scope, Name, Ref) :-
+    functor(Head, F, A),
+    findall(R, nth_clause(Module:Head, _, R), Refs),
+    append(Before, [Ref|_], Refs),
+    !,
+    member(R0, Before),
+    functor(Other, F, A),
+    clause(Module:Other, _, R0),
+    guard_fields(F/A, Other, OtherScope, OtherName, _, _, _),
+    OtherName == Name,
+    OtherScope =@= Scope,
+    !.
+
+condition_problem(_, Condition, "the condition must be a non-empty list of ASK primitives, \c
+                                 each q or not(q): [system_problem, not(gps_available)]") :-
+    \+ ( is_list(Condition), Condition \== [] ),
+    !.
+condition_problem(Module, Condition, Problem) :-
+    member(Term, Condition),
+    term_problem(Module, Term, Problem),
+    !.
+
+term_problem(_, Term, "a term of the condition is unbound") :-
+    var(Term), !.
+term_problem(Module, not(Q), Problem) :- !,
+    (   var(Q) -> Problem = "a term of the condition is unbound"
+    ;   term_problem(Module, Q, Problem)
+    ).
+term_problem(_, Q, Problem) :-
+    \+ callable(Q), !,
+    format(string(Problem), "~q is not an ASK primitive", [Q]).
+term_problem(Module, Q, Problem) :-
+    Q =.. [Ask|Args],
+    length(Args, N),
+    atom_concat(ask_, Ask, F),
+    A is N + 1,
+    (   strata_driver:primitive_predicate(Module, F/A)
+    ->  (   member(Arg, Args), \+ atomic(Arg)
+        ->  format(string(Problem), "~q: a guard asks with literal arguments (numbers or text), \c
+                                     not ~q", [Q, Arg])
+        ;   fail
+        )
+    ;   known_arities(Module, F, _)
+    ->  findall(K, ( strata_driver:primitive_predicate(Module, F/KA), K is KA - 1 ), Ks),
+        atomic_list_concat(Ks, ' or ', KsText),
+        format(string(Problem), "~w takes ~w argument(s), not ~d", [Ask, KsText, N])
+    ;   format(string(Problem), "`~w` is not an ask primitive in the catalogue \c
+                                 (`strata primitives` lists them)", [Ask])
+    ).
+
+handler_problem(_, Handler, "the handler must be a goal, not a variable") :-
+    var(Handler), !.
+handler_problem(_, Handler, Problem) :-
+    \+ callable(Handler), !,
+    format(string(Problem), "the handler ~q is not a goal", [Handler]).
+handler_problem(Module, Handler, Problem) :-
+    strip_module(Module:Handler, M, Goal),
+    functor(Goal, F, A),
+    (   M \== Module
+    ->  format(string(Problem), "the handler ~q must be a predicate of the rules, not of another module", [Handler])
+    ;   current_predicate(Module:F/A),
+        \+ predicate_property(Module:Goal, imported_from(_))
+    ->  fail
+    ;   format(string(Problem), "the handler ~w/~d is not defined: it must be a predicate the rules \c
+                                 define (or a primitive)", [F, A])
+    ).
 
 % The refusals above hold only if they come before library(sandbox)'s own
 % clauses: a driver where they do not is not loaded at all.

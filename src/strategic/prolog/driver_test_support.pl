@@ -1,7 +1,7 @@
 /*  Shared support for the plunit tests of the PROLOG Strategic level's
     driver (driver.pl): driver_test_load.pl and driver_test_run.pl load it.
 
-    swipl alone has no host, so this file defines stand-ins for the three
+    swipl alone has no host, so this file defines stand-ins for the
     predicates the C++ host normally provides in module strata_driver: they
     record what the rules did as event/1 facts and answer primitive calls
     from a scripted queue (1 once the queue is empty). It also holds the
@@ -38,7 +38,8 @@
                  *      THE HOST'S STAND-INS    *
                  *******************************/
 
-:- dynamic event/1,              % call(Name, Args), report(Name, Args), phase(Event, Phase)
+:- dynamic event/1,              % call(Name, Args), report(Name, Args), phase(Event, Phase),
+                                 % guards(Specs), guards_closed(Scope)
            answer_queue/1.       % the answers still to give, in order
 
 strata_driver:'$strata_call'(Name, Args, Answer) :-
@@ -47,6 +48,10 @@ strata_driver:'$strata_report'(Name, Args) :-
     strata_driver_test_support:host_event(report(Name, Args)).
 strata_driver:'$strata_phase'(Event, Phase) :-
     strata_driver_test_support:host_event(phase(Event, Phase)).
+strata_driver:'$strata_guards_open'(Specs, 1) :-
+    strata_driver_test_support:host_event(guards(Specs)).
+strata_driver:'$strata_guards_close'(Scope, none) :-
+    strata_driver_test_support:host_event(guards_closed(Scope)).
 
 host_call(Name, Args, Answer) :-
     host_event(call(Name, Args)),
