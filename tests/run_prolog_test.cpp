@@ -1,8 +1,9 @@
 // `strata run` of the PROLOG tank mission (missions/tank/tank.pl) in every
 // shipped scenario, checked against the CORAL mission call by call (what
 // `strata compare` does); the paper's own Figure 10 in place of our phase 2;
-// and rules that loop, recurse or fail, which must end with the vehicle
-// surfaced. Helpers: support/tank_run.h.
+// rules that loop, recurse or fail, which must end with the vehicle
+// surfaced; and guards (docs/prolog.md §8) polled beside a blocking call
+// in lockstep. Helpers: support/tank_run.h.
 #include "support/tank_run.h"
 
 #include <algorithm>
@@ -203,6 +204,74 @@ TEST(BadRules, AnExceptionInTheRulesEndsTheMissionWithItsText) {
   EXPECT_NE(std::string::npos, r.report.result->reason.find("evaluation_error(zero_divisor)"))
       << r.report.result->reason;
   EXPECT_TRUE(r.report.emergency_surfaced);
+}
+
+// tests/run/guarded_dive.pl: a mission-wide guard on system_problem (2 s)
+// and a phase guard on not(depth_reached) (5 s) beside a five-minute sleep.
+const std::string kGuarded = kFixtures + "/guarded_dive.pl";
+
+std::vector<const json*> lines_of(const ParsedLog& log, std::string_view event) {
+  std::vector<const json*> out;
+  for (const auto& j : log.lines) {
+    if (j["event"] == event) out.push_back(&j);
+  }
+  return out;
+}
+
+TEST(GuardedRules, PollsRunBesideABlockingCallAndTripOnNothing) {
+  RunOptions o;
+  o.mission = kGuarded;
+  MissionRun r = run_logged(o);
+  ASSERT_EQ(0, r.report.exit_code) << r.out << r.err;
+  EXPECT_EQ("", r.err);
+  EXPECT_TRUE(lines_of(r.log, "guard_tripped").empty());
+  // While the rules wait 300 s in one sleep, the guards poll on: system_problem
+  // every 2.1 s (a 2 s sleep, a 0.1 s ask), depth_reached every 5.1 s.
+  const Call* hold = r.log.first([](const Call& c) { return c.primitive == "sleep" && c.phase == "hold"; });
+  ASSERT_NE(nullptr, hold);
+  auto during_hold = [&](std::string_view primitive) {
+    return r.log.count([&](const Call& c) {
+      return c.primitive == primitive && c.requested_s > hold->requested_s && c.requested_s < hold->replied_s;
+    });
+  };
+  EXPECT_EQ(142u, during_hold("system_problem"));  // 300 / 2.1
+  EXPECT_EQ(58u, during_hold("depth_reached"));    // 300 / 5.1, the phase's guard: only in the phase
+  EXPECT_EQ(0u, r.log.count([&](const Call& c) {
+    return c.primitive == "depth_reached" && c.requested_s > hold->replied_s + kEps;
+  })) << "the phase guard stops with its phase";
+}
+
+TEST(GuardedRules, ALeakPreemptsTheSleepWithinOnePollAndTheHandlerSurfaces) {
+  RunOptions o;
+  o.mission = kGuarded;
+  o.scenario = kFixtures + "/guarded_leak.toml";
+  MissionRun r = run_logged(o);
+  ASSERT_TRUE(r.report.result.has_value()) << r.err;
+  EXPECT_EQ(Outcome::Aborted, r.report.result->outcome) << r.out;
+  EXPECT_EQ(1, r.report.exit_code);
+  auto trips = lines_of(r.log, "guard_tripped");
+  ASSERT_EQ(1u, trips.size()) << r.out;
+  const json& trip = *trips[0];
+  EXPECT_EQ("leak", trip["guard"]);
+  EXPECT_EQ("system_problem", trip["condition"]);
+  EXPECT_EQ(0, trip["instance"]);
+  EXPECT_EQ(json::array({"hold (instance 1)"}), trip["preempted_phases"]);
+  // The hold's sleep and the phase guard's sleep.
+  EXPECT_EQ(json::array({"exec sleep", "exec sleep"}), trip["preempted_calls"]);
+  // The leak starts at 90 s: found at the guard's next ask, at most one
+  // period and one ask later.
+  const double tripped_s = trip["sim_time"];
+  EXPECT_GE(tripped_s, 90.0);
+  EXPECT_LE(tripped_s, 90.0 + 2.0 + 0.1 + kEps);
+  // The handler's first call (after its REPORT) goes out at the trip.
+  const Call* surface = r.log.first([&](const Call& c) { return c.primitive == "surface"; });
+  ASSERT_NE(nullptr, surface);
+  EXPECT_NEAR(tripped_s, surface->requested_s, kEps);
+  EXPECT_LT(r.report.sim_time_s, 150.0) << "the pre-empted 300 s sleep held nothing";
+  EXPECT_FALSE(r.report.emergency_surfaced) << "the handler surfaced and shut down itself";
+  ASSERT_TRUE(r.report.final_depth_m.has_value());
+  EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
+  EXPECT_EQ((std::vector<std::string>{"hold cancelled"}), r.report.phases);
 }
 
 }  // namespace
