@@ -12,7 +12,7 @@
     `?- run_tests.`
 
     swipl alone has no host: driver_test_support.pl defines stand-ins for
-    the three predicates the C++ host normally provides in module
+    the predicates the C++ host normally provides in module
     strata_driver (they record what the rules did as events and answer
     primitive calls from a scripted queue), and the helpers shared by the
     tests. Rule files are written to temporary files at test time.
@@ -197,6 +197,36 @@ test(unlimited_lifts_the_limit,
     catch(run_mission(M, 10000), strata_halt, true),
     unlimited,
     catch(( busy, E = none ), E, true).
+
+% Guards (docs/prolog.md §8): the host is told each guarded scope's guards
+% as specs, in declaration order, and closes the scope when its goal ends.
+test(guarded_scopes_open_and_close,
+     [setup(mission_from([":- dynamic complete/1.",
+                          "guard(leak, 2, [system_problem], on_leak).",
+                          "guard(deep, 0.5, [not(depth_reached), time_out], on_leak).",
+                          "phase_guard(leg(N), floor, 1, [depth_reached], leg_floor(N)).",
+                          "mission :- execute_phase(leg(1)), !, execute_phase(other), !.",
+                          "execute_phase(leg(_)) :- exec_sleep(1, _).",
+                          "execute_phase(other) :- exec_sleep(2, _).",
+                          "on_leak.",
+                          "leg_floor(_)."], M, F)),
+      cleanup(done_with(M, F)),
+      true(Events == [ guards([ spec(leak, 2, [t(system_problem, [], false)]),
+                                spec(deep, 0.5, [t(depth_reached, [], true), t(time_out, [], false)])
+                              ]),
+                       phase(start, leg(1)),
+                       guards([spec(floor, 1, [t(depth_reached, [], false)])]),
+                       call(sleep, [1]),
+                       guards_closed(1),
+                       phase(end(done), leg(1)),
+                       phase(start, other),
+                       call(sleep, [2]),
+                       phase(end(done), other),
+                       guards_closed(1)
+                     ])]) :-
+    script([]),
+    run_mission(M, 100000),
+    events(Events).
 
 :- end_tests(run_mission).
 
