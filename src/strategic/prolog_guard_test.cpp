@@ -8,7 +8,7 @@ namespace strata::strategic::prolog_testing {
 namespace {
 
 // What the guard tests look at: calls with their guard, trips, phase ends.
-struct GuardRecorder final : Observer {
+struct PrologGuardRecorder final : Observer {
   void action_started(const ActionStart& e) override {
     events.push_back(
         fmt::format("{} {}{}", e.kind_name(), e.primitive, e.guard.empty() ? "" : " [" + std::string(e.guard) + "]"));
@@ -34,7 +34,7 @@ class PrologGuardTest : public PrologExecutorTest {
  protected:
   struct Run {
     std::unique_ptr<Session> session;
-    GuardRecorder guards;
+    PrologGuardRecorder guards;
     FakeTactics& tactics() { return session->tactics; }
   };
   std::unique_ptr<Run> start(const std::string& name, const std::string& text) {
@@ -65,14 +65,14 @@ class PrologGuardTest : public PrologExecutorTest {
   }
 };
 
-constexpr const char* kAbortFacts = R"(
+constexpr const char* kGuardAbortFacts = R"(
 :- dynamic current_phase/1, complete/1, abort/1.
 current_phase(run).
 give_up :- retract(current_phase(_)), assertz(current_phase(mission_abort)).
 )";
 
 TEST_F(PrologGuardTest, ATripInABlockingCallPreemptsItAndTheHandlerRunsInPlaceOfTheMission) {
-  auto r = start("blocking", std::string(kAbortFacts) + R"(
+  auto r = start("blocking", std::string(kGuardAbortFacts) + R"(
 guard(leak, 2, [system_problem, altitude_low], on_leak).
 mission :- exec_sleep(120, _), report(never).
 on_leak :- report(leaking), give_up, exec_surface(_).
@@ -101,7 +101,7 @@ on_leak :- report(leaking), give_up, exec_surface(_).
 }
 
 TEST_F(PrologGuardTest, GuardsStartInDeclarationOrderAndTheFirstToTripWins) {
-  auto r = start("two", std::string(kAbortFacts) + R"(
+  auto r = start("two", std::string(kGuardAbortFacts) + R"(
 guard(clock, 1, [time_out], on_clock).
 guard(deep, 3, [not(depth_reached)], on_deep).
 mission :- exec_sleep(120, _).
@@ -123,7 +123,7 @@ on_deep :- report(deep).
 }
 
 TEST_F(PrologGuardTest, APhaseGuardPreemptsANestedPhaseAndItsHandlerEndsThePhase) {
-  auto r = start("nested", std::string(kAbortFacts) + R"(
+  auto r = start("nested", std::string(kGuardAbortFacts) + R"(
 phase_guard(leg(N), floor, 1, [altitude_low], leg_floor(N)).
 mission :- execute_phase(leg(1)), !, ( abort(leg(1)) -> exec_surface(_) ; true ).
 execute_phase(leg(N)) :- exec_track(0, 0, 10, 0, _), execute_phase(scan(N)), !, asserta(complete(leg(N))).
@@ -146,7 +146,7 @@ leg_floor(N) :- report(floor), asserta(abort(leg(N))).
 }
 
 TEST_F(PrologGuardTest, AMissionGuardPreemptsThePhaseGuardsHandlerOuterWins) {
-  auto r = start("outer", std::string(kAbortFacts) + R"(
+  auto r = start("outer", std::string(kGuardAbortFacts) + R"(
 guard(leak, 2, [system_problem], on_leak).
 phase_guard(leg, floor, 1, [altitude_low], leg_floor).
 mission :- execute_phase(leg), !.

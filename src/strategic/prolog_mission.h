@@ -69,19 +69,21 @@ class PrologHost {
   // execute_phase(P) started, and ended: exit is complete, abort, done or failed.
   virtual void phase_started(const std::string& phase) = 0;
   virtual void phase_ended(const std::string& phase, const std::string& exit) = 0;
+  // Guards (docs/prolog.md §8). A host that polls none (the defaults) runs
+  // guarded rules as if they had no guards.
   // A guarded scope (mission/0 with guard/4 facts, or a phase with
   // phase_guard/5 facts) opens: its guards, in declaration order. Returns
   // the scope's id (never 0).
-  virtual std::uint64_t open_guards(std::vector<GuardSpec> guards) = 0;
+  virtual std::uint64_t open_guards(std::vector<GuardSpec> /*guards*/) { return 1; }
   // It closes (normally, by an exception, or unwound by its own trip): the
   // guard that tripped it, if one did. An unknown id (a scope an outer
   // trip pre-empted) gives nullopt.
-  virtual std::optional<std::string> close_guards(std::uint64_t scope) = 0;
+  virtual std::optional<std::string> close_guards(std::uint64_t /*scope*/) { return std::nullopt; }
   // Between a guard's trip and the close of its scope: the trip, which the
   // rules raise in place of an answer and of every call they make meanwhile.
-  virtual std::optional<GuardTripSignal> pending_trip() const = 0;
+  virtual std::optional<GuardTripSignal> pending_trip() const { return std::nullopt; }
   // A primitive the rules called while a trip was pending: not called.
-  virtual void call_not_made(const std::string& name) = 0;
+  virtual void call_not_made(const std::string& /*name*/) {}
 };
 
 // The limits on loading and checking rules (directives included): past

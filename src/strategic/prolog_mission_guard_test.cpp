@@ -16,9 +16,9 @@ namespace {
 using prolog_mission_testing::PrologMissionTest;
 using prolog_mission_testing::Reported;
 using prolog_mission_testing::ScriptedHost;
-using Strings = std::vector<std::string>;
+using GuardEvents = std::vector<std::string>;
 
-std::string check_text(const std::string& path) {
+std::string guard_check_text(const std::string& path) {
   Reported reported;
   auto m = PrologMission::load(path, tactical::Catalogue::builtin(), reported.sources, reported.sink);
   EXPECT_FALSE(m.ok()) << "the rules loaded";
@@ -29,10 +29,12 @@ std::string check_text(const std::string& path) {
   return text;
 }
 
-bool succeeded(prolog::Query::Status s) { return s == prolog::Query::Status::True || s == prolog::Query::Status::Last; }
+bool guard_query_succeeded(prolog::Query::Status s) {
+  return s == prolog::Query::Status::True || s == prolog::Query::Status::Last;
+}
 
 TEST_F(PrologMissionTest, EveryBadGuardIsAnErrorAtItsLine) {
-  const std::string text = check_text(rules_.write("m.pl", R"(:- dynamic complete/1.
+  const std::string text = guard_check_text(rules_.write("m.pl", R"(:- dynamic complete/1.
 guard(leak, 1, [system_problem], on_leak).
 guard(leak, 2, [system_problem], on_leak).
 guard('Bad'(x), 1, [system_problem], on_leak).
@@ -66,14 +68,14 @@ TEST_F(PrologMissionTest, GuardsMustBeStaticAndPhaseGuardsNeedPhases) {
   EXPECT_EQ(
       "m.pl:2: error: guard/4 must not be dynamic: the guards are the facts the rules load (a guard asserted while "
       "they run is never polled) [PrologCheckError]\n",
-      check_text(rules_.write("m.pl", R"(:- dynamic guard/4.
+      guard_check_text(rules_.write("m.pl", R"(:- dynamic guard/4.
 guard(leak, 1, [system_problem], report(x)).
 mission :- exec_sleep(1, _).
 )")));
   EXPECT_EQ(
       "n.pl:1: error: phase_guard/5 guards phases, which are execute_phase/1 calls: the rules define no "
       "execute_phase/1 [PrologCheckError]\n",
-      check_text(rules_.write("n.pl", R"(phase_guard(leg, floor, 1, [altitude_low], report(x)).
+      guard_check_text(rules_.write("n.pl", R"(phase_guard(leg, floor, 1, [altitude_low], report(x)).
 mission :- exec_sleep(1, _).
 )")));
 }
@@ -110,9 +112,9 @@ on_leak :- ( cleaned -> report(cleaned) ; report(not_cleaned) ).
   host.trip = GuardTripSignal{1, "leak"};
   auto s = q.next();
   ASSERT_NE(prolog::Query::Status::Exception, s) << q.exception_text();
-  EXPECT_TRUE(succeeded(s));
-  EXPECT_EQ((Strings{"guards #1 leak/2 [system_problem]", "phase hold", "guards #2 lost/5 [not depth_reached]",
-                     "call sleep 60", "not made stop_sonar", "close #2", "close #1", "report cleaned"}),
+  EXPECT_TRUE(guard_query_succeeded(s));
+  EXPECT_EQ((GuardEvents{"guards #1 leak/2 [system_problem]", "phase hold", "guards #2 lost/5 [not depth_reached]",
+                         "call sleep 60", "not made stop_sonar", "close #2", "close #1", "report cleaned"}),
             host.events);
 }
 
@@ -128,9 +130,9 @@ leg_floor(N) :- report(floor), asserta(abort(leg(N))).
   PrologMissionQuery q(*m, host, 100000);
   ASSERT_EQ(prolog::Query::Status::Yield, q.next());
   host.trip = GuardTripSignal{1, "floor"};
-  EXPECT_TRUE(succeeded(q.next())) << q.exception_text();
-  EXPECT_EQ((Strings{"phase leg(7)", "guards #1 floor/1 [altitude_low]", "call sleep 60", "close #1", "report floor",
-                     "end leg(7) abort", "report after"}),
+  EXPECT_TRUE(guard_query_succeeded(q.next())) << q.exception_text();
+  EXPECT_EQ((GuardEvents{"phase leg(7)", "guards #1 floor/1 [altitude_low]", "call sleep 60", "close #1",
+                         "report floor", "end leg(7) abort", "report after"}),
             host.events);
 }
 
