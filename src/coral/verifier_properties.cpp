@@ -200,8 +200,16 @@ Property can_always_end(const ExploredNet& x) {
   } else if (x.graph.successors(bad).empty()) {
     p.message = fmt::format("trapped: {} can no longer be reached (nothing can fire)", goal);
   } else {
-    p.message = fmt::format("trapped: from here {} can no longer be reached; only {} can still happen", goal,
-                            join(x.labels(x.reachable_steps(bad))));
+    // What the mission itself can still do: a guard's own steps are not that.
+    std::set<petri::TransitionId> steps = x.reachable_steps(bad);
+    std::erase_if(steps, [&](petri::TransitionId t) {
+      return x.an.guard_cycle(t) || (!x.an.urgent.empty() && x.an.urgent[t]);
+    });
+    p.message = steps.empty() ? fmt::format("trapped: from here {} can no longer be reached; only the guards can "
+                                            "still poll",
+                                            goal)
+                              : fmt::format("trapped: from here {} can no longer be reached; only {} can still happen",
+                                            goal, join(x.labels(steps)));
   }
   about_marking(x, bad, p);
   p.counterexample = x.trace_to(bad);
