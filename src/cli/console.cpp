@@ -83,6 +83,14 @@ void Console::action_finished(const strategic::ActionFinish& e) {
 
 void Console::notice(const strategic::Notice& e) { print("note: " + e.text, e.sim_time_s); }
 
+void Console::guard_tripped(const strategic::GuardTrip& e) {
+  std::string what;
+  for (const auto& p : e.preempted_phases) what += (what.empty() ? "" : ", ") + p;
+  print(fmt::format("guard {} of {} tripped ({}){}", e.guard, e.net, e.condition,
+                    what.empty() ? std::string() : ": pre-empted " + what),
+        e.sim_time_s);
+}
+
 void Console::mission_ended(const strategic::MissionResult&) { action_.clear(); }
 
 void Console::report(const std::string& text, double sim_time_s) {

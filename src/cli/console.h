@@ -27,6 +27,7 @@ class Console final : public run::RunObserver {
   void action_started(const strategic::ActionStart& e) override;
   void action_finished(const strategic::ActionFinish& e) override;
   void notice(const strategic::Notice& e) override;
+  void guard_tripped(const strategic::GuardTrip& e) override;
   void mission_ended(const strategic::MissionResult& e) override;
 
   void report(const std::string& text, double sim_time_s) override;

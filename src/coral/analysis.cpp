@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "coral/guards.h"
+
 namespace strata::coral {
 namespace {
 
@@ -70,6 +72,13 @@ AnalysisNet build_analysis_net(const Program& program, const CompiledNet& cn,
     an.steps.push_back({AnalysisNet::Step::Kind::Transition, t, 0, 0});
   }
 
+  struct Flight {
+    petri::PlaceId place;
+    std::string name;
+    petri::TransitionId transition;
+    std::size_t action;
+  };
+  std::vector<Flight> flights;
   for (petri::TransitionId t = 0; t < net.transition_count(); ++t) {
     const auto& actions = cn.actions[t];
     for (std::size_t i = 0; i < actions.size(); ++i) {
@@ -83,6 +92,7 @@ AnalysisNet build_analysis_net(const Program& program, const CompiledNet& cn,
       if (same > 1) flight += fmt::format(".{}", same);
       const petri::PlaceId in_flight = b.add_place(flight, 0);
       an.places.push_back({std::nullopt, t, i});
+      flights.push_back({in_flight, flight, t, i});
       b.add_output(t, in_flight, 1);
 
       const PhaseExits* known = nullptr;
@@ -98,8 +108,48 @@ AnalysisNet build_analysis_net(const Program& program, const CompiledNet& cn,
       }
     }
   }
+  // What a guard's trip does beside its drops: it forgets the calls in flight.
+  for (std::uint32_t g = 0; g < cn.guards.size(); ++g) {
+    const CompiledGuard& guard = cn.guards[g];
+    for (const Flight& f : flights) {
+      const GuardNode node = cn.guard_node(f.transition);
+      const bool own = node.guard == g && (node.role == GuardRole::Poll || node.role == GuardRole::Ask);
+      if (own) continue;
+      const petri::TransitionId d =
+          b.add_transition(fmt::format("{}.drop.{}", guard.name, f.name), kGuardDropPriority);
+      b.add_input(d, guard.cancel, 1);
+      b.add_input(d, f.place, 1);
+      b.add_output(d, guard.cancel, 1);
+      an.steps.push_back({AnalysisNet::Step::Kind::Forget, f.transition, f.action, g});
+    }
+  }
   an.net = std::move(b).build();
+  if (!cn.guards.empty()) {
+    an.urgent.assign(an.net.transition_count(), false);
+    for (petri::TransitionId t = 0; t < an.net.transition_count(); ++t) {
+      const AnalysisNet::Step& st = an.steps[t];
+      const GuardRole role = cn.guard_node(st.transition).role;
+      an.urgent[t] = st.kind == AnalysisNet::Step::Kind::Forget ||
+                     (st.kind == AnalysisNet::Step::Kind::Transition &&
+                      (role == GuardRole::Trip || role == GuardRole::Drop || role == GuardRole::Handle));
+    }
+  }
   return an;
+}
+
+bool AnalysisNet::guard_cycle(petri::TransitionId t) const {
+  const Step& st = steps[t];
+  if (st.kind == Step::Kind::Forget) return false;
+  const GuardRole role = source->guard_node(st.transition).role;
+  return role == GuardRole::Poll || role == GuardRole::Ask;
+}
+
+bool AnalysisNet::trips(petri::TransitionId t) const {
+  const Step& st = steps[t];
+  if (st.kind != Step::Kind::Outcome) return false;
+  const GuardNode node = source->guard_node(st.transition);
+  if (node.role != GuardRole::Ask) return false;
+  return source->actions[st.transition][st.action].outcomes.at(st.answer) == source->guards[node.guard].loop.back();
 }
 
 }  // namespace strata::coral

@@ -17,6 +17,15 @@
 // same primitive), and an outcome transition is the in-flight place's name
 // with ".yes", ".no" (ASK), ".done" (EXEC, OOD) or ".EXIT" (PHASE) after
 // it. CORAL names have no '.', so these never collide with the mission's.
+//
+// Guards (coral/guards.h): their places and transitions are in the compiled
+// net already. The analysis adds what the engine does beside them: when a
+// guard G trips it forgets every call in flight of the net, so each in-flight
+// place f not of G's own cycle gets a drop "G.drop.f" (wait G.cancel and f,
+// signal G.cancel), and G's trip, drops and handler are **urgent**: in a
+// marking where one is enabled, only those of the highest priority may
+// happen (no other firing, no answer), as in the engine, which runs them
+// all within the reply that tripped the guard.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -32,7 +41,8 @@ struct AnalysisNet {
   struct Step {
     // Transition: a mission transition (action = its actions, issued on
     // firing). Outcome: an answer to action `action` of `transition`.
-    enum class Kind { Transition, Outcome } kind = Kind::Transition;
+    // Forget: guard `answer` drops action `action` of `transition` in flight.
+    enum class Kind { Transition, Outcome, Forget } kind = Kind::Transition;
     petri::TransitionId transition = 0;  // in the compiled net
     std::size_t action = 0;              // Outcome: index in the transition's actions
     std::size_t answer = 0;              // Outcome: ASK 0 = true, 1 = false; PHASE the exit index
@@ -49,6 +59,12 @@ struct AnalysisNet {
   std::vector<Step> steps;            // by analysis TransitionId
   std::vector<PlaceOrigin> places;    // by analysis PlaceId
   std::vector<petri::PlaceId> exits;  // the mission net's exits (same ids)
+  std::vector<bool> urgent;           // by analysis TransitionId: a guard's trip, drop or handler
+
+  // A step of a guard's poll cycle: its poll or ask firing, or an answer to them.
+  bool guard_cycle(petri::TransitionId t) const;
+  // An answer of a guard's ask that trips it (a fault found).
+  bool trips(petri::TransitionId t) const;
 };
 
 // Which exits of a phase its own analysis found reachable, by phase name;

@@ -89,12 +89,34 @@ struct Transition {
   std::vector<ArcRef> signals;
   core::SourceSpan span;    // the `transition NAME` head
   core::SourceSpan extent;  // from `transition` to its closing '}' (or as far as it was parsed)
+  bool generated = false;   // made by expand_guards (coral/guards.h), not written
+};
+// One term of a guard's condition: `system_problem` trips the guard when the
+// ASK answers 1, `not gps_available` when it answers 0.
+struct GuardTerm {
+  bool negated = false;
+  Call ask;
+  core::SourceSpan span;  // the whole term, `not` included
+};
+// `guard NAME every PERIOD { when { TERM, ... } action { ... } signal { ... } }`
+// (docs/language.md, "guard"): polled every PERIOD simulated seconds while
+// its net runs; when a term trips, everything running in the net is
+// pre-empted and the handler (its action and signal) takes over.
+struct Guard {
+  Name name;
+  Literal period;  // a number, or a number parameter of the net
+  std::vector<GuardTerm> when;
+  std::vector<Action> actions;
+  std::vector<ArcRef> signals;
+  core::SourceSpan span;    // the `guard NAME` head
+  core::SourceSpan extent;  // from `guard` to its closing '}'
 };
 
 struct PlaceDecl {
   Name name;
   std::uint32_t initial = 0;
   bool is_exit = false;
+  bool generated = false;  // made by expand_guards (coral/guards.h), not written
   core::SourceSpan initial_span;  // the `= N`, if written
   core::SourceSpan statement;     // the whole `place a, b = 1;` it is declared in
 };
@@ -108,6 +130,7 @@ struct Net {
   std::vector<Name> exits;        // exit places in declaration order
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)
   std::vector<Transition> transitions;
+  std::vector<Guard> guards;  // as written; expand_guards adds their places and transitions
   core::SourceSpan span;                  // the `net NAME` / `mission NAME` head
   std::optional<std::uint32_t> body_end;  // offset of the closing '}', when there is one
 };

@@ -60,6 +60,7 @@ class NetChecker {
       }
       check_transition(t);
     }
+    check_guards();
     // No warnings for a net with errors, nor once the sink stopped counting.
     if (sink_.error_count() == errors_before && !sink_.saturated()) warn_structure();
   }
@@ -223,13 +224,45 @@ class NetChecker {
     args_.check_phase_args(net_, a, phase);
   }
 
+  // What expand_guards cannot say at its nodes: a name given twice, and a
+  // handler that marks nothing (the net would be emptied and stall).
+  void check_guards() {
+    std::map<std::string, const ast::Guard*> seen;
+    for (const auto& g : net_.guards) {
+      auto [it, fresh] = seen.emplace(g.name.text, &g);
+      if (!fresh) {
+        auto* d = sink_.report(DiagnosticKind::DuplicateGuard, g.name.span,
+                               fmt::format("guard '{}' is declared twice in '{}'", g.name.text, net_.name.text));
+        core::add_note(d, it->second->name.span, "first declared here");
+        continue;
+      }
+      bool marks = !g.signals.empty();
+      for (const auto& action : g.actions) {
+        const auto& places = std::holds_alternative<ast::Tactic>(action) ? std::get<ast::Tactic>(action).places
+                                                                         : std::get<ast::Phase>(action).places;
+        marks = marks || !places.empty();
+      }
+      if (!marks) {
+        auto* d = sink_.report(DiagnosticKind::GuardHandlerMarksNothing, g.name.span,
+                               fmt::format("guard '{}' marks no place when it trips: the net is emptied, so it "
+                                           "would stall",
+                                           g.name.text));
+        core::add_note(d, "give it a handler that ends the net: a PHASE whose exits map to places (an exit of "
+                          "the net), or a signal");
+      }
+    }
+  }
+
   // Warnings: transitions without input, places nothing touches,
   // transitions that no sequence of firings can ever enable, and parameters
   // nothing uses.
   void warn_structure() {
     std::set<std::string> read, written;
     for (const auto& t : net_.transitions) {
-      for (const auto& a : t.waits) read.insert(a.place.text);
+      // A guard's drops read every place: what they read says nothing of the net.
+      if (!t.generated) {
+        for (const auto& a : t.waits) read.insert(a.place.text);
+      }
       for (const auto& a : t.signals) written.insert(a.place.text);
       for (const auto& action : t.actions) {
         const auto& places = std::holds_alternative<ast::Tactic>(action) ? std::get<ast::Tactic>(action).places
@@ -244,7 +277,7 @@ class NetChecker {
       }
     }
     for (const auto& p : net_.places) {
-      if (places_.at(p.name.text) != &p) continue;  // a duplicate, reported already
+      if (places_.at(p.name.text) != &p || p.generated) continue;  // a duplicate, reported already
       if (p.is_exit) {
         if (!written.count(p.name.text)) {
           sink_.report(DiagnosticKind::ExitNeverMarked, p.name.span,
@@ -342,7 +375,7 @@ class NetChecker {
     }
     for (std::size_t i = 0; i < ts.size(); ++i) {
       const auto& t = ts[i];
-      if (can_fire[i] || t.waits.empty()) continue;
+      if (can_fire[i] || t.waits.empty() || t.generated) continue;
       auto* d = sink_.report(DiagnosticKind::NeverEnabled, t.name.span,
                              fmt::format("transition '{}' can never be enabled", t.name.text));
       for (const auto& a : t.waits) {
@@ -418,6 +451,39 @@ void check_phase_recursion(const std::unordered_map<std::string, NetRef>& librar
   }
 }
 
+// A guard in a phase net that no chain of PHASE calls from the mission
+// reaches never polls. (Without a mission, a file of phases for others to
+// import, nothing is said.)
+void warn_guards_never_active(const std::unordered_map<std::string, NetRef>& library, const ast::Net& mission,
+                              core::DiagnosticSink& sink) {
+  std::set<std::string> reached{mission.name.text};
+  std::vector<const ast::Net*> work{&mission};
+  while (!work.empty()) {
+    const ast::Net* net = work.back();
+    work.pop_back();
+    for (const auto& t : net->transitions) {
+      for (const auto& action : t.actions) {
+        const auto* phase = std::get_if<ast::Phase>(&action);
+        if (!phase || !reached.insert(phase->phase.text).second) continue;
+        if (auto it = library.find(phase->phase.text); it != library.end()) work.push_back(it->second.net);
+      }
+    }
+  }
+  std::vector<const ast::Net*> unreached;
+  for (const auto& [name, ref] : library) {
+    if (!reached.count(name) && !ref.net->guards.empty()) unreached.push_back(ref.net);
+  }
+  std::sort(unreached.begin(), unreached.end(),
+            [](const ast::Net* a, const ast::Net* b) { return a->name.text < b->name.text; });
+  for (const ast::Net* net : unreached) {
+    for (const auto& g : net->guards) {
+      sink.report(DiagnosticKind::GuardNeverActive, g.name.span,
+                  fmt::format("guard '{}' never polls: mission '{}' never runs phase '{}'", g.name.text,
+                              mission.name.text, net->name.text));
+    }
+  }
+}
+
 }  // namespace
 
 void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options) {
@@ -449,6 +515,7 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
     for (const auto& net : file.tree.nets) NetChecker(net, library, sink, options, args).run();
   }
   check_phase_recursion(library, sink);
+  if (mission) warn_guards_never_active(library, *mission, sink);
 }
 
 std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {

@@ -1,10 +1,55 @@
 #include "coral/compiler.h"
 
 #include <filesystem>
+#include <set>
 #include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "coral/guards.h"
 
 namespace strata::coral {
 namespace {
+
+// Which transitions and places of out each guard of src compiled to
+// (guards.h names them "G.poll", "G.ask1", ...).
+void describe_guards(const ast::Net& src, CompiledNet& out) {
+  const petri::Net& net = out.net;
+  out.guard_nodes.assign(net.transition_count(), GuardNode{});
+  out.place_generated.assign(net.place_count(), false);
+  for (petri::PlaceId p = 0; p < src.places.size(); ++p) out.place_generated[p] = src.places[p].generated;
+  std::set<std::string> seen;
+  for (const ast::Guard& g : src.guards) {
+    if (!seen.insert(g.name.text).second) continue;
+    const auto index = static_cast<std::uint32_t>(out.guards.size());
+    CompiledGuard cg;
+    cg.name = g.name.text;
+    cg.period = g.period.text;
+    cg.span = g.span;
+    const std::string& G = g.name.text;
+    auto transition = [&](const std::string& name, GuardRole role, std::uint32_t term = 0) {
+      petri::TransitionId t = *net.find_transition(name);
+      out.guard_nodes[t] = GuardNode{role, index, term};
+      return t;
+    };
+    cg.poll = transition(G + ".poll", GuardRole::Poll);
+    for (std::uint32_t k = 0; k < g.when.size(); ++k) {
+      cg.terms.push_back(guard_term_text(g.when[k]));
+      cg.asks.push_back(transition(fmt::format("{}.ask{}", G, k + 1), GuardRole::Ask, k));
+    }
+    cg.trip = transition(G + ".trip", GuardRole::Trip);
+    cg.handle = transition(G + ".handle", GuardRole::Handle);
+    cg.loop.push_back(*net.find_place(G + ".armed"));
+    cg.loop.push_back(*net.find_place(G + ".due"));
+    for (std::size_t k = 2; k <= g.when.size(); ++k) cg.loop.push_back(*net.find_place(fmt::format("{}.term{}", G, k)));
+    cg.loop.push_back(*net.find_place(G + ".tripped"));
+    cg.cancel = *net.find_place(G + ".cancel");
+    for (const petri::Arc& a : net.readers(cg.cancel)) {
+      if (net.priority(a.node) == kGuardDropPriority) out.guard_nodes[a.node] = GuardNode{GuardRole::Drop, index, 0};
+    }
+    out.guards.push_back(std::move(cg));
+  }
+}
 
 CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
   CompiledNet out;
@@ -67,12 +112,27 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
   }
   for (const auto& e : src.exits) out.exits.push_back(id(e.text));
   out.net = std::move(b).build();
+  if (!src.guards.empty()) describe_guards(src, out);
   return out;
 }
 
 }  // namespace
 
-std::optional<Program> compile(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options) {
+std::optional<Program> compile(const Load& written, core::DiagnosticSink& sink, const CheckOptions& options) {
+  // Guards become places and transitions of their nets before the check,
+  // which then checks what they compile to like any transition.
+  std::optional<Load> expanded;
+  for (const auto& file : written.files) {
+    for (const auto& net : file.tree.nets) {
+      if (!net.guards.empty() && !expanded) expanded = written;
+    }
+  }
+  if (expanded) {
+    for (auto& file : expanded->files) {
+      for (auto& net : file.tree.nets) expand_guards(net);
+    }
+  }
+  const Load& load = expanded ? *expanded : written;
   check(load, sink, options);
   if (sink.has_errors()) return std::nullopt;
   Program program;

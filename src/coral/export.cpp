@@ -56,6 +56,9 @@ std::string export_dot(const Program& program, const CompiledNet& cn, const std:
       if (net.priority(t) != 0) label += fmt::format(" (priority {})", net.priority(t));
       for (const ActionSpec& a : cn.actions[step.transition]) label += "\n" + action_text(a);
       out += fmt::format("  t{} [shape=box, style=filled, fillcolor=\"#dddddd\", label={}];\n", t, dot_quoted(label));
+    } else if (step.kind == AnalysisNet::Step::Kind::Forget) {
+      out += fmt::format("  t{} [shape=box, height=0.15, fontsize=8, label=\"forget\", tooltip={}];\n", t,
+                         dot_quoted(net.transition_name(t)));
     } else {
       const ActionSpec& a = cn.actions[step.transition][step.action];
       out += fmt::format("  t{} [shape=box, height=0.15, fontsize=8, label={}, tooltip={}];\n", t,

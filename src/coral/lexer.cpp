@@ -13,7 +13,7 @@ bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c))
 bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
-constexpr std::array<std::pair<std::string_view, TokenKind>, 13> kKeywords = {{
+constexpr std::array<std::pair<std::string_view, TokenKind>, 14> kKeywords = {{
     {"net", TokenKind::KwNet},
     {"mission", TokenKind::KwMission},
     {"place", TokenKind::KwPlace},
@@ -27,6 +27,7 @@ constexpr std::array<std::pair<std::string_view, TokenKind>, 13> kKeywords = {{
     {"import", TokenKind::KwImport},
     {"TACTIC", TokenKind::KwTactic},
     {"PHASE", TokenKind::KwPhase},
+    {"guard", TokenKind::KwGuard},
 }};
 
 std::string describe_byte(char c) {

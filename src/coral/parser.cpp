@@ -85,8 +85,10 @@ class Parser : private TokenCursor {
         parse_data(net);
       } else if (match(TK::KwTransition)) {
         parse_transition(net);
+      } else if (match(TK::KwGuard)) {
+        parse_guard(net);
       } else {
-        error_here("expected 'place', 'exit', 'data', 'transition' or '}' in the net body");
+        error_here("expected 'place', 'exit', 'data', 'transition', 'guard' or '}' in the net body");
         recover(TK::Semicolon);
       }
     }
@@ -150,7 +152,7 @@ class Parser : private TokenCursor {
         recover(TK::Semicolon);
         return;
       }
-      ast::PlaceDecl decl{*n, 0, is_exit, {}, {}};
+      ast::PlaceDecl decl{*n, 0, is_exit, false, {}, {}};
       if (match(TK::Equals)) {
         decl.initial = integer(0, std::numeric_limits<std::uint32_t>::max(), DiagnosticKind::BadWeight,
                                "an initial mark", &decl.initial_span);
@@ -226,6 +228,109 @@ class Parser : private TokenCursor {
     }
     t.extent = join(head.span, prev_.span);
     net.transitions.push_back(std::move(t));
+  }
+
+  // After `guard`: NAME every PERIOD { when { TERM, ... } action { ... } signal { ... } }.
+  // `every`, `when` and `not` are not keywords: they mean something only here.
+  void parse_guard(ast::Net& net) {
+    Token head = prev_;
+    auto n = name("a guard name");
+    if (!n) {
+      recover(TK::RBrace, true);
+      return;
+    }
+    ast::Guard g;
+    g.name = *n;
+    g.span = join(head.span, n->span);
+    auto give_up = [&] {
+      recover(TK::RBrace, true);
+      g.extent = join(head.span, prev_.span);
+      net.guards.push_back(std::move(g));
+    };
+    if (!(at(TK::Identifier) && tok_.text == "every")) {
+      error_here(fmt::format("expected 'every' and the poll period in seconds after guard '{}'", g.name.text));
+      return give_up();
+    }
+    advance();
+    if (at(TK::Integer) || at(TK::Float)) {
+      g.period = literal();
+    } else if (at(TK::Identifier)) {
+      g.period = {ast::Literal::Kind::Parameter, std::string(tok_.text), std::string(tok_.text), tok_.span};
+      advance();
+    } else {
+      error_here("expected the poll period in seconds (a number, or a number parameter of the net) after 'every'");
+      return give_up();
+    }
+    if (!expect(TK::LBrace, "to open the guard body")) return give_up();
+    bool seen_when = false, seen_action = false, seen_signal = false;
+    while (!at(TK::RBrace) && !at(TK::EndOfFile) && !is_declaration_keyword(tok_.kind)) {
+      panic_ = false;
+      Token clause = tok_;
+      auto once = [&](bool& seen) {
+        if (seen) {
+          sink_.report(DiagnosticKind::DuplicateClause, clause.span,
+                       fmt::format("guard '{}' has more than one '{}' clause; merge them", g.name.text, clause.text));
+        }
+        seen = true;
+      };
+      if (at(TK::Identifier) && tok_.text == "when") {
+        advance();
+        once(seen_when);
+        parse_terms(g.when);
+      } else if (match(TK::KwAction)) {
+        once(seen_action);
+        parse_actions(g.actions);
+      } else if (match(TK::KwSignal)) {
+        once(seen_signal);
+        parse_arcs(g.signals);
+      } else {
+        error_here("expected 'when', 'action', 'signal' or '}' in the guard body");
+        if (recover(TK::RBrace, true)) {
+          g.extent = join(head.span, prev_.span);
+          net.guards.push_back(std::move(g));
+          return;
+        }
+      }
+    }
+    if (!expect(TK::RBrace, fmt::format("to close guard '{}'", g.name.text))) recover(TK::RBrace, true);
+    if (!seen_when) {
+      sink_.report(DiagnosticKind::UnexpectedToken, g.span,
+                   fmt::format("guard '{}' has no 'when' clause: say which ASKs trip it", g.name.text));
+    }
+    g.extent = join(head.span, prev_.span);
+    net.guards.push_back(std::move(g));
+  }
+
+  // `{ [not] ask [(args)], ... }`: at least one term.
+  void parse_terms(std::vector<ast::GuardTerm>& out) {
+    if (!expect(TK::LBrace, "to open the guard's condition")) {
+      recover(TK::RBrace, true);
+      return;
+    }
+    do {
+      ast::GuardTerm term;
+      Token first = tok_;
+      if (at(TK::Identifier) && tok_.text == "not") {
+        advance();
+        term.negated = true;
+      }
+      if (!at(TK::Identifier)) {
+        error_here("expected an ASK primitive (or 'not' and an ASK primitive) in the guard's condition");
+        recover(TK::RBrace, true);
+        return;
+      }
+      auto call = parse_call();
+      if (!call) {
+        recover(TK::RBrace, true);
+        return;
+      }
+      term.ask = std::move(*call);
+      term.span = join(first.span, prev_.span);
+      out.push_back(std::move(term));
+    } while (match(TK::Comma));
+    if (!expect(TK::RBrace, "to close the guard's condition (terms are separated by ',')")) {
+      recover(TK::RBrace, true);
+    }
   }
 
   void parse_arcs(std::vector<ast::ArcRef>& out) {

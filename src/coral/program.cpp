@@ -82,6 +82,11 @@ std::string dump_net(const CompiledNet& n) {
   std::string out = fmt::format("{} {}\n", n.kind == ast::Net::Kind::Mission ? "mission" : "net", net_head_text(n));
   if (!n.data_file.empty()) out += fmt::format("data {}\n", escape(n.data_as_written));
   if (!n.exits.empty()) out += fmt::format("exits [{}]\n", places(n.net, n.exits));
+  for (const auto& g : n.guards) {
+    std::string terms;
+    for (const auto& t : g.terms) terms += (terms.empty() ? "" : ", ") + t;
+    out += fmt::format("guard {} every {} when {{{}}}\n", g.name, g.period, terms);
+  }
   out += petri::dump_net(n.net);
   for (petri::TransitionId t = 0; t < n.net.transition_count(); ++t) {
     for (const auto& a : n.actions[t]) {

@@ -33,6 +33,27 @@ struct ActionSpec {
 // checks the same limit (phase_depth) before a run starts.
 inline constexpr std::size_t kMaxPhaseDepth = 64;
 
+// A guard of a net (coral/guards.h) and the nodes it compiled to.
+struct CompiledGuard {
+  std::string name;
+  std::string period;              // as written: "1", "2.5", or a parameter's name
+  std::vector<std::string> terms;  // "system_problem", "not gps_available"
+  petri::TransitionId poll = 0, trip = 0, handle = 0;
+  std::vector<petri::TransitionId> asks;  // one per term, in order
+  std::vector<petri::PlaceId> loop;       // armed, due, term2.., tripped: the poll cycle's places
+  petri::PlaceId cancel = 0;
+  core::SourceSpan span;  // the `guard NAME` head
+};
+
+// What a transition of a compiled net is to its guards: a written
+// transition (None), or a node a guard compiled to.
+enum class GuardRole : std::uint8_t { None, Poll, Ask, Trip, Drop, Handle };
+struct GuardNode {
+  GuardRole role = GuardRole::None;
+  std::uint32_t guard = 0;  // index in CompiledNet::guards
+  std::uint32_t term = 0;   // Ask: the term's index
+};
+
 struct CompiledNet {
   std::string name;
   ast::Net::Kind kind = ast::Net::Kind::Phase;
@@ -46,6 +67,14 @@ struct CompiledNet {
   core::SourceSpan span;
   std::vector<core::SourceSpan> place_spans;       // by PlaceId: the name where declared
   std::vector<core::SourceSpan> transition_spans;  // by TransitionId: the `transition NAME` head
+  std::vector<CompiledGuard> guards;               // in declaration order
+  std::vector<GuardNode> guard_nodes;              // by TransitionId; empty when the net has no guard
+  std::vector<bool> place_generated;               // by PlaceId; empty when the net has no guard
+
+  // The transition's part in a guard (role None for a written transition).
+  GuardNode guard_node(petri::TransitionId t) const { return t < guard_nodes.size() ? guard_nodes[t] : GuardNode{}; }
+  bool generated(petri::TransitionId t) const { return guard_node(t).role != GuardRole::None; }
+  bool generated_place(petri::PlaceId p) const { return p < place_generated.size() && place_generated[p]; }
 };
 
 struct Program {

@@ -32,6 +32,7 @@ enum class TokenKind : std::uint8_t {
   KwImport,
   KwTactic,
   KwPhase,
+  KwGuard,
   EndOfFile,
 };
 

@@ -11,7 +11,7 @@ using TK = TokenKind;
 
 bool is_declaration_keyword(TK k) {
   return k == TK::KwNet || k == TK::KwMission || k == TK::KwImport || k == TK::KwPlace || k == TK::KwExit ||
-         k == TK::KwData || k == TK::KwTransition;
+         k == TK::KwData || k == TK::KwTransition || k == TK::KwGuard;
 }
 
 bool is_clause_keyword(TK k) { return k == TK::KwWait || k == TK::KwAction || k == TK::KwSignal; }

@@ -88,6 +88,10 @@ class NetVerifier {
     add("can_always_end", true, detail::can_always_end);
     add("no_busy_cycle", true, detail::no_busy_cycle);
     add("exits_exclusive", true, detail::exits_exclusive);
+    if (!cn.guards.empty()) {
+      add("guards_can_trip", true, detail::guards_can_trip);
+      add("handlers_end", true, detail::guard_handlers_end);
+    }
     v.properties.push_back(
         within_limits("phase_depth", limits_, true, [&] { return detail::phase_depth(program_, cn); }));
 

@@ -83,6 +83,10 @@ Property no_deadlock(const ExploredNet& x);
 Property can_always_end(const ExploredNet& x);
 Property no_busy_cycle(const ExploredNet& x);
 Property exits_exclusive(const ExploredNet& x);
+// Nets with guards only: each guard can trip from every marking where it
+// polls, and from every trip its handler reaches an exit.
+Property guards_can_trip(const ExploredNet& x);
+Property guard_handlers_end(const ExploredNet& x);
 // Structural: the deepest chain of PHASE calls from cn, against
 // kMaxPhaseDepth (a mission net runs at depth 0, a phase at 1 at least).
 Property phase_depth(const Program& program, const CompiledNet& cn);

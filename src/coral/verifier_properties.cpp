@@ -2,6 +2,7 @@
 // explored net; a property that fails carries its counterexample.
 #include <algorithm>
 #include <deque>
+#include <functional>
 #include <set>
 
 #include <fmt/format.h>
@@ -95,7 +96,12 @@ Property no_dead(const ExploredNet& x) {
     for (const auto& e : x.graph.successors(s)) fired[e.transition] = true;
   }
   std::vector<std::string> dead;
+  std::size_t written = 0;
   for (petri::TransitionId t = 0; t < x.cn.net.transition_count(); ++t) {
+    // A guard's nodes are not the mission's design: a drop of a place that
+    // is never marked when it trips is fine.
+    if (x.cn.generated(t)) continue;
+    ++written;
     if (fired[t]) continue;
     if (dead.empty()) {
       p.about = Property::About::Transition;
@@ -112,9 +118,8 @@ Property no_dead(const ExploredNet& x) {
     dead.push_back(fmt::format("{}{}", x.cn.net.transition_name(t), why));
   }
   if (dead.empty()) {
-    p.message = x.cn.net.transition_count() == 1
-                    ? "the one transition can fire"
-                    : fmt::format("each of the {} transitions can fire", x.cn.net.transition_count());
+    p.message = written == 1 ? "the one transition can fire"
+                             : fmt::format("each of the {} transitions can fire", written);
     return p;
   }
   if (!x.graph.complete()) return undecided(x, p);
@@ -130,11 +135,20 @@ Property no_deadlock(const ExploredNet& x) {
     return p;
   }
   for (StateId s = 0; s < x.graph.state_count(); ++s) {
-    if (!x.graph.explored(s) || x.graph.terminal(s) || !x.graph.successors(s).empty()) continue;
+    if (!x.graph.explored(s) || x.graph.terminal(s)) continue;
+    // Guards poll for ever: a marking where only their cycles can go on is
+    // stopped all the same (the engine reports a stall).
+    const auto next = x.graph.successors(s);
+    const bool only_guards = !next.empty() && std::all_of(next.begin(), next.end(), [&](const petri::ReachEdge& e) {
+      return x.an.guard_cycle(e.transition);
+    });
+    if (!next.empty() && !only_guards) continue;
     p.status = Status::Fails;
     about_marking(x, s, p);
     p.counterexample = x.trace_to(s);
-    p.message = p.counterexample->in_flight.empty()
+    p.message = only_guards ? "deadlock: nothing but the guards' polls can go on, and no exit is marked (the engine "
+                              "reports a stall)"
+                : p.counterexample->in_flight.empty()
                     ? "deadlock: nothing enabled, nothing in flight and no exit marked (the engine reports a stall)"
                     : "deadlock: nothing enabled, and what is in flight can never end (its phase reaches no exit)";
     return p;
@@ -163,6 +177,8 @@ Property can_always_end(const ExploredNet& x) {
     StateId s = queue.front();
     queue.pop_front();
     for (const auto& e : x.predecessors(s)) {
+      // Not by a guard tripping: a mission must end without a fault.
+      if (x.an.trips(e.transition)) continue;
       if (!ends[e.target]) {
         ends[e.target] = true;
         queue.push_back(e.target);
@@ -172,7 +188,8 @@ Property can_always_end(const ExploredNet& x) {
   // The nearest marking (breadth-first order) that cannot end.
   StateId bad = 0;
   while (bad < n && ends[bad]) ++bad;
-  const std::string goal = x.ends_when_dead() ? "the end (nothing enabled)" : "an exit";
+  const std::string goal = std::string(x.ends_when_dead() ? "the end (nothing enabled)" : "an exit") +
+                           (x.cn.guards.empty() ? "" : " (without a guard tripping)");
   if (bad == n) {
     p.message = fmt::format("{} stays reachable from every marking", goal);
     return p;
@@ -183,8 +200,16 @@ Property can_always_end(const ExploredNet& x) {
   } else if (x.graph.successors(bad).empty()) {
     p.message = fmt::format("trapped: {} can no longer be reached (nothing can fire)", goal);
   } else {
-    p.message = fmt::format("trapped: from here {} can no longer be reached; only {} can still happen", goal,
-                            join(x.labels(x.reachable_steps(bad))));
+    // What the mission itself can still do: a guard's own steps are not that.
+    std::set<petri::TransitionId> steps = x.reachable_steps(bad);
+    std::erase_if(steps, [&](petri::TransitionId t) {
+      return x.an.guard_cycle(t) || (!x.an.urgent.empty() && x.an.urgent[t]);
+    });
+    p.message = steps.empty() ? fmt::format("trapped: from here {} can no longer be reached; only the guards can "
+                                            "still poll",
+                                            goal)
+                              : fmt::format("trapped: from here {} can no longer be reached; only {} can still happen",
+                                            goal, join(x.labels(steps)));
   }
   about_marking(x, bad, p);
   p.counterexample = x.trace_to(bad);
@@ -281,6 +306,129 @@ Property exits_exclusive(const ExploredNet& x) {
   }
   if (!x.graph.complete()) return undecided(x, p);
   p.message = "no marking holds two exits";
+  return p;
+}
+
+namespace {
+
+// States from which some edge of `goal` can be taken, or (goal empty) an
+// end reached: backwards over every edge.
+std::vector<bool> can_reach(const ExploredNet& x, const std::function<bool(StateId)>& target) {
+  const std::size_t n = x.graph.state_count();
+  std::vector<bool> reach(n, false);
+  std::deque<StateId> queue;
+  for (StateId s = 0; s < n; ++s) {
+    if (target(s)) {
+      reach[s] = true;
+      queue.push_back(s);
+    }
+  }
+  while (!queue.empty()) {
+    StateId s = queue.front();
+    queue.pop_front();
+    for (const auto& e : x.predecessors(s)) {
+      if (!reach[e.target]) {
+        reach[e.target] = true;
+        queue.push_back(e.target);
+      }
+    }
+  }
+  return reach;
+}
+
+// Guard g is active in s: its cycle holds a token, a place or a call in flight.
+bool active(const ExploredNet& x, std::uint32_t g, StateId s) {
+  auto m = x.graph.marking(s);
+  const CompiledGuard& guard = x.cn.guards[g];
+  for (petri::PlaceId p : guard.loop) {
+    if (m[p] > 0) return true;
+  }
+  for (petri::PlaceId p = 0; p < m.size(); ++p) {
+    const auto& o = x.an.places[p];
+    if (m[p] == 0 || o.place) continue;
+    const GuardNode node = x.cn.guard_node(o.transition);
+    if (node.guard == g && (node.role == GuardRole::Poll || node.role == GuardRole::Ask)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Property guards_can_trip(const ExploredNet& x) {
+  Property p = named("guards_can_trip");
+  if (!x.graph.complete()) return undecided(x, p);
+  std::vector<std::string> names;
+  for (std::uint32_t g = 0; g < x.cn.guards.size(); ++g) {
+    const CompiledGuard& guard = x.cn.guards[g];
+    names.push_back(guard.name);
+    const std::vector<bool> trips = can_reach(x, [&](StateId s) {
+      const auto next = x.graph.successors(s);
+      return std::any_of(next.begin(), next.end(), [&](const petri::ReachEdge& e) { return e.transition == guard.trip; });
+    });
+    for (StateId s = 0; s < x.graph.state_count(); ++s) {
+      if (trips[s] || x.graph.terminal(s) || !active(x, g, s)) continue;
+      p.status = Status::Fails;
+      p.about = Property::About::Transition;
+      p.about_id = guard.trip;
+      p.message = fmt::format("guard {} is blocked: it is polling here but can never trip from here on", guard.name);
+      p.counterexample = x.trace_to(s);
+      return p;
+    }
+  }
+  p.message = fmt::format("{} can trip from every marking where {} polling",
+                          names.size() == 1 ? "the guard " + names[0] : "every guard (" + join(names) + ")",
+                          names.size() == 1 ? "it is" : "it is");
+  return p;
+}
+
+Property guard_handlers_end(const ExploredNet& x) {
+  Property p = named("handlers_end");
+  if (!x.graph.complete()) return undecided(x, p);
+  const std::vector<bool> ends = can_reach(x, [&](StateId s) {
+    return x.ends_when_dead() ? x.graph.successors(s).empty() : x.graph.terminal(s);
+  });
+  std::vector<std::string> found;
+  for (const CompiledGuard& guard : x.cn.guards) {
+    std::set<StateId> after;
+    for (StateId s = 0; s < x.graph.state_count(); ++s) {
+      for (const auto& e : x.graph.successors(s)) {
+        if (e.transition == guard.trip) after.insert(e.target);
+      }
+    }
+    for (StateId s : after) {
+      if (ends[s]) continue;
+      p.status = Status::Fails;
+      p.about = Property::About::Transition;
+      p.about_id = guard.handle;
+      p.message = fmt::format("after guard {} trips, its handler can end up where no exit is reachable", guard.name);
+      p.counterexample = x.trace_to(s);
+      return p;
+    }
+    // The exits its handler can reach, for people.
+    std::set<std::string> exits;
+    std::vector<bool> seen(x.graph.state_count(), false);
+    std::vector<StateId> stack(after.begin(), after.end());
+    for (StateId s : stack) seen[s] = true;
+    while (!stack.empty()) {
+      StateId s = stack.back();
+      stack.pop_back();
+      auto m = x.graph.marking(s);
+      for (petri::PlaceId e : x.cn.exits) {
+        if (m[e] > 0) exits.insert(std::string(x.cn.net.place_name(e)));
+      }
+      for (const auto& e : x.graph.successors(s)) {
+        if (!seen[e.target]) {
+          seen[e.target] = true;
+          stack.push_back(e.target);
+        }
+      }
+    }
+    found.push_back(after.empty() ? fmt::format("{}: never trips", guard.name)
+                                  : fmt::format("{} -> {}", guard.name,
+                                                exits.empty() ? std::string("the end")
+                                                              : join({exits.begin(), exits.end()}, " or ")));
+  }
+  p.message = fmt::format("every trip's handler reaches an exit ({})", join(found, "; "));
   return p;
 }
 

@@ -24,6 +24,7 @@ ExploredNet::ExploredNet(const Program& of_program, const CompiledNet& net, cons
     : program(of_program), cn(net), an(build_analysis_net(of_program, net, known)) {
   petri::ReachOptions ro;
   ro.terminal_places = net.exits;
+  ro.urgent = an.urgent;
   ro.max_states = limits.max_states;
   ro.max_memory_bytes = limits.memory_for_step();
   ro.deadline = limits.deadline;
@@ -101,6 +102,10 @@ std::string ExploredNet::step_label(petri::TransitionId t) const {
   const auto& st = an.steps[t];
   if (st.kind == AnalysisNet::Step::Kind::Transition) return std::string(cn.net.transition_name(st.transition));
   const ActionSpec& a = action_of(st.transition, st.action);
+  if (st.kind == AnalysisNet::Step::Kind::Forget) {
+    return fmt::format("guard {} forgetting {} ({})", cn.guards[st.answer].name, action_text(a),
+                       cn.net.transition_name(st.transition));
+  }
   return fmt::format("{} answering {}", action_text(a), answer_text(program, a, st.answer));
 }
 
@@ -113,6 +118,13 @@ TraceStep trace_step(const Program& program, const AnalysisNet& an, petri::Trans
   const auto& st = an.steps[t];
   TraceStep step;
   step.transition = cn.net.transition_name(st.transition);
+  if (st.kind == AnalysisNet::Step::Kind::Forget) {
+    // The engine does this itself when the guard trips: shown as a firing
+    // of the analysis net's drop, which issues and marks nothing.
+    step.kind = TraceStep::Kind::Fire;
+    step.transition = an.net.transition_name(t);
+    return step;
+  }
   if (st.kind == AnalysisNet::Step::Kind::Transition) {
     step.kind = TraceStep::Kind::Fire;
     for (const auto& a : cn.actions[st.transition]) step.actions.push_back(action_text(a));

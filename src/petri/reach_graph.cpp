@@ -175,11 +175,23 @@ ReachGraph build_reach_graph(const Net& net, const ReachOptions& options) {
         break;
       }
       if (!g.terminal(s)) {
-        for (TransitionId t = 0; t < net.transition_count(); ++t) {
+        auto enabled_at = [&](TransitionId t) {
           std::span<const Tokens> m = g.marking(s);
-          bool enabled = true;
-          for (const Arc& a : net.inputs(t)) enabled = enabled && m[a.node] >= a.weight;
-          if (!enabled) continue;
+          for (const Arc& a : net.inputs(t)) {
+            if (m[a.node] < a.weight) return false;
+          }
+          return true;
+        };
+        // An urgent transition enabled: only the urgent ones of its best priority fire.
+        std::optional<int> urgent_priority;
+        for (TransitionId t = 0; t < options.urgent.size(); ++t) {
+          if (!options.urgent[t] || !enabled_at(t)) continue;
+          if (!urgent_priority || net.priority(t) > *urgent_priority) urgent_priority = net.priority(t);
+        }
+        for (TransitionId t = 0; t < net.transition_count(); ++t) {
+          if (urgent_priority && (!options.urgent[t] || net.priority(t) != *urgent_priority)) continue;
+          if (!enabled_at(t)) continue;
+          std::span<const Tokens> m = g.marking(s);
           std::copy(m.begin(), m.end(), next.begin());
           bool overflow = false;
           for (const Arc& a : net.inputs(t)) next[a.node] -= a.weight;

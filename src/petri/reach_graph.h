@@ -8,7 +8,10 @@
 // Semantics: plain P/T interleaving (every enabled transition may fire;
 // priorities are not applied), except that a marking with a token in a
 // terminal place has no successors: the CORAL Engine ends a phase as soon
-// as one of its exits is marked.
+// as one of its exits is marked; and that urgent transitions (a CORAL
+// guard's pre-emption, coral/guards.h), when one is enabled, are the only
+// ones that may fire: those of the highest priority among the enabled
+// urgent ones.
 //
 // Unboundedness: when a new marking that is not terminal covers one of its
 // own ancestors (>= in every place, > in some), the firing sequence between
@@ -37,6 +40,8 @@ inline constexpr StateId kNoState = 0xffffffffu;
 
 struct ReachOptions {
   std::vector<PlaceId> terminal_places;
+  // By TransitionId, or empty: none is urgent.
+  std::vector<bool> urgent;
   // Stop (complete = false) after this many markings.
   std::uint64_t max_states = 1'000'000;
   // Stop before the graph would need more bytes (0: no limit). Counted: the

@@ -45,6 +45,8 @@ struct CoralEngine::Instance {
   std::vector<tactical::Value> params;  // the values of the net's parameters, in order
   std::size_t depth = 0;
   bool dirty = false;
+  bool guards_held = false;             // held_: its guards' polls wait for the end of the pass
+  std::vector<std::string> trip_terms;  // by guard: the term whose answer marked G.tripped
 };
 
 CoralEngine::CoralEngine(const coral::Program& program, Tactics& tactics, EngineOptions options)
@@ -135,6 +137,11 @@ InstanceId CoralEngine::start_instance(const coral::CompiledNet& net, std::optio
   InstanceId id = inst->id;
   instances_.push_back(std::move(inst));
   Instance& i = *instances_[id];
+  if (!net.guards.empty()) {
+    i.trip_terms.resize(net.guards.size());
+    i.guards_held = true;
+    held_.push_back(id);
+  }
   PhaseStart event{id, parent.value_or(id), net.name, caller, i.depth, &*i.state, now()};
   observers_.phase_started(event);
   i.dirty = true;
@@ -172,7 +179,12 @@ void CoralEngine::drain() {
     run_dirty();
   }
   draining_ = false;
-  if (!running_ || !in_flight_.empty() || !buffer_.empty()) return;
+  if (!running_ || !buffer_.empty()) return;
+  // Guards poll for ever: a mission with nothing but their polls in flight
+  // cannot move again by itself.
+  for (const auto& [id, action] : in_flight_) {
+    if (!action.guard) return;
+  }
   // Nothing enabled anywhere (run_dirty ran every touched instance to rest)
   // and nothing in flight: the mission can never move again.
   const coral::CompiledNet& mission = program_.nets[*program_.mission];
@@ -225,6 +237,10 @@ void CoralEngine::handle(Message& message) {
     case coral::ast::TacticType::Report: break;
   }
   Instance& inst = *instances_[action.instance];
+  if (const coral::GuardNode node = inst.net->guard_node(action.t);
+      node.role == coral::GuardRole::Ask && place == inst.net->guards[node.guard].loop.back()) {
+    inst.trip_terms[node.guard] = inst.net->guards[node.guard].terms[node.term];  // G.tripped: this term tripped it
+  }
   ActionFinish f{message.id,      action.instance, inst.net->name,
                  primitive_of(a), out.value,       place ? inst.net->net.place_name(*place) : std::string_view(),
                  out.sim_time_s};
@@ -233,19 +249,35 @@ void CoralEngine::handle(Message& message) {
 }
 
 void CoralEngine::run_dirty() {
-  // Instances touched by the last message, in the order touched; running one
-  // may touch others (a phase started, a caller marked by an exit).
-  for (std::size_t i = 0; i < dirty_.size() && running_; ++i) {
-    InstanceId id = dirty_[i];
-    instances_[id]->dirty = false;
-    run_instance(id);
+  while (true) {
+    // Instances touched by the last message, in the order touched; running one
+    // may touch others (a phase started, a caller marked by an exit).
+    for (std::size_t i = 0; i < dirty_.size() && running_; ++i) {
+      InstanceId id = dirty_[i];
+      instances_[id]->dirty = false;
+      run_instance(id);
+    }
+    dirty_.clear();
+    if (!running_ || held_.empty()) return;
+    // The pass is over: the guards of the instances it started poll now.
+    std::vector<InstanceId> held = std::move(held_);
+    held_.clear();
+    for (InstanceId id : held) {
+      Instance& inst = *instances_[id];
+      inst.guards_held = false;
+      if (inst.state && !inst.dirty) {
+        inst.dirty = true;
+        dirty_.push_back(id);
+      }
+    }
   }
-  dirty_.clear();
 }
 
 void CoralEngine::run_instance(InstanceId id) {
   Instance& inst = *instances_[id];
   while (running_ && inst.state && !inst.state->enabled().empty()) {
+    std::optional<petri::TransitionId> t = choose(inst);
+    if (!t) return;  // only its held guard polls are enabled
     if (firings_this_event_ >= options_.max_firings_per_event) {
       fail(
           fmt::format("net '{}' fired {} transitions without waiting for any reply: it cycles "
@@ -253,18 +285,32 @@ void CoralEngine::run_instance(InstanceId id) {
                       inst.net->name, firings_this_event_, petri::dump_marking(inst.net->net, inst.state->marking())));
       return;
     }
-    fire(inst, choose(*inst.state));
+    fire(inst, *t);
   }
 }
 
-petri::TransitionId CoralEngine::choose(const petri::State& state) {
+std::optional<petri::TransitionId> CoralEngine::choose(const Instance& inst) {
+  const petri::State& state = *inst.state;
   const petri::EnabledSet& enabled = state.enabled();
   petri::TransitionId best = *enabled.first();
+  if (inst.guards_held && inst.net->guard_node(best).role == coral::GuardRole::Poll) {
+    // The best transition that is not a held poll, by rank (polls rank above every written one).
+    std::optional<petri::TransitionId> other;
+    for (std::size_t i = 0; i < enabled.size(); ++i) {
+      petri::TransitionId t = enabled.at(i);
+      if (inst.net->guard_node(t).role == coral::GuardRole::Poll) continue;
+      const int pt = state.net().priority(t);
+      if (!other || pt > state.net().priority(*other) || (pt == state.net().priority(*other) && t < *other)) other = t;
+    }
+    if (!other) return std::nullopt;
+    best = *other;
+  }
   if (!rng_ || enabled.size() == 1) return best;
   int priority = state.net().priority(best);
   std::vector<petri::TransitionId> candidates;
   for (std::size_t i = 0; i < enabled.size(); ++i) {
     petri::TransitionId t = enabled.at(i);
+    if (inst.guards_held && inst.net->guard_node(t).role == coral::GuardRole::Poll) continue;
     if (state.net().priority(t) == priority) candidates.push_back(t);
   }
   // Sorted, so the choice depends on the seed and the net, not on the set's layout.
@@ -280,6 +326,10 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
   if (!observers_.empty()) {
     for (const petri::Arc& arc : net.inputs(t)) event.consumed.emplace_back(net.place_name(arc.node), arc.weight);
     for (const petri::Arc& arc : net.outputs(t)) event.produced.emplace_back(net.place_name(arc.node), arc.weight);
+  }
+  if (const coral::GuardNode node = inst.net->guard_node(t); node.role == coral::GuardRole::Trip) {
+    preempt(inst, inst.net->guards[node.guard]);
+    if (!running_ || !inst.state) return;
   }
   if (auto r = inst.state->fire(t); !r) {
     fail(fmt::format("net '{}', transition '{}': {}", inst.net->name, net.transition_name(t), r.error().message));
@@ -313,7 +363,10 @@ void CoralEngine::fire(Instance& inst, petri::TransitionId t) {
 void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a) {
   ActionId id = next_action_++;
   std::string_view transition = inst.net->net.transition_name(t);
-  ActionStart event{id, inst.id, verb_of(a), primitive_of(a), transition, now()};
+  const coral::GuardNode node = inst.net->guard_node(t);
+  const bool polls = node.role == coral::GuardRole::Poll || node.role == coral::GuardRole::Ask;
+  ActionStart event{id,         inst.id, verb_of(a), primitive_of(a), transition, now(),
+                    polls ? std::string_view(inst.net->guards[node.guard].name) : std::string_view()};
   observers_.action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     const coral::CompiledNet* phase = program_.find(a.target);
@@ -331,7 +384,7 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
     tactics_.call(primitive_of(a), arguments(inst, t, index), [](const tactical::CallResult&) {});
     return;
   }
-  in_flight_.emplace(id, InFlight{inst.id, &a, transition});
+  in_flight_.emplace(id, InFlight{inst.id, &a, transition, t, polls});
   std::weak_ptr<CoralEngine*> self = self_;
   tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](tactical::CallResult outcome) {
     if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
@@ -395,6 +448,44 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
         0, parent.id, parent.net->name, inst.net->name, *exit_index == 0, parent.net->net.place_name(place), now()};
     observers_.action_finished(f);
     mark(*inst.parent, place, 1);
+  }
+}
+
+void CoralEngine::describe_preempted(const Instance& inst, std::vector<std::string>& phases,
+                                     std::vector<std::pair<ActionId, std::string>>& calls) const {
+  for (const auto& [id, action] : in_flight_) {
+    if (action.instance != inst.id) continue;
+    calls.emplace_back(id, fmt::format("{} {}", core::call_verb_name(action.spec->tactic), primitive_of(*action.spec)));
+  }
+  for (InstanceId child : inst.children) {
+    const Instance& c = *instances_[child];
+    if (!c.state) continue;
+    phases.push_back(fmt::format("{} (instance {})", c.net->name, c.id));
+    describe_preempted(c, phases, calls);
+  }
+}
+
+void CoralEngine::preempt(Instance& inst, const coral::CompiledGuard& guard) {
+  GuardTrip trip;
+  trip.instance = inst.id;
+  trip.net = inst.net->name;
+  trip.guard = guard.name;
+  trip.condition = inst.trip_terms[static_cast<std::size_t>(&guard - inst.net->guards.data())];
+  trip.sim_time_s = now();
+  std::vector<std::pair<ActionId, std::string>> calls;
+  describe_preempted(inst, trip.preempted_phases, calls);
+  std::sort(calls.begin(), calls.end());
+  for (auto& [id, text] : calls) trip.preempted_calls.push_back(std::move(text));
+  observers_.guard_tripped(trip);
+  // The phases it ran end (their calls with them); its own calls are forgotten.
+  for (InstanceId child : inst.children) end_instance(child, std::nullopt, true);
+  for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+    if (it->second.instance == inst.id) {
+      orphaned_.insert(it->first);
+      it = in_flight_.erase(it);
+    } else {
+      ++it;
+    }
   }
 }
 

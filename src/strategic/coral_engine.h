@@ -94,6 +94,8 @@ class CoralEngine final : public ExecutorBase {
     InstanceId instance;
     const coral::ActionSpec* spec;
     std::string_view transition;
+    petri::TransitionId t = 0;
+    bool guard = false;  // a guard's own poll: not progress of the mission
   };
   struct Message {
     ActionId id;
@@ -109,7 +111,13 @@ class CoralEngine final : public ExecutorBase {
   void handle(Message& message);
   void run_dirty();
   void run_instance(InstanceId id);
-  petri::TransitionId choose(const petri::State& state);
+  // The transition to fire next; nullopt when only held guard polls are enabled.
+  std::optional<petri::TransitionId> choose(const Instance& inst);
+  // A guard trips (its G.trip fires): tell observers, end the net's phases,
+  // forget its calls in flight.
+  void preempt(Instance& inst, const coral::CompiledGuard& guard);
+  void describe_preempted(const Instance& inst, std::vector<std::string>& phases,
+                          std::vector<std::pair<ActionId, std::string>>& calls) const;
   void fire(Instance& inst, petri::TransitionId t);
   void issue(Instance& inst, petri::TransitionId t, std::size_t index, const coral::ActionSpec& a);
   InstanceId start_instance(const coral::CompiledNet& net, std::optional<InstanceId> parent,
@@ -139,6 +147,9 @@ class CoralEngine final : public ExecutorBase {
   std::unordered_set<ActionId> orphaned_;  // issued by an instance that has ended
   std::deque<Message> buffer_;
   std::vector<InstanceId> dirty_;
+  // Instances started in this pass whose guards poll once the pass is over:
+  // a scope's own first calls go out before its guards' first sleeps.
+  std::vector<InstanceId> held_;
   std::optional<std::mt19937_64> rng_;
   Firing firing_;  // scratch for the event told to observers
   ActionId next_action_ = 1;

@@ -67,6 +67,9 @@ core::Result<nlohmann::json> replay_from_log(const std::string& text) {
       add(m, nlohmann::json{{e.value("place", ""), 1}}, +1);
       emit("action_finish",
            {{"instance", instance}, {"primitive", e.value("by", "")}, {"marks", e.value("place", "")}, {"marking", m}});
+    } else if (kind == "guard_tripped") {
+      emit("report", {{"text", fmt::format("guard {} of {} tripped ({})", e.value("guard", ""), e.value("net", ""),
+                                           e.value("condition", ""))}});
     } else if (kind == "phase_end") {
       markings.erase(instance);
       emit("phase_end", {{"instance", instance}, {"net", e.value("net", "")}, {"exit", e.value("exit", "")}});

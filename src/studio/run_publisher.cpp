@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "petri/state.h"
 
 namespace strata::studio {
@@ -225,6 +227,11 @@ void RunPublisher::telemetry(const protocol::Telemetry& sample) {
     }
     return out;
   });
+}
+
+void RunPublisher::guard_tripped(const strategic::GuardTrip& e) {
+  // Shown in the page's log as the run's reports are.
+  report(fmt::format("guard {} of {} tripped ({})", e.guard, e.net, e.condition), e.sim_time_s);
 }
 
 void RunPublisher::report(const std::string& text, double t) {

@@ -47,6 +47,7 @@ class RunPublisher final : public run::RunObserver {
   void fired(const strategic::Firing& e) override;
   void action_started(const strategic::ActionStart& e) override;
   void action_finished(const strategic::ActionFinish& e) override;
+  void guard_tripped(const strategic::GuardTrip& e) override;
   void telemetry(const protocol::Telemetry& t) override;
   void report(const std::string& text, double sim_time_s) override;
   void run_ended(const run::RunReport& report) override;
