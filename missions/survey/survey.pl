@@ -1,14 +1,25 @@
-% The survey mission (survey.coral) as PROLOG rules: the same phases, the
-% same calls in the same order, so `strata compare survey.coral survey.pl`
-% finds the same trace in every scenario. Phases are terms: launch, leg(N),
-% fix(N) (back at the surface between legs) and recover; Figure 10's phase
-% loop runs them in turn, and any leg that aborts ends in the emergency
-% surfacing and the shutdown of the vehicle network. See docs/prolog.md.
+% The survey mission (survey.coral) as PROLOG rules: the same phases and
+% guards, the same calls in the same order, so `strata compare survey.coral
+% survey.pl` finds the same trace in every scenario. Phases are terms:
+% launch, leg(N), fix(N) (back at the surface between legs) and recover;
+% Figure 10's phase loop runs them in turn, and any leg that aborts ends in
+% the emergency surfacing and the shutdown of the vehicle network.
+%
+% Safety runs beside the rules (docs/prolog.md §8): the guard `leak` polls
+% system_problem once a second for the whole survey and pre-empts whatever
+% runs to bring the vehicle up; each leg has the guard `hazard` for a seabed
+% under the floor or a position grown uncertain, which stops the sonar and
+% aborts the leg.
 
 :- dynamic current_phase/1, complete/1, abort/1.
 :- discontiguous execute_phase/1.
 
 current_phase(launch).
+
+% A problem on board, whatever runs: up to the surface, and the end.
+guard(leak, 1, [system_problem], on_leak).
+% Under water along a leg: the seabed too close, or the position uncertain.
+phase_guard(leg(N), hazard, 1, [altitude_low, position_uncertain], leg_hazard(N)).
 
 % The lawnmower: four legs, 250 m long, 20 m apart (x east, y north, m).
 leg_track(1, 0, 0, 250, 0).
@@ -71,36 +82,33 @@ execute_phase(launch) :-
     exec_goto_depth(5, D), D = 1,
     asserta(complete(launch)).
 
-% One leg with the sonar on, watched once a second; the sonar is stopped
-% at its end, whether it completes or aborts.
+% One leg with the sonar on, checked once a second for its end; the sonar
+% is stopped when it is reached. The guard `hazard` watches it meanwhile.
 execute_phase(leg(N)) :-
     leg_track(N, X0, Y0, X1, Y1),
     exec_track(X0, Y0, X1, Y1, X), X = 1,
     exec_start_sonar(S), S = 1,
     repeat,
-    leg_check(leg(N)), !.
-
-leg_check(P) :-
     exec_sleep(1, _),
-    ask_waypoint_reached(X), X = 1,
-    exec_stop_sonar(S), S = 1,
-    asserta(complete(P)).
-leg_check(P) :-
-    ask_system_problem(X), X = 1,
-    report('leg: a problem on board'),
-    leg_abort(P).
-leg_check(P) :-
-    ask_altitude_low(X), X = 1,
-    report('leg: the seabed is under the altitude floor'),
-    leg_abort(P).
-leg_check(P) :-
-    ask_position_uncertain(X), X = 1,
-    report('leg: the position is uncertain'),
-    leg_abort(P).
+    ask_waypoint_reached(R), R = 1,
+    !,
+    exec_stop_sonar(T), T = 1,
+    asserta(complete(leg(N))).
 
-leg_abort(P) :-
+% The leg's guard tripped: the sonar off, and the leg aborts.
+leg_hazard(N) :-
+    report('leg: the seabed is under the floor, or the position is uncertain'),
     exec_stop_sonar(S), S = 1,
-    asserta(abort(P)).
+    asserta(abort(leg(N))).
+
+% The mission's guard tripped: in place of the mission, up to the surface and
+% Figure 10's done.
+on_leak :-
+    report('survey aborted: a problem on board, surfacing'),
+    retractall(current_phase(_)),
+    asserta(current_phase(mission_abort)),
+    rise,
+    ood('shutdown_network', _).
 
 % Between legs: up, half a minute of fixes, a fix, down to 5 m again.
 execute_phase(fix(N)) :-

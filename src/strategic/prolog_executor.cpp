@@ -360,7 +360,8 @@ void PrologExecutor::guard_reply(const GuardCall& call, ActionId id, tactical::C
   const bool slept = g.term == g.spec.terms.size();
   const std::string name = slept ? std::string("sleep") : g.spec.terms[g.term].ask;
   if (!outcome) {
-    fail(fmt::format("guard {}: {} failed: {}", g.spec.name, call.text, outcome.error().message), outcome.error().kind);
+    // As a call of the rules fails, and as CORAL says it.
+    fail(fmt::format("{} failed: {}", call.text, outcome.error().message), outcome.error().kind);
     return;
   }
   const tactical::CallOutcome& out = outcome.value();
@@ -368,8 +369,7 @@ void PrologExecutor::guard_reply(const GuardCall& call, ActionId id, tactical::C
   observers_.action_finished(f);
   if (slept) {
     if (!out.value) {
-      fail(fmt::format("guard {}: exec sleep was not executed: the vehicle answered 0 at {:.1f} s", g.spec.name,
-                       out.sim_time_s));
+      fail(fmt::format("exec sleep was not executed: the vehicle answered 0 at {:.1f} s", out.sim_time_s));
       return;
     }
     g.term = 0;

@@ -249,7 +249,7 @@ on_leak :- report(leak).
   FakeTactics& f = r->tactics();
   f.take(1)(tactical::CallError{tactical::CallError::Kind::LinkLost, std::nullopt, "the link closed"});
   ASSERT_TRUE(r->session->ended_with(Outcome::Failed));
-  EXPECT_EQ("guard leak: exec sleep failed: the link closed", r->session->why());
+  EXPECT_EQ("exec sleep failed: the link closed", r->session->why());
   EXPECT_EQ(tactical::CallError::Kind::LinkLost, r->session->result->call_error);
 }
 
