@@ -274,5 +274,79 @@ TEST(GuardedRules, ALeakPreemptsTheSleepWithinOnePollAndTheHandlerSurfaces) {
   EXPECT_EQ((std::vector<std::string>{"hold cancelled"}), r.report.phases);
 }
 
+// The guarded survey (missions/survey: a leak guard for the whole mission, a
+// hazard guard per leg) as rules, against the net: the same calls at the same
+// times in every shipped scenario and with each kind of fault at a moment
+// where a guard or the mission's own checks must act.
+const std::string kSurveyDir = std::string(STRATA_SOURCE_DIR) + "/missions/survey";
+
+struct SurveyCase {
+  std::string name;
+  std::string scenario;  // a shipped scenario's name, or "" for the fault below in nominal's water
+  std::string fault;     // TOML lines of one [[fault]]
+  Outcome outcome;
+  std::string report;  // a REPORT the runs must make ("" for none required)
+};
+
+void PrintTo(const SurveyCase& c, std::ostream* os) { *os << c.name; }
+
+class SurveyRules : public ::testing::TestWithParam<SurveyCase> {};
+
+TEST_P(SurveyRules, BehaveAsTheGuardedNetCallForCall) {
+  const SurveyCase& c = GetParam();
+  TempDir dir;
+  std::string scenario = c.scenario;
+  if (scenario.empty()) {
+    scenario = dir.file(c.name + ".toml");
+    std::ofstream(scenario) << read_file(kSurveyDir + "/scenarios/nominal.toml") << "[[fault]]\n" << c.fault;
+  }
+  TracedRun coral = run_traced(kSurveyDir + "/survey.coral", scenario);
+  TracedRun rules = run_traced(kSurveyDir + "/survey.pl", scenario);
+  ASSERT_TRUE(coral.report.result.has_value()) << coral.err;
+  ASSERT_TRUE(rules.report.result.has_value()) << rules.err;
+  EXPECT_EQ("", rules.err) << "the rules load without a warning";
+  EXPECT_EQ(std::nullopt, first_difference(coral.rows, rules.rows)) << table(coral, rules);
+  EXPECT_EQ(c.outcome, coral.report.result->outcome) << coral.out;
+  EXPECT_EQ(c.outcome, rules.report.result->outcome) << rules.out;
+  // A failure in the same words (an abort's reason is each executor's own).
+  if (c.outcome == Outcome::Failed) {
+    EXPECT_EQ(coral.report.result->reason, rules.report.result->reason);
+  }
+  EXPECT_EQ(coral.report.exit_code, rules.report.exit_code);
+  EXPECT_NEAR(coral.report.sim_time_s, rules.report.sim_time_s, 1e-9);
+  if (!c.report.empty()) {
+    EXPECT_TRUE(std::any_of(rules.rows.begin(), rules.rows.end(),
+                            [&](const TraceRow& r) { return r.call.find(c.report) != std::string::npos; }))
+        << c.report << " not reported:\n"
+        << rules.out;
+  }
+}
+
+const char* const kLeak = "survey aborted: a problem on board";
+const char* const kHazard = "leg: the seabed is under the floor, or the position is uncertain";
+
+INSTANTIATE_TEST_SUITE_P(
+    ScenariosAndFaults, SurveyRules,
+    ::testing::Values(
+        SurveyCase{"nominal", "nominal", "", Outcome::Completed, ""},
+        SurveyCase{"leak", "leak", "", Outcome::Aborted, kLeak},
+        SurveyCase{"shallow", "shallow", "", Outcome::Aborted, kHazard},
+        SurveyCase{"lost_position", "lost_position", "", Outcome::Aborted, ""},
+        // In the two minutes at the surface, in leg 1, in a refix, at the end.
+        SurveyCase{"leak_at_the_surface", "", "kind = \"leak\"\nat_s = 60.0\n", Outcome::Aborted, kLeak},
+        SurveyCase{"leak_in_leg_2", "", "kind = \"leak\"\nat_s = 600.0\n", Outcome::Aborted, kLeak},
+        SurveyCase{"leak_in_a_refix", "", "kind = \"leak\"\nat_s = 460.0\n", Outcome::Aborted, kLeak},
+        SurveyCase{"leak_at_the_end", "", "kind = \"leak\"\nat_s = 1745.0\n", Outcome::Aborted, kLeak},
+        SurveyCase{"altimeter_dead_in_leg_1", "", "kind = \"altimeter_dead\"\nat_s = 200.0\n", Outcome::Aborted,
+                   kHazard},
+        SurveyCase{"weak_thrusters", "", "kind = \"weak_thrusters\"\nat_s = 420.0\nhealth = 0.4\n", Outcome::Completed,
+                   ""},
+        SurveyCase{"sensor_dropout", "", "kind = \"sensor_dropout\"\nat_s = 330.0\nduration_s = 20.0\n",
+                   Outcome::Completed, ""},
+        SurveyCase{"compass_bias", "", "kind = \"compass_bias\"\nat_s = 5.0\nbias_deg = 20.0\n", Outcome::Aborted, ""},
+        SurveyCase{"no_gps", "", "kind = \"no_gps\"\nat_s = 130.0\n", Outcome::Failed, ""},
+        SurveyCase{"link_loss", "", "kind = \"link_loss\"\nat_s = 330.0\nduration_s = 5.0\n", Outcome::Failed, ""}),
+    [](const ::testing::TestParamInfo<SurveyCase>& p) { return p.param.name; });
+
 }  // namespace
 }  // namespace strata::cli::run_testing
