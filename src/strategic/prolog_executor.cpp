@@ -321,11 +321,11 @@ PrologExecutor::Scope* PrologExecutor::find_scope(std::uint64_t id) {
 }
 
 void PrologExecutor::start_guards() {
-  // By index: poll() may not add scopes, but keep no reference across calls anyway.
-  for (std::size_t i = 0; i < scopes_.size() && running_; ++i) {
-    if (scopes_[i].polling || scopes_[i].tripped) continue;
-    scopes_[i].polling = true;
-    for (std::size_t g = 0; g < scopes_[i].guards.size(); ++g) poll(scopes_[i], g);
+  // Outer scopes first; within one, in declaration order.
+  for (Scope& scope : scopes_) {
+    if (scope.polling || scope.tripped) continue;
+    scope.polling = true;
+    for (std::size_t g = 0; g < scope.guards.size(); ++g) poll(scope, g);
   }
 }
 
