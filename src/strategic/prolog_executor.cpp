@@ -271,16 +271,13 @@ void PrologExecutor::wind_down(const MissionResult& result) {
 // first firings; each guard sleeps its period, asks its terms in order, and
 // trips on the first that holds, or sleeps again.
 
-std::uint64_t PrologExecutor::open_guards(std::vector<GuardSpec> guards) {
+std::uint64_t PrologExecutor::open_guards(const std::vector<GuardSpec>& guards) {
   Scope scope;
   scope.id = next_scope_++;
   scope.instance = current_instance();
   scope.net = phases_.empty() ? mission_.name() : phases_.back().name;
   scope.depth = phases_.size();
-  for (auto& g : guards) {
-    std::size_t sleeping = g.terms.size();
-    scope.guards.push_back({std::move(g), 0, sleeping});
-  }
+  for (const GuardSpec& g : guards) scope.guards.push_back({g, 0, g.terms.size()});
   scopes_.push_back(std::move(scope));
   return scopes_.back().id;
 }

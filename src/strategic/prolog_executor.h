@@ -96,7 +96,7 @@ class PrologExecutor final : public ExecutorBase, private PrologHost {
   void report(const std::string& name, std::vector<tactical::Value> args) override;
   void phase_started(const std::string& phase) override;
   void phase_ended(const std::string& phase, const std::string& exit) override;
-  std::uint64_t open_guards(std::vector<GuardSpec> guards) override;
+  std::uint64_t open_guards(const std::vector<GuardSpec>& guards) override;
   std::optional<std::string> close_guards(std::uint64_t scope) override;
   std::optional<GuardTripSignal> pending_trip() const override;
   void call_not_made(const std::string& name) override;

@@ -108,7 +108,8 @@ struct Session {
   std::string why() const { return result ? result->reason : "still running"; }
   // The last n events.
   Strings last(std::size_t n) const {
-    return Strings(recorder.events.end() - std::min(n, recorder.events.size()), recorder.events.end());
+    return Strings(recorder.events.end() - static_cast<std::ptrdiff_t>(std::min(n, recorder.events.size())),
+                   recorder.events.end());
   }
 
   FakeTactics tactics;
@@ -155,7 +156,7 @@ class PrologExecutorTest : public ::testing::Test {
     return load(write(name + ".pl", text));
   }
   // Loads rules (kept until the test ends), starts them and answers their calls in turn.
-  std::unique_ptr<Session> run(const std::string& name, const std::string& text, std::vector<bool> answers,
+  std::unique_ptr<Session> run(const std::string& name, const std::string& text, const std::vector<bool>& answers,
                                PrologOptions options = {}) {
     missions_.push_back(rules(name, text));
     if (!missions_.back()) return nullptr;

@@ -176,7 +176,7 @@ foreign_t pl_strata_guards_open(term_t specs_t, term_t scope_t) {
     if (g.terms.empty()) return PL_domain_error("guard_condition", arg);
     guards.push_back(std::move(g));
   }
-  return PL_unify_int64(scope_t, static_cast<int64_t>(g_host->open_guards(std::move(guards))));
+  return PL_unify_int64(scope_t, static_cast<int64_t>(g_host->open_guards(guards)));
 }
 
 // '$strata_guards_close'(+Scope, -Trip): Trip is none, or tripped(Guard).

@@ -74,7 +74,7 @@ class PrologHost {
   // A guarded scope (mission/0 with guard/4 facts, or a phase with
   // phase_guard/5 facts) opens: its guards, in declaration order. Returns
   // the scope's id (never 0).
-  virtual std::uint64_t open_guards(std::vector<GuardSpec> /*guards*/) { return 1; }
+  virtual std::uint64_t open_guards(const std::vector<GuardSpec>& /*guards*/) { return 1; }
   // It closes (normally, by an exception, or unwound by its own trip): the
   // guard that tripped it, if one did. An unknown id (a scope an outer
   // trip pre-empted) gives nullopt.

@@ -98,7 +98,7 @@ class ScriptedHost final : public PrologHost {
   // Guards: each scope's opening and closing is an event; a test trips a
   // scope by setting `trip` (then answers the call the rules wait in).
   std::optional<GuardTripSignal> trip;
-  std::uint64_t open_guards(std::vector<GuardSpec> guards) override {
+  std::uint64_t open_guards(const std::vector<GuardSpec>& guards) override {
     std::string e = fmt::format("guards #{}", ++scopes);
     for (const auto& g : guards) {
       e += fmt::format(" {}/{}", g.name, g.period_s);
