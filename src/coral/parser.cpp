@@ -294,7 +294,7 @@ class Parser : private TokenCursor {
     }
     if (!expect(TK::RBrace, fmt::format("to close guard '{}'", g.name.text))) recover(TK::RBrace, true);
     if (!seen_when) {
-      sink_.report(DiagnosticKind::UnexpectedToken, g.span,
+      sink_.report(DiagnosticKind::UnexpectedToken, g.name.span,
                    fmt::format("guard '{}' has no 'when' clause: say which ASKs trip it", g.name.text));
     }
     g.extent = join(head.span, prev_.span);
