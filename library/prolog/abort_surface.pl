@@ -5,10 +5,11 @@
     vehicle is up. Exit: surfaced.
     A mission loads it with `:- use_phase(abort_surface).`
 */
-abort_surface(surfaced) :-
+abort_surface(Exit) :-
     exec_stop(_),
     exec_surface(_),
-    abort_surface_poll.
+    abort_surface_poll,
+    Exit = surfaced.
 
 abort_surface_poll :-
     exec_sleep(1, _),

@@ -5,11 +5,12 @@
     simulated second until it is reached. Exit: arrived.
     A mission loads it with `:- use_phase(goto).`
 */
-goto(X, Y, Depth, Speed, arrived) :-
+goto(X, Y, Depth, Speed, Exit) :-
     exec_goto_depth(Depth, _),
     exec_set_speed(Speed, _),
     exec_goto_xy(X, Y, _),
-    goto_poll.
+    goto_poll,
+    Exit = arrived.
 
 goto_poll :-
     exec_sleep(1, _),
