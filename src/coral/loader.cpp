@@ -42,7 +42,7 @@ std::vector<std::string> library_dirs(std::string_view language, const char* env
 std::vector<std::string> library_dirs(std::string_view language) {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return library_dirs(language, std::getenv("STRATA_LIBRARY"), ec ? fs::path() : exe);  // NOLINT(concurrency-mt-unsafe)
+  return library_dirs(language, std::getenv("STRATA_LIBRARY"), ec ? fs::path() : exe);
 }
 
 Library standard_library() { return {library_dirs("coral"), nullptr}; }
