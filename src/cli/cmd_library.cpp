@@ -112,16 +112,16 @@ int run_library(const LibraryOptions& o) {
     std::cout << out.dump(2) << "\n";
     return code;
   }
-  auto joined = [](const std::vector<std::string>& v) {
+  auto listed = [](const std::vector<std::string>& v) {
     std::string s;
     for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
     return s.empty() ? std::string("(none)") : s;
   };
-  std::cout << "CORAL (import NAME;): " << joined(coral_dirs) << "\n";
-  std::cout << "PROLOG (:- use_phase(NAME).): " << joined(prolog_dirs) << "\n";
+  std::cout << "CORAL (import NAME;): " << listed(coral_dirs) << "\n";
+  std::cout << "PROLOG (:- use_phase(NAME).): " << listed(prolog_dirs) << "\n";
   for (const auto& [name, p] : phases) {
     std::cout << "\n" << (p.coral ? signature(p) : name + " (PROLOG only)");
-    if (!p.exits.empty()) std::cout << "  exits: " << joined(p.exits);
+    if (!p.exits.empty()) std::cout << "  exits: " << listed(p.exits);
     std::cout << "\n";
     if (p.coral) std::cout << "  " << *p.coral << "\n";
     if (p.prolog) std::cout << "  " << *p.prolog << "\n";

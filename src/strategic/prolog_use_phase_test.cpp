@@ -41,9 +41,9 @@ TEST_F(PrologMissionTest, UsePhaseOfANameTheLibraryLacksIsAnErrorAtTheDirective)
 }
 
 TEST_F(PrologMissionTest, UsePhaseTakesAPlainNameNotAPath) {
-  for (const std::string& name : {"'../tank/phases'", "'/etc/passwd'", "_", "goto(1)", "''"}) {
+  for (const char* name : {"'../tank/phases'", "'/etc/passwd'", "_", "goto(1)", "''"}) {
     Reported reported;
-    auto m = PrologMission::load(rules_.write("m.pl", "mission :- true.\n:- use_phase(" + name + ").\n"),
+    auto m = PrologMission::load(rules_.write("m.pl", "mission :- true.\n:- use_phase(" + std::string(name) + ").\n"),
                                  tactical::Catalogue::builtin(), reported.sources, reported.sink);
     EXPECT_FALSE(m) << name;
     ASSERT_EQ(1u, reported.size()) << name << ": " << reported.text();
