@@ -1,7 +1,10 @@
 # `cmake --install` and the Debian package (CPack). Standard prefixes
 # (GNUInstallDirs): the binary in bin/, man pages written from the CLI's own
 # help in share/man/man1/, bash and zsh completion, the example missions in
-# share/strata/missions/, the docs, LICENSE and NOTICE in share/doc/strata/.
+# share/strata/missions/, the phase library in share/strata/library/ (where
+# an installed strata looks for `import NAME;` and `:- use_phase(NAME).`:
+# src/coral/loader.h, library_dirs()), the docs, LICENSE and NOTICE in
+# share/doc/strata/.
 include(GNUInstallDirs)
 
 # The man pages and completion scripts: written by the built strata after
@@ -18,6 +21,8 @@ install(FILES ${STRATA_GEN_DIR}/completion/strata.bash
 install(FILES ${STRATA_GEN_DIR}/completion/_strata DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/zsh/vendor-completions)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/missions/ DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/missions
         PATTERN "*.layout.json" EXCLUDE PATTERN "runs" EXCLUDE)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/library/ DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/library
+        FILES_MATCHING PATTERN "*.coral" PATTERN "*.pl")
 install(FILES ${PROJECT_SOURCE_DIR}/config/phoenix.toml ${PROJECT_SOURCE_DIR}/config/primitives.toml
         DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/config)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/NOTICE

@@ -54,7 +54,8 @@ set(strata ${root}/usr/bin/strata)
 foreach(f usr/bin/strata usr/share/man/man1/strata.1 usr/share/man/man1/strata-run.1
           usr/share/man/man1/strata-verify.1 usr/share/bash-completion/completions/strata
           usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
-          usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE)
+          usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
+          usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl)
   if(NOT EXISTS ${root}/${f})
     fail("${f} is not installed")
   endif()
@@ -73,6 +74,30 @@ execute_process(COMMAND ${strata} run ${root}/usr/share/strata/missions/tank/tan
                 WORKING_DIRECTORY ${root} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "^http://127.0.0.1:[0-9]+\n")
   fail("strata run --studio from the installed files: exit ${rc}\n${out}${err}")
+endif()
+# The phase library from the installed files only: a mission that imports
+# goto by name, in a folder of its own, finds the installed library/coral
+# (not the source tree's) and is checked whole; the rules twin the same.
+set(lib_mission_dir ${root}/library-mission)
+file(MAKE_DIRECTORY ${lib_mission_dir})
+file(WRITE ${lib_mission_dir}/m.coral
+     "import goto;\nmission m { place a = 1; exit done; transition t { wait { a } action { PHASE(goto(1, 2, 3, 0.5), done) } } }\n")
+file(WRITE ${lib_mission_dir}/m.pl ":- use_phase(goto).\nmission :- goto(1, 2, 3, 0.5, _).\n")
+execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_LIBRARY ${strata} dump ${lib_mission_dir}/m.coral
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "net goto\\(x, y, depth, speed\\)")
+  fail("strata dump of a mission importing the installed library: exit ${rc}\n${out}${err}")
+endif()
+file(WRITE ${lib_mission_dir}/nope.coral "import no_such_phase;\n")
+execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_LIBRARY ${strata} check ${lib_mission_dir}/nope.coral
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 65 OR NOT err MATCHES "library's folders \\(${root}/usr/share/strata/library/coral\\)")
+  fail("an unknown module must name the installed library's folder, and only it: exit ${rc}\n${out}${err}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_LIBRARY ${strata} check ${lib_mission_dir}/m.pl
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  fail("strata check of rules using the installed library: exit ${rc}\n${out}${err}")
 endif()
 execute_process(COMMAND ${strata} --version OUTPUT_VARIABLE version)
 if(NOT version MATCHES "^strata [0-9]+\\.[0-9]+\\.[0-9]+ \\([^)]+\\)")

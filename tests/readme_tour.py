@@ -68,6 +68,7 @@ TOUR = {
     "strata run missions/tank/tank.coral --studio --speed 10": ("serve", r"http://127\.0\.0\.1:\d+",
                                                                 r"^mission tank: completed"),
     "strata primitives": (0, r"system_problem"),
+    "strata library": (0, r"goto\(x, y, depth, speed\)  exits: arrived"),
     "strata vehicle --listen 0": ("serve", r"^127\.0\.0\.1:\d+$"),
     "strata vehicle --scenario weak_thrusters --mission missions/tank/tank.coral": ("serve", r"^127\.0\.0\.1:7020$"),
     "strata vehicle --realtime --speed 5": ("serve", r"^127\.0\.0\.1:7020$"),

@@ -64,6 +64,9 @@ class CaseWatcher final : public run::RunObserver {
     answers_.insert(fmt::format("{}={}", it->second, a.value ? 1 : 0));
     asks_.erase(it);
   }
+  void guard_tripped(const strategic::GuardTrip& e) override {
+    guard_trips.emplace_back(std::string(e.guard), e.sim_time_s);
+  }
   void phase_ended(const strategic::PhaseEnd& e) override {
     // PROLOG rules that simply finish name no exit place.
     if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit.empty() ? "(end)" : e.exit));
@@ -72,6 +75,7 @@ class CaseWatcher final : public run::RunObserver {
   nlohmann::ordered_json coverage() const { return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}}; }
 
   std::optional<double> max_depth_m;
+  std::vector<std::pair<std::string, double>> guard_trips;
   std::optional<double> surfaced_at_s;     // from telemetry
   std::optional<double> logged_surface_s;  // from the vehicle's log
 
@@ -165,6 +169,7 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   o.reason = r.reason;
   o.stopped_by = report.stopped_by;
   o.stalled = r.stalled;
+  o.guard_trips = watcher.guard_trips;
   const double end_s = std::max(report.sim_time_s, report.final_time_s.value_or(0.0));
   o.sim_time_s = end_s;
   o.max_depth_m = watcher.max_depth_m;

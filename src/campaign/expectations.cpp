@@ -1,6 +1,7 @@
 #include "campaign/expectations.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -50,6 +51,30 @@ std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) 
   }
   if (set.no_stall) {
     checks.push_back({"no_stall", !seen.stalled, seen.stalled, false, seen.stalled ? seen.reason : ""});
+  }
+  if (!set.guard.empty()) {
+    Check c{"guard", true, nullptr, set.guard_within_s ? nlohmann::ordered_json(*set.guard_within_s) : nullptr, ""};
+    if (!seen.fault_at_s) {
+      c.note = "no fault in this case";
+    } else if (!seen.fault_reached) {
+      c.note = fmt::format("the run ended ({:.1f} s) before the fault", seen.sim_time_s);
+    } else {
+      auto trip = std::find_if(seen.guard_trips.begin(), seen.guard_trips.end(), [&](const auto& g) {
+        return g.first == set.guard && g.second >= *seen.fault_at_s - 1e-9;
+      });
+      if (trip == seen.guard_trips.end()) {
+        c.pass = false;
+        c.note = seen.guard_trips.empty()
+                     ? fmt::format("guard {} never tripped", set.guard)
+                     : fmt::format("guard {} never tripped after the fault ({} did)", set.guard,
+                                   seen.guard_trips.front().first);
+      } else {
+        const double after = std::max(0.0, trip->second - *seen.fault_at_s);
+        c.figure = std::round(after * 1000.0) / 1000.0;
+        c.pass = !set.guard_within_s || after <= *set.guard_within_s + 1e-9;
+      }
+    }
+    checks.push_back(std::move(c));
   }
   if (set.no_refused_exec) {
     checks.push_back({"no_refused_exec", seen.refused_execs == 0, seen.refused_execs, 0, seen.first_refused});

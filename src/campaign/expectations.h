@@ -42,6 +42,8 @@ struct Observation {
   std::size_t answers_total = 0;
   std::string answers_diverged;
   std::string answers_first_unused;
+  // The guards that tripped, in order, with when (simulated seconds).
+  std::vector<std::pair<std::string, double>> guard_trips;
 };
 
 struct Check {

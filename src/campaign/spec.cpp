@@ -225,6 +225,21 @@ class SpecReader {
           continue;
         }
         (k == "surface_within_s" ? e.surface_within_s : e.max_depth_m) = *v;
+      } else if (k == "guard") {
+        auto s = node.value<std::string>();
+        if (!s || !node.is_string() || s->empty()) {
+          errors_.add(node, "'guard' must be the name of a guard of the mission, in quotes");
+          continue;
+        }
+        e.guard = *s;
+      } else if (k == "guard_within_s") {
+        auto v = core::toml_number(node);
+        if (!v || !std::isfinite(*v) || *v < 0.0) {
+          errors_.add(node, "'guard_within_s' must be a number >= 0");
+          continue;
+        }
+        e.guard_within_s = *v;
+        if (!t.contains("guard")) errors_.add(node, "'guard_within_s' needs 'guard': the guard that must trip");
       } else if (k == "no_stall" || k == "no_refused_exec") {
         auto b = node.value<bool>();
         if (!b || !node.is_boolean()) {
@@ -234,7 +249,7 @@ class SpecReader {
         (k == "no_stall" ? e.no_stall : e.no_refused_exec) = *b;
       } else {
         errors_.add(key, fmt::format("unknown expectation '{}' (expected outcomes, surface_within_s, max_depth_m, "
-                                     "no_stall, no_refused_exec)",
+                                     "no_stall, no_refused_exec, guard, guard_within_s)",
                                      k));
       }
     }

@@ -67,6 +67,8 @@ struct ExpectationSet {
   std::optional<double> max_depth_m;       // the deepest the vehicle may go
   bool no_stall = false;                   // the mission must not end stalled
   bool no_refused_exec = false;            // no EXEC refused or answered 0 (by the vehicle or a script)
+  std::string guard;                       // this guard must trip after the fault ("" no check)
+  std::optional<double> guard_within_s;    // ... within this of the fault's start (needs guard)
 };
 
 // The values one vehicle parameter takes across a family's cases.

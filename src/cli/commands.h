@@ -37,6 +37,8 @@ Runner add_export_command(CLI::App& app);
 Runner add_plot_command(CLI::App& app);
 // `strata primitives`.
 Runner add_primitives_command(CLI::App& app);
+// `strata library`: the phase library's phases (docs/library.md).
+Runner add_library_command(CLI::App& app);
 // `strata sonar`.
 Runner add_sonar_command(CLI::App& app);
 // `strata completion SHELL` and the hidden `strata manpages DIR`: one

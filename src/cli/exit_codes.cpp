@@ -42,6 +42,10 @@ const char* exit_codes_of(std::string_view command) {
   if (command == "primitives") {
     return "Exit 0 when printed; 64 usage; 65 an invalid catalogue; 74 when the catalogue cannot be read.";
   }
+  if (command == "library") {
+    return "Exit 0 when printed; 64 usage; 65 when a CORAL module of the library does not compile or\n"
+           "declares no phase net of its name (each problem printed).";
+  }
   if (command == "campaign") {
     return "Exit 0 when every case met its expectations (--compare: no verdict or outcome changed); 1 when\n"
            "some did not (--compare: one changed); 64 usage; 65 an invalid spec; 69 --submit: sbatch missing or\n"

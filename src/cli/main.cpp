@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   runners["studio"] = add_studio_command(app, config);
   runners["vehicle"] = add_vehicle_command(app, config);
   runners["primitives"] = add_primitives_command(app);
+  runners["library"] = add_library_command(app);
   runners["sonar"] = add_sonar_command(app);
   runners["plot"] = add_plot_command(app);
   runners["campaign"] = add_campaign_command(app);

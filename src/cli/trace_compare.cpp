@@ -32,6 +32,7 @@ bool TraceRow::operator==(const TraceRow& o) const {
 TraceRow trace_row(const tactical::CallRecord& r) {
   TraceRow row;
   row.verb = r.verb;
+  row.guard = !r.guard.empty();
   const bool to_vehicle = r.verb && *r.verb != core::CallVerb::Report;
   row.call = to_vehicle ? r.message : fmt::format("{} \"{}\"", r.primitive, r.message);
   if (r.error) {
@@ -55,7 +56,7 @@ std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& record
 std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows) {
   std::vector<TraceRow> out;
   for (const TraceRow& row : rows) {
-    if (row.verb == core::CallVerb::Ask) continue;
+    if (row.verb == core::CallVerb::Ask || row.guard) continue;
     TraceRow r = row;
     r.sim_time_s = 0.0;
     // Failed, either way: how it failed is in each vehicle's own words.

@@ -19,6 +19,7 @@ struct TraceRow {
   std::optional<core::CallVerb> verb;      // the call's verb; nullopt for an unknown primitive (not compared)
   bool failed = false;                     // the call failed: answer is "error: ..." (not compared)
   std::size_t repeats = 1;                 // command_rows(): how many calls in a row this one stands for (not compared)
+  bool guard = false;                      // a guard's own poll (dropped by command_rows; not compared)
   bool operator==(const TraceRow&) const;  // sim time to the millisecond
 };
 
@@ -28,7 +29,8 @@ std::vector<TraceRow> trace_rows(const std::vector<tactical::CallRecord>& record
 // The commands of a trace, for two runs on different execution levels
 // (`strata compare --vehicle-b imc://...`): exec, ood and report rows only,
 // without their times, and a run of identical rows (a poll loop's `exec
-// sleep 1` between its asks) as one row with its count in `repeats`, and a
+// sleep 1` between its asks) as one row with its count in `repeats`, no
+// guard's polls (when a guard polls depends on the vehicle's timing), and a
 // failed call's answer as "error". Asks, times and the words of an error
 // depend on the vehicle; the commands and their order do not.
 std::vector<TraceRow> command_rows(const std::vector<TraceRow>& rows);

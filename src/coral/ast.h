@@ -136,8 +136,9 @@ struct Net {
 };
 
 struct Import {
-  std::string path;  // as written, unescaped
+  std::string path;  // as written, unescaped; for `import NAME;`, the NAME
   core::SourceSpan span;
+  bool by_name = false;  // `import NAME;`: a module of the phase library, not a path
 };
 
 struct File {

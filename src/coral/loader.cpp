@@ -1,5 +1,6 @@
 #include "coral/loader.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 
@@ -9,8 +10,42 @@
 #include "core/file.h"
 #include "coral/parser.h"
 
+// The source tree's library/ (CMake sets it), for a strata run from its
+// build folder.
+#ifndef STRATA_LIBRARY_SOURCE_DIR
+#define STRATA_LIBRARY_SOURCE_DIR ""
+#endif
+
 namespace strata::coral {
 namespace fs = std::filesystem;
+
+std::vector<std::string> library_dirs(std::string_view language, const char* env, const fs::path& exe) {
+  std::vector<std::string> dirs;
+  for (std::string_view rest = env ? env : ""; !rest.empty();) {
+    const auto colon = rest.find(':');
+    if (colon != 0) dirs.emplace_back(rest.substr(0, colon));
+    rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
+  }
+  if (!exe.empty()) {
+    const fs::path installed =
+        (exe.parent_path() / ".." / "share" / "strata" / "library" / language).lexically_normal();
+    std::error_code ec;
+    if (fs::is_directory(installed, ec)) {
+      dirs.push_back(installed.string());
+      return dirs;
+    }
+  }
+  if (*STRATA_LIBRARY_SOURCE_DIR) dirs.push_back((fs::path(STRATA_LIBRARY_SOURCE_DIR) / language).string());
+  return dirs;
+}
+
+std::vector<std::string> library_dirs(std::string_view language) {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return library_dirs(language, std::getenv("STRATA_LIBRARY"), ec ? fs::path() : exe);
+}
+
+Library standard_library() { return {library_dirs("coral"), nullptr}; }
 
 std::string DiskFileProvider::canonical(const std::string& path) const {
   std::error_code ec;
@@ -30,6 +65,11 @@ core::Result<std::string> DiskFileProvider::read(const std::string& path) const 
   return text;
 }
 
+bool DiskFileProvider::exists(const std::string& path) const {
+  std::error_code ec;
+  return fs::exists(path, ec);
+}
+
 std::string MemoryFileProvider::canonical(const std::string& path) const {
   return fs::path(path).lexically_normal().string();
 }
@@ -42,16 +82,36 @@ core::Result<std::string> MemoryFileProvider::read(const std::string& path) cons
   return it->second;
 }
 
+bool MemoryFileProvider::exists(const std::string& path) const { return files_.count(canonical(path)) > 0; }
+
 namespace {
+
+// How a file was reached: the provider that reads it, and for a module of
+// the phase library (or a file it imports) the library folder it is in.
+struct Reach {
+  const FileProvider* files;
+  std::string library_dir;  // empty: a mission's own file
+};
+
+bool lexically_inside(const std::string& dir, const std::string& path) {
+  const fs::path rel = fs::path(path).lexically_relative(dir);
+  return !rel.empty() && *rel.begin() != "..";
+}
 
 class Loader {
  public:
-  Loader(const FileProvider& provider, core::SourceManager& sources, core::DiagnosticSink& sink)
-      : provider_(provider), sources_(sources), sink_(sink) {}
+  Loader(const FileProvider& provider, const Library& library, core::SourceManager& sources, core::DiagnosticSink& sink)
+      : provider_(provider), library_(library), sources_(sources), sink_(sink) {}
 
+  void visit_root(const std::string& path) { visit(path, nullptr, {&provider_, {}}); }
+
+  Load take() { return std::move(load_); }
+
+ private:
   // Loads path (reached from `from`, or the root if from is null).
-  void visit(const std::string& path, const ast::Import* from) {
-    std::string key = provider_.canonical(path);
+  void visit(const std::string& path, const ast::Import* from, const Reach& reach) {
+    const FileProvider& files = *reach.files;
+    std::string key = files.canonical(path);
     for (std::size_t i = 0; i < stack_.size(); ++i) {
       if (stack_[i] == key) {
         auto* d = sink_.report(core::DiagnosticKind::ImportCycle, from ? from->span : core::SourceSpan{},
@@ -74,7 +134,7 @@ class Loader {
       return;
     }
     done_.insert(key);
-    auto text = provider_.read(path);
+    auto text = files.read(path);
     if (!text) {
       // An unreadable root has no location: the span's file is out of range.
       core::SourceSpan where = from ? from->span : core::SourceSpan{core::FileId(-1), 0, 0};
@@ -91,23 +151,53 @@ class Loader {
     }
     core::FileId id = sources_.add(path, std::move(text).value());
     std::size_t index = load_.files.size();
-    load_.files.push_back({path, parse(sources_, id, sink_)});
+    load_.files.push_back({path, parse(sources_, id, sink_), !reach.library_dir.empty()});
     stack_.push_back(key);
     shown_.push_back(path);
     // Copy: visiting appends to load_.files, which may move the tree.
     std::vector<ast::Import> imports = load_.files[index].tree.imports;
     fs::path dir = fs::path(path).parent_path();
     for (const auto& imp : imports) {
-      visit((dir / imp.path).lexically_normal().string(), &imp);
+      if (imp.by_name) {
+        visit_module(imp);
+        continue;
+      }
+      std::string joined = (dir / imp.path).lexically_normal().string();
+      if (!reach.library_dir.empty() && !lexically_inside(reach.library_dir, joined)) {
+        sink_.report(core::DiagnosticKind::FileUnreadable, imp.span,
+                     fmt::format("'{}' is outside the library folder {}: a library module imports only its own "
+                                 "folder's files, or other modules by name",
+                                 joined, reach.library_dir));
+        continue;
+      }
+      visit(joined, &imp, reach);
     }
     stack_.pop_back();
     shown_.pop_back();
   }
 
-  Load take() { return std::move(load_); }
+  // `import NAME;`: NAME.coral from the first library folder that has it.
+  void visit_module(const ast::Import& imp) {
+    const FileProvider& files = library_.files ? *library_.files : disk_;
+    const std::string file = imp.path + ".coral";
+    for (const auto& dir : library_.dirs) {
+      const std::string candidate = (fs::path(dir) / file).lexically_normal().string();
+      if (files.exists(candidate)) {
+        visit(candidate, &imp, {&files, fs::path(dir).lexically_normal().string()});
+        return;
+      }
+    }
+    std::string looked;
+    for (const auto& dir : library_.dirs) looked += fmt::format("{}{}", looked.empty() ? "" : ", ", dir);
+    auto* d = sink_.report(core::DiagnosticKind::UnknownModule, imp.span,
+                           fmt::format("no library module '{}': {} is in none of the library's folders ({})", imp.path,
+                                       file, looked.empty() ? "there are none" : looked));
+    core::add_note(d, "STRATA_LIBRARY adds folders (colon-separated) before Strata's own library (docs/library.md)");
+  }
 
- private:
   const FileProvider& provider_;
+  const Library& library_;
+  DiskFileProvider disk_;  // reads the library when library_.files is null
   core::SourceManager& sources_;
   core::DiagnosticSink& sink_;
   std::vector<std::string> stack_;  // canonical keys of the files being loaded
@@ -120,10 +210,15 @@ class Loader {
 }  // namespace
 
 Load load(const std::string& root, const FileProvider& provider, core::SourceManager& sources,
-          core::DiagnosticSink& sink) {
-  Loader loader(provider, sources, sink);
-  loader.visit(root, nullptr);
+          core::DiagnosticSink& sink, const Library& library) {
+  Loader loader(provider, library, sources, sink);
+  loader.visit_root(root);
   return loader.take();
+}
+
+Load load(const std::string& root, const FileProvider& provider, core::SourceManager& sources,
+          core::DiagnosticSink& sink) {
+  return load(root, provider, sources, sink, standard_library());
 }
 
 }  // namespace strata::coral

@@ -48,12 +48,15 @@ class Parser : private TokenCursor {
   // --- declarations -----------------------------------------------------------
   void parse_import() {
     Token head = prev_;
-    if (!at(TK::String)) {
-      error_here("expected a file name in quotes after 'import'");
+    if (at(TK::Identifier)) {  // `import NAME;`: a module of the phase library
+      file_.imports.push_back({std::string(tok_.text), join(head.span, tok_.span), true});
+    } else if (at(TK::String)) {
+      file_.imports.push_back({unescape(tok_.text), join(head.span, tok_.span)});
+    } else {
+      error_here("expected a file name in quotes or a library module's name after 'import'");
       recover(TK::Semicolon);
       return;
     }
-    file_.imports.push_back({unescape(tok_.text), join(head.span, tok_.span)});
     advance();
     if (!expect(TK::Semicolon, "after the import")) recover(TK::Semicolon);
   }
@@ -294,7 +297,7 @@ class Parser : private TokenCursor {
     }
     if (!expect(TK::RBrace, fmt::format("to close guard '{}'", g.name.text))) recover(TK::RBrace, true);
     if (!seen_when) {
-      sink_.report(DiagnosticKind::UnexpectedToken, g.span,
+      sink_.report(DiagnosticKind::UnexpectedToken, g.name.span,
                    fmt::format("guard '{}' has no 'when' clause: say which ASKs trip it", g.name.text));
     }
     g.extent = join(head.span, prev_.span);

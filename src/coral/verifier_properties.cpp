@@ -336,6 +336,14 @@ std::vector<bool> can_reach(const ExploredNet& x, const std::function<bool(State
   return reach;
 }
 
+// A guard of the net is tripping in s (the first to trip wins: the others
+// are stopped then, not blocked).
+bool tripping(const ExploredNet& x, StateId s) {
+  auto m = x.graph.marking(s);
+  return std::any_of(x.cn.guards.begin(), x.cn.guards.end(),
+                     [&](const CompiledGuard& g) { return m[g.loop.back()] > 0 || m[g.cancel] > 0; });
+}
+
 // Guard g is active in s: its cycle holds a token, a place or a call in flight.
 bool active(const ExploredNet& x, std::uint32_t g, StateId s) {
   auto m = x.graph.marking(s);
@@ -357,6 +365,30 @@ bool active(const ExploredNet& x, std::uint32_t g, StateId s) {
 Property guards_can_trip(const ExploredNet& x) {
   Property p = named("guards_can_trip");
   if (!x.graph.complete()) return undecided(x, p);
+  // After a trip the guards are stopped, on purpose: what follows a trip
+  // (forwards from its targets) is not asked of them.
+  std::vector<bool> after_trip(x.graph.state_count(), false);
+  std::vector<StateId> work;
+  for (StateId s = 0; s < x.graph.state_count(); ++s) {
+    for (const auto& e : x.graph.successors(s)) {
+      const GuardNode node = x.cn.guard_node(x.an.steps[e.transition].transition);
+      if (x.an.steps[e.transition].kind == AnalysisNet::Step::Kind::Transition && node.role == GuardRole::Trip &&
+          !after_trip[e.target]) {
+        after_trip[e.target] = true;
+        work.push_back(e.target);
+      }
+    }
+  }
+  while (!work.empty()) {
+    StateId s = work.back();
+    work.pop_back();
+    for (const auto& e : x.graph.successors(s)) {
+      if (!after_trip[e.target]) {
+        after_trip[e.target] = true;
+        work.push_back(e.target);
+      }
+    }
+  }
   std::vector<std::string> names;
   for (std::uint32_t g = 0; g < x.cn.guards.size(); ++g) {
     const CompiledGuard& guard = x.cn.guards[g];
@@ -366,11 +398,13 @@ Property guards_can_trip(const ExploredNet& x) {
       return std::any_of(next.begin(), next.end(), [&](const petri::ReachEdge& e) { return e.transition == guard.trip; });
     });
     for (StateId s = 0; s < x.graph.state_count(); ++s) {
-      if (trips[s] || x.graph.terminal(s) || !active(x, g, s)) continue;
+      if (trips[s] || x.graph.terminal(s) || after_trip[s] || tripping(x, s)) continue;
       p.status = Status::Fails;
       p.about = Property::About::Transition;
       p.about_id = guard.trip;
-      p.message = fmt::format("guard {} is blocked: it is polling here but can never trip from here on", guard.name);
+      p.message = active(x, g, s)
+                      ? fmt::format("guard {} is blocked: it is polling here but can never trip from here on", guard.name)
+                      : fmt::format("guard {} has stopped polling here, though no guard tripped", guard.name);
       p.counterexample = x.trace_to(s);
       return p;
     }

@@ -40,8 +40,6 @@ inline constexpr StateId kNoState = 0xffffffffu;
 
 struct ReachOptions {
   std::vector<PlaceId> terminal_places;
-  // By TransitionId, or empty: none is urgent.
-  std::vector<bool> urgent;
   // Stop (complete = false) after this many markings.
   std::uint64_t max_states = 1'000'000;
   // Stop before the graph would need more bytes (0: no limit). Counted: the
@@ -51,6 +49,8 @@ struct ReachOptions {
   std::size_t max_memory_bytes = 0;
   // Stop once the clock passes it.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  // By TransitionId, or empty: none is urgent.
+  std::vector<bool> urgent = {};
 };
 
 struct ReachEdge {

@@ -386,9 +386,14 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition, t, polls});
   std::weak_ptr<CoralEngine*> self = self_;
-  tactics_.call(primitive_of(a), arguments(inst, t, index), [self, id](tactical::CallResult outcome) {
+  auto deliver = [self, id](tactical::CallResult outcome) {
     if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
-  });
+  };
+  if (polls) {
+    tactics_.guard_call(event.guard, primitive_of(a), arguments(inst, t, index), std::move(deliver));
+  } else {
+    tactics_.call(primitive_of(a), arguments(inst, t, index), std::move(deliver));
+  }
 }
 
 void CoralEngine::mark(InstanceId id, petri::PlaceId p, petri::Tokens n) {

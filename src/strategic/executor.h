@@ -96,7 +96,7 @@ struct ActionStart {
   double sim_time_s = 0.0;
   // A guard's own poll (its `sleep` or a term of its condition): the name
   // of the guard; "" for a call of the mission itself.
-  std::string_view guard;
+  std::string_view guard = {};
 
   bool is_phase() const { return !verb.has_value(); }
   bool is_call(core::CallVerb v) const { return verb == v; }
@@ -123,7 +123,7 @@ struct ActionFinish {
 struct GuardTrip {
   InstanceId instance = 0;       // the net (mission or phase) that declares the guard
   std::string_view net;
-  std::string_view guard;
+  std::string_view guard = {};
   std::string_view condition;    // the term found true: "system_problem", "not gps_available"
   std::vector<std::string> preempted_phases;  // "leg (instance 3)", outermost first
   std::vector<std::string> preempted_calls;   // "exec sleep", in the order issued

@@ -339,7 +339,7 @@ void PrologExecutor::poll(Scope& scope, std::size_t guard) {
   ActionStart event{id, scope.instance, verb, name, "", now(), g.spec.name};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
-  tactics_.call(name, std::move(args), [self, id](tactical::CallResult outcome) {
+  tactics_.guard_call(g.spec.name, name, std::move(args), [self, id](tactical::CallResult outcome) {
     if (auto executor = self.lock(); executor && *executor) (*executor)->deliver(id, std::move(outcome));
   });
 }
@@ -406,14 +406,15 @@ void PrologExecutor::trip(std::size_t index, std::size_t guard) {
   stop_guards(index);
   scopes_.erase(scopes_.begin() + static_cast<std::ptrdiff_t>(index) + 1, scopes_.end());
   scopes_[index].tripped = std::string(event.guard);
-  // The phases inside the scope end, innermost first; then the observers
-  // hear the trip, and the rules, resumed, unwind to the scope's handler.
+  // The observers hear the trip, then the phases inside the scope end
+  // (innermost first), as the CORAL Engine tells them; then the rules,
+  // resumed, unwind to the scope's handler.
+  observers_.guard_tripped(event);
   while (phases_.size() > scopes_[index].depth) {
     PhaseEnd end{phases_.back().instance, phases_.back().name, "", 0, true, now()};
     observers_.phase_ended(end);
     phases_.pop_back();
   }
-  observers_.guard_tripped(event);
   resume();
 }
 

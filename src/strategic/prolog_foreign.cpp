@@ -1,6 +1,6 @@
 // The driver's foreign predicates ('$strata_call'/3, '$strata_report'/2,
 // '$strata_phase'/2, '$strata_guards_open'/2, '$strata_guards_close'/2,
-// '$strata_scan'/2): where the rules reach the host that
+// '$strata_scan'/2, '$strata_library'/1): where the rules reach the host that
 // runs them (docs/prolog.md).
 #include <filesystem>
 #include <cstdint>
@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "coral/loader.h"
 #include "core/file.h"
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_rules_scan.h"
@@ -213,6 +214,21 @@ foreign_t pl_strata_scan(term_t file_t, term_t problem_t) {
                        static_cast<int64_t>(found->column), PL_UTF8_STRING, found->text.c_str());
 }
 
+// '$strata_library'(-Dirs): the folders `:- use_phase(Name).` looks in for
+// Name.pl, in order (docs/library.md), as a list of atoms.
+foreign_t pl_strata_library(term_t dirs_t) {
+  term_t list = PL_new_term_ref();
+  PL_put_nil(list);
+  const std::vector<std::string> dirs = coral::library_dirs("prolog");
+  for (auto it = dirs.rbegin(); it != dirs.rend(); ++it) {
+    term_t head = PL_new_term_ref();
+    if (!PL_put_chars(head, PL_ATOM | REP_UTF8, it->size(), it->c_str()) || !PL_cons_list(list, head, list)) {
+      return FALSE;
+    }
+  }
+  return PL_unify(dirs_t, list);
+}
+
 }  // namespace
 
 void set_running_host(PrologHost* host) { g_host = host; }
@@ -225,6 +241,8 @@ void register_foreign_predicates() {
   PL_register_foreign_in_module("strata_driver", "$strata_report", 2, reinterpret_cast<pl_function_t>(pl_strata_report),
                                 0);
   PL_register_foreign_in_module("strata_driver", "$strata_scan", 2, reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_library", 1,
+                                reinterpret_cast<pl_function_t>(pl_strata_library), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2, reinterpret_cast<pl_function_t>(pl_strata_phase),
                                 0);
   PL_register_foreign_in_module("strata_driver", "$strata_guards_open", 2,

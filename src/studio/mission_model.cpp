@@ -12,6 +12,7 @@
 #include "coral/analysis.h"
 #include "coral/compiler.h"
 #include "coral/lexer.h"
+#include "coral/loader.h"
 #include "core/diagnostic_printer.h"
 #include "core/mission_language.h"
 #include "run/scenario_folder.h"
@@ -29,7 +30,9 @@ namespace fs = std::filesystem;
 // mission, its imports) is read through the sandbox, so an import that
 // leaves the folder (an absolute path, `..`, a link out) is a diagnostic at
 // that import and its file is never opened. One file may stand for an
-// unsaved text.
+// unsaved text. The modules of the phase library (`import NAME;`) are not
+// read through it: the loader reads those trusted Strata files itself,
+// read-only (coral::Library), wherever the library is.
 class SandboxProvider final : public coral::FileProvider {
  public:
   SandboxProvider(const Sandbox& sandbox, std::string path, std::optional<std::string> text)
@@ -67,6 +70,20 @@ class SandboxProvider final : public coral::FileProvider {
   std::optional<std::string> text_;
   mutable bool escaped_ = false;  // one load, one thread
 };
+
+// A file of the load as the page shows it: relative to the studio's
+// folder; a module of the phase library (docs/library.md), which the loader
+// reads outside the folder and the studio never writes, by its own path.
+std::string shown_file(const Sandbox& sandbox, const fs::path& file) {
+  if (!sandbox.lexically_inside(file)) {
+    std::error_code ec;
+    for (const auto& dir : coral::library_dirs("coral")) {
+      const fs::path rel = file.lexically_relative(fs::weakly_canonical(dir, ec));
+      if (!rel.empty() && *rel.begin() != "..") return file.string();
+    }
+  }
+  return sandbox.relative(file);
+}
 
 nlohmann::json arcs_json(const petri::Net& net, std::span<const petri::Arc> arcs) {
   nlohmann::json out = nlohmann::json::array();
@@ -153,7 +170,7 @@ nlohmann::json nets_json(const coral::Program& program, const core::SourceManage
           {{"name", p.name.text}, {"type", p.type == coral::ast::ParamType::Number ? "number" : "string"}});
     }
     net["params"] = std::move(params);
-    net["file"] = sandbox.relative(file);
+    net["file"] = shown_file(sandbox, file);
     net["editable"] = file == own;
     net["exits"] = std::move(exits);
     net["places"] = std::move(places);
@@ -186,7 +203,7 @@ CompiledMission compile_mission(const Sandbox& sandbox, const std::string& relat
   // Paths in diagnostics relative to the studio's folder, as everywhere else.
   for (auto& d : diagnostics) {
     if (d.contains("file") && d["file"].is_string()) {
-      d["file"] = sandbox.relative(fs::weakly_canonical(d["file"].get<std::string>()));
+      d["file"] = shown_file(sandbox, fs::weakly_canonical(d["file"].get<std::string>()));
     }
   }
   nlohmann::json layout = nullptr;

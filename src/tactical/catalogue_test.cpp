@@ -60,8 +60,18 @@ TEST(Catalogue, BuiltinParsesAndHasEveryFigure10Primitive) {
     EXPECT_EQ(Kind::Ask, c.find(name)->kind) << name;
   }
   // + heading, sonar (4); open water: 8 exec (next_waypoint included), 3 ask;
-  // set_sway (issue 20).
-  EXPECT_EQ(figure10.size() + 5 + 11 + 1, c.all().size());
+  // set_sway (issue 20); set_timer, loiter, hold_position, start_rows,
+  // next_row, gps_available, rows_done (issue 37).
+  EXPECT_EQ(figure10.size() + 5 + 11 + 1 + 7, c.all().size());
+  for (const char* name : {"set_timer", "loiter", "hold_position", "start_rows", "next_row"}) {
+    ASSERT_TRUE(c.find(name)) << name;
+    EXPECT_EQ(Kind::Exec, c.find(name)->kind) << name;
+  }
+  for (const char* name : {"gps_available", "rows_done"}) {
+    ASSERT_TRUE(c.find(name)) << name;
+    EXPECT_EQ(Kind::Ask, c.find(name)->kind) << name;
+  }
+  ASSERT_EQ(6u, c.find("start_rows")->args.size());
   ASSERT_TRUE(c.find("set_sway"));
   EXPECT_EQ(Kind::Exec, c.find("set_sway")->kind);
   EXPECT_EQ("exec set_sway {mps}", c.find("set_sway")->message);
@@ -205,21 +215,21 @@ TEST(CataloguePrint, TableListsEveryPrimitiveWithUnits) {
   EXPECT_NE(std::string::npos, table.find("2 s + seconds"));
   EXPECT_NE(std::string::npos, table.find("text (string)"));
   EXPECT_NE(std::string::npos, table.find("ood('start_network', X)"));
-  EXPECT_NE(std::string::npos, table.find("31 primitives from <builtin>/config/primitives.toml"));
-  // A header, 31 rows, a blank line and the source line.
-  EXPECT_EQ(34, std::count(table.begin(), table.end(), '\n'));
+  EXPECT_NE(std::string::npos, table.find("38 primitives from <builtin>/config/primitives.toml"));
+  // A header, 38 rows, a blank line and the source line.
+  EXPECT_EQ(41, std::count(table.begin(), table.end(), '\n'));
 }
 
 TEST(CataloguePrint, Json) {
   auto j = catalogue_json(Catalogue::builtin());
-  ASSERT_EQ(31u, j["primitives"].size());
+  ASSERT_EQ(38u, j["primitives"].size());
   const auto& sleep = j["primitives"][4];
   EXPECT_EQ(R"({"name":"sleep","kind":"exec","args":[{"name":"seconds","type":"number","unit":"s","min":0.1,)"
             R"("max":3600.0}],"timeout_s":2.0,"timeout_plus_arg":"seconds","prolog":"exec_sleep/2",)"
             R"("doc":"Let the vehicle run for the given time, then reply","message":"exec sleep {seconds}"})",
             sleep.dump());
-  EXPECT_EQ("report", j["primitives"][30]["kind"]);
-  EXPECT_FALSE(j["primitives"][30].contains("message"));
+  EXPECT_EQ("report", j["primitives"][37]["kind"]);
+  EXPECT_FALSE(j["primitives"][37].contains("message"));
 }
 
 TEST(Catalogue, AFifoGivenAsTheCatalogueIsAnErrorNotAHang) {

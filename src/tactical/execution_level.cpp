@@ -21,6 +21,7 @@ constexpr std::array kImcTable{
     ImcRow{protocol::Verb::Exec, "start_depth_filter", ImcMapping::Local},
     ImcRow{protocol::Verb::Exec, "submerge", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "start_timer", ImcMapping::Local},
+    ImcRow{protocol::Verb::Exec, "set_timer", ImcMapping::Local},
     ImcRow{protocol::Verb::Exec, "sleep", ImcMapping::Local},
     ImcRow{protocol::Verb::Exec, "surface", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "heading", ImcMapping::Reference},
@@ -29,6 +30,9 @@ constexpr std::array kImcTable{
     ImcRow{protocol::Verb::Exec, "goto_xy", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "track", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "stop", ImcMapping::Reference},
+    ImcRow{protocol::Verb::Exec, "hold_position", ImcMapping::Reference},
+    ImcRow{protocol::Verb::Exec, "start_rows", ImcMapping::Local},
+    ImcRow{protocol::Verb::Exec, "next_row", ImcMapping::Reference},
     ImcRow{protocol::Verb::Exec, "gps_fix", ImcMapping::State},
     ImcRow{protocol::Verb::Exec, "set_altitude_floor", ImcMapping::Local},
     ImcRow{protocol::Verb::Exec, "start_sonar", ImcMapping::Payload},
@@ -42,6 +46,8 @@ constexpr std::array kImcTable{
     ImcRow{protocol::Verb::Ask, "waypoint_reached", ImcMapping::State},
     ImcRow{protocol::Verb::Ask, "altitude_low", ImcMapping::State},
     ImcRow{protocol::Verb::Ask, "position_uncertain", ImcMapping::State},
+    ImcRow{protocol::Verb::Ask, "gps_available", ImcMapping::State},
+    ImcRow{protocol::Verb::Ask, "rows_done", ImcMapping::Local},
     ImcRow{protocol::Verb::Ood, "start_network", ImcMapping::Plan},
     ImcRow{protocol::Verb::Ood, "shutdown_network", ImcMapping::Plan},
 };
@@ -52,6 +58,10 @@ std::string imc_refusal(std::string_view function) {
     return "an IMC vehicle sends no sonar sweeps on this link (the Phoenix's sonar socket has no IMC counterpart)";
   }
   if (function == "set_sway") return "an IMC vehicle takes no sideways speed (a Reference has none)";
+  if (function == "loiter") {
+    return "an IMC vehicle's FollowReference cannot circle a point of the mission's choosing (its loiter radius is "
+           "fixed when the plan starts, and used only once a Reference's point is reached)";
+  }
   return fmt::format("an IMC vehicle has no counterpart for '{}' (docs/imc.md lists what it carries)", function);
 }
 

@@ -427,7 +427,8 @@ void ImcLink::send_reference(bool mandone) {
   r.lon = lon;
   imc::DesiredSpeed speed;
   // As the Phoenix: toward a goal at cruise speed unless a speed was set.
-  speed.value = desired_.speed_mps.value_or(waypoint_ || heading_deg_ ? options_.cruise_speed_mps : 0.0);
+  // Without a goal (stopped) the speed is 0; the cruise speed set is kept.
+  speed.value = waypoint_ || heading_deg_ ? desired_.speed_mps.value_or(options_.cruise_speed_mps) : 0.0;
   speed.speed_units = imc::DesiredSpeed::kSpeedUnitsMetersPs;
   r.speed = speed;
   if (desired_.z_m) {

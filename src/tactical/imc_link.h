@@ -48,6 +48,7 @@
 #include "core/result.h"
 #include "imc/codec.h"
 #include "protocol/message.h"
+#include "protocol/rows.h"
 #include "tactical/execution_link.h"
 
 namespace strata::tactical {
@@ -208,6 +209,8 @@ class ImcLink final : public ExecutionLink {
   void answer(protocol::RequestId id, Pending& p);
   // Carries out an exec/ask/ood as it is sent: the effect now, the reply later.
   core::Result<void> take(Pending& p);
+  // next_row with no pattern or no row left: the refusal's text.
+  std::optional<std::string> row_refusal(const protocol::Request& r) const;
   bool ask(std::string_view predicate) const;
   void start_plan();
   void send_reference(bool mandone = false);
@@ -268,6 +271,8 @@ class ImcLink final : public ExecutionLink {
   double altitude_floor_m_ = 0;
   std::optional<double> heading_deg_;  // the last `heading`
   std::optional<std::pair<double, double>> waypoint_;
+  std::optional<protocol::RowPattern> rows_;  // start_rows', kept here (protocol/rows.h)
+  int next_row_ = 0;
   double telemetry_hz_ = 0;
   double next_telemetry_s_ = 0;
   protocol::RequestId next_id_ = 1;

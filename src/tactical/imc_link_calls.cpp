@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "protocol/rows.h"
 #include "tactical/execution_level.h"
 #include "tactical/imc_link.h"
 #include "tactical/imc_link_internal.h"
@@ -104,6 +105,11 @@ protocol::RequestId ImcLink::send(protocol::Request request, ReplyHandler handle
   p.sent_s = state_.t_s;
   if (sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0)
     p.sim_deadline_s = state_.t_s + *sim_timeout_s;
+  if (auto refusal = row_refusal(p.request)) {
+    // As the Phoenix answers it (`err ID failed`): the mission's mistake.
+    later(std::move(p.handler), protocol::VehicleMessage(protocol::Err{id, protocol::ErrorCode::Failed, *refusal}));
+    return id;
+  }
   if (p.request.verb != protocol::Verb::Ping) {
     if (auto taken = take(p); !taken) {
       later(std::move(p.handler), taken.error());
@@ -112,6 +118,13 @@ protocol::RequestId ImcLink::send(protocol::Request request, ReplyHandler handle
   }
   pending_.emplace(id, std::move(p));
   return id;
+}
+
+std::optional<std::string> ImcLink::row_refusal(const protocol::Request& r) const {
+  if (r.verb != protocol::Verb::Exec || r.name != "next_row") return std::nullopt;
+  if (!rows_) return std::string("next_row: no row pattern (start_rows first)");
+  if (next_row_ >= rows_->count) return fmt::format("next_row: no row left (all {} rows started)", rows_->count);
+  return std::nullopt;
 }
 
 core::Result<void> ImcLink::take(Pending& p) {
@@ -144,6 +157,30 @@ core::Result<void> ImcLink::take(Pending& p) {
     filter_on_ = true;  // an IMC vehicle's navigation filters depth all the time
   } else if (f == "start_timer") {
     timer_end_s_ = state_.t_s + setpoint_timeout_s_;
+  } else if (f == "set_timer") {
+    auto s = arg(0);
+    if (!s) return s.error();
+    if (s.value() > 0) {
+      timer_end_s_ = state_.t_s + s.value();
+    } else {
+      p.value = false;
+      if (on_event_) on_event_(protocol::Event{state_.t_s, "exec set_timer failed: the limit must be positive"});
+    }
+  } else if (f == "start_rows") {
+    double v[6];
+    for (std::size_t i = 0; i < 6; ++i) {
+      auto a = arg(i);
+      if (!a) return a.error();
+      v[i] = a.value();
+    }
+    std::string why;
+    if (auto pattern = protocol::make_row_pattern(v[0], v[1], v[2], v[3], v[4], v[5], &why)) {
+      rows_ = *pattern;
+      next_row_ = 0;
+    } else {
+      p.value = false;
+      if (on_event_) on_event_(protocol::Event{state_.t_s, "exec start_rows failed: " + why});
+    }
   } else if (f == "sleep") {
     auto s = arg(0);
     if (!s) return s.error();
@@ -191,14 +228,10 @@ core::Result<void> ImcLink::take(Pending& p) {
   } else if (f == "set_speed") {
     auto v = arg(0);
     if (!v) return v.error();
+    // The cruise speed, as on the Phoenix: a goal held now takes it at once;
+    // with none it waits for the next one.
     desired_.speed_mps = v.value();
-    if (!waypoint_) {
-      // A speed alone keeps the course: a point far along the heading held.
-      const double h = heading_deg_.value_or(state_.psi_deg) / kRadToDeg;
-      desired_.x_m = state_.x_m + options_.heading_lead_m * std::sin(h);
-      desired_.y_m = state_.y_m + options_.heading_lead_m * std::cos(h);
-    }
-    steer = true;
+    steer = waypoint_.has_value() || heading_deg_.has_value();
   } else if (f == "heading") {
     auto d = arg(0);
     if (!d) return d.error();
@@ -208,19 +241,37 @@ core::Result<void> ImcLink::take(Pending& p) {
     desired_.x_m = state_.x_m + options_.heading_lead_m * std::sin(h);
     desired_.y_m = state_.y_m + options_.heading_lead_m * std::cos(h);
     steer = true;
-  } else if (f == "goto_xy" || f == "track") {
-    const std::size_t first = f == "track" ? 2 : 0;  // a track line: straight to its end (docs/imc.md)
-    auto x = arg(first);
-    auto y = arg(first + 1);
-    if (!x) return x.error();
-    if (!y) return y.error();
-    waypoint_ = {x.value(), y.value()};
+  } else if (f == "goto_xy" || f == "track" || f == "next_row") {
+    double x = 0, y = 0;
+    if (f == "next_row") {  // row_refusal() made sure there is one
+      const protocol::Row row = protocol::row_of(*rows_, next_row_++);
+      x = row.x1_m;  // as a track line: straight to its end (docs/imc.md)
+      y = row.y1_m;
+    } else {
+      const std::size_t first = f == "track" ? 2 : 0;  // a track line: straight to its end (docs/imc.md)
+      auto ax = arg(first);
+      auto ay = arg(first + 1);
+      if (!ax) return ax.error();
+      if (!ay) return ay.error();
+      x = ax.value();
+      y = ay.value();
+    }
+    waypoint_ = {x, y};
     heading_deg_.reset();
-    desired_.x_m = x.value();
-    desired_.y_m = y.value();
+    desired_.x_m = x;
+    desired_.y_m = y;
+    steer = true;
+  } else if (f == "hold_position") {
+    // The vehicle holds a Reference's point once there (DUNE loiters about
+    // it): the point is where it is now.
+    waypoint_ = {state_.x_m, state_.y_m};
+    heading_deg_.reset();
+    desired_.x_m = state_.x_m;
+    desired_.y_m = state_.y_m;
     steer = true;
   } else if (f == "stop") {
-    desired_.speed_mps.reset();  // stopped; a later goal goes at cruise speed again
+    // Stopped (speed 0 at the current position); the cruise speed is kept
+    // for the next goal, as on the Phoenix.
     waypoint_.reset();
     heading_deg_.reset();
     desired_.x_m = state_.x_m;
@@ -278,6 +329,12 @@ bool ImcLink::ask(std::string_view q) const {
     return err < options_.heading_tolerance_deg && std::fabs(s.r_dps) < options_.heading_settle_dps;
   }
   if (q == "waypoint_reached") return waypoint_ && xy_near;
+  if (q == "rows_done") return rows_ && next_row_ >= rows_->count;
+  if (q == "gps_available") {
+    // The newest GpsFix valid and fresh, at the surface: what gps_fix would take.
+    return s.gps_valid && s.gps_at_s && s.t_s - *s.gps_at_s <= options_.gps_wait_s &&
+           s.depth_m <= options_.surface_depth_m;
+  }
   if (q == "position_uncertain") return s.position_sd_m && *s.position_sd_m > options_.position_limit_m;
   if (q == "altitude_low") {
     const bool dead = s.alt_m < 0 && s.depth_m > options_.surface_depth_m;

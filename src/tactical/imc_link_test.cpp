@@ -630,6 +630,148 @@ TEST(ImcLink, PositionUncertainIsTheHorizontalSigmaOfNavigationUncertaintyAboveT
   EXPECT_TRUE(rig.ask("position_uncertain"));
 }
 
+// Issue 37's primitives over IMC.
+
+// Lets the link read what the vehicle sent, and the vehicle what the link
+// sent (a Reference of the stream may follow a test's own).
+void settle(ImcRig& rig) {
+  run_until(
+      rig.io, [] { return false; }, 50ms);
+}
+
+// The Reference an exec steered to, once every Reference in flight is in.
+imc::Reference steered(ImcRig& rig, const std::string& f, std::vector<protocol::Value> args = {}) {
+  rig.steer(f, std::move(args));
+  settle(rig);
+  return rig.vehicle.references.back();
+}
+
+TEST(ImcLink, RowsAreKeptByTheLinkAndEachNextRowIsAReferenceAtTheRowsEnd) {
+  ImcRig rig;
+  rig.connect();
+  EXPECT_FALSE(rig.ask("rows_done"));  // no pattern
+  auto none = rig.call(protocol::make_exec(0, "next_row"));
+  ASSERT_TRUE(none.ok());
+  auto* err = std::get_if<protocol::Err>(&none.value());
+  ASSERT_NE(err, nullptr) << "refused as the Phoenix refuses it: err failed";
+  EXPECT_EQ(err->code, protocol::ErrorCode::Failed);
+  EXPECT_EQ(err->message, "next_row: no row pattern (start_rows first)");
+  using protocol::Value;
+  EXPECT_TRUE(rig.exec("start_rows", {Value::integer(0), Value::integer(0), Value::integer(0), Value::integer(100),
+                                      Value::integer(20), Value::integer(2)}));
+  EXPECT_FALSE(rig.ask("rows_done"));
+  // Row 0 runs north from the origin: its end is 100 m north.
+  imc::Reference ref = steered(rig, "next_row");
+  EXPECT_NEAR(ref.lat, 0.7188 + 100.0 / 6378137.0, 1e-9);
+  EXPECT_NEAR(ref.lon, -0.1519, 1e-12);
+  EXPECT_FALSE(rig.ask("rows_done"));
+  // Row 1 runs back south, 20 m to starboard (east): its end is 20 m east of the origin.
+  ref = steered(rig, "next_row");
+  EXPECT_NEAR(ref.lat, 0.7188, 1e-9);
+  EXPECT_NEAR(ref.lon, -0.1519 + 20.0 / (6378137.0 * std::cos(0.7188)), 1e-12);
+  EXPECT_TRUE(rig.ask("rows_done"));
+  EXPECT_FALSE(rig.ask("waypoint_reached"));
+  rig.vehicle.follow_state(imc::FollowRefState::kStateLoiter,
+                           imc::FollowRefState::kProxXyNear | imc::FollowRefState::kProxZNear);
+  EXPECT_TRUE(rig.ask("waypoint_reached"));
+  auto past = rig.call(protocol::make_exec(0, "next_row"));
+  ASSERT_TRUE(past.ok());
+  err = std::get_if<protocol::Err>(&past.value());
+  ASSERT_NE(err, nullptr);
+  EXPECT_EQ(err->message, "next_row: no row left (all 2 rows started)");
+  // A bad pattern is a failed exec, with the reason as an event.
+  EXPECT_FALSE(rig.exec("start_rows", {Value::integer(0), Value::integer(0), Value::integer(0), Value::integer(100),
+                                       Value::integer(20), Value::real(0.5)}));
+  EXPECT_EQ(rig.events.back(), "exec start_rows failed: row count 0.5 is not a whole number from 1 to 1000");
+}
+
+TEST(ImcLink, SetSpeedIsTheCruiseSpeedOfTheNextGoalAndStopKeepsIt) {
+  ImcRig rig;
+  rig.connect();
+  const std::size_t before = rig.vehicle.references.size();
+  EXPECT_TRUE(rig.exec("set_speed", {protocol::Value::real(0.5)}));
+  for (int i = 0; i < 3; ++i) rig.vehicle.state();
+  settle(rig);
+  // No goal: nothing steers, and any Reference of the stream says speed 0.
+  for (std::size_t i = before; i < rig.vehicle.references.size(); ++i) {
+    ASSERT_TRUE(rig.vehicle.references[i].speed);
+    EXPECT_EQ(rig.vehicle.references[i].speed->value, 0.0);
+  }
+  imc::Reference ref = steered(rig, "goto_xy", {protocol::Value::integer(0), protocol::Value::integer(100)});
+  ASSERT_TRUE(ref.speed);
+  EXPECT_EQ(ref.speed->value, 0.5);
+  ref = steered(rig, "set_speed", {protocol::Value::real(0.7)});  // a goal held: at once
+  EXPECT_FLOAT_EQ(static_cast<float>(ref.speed->value), 0.7f);
+  ref = steered(rig, "stop");
+  EXPECT_EQ(ref.speed->value, 0.0);
+  ref = steered(rig, "goto_xy", {protocol::Value::integer(0), protocol::Value::integer(200)});
+  EXPECT_FLOAT_EQ(static_cast<float>(ref.speed->value), 0.7f);  // kept through stop
+}
+
+TEST(ImcLink, HoldPositionIsAReferenceWhereTheVehicleIs) {
+  ImcRig rig;
+  rig.connect();
+  rig.vehicle.north_m = 30;
+  rig.vehicle.east_m = 40;
+  rig.vehicle.state();
+  settle(rig);
+  const imc::Reference ref = steered(rig, "hold_position");
+  EXPECT_NEAR(ref.lat, 0.7188 + 30.0 / 6378137.0, 1e-9);
+  EXPECT_NEAR(ref.lon, -0.1519 + 40.0 / (6378137.0 * std::cos(0.7188)), 1e-12);
+  ASSERT_TRUE(ref.speed);
+  EXPECT_FLOAT_EQ(static_cast<float>(ref.speed->value), 0.8f);  // the cruise speed, to come back
+  rig.vehicle.follow_state(imc::FollowRefState::kStateLoiter,
+                           imc::FollowRefState::kProxXyNear | imc::FollowRefState::kProxZNear);
+  EXPECT_TRUE(rig.ask("waypoint_reached"));
+}
+
+TEST(ImcLink, SetTimerRunsOnTheVehiclesClock) {
+  ImcRig rig;
+  rig.connect();
+  EXPECT_TRUE(rig.exec("set_timer", {protocol::Value::integer(2)}));
+  EXPECT_FALSE(rig.ask("time_out"));
+  for (int i = 0; i < 20; ++i) rig.vehicle.state();
+  settle(rig);
+  EXPECT_TRUE(rig.ask("time_out"));
+  EXPECT_FALSE(rig.exec("set_timer", {protocol::Value::integer(0)}));
+}
+
+TEST(ImcLink, GpsAvailableIsAFreshValidFixAtTheSurface) {
+  ImcRig rig;
+  rig.connect();
+  EXPECT_FALSE(rig.ask("gps_available"));  // no GpsFix heard
+  imc::GpsFix fix;
+  fix.validity = 0x1FF;
+  fix.satellites = 9;
+  rig.vehicle.send(fix);
+  settle(rig);
+  EXPECT_TRUE(rig.ask("gps_available"));
+  for (int i = 0; i < 20; ++i) rig.vehicle.state();  // 2 s without one: stale
+  settle(rig);
+  EXPECT_FALSE(rig.ask("gps_available"));
+  rig.vehicle.send(fix);
+  rig.vehicle.depth_m = 2.0;  // under water
+  rig.vehicle.state();
+  settle(rig);
+  EXPECT_FALSE(rig.ask("gps_available"));
+  rig.vehicle.depth_m = 0.0;
+  fix.validity = 0;  // no fix (DUNE: no satellites)
+  fix.satellites = 0;
+  rig.vehicle.state();
+  rig.vehicle.send(fix);
+  settle(rig);
+  EXPECT_FALSE(rig.ask("gps_available"));
+}
+
+TEST(ImcLink, LoiterIsRefusedNotSent) {
+  ImcRig rig;
+  rig.connect();
+  auto r = rig.call(protocol::make_exec(
+      0, "loiter", {protocol::Value::integer(0), protocol::Value::integer(0), protocol::Value::integer(20)}));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "an IMC vehicle has no 'loiter' (docs/imc.md)");
+}
+
 TEST(ImcLinkAddress, ParsesHostPortAndAnOptionalId) {
   auto a = parse_imc_vehicle("imc://127.0.0.1:6002");
   ASSERT_TRUE(a.ok());
@@ -651,14 +793,15 @@ TEST(ImcLinkAddress, ParsesHostPortAndAnOptionalId) {
 
 TEST(ExecutionLevel, AnImcVehicleRefusesWhatItHasNoCounterpartForAndCarriesTheRest) {
   const Catalogue& c = Catalogue::builtin();
-  for (const char* refused : {"target_detected", "set_sway"}) {
+  for (const char* refused : {"target_detected", "set_sway", "loiter"}) {
     ASSERT_NE(c.find(refused), nullptr) << refused;
     EXPECT_TRUE(unavailable_on(ExecutionLevel::Imc, *c.find(refused))) << refused;
     EXPECT_FALSE(unavailable_on(ExecutionLevel::Phoenix, *c.find(refused))) << refused;
   }
   std::size_t carried = 0;
   for (const Primitive& p : c.all()) carried += unavailable_on(ExecutionLevel::Imc, p) ? 0 : 1;
-  EXPECT_EQ(carried, c.all().size() - 2);
+  EXPECT_EQ(carried, c.all().size() - 3);
+  EXPECT_NE(unavailable_on(ExecutionLevel::Imc, *c.find("loiter"))->find("FollowReference"), std::string::npos);
   EXPECT_EQ(execution_level_of("imc://127.0.0.1:6002"), ExecutionLevel::Imc);
   EXPECT_EQ(execution_level_of("127.0.0.1:7020"), ExecutionLevel::Phoenix);
 }

@@ -99,11 +99,12 @@ void TacticalLevel::finish(const CallRecord& record, CallHandler& done, CallResu
   done(std::move(outcome));
 }
 
-void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHandler done) {
+void TacticalLevel::call(std::string_view name, std::vector<Value> args, CallHandler done, std::string_view guard) {
   ++calls_;
   ++in_flight_;
   CallRecord record;
   record.primitive = std::string(name);
+  record.guard = std::string(guard);
   // Every outcome is delivered from the event loop, never inside call().
   // The link must not tell a lockstep vehicle to advance while an outcome is
   // queued here: the caller may answer it with more calls for this instant.

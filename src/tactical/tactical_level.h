@@ -58,6 +58,9 @@ struct CallRecord {
   // reason as far as the protocol can tell (events name no request; with
   // calls in flight together it may be another's). "" if none came.
   std::string vehicle_said;
+  // A guard's own poll (docs/language.md, "guard"): the guard's name; "" for
+  // a call of the mission itself.
+  std::string guard;
 };
 
 class TacticalLevel {
@@ -78,7 +81,9 @@ class TacticalLevel {
   // says why (BadCall: unknown primitive, bad arguments, no mission data or
   // past the last setpoint; Refused: the vehicle's `err`, with its code;
   // TimedOut; LinkLost; BadReply). REPORT answers 1 at once.
-  void call(std::string_view name, std::vector<Value> args, CallHandler done);
+  // `guard` names the guard whose poll this is ("": the mission's own call);
+  // the call's record carries it.
+  void call(std::string_view name, std::vector<Value> args, CallHandler done, std::string_view guard = {});
 
   // Where REPORT text goes besides the log (the operator console).
   void on_report(std::function<void(const std::string&, double sim_time_s)> f) { on_report_ = std::move(f); }

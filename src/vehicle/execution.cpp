@@ -17,6 +17,7 @@ const std::vector<FunctionSpec>& function_table() {
       {Verb::Exec, "start_depth_filter", {}, "start the depth filter (depth and depth rate)"},
       {Verb::Exec, "submerge", {}, "engage the depth law toward the loaded setpoint"},
       {Verb::Exec, "start_timer", {}, "start the mission timer with the loaded setpoint's timeout"},
+      {Verb::Exec, "set_timer", {{"seconds", "s"}}, "start the mission timer with this limit (> 0)"},
       {Verb::Exec, "sleep", {{"duration", "s"}}, "let the given time pass, then reply"},
       {Verb::Exec, "surface", {}, "drive to the surface"},
       {Verb::Exec,
@@ -29,7 +30,11 @@ const std::vector<FunctionSpec>& function_table() {
        "goto_depth",
        {{"depth", "m"}},
        "start the depth filter if off and engage the depth law toward a depth, with no time limit"},
-      {Verb::Exec, "set_speed", {{"speed", "m/s"}}, "hold a speed through the water (0 to the top speed)"},
+      {Verb::Exec,
+       "set_speed",
+       {{"speed", "m/s"}},
+       "the cruise speed of the guidance (0 to the top speed): a guidance running takes it at once; no motion by "
+       "itself"},
       {Verb::Exec,
        "set_sway",
        {{"speed", "m/s"}},
@@ -37,24 +42,40 @@ const std::vector<FunctionSpec>& function_table() {
       {Verb::Exec,
        "goto_xy",
        {{"x", "m"}, {"y", "m"}},
-       "line-of-sight guidance to a waypoint (x east, y north); cruise speed unless a speed was set"},
+       "line-of-sight guidance to a waypoint (x east, y north) at the cruise speed; there, hold the point"},
       {Verb::Exec,
        "track",
        {{"x0", "m"}, {"y0", "m"}, {"x1", "m"}, {"y1", "m"}},
-       "line-of-sight guidance along the line from (x0, y0) to (x1, y1)"},
-      {Verb::Exec, "stop", {}, "stop the propulsion motors, the sway and the guidance; hold the heading"},
+       "line-of-sight guidance along the line from (x0, y0) to (x1, y1); at its end, hold the point"},
+      {Verb::Exec,
+       "loiter",
+       {{"x", "m"}, {"y", "m"}, {"radius", "m"}},
+       "circle (x, y) clockwise at the radius (>= 5 m) and the cruise speed until another guidance command"},
+      {Verb::Exec, "hold_position", {}, "station keeping: hold the estimated position of now"},
+      {Verb::Exec,
+       "start_rows",
+       {{"x", "m"}, {"y", "m"}, {"heading", "deg"}, {"length", "m"}, {"spacing", "m"}, {"count", ""}},
+       "record a lawnmower pattern (row i starts i * spacing to starboard of the first, odd rows run back); "
+       "no motion"},
+      {Verb::Exec, "next_row", {}, "track along the next row of the pattern (err failed when none is left)"},
+      {Verb::Exec,
+       "stop",
+       {},
+       "stop the propulsion motors, the sway and the guidance; hold the heading; the cruise speed is kept"},
       {Verb::Exec, "gps_fix", {}, "take a GPS fix now (only at the surface, in open water); resets the estimate"},
       {Verb::Exec, "set_altitude_floor", {{"floor", "m"}}, "the altitude below which altitude_low is true"},
       {Verb::Ask, "depth_filter_off", {}, "is the depth filter off?"},
       {Verb::Ask, "depth_reached", {}, "is the vehicle settled at the setpoint?"},
       {Verb::Ask, "time_out", {}, "has the mission timer run out?"},
-      {Verb::Ask, "system_problem", {}, "is a system problem (leak) active?"},
+      {Verb::Ask, "system_problem", {}, "has the vehicle detected a fault (a leak, a depth-cell dropout; latched)?"},
       {Verb::Ask, "surface_reached", {}, "is the vehicle at the surface?"},
       {Verb::Ask, "heading_reached", {}, "is the vehicle settled on the commanded heading?"},
       {Verb::Ask, "target_detected", {}, "does the sonar's last sweep show an object short of the walls?"},
       {Verb::Ask, "waypoint_reached", {}, "has the guidance reached its waypoint or the end of its track line?"},
       {Verb::Ask, "altitude_low", {}, "is the altitude below the floor (or the altimeter dead under water)?"},
       {Verb::Ask, "position_uncertain", {}, "is the position estimate's 1-sigma above the limit?"},
+      {Verb::Ask, "gps_available", {}, "can a GPS fix be taken now (open water, antenna dry, receiver working)?"},
+      {Verb::Ask, "rows_done", {}, "has every row of the pattern been started (false with no pattern)?"},
       {Verb::Ood, "start_network", {}, "open the vehicle network; commands are refused before"},
       {Verb::Ood, "shutdown_network", {}, "stop the thrusters and close the vehicle network"},
   };
@@ -136,6 +157,21 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "goto_xy") return from(sim.goto_xy(numbers[0], numbers[1]));
   if (f == "track") return from(sim.track(numbers[0], numbers[1], numbers[2], numbers[3]));
   if (f == "stop") return from(sim.stop());
+  if (f == "set_timer") return from(sim.set_timer(numbers[0]));
+  if (f == "loiter") return from(sim.loiter(numbers[0], numbers[1], numbers[2]));
+  if (f == "hold_position") return from(sim.hold_position());
+  if (f == "start_rows") {
+    return from(sim.start_rows(numbers[0], numbers[1], numbers[2], numbers[3], numbers[4], numbers[5]));
+  }
+  if (f == "next_row") {
+    // No row to run is the mission's mistake, not the vehicle's failure.
+    if (!sim.row_pattern()) return refuse(protocol::ErrorCode::Failed, "next_row: no row pattern (start_rows first)");
+    if (sim.rows_done()) {
+      return refuse(protocol::ErrorCode::Failed,
+                    fmt::format("next_row: no row left (all {} rows started)", sim.row_pattern()->count));
+    }
+    return from(sim.next_row());
+  }
   if (f == "gps_fix") return from(sim.gps_fix());
   if (f == "set_altitude_floor") return from(sim.set_altitude_floor(numbers[0]));
   if (f == "sleep") {
@@ -156,6 +192,8 @@ Outcome execute(Simulation& sim, const protocol::Request& request) {
   if (f == "waypoint_reached") return answer(sim.waypoint_reached());
   if (f == "altitude_low") return answer(sim.altitude_low());
   if (f == "position_uncertain") return answer(sim.position_uncertain());
+  if (f == "gps_available") return answer(sim.gps_available());
+  if (f == "rows_done") return answer(sim.rows_done());
   if (f == "start_network") return from(sim.start_network());
   if (f == "shutdown_network") return from(sim.shutdown_network());
   return refuse(protocol::ErrorCode::UnknownFunction, "function table and dispatch disagree: " + f);

@@ -97,7 +97,10 @@ TEST(Execution, OpenWaterFunctionsDriveTheVehicleAndTheAsksAnswer) {
   EXPECT_FALSE(ask(sim, "altitude_low"));  // 30 m flat seabed
   EXPECT_FALSE(ask(sim, "position_uncertain"));
   EXPECT_NEAR(2.5, sim.heave().depth_m, 0.2);
-  EXPECT_NEAR(0.6, sim.surge().speed_mps, 0.02);
+  // There the guidance ended: the vehicle holds the waypoint.
+  EXPECT_EQ(GuidanceMode::Hold, sim.guidance().mode);
+  EXPECT_LT(std::hypot(sim.pose().x_m - 30.0, sim.pose().y_m - 40.0), 8.0);
+  EXPECT_FALSE(ask(sim, "gps_available"));
   const Outcome below = exec(sim, "gps_fix");
   EXPECT_FALSE(below.value);
   EXPECT_EQ(0u, below.message.find("no GPS fix at 2."));
@@ -106,6 +109,43 @@ TEST(Execution, OpenWaterFunctionsDriveTheVehicleAndTheAsksAnswer) {
   EXPECT_FALSE(ask(sim, "waypoint_reached"));
   EXPECT_TRUE(exec(sim, "stop").value);
   EXPECT_EQ(GuidanceMode::None, sim.guidance().mode);
+}
+
+TEST(Execution, RowsLoiterHoldAndTheTimerAsTheWireNamesThem) {
+  Simulation sim(default_params(), open_water());
+  ASSERT_TRUE(execute(sim, protocol::make_ood(1, "start_network")).value);
+  EXPECT_TRUE(ask(sim, "gps_available"));
+  EXPECT_FALSE(ask(sim, "rows_done"));
+  const Outcome no_pattern = exec(sim, "next_row");
+  EXPECT_EQ(protocol::ErrorCode::Failed, no_pattern.refused);
+  EXPECT_EQ("next_row: no row pattern (start_rows first)", no_pattern.message);
+  EXPECT_TRUE(exec(sim, "start_rows",
+                   {Value::integer(0), Value::integer(0), Value::integer(90), Value::integer(50), Value::integer(-10),
+                    Value::integer(1)})
+                  .value);
+  const Outcome half = exec(sim, "start_rows",
+                            {Value::integer(0), Value::integer(0), Value::integer(90), Value::integer(50),
+                             Value::integer(10), Value::real(1.5)});
+  EXPECT_FALSE(half.refused.has_value());
+  EXPECT_FALSE(half.value);
+  EXPECT_EQ("row count 1.5 is not a whole number from 1 to 1000", half.message);
+  EXPECT_TRUE(exec(sim, "next_row").value);
+  EXPECT_TRUE(ask(sim, "rows_done"));
+  EXPECT_EQ(GuidanceMode::Track, sim.guidance().mode);
+  const Outcome past = exec(sim, "next_row");  // past the last row: the mission's mistake
+  EXPECT_EQ(protocol::ErrorCode::Failed, past.refused);
+  EXPECT_EQ("next_row: no row left (all 1 rows started)", past.message);
+  EXPECT_TRUE(exec(sim, "loiter", {Value::integer(0), Value::integer(0), Value::integer(10)}).value);
+  EXPECT_EQ(GuidanceMode::Loiter, sim.guidance().mode);
+  EXPECT_TRUE(exec(sim, "hold_position").value);
+  EXPECT_EQ(GuidanceMode::Hold, sim.guidance().mode);
+  EXPECT_TRUE(ask(sim, "waypoint_reached"));
+  EXPECT_TRUE(exec(sim, "set_timer", {Value::integer(3)}).value);
+  EXPECT_FALSE(ask(sim, "time_out"));
+  sim.advance(3.0);
+  EXPECT_TRUE(ask(sim, "time_out"));
+  EXPECT_FALSE(exec(sim, "set_timer", {Value::integer(0)}).value);
+  EXPECT_EQ(protocol::ErrorCode::BadArgument, exec(sim, "loiter", {Value::integer(0)}).refused);
 }
 
 TEST(Execution, HostileArgumentsAreRefusedNeverObeyed) {

@@ -35,6 +35,8 @@ std::string_view to_string(GuidanceMode mode) {
     case GuidanceMode::None: return "none";
     case GuidanceMode::Waypoint: return "waypoint";
     case GuidanceMode::Track: return "track";
+    case GuidanceMode::Loiter: return "loiter";
+    case GuidanceMode::Hold: return "hold";
   }
   return "?";
 }
@@ -58,6 +60,13 @@ double guidance_heading_deg(const VehicleParams& p, const Guidance& g, const Gui
       aim_x = g.x0_m + s * l.ux;
       aim_y = g.y0_m + s * l.uy;
     }
+  } else if (g.mode == GuidanceMode::Loiter && g.radius_m > 0.0) {
+    const double cx = in.x_m - g.x1_m;
+    const double cy = in.y_m - g.y1_m;
+    const double from_centre = std::hypot(cx, cy) > 1e-9 ? std::atan2(cx, cy) : 0.0;  // compass, rad
+    const double ahead = from_centre + std::min(p.los_lookahead_m / g.radius_m, std::numbers::pi / 2.0);
+    aim_x = g.x1_m + g.radius_m * std::sin(ahead);
+    aim_y = g.y1_m + g.radius_m * std::cos(ahead);
   }
   const double dx = aim_x - in.x_m;
   const double dy = aim_y - in.y_m;
@@ -79,7 +88,10 @@ double guidance_heading_deg(const VehicleParams& p, const Guidance& g, const Gui
 bool guidance_reached(const VehicleParams& p, const Guidance& g, double x_m, double y_m) {
   switch (g.mode) {
     case GuidanceMode::None: return false;
-    case GuidanceMode::Waypoint: return std::hypot(g.x1_m - x_m, g.y1_m - y_m) < p.waypoint_radius_m;
+    case GuidanceMode::Waypoint:
+    case GuidanceMode::Hold: return std::hypot(g.x1_m - x_m, g.y1_m - y_m) < p.waypoint_radius_m;
+    case GuidanceMode::Loiter:
+      return std::abs(std::hypot(g.x1_m - x_m, g.y1_m - y_m) - g.radius_m) < p.waypoint_radius_m;
     case GuidanceMode::Track: {
       const Line l = line_of(g);
       return along_m(g, l, x_m, y_m) > l.length - p.waypoint_radius_m;

@@ -13,23 +13,34 @@
 // angle), when the vehicle is fast enough to do so; otherwise it heads
 // straight into the line of sight.
 //
-// Reached: waypoint, when the estimated distance is below radius_m; track,
-// when the estimated position's projection is within radius_m of the end or
-// past it. Pure functions over a value type.
+// - Loiter (loiter): aim at the point lookahead_m ahead, clockwise (seen
+//   from above: the compass bearing from the centre grows), of the vehicle's
+//   projection on the circle of radius_m about (x1, y1); from far off the
+//   vehicle heads for the circle's near side, from inside it spirals out.
+// - Hold (hold_position, and every waypoint or track once reached): aim at
+//   the point (x1, y1); the Simulation drives toward it only while it is
+//   off station (simulation_horizontal.cpp, the hold law).
+//
+// Reached: waypoint and hold, when the estimated distance is below
+// radius_m; track, when the estimated position's projection is within
+// radius_m of the end or past it; loiter, when the estimated distance from
+// the centre is within radius_m of the circle. Pure functions over a value
+// type.
 #include <string_view>
 
 #include "vehicle/params.h"
 
 namespace strata::vehicle {
 
-enum class GuidanceMode { None, Waypoint, Track };
+enum class GuidanceMode { None, Waypoint, Track, Loiter, Hold };
 
 std::string_view to_string(GuidanceMode mode);
 
 struct Guidance {
   GuidanceMode mode = GuidanceMode::None;
   double x0_m = 0.0, y0_m = 0.0;  // track: the start of the line
-  double x1_m = 0.0, y1_m = 0.0;  // the waypoint, or the end of the line
+  double x1_m = 0.0, y1_m = 0.0;  // the waypoint, the end of the line, the circle's centre, the point held
+  double radius_m = 0.0;          // loiter: the circle's radius
 
   bool operator==(const Guidance&) const = default;
 };

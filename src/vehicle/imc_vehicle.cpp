@@ -376,7 +376,9 @@ void ImcVehicle::drive() {
       return;
     }
     p.holding = false;
-  } else if (sim_.guidance().mode == GuidanceMode::Waypoint && sim_.waypoint_reached()) {
+  } else if (sim_.guidance().mode != GuidanceMode::None && sim_.waypoint_reached()) {
+    // The Phoenix's guidance ended at the point (it holds it): this vehicle
+    // holds with its own, looser, station keeping below.
     (void)sim_.stop();
     p.holding = true;
     return;

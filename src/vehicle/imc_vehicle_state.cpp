@@ -17,14 +17,16 @@ using imc::PlanControlState;
 using imc::VehicleState;
 
 // The entities in error now: what the Phoenix itself calls a system
-// problem (system_problem: a leak), so that a mission meets the same faults
-// over IMC as over the Phoenix protocol. Its other faults show as they do
-// there: weak thrusters in the dive, a sensor dropout in the depth, a dead
-// altimeter as no altitude (EstimatedState alt -1).
+// problem (system_problem: a leak, a depth-cell dropout, each latched), so
+// that a mission meets the same faults over IMC as over the Phoenix
+// protocol. Its other faults show as they do there: weak thrusters in the
+// dive, a dead altimeter as no altitude (EstimatedState alt -1), a dead GPS
+// receiver as GpsFix validity 0.
 std::vector<ImcVehicle::ErrorEntity> ImcVehicle::errors_now() const {
   const FaultState& f = sim_.telemetry().faults;
   std::vector<ErrorEntity> out;
   if (f.leak) out.push_back({"Leak Sensor - Nose", "leak detected"});
+  if (f.depth_cell_fault) out.push_back({"Depth Sensor", "no reading"});
   return out;
 }
 

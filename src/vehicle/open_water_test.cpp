@@ -32,6 +32,7 @@ double true_distance(const Simulation& sim, double x_m, double y_m) {
 TEST(Surge, ASpeedStepRisesLikeAFirstOrderLagWithNoOvershoot) {
   Simulation sim = started(open_water());
   ASSERT_TRUE(sim.set_speed(0.8).ok());
+  ASSERT_TRUE(sim.goto_xy(0.0, 5000.0).ok());  // dead ahead (heading 0): no turn
   const double t63 = run_until(
       sim, [&] { return sim.surge().speed_mps >= 0.63 * 0.8; }, 30.0);
   // From rest u = u_d tanh(t c u_d / (m + m_a)): 63% at 0.74 * 195 / (24 * 0.8)
@@ -51,6 +52,7 @@ TEST(Surge, FullThrustGivesTheTopSpeedOfTheParameterFile) {
   EXPECT_NEAR(1.0, p.top_speed_mps(), 1e-12);  // sqrt(2 * 12 N / 24 N/(m/s)^2)
   Simulation sim = started(open_water());
   ASSERT_TRUE(sim.set_speed(p.top_speed_mps()).ok());
+  ASSERT_TRUE(sim.goto_xy(0.0, 5000.0).ok());
   sim.advance(90.0);
   EXPECT_NEAR(1.0, sim.surge().speed_mps, 0.01);
   EXPECT_FALSE(sim.set_speed(1.2).ok());
@@ -141,7 +143,8 @@ TEST(Navigation, TheTankHasNoGpsAndKnowsItsPosition) {
   ASSERT_TRUE(sim.start_network().ok());
   EXPECT_FALSE(sim.gps_fix().ok());
   ASSERT_TRUE(sim.set_speed(0.5).ok());
-  sim.advance(30.0);  // heading north from the centre: the wall at y = 8 m holds it
+  ASSERT_TRUE(sim.goto_xy(6.0, 8.0).ok());  // a waypoint on the north wall
+  sim.advance(60.0);                        // held within 3 m of it, and the wall holds it
   EXPECT_DOUBLE_EQ(8.0, sim.pose().y_m);
   EXPECT_DOUBLE_EQ(sim.pose().y_m, sim.navigator().y_m());
   EXPECT_FALSE(sim.position_uncertain());
@@ -151,8 +154,8 @@ TEST(Navigation, TheTankHasNoGpsAndKnowsItsPosition) {
 TEST(Altimeter, AltitudeFollowsASlopingSeabed) {
   Simulation sim = started(open_water("[seabed]\nkind = \"slope\"\ndepth_m = 10\nslope_x = 0.1\n"));
   ASSERT_TRUE(sim.goto_depth(3.0).ok());
-  ASSERT_TRUE(sim.set_heading(90.0).ok());
   ASSERT_TRUE(sim.set_speed(0.8).ok());
+  ASSERT_TRUE(sim.goto_xy(1000.0, 0.0).ok());  // east
   for (int k = 0; k < 6; ++k) {
     sim.advance(20.0);
     const double truth = 10.0 + 0.1 * sim.pose().x_m - sim.heave().depth_m;

@@ -131,6 +131,15 @@ core::Result<void> Simulation::start_timer() {
   return {};
 }
 
+core::Result<void> Simulation::set_timer(double seconds) {
+  if (auto r = require_network(); !r) return r;
+  if (!std::isfinite(seconds) || seconds <= 0.0) {
+    return refused(fmt::format("timer limit {} s must be positive", seconds));
+  }
+  timer_ = Timer{time_s(), seconds};
+  return {};
+}
+
 core::Result<void> Simulation::surface() {
   if (auto r = require_network(); !r) return r;
   active_setpoint_m_ = 0.0;
@@ -280,7 +289,8 @@ void Simulation::apply_faults() {
       case FaultKind::SensorDropout:
         dropout_until_s_ = std::max(dropout_until_s_.value_or(0.0), f.at_s + *f.duration_s);
         faults_.sensor_dropout = true;
-        event(fmt::format("fault: depth cell dropout for {:.1f} s", *f.duration_s));
+        faults_.depth_cell_fault = true;
+        event(fmt::format("fault: depth cell dropout for {:.1f} s (system problem)", *f.duration_s));
         break;
       case FaultKind::LinkLoss:
         event(f.duration_s ? fmt::format("fault: link lost for {:.1f} s", *f.duration_s)

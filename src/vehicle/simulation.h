@@ -37,19 +37,47 @@
 // - Pose: the vehicle starts at the scenario's (x, y) (tank default: the
 //   centre; a position outside the tank is moved to its edge, with an
 //   event; open water default: the origin) and at the scenario's heading.
-//   It surges only when a speed is set (set_speed, goto_xy, track), so the
-//   tank missions, which never ask, still hover. In the tank the walls stop
+//   It surges only under a guidance command (goto_xy, track, next_row,
+//   loiter, hold_position), so the tank missions, which never ask, hover. In the tank the walls stop
 //   it (the position is held inside the plan); in open water the current
 //   carries it on top of its own speed.
-// - Horizontal plane (simulation_horizontal.cpp): set_speed() holds a water
-//   speed in [0, top speed]; goto_xy() and track() engage line-of-sight
-//   guidance (guidance.h), which sets the heading law's target every cycle
-//   from the ESTIMATED position, and cruise at cruise_speed_mps unless a
-//   speed was set; stop() stops the motors and the guidance (the heading
-//   law holds the heading it had). waypoint_reached() is latched true once
-//   the guidance reaches its goal, until the next goto_xy/track/stop; the
-//   vehicle runs on along its last heading meanwhile. A waypoint more than
-//   kMaxLegM from the estimate, or outside the tank in the tank, is refused.
+// - Horizontal plane (simulation_horizontal.cpp): goto_xy() and track()
+//   engage line-of-sight guidance (guidance.h), which sets the heading law's
+//   target every cycle from the ESTIMATED position; stop() stops the motors
+//   and the guidance (the heading law holds the heading it had). A waypoint
+//   more than kMaxLegM from the estimate, or outside the tank in the tank,
+//   is refused.
+// - Guidance and speed (issue 37): set_speed() sets the CRUISE speed only:
+//   the speed of the guidance commands (goto_xy, track, next_row, loiter,
+//   and hold_position's return to its point); it moves nothing by itself,
+//   and changes the speed of a guidance running now at once. Unset, the
+//   cruise speed is params.cruise_speed_mps; 0 is allowed (the guidance
+//   steers but makes no way). stop() keeps it. A waypoint's or a track's
+//   guidance ENDS at its goal: waypoint_reached() turns true (latched until
+//   the next guidance command or stop) and the vehicle holds the goal point
+//   (the hold law, as hold_position). loiter() circles its centre clockwise
+//   at the cruise speed until another guidance command; waypoint_reached()
+//   there says the circle was reached. hold_position() holds the estimated
+//   position of the moment (waypoint_reached() true at once): within
+//   waypoint_radius_m it keeps its heading
+//   and the speed law drives it along its bow toward the point (astern when
+//   past it), off station it turns toward it first.
+// - Rows (protocol/rows.h): start_rows() records a lawnmower pattern and
+//   resets its cursor; next_row() runs the next row as track() does and
+//   moves the cursor; rows_done() is true once every row was started (false
+//   with no pattern: a mission that forgot start_rows meets next_row's
+//   refusal, not a silent end). The execution table refuses next_row with
+//   no row left as a protocol error.
+// - system_problem() (issue 37): a fault the vehicle's own sensors report,
+//   each latched from its moment to the end of the run (a polled ask cannot
+//   miss a short one, and nothing on board clears it): a leak (the leak
+//   sensor) and a depth-cell dropout (the cell gives no reading). Weak
+//   thrusters are not reported: they still run, only weaker, and the
+//   vehicle meets them as a depth not reached in time (Figure 9's time-out).
+//   A compass bias is not seen at all; a dead altimeter has altitude_low, a
+//   dead GPS receiver gps_available.
+// - gps_available(): a fix can be taken now: open water, the receiver works,
+//   and the antenna is dry (true depth <= gps_max_depth_m).
 // - Sway (sway.h): set_sway() holds a sideways water speed (+ starboard)
 //   with the transverse thrusters pushing the same way; the heading law
 //   keeps priority (the sway force gets the thrust its moment leaves). The
@@ -87,6 +115,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "protocol/rows.h"
 #include "vehicle/depth_cell.h"
 #include "vehicle/depth_filter.h"
 #include "vehicle/guidance.h"
@@ -124,6 +153,8 @@ struct FaultState {
   double compass_bias_deg = 0.0;  // compass reading - true heading
   bool altimeter_dead = false;
   bool no_gps = false;
+  // Detected on board, latched to the end of the run (system_problem):
+  bool depth_cell_fault = false;  // a depth-cell dropout
 
   bool operator==(const FaultState&) const = default;
 };
@@ -175,6 +206,9 @@ class Simulation {
   core::Result<void> start_depth_filter();
   core::Result<void> submerge();
   core::Result<void> start_timer();
+  // The manoeuvre timer with its own limit, seconds > 0 (start_timer uses
+  // the loaded setpoint's).
+  core::Result<void> set_timer(double seconds);
   core::Result<void> surface();
   // Engages the heading law toward heading_deg (compass, [0, 360]; 360 is 0).
   core::Result<void> set_heading(double heading_deg);
@@ -186,6 +220,15 @@ class Simulation {
   core::Result<void> goto_xy(double x_m, double y_m);
   core::Result<void> track(double x0_m, double y0_m, double x1_m, double y1_m);
   core::Result<void> stop();
+  // Circle (x, y) at radius_m (>= kMinLoiterRadiusM), clockwise, at the cruise speed.
+  core::Result<void> loiter(double x_m, double y_m, double radius_m);
+  // Hold the estimated position of now (station keeping).
+  core::Result<void> hold_position();
+  // A lawnmower pattern (protocol/rows.h), cursor at its first row; no motion.
+  core::Result<void> start_rows(double x_m, double y_m, double heading_deg, double length_m, double spacing_m,
+                                double count);
+  // track() along the next row; an error with no pattern or no row left.
+  core::Result<void> next_row();
   core::Result<void> goto_depth(double depth_m);
   core::Result<void> gps_fix();
   core::Result<void> set_altitude_floor(double floor_m);  // [0, altimeter range]
@@ -199,7 +242,13 @@ class Simulation {
   bool depth_reached() const;
   bool time_out() const;
   bool surface_reached() const;
-  bool system_problem() const { return faults_.leak; }
+  bool system_problem() const { return faults_.leak || faults_.depth_cell_fault; }
+  bool gps_available() const;
+  bool rows_done() const { return rows_.has_value() && next_row_ >= rows_->count; }
+  const std::optional<protocol::RowPattern>& row_pattern() const { return rows_; }
+  int rows_started() const { return next_row_; }
+  // The cruise speed of the guidance commands (set_speed, else the params').
+  double cruise_speed_mps() const { return cruise_mps_.value_or(params_.cruise_speed_mps); }
   bool heading_reached() const;
   bool sonar_on() const { return sonar_.on(); }
   bool target_detected() const { return sonar_.target_detected(); }
@@ -271,6 +320,7 @@ class Simulation {
   core::Result<void> engage(Guidance g);
   double compass_deg() const;
   void guide();
+  void hold();
   void move_substep(double h_s);
   void navigate();
   double bottom_m() const;
@@ -302,7 +352,10 @@ class Simulation {
   double moment_cmd_nm_ = 0.0;
 
   SurgeState surge_;
-  std::optional<double> speed_target_mps_;
+  std::optional<double> speed_target_mps_;  // the speed law's target now (none: motors never run)
+  std::optional<double> cruise_mps_;        // set_speed's
+  std::optional<protocol::RowPattern> rows_;
+  int next_row_ = 0;
   SwayState sway_, sway_model_;
   std::optional<double> sway_target_mps_;
   double sway_force_cmd_n_ = 0.0;  // this cycle's, after the heading law's share
@@ -325,5 +378,8 @@ class Simulation {
 
 // The longest leg goto_xy and track accept, m: a farther goal is refused.
 inline constexpr double kMaxLegM = 20000.0;
+// The smallest loiter circle, m: the heading law turns the Phoenix about
+// 10 deg/s at most, a 5 m circle at 0.8 m/s.
+inline constexpr double kMinLoiterRadiusM = 5.0;
 
 }  // namespace strata::vehicle

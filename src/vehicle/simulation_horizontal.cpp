@@ -18,6 +18,11 @@ core::Error refused_here(std::string message) {
   return core::make_error(core::ErrorCode::InvalidInput, std::move(message));
 }
 
+// The hold law's gain and its astern limit (estimates, like
+// config/phoenix.toml's; simulation.h).
+constexpr double kHoldGainPerS = 0.05;
+constexpr double kHoldAsternMps = 0.3;
+
 }  // namespace
 
 double Simulation::compass_deg() const { return wrap_heading_deg(yaw_.heading_deg + faults_.compass_bias_deg); }
@@ -33,7 +38,8 @@ core::Result<void> Simulation::set_speed(double speed_mps) {
     return refused_here(fmt::format("speed {} m/s outside 0 to {:.3g} m/s (the top speed)", speed_mps, top));
   }
   if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
-  speed_target_mps_ = speed_mps;
+  cruise_mps_ = speed_mps;
+  guide();  // a guidance running now takes it at once
   return {};
 }
 
@@ -71,8 +77,7 @@ core::Result<void> Simulation::engage(Guidance g) {
   if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
   guidance_ = g;
   reached_ = false;
-  if (!speed_target_mps_ || *speed_target_mps_ == 0.0) speed_target_mps_ = params_.cruise_speed_mps;
-  guide();  // the heading target now, so heading_reached is meaningful at once
+  guide();  // the heading and speed targets now, so heading_reached is meaningful at once
   return {};
 }
 
@@ -97,6 +102,51 @@ core::Result<void> Simulation::stop() {
   guidance_ = {};
   reached_ = false;
   return {};
+}
+
+core::Result<void> Simulation::loiter(double x_m, double y_m, double radius_m) {
+  if (auto r = check_goal(x_m, y_m); !r) return r;
+  if (!std::isfinite(radius_m) || radius_m < kMinLoiterRadiusM || radius_m > kMaxLegM) {
+    return refused_here(fmt::format("loiter radius {} m outside {} to {} m", radius_m, kMinLoiterRadiusM, kMaxLegM));
+  }
+  return engage({GuidanceMode::Loiter, 0.0, 0.0, x_m, y_m, radius_m});
+}
+
+core::Result<void> Simulation::hold_position() {
+  if (auto r = require_network(); !r) return r;
+  if (watchdog_tripped_) return refused_here("watchdog tripped: surfacing until the network restarts");
+  if (!heading_target_deg_) heading_target_deg_ = compass_deg();  // keep the bow where it is
+  if (auto r = engage({GuidanceMode::Hold, 0.0, 0.0, nav_.x_m(), nav_.y_m()}); !r) return r;
+  reached_ = true;  // it is at its point
+  return {};
+}
+
+core::Result<void> Simulation::start_rows(double x_m, double y_m, double heading_deg, double length_m, double spacing_m,
+                                          double count) {
+  if (auto r = require_network(); !r) return r;
+  std::string why;
+  auto p = protocol::make_row_pattern(x_m, y_m, heading_deg, length_m, spacing_m, count, &why);
+  if (!p) return refused_here(why);
+  if (p->length_m < params_.waypoint_radius_m) {
+    return refused_here(
+        fmt::format("row length {} m shorter than the waypoint radius, {} m", p->length_m, params_.waypoint_radius_m));
+  }
+  rows_ = *p;
+  next_row_ = 0;
+  return {};
+}
+
+core::Result<void> Simulation::next_row() {
+  if (!rows_) return refused_here("no row pattern: start_rows first");
+  if (next_row_ >= rows_->count) return refused_here(fmt::format("no row left: all {} rows started", rows_->count));
+  const protocol::Row row = protocol::row_of(*rows_, next_row_);
+  if (auto r = track(row.x0_m, row.y0_m, row.x1_m, row.y1_m); !r) return r;
+  ++next_row_;
+  return {};
+}
+
+bool Simulation::gps_available() const {
+  return open_water() && !faults_.no_gps && heave_.depth_m <= params_.gps_max_depth_m;
 }
 
 core::Result<void> Simulation::goto_depth(double depth_m) {
@@ -140,18 +190,45 @@ bool Simulation::altitude_low() const {
   return altitude_m_ && *altitude_m_ < altitude_floor_m_;
 }
 
-// Guidance sets the heading law's target once a cycle, from the estimate.
+// Guidance sets the heading law's and the speed law's targets once a cycle,
+// from the estimate. A waypoint or a track line ends at its goal: the
+// vehicle holds the goal point from then on.
 void Simulation::guide() {
   if (guidance_.mode == GuidanceMode::None) return;
-  if (!reached_ && guidance_reached(params_, guidance_, nav_.x_m(), nav_.y_m())) {
+  if (!reached_ && guidance_.mode != GuidanceMode::Hold &&
+      guidance_reached(params_, guidance_, nav_.x_m(), nav_.y_m())) {
     reached_ = true;
     event(fmt::format("guidance: {} reached at ({:.1f}, {:.1f}) m (estimated)", to_string(guidance_.mode), nav_.x_m(),
                       nav_.y_m()));
+    if (guidance_.mode != GuidanceMode::Loiter)
+      guidance_ = {GuidanceMode::Hold, 0.0, 0.0, guidance_.x1_m, guidance_.y1_m};
   }
-  if (reached_) return;  // run on along the last heading
-  GuidanceInput in{nav_.x_m(), nav_.y_m(), nav_.current_x_mps(), nav_.current_y_mps(),
-                   speed_target_mps_.value_or(params_.cruise_speed_mps)};
+  if (guidance_.mode == GuidanceMode::Hold) {
+    hold();
+    return;
+  }
+  speed_target_mps_ = cruise_speed_mps();
+  GuidanceInput in{nav_.x_m(), nav_.y_m(), nav_.current_x_mps(), nav_.current_y_mps(), *speed_target_mps_};
   heading_target_deg_ = guidance_heading_deg(params_, guidance_, in);
+}
+
+// The hold law (station keeping at guidance_'s point, from the estimate):
+// off station (farther than waypoint_radius_m) the heading law turns toward
+// the point; always, the speed law drives along the bow toward it,
+// kHoldGainPerS m/s per metre ahead, up to the cruise speed ahead or
+// kHoldAsternMps astern, so the vehicle slows as it closes and backs when
+// past. Within the radius the heading is left as it is.
+void Simulation::hold() {
+  const double dx = guidance_.x1_m - nav_.x_m();
+  const double dy = guidance_.y1_m - nav_.y_m();
+  const double cruise = cruise_speed_mps();
+  if (std::hypot(dx, dy) > params_.waypoint_radius_m) {
+    GuidanceInput in{nav_.x_m(), nav_.y_m(), nav_.current_x_mps(), nav_.current_y_mps(), cruise};
+    heading_target_deg_ = guidance_heading_deg(params_, guidance_, in);
+  }
+  const double psi = compass_deg() * core::kRadPerDeg;
+  const double ahead_m = dx * std::sin(psi) + dy * std::cos(psi);
+  speed_target_mps_ = std::clamp(kHoldGainPerS * ahead_m, -std::min(kHoldAsternMps, cruise), cruise);
 }
 
 // One sub-step of surge and of the true position: water velocity along the

@@ -299,8 +299,12 @@ TEST(Simulation, ASensorDropoutLeavesTheFilterPredicting) {
   t = sim.telemetry();
   EXPECT_FALSE(t.faults.sensor_dropout);
   EXPECT_TRUE(t.measured_depth_m.has_value());
-  EXPECT_EQ((std::vector<std::string>{"fault: depth cell dropout for 2.0 s", "fault: depth cell readings back"}),
+  EXPECT_EQ((std::vector<std::string>{"fault: depth cell dropout for 2.0 s (system problem)",
+                                      "fault: depth cell readings back"}),
             texts(sim.events()));
+  // The dropout was a system problem, and stays one with the readings back.
+  EXPECT_TRUE(t.faults.depth_cell_fault);
+  EXPECT_TRUE(sim.system_problem());
   EXPECT_LT(0.0, run_until(
                      sim, [&] { return sim.depth_reached(); }, 20.0));
 }

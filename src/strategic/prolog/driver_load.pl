@@ -89,7 +89,11 @@ user:prolog_load_file(Module:Spec, Options) :-
     load_mission_file(Module, Abs, Options).
 
 % Abs is one of the files a mission may load: a .pl file in the folder of
-% the mission's file or in a folder beside it (consult_directive/2).
+% the mission's file or in a folder beside it (consult_directive/2), or a
+% phase of the library (use_phase/1).
+mission_file(_, Abs) :-
+    library_file(Abs),
+    !.
 mission_file(M, Abs) :-
     file_name_extension(_, pl, Abs),
     mission_root(M, Root),   % Root's parent holds Root, and the folders beside it
@@ -97,6 +101,43 @@ mission_file(M, Abs) :-
     Parent \== '/',
     atom_concat(Parent, '/', Under),            % not /m/tank_evil for /m/tank
     sub_atom(Abs, 0, _, _, Under).
+
+%!  library_phase_file(+Name, -Abs) is semidet.
+%
+%   The phase library (docs/library.md): Abs is Name.pl in the first folder
+%   of the library path that has it ('$strata_library'/1: STRATA_LIBRARY's
+%   folders, then Strata's own library/prolog). Name is a plain name.
+%   `:- use_phase(Name).` consults it (driver_sandbox.pl), sandboxed as the
+%   mission's own files are.
+
+library_phase_file(Name, Abs) :-
+    library_phase_name(Name),
+    library_dirs(Dirs),
+    member(Dir, Dirs),
+    atomic_list_concat([Dir, /, Name, '.pl'], Path),
+    absolute_file_name(Path, Abs, [access(read), file_errors(fail)]),
+    exists_file(Abs),
+    !.
+
+library_phase_name(Name) :-
+    atom(Name),
+    Name \== '',
+    atom_codes(Name, Codes),
+    forall(member(C, Codes), code_type(C, csym)).
+
+library_dirs(Dirs) :-
+    (   current_predicate(strata_driver:'$strata_library'/1)
+    ->  '$strata_library'(Dirs)
+    ;   Dirs = []               % without the host (plunit): no library
+    ).
+
+% Abs is a phase of the library: the file use_phase/1 finds for its name.
+library_file(Abs) :-
+    file_name_extension(Base, pl, Abs),
+    file_base_name(Base, Name),
+    library_phase_name(Name),
+    library_phase_file(Name, Found),
+    Found == Abs.
 
 % Directives get this many inferences in all: a directive that loops ends.
 load_budget(50000000).

@@ -238,7 +238,10 @@ expand_mission_term(Term, Expanded) :-
     prolog_load_context(module, M),
     loading(M),
     nonvar(Term),
-    (   Term \= (:- _),
+    (   subsumes_term((:- use_phase(_)), Term)
+    ->  Term = (:- use_phase(Name)),
+        use_phase_expansion(Name, Expanded)
+    ;   Term \= (:- _),
         clause_head_of(Term, Head),
         callable(Head),
         functor(Head, Name, Arity),
@@ -250,6 +253,24 @@ expand_mission_term(Term, Expanded) :-
     ;   contains_system_call(Term),
         without_system(Term, Expanded)
     ).
+
+% `:- use_phase(Name).`: the library's Name.pl, consulted (driver_load.pl,
+% library_phase_file/2); a name the library does not have is an error at
+% the directive, naming the folders looked in.
+use_phase_expansion(Name, (:- consult(Abs))) :-
+    library_phase_file(Name, Abs),
+    !.
+use_phase_expansion(Name, []) :-
+    library_dirs(Dirs),
+    (   Dirs == [] -> Looked = 'there are none' ; atomic_list_concat(Dirs, ', ', Looked) ),
+    (   library_phase_name(Name)
+    ->  format(string(Text), "use_phase(~w): no library phase `~w`: ~w.pl is in none of the library's \c
+                              folders (~w); STRATA_LIBRARY adds folders (docs/library.md)",
+               [Name, Name, Name, Looked])
+    ;   format(string(Text), "use_phase(~q): a library phase is named by a plain name, as \c
+                              `:- use_phase(goto).`", [Name])
+    ),
+    print_message(error, error(strata_refused(use_phase/1, Text), _)).
 
 clause_head_of((Head :- _), Head) :- !.
 clause_head_of((Head --> _), Head) :- !.
