@@ -277,7 +277,8 @@ TEST(GuardedRules, ALeakPreemptsTheSleepWithinOnePollAndTheHandlerSurfaces) {
 // The guarded survey (missions/survey: a leak guard for the whole mission, a
 // hazard guard per leg) as rules, against the net: the same calls at the same
 // times in every shipped scenario and with each kind of fault at a moment
-// where a guard or the mission's own checks must act.
+// where a guard or the mission's own checks must act (a sensor dropout is a
+// system problem: the leak guard's).
 const std::string kSurveyDir = std::string(STRATA_SOURCE_DIR) + "/missions/survey";
 
 struct SurveyCase {
@@ -327,25 +328,26 @@ const char* const kHazard = "leg: the seabed is under the floor, or the position
 
 INSTANTIATE_TEST_SUITE_P(
     ScenariosAndFaults, SurveyRules,
-    ::testing::Values(
-        SurveyCase{"nominal", "nominal", "", Outcome::Completed, ""},
-        SurveyCase{"leak", "leak", "", Outcome::Aborted, kLeak},
-        SurveyCase{"shallow", "shallow", "", Outcome::Aborted, kHazard},
-        SurveyCase{"lost_position", "lost_position", "", Outcome::Aborted, ""},
-        // In the two minutes at the surface, in leg 1, in a refix, at the end.
-        SurveyCase{"leak_at_the_surface", "", "kind = \"leak\"\nat_s = 60.0\n", Outcome::Aborted, kLeak},
-        SurveyCase{"leak_in_leg_2", "", "kind = \"leak\"\nat_s = 600.0\n", Outcome::Aborted, kLeak},
-        SurveyCase{"leak_in_a_refix", "", "kind = \"leak\"\nat_s = 460.0\n", Outcome::Aborted, kLeak},
-        SurveyCase{"leak_at_the_end", "", "kind = \"leak\"\nat_s = 1745.0\n", Outcome::Aborted, kLeak},
-        SurveyCase{"altimeter_dead_in_leg_1", "", "kind = \"altimeter_dead\"\nat_s = 200.0\n", Outcome::Aborted,
-                   kHazard},
-        SurveyCase{"weak_thrusters", "", "kind = \"weak_thrusters\"\nat_s = 420.0\nhealth = 0.4\n", Outcome::Completed,
-                   ""},
-        SurveyCase{"sensor_dropout", "", "kind = \"sensor_dropout\"\nat_s = 330.0\nduration_s = 20.0\n",
-                   Outcome::Completed, ""},
-        SurveyCase{"compass_bias", "", "kind = \"compass_bias\"\nat_s = 5.0\nbias_deg = 20.0\n", Outcome::Aborted, ""},
-        SurveyCase{"no_gps", "", "kind = \"no_gps\"\nat_s = 130.0\n", Outcome::Failed, ""},
-        SurveyCase{"link_loss", "", "kind = \"link_loss\"\nat_s = 330.0\nduration_s = 5.0\n", Outcome::Failed, ""}),
+    ::testing::Values(SurveyCase{"nominal", "nominal", "", Outcome::Completed, ""},
+                      SurveyCase{"leak", "leak", "", Outcome::Aborted, kLeak},
+                      SurveyCase{"shallow", "shallow", "", Outcome::Aborted, kHazard},
+                      SurveyCase{"lost_position", "lost_position", "", Outcome::Aborted, ""},
+                      // In the two minutes at the surface, in leg 2, in a refix, in the recovery.
+                      SurveyCase{"leak_at_the_surface", "", "kind = \"leak\"\nat_s = 60.0\n", Outcome::Aborted, kLeak},
+                      SurveyCase{"leak_in_leg_2", "", "kind = \"leak\"\nat_s = 600.0\n", Outcome::Aborted, kLeak},
+                      SurveyCase{"leak_in_a_refix", "", "kind = \"leak\"\nat_s = 460.0\n", Outcome::Aborted, kLeak},
+                      SurveyCase{"leak_at_the_end", "", "kind = \"leak\"\nat_s = 1570.0\n", Outcome::Aborted, kLeak},
+                      SurveyCase{"altimeter_dead_in_leg_1", "", "kind = \"altimeter_dead\"\nat_s = 200.0\n",
+                                 Outcome::Aborted, kHazard},
+                      SurveyCase{"weak_thrusters", "", "kind = \"weak_thrusters\"\nat_s = 420.0\nhealth = 0.4\n",
+                                 Outcome::Completed, ""},
+                      SurveyCase{"sensor_dropout", "", "kind = \"sensor_dropout\"\nat_s = 330.0\nduration_s = 20.0\n",
+                                 Outcome::Aborted, kLeak},
+                      SurveyCase{"compass_bias", "", "kind = \"compass_bias\"\nat_s = 5.0\nbias_deg = 20.0\n",
+                                 Outcome::Completed, ""},
+                      SurveyCase{"no_gps", "", "kind = \"no_gps\"\nat_s = 130.0\n", Outcome::Failed, ""},
+                      SurveyCase{"link_loss", "", "kind = \"link_loss\"\nat_s = 330.0\nduration_s = 5.0\n",
+                                 Outcome::Failed, ""}),
     [](const ::testing::TestParamInfo<SurveyCase>& p) { return p.param.name; });
 
 }  // namespace

@@ -138,8 +138,7 @@ leg_floor(N) :- report(floor), asserta(abort(leg(N))).
   EXPECT_EQ((Strings{"start nested#0", "start leg(1)#1", "exec track", "exec sleep [floor]", "start scan(1)#2",
                      "exec sleep", "ask altitude_low [floor]",
                      "TRIP floor of leg(1)#1 on altitude_low at 1.2: phases [scan(1) (instance 2)] calls [exec sleep]",
-                     "end scan(1)#2 cancelled",
-                     "report report", "end leg(1)#1 abort", "exec surface"}),
+                     "end scan(1)#2 cancelled", "report report", "end leg(1)#1 abort", "exec surface"}),
             r->guards.events);
   reply(*r, "surface", true, 1.3);
   ASSERT_TRUE(r->session->ended_with(Outcome::Completed)) << r->session->why();
