@@ -64,10 +64,9 @@ std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) 
       });
       if (trip == seen.guard_trips.end()) {
         c.pass = false;
-        c.note = seen.guard_trips.empty()
-                     ? fmt::format("guard {} never tripped", set.guard)
-                     : fmt::format("guard {} never tripped after the fault ({} did)", set.guard,
-                                   seen.guard_trips.front().first);
+        c.note = seen.guard_trips.empty() ? fmt::format("guard {} never tripped", set.guard)
+                                          : fmt::format("guard {} never tripped after the fault ({} did)", set.guard,
+                                                        seen.guard_trips.front().first);
       } else {
         const double after = std::max(0.0, trip->second - *seen.fault_at_s);
         c.figure = std::round(after * 1000.0) / 1000.0;

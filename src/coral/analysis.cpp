@@ -115,8 +115,7 @@ AnalysisNet build_analysis_net(const Program& program, const CompiledNet& cn,
       const GuardNode node = cn.guard_node(f.transition);
       const bool own = node.guard == g && (node.role == GuardRole::Poll || node.role == GuardRole::Ask);
       if (own) continue;
-      const petri::TransitionId d =
-          b.add_transition(fmt::format("{}.drop.{}", guard.name, f.name), kGuardDropPriority);
+      const petri::TransitionId d = b.add_transition(fmt::format("{}.drop.{}", guard.name, f.name), kGuardDropPriority);
       b.add_input(d, guard.cancel, 1);
       b.add_input(d, f.place, 1);
       b.add_output(d, guard.cancel, 1);

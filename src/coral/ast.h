@@ -116,7 +116,7 @@ struct PlaceDecl {
   Name name;
   std::uint32_t initial = 0;
   bool is_exit = false;
-  bool generated = false;  // made by expand_guards (coral/guards.h), not written
+  bool generated = false;         // made by expand_guards (coral/guards.h), not written
   core::SourceSpan initial_span;  // the `= N`, if written
   core::SourceSpan statement;     // the whole `place a, b = 1;` it is declared in
 };
@@ -130,7 +130,7 @@ struct Net {
   std::vector<Name> exits;        // exit places in declaration order
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)
   std::vector<Transition> transitions;
-  std::vector<Guard> guards;  // as written; expand_guards adds their places and transitions
+  std::vector<Guard> guards;              // as written; expand_guards adds their places and transitions
   core::SourceSpan span;                  // the `net NAME` / `mission NAME` head
   std::optional<std::uint32_t> body_end;  // offset of the closing '}', when there is one
 };

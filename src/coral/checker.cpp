@@ -247,8 +247,9 @@ class NetChecker {
                                fmt::format("guard '{}' marks no place when it trips: the net is emptied, so it "
                                            "would stall",
                                            g.name.text));
-        core::add_note(d, "give it a handler that ends the net: a PHASE whose exits map to places (an exit of "
-                          "the net), or a signal");
+        core::add_note(d,
+                       "give it a handler that ends the net: a PHASE whose exits map to places (an exit of "
+                       "the net), or a signal");
       }
     }
   }

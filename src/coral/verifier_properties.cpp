@@ -118,8 +118,8 @@ Property no_dead(const ExploredNet& x) {
     dead.push_back(fmt::format("{}{}", x.cn.net.transition_name(t), why));
   }
   if (dead.empty()) {
-    p.message = written == 1 ? "the one transition can fire"
-                             : fmt::format("each of the {} transitions can fire", written);
+    p.message =
+        written == 1 ? "the one transition can fire" : fmt::format("each of the {} transitions can fire", written);
     return p;
   }
   if (!x.graph.complete()) return undecided(x, p);
@@ -202,12 +202,12 @@ Property can_always_end(const ExploredNet& x) {
   } else {
     // What the mission itself can still do: a guard's own steps are not that.
     std::set<petri::TransitionId> steps = x.reachable_steps(bad);
-    std::erase_if(steps, [&](petri::TransitionId t) {
-      return x.an.guard_cycle(t) || (!x.an.urgent.empty() && x.an.urgent[t]);
-    });
-    p.message = steps.empty() ? fmt::format("trapped: from here {} can no longer be reached; only the guards can "
-                                            "still poll",
-                                            goal)
+    std::erase_if(
+        steps, [&](petri::TransitionId t) { return x.an.guard_cycle(t) || (!x.an.urgent.empty() && x.an.urgent[t]); });
+    p.message = steps.empty() ? fmt::format(
+                                    "trapped: from here {} can no longer be reached; only the guards can "
+                                    "still poll",
+                                    goal)
                               : fmt::format("trapped: from here {} can no longer be reached; only {} can still happen",
                                             goal, join(x.labels(steps)));
   }
@@ -395,16 +395,18 @@ Property guards_can_trip(const ExploredNet& x) {
     names.push_back(guard.name);
     const std::vector<bool> trips = can_reach(x, [&](StateId s) {
       const auto next = x.graph.successors(s);
-      return std::any_of(next.begin(), next.end(), [&](const petri::ReachEdge& e) { return e.transition == guard.trip; });
+      return std::any_of(next.begin(), next.end(),
+                         [&](const petri::ReachEdge& e) { return e.transition == guard.trip; });
     });
     for (StateId s = 0; s < x.graph.state_count(); ++s) {
       if (trips[s] || x.graph.terminal(s) || after_trip[s] || tripping(x, s)) continue;
       p.status = Status::Fails;
       p.about = Property::About::Transition;
       p.about_id = guard.trip;
-      p.message = active(x, g, s)
-                      ? fmt::format("guard {} is blocked: it is polling here but can never trip from here on", guard.name)
-                      : fmt::format("guard {} has stopped polling here, though no guard tripped", guard.name);
+      p.message =
+          active(x, g, s)
+              ? fmt::format("guard {} is blocked: it is polling here but can never trip from here on", guard.name)
+              : fmt::format("guard {} has stopped polling here, though no guard tripped", guard.name);
       p.counterexample = x.trace_to(s);
       return p;
     }
@@ -418,9 +420,8 @@ Property guards_can_trip(const ExploredNet& x) {
 Property guard_handlers_end(const ExploredNet& x) {
   Property p = named("handlers_end");
   if (!x.graph.complete()) return undecided(x, p);
-  const std::vector<bool> ends = can_reach(x, [&](StateId s) {
-    return x.ends_when_dead() ? x.graph.successors(s).empty() : x.graph.terminal(s);
-  });
+  const std::vector<bool> ends =
+      can_reach(x, [&](StateId s) { return x.ends_when_dead() ? x.graph.successors(s).empty() : x.graph.terminal(s); });
   std::vector<std::string> found;
   for (const CompiledGuard& guard : x.cn.guards) {
     std::set<StateId> after;

@@ -365,7 +365,12 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   std::string_view transition = inst.net->net.transition_name(t);
   const coral::GuardNode node = inst.net->guard_node(t);
   const bool polls = node.role == coral::GuardRole::Poll || node.role == coral::GuardRole::Ask;
-  ActionStart event{id,         inst.id, verb_of(a), primitive_of(a), transition, now(),
+  ActionStart event{id,
+                    inst.id,
+                    verb_of(a),
+                    primitive_of(a),
+                    transition,
+                    now(),
                     polls ? std::string_view(inst.net->guards[node.guard].name) : std::string_view()};
   observers_.action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {

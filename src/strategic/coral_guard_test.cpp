@@ -127,8 +127,8 @@ TEST(CoralGuards, TripEndsNestedPhasesOutermostFirst) {
       transition close { wait { surfaced } signal { aborted } } }
   )");
   EXPECT_EQ("sleep(600) sleep(2)", run.tactics.names());
-  run.tactics.answer(1, true);                                        // the guard's sleep
-  run.tactics.answer(run.tactics.pending_call("altitude_low"), false);  // the first term: no
+  run.tactics.answer(1, true);                                           // the guard's sleep
+  run.tactics.answer(run.tactics.pending_call("altitude_low"), false);   // the first term: no
   run.tactics.answer(run.tactics.pending_call("system_problem"), true);  // the second: trips
   EXPECT_EQ((std::vector<std::string>{"trip leak in m by system_problem [outer (instance 1),inner (instance 2)] "
                                       "[exec sleep]",
@@ -200,8 +200,9 @@ TEST(CoralGuards, FirstGuardOfANetToTripWins) {
   run.tactics.answer(run.tactics.pending_call("altitude_low"), true);
   ASSERT_TRUE(run.result);
   EXPECT_EQ("by_floor", run.result->exit);
-  EXPECT_EQ((std::vector<std::string>{"trip floor in m by altitude_low [] [exec long_task,exec sleep]", "end m by_floor"}),
-            run.recorder.events)
+  EXPECT_EQ(
+      (std::vector<std::string>{"trip floor in m by altitude_low [] [exec long_task,exec sleep]", "end m by_floor"}),
+      run.recorder.events)
       << "the leak guard's sleep in flight is forgotten with the rest";
 }
 

@@ -121,10 +121,10 @@ struct ActionFinish {
 // are pre-empted before its handler starts: the phases end (cancelled), and
 // the replies of the calls still in flight will be ignored.
 struct GuardTrip {
-  InstanceId instance = 0;       // the net (mission or phase) that declares the guard
+  InstanceId instance = 0;  // the net (mission or phase) that declares the guard
   std::string_view net;
   std::string_view guard = {};
-  std::string_view condition;    // the term found true: "system_problem", "not gps_available"
+  std::string_view condition;                 // the term found true: "system_problem", "not gps_available"
   std::vector<std::string> preempted_phases;  // "leg (instance 3)", outermost first
   std::vector<std::string> preempted_calls;   // "exec sleep", in the order issued
   double sim_time_s = 0.0;
