@@ -13,7 +13,6 @@
 
 :- dynamic current_phase/1, complete/1, abort/1.
 :- discontiguous execute_phase/1.
-:- use_phase(abort_surface).
 
 current_phase(launch).
 
@@ -68,7 +67,7 @@ next_phase(P) :-
 finish :-
     current_phase(mission_abort), !,
     report('survey aborted: surfacing'),
-    abort_surface(surfaced),
+    rise,
     ood('shutdown_network', _).
 finish :-
     ood('shutdown_network', _).
@@ -108,7 +107,7 @@ on_leak :-
     report('survey aborted: a problem on board, surfacing'),
     retractall(current_phase(_)),
     asserta(current_phase(mission_abort)),
-    abort_surface(surfaced),
+    rise,
     ood('shutdown_network', _).
 
 % Between legs: up, half a minute of fixes, a fix, down to 5 m again.
