@@ -411,9 +411,8 @@ Property guards_can_trip(const ExploredNet& x) {
       return p;
     }
   }
-  p.message = fmt::format("{} can trip from every marking where {} polling",
-                          names.size() == 1 ? "the guard " + names[0] : "every guard (" + join(names) + ")",
-                          names.size() == 1 ? "it is" : "it is");
+  p.message = fmt::format("{} can trip from every marking where it is polling",
+                          names.size() == 1 ? "the guard " + names[0] : "every guard (" + join(names) + ")");
   return p;
 }
 
