@@ -73,10 +73,10 @@ test('replay a mission log with the slider, and step it from firing to firing', 
 });
 
 test('a survey replay shows the map: the whole track, the vehicle moving with the slider', async ({ page }) => {
-  page.studio.runLog('missions/survey/survey.coral', 'survey-run.jsonl');
+  page.studio.runLog('missions/survey/survey.coral', 'survey-run.jsonl', 600);  // the launch and the first leg
   await page.goto(page.studio.url);
   await page.locator('#log-list li[data-path="survey-run.jsonl"]').click();
-  await waitFor(page, "s.replay && s.replay.length > 10 && s.view === 'replay' && s.map.shown && s.map.drawn", 60000, 'replay with its map');  // a 1,750 s survey log: slow under ASan beside the other worker
+  await waitFor(page, "s.replay && s.replay.length > 10 && s.view === 'replay' && s.map.shown && s.map.drawn", 60000, 'replay with its map');  // a 600 s survey log: slow under ASan beside the other worker
   await expect(page.locator('#map-box')).toBeVisible();
   const end = await studio(page, 's.map.drawn');
   expect(end.points).toBeGreaterThan(100);
