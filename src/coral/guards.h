@@ -29,6 +29,10 @@
 
 namespace strata::coral {
 
+// The most guards one net may declare: each adds a drop per place of its
+// net, so their cost is guards x places (parser: TooManyGuards past it).
+inline constexpr std::size_t kMaxGuards = 16;
+
 inline constexpr int kGuardPollPriority = 1'000'001;
 inline constexpr int kGuardHandlePriority = 1'000'002;
 inline constexpr int kGuardDropPriority = 1'000'003;

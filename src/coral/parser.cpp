@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "coral/guards.h"
 #include "coral/lexer.h"
 #include "coral/program.h"
 #include "coral/token_cursor.h"
@@ -301,6 +302,13 @@ class Parser : private TokenCursor {
                    fmt::format("guard '{}' has no 'when' clause: say which ASKs trip it", g.name.text));
     }
     g.extent = join(head.span, prev_.span);
+    if (net.guards.size() == kMaxGuards) {
+      sink_.report(DiagnosticKind::TooManyGuards, g.name.span,
+                   fmt::format("net '{}' declares more than {} guards; each one adds a transition per place of the "
+                               "net",
+                               net.name.text, kMaxGuards));
+      return;
+    }
     net.guards.push_back(std::move(g));
   }
 

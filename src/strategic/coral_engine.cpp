@@ -203,6 +203,8 @@ void CoralEngine::drain() {
 void CoralEngine::handle(Message& message) {
   auto it = in_flight_.find(message.id);
   if (it == in_flight_.end()) {
+    // A guard's poll forgotten when its net ended or tripped: expected, not news.
+    if (orphaned_polls_.erase(message.id) > 0) return;
     bool late = orphaned_.erase(message.id) > 0;
     Notice n{late ? fmt::format("reply for action {} of a phase that has ended, ignored", message.id)
                   : fmt::format("reply for unknown action {}, ignored", message.id),
@@ -444,7 +446,7 @@ void CoralEngine::end_instance(InstanceId id, std::optional<std::size_t> exit_in
   inst.state.reset();
   for (auto it = in_flight_.begin(); it != in_flight_.end();) {
     if (it->second.instance == id) {
-      orphaned_.insert(it->first);
+      orphan(it->first, it->second);
       it = in_flight_.erase(it);
     } else {
       ++it;
@@ -491,12 +493,16 @@ void CoralEngine::preempt(Instance& inst, const coral::CompiledGuard& guard) {
   for (InstanceId child : inst.children) end_instance(child, std::nullopt, true);
   for (auto it = in_flight_.begin(); it != in_flight_.end();) {
     if (it->second.instance == inst.id) {
-      orphaned_.insert(it->first);
+      orphan(it->first, it->second);
       it = in_flight_.erase(it);
     } else {
       ++it;
     }
   }
+}
+
+void CoralEngine::orphan(ActionId id, const InFlight& action) {
+  (action.guard ? orphaned_polls_ : orphaned_).insert(id);
 }
 
 void CoralEngine::fail(std::string reason) { finish({Outcome::Failed, "", std::move(reason), std::nullopt, now()}); }
@@ -513,7 +519,7 @@ void CoralEngine::wind_down(const MissionResult& result) {
     }
     mission.state.reset();
   }
-  for (const auto& [id, action] : in_flight_) orphaned_.insert(id);
+  for (const auto& [id, action] : in_flight_) orphan(id, action);
   in_flight_.clear();
   buffer_.clear();
 }

@@ -130,6 +130,8 @@ class CoralEngine final : public ExecutorBase {
   void mark(InstanceId id, petri::PlaceId p, petri::Tokens n);
   void check_exits(InstanceId id, petri::PlaceId p);
   void end_instance(InstanceId id, std::optional<std::size_t> exit_index, bool cancelled);
+  // Forgets a call in flight: its reply, when it comes, is ignored.
+  void orphan(ActionId id, const InFlight& action);
   void fail(std::string reason);
   // finish()'s part: the phases still running end, replies still to come are ignored.
   void wind_down(const MissionResult& result) override;
@@ -144,7 +146,8 @@ class CoralEngine final : public ExecutorBase {
   std::vector<std::vector<bool>> is_exit_;  // [net][place]
   std::vector<std::unique_ptr<Instance>> instances_;
   std::unordered_map<ActionId, InFlight> in_flight_;
-  std::unordered_set<ActionId> orphaned_;  // issued by an instance that has ended
+  std::unordered_set<ActionId> orphaned_;        // issued by an instance that has ended
+  std::unordered_set<ActionId> orphaned_polls_;  // the same, a guard's polls: ignored without a notice
   std::deque<Message> buffer_;
   std::vector<InstanceId> dirty_;
   // Instances started in this pass whose guards poll once the pass is over:
