@@ -218,6 +218,23 @@ MissionRun run_file(const std::string& mission, double max_sim_time_s = RunOptio
   return run_logged(std::move(o));
 }
 
+// Regression: the embedded vehicle's watchdog counted wall-clock silence in
+// lockstep, so rules blocked in sleep(4) at depth tripped it: the run "lost
+// the link" and its verdict hung on wall time. In lockstep the simulation
+// waits for the controller: the pause changes nothing.
+TEST(RunEnd, RulesPausedLongerThanTheWatchdogInLockstepChangeNothing) {
+  MissionRun paused = run_file(kTests + "pause_at_depth.pl");
+  MissionRun plain = run_file(kTests + "no_pause_at_depth.pl");
+  EXPECT_EQ(0, paused.report.exit_code) << paused.out << paused.err;
+  EXPECT_EQ(plain.report.exit_code, paused.report.exit_code);
+  EXPECT_FALSE(paused.report.link_lost) << paused.out;
+  EXPECT_EQ(std::string::npos, paused.out.find("watchdog: link silent")) << paused.out;
+  EXPECT_EQ(plain.report.primitive_calls, paused.report.primitive_calls);
+  EXPECT_DOUBLE_EQ(plain.report.sim_time_s, paused.report.sim_time_s);
+  ASSERT_TRUE(paused.report.final_depth_m.has_value());
+  EXPECT_LT(*paused.report.final_depth_m, kSurfacedM) << paused.out;
+}
+
 TEST(RunEnd, HaltAtDepthIsAnAbortThatSurfaces) {
   MissionRun r = run_file(kTests + "halt_at_depth.pl");
   EXPECT_EQ(1, r.report.exit_code) << r.out << r.err;

@@ -12,9 +12,20 @@
 
 #include "studio/replay.h"
 #include "support/tank_run.h"
+#include "vehicle/params.h"
 
 namespace strata::cli::run_testing {
 namespace {
+
+// "At the surface" as the vehicle says it (surface_reached: its depth
+// estimate at or above surface_depth_m), in true depth: the estimate may be
+// a few of the depth cell's standard deviations off. How far above that the
+// vehicle has risen by the run's end depends on the wall clock (these runs
+// are real time), so no tighter figure holds on a loaded machine.
+double surfaced_depth_m() {
+  const auto p = vehicle::default_params();
+  return p.surface_depth_m + 5 * p.depth_noise_m;
+}
 
 bool wait_for(const std::function<bool()>& done, std::chrono::seconds bound) {
   for (auto end = std::chrono::steady_clock::now() + bound; std::chrono::steady_clock::now() < end;) {
@@ -164,7 +175,7 @@ TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
   EXPECT_EQ("abort", end["stop"]);
   EXPECT_TRUE(end["surfaced"].get<bool>()) << end.dump();
   ASSERT_TRUE(end["final_depth_m"].is_number()) << end.dump();
-  EXPECT_LT(end["final_depth_m"].get<double>(), 0.1) << end.dump();
+  EXPECT_LT(end["final_depth_m"].get<double>(), surfaced_depth_m()) << end.dump();
   EXPECT_FALSE(end["phase"].get<std::string>().empty()) << end.dump();
   // The log says the same.
   ASSERT_EQ(1u, logs().size());
@@ -177,7 +188,7 @@ TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
   EXPECT_TRUE(mission_end["safe_end"]["surfaced"].get<bool>()) << mission_end.dump();
   for (const auto& l : log) {
     if (l["event"] == "vehicle_final") {
-      EXPECT_LT(std::stod(l["depth_m"].dump()), 0.1) << l.dump();
+      EXPECT_LT(std::stod(l["depth_m"].dump()), surfaced_depth_m()) << l.dump();
     }
   }
 }
@@ -194,7 +205,7 @@ TEST_F(StudioRunTest, ClosingTheStudioLetsTheSafeEndFinish) {
   ASSERT_FALSE(end.is_null());
   EXPECT_EQ("aborted", end["outcome"]) << end.dump();
   EXPECT_TRUE(end["surfaced"].get<bool>()) << end.dump();
-  EXPECT_LT(end["final_depth_m"].get<double>(), 0.1) << end.dump();
+  EXPECT_LT(end["final_depth_m"].get<double>(), surfaced_depth_m()) << end.dump();
 }
 
 // Stop is a hard stop: nothing more is sent to the vehicle.

@@ -180,6 +180,9 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
   if (bounded_ && p.timed && sim_now_ && sim_timeout_s && std::isfinite(*sim_timeout_s) && *sim_timeout_s > 0) {
     p.sim_timeout_s = *sim_timeout_s;
     p.sim_deadline_s = *sim_now_ + *sim_timeout_s;
+    // Simulated time decides; the wall clock only catches a dead vehicle.
+    wait = std::max(wait, options_.stall_timeout);
+    p.wait = wait;
   }
   p.timer->expires_after(wait);
   auto id = request.id;

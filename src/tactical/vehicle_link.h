@@ -22,7 +22,8 @@
 // ErrorCode::Timeout, in id order. A lost link still carries that clock
 // (docs/protocol.md §8), so a silent vehicle costs simulated seconds, not
 // wall seconds, and the run stays a pure function of its inputs. The
-// wall-clock timeout stays, for a vehicle that does not answer at all. So the
+// wall-clock timeout stays, for a vehicle that does not answer at all, but
+// is then at least LinkOptions::stall_timeout (a minute). So the
 // calls made in response to one instant's replies all go before the next
 // advance, and a run stays a pure function of its inputs. Callers see one
 // call in flight at a time behave exactly as in protocol 1.
@@ -59,6 +60,11 @@ struct LinkOptions {
   std::string client_name = "strata";
   std::chrono::milliseconds connect_timeout{3000};
   std::chrono::milliseconds reply_timeout{3000};  // default for send()
+  // With simulated-time deadlines (lockstep, a bounded advance), those
+  // decide when a call times out; the wall clock only catches a vehicle that
+  // stopped answering altogether, after at least this long, so that no
+  // machine's load can decide a lockstep run.
+  std::chrono::milliseconds stall_timeout{60000};
   // After the connection drops: how many times to reconnect (and say hello
   // again) before giving up, and the wait between tries. Requests in flight
   // when it dropped fail; they are never sent twice.

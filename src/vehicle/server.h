@@ -23,8 +23,9 @@
 //    `advance` is answered at once and changes nothing.
 //
 // Watchdog: when the controlling link drops, or stays silent for watchdog_s
-// (simulated seconds on the wall clock; wall seconds in lockstep, counted
-// from the last line received or reply sent), the vehicle surfaces by itself
+// (simulated seconds on the wall clock; in lockstep, wall seconds
+// (ServerOptions::lockstep_silence_s, or never) counted from the last line
+// received or reply sent), the vehicle surfaces by itself
 // and says why in an event; requests still waiting for their cycle are
 // answered `err ID not_ready`. In lockstep it then runs on its own until it
 // is at the surface. A protocol-2 client that holds requests without sending
@@ -82,6 +83,13 @@ struct ServerOptions {
   // (so that a client that connects and says nothing cannot hold the
   // vehicle); <= 0: no limit.
   double hello_timeout_s = 5.0;
+  // Lockstep: wall seconds of silence after which the watchdog trips (a
+  // controller hung with its connection open; the simulation waits for it
+  // otherwise). nullopt: the vehicle's watchdog_s. <= 0: never, for a
+  // controller in this process (strata run's embedded vehicle), whose end
+  // closes the link: a run is then a pure function of its inputs, whatever
+  // the machine's load or a rule blocking for a while.
+  std::optional<double> lockstep_silence_s;
   // The sonar socket (docs/protocol.md §10), on the same address.
   bool sonar = true;
   std::uint16_t sonar_port = 0;  // 0: a free port, see VehicleServer::sonar_port()
