@@ -23,6 +23,8 @@
 #include "cli/exit_codes.h"
 #include "cli/verify_question.h"
 #include "cli/witness_out.h"
+#include "cli/verify_bound.h"
+#include "coral/timing.h"
 #include "coral/verify_report.h"
 #include "core/memory.h"
 #include "core/mission_language.h"
@@ -248,6 +250,15 @@ Runner add_verify_command(CLI::App& app) {
   add_verbosity_flags(cmd, o->verbosity, "");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);
+  auto bounds = std::make_shared<BoundFlags>();
+  cmd->add_option("--bound", bounds->questions,
+                  "MISSION: the reaction time, at worst and at best, from FROM to TO: 'fault ASK -> exec surface', "
+                  "'trip GUARD -> surface within 30', 'start PHASE -> exit NAME' (docs/verification.md, \"Reaction "
+                  "time\"); may be given more than once");
+  cmd->add_option("--depth-max", bounds->depth_max_m,
+                  "--bound ... -> surface: the deepest the vehicle can be, m, for the ascent estimate")
+      ->check(finite_range(0.0, 11000.0))
+      ->capture_default_str();
   cmd->add_option("--witness-out", q->witness_out,
                   "MISSION: write the counterexample of the first property that fails (in --net's net when given), "
                   "or with --question its witness, as the vehicle answers the path needs: `strata run MISSION "
@@ -258,7 +269,7 @@ Runner add_verify_command(CLI::App& app) {
       "file it cannot open.\n"
       "Exit, --pnml: 0 when the graph was explored in full; 1 when a limit or Ctrl-C stopped it (a partial "
       "report); 65 for a net Strata cannot read; 74 for a file it cannot open.");
-  return [o, q, cmd] {
+  return [o, q, cmd, bounds] {
     o->max_states_given = cmd->count("--max-states") > 0;
     o->max_memory_given = cmd->count("--max-memory") > 0;
     if (o->mission.empty() && o->pnml.empty()) {
@@ -273,6 +284,16 @@ Runner add_verify_command(CLI::App& app) {
     o->witness_out = q->witness_out;
     o->witness_net = q->net;
     try {
+      if (!bounds->questions.empty()) {
+        if (!o->pnml.empty() || question_requested(*q) || !o->witness_out.empty()) {
+          std::cerr << "strata verify: --bound asks about a MISSION, alone (not with --pnml, --question or "
+                       "--witness-out)\n";
+          return static_cast<int>(kExitUsage);
+        }
+        return run_mission_bounds(o->mission, o->catalogue, *bounds, o->format,
+                                  o->max_states_given ? o->max_states : coral::BoundOptions{}.max_states,
+                                  o->verbosity.level() == Verbosity::Verbose);
+      }
       if (question_requested(*q)) {
         const bool is_mission = o->pnml.empty();
         const QuestionLimits limits{o->max_states_given ? o->max_states : 0,

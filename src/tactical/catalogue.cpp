@@ -46,14 +46,23 @@ std::string list_names(const std::vector<std::string>& names) { return fmt::form
 class CatalogueReader {
  public:
   explicit CatalogueReader(core::TomlErrors& errors) : errors_(errors) {}
+  std::optional<double> reply_s;  // the top level's, once read
 
   std::vector<Primitive> read(const toml::table& root) {
     std::vector<Primitive> out;
     for (auto&& [key, node] : root) {
-      if (key.str() != "primitive") {
+      if (key.str() != "primitive" && key.str() != "reply_s") {
         errors_.add(key, fmt::format("unknown key '{}' at the top level: a catalogue holds only "
-                                     "[[primitive]] tables",
+                                     "reply_s and [[primitive]] tables",
                                      key.str()));
+      }
+    }
+    if (const toml::node* reply = root.get("reply_s")) {
+      auto v = core::toml_number(*reply);
+      if (!v || !std::isfinite(*v) || *v <= 0) {
+        errors_.add(*reply, "reply_s must be a number of seconds above 0");
+      } else {
+        reply_s = *v;
       }
     }
     const toml::node* list = root.get("primitive");
@@ -100,8 +109,8 @@ class CatalogueReader {
   static std::string str(const toml::node& n) { return n.as_string()->get(); }
 
   std::optional<Primitive> read_primitive(const toml::table& t) {
-    static const std::set<std::string, std::less<>> kKeys = {"name", "kind", "args",   "timeout_s", "timeout_plus_arg",
-                                                             "data", "doc",  "message"};
+    static const std::set<std::string, std::less<>> kKeys = {"name", "kind", "args",    "timeout_s", "timeout_plus_arg",
+                                                             "data", "doc",  "message", "reply_s"};
     Primitive p;
     p.line = t.source().begin.line;
 
@@ -120,7 +129,7 @@ class CatalogueReader {
     for (auto&& [key, node] : t) {
       if (!kKeys.count(key.str())) {
         errors_.add(key, fmt::format("{}: unknown key '{}' (known: args, data, doc, kind, message, "
-                                     "name, timeout_plus_arg, timeout_s)",
+                                     "name, reply_s, timeout_plus_arg, timeout_s)",
                                      owner, key.str()));
         ok = false;
       }
@@ -190,6 +199,24 @@ class CatalogueReader {
         ok = false;
       } else {
         p.timeout_s = *v;
+      }
+    }
+
+    if (const toml::node* reply = t.get("reply_s")) {
+      auto v = core::toml_number(*reply);
+      if (report) {
+        errors_.add(*reply, fmt::format("{}: a report sends nothing to the vehicle, so it has no reply_s", owner));
+        ok = false;
+      } else if (!v || !std::isfinite(*v) || *v <= 0) {
+        errors_.add(*reply, fmt::format("{}: reply_s must be a number of seconds above 0", owner));
+        ok = false;
+      } else if (p.timeout_s > 0 && *v > p.timeout_s) {
+        errors_.add(*reply, fmt::format("{}: reply_s ({} s) must not exceed timeout_s ({} s): a later reply "
+                                        "fails the call",
+                                        owner, *v, p.timeout_s));
+        ok = false;
+      } else {
+        p.reply_s = *v;
       }
     }
 
@@ -403,6 +430,7 @@ core::Result<Catalogue> Catalogue::parse(std::string_view text, const std::strin
   Catalogue c;
   c.source_ = source_name;
   c.primitives_ = std::move(primitives);
+  c.reply_s_ = reader.reply_s;
   for (std::size_t i = 0; i < c.primitives_.size(); ++i) c.index_.emplace(c.primitives_[i].name, i);
   return c;
 }
@@ -411,6 +439,10 @@ core::Result<Catalogue> Catalogue::load(const std::string& path) {
   auto text = core::read_toml_text(path);
   if (!text) return text.error();
   return parse(text.value(), path);
+}
+
+double Catalogue::reply_bound_s(const Primitive& p) const {
+  return std::min(p.reply_s.value_or(reply_s_.value_or(p.timeout_s)), p.timeout_s);
 }
 
 std::string_view Catalogue::builtin_text() { return kBuiltinCatalogueText; }

@@ -44,6 +44,10 @@ struct Primitive {
   Kind kind = Kind::Exec;
   std::vector<Argument> args;
   double timeout_s = 0;  // the reply timeout, s; 0 for report
+  // The Execution level's promise: it answers within this (after the
+  // timeout_plus_arg argument, for sleep), s. The timing analysis
+  // (`strata verify --bound`) uses it; nullopt: the catalogue's reply_s.
+  std::optional<double> reply_s;
   std::string doc;
   std::string message;           // the template, e.g. "exec sleep {seconds}"; "" for report
   std::string timeout_plus_arg;  // an argument in seconds added to timeout_s; "" if none
@@ -72,6 +76,10 @@ class Catalogue {
   static std::string_view builtin_text();
 
   const Primitive* find(std::string_view name) const;
+  // The longest time the vehicle takes to answer p (beyond its
+  // timeout_plus_arg argument): p's reply_s, else the catalogue's, else
+  // its timeout; never past its timeout.
+  double reply_bound_s(const Primitive& p) const;
   // In file order.
   const std::vector<Primitive>& all() const { return primitives_; }
   // Where it came from: a path, or "<builtin>/config/primitives.toml".
@@ -79,6 +87,7 @@ class Catalogue {
 
  private:
   std::string source_;
+  std::optional<double> reply_s_;  // the file's top-level reply_s
   std::vector<Primitive> primitives_;
   std::map<std::string, std::size_t, std::less<>> index_;
 };
