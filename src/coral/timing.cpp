@@ -171,7 +171,7 @@ std::optional<std::string> finish_model(Model& m, const BoundQuery& q) {
   m.lo.assign(m.places, -1);
   m.hi.assign(m.places, -1);
   m.child.assign(m.places, -1);
-  bool event_seen = q.from == BoundQuery::From::Fault;
+  bool event_seen = false;
   bool to_seen = false;
   for (std::uint32_t i = 0; i < m.insts.size(); ++i) {
     const Inst& inst = m.insts[i];
