@@ -118,7 +118,6 @@ int run_mission_bounds(const std::string& mission, const std::string& catalogue_
     std::cerr << fmt::format("strata verify: {} declares no mission: --bound asks about a mission's run\n", mission);
     return kExitUsage;
   }
-  const tactical::Catalogue& cat = catalogue.value();
   const coral::BoundOptions bo = bound_options(catalogue.value(), flags.depth_max_m, max_states);
   int code = kExitOk;
   auto answers = nlohmann::ordered_json::array();
