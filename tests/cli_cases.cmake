@@ -37,6 +37,7 @@ function(strata_cli_cases table)
     string(REPLACE "<semicolon>" ";" out "${out}")
     string(REPLACE "<semicolon>" ";" err "${err}")
     string(REPLACE " " ";" args "${args}")
+    string(REPLACE "<space>" " " args "${args}")  # a space inside one argument
     # Each -D below is one quoted argument: a regex may hold a semicolon.
     set(out_arg "-DSTDOUT_MATCH=${out}")
     set(err_arg "-DSTDERR_MATCH=${err}")

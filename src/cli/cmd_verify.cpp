@@ -254,7 +254,8 @@ Runner add_verify_command(CLI::App& app) {
   cmd->add_option("--bound", bounds->questions,
                   "MISSION: the reaction time, at worst and at best, from FROM to TO: 'fault ASK -> exec surface', "
                   "'trip GUARD -> surface within 30', 'start PHASE -> exit NAME' (docs/verification.md, \"Reaction "
-                  "time\"); may be given more than once");
+                  "time\"); may be given more than once")
+      ->allow_extra_args(false);
   cmd->add_option("--depth-max", bounds->depth_max_m,
                   "--bound ... -> surface: the deepest the vehicle can be, m, for the ascent estimate")
       ->check(finite_range(0.0, 11000.0))

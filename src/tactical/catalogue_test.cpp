@@ -161,7 +161,7 @@ TEST(Catalogue, SemanticErrorsAreLocated) {
 
   EXPECT_EQ(
       "cat.toml:8:1: primitive 'sleep': unknown key 'colour' (known: args, data, doc, kind, "
-      "message, name, timeout_plus_arg, timeout_s)",
+      "message, name, reply_s, timeout_plus_arg, timeout_s)",
       parse_error(kGood + "colour = \"red\"\n"));
 }
 
@@ -243,4 +243,50 @@ TEST(Catalogue, AFifoGivenAsTheCatalogueIsAnErrorNotAHang) {
 }
 
 }  // namespace
+// The timing analysis's reply bound (docs/verification.md, "Reaction time"):
+// a primitive's own, else the catalogue's, else its timeout; never above it.
+TEST(Catalogue, ReplyBoundsComeFromThePrimitiveTheCatalogueOrTheTimeout) {
+  const std::string text = R"(reply_s = 0.5
+[[primitive]]
+name = "a"
+kind = "ask"
+timeout_s = 2
+doc = "a"
+message = "ask a"
+[[primitive]]
+name = "b"
+kind = "ask"
+timeout_s = 2
+reply_s = 0.2
+doc = "b"
+message = "ask b"
+[[primitive]]
+name = "c"
+kind = "ask"
+timeout_s = 0.3
+doc = "c"
+message = "ask c"
+)";
+  auto c = Catalogue::parse(text, "cat.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_DOUBLE_EQ(0.5, c.value().reply_bound_s(*c.value().find("a")));
+  EXPECT_DOUBLE_EQ(0.2, c.value().reply_bound_s(*c.value().find("b")));
+  EXPECT_DOUBLE_EQ(0.3, c.value().reply_bound_s(*c.value().find("c")));
+  const Catalogue& builtin = Catalogue::builtin();
+  EXPECT_DOUBLE_EQ(0.1, builtin.reply_bound_s(*builtin.find("system_problem")));
+}
+
+TEST(Catalogue, AReplyBoundPastTheTimeoutOrNotAboveZeroIsRefused) {
+  auto late = Catalogue::parse("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\nreply_s = 3\ndoc = \"a\"\nmessage = \"ask a\"\n",
+                               "cat.toml");
+  ASSERT_FALSE(late.ok());
+  EXPECT_NE(std::string::npos, late.error().message.find("cat.toml:5:11: primitive 'a': reply_s (3 s) must not exceed timeout_s (2 s)"))
+      << late.error().message;
+  auto zero = Catalogue::parse("reply_s = 0\n[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\ndoc = \"a\"\nmessage = \"ask a\"\n",
+                               "cat.toml");
+  ASSERT_FALSE(zero.ok());
+  EXPECT_NE(std::string::npos, zero.error().message.find("cat.toml:1:11: reply_s must be a number of seconds above 0"))
+      << zero.error().message;
+}
+
 }  // namespace strata::tactical
