@@ -44,8 +44,7 @@ void bm_prove(benchmark::State& st, const std::string& mission) {
   st.counters["proven_s"] = proven;
 }
 
-void bm_campaign(benchmark::State& st, const std::string& mission, const std::string& world, double span_s,
-                 int cases) {
+void bm_campaign(benchmark::State& st, const std::string& mission, const std::string& world, double span_s, int cases) {
   const coral::BoundAnswer proven = prove_bound(kMissions + mission, kLeak);
   if (proven.verdict != coral::BoundAnswer::Verdict::Bounded) {
     st.SkipWithError(proven.message.c_str());
@@ -83,7 +82,9 @@ void bm_campaign(benchmark::State& st, const std::string& mission, const std::st
   st.counters["measured"] = counted;
 }
 
-BENCHMARK_CAPTURE(bm_prove, tank, std::string("tank/tank.coral"))->Name("bound/prove/tank")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(bm_prove, tank, std::string("tank/tank.coral"))
+    ->Name("bound/prove/tank")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(bm_prove, survey, std::string("survey/survey.coral"))
     ->Name("bound/prove/survey")
     ->Unit(benchmark::kMillisecond)

@@ -43,8 +43,8 @@ void cross_check(const std::string& mission, const std::string& scenario, const 
                        m.fault_s, *m.reaction_s, proven.worst_s);
   }
   EXPECT_GE(counted, at_least_measured);
-  std::printf("[ figure ] %s: proven %.1f s, worst measured %.1f s over %zu leaks\n", mission.c_str(),
-              proven.worst_s, worst, counted);
+  std::printf("[ figure ] %s: proven %.1f s, worst measured %.1f s over %zu leaks\n", mission.c_str(), proven.worst_s,
+              worst, counted);
 }
 
 TEST(BoundCrossCheck, NoTankLeakIsAnsweredLaterThanTheProvenBound) {

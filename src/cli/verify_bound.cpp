@@ -154,8 +154,9 @@ int run_mission_bounds(const std::string& mission, const std::string& catalogue_
     switch (a.verdict) {
       case coral::BoundAnswer::Verdict::Bounded:
         head = fmt::format("at worst {:.1f} s, at best {:.1f} s", a.worst_s, a.best_s);
-        if (q.within_s) head += ok ? fmt::format(": within {} s holds", *q.within_s)
-                                   : fmt::format(": within {} s FAILS", *q.within_s);
+        if (q.within_s)
+          head +=
+              ok ? fmt::format(": within {} s holds", *q.within_s) : fmt::format(": within {} s FAILS", *q.within_s);
         break;
       case coral::BoundAnswer::Verdict::Unbounded: head = "UNBOUNDED: " + a.message; break;
       case coral::BoundAnswer::Verdict::NoEvent: head = "the event never happens: " + a.message; break;

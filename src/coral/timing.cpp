@@ -48,13 +48,13 @@ constexpr std::string_view kForms =
 struct Inst {
   const CompiledNet* cn = nullptr;
   AnalysisNet an;
-  std::uint32_t place0 = 0;    // the global id of its analysis place 0
-  std::uint32_t end_place = 0; // one past the last global place of it and its calls
-  std::uint32_t end_inst = 0;  // one past the last instance of its calls
+  std::uint32_t place0 = 0;        // the global id of its analysis place 0
+  std::uint32_t end_place = 0;     // one past the last global place of it and its calls
+  std::uint32_t end_inst = 0;      // one past the last instance of its calls
   std::vector<ast::Literal> args;  // its parameters' values, in order
   std::string path;
-  std::vector<int> child;     // by analysis place: the instance its PHASE in flight runs (-1: none)
-  std::vector<int> lo, hi;    // by analysis place: a call in flight's answer interval, in ticks (-1: none)
+  std::vector<int> child;   // by analysis place: the instance its PHASE in flight runs (-1: none)
+  std::vector<int> lo, hi;  // by analysis place: a call in flight's answer interval, in ticks (-1: none)
 };
 
 // A transition of some instance, and what it means to the question.
@@ -72,12 +72,12 @@ struct Model {
   std::vector<Inst> insts;
   std::vector<GlobalTransition> transitions;
   std::uint32_t places = 0;
-  std::vector<std::uint32_t> timed_places;  // global ids of calls in flight with an interval
-  std::vector<std::int32_t> lo, hi;         // by global place
-  std::vector<std::int32_t> child;          // by global place
-  std::vector<std::uint32_t> mission_exits; // global
+  std::vector<std::uint32_t> timed_places;            // global ids of calls in flight with an interval
+  std::vector<std::int32_t> lo, hi;                   // by global place
+  std::vector<std::int32_t> child;                    // by global place
+  std::vector<std::uint32_t> mission_exits;           // global
   std::vector<std::vector<std::uint32_t>> consumers;  // by global place: the transitions it is an input of
-  std::optional<std::uint32_t> to_exit;     // To::Exit: the global place
+  std::optional<std::uint32_t> to_exit;               // To::Exit: the global place
 };
 
 std::optional<ast::Literal> resolve(const ast::Literal& l, const Inst& inst) {
@@ -269,9 +269,9 @@ std::string encode(const State& s) {
   for (std::uint32_t p = 0; p < s.m.size(); ++p) {
     if (s.m[p] == 0) continue;
     const std::uint16_t c = s.c[p];
-    const char bytes[] = {static_cast<char>(p & 0xff), static_cast<char>((p >> 8) & 0xff),
+    const char bytes[] = {static_cast<char>(p & 0xff),         static_cast<char>((p >> 8) & 0xff),
                           static_cast<char>((p >> 16) & 0xff), static_cast<char>(s.m[p]),
-                          static_cast<char>(c & 0xff), static_cast<char>(c >> 8)};
+                          static_cast<char>(c & 0xff),         static_cast<char>(c >> 8)};
     key.append(bytes, sizeof bytes);
   }
   return key;
@@ -281,7 +281,8 @@ void decode(std::string_view key, State& s) {
   std::fill(s.m.begin(), s.m.end(), 0);
   std::fill(s.c.begin(), s.c.end(), 0);
   s.flags = static_cast<std::uint8_t>(key[0]);
-  s.covered = static_cast<std::uint16_t>(static_cast<unsigned char>(key[1]) | (static_cast<unsigned char>(key[2]) << 8));
+  s.covered =
+      static_cast<std::uint16_t>(static_cast<unsigned char>(key[1]) | (static_cast<unsigned char>(key[2]) << 8));
   for (std::size_t i = 3; i + 6 <= key.size(); i += 6) {
     const auto b = [&](std::size_t k) { return static_cast<std::uint32_t>(static_cast<unsigned char>(key[i + k])); };
     const std::uint32_t p = b(0) | (b(1) << 8) | (b(2) << 16);
@@ -360,7 +361,8 @@ class Explorer {
     clear(s, inst);
     const Inst& in = m_.insts[inst];
     const auto& init = in.an.net.initial_marking();
-    for (PlaceId p = 0; p < init.size(); ++p) s.m[in.place0 + p] = static_cast<std::uint8_t>(std::min<petri::Tokens>(init[p], 255));
+    for (PlaceId p = 0; p < init.size(); ++p)
+      s.m[in.place0 + p] = static_cast<std::uint8_t>(std::min<petri::Tokens>(init[p], 255));
   }
 
   bool enabled(const State& s, const GlobalTransition& g) const {
@@ -614,10 +616,12 @@ class Solver {
         }
         if (positive != kTo) break;
       }
-      std::vector<std::uint32_t> loop = bfs(u, [&](std::uint32_t v) { return v == source; }, comp_[u]);
+      std::vector<std::uint32_t> loop = bfs(
+          u, [&](std::uint32_t v) { return v == source; }, comp_[u]);
       const std::int64_t before = render(loop, a.path, at);
       std::vector<std::uint32_t> round{positive};
-      auto back = bfs(x_.edges_[positive].to, [&](std::uint32_t v) { return v == source; }, comp_[u]);
+      auto back = bfs(
+          x_.edges_[positive].to, [&](std::uint32_t v) { return v == source; }, comp_[u]);
       round.insert(round.end(), back.begin(), back.end());
       render(round, a.cycle, before);
       return a;
@@ -737,7 +741,7 @@ class Solver {
   std::vector<std::uint32_t> bfs(std::uint32_t s, Goal goal, std::optional<std::uint32_t> within = {}) const {
     if (goal(s)) return {};
     std::unordered_map<std::uint32_t, std::uint32_t> via{{s, kTo}};  // state: the edge that reached it
-    std::vector<std::uint32_t> source_of;                           // by edge index seen: its source
+    std::vector<std::uint32_t> source_of;                            // by edge index seen: its source
     std::unordered_map<std::uint32_t, std::uint32_t> from;           // edge: source state
     std::deque<std::uint32_t> q{s};
     while (!q.empty()) {
@@ -772,9 +776,9 @@ class Solver {
       auto achieves = [&](std::uint32_t w) {
         for (std::uint32_t e = x_.first_edge_[w]; e < x_.first_edge_[w + 1]; ++e) {
           const Edge& ed = x_.edges_[e];
-          const bool ok = ed.to == kTo ? ed.w == want
-                                       : comp_[ed.to] != c && worst_[comp_[ed.to]] >= 0 &&
-                                             ed.w + worst_[comp_[ed.to]] == want;
+          const bool ok = ed.to == kTo
+                              ? ed.w == want
+                              : comp_[ed.to] != c && worst_[comp_[ed.to]] >= 0 && ed.w + worst_[comp_[ed.to]] == want;
           if (ok) {
             chosen = e;
             return true;
@@ -794,13 +798,15 @@ class Solver {
 
   // Appends the steps of edges to out, times counted from `elapsed` ticks;
   // returns the ticks at the end. Time passing is one step per stretch.
-  std::int64_t render(const std::vector<std::uint32_t>& way, std::vector<BoundStep>& out, std::int64_t elapsed = 0) const {
+  std::int64_t render(const std::vector<std::uint32_t>& way, std::vector<BoundStep>& out,
+                      std::int64_t elapsed = 0) const {
     const double tick = o_.tick_s;
     std::int64_t waited = 0;
     auto flush = [&] {
       if (waited == 0) return;
       elapsed += waited;
-      out.push_back({static_cast<double>(elapsed) * tick, "", fmt::format("{:.1f} s pass", static_cast<double>(waited) * tick)});
+      out.push_back(
+          {static_cast<double>(elapsed) * tick, "", fmt::format("{:.1f} s pass", static_cast<double>(waited) * tick)});
       waited = 0;
     };
     for (std::uint32_t e : way) {
@@ -818,8 +824,9 @@ class Solver {
 
   BoundStep step(std::uint32_t label, std::optional<double> t) const {
     if (label == kOnset) {
-      return {t, "", fmt::format("the fault starts: every ask {} answers {} from now on", q_.from_name,
-                                 q_.fault_value ? 1 : 0)};
+      return {
+          t, "",
+          fmt::format("the fault starts: every ask {} answers {} from now on", q_.from_name, q_.fault_value ? 1 : 0)};
     }
     const GlobalTransition& g = m_.transitions[label];
     const Inst& in = m_.insts[g.inst];

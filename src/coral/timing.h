@@ -48,8 +48,8 @@ struct BoundQuery {
   enum class From { Fault, Trip, Start };
   enum class To { Call, Exit, Surface };
   From from = From::Fault;
-  std::string from_name;     // the ask (Fault), the guard (Trip), the phase (Start)
-  bool fault_value = true;   // Fault: the answer from the fault on (`fault not Q`: 0)
+  std::string from_name;    // the ask (Fault), the guard (Trip), the phase (Start)
+  bool fault_value = true;  // Fault: the answer from the fault on (`fault not Q`: 0)
   To to = To::Call;
   std::optional<ast::TacticType> to_verb;  // Call: exec, ask or ood; nullopt: any
   std::string to_name;                     // Call: the primitive; Exit: the mission's exit

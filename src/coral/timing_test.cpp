@@ -218,8 +218,7 @@ TEST(Timing, ToAnExitAndToTheSurfaceWithItsAscent) {
   ASSERT_TRUE(c->program);
   BoundOptions o = options();
   o.ascent_s = 20.0;
-  const BoundAnswer to_exit =
-      analyse_bound(*c->program, parse_bound("fault system_problem -> exit closed").value(), o);
+  const BoundAnswer to_exit = analyse_bound(*c->program, parse_bound("fault system_problem -> exit closed").value(), o);
   ASSERT_EQ(BoundAnswer::Verdict::Bounded, to_exit.verdict) << to_exit.message;
   EXPECT_NEAR(1.3, to_exit.worst_s, 1e-9);  // the surface's own answer too
   const BoundAnswer surface = analyse_bound(*c->program, parse_bound("fault system_problem -> surface").value(), o);
@@ -253,7 +252,8 @@ TEST(Timing, QuestionsParseAndTheirErrorsSayTheColumn) {
   EXPECT_TRUE(parse_bound("leak -> surface").error().message.starts_with("column 1: expected fault, trip or start"));
   EXPECT_TRUE(parse_bound("trip leak surface").error().message.starts_with("column 11: expected ->"));
   EXPECT_TRUE(parse_bound("trip leak -> exec").error().message.starts_with("column 18: expected a name after exec"));
-  EXPECT_TRUE(parse_bound("trip leak -> surface within -1").error().message.starts_with("column 29: expected a number"));
+  EXPECT_TRUE(
+      parse_bound("trip leak -> surface within -1").error().message.starts_with("column 29: expected a number"));
   EXPECT_TRUE(parse_bound("trip leak -> surface soon").error().message.starts_with("column 22: unexpected text"));
 }
 

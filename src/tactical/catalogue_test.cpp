@@ -277,13 +277,16 @@ message = "ask c"
 }
 
 TEST(Catalogue, AReplyBoundPastTheTimeoutOrNotAboveZeroIsRefused) {
-  auto late = Catalogue::parse("[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\nreply_s = 3\ndoc = \"a\"\nmessage = \"ask a\"\n",
-                               "cat.toml");
+  auto late = Catalogue::parse(
+      "[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\nreply_s = 3\ndoc = \"a\"\nmessage = \"ask a\"\n",
+      "cat.toml");
   ASSERT_FALSE(late.ok());
-  EXPECT_NE(std::string::npos, late.error().message.find("cat.toml:5:11: primitive 'a': reply_s (3 s) must not exceed timeout_s (2 s)"))
+  EXPECT_NE(std::string::npos,
+            late.error().message.find("cat.toml:5:11: primitive 'a': reply_s (3 s) must not exceed timeout_s (2 s)"))
       << late.error().message;
-  auto zero = Catalogue::parse("reply_s = 0\n[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\ndoc = \"a\"\nmessage = \"ask a\"\n",
-                               "cat.toml");
+  auto zero = Catalogue::parse(
+      "reply_s = 0\n[[primitive]]\nname = \"a\"\nkind = \"ask\"\ntimeout_s = 2\ndoc = \"a\"\nmessage = \"ask a\"\n",
+      "cat.toml");
   ASSERT_FALSE(zero.ok());
   EXPECT_NE(std::string::npos, zero.error().message.find("cat.toml:1:11: reply_s must be a number of seconds above 0"))
       << zero.error().message;

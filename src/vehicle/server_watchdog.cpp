@@ -35,7 +35,7 @@ void VehicleServer::arm_hello_timeout(const std::shared_ptr<protocol::LineConnec
 void VehicleServer::arm_silence_watchdog() {
   if (options_.clock != protocol::ClockMode::Lockstep) return;  // wall: checked per tick
   const double limit_s = options_.lockstep_silence_s.value_or(sim_.params().watchdog_s);
-  if (limit_s <= 0) return;  // the controller is in this process: its end closes the link
+  if (limit_s <= 0) return;                             // the controller is in this process: its end closes the link
   const double silence_s = std::min(limit_s, 86400.0);  // a day is "never" here
   silence_timer_.expires_after(
       std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(silence_s)));
