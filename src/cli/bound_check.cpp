@@ -11,6 +11,7 @@
 
 #include "cli/mission_run.h"
 #include "cli/verify_bound.h"
+#include "run/bound_options.h"
 #include "run/coral_load.h"
 #include "tactical/catalogue.h"
 
@@ -83,7 +84,7 @@ coral::BoundAnswer prove_bound(const std::string& mission, const coral::BoundQue
     a.message = "the mission does not compile";
     return a;
   }
-  return coral::analyse_bound(*load.program, query, bound_options(cat, depth_max_m, coral::BoundOptions{}.max_states));
+  return coral::analyse_bound(*load.program, query, run::bound_options(cat, depth_max_m));
 }
 
 }  // namespace strata::cli

@@ -19,6 +19,7 @@
 #include "cli/verbosity.h"
 #include "cli/commands.h"
 #include "cli/run_problems.h"
+#include "run/bound_options.h"
 #include "run/coral_load.h"
 #include "cli/exit_codes.h"
 #include "cli/verify_question.h"
@@ -202,6 +203,7 @@ int run_verify_mission(const VerifyOptions& o) {
   vo.max_memory_bytes = o.max_memory_mb << 20;
   vo.time_limit_s = o.time_limit_s;
   vo.sources = &load.sources;
+  vo.timing = run::bound_options(catalogue.value());
   const coral::VerifyReport report = coral::verify_program(*load.program, vo);
   if (json) {
     nlohmann::ordered_json j = coral::verify_json(report);

@@ -5,24 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "coral/timing.h"
-#include "tactical/catalogue.h"
-#include "vehicle/params.h"
-
 namespace strata::cli {
 
 struct BoundFlags {
   std::vector<std::string> questions;  // --bound, each as written
   double depth_max_m = 6.0;            // --depth-max: the ascent estimate's start
 };
-
-// The analysis's options for a vehicle with catalogue `cat` (which must
-// outlive them): its primitives' reply bounds, and the ascent estimate from
-// depth_max_m.
-coral::BoundOptions bound_options(const tactical::Catalogue& cat, double depth_max_m, std::uint64_t max_states);
-// From `exec surface` at depth_m to the vehicle at the surface, at most (an
-// estimate from the vehicle's parameters, with a margin).
-double ascent_estimate_s(const vehicle::VehicleParams& p, double depth_m);
 
 // Answers each question of flags about the mission; the exit code: 0 when
 // each is bounded (within its S, when given), 65 when one is not, 64 for a

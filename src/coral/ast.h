@@ -130,7 +130,11 @@ struct Net {
   std::vector<Name> exits;        // exit places in declaration order
   std::vector<Literal> data;      // `data "file";` (a mission holds at most one)
   std::vector<Transition> transitions;
-  std::vector<Guard> guards;              // as written; expand_guards adds their places and transitions
+  std::vector<Guard> guards;  // as written; expand_guards adds their places and transitions
+  // `require "FROM -> TO within S";` (a mission): a reaction time that
+  // `strata verify` proves (docs/verification.md, "Reaction time"). The
+  // literal is the string as written.
+  std::vector<Literal> requirements;
   core::SourceSpan span;                  // the `net NAME` / `mission NAME` head
   std::optional<std::uint32_t> body_end;  // offset of the closing '}', when there is one
 };

@@ -10,6 +10,7 @@
 
 #include "coral/arguments.h"
 #include "coral/program.h"
+#include "coral/timing.h"
 
 namespace strata::coral {
 namespace {
@@ -485,6 +486,26 @@ void warn_guards_never_active(const std::unordered_map<std::string, NetRef>& lib
   }
 }
 
+// `require "...";`: a question `strata verify --bound` takes, with `within`,
+// in the mission. Whether the mission has what it names is verify's to say.
+void check_requirements(const ast::Net& net, core::DiagnosticSink& sink) {
+  for (const auto& r : net.requirements) {
+    if (net.kind != ast::Net::Kind::Mission) {
+      sink.report(
+          DiagnosticKind::BadRequirement, r.span,
+          fmt::format("a requirement is the mission's: '{}' is a phase net (move it to the mission)", net.name.text));
+      continue;
+    }
+    auto q = parse_bound(r.value);
+    if (!q) {
+      sink.report(DiagnosticKind::BadRequirement, r.span, fmt::format("requirement: {}", q.error().message));
+    } else if (!q.value().within_s) {
+      sink.report(DiagnosticKind::BadRequirement, r.span,
+                  "a requirement says how long at most: end it with `within S` (seconds)");
+    }
+  }
+}
+
 }  // namespace
 
 void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options) {
@@ -517,6 +538,9 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
   }
   check_phase_recursion(library, sink);
   if (mission) warn_guards_never_active(library, *mission, sink);
+  for (const auto& file : load.files) {
+    for (const auto& net : file.tree.nets) check_requirements(net, sink);
+  }
 }
 
 std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {

@@ -58,6 +58,7 @@ CompiledNet compile_net(const ast::Net& src, const LoadedFile& file) {
   out.params = src.params;
   out.source_file = file.path;
   out.span = src.span;
+  for (const auto& r : src.requirements) out.requirements.push_back({r.value, r.span});
   if (!src.data.empty()) {
     std::filesystem::path dir = std::filesystem::path(file.path).parent_path();
     out.data_file = (dir / src.data.front().value).lexically_normal().string();

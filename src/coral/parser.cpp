@@ -91,8 +91,19 @@ class Parser : private TokenCursor {
         parse_transition(net);
       } else if (match(TK::KwGuard)) {
         parse_guard(net);
+      } else if (at(TK::Identifier) && tok_.text == "require") {
+        // `require` is not a keyword: it means something only here.
+        advance();
+        if (!at(TK::String)) {
+          error_here(
+              "expected the requirement in quotes after 'require': \"fault system_problem -> surface within 60\"");
+          recover(TK::Semicolon);
+          continue;
+        }
+        net.requirements.push_back(literal());
+        if (!expect(TK::Semicolon, "after the requirement")) recover(TK::Semicolon);
       } else {
-        error_here("expected 'place', 'exit', 'data', 'transition', 'guard' or '}' in the net body");
+        error_here("expected 'place', 'exit', 'data', 'transition', 'guard', 'require' or '}' in the net body");
         recover(TK::Semicolon);
       }
     }

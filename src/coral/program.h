@@ -70,6 +70,12 @@ struct CompiledNet {
   std::vector<CompiledGuard> guards;               // in declaration order
   std::vector<GuardNode> guard_nodes;              // by TransitionId; empty when the net has no guard
   std::vector<bool> place_generated;               // by PlaceId; empty when the net has no guard
+  // `require "...";` (a mission): the question and where it is written.
+  struct Requirement {
+    std::string text;
+    core::SourceSpan span;
+  };
+  std::vector<Requirement> requirements;
 
   // The transition's part in a guard (role None for a written transition).
   GuardNode guard_node(petri::TransitionId t) const { return t < guard_nodes.size() ? guard_nodes[t] : GuardNode{}; }

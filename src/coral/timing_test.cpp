@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "coral/test_support.h"
+#include "coral/verifier.h"
 
 namespace strata::coral {
 namespace {
@@ -255,6 +256,81 @@ TEST(Timing, QuestionsParseAndTheirErrorsSayTheColumn) {
   EXPECT_TRUE(
       parse_bound("trip leak -> surface within -1").error().message.starts_with("column 29: expected a number"));
   EXPECT_TRUE(parse_bound("trip leak -> surface soon").error().message.starts_with("column 22: unexpected text"));
+}
+
+}  // namespace
+}  // namespace strata::coral
+
+namespace strata::coral {
+namespace {
+
+// `require "...";`: checked where it is written, and proven by the verifier
+// as the mission's blocking property "requirement".
+TEST(Requirement, ABadOneIsReportedWhereItIsWritten) {
+  auto c = testing::compile_text(R"(net p {
+  require "start p -> exit out within 3";
+  place start = 1;
+  exit out;
+  transition t { wait { start } signal { out } }
+}
+mission m {
+  require "fault system_problem -> exec surface";
+  require "fault system_problem exec surface within 3";
+  place begin = 1, done;
+  exit closed;
+  transition go  { wait { begin } action { PHASE(p, done) } }
+  transition end { wait { done }  signal { closed } }
+}
+)");
+  EXPECT_EQ((std::vector<std::string>{"2:11 BadRequirement", "8:11 BadRequirement", "9:11 BadRequirement"}),
+            c->kinds());
+  std::vector<std::string> messages;
+  for (const auto& d : c->sink.diagnostics()) messages.push_back(d.message);
+  EXPECT_EQ("a requirement is the mission's: 'p' is a phase net (move it to the mission)", messages.at(0));
+  EXPECT_EQ("a requirement says how long at most: end it with `within S` (seconds)", messages.at(1));
+  EXPECT_EQ(
+      "requirement: column 22: expected ->: write FROM -> TO, FROM one of `fault ASK`, `fault not ASK`, "
+      "`trip GUARD`, `start PHASE`, TO one of `exec NAME`, `ask NAME`, `ood NAME`, `call NAME`, `exit NAME`, "
+      "`surface`, then optionally `within S`",
+      messages.at(2));
+}
+
+TEST(Requirement, TheVerifierHoldsTheMissionToIt) {
+  const std::string held = R"(mission m {
+  require "fault system_problem -> exec surface within WITHIN";
+  place begin = 1, due, ok, bad, up;
+  exit closed;
+  transition wait_a_second { wait { begin } action { TACTIC(EXEC, sleep(1), due) } }
+  transition check { wait { due } action { TACTIC(ASK, system_problem, bad, ok) } }
+  transition again { wait { ok }  signal { begin } }
+  transition rise  { wait { bad } action { TACTIC(EXEC, surface, up) } }
+  transition end   { wait { up }  signal { closed } }
+}
+)";
+  auto property_for = [&](const std::string& within, bool timing) {
+    std::string text = held;
+    text.replace(text.find("WITHIN"), 6, within);
+    auto c = testing::compile_text(text);
+    EXPECT_TRUE(c->program.has_value());
+    VerifyOptions vo;
+    vo.sources = &c->sources;
+    if (timing) vo.timing = options();
+    const VerifyReport r = verify_program(*c->program, vo);
+    for (const auto& p : r.nets.back().properties) {
+      if (p.key == "requirement") return p;
+    }
+    ADD_FAILURE() << "no requirement property";
+    return Property{};
+  };
+  const Property ok = property_for("1.5", true);
+  EXPECT_EQ(Property::Status::Holds, ok.status) << ok.message;
+  EXPECT_EQ("fault system_problem -> exec surface within 1.5: at worst 1.2 s", ok.message);
+  EXPECT_EQ(2u, ok.at.line);
+  const Property late = property_for("1", true);
+  EXPECT_EQ(Property::Status::Fails, late.status);
+  EXPECT_TRUE(late.blocking);
+  const Property unknown = property_for("1", false);
+  EXPECT_EQ(Property::Status::Undecided, unknown.status);
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string_view>
 
+#include <fmt/format.h>
+
 #include "coral/verifier_internal.h"
 #include "petri/invariants.h"
 
@@ -242,6 +244,61 @@ bool VerifyReport::all_hold() const {
   return std::all_of(nets.begin(), nets.end(), [](const NetVerification& n) { return n.all_hold(); });
 }
 
+namespace {
+
+// One blocking property "requirement" per `require` of the mission: its
+// question answered by the timing analysis (coral/timing.h) and held to its
+// `within`.
+void add_requirements(const Program& program, const CompiledNet& mission, const VerifyOptions& options,
+                      NetVerification& v) {
+  for (const auto& r : mission.requirements) {
+    Property p;
+    p.key = "requirement";
+    p.at = v.at;
+    if (options.sources && r.span.file < options.sources->size()) {
+      p.at.file = options.sources->path(r.span.file);
+      const core::LineCol lc = options.sources->line_col(r.span.file, r.span.offset);
+      p.at.line = lc.line;
+      p.at.col = lc.col;
+    }
+    auto q = parse_bound(r.text);
+    if (!q || !q.value().within_s) {
+      p.status = Property::Status::Fails;
+      p.message = fmt::format("'{}' is no requirement (strata check says why)", r.text);
+    } else if (!options.timing) {
+      p.status = Property::Status::Undecided;
+      p.message = fmt::format("{}: not decided (no vehicle timing given)", r.text);
+    } else {
+      const BoundAnswer a = analyse_bound(program, q.value(), *options.timing);
+      const double within = *q.value().within_s;
+      switch (a.verdict) {
+        case BoundAnswer::Verdict::Bounded:
+          p.status = a.worst_s <= within + 1e-9 ? Property::Status::Holds : Property::Status::Fails;
+          p.message = fmt::format("{}: at worst {:.1f} s{}", r.text, a.worst_s,
+                                  p.status == Property::Status::Holds
+                                      ? ""
+                                      : fmt::format(", past {} s (`strata verify --bound` shows the path)", within));
+          break;
+        case BoundAnswer::Verdict::Unbounded:
+          p.status = Property::Status::Fails;
+          p.message = fmt::format("{}: unbounded: {} (`strata verify --bound` shows the cycle)", r.text, a.message);
+          break;
+        case BoundAnswer::Verdict::NoEvent:
+          p.status = Property::Status::Holds;
+          p.message = fmt::format("{}: the event never happens", r.text);
+          break;
+        case BoundAnswer::Verdict::Unsupported:
+          p.status = Property::Status::Fails;
+          p.message = fmt::format("{}: {}", r.text, a.message);
+          break;
+      }
+    }
+    v.properties.push_back(std::move(p));
+  }
+}
+
+}  // namespace
+
 VerifyReport verify_program(const Program& program, const VerifyOptions& options) {
   VerifyReport report;
   std::vector<PhaseExits> known;
@@ -257,6 +314,7 @@ VerifyReport verify_program(const Program& program, const VerifyOptions& options
     const CompiledNet& cn = program.nets[i];
     NetVerification v = NetVerifier(program, cn, known, limits, options.sources).run();
     if (v.complete) known.push_back({cn.name, v.exit_reachable});
+    if (cn.kind == ast::Net::Kind::Mission) add_requirements(program, cn, options, v);
     report.nets.push_back(std::move(v));
   }
   return report;

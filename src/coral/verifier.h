@@ -40,6 +40,7 @@
 
 #include "coral/analysis.h"
 #include "coral/program.h"
+#include "coral/timing.h"
 #include "core/source.h"
 
 namespace strata::coral {
@@ -65,6 +66,9 @@ struct VerifyOptions {
   bool mission_only = false;
   // Resolves the results' locations to line and column (null: file only).
   const core::SourceManager* sources = nullptr;
+  // The vehicle's timing, for the mission's `require` (a property
+  // "requirement" each); nullopt: a requirement is not decided.
+  std::optional<BoundOptions> timing = std::nullopt;
 };
 
 // One step of a counterexample.

@@ -8,6 +8,7 @@
 #include "core/file.h"
 #include "core/mission_language.h"
 #include "coral/verify_report.h"
+#include "run/bound_options.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
 #include "tactical/execution_level.h"
@@ -123,7 +124,8 @@ Loaded load_answers(const RunOptions& o, LoadedMission& loaded) {
 // CORAL: the nets are verified before anything moves.
 Loaded verify(const RunOptions& o, LoadedMission& loaded) {
   coral::VerifyOptions vo;
-  vo.mission_only = true;  // what this run can reach
+  vo.mission_only = true;                       // what this run can reach
+  vo.timing = bound_options(loaded.catalogue);  // the mission's `require`
   loaded.verification = coral::verify_program(*loaded.program, vo);
   if (loaded.verification->ok() || o.unverified || !o.answers.empty()) return {};
   return Error{ErrorKind::FailsVerification, "",

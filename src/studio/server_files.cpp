@@ -13,6 +13,7 @@
 
 #include "coral/verify_report.h"
 #include "core/mission_language.h"
+#include "run/bound_options.h"
 #include "studio/file_watcher.h"
 #include "studio/http_answers.h"
 #include "studio/mission_model.h"
@@ -158,6 +159,7 @@ void StudioServer::file_routes(httplib::Server& s) {
       return send_json(res, {{"error", "the mission does not compile"}, {"diagnostics", m.model["diagnostics"]}}, 422);
     coral::VerifyOptions vo;
     vo.sources = m.sources.get();
+    vo.timing = run::bound_options(catalogue);  // the mission's `require`
     coral::VerifyReport report = coral::verify_program(*m.program, vo);
     // Locations relative to the studio's folder, as everywhere else.
     auto relative = [this](coral::Location& at) { at.file = sandbox_.relative(fs::weakly_canonical(at.file)); };
