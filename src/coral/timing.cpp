@@ -468,6 +468,7 @@ class Explorer {
         add_successor(id, next, k, g.is_to);
         if (g.is_event && !started) {
           next.flags |= kStarted;
+          next.covered = 0;  // meaningful before the event only
           const std::uint32_t before = static_cast<std::uint32_t>(keys_.size());
           add_successor(id, next, k, false);
           note_start(id, k, before);
