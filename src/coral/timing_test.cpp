@@ -335,3 +335,46 @@ TEST(Requirement, TheVerifierHoldsTheMissionToIt) {
 
 }  // namespace
 }  // namespace strata::coral
+
+namespace strata::coral {
+namespace {
+
+// What a careless or hostile user may ask: a question a megabyte long, bytes
+// that are no text, a thousand questions, and a state limit the model
+// passes at once. Each gets its answer or its error, never a hang.
+TEST(TimingHostile, LongAndBinaryQuestionsAreRefusedAtTheirColumn) {
+  const std::string junk(1 << 20, 'x');
+  auto long_one = parse_bound("trip " + junk + " -> surface " + junk);
+  ASSERT_FALSE(long_one.ok());
+  EXPECT_TRUE(long_one.error().message.starts_with("column 1048594: unexpected text"))
+      << long_one.error().message.substr(0, 80);
+  auto binary = parse_bound(std::string("fault \0\xff -> surface", 19));
+  ASSERT_FALSE(binary.ok());
+  EXPECT_TRUE(binary.error().message.starts_with("column 7: expected a name after fault")) << binary.error().message;
+  EXPECT_FALSE(parse_bound("").ok());
+  EXPECT_FALSE(parse_bound("trip a -> surface within 1e999").ok());
+}
+
+TEST(TimingHostile, AThousandQuestionsEachGetTheSameAnswer) {
+  auto c = testing::compile_text(kPolling);
+  ASSERT_TRUE(c->program);
+  const BoundQuery q = parse_bound("fault system_problem -> exec surface").value();
+  for (int i = 0; i < 1000; ++i) {
+    const BoundAnswer a = analyse_bound(*c->program, q, options());
+    ASSERT_EQ(BoundAnswer::Verdict::Bounded, a.verdict);
+    ASSERT_NEAR(1.2, a.worst_s, 1e-9);
+  }
+}
+
+TEST(TimingHostile, TheStateLimitStopsTheExplorationWithItsReason) {
+  auto c = testing::compile_text(kPolling);
+  ASSERT_TRUE(c->program);
+  BoundOptions o = options();
+  o.max_states = 5;
+  const BoundAnswer a = analyse_bound(*c->program, parse_bound("fault system_problem -> exec surface").value(), o);
+  EXPECT_EQ(BoundAnswer::Verdict::Unsupported, a.verdict);
+  EXPECT_EQ("more than 5 timed states (--max-states)", a.message);
+}
+
+}  // namespace
+}  // namespace strata::coral
