@@ -489,7 +489,15 @@ void warn_guards_never_active(const std::unordered_map<std::string, NetRef>& lib
 // `require "...";`: a question `strata verify --bound` takes, with `within`,
 // in the mission. Whether the mission has what it names is verify's to say.
 void check_requirements(const ast::Net& net, core::DiagnosticSink& sink) {
-  for (const auto& r : net.requirements) {
+  for (std::size_t i = 0; i < net.requirements.size(); ++i) {
+    const auto& r = net.requirements[i];
+    if (i == kMaxRequirements) {
+      // Each is a timing analysis of the whole mission at every verification.
+      sink.report(
+          DiagnosticKind::BadRequirement, r.span,
+          fmt::format("'{}' states more than {} requirements; merge or drop some", net.name.text, kMaxRequirements));
+      break;
+    }
     if (net.kind != ast::Net::Kind::Mission) {
       sink.report(
           DiagnosticKind::BadRequirement, r.span,

@@ -44,6 +44,10 @@ struct PrimitiveTiming {
   double wait_arg_max = 0;  // its largest value, when a call's is not known
 };
 
+// The most `require`s a mission may state (BadRequirement past it): each is
+// a timing analysis of the whole mission at every verification.
+inline constexpr std::size_t kMaxRequirements = 16;
+
 struct BoundQuery {
   enum class From { Fault, Trip, Start };
   enum class To { Call, Exit, Surface };

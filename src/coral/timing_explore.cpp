@@ -55,7 +55,6 @@ void decode(std::string_view key, State& s) {
   }
 }
 
-
 class Explorer : public TimedGraph {
  public:
   Explorer(const Model& m, const BoundQuery& q, const BoundOptions& o) : m_(m), q_(q), o_(o) {}
@@ -283,7 +282,6 @@ class Explorer : public TimedGraph {
     start_ids_.push_back(e.to);
   }
 };
-
 
 }  // namespace
 

@@ -56,7 +56,6 @@ struct Model {
   std::optional<std::uint32_t> to_exit;               // To::Exit: the global place
 };
 
-
 // Builds the model of the program's mission for the question; why not, else.
 std::optional<std::string> build_model(const Program& program, const BoundQuery& query, const BoundOptions& options,
                                        Model& m);
@@ -72,7 +71,6 @@ struct Edge {
   std::uint32_t label;  // a GlobalTransition index, kAdvance or kOnset
   std::uint8_t w;       // ticks counted (after the event)
 };
-
 
 // The timed states and their steps, from the initial state on.
 struct TimedGraph {

@@ -177,7 +177,6 @@ std::optional<std::string> finish_model(Model& m, const BoundQuery& q) {
   return std::nullopt;
 }
 
-
 }  // namespace
 
 std::optional<std::string> build_model(const Program& program, const BoundQuery& query, const BoundOptions& options,

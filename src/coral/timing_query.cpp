@@ -34,7 +34,6 @@ constexpr std::string_view kForms =
     "write FROM -> TO, FROM one of `fault ASK`, `fault not ASK`, `trip GUARD`, `start PHASE`, TO one of "
     "`exec NAME`, `ask NAME`, `ood NAME`, `call NAME`, `exit NAME`, `surface`, then optionally `within S`";
 
-
 }  // namespace
 
 core::Result<BoundQuery> parse_bound(std::string_view text) {

@@ -378,3 +378,17 @@ TEST(TimingHostile, TheStateLimitStopsTheExplorationWithItsReason) {
 
 }  // namespace
 }  // namespace strata::coral
+
+namespace strata::coral {
+namespace {
+
+TEST(TimingHostile, AMissionStatesAtMostSixteenRequirements) {
+  std::string text = "mission m {\n";
+  for (int i = 0; i < 1000; ++i) text += "  require \"fault system_problem -> exec surface within 2\";\n";
+  text += "  place a = 1;\n  exit e;\n  transition t { wait { a } signal { e } }\n}\n";
+  auto c = testing::compile_text(text);
+  EXPECT_EQ(std::vector<std::string>{"18:11 BadRequirement"}, c->kinds());
+}
+
+}  // namespace
+}  // namespace strata::coral
