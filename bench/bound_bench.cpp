@@ -8,9 +8,10 @@
 //   bound/campaign/survey     200 leaks, spread over 1,580 s
 //
 // Counters: proven_s (the worst case), measured_max_s (the campaign's),
-// ratio = proven / measured (target at most 1.5), over_bound (runs later
-// than proven: the analysis unsound if ever above 0), measured (runs with an
-// `exec surface` after the leak).
+// ratio = proven / measured (target at most 1.5), over_bound (cases whose
+// "bound" check failed: the analysis unsound if ever above 0), measured
+// (cases with an `exec surface` after the leak). The cases are a campaign's
+// (campaign::run_case), with the spec's `bound`.
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
@@ -18,22 +19,54 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
-#include "cli/bound_check.h"
+#include "campaign/bound.h"
+#include "campaign/case_run.h"
+#include "campaign/cases.h"
+#include "run/bound_options.h"
+#include "run/coral_load.h"
 
-namespace strata::cli {
+namespace strata::campaign {
 namespace {
 
 const std::string kMissions = std::string(STRATA_SOURCE_DIR) + "/missions/";
-const coral::BoundQuery kLeak = coral::parse_bound("fault system_problem -> exec surface").value();
+
+// A campaign of `cases` leaks spread over span_s, its bound the leak to `exec
+// surface`, in a spec of its own in the temp folder.
+Spec leak_campaign(const std::string& mission, const std::string& world, double span_s, int cases) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / fmt::format("strata_bound_bench_{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "leaks.toml").string();
+  std::ofstream(path) << fmt::format(
+      "missions = [\"{}\"]\nseeds = [5]\nmax_sim_time_s = 3000\n{}"
+      "[expect.leak]\nbound = \"fault system_problem -> exec surface\"\n"
+      "[[family]]\nfault = \"leak\"\nat_s = {{ from = 0.05, to = {}, step = {} }}\nexpect = \"leak\"\n",
+      kMissions + mission, world.empty() ? "" : fmt::format("world = \"{}\"\n", kMissions + world),
+      0.05 + span_s * (cases - 1) / cases, span_s / cases);
+  auto spec = load_spec(path);
+  std::error_code ignored;
+  std::filesystem::remove_all(dir, ignored);
+  if (!spec) throw std::runtime_error(spec.error().message);
+  return std::move(spec).value();
+}
+
+const ExpectationSet& leak_set(const Spec& spec) { return spec.expectations.at("leak"); }
 
 void bm_prove(benchmark::State& st, const std::string& mission) {
   double proven = 0;
+  const Spec spec = leak_campaign(mission, "", 1.0, 1);
+  const coral::BoundQuery& q = *leak_set(spec).bound;
+  const tactical::Catalogue& cat = tactical::Catalogue::builtin();
+  const run::CoralLoad load = run::load_coral_file(kMissions + mission, cat);
+  if (!load.program) {
+    st.SkipWithError("the mission does not compile");
+    return;
+  }
   for (auto _ : st) {
-    const coral::BoundAnswer a = prove_bound(kMissions + mission, kLeak);
+    const coral::BoundAnswer a = coral::analyse_bound(*load.program, q, run::bound_options(cat));
     if (a.verdict != coral::BoundAnswer::Verdict::Bounded) {
       st.SkipWithError(a.message.c_str());
       return;
@@ -45,39 +78,29 @@ void bm_prove(benchmark::State& st, const std::string& mission) {
 }
 
 void bm_campaign(benchmark::State& st, const std::string& mission, const std::string& world, double span_s, int cases) {
-  const coral::BoundAnswer proven = prove_bound(kMissions + mission, kLeak);
-  if (proven.verdict != coral::BoundAnswer::Verdict::Bounded) {
-    st.SkipWithError(proven.message.c_str());
+  const Spec spec = leak_campaign(mission, world, span_s, cases);
+  const BoundProof proof = proven_bound(spec, 0, leak_set(spec), spec.base_params);
+  if (!proof.worst_s) {
+    st.SkipWithError(proof.why.c_str());
     return;
   }
-  std::string world_text = "seed = 5\n";  // the survey's world brings its own
-  if (!world.empty()) {
-    std::ifstream in(kMissions + world);
-    std::stringstream s;
-    s << in.rdbuf();
-    world_text = s.str();
+  double worst = 0, counted = 0, over = 0;
+  for (auto _ : st) {
+    for (std::uint64_t i = 0; i < spec.case_count(); ++i) {
+      const nlohmann::ordered_json line = run_case(spec, case_at(spec, i), {});
+      for (const auto& check : line["checks"]) {
+        if (check["name"] != "bound") continue;
+        if (!check["pass"].get<bool>()) ++over;
+        if (!check["figure"].is_number()) continue;
+        ++counted;
+        worst = std::max(worst, check["figure"].get<double>());
+      }
+    }
   }
-
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / fmt::format("strata_bound_bench_{}", ::getpid());
-  std::filesystem::create_directories(dir);
-  std::vector<double> times;
-  for (int i = 0; i < cases; ++i) times.push_back(0.05 + span_s * static_cast<double>(i) / cases);
-  std::vector<MeasuredReaction> measured;
-  for (auto _ : st) measured = measure_reactions(kMissions + mission, kLeak, "leak", times, world_text, dir.string());
-  std::error_code ignored;
-  std::filesystem::remove_all(dir, ignored);
-  double worst = 0;
-  double counted = 0, over = 0;
-  for (const auto& m : measured) {
-    if (!m.reaction_s) continue;
-    ++counted;
-    worst = std::max(worst, *m.reaction_s);
-    if (*m.reaction_s > proven.worst_s + 1e-9) ++over;
-  }
-  st.counters["proven_s"] = proven.worst_s;
+  st.counters["cases"] = static_cast<double>(spec.case_count());
+  st.counters["proven_s"] = *proof.worst_s;
   st.counters["measured_max_s"] = worst;
-  st.counters["ratio"] = worst > 0 ? proven.worst_s / worst : 0.0;
+  st.counters["ratio"] = worst > 0 ? *proof.worst_s / worst : 0.0;
   st.counters["over_bound"] = over;
   st.counters["measured"] = counted;
 }
@@ -100,6 +123,6 @@ BENCHMARK_CAPTURE(bm_campaign, survey, std::string("survey/survey.coral"), std::
     ->Unit(benchmark::kSecond);
 
 }  // namespace
-}  // namespace strata::cli
+}  // namespace strata::campaign
 
 BENCHMARK_MAIN();

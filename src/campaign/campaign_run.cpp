@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "campaign/bound.h"
 #include "campaign/output.h"
 #include "campaign/pool.h"
 #include "campaign/report_html.h"
@@ -74,6 +75,14 @@ core::Result<CampaignOutcome> run_campaign(const Spec& spec, const std::vector<s
     // only leaves coverage without the list of transitions.
     if (auto names = mission_transitions(m.resolved)) summary.set_transitions(m.path, std::move(names).value());
   }
+  // The bounds, proven here once before the workers fork: they inherit
+  // the answers (campaign/bound.h keeps them) instead of each proving them.
+  for (std::size_t m = 0; m < spec.missions.size(); ++m) {
+    for (const Family& f : spec.families) {
+      const ExpectationSet& set = spec.expectations.at(f.expect);
+      if (set.bound && f.applies_to(m)) (void)proven_bound(spec, m, set, spec.base_params);
+    }
+  }
   CaseRunConfig config;
   config.out_dir = options.out_dir;
   config.keep_logs = options.keep_logs;
@@ -97,6 +106,7 @@ core::Result<CampaignOutcome> run_campaign(const Spec& spec, const std::vector<s
   out.done = summary.done();
   out.failed = summary.failed();
   out.interrupted = ran.stopped;
+  out.past_proven_bound = summary.past_proven_bound();
   out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   if (write_error) return *write_error;
   CampaignRun run{out.planned, pool.workers, out.wall_s, out.interrupted, options.command};

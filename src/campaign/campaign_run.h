@@ -32,6 +32,9 @@ struct CampaignOutcome {
   std::uint64_t planned = 0, done = 0, failed = 0;
   bool interrupted = false;
   double wall_s = 0.0;
+  // Cases whose time from the fault to a bound's end was past the proven
+  // worst case: failures of the timing analysis (report.json, "bounds").
+  std::uint64_t past_proven_bound = 0;
 };
 
 // Errors: Io when the folder or a file in it cannot be written.

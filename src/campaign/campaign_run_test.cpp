@@ -449,5 +449,50 @@ TEST(CampaignRun, TheOutputFolderIsNeverALink) {
   EXPECT_EQ("mine", testing::read_text(dir.file("real/notes.txt")));
 }
 
+// A bound in the spec: proven once before the workers fork (the parent's
+// cases and the workers' agree), reported in report.json's "bounds" beside
+// the longest measured time; a bound the analysis cannot prove fails its
+// cases and says why.
+TEST(CampaignRun, ABoundIsProvenCheckedAndReportedAndAnUnprovableOneFailsItsCases) {
+  TempDir dir;
+  const std::string families = "[[family]]\nfault = \"leak\"\nat_s = [4, 14]\nexpect = \"leak\"\n";
+  const Spec spec = load(dir, "missions = [\"" + testing::kTankDir +
+                                  "/tank.coral\"]\nseeds = [1]\n[expect.leak]\nbound = \"fault system_problem -> exec "
+                                  "surface\"\n" +
+                                  families);
+  const CampaignOutcome out = run(spec, dir.file("out"), 2);
+  EXPECT_EQ(0u, out.failed);
+  EXPECT_EQ(0u, out.past_proven_bound);
+  const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
+  ASSERT_EQ(1u, report["bounds"].size()) << report["bounds"].dump();
+  const auto& b = report["bounds"][0];
+  EXPECT_EQ("fault system_problem -> exec surface", b["bound"]);
+  EXPECT_EQ(4.5, b["proven_s"].get<double>());
+  EXPECT_EQ(2u, b["measured"].get<std::uint64_t>());
+  EXPECT_LE(b["max_s"].get<double>(), 4.5);
+  EXPECT_EQ(0u, b["exceeded"].get<std::uint64_t>());
+  EXPECT_NE(std::string::npos, testing::read_text(dir.file("out/report.html")).find("Proven bounds"));
+
+  // The tank never calls `exec calibrate`: nothing to bound.
+  const Spec never = load(dir, "missions = [\"" + testing::kTankDir +
+                                   "/tank.coral\"]\nseeds = [1]\n[expect.leak]\nbound = \"fault system_problem -> exec "
+                                   "calibrate\"\n" +
+                                   families);
+  const CampaignOutcome failed = run(never, dir.file("out2"), 0);
+  EXPECT_EQ(2u, failed.failed);
+  const auto lines = testing::read_results(dir.file("out2/results.jsonl"));
+  ASSERT_EQ(2u, lines.size());
+  for (const auto& l : lines) {
+    bool seen = false;
+    for (const auto& c : l["checks"]) {
+      if (c["name"] != "bound") continue;
+      seen = true;
+      EXPECT_FALSE(c["pass"].get<bool>());
+      EXPECT_EQ(0u, c.value("note", "").find("no proven bound: ")) << c.dump();
+    }
+    EXPECT_TRUE(seen) << l.dump();
+  }
+}
+
 }  // namespace
 }  // namespace strata::campaign

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "campaign/bound.h"
 #include "core/file.h"
 #include "run/observer.h"
 #include "run/session.h"
@@ -27,8 +28,8 @@ constexpr std::size_t kMaxMissionFileBytes = std::size_t{16} << 20;
 // Gathers what the expectations and the coverage need, as the run goes.
 class CaseWatcher final : public run::RunObserver {
  public:
-  CaseWatcher(std::optional<double> fault_at_s, double surface_depth_m)
-      : fault_at_s_(fault_at_s), surface_depth_m_(surface_depth_m) {}
+  CaseWatcher(std::optional<double> fault_at_s, double surface_depth_m, const coral::BoundQuery* bound)
+      : fault_at_s_(fault_at_s), surface_depth_m_(surface_depth_m), bound_(bound) {}
 
   void telemetry(const protocol::Telemetry& t) override {
     if (!t.depth_m) return;  // a sensor dropout
@@ -40,6 +41,7 @@ class CaseWatcher final : public run::RunObserver {
     const double judged = t.filtered_depth_m.value_or(*t.depth_m);
     if (fault_at_s_ && !surfaced_at_s && t.sim_time_s >= *fault_at_s_ - 1e-9 && judged <= surface_depth_m_) {
       surfaced_at_s = t.sim_time_s;
+      if (bound_ && bound_->to == coral::BoundQuery::To::Surface) bound_to(t.sim_time_s);
     }
   }
   // The vehicle's own word that it reached the surface ("13.0 s: at the
@@ -57,6 +59,10 @@ class CaseWatcher final : public run::RunObserver {
   void fired(const strategic::Firing& f) override { fired_.insert(fmt::format("{}.{}", f.net, f.transition_name)); }
   void action_started(const strategic::ActionStart& a) override {
     if (a.is_call(core::CallVerb::Ask)) asks_[a.id] = std::string(a.primitive);
+    if (bound_ && bound_->to == coral::BoundQuery::To::Call && a.verb && a.primitive == bound_->to_name &&
+        (!bound_->to_verb || a.verb == bound_->to_verb)) {
+      bound_to(a.sim_time_s);
+    }
   }
   void action_finished(const strategic::ActionFinish& a) override {
     auto it = asks_.find(a.id);
@@ -70,14 +76,25 @@ class CaseWatcher final : public run::RunObserver {
   void phase_ended(const strategic::PhaseEnd& e) override {
     // PROLOG rules that simply finish name no exit place.
     if (!e.cancelled) exits_.insert(fmt::format("{}.{}", e.name, e.exit.empty() ? "(end)" : e.exit));
+    // The mission's own end comes last: a phase's exit of the same name
+    // before it is forgotten when the next phase ends.
+    if (bound_ && bound_->to == coral::BoundQuery::To::Exit && !e.cancelled) {
+      last_end_ = {e.exit == bound_->to_name, e.sim_time_s};
+    }
+  }
+  // Once the run is over: the mission's exit, when the bound names one.
+  void finish() {
+    if (last_end_.first) bound_to(last_end_.second);
   }
 
   nlohmann::ordered_json coverage() const { return {{"fired", fired_}, {"answers", answers_}, {"exits", exits_}}; }
 
   std::optional<double> max_depth_m;
   std::vector<std::pair<std::string, double>> guard_trips;
-  std::optional<double> surfaced_at_s;     // from telemetry
-  std::optional<double> logged_surface_s;  // from the vehicle's log
+  std::optional<double> surfaced_at_s;      // from telemetry
+  std::optional<double> logged_surface_s;   // from the vehicle's log
+  std::optional<double> bound_to_at_s;      // the bound's TO, first at or after the fault
+  std::optional<double> bound_to_before_s;  // ... last before it
 
  private:
   void surfaced_line(const std::string& text, double t) {
@@ -87,8 +104,19 @@ class CaseWatcher final : public run::RunObserver {
     }
   }
 
+  void bound_to(double t) {
+    if (!fault_at_s_ || bound_to_at_s) return;
+    if (t + 1e-9 >= *fault_at_s_) {
+      bound_to_at_s = t;
+    } else {
+      bound_to_before_s = t;
+    }
+  }
+
   std::optional<double> fault_at_s_;
   double surface_depth_m_;
+  const coral::BoundQuery* bound_;
+  std::pair<bool, double> last_end_{false, 0.0};
   std::set<std::string> fired_, answers_, exits_;
   std::map<strategic::ActionId, std::string> asks_;
 };
@@ -177,6 +205,8 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   if (c.fault) {
     o.fault_at_s = c.fault->at_s;
     o.fault_reached = end_s >= c.fault->at_s;
+    o.bound_to_at_s = watcher.bound_to_at_s;
+    o.bound_to_before_s = watcher.bound_to_before_s;
     if (watcher.surfaced_at_s) {
       o.time_to_surface_s = tidy_s(std::max(0.0, *watcher.surfaced_at_s - c.fault->at_s));
       o.surface_seen = "telemetry";
@@ -218,14 +248,15 @@ Observation observe(const run::RunReport& report, const CaseWatcher& watcher, co
   return o;
 }
 
-nlohmann::ordered_json result_line(const Spec& spec, const Case& c, const Observation& seen) {
+nlohmann::ordered_json result_line(const Spec& spec, const Case& c, const Observation& seen,
+                                   const BoundProof* proof = nullptr) {
   nlohmann::ordered_json j;
   j["index"] = c.index;
   j["inputs"] = case_inputs(spec, c);
   j["outcome"] = seen.outcome;
   j["reason"] = seen.reason;
   if (!seen.stopped_by.empty()) j["stopped_by"] = seen.stopped_by;
-  const std::vector<Check> checks = evaluate(spec.expectations.at(spec.families[c.family].expect), seen);
+  const std::vector<Check> checks = evaluate(spec.expectations.at(spec.families[c.family].expect), seen, proof);
   bool pass = true;
   nlohmann::ordered_json arr = nlohmann::ordered_json::array();
   for (const Check& check : checks) {
@@ -280,15 +311,20 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   }
   const vehicle::VehicleParams params = case_params(spec, c);
   const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
-  CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m);
+  const ExpectationSet& set = spec.expectations.at(family.expect);
+  std::optional<BoundProof> proof;
+  if (set.bound) proof = proven_bound(spec, c.mission, set, params);
+  CaseWatcher watcher(c.fault ? std::optional<double>(c.fault->at_s) : std::nullopt, surface_depth_m,
+                      set.bound ? &*set.bound : nullptr);
   run::RunSession session(std::move(o));
   session.add_observer(watcher);
   const run::RunReport report = session.run();
+  watcher.finish();
   const Observation seen =
       observe(report, watcher, c, surface_depth_m,
               family.answers.empty() ? std::vector<ScriptedExecFailure>{} : scripted_exec_failures(log.str()));
 
-  nlohmann::ordered_json j = result_line(spec, c, seen);
+  nlohmann::ordered_json j = result_line(spec, c, seen, proof ? &*proof : nullptr);
   if (report.result) j["exit"] = report.result->exit;
   j["phases"] = report.phases;
   j["coverage"] = watcher.coverage();

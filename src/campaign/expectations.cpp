@@ -7,7 +7,63 @@
 
 namespace strata::campaign {
 
-std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) {
+namespace {
+
+Check bound_check(const ExpectationSet& set, const Observation& seen, const BoundProof* proof) {
+  Check c{"bound", true, nullptr, nullptr, ""};
+  const std::string to = set.bound->text.substr(set.bound->text.find("->") + 2);
+  const std::string_view to_words = std::string_view(to).substr(std::min(to.size(), to.find_first_not_of(' ')));
+  if (proof != nullptr && proof->worst_s) c.limit = *proof->worst_s;
+  if (!seen.fault_at_s) {
+    c.note = "no fault in this case";
+    return c;
+  }
+  if (!seen.fault_reached) {
+    c.note = fmt::format("the run ended ({:.1f} s) before the fault", seen.sim_time_s);
+    return c;
+  }
+  if (seen.bound_to_at_s) c.figure = std::round((*seen.bound_to_at_s - *seen.fault_at_s) * 1e6) / 1e6;
+  if (proof == nullptr || proof->measured_only) {
+    c.note = proof != nullptr ? proof->why : "no proof was made";
+    return c;
+  }
+  if (!proof->worst_s) {
+    c.pass = false;
+    c.note = "no proven bound: " + proof->why;
+    return c;
+  }
+  const double worst = *proof->worst_s;
+  if (seen.bound_to_at_s) {
+    c.pass = c.figure.get<double>() <= worst + 1e-6;
+    if (!c.pass) {
+      c.note = fmt::format(
+          "{} came {:.1f} s after the fault, past the proven worst case of {:.1f} s: the timing "
+          "analysis is unsound",
+          to_words, c.figure.get<double>(), worst);
+    }
+    return c;
+  }
+  const double ran_after = seen.sim_time_s - *seen.fault_at_s;
+  if (seen.bound_to_before_s) {
+    c.note = fmt::format("{} came at {:.1f} s, before the fault: the mission was already reacting", to_words,
+                         *seen.bound_to_before_s);
+  } else if (proof->ends_without) {
+    c.note = fmt::format("the run ended without {} after the fault, as the analysis allows", to_words);
+  } else if (ran_after <= worst + 1e-6) {
+    c.note = fmt::format("the run ended {:.1f} s after the fault, within the proven {:.1f} s", ran_after, worst);
+  } else {
+    c.pass = false;
+    c.note = fmt::format(
+        "no {} in the {:.1f} s the run went on after the fault, past the proven worst case of {:.1f} "
+        "s: the timing analysis is unsound",
+        to_words, ran_after, worst);
+  }
+  return c;
+}
+
+}  // namespace
+
+std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen, const BoundProof* proof) {
   std::vector<Check> checks;
   const bool ran = seen.outcome != "error" && seen.outcome != "crashed";
   checks.push_back({"ran", ran, seen.outcome, nullptr, ran ? "" : seen.reason});
@@ -75,6 +131,7 @@ std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen) 
     }
     checks.push_back(std::move(c));
   }
+  if (set.bound) checks.push_back(bound_check(set, seen, proof));
   if (set.no_refused_exec) {
     checks.push_back({"no_refused_exec", seen.refused_execs == 0, seen.refused_execs, 0, seen.first_refused});
   }

@@ -44,6 +44,19 @@ struct Observation {
   std::string answers_first_unused;
   // The guards that tripped, in order, with when (simulated seconds).
   std::vector<std::pair<std::string, double>> guard_trips;
+  // The expectation set's bound: when its TO first came at or after the
+  // fault, and when it last came before it (the mission already reacting).
+  std::optional<double> bound_to_at_s;
+  std::optional<double> bound_to_before_s;
+};
+
+// The timing analysis's answer for an expectation set's bound and a case's
+// mission (campaign/bound.h).
+struct BoundProof {
+  std::optional<double> worst_s;  // the proven worst case; nullopt: none
+  bool ends_without = false;      // a run may end after the fault without TO
+  bool measured_only = false;     // PROLOG rules: no analysis, the time is only measured
+  std::string why;                // no worst case: why
 };
 
 struct Check {
@@ -57,8 +70,10 @@ struct Check {
 // Every expectation the set holds, in a fixed order. A case that crashed or
 // never started fails "ran" first, whatever the set. A case with scripted
 // answers also checks "answers_followed": every answer used, the run never
-// leaving the script (the witness's path really ran).
-std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen);
+// leaving the script (the witness's path really ran). A set with a bound
+// checks "bound" against `proof` (nullptr: no proof was made): a case whose
+// TO came later than the proven worst case is a failure of the analysis.
+std::vector<Check> evaluate(const ExpectationSet& set, const Observation& seen, const BoundProof* proof = nullptr);
 
 nlohmann::ordered_json to_json(const Check& check);
 

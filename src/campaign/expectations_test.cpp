@@ -108,5 +108,69 @@ TEST(CampaignExpectations, AnExecTheVehicleAnswersZeroIsCountedInARealRun) {
       << check.dump();
 }
 
+ExpectationSet bound_set() {
+  ExpectationSet e;
+  e.name = "leak";
+  e.bound = coral::parse_bound("fault system_problem -> exec surface").value();
+  return e;
+}
+
+BoundProof proof_of(double worst_s) {
+  BoundProof p;
+  p.worst_s = worst_s;
+  return p;
+}
+
+TEST(CampaignExpectations, ABoundPassesWithinTheProofAndFailsTheAnalysisPastIt) {
+  Observation o = aborted_after_leak();
+  o.bound_to_at_s = 7.5;  // 2.5 s after the fault at 5 s
+  const BoundProof proof = proof_of(4.5);
+  auto checks = evaluate(bound_set(), o, &proof);
+  ASSERT_EQ("ran:pass bound:pass", verdicts(checks));
+  EXPECT_EQ(2.5, checks[1].figure.get<double>());
+  EXPECT_EQ(4.5, checks[1].limit.get<double>());
+  o.bound_to_at_s = 10.0;
+  checks = evaluate(bound_set(), o, &proof);
+  ASSERT_EQ("ran:pass bound:FAIL", verdicts(checks));
+  EXPECT_EQ(
+      "exec surface came 5.0 s after the fault, past the proven worst case of 4.5 s: the timing analysis is unsound",
+      checks[1].note);
+}
+
+TEST(CampaignExpectations, ABoundWithoutItsEndIsJudgedByHowLongTheRunWentOn) {
+  Observation o = aborted_after_leak();  // fault at 5 s, the run ends at 20 s
+  BoundProof proof = proof_of(4.5);
+  auto checks = evaluate(bound_set(), o, &proof);
+  ASSERT_EQ("ran:pass bound:FAIL", verdicts(checks));
+  EXPECT_NE(std::string::npos, checks[1].note.find("no exec surface in the 15.0 s the run went on")) << checks[1].note;
+  o.bound_to_before_s = 4.0;  // already surfacing
+  checks = evaluate(bound_set(), o, &proof);
+  EXPECT_EQ("ran:pass bound:pass", verdicts(checks));
+  EXPECT_NE(std::string::npos, checks[1].note.find("before the fault")) << checks[1].note;
+  o.bound_to_before_s.reset();
+  o.sim_time_s = 8.0;  // ended 3 s after the fault, within the proof
+  EXPECT_EQ("ran:pass bound:pass", verdicts(evaluate(bound_set(), o, &proof)));
+  o.sim_time_s = 20.0;
+  proof.ends_without = true;  // the analysis knows a run may end without it
+  EXPECT_EQ("ran:pass bound:pass", verdicts(evaluate(bound_set(), o, &proof)));
+}
+
+TEST(CampaignExpectations, ABoundWithoutAProofFailsAndPrologIsOnlyMeasured) {
+  Observation o = aborted_after_leak();
+  o.bound_to_at_s = 6.0;
+  BoundProof unbounded;
+  unbounded.why = "unbounded";
+  auto checks = evaluate(bound_set(), o, &unbounded);
+  ASSERT_EQ("ran:pass bound:FAIL", verdicts(checks));
+  EXPECT_EQ("no proven bound: unbounded", checks[1].note);
+  BoundProof prolog;
+  prolog.measured_only = true;
+  prolog.why = "PROLOG rules: no timing analysis, the time is only measured";
+  checks = evaluate(bound_set(), o, &prolog);
+  ASSERT_EQ("ran:pass bound:pass", verdicts(checks));
+  EXPECT_EQ(1.0, checks[1].figure.get<double>());
+  EXPECT_TRUE(checks[1].limit.is_null());
+}
+
 }  // namespace
 }  // namespace strata::campaign

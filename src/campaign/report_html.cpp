@@ -143,6 +143,25 @@ void surfacing(std::string& out, const Json& r) {
   }
 }
 
+void bounds(std::string& out, const Json& r) {
+  if (!r.contains("bounds") || r["bounds"].empty()) return;
+  out +=
+      "<h2>Proven bounds</h2>\n<p class=muted>The timing analysis's worst case (<code>strata verify --bound</code>) "
+      "beside the longest time measured from a fault to the bound's end. A case past the proven worst case is a "
+      "failure of the analysis, not of the mission.</p>\n<table><tr><th>mission</th><th>family</th><th>bound</th>"
+      "<th>proven</th><th>measured</th><th>longest</th><th>past the proof</th></tr>\n";
+  for (const Json& b : r["bounds"]) {
+    out += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td{}>{}"
+        "</td></tr>\n",
+        esc(b["mission"]), esc(b["family"]), esc(b["bound"]),
+        b["proven_s"].is_number() ? number(b["proven_s"]) + " s" : esc(b.value("note", Json("none"))),
+        b["measured"].get<std::uint64_t>(), b["max_s"].is_number() ? number(b["max_s"]) + " s" : "-",
+        b["exceeded"].get<std::uint64_t>() > 0 ? " class=fail" : "", b["exceeded"].get<std::uint64_t>());
+  }
+  out += "</table>\n";
+}
+
 void coverage(std::string& out, const Json& r) {
   out +=
       "<h2>Coverage</h2>\n<p class=muted>Across every case: the transitions that fired, and those no case "
@@ -241,6 +260,7 @@ std::string report_html(const Json& r) {
   failures(out, r);
   heat_map(out, r);
   surfacing(out, r);
+  bounds(out, r);
   coverage(out, r);
   out += "</body></html>\n";
   return out;

@@ -240,6 +240,8 @@ class SpecReader {
         }
         e.guard_within_s = *v;
         if (!t.contains("guard")) errors_.add(node, "'guard_within_s' needs 'guard': the guard that must trip");
+      } else if (k == "bound") {
+        read_bound(node, e);
       } else if (k == "no_stall" || k == "no_refused_exec") {
         auto b = node.value<bool>();
         if (!b || !node.is_boolean()) {
@@ -249,11 +251,31 @@ class SpecReader {
         (k == "no_stall" ? e.no_stall : e.no_refused_exec) = *b;
       } else {
         errors_.add(key, fmt::format("unknown expectation '{}' (expected outcomes, surface_within_s, max_depth_m, "
-                                     "no_stall, no_refused_exec, guard, guard_within_s)",
+                                     "no_stall, no_refused_exec, guard, guard_within_s, bound)",
                                      k));
       }
     }
     return e;
+  }
+
+  // `bound = "fault ASK -> TO"`: the question of `strata verify --bound`,
+  // from the case's fault (the only event a campaign places in time).
+  void read_bound(const toml::node& node, ExpectationSet& e) {
+    auto s = node.value<std::string>();
+    if (!s || !node.is_string()) {
+      errors_.add(node, "'bound' must be a question in quotes: \"fault system_problem -> exec surface\"");
+      return;
+    }
+    auto q = coral::parse_bound(*s);
+    if (!q) {
+      errors_.add(node, fmt::format("'bound': {}", q.error().message));
+      return;
+    }
+    if (q.value().from != coral::BoundQuery::From::Fault) {
+      errors_.add(node, "'bound' starts at the case's fault: \"fault ASK -> ...\" (the ask the fault turns to 1)");
+      return;
+    }
+    e.bound = std::move(q).value();
   }
 
   void read_families(const toml::table& root) {

@@ -14,6 +14,8 @@
 //   max_depth_m = 2.0
 //   no_stall = true
 //   no_refused_exec = true
+//   bound = "fault system_problem -> exec surface"   # a case later than the
+//                                       # proven worst case fails the analysis
 //   [[family]]                          # one fault kind and its axes
 //   name = "leak"                       # unique; default: the fault kind
 //   fault = "leak"                      # a vehicle fault kind, or "none"
@@ -41,6 +43,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "coral/timing.h"
 #include "vehicle/params.h"
 #include "vehicle/scenario.h"
 
@@ -69,6 +72,10 @@ struct ExpectationSet {
   bool no_refused_exec = false;            // no EXEC refused or answered 0 (by the vehicle or a script)
   std::string guard;                       // this guard must trip after the fault ("" no check)
   std::optional<double> guard_within_s;    // ... within this of the fault's start (needs guard)
+  // The timing analysis's question, from the fault (`fault ASK -> TO`):
+  // every case's time from its fault to TO is checked against the proven
+  // worst case (docs/campaigns.md, "Cross-checking a proven bound").
+  std::optional<coral::BoundQuery> bound;
 };
 
 // The values one vehicle parameter takes across a family's cases.

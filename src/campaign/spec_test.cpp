@@ -327,6 +327,33 @@ TEST(CampaignSpec, MissionsAreCheckedWhereTheSpecNamesThem) {
   EXPECT_NE(std::string::npos, error_of("[[family]]\nfault = \"none\"\n").find("missing 'missions'"));
 }
 
+TEST(CampaignSpec, ABoundIsAQuestionFromTheFaultAndItsErrorsAreLocated) {
+  auto ok =
+      parse(spec_text("[expect.leak]\nbound = \"fault system_problem -> exec surface\"\n[[family]]\nfault = "
+                      "\"leak\"\nat_s = 3\nexpect = \"leak\"\n"));
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  const auto& bound = ok.value().expectations.at("leak").bound;
+  ASSERT_TRUE(bound.has_value());
+  EXPECT_EQ("system_problem", bound->from_name);
+  EXPECT_EQ("surface", bound->to_name);
+  const std::string e = error_of(spec_text(R"([expect.a]
+bound = 3
+[expect.b]
+bound = "fault system_problem => exec surface"
+[expect.c]
+bound = "trip leak -> exec surface"
+[expect.d]
+bound = "fault system_problem -> surface within 30"
+[[family]]
+fault = "none"
+expect = "a"
+)"));
+  EXPECT_NE(std::string::npos, e.find("c.toml:3:9: 'bound' must be a question in quotes")) << e;
+  EXPECT_NE(std::string::npos, e.find("c.toml:5:9: 'bound': column 22: ")) << e;
+  EXPECT_NE(std::string::npos, e.find("c.toml:7:9: 'bound' starts at the case's fault")) << e;
+  EXPECT_EQ(std::string::npos, e.find("c.toml:9:")) << "a `within` is allowed (and not needed): " << e;
+}
+
 TEST(CampaignSpec, ExpectationsAreCheckedAndFamiliesMustNameOne) {
   const std::string e = error_of(spec_text(R"([expect.strict]
 outcomes = ["completed", "won"]

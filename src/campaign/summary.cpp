@@ -49,6 +49,12 @@ Summary::Summary(const Spec& spec) : spec_(spec) {
   }
 }
 
+std::uint64_t Summary::past_proven_bound() const {
+  std::uint64_t n = 0;
+  for (const auto& [key, b] : bounds_) n += b.exceeded;
+  return n;
+}
+
 void Summary::set_transitions(const std::string& mission, std::vector<std::string> transitions) {
   transitions_[mission] = std::move(transitions);
 }
@@ -78,6 +84,22 @@ void Summary::add(const nlohmann::ordered_json& line) {
     ++cell.done;
     if (!pass) ++cell.failed;
     ++cell.outcomes[outcome];
+  }
+  for (const auto& check : line["checks"]) {
+    if (check.value("name", "") != "bound") continue;
+    BoundSeen& b = bounds_[{mission, family}];
+    const bool proven = check.contains("limit") && check["limit"].is_number();  // no limit: no proof
+    if (proven) {
+      b.proven_s = check["limit"].get<double>();
+    } else if (b.note.empty()) {
+      b.note = check.value("note", "");
+    }
+    if (!proven && !check.value("pass", true)) ++b.unproven;
+    if (check.contains("figure") && check["figure"].is_number()) {
+      ++b.measured;
+      b.max_s = std::max(b.max_s, check["figure"].get<double>());
+    }
+    if (proven && !check.value("pass", true)) ++b.exceeded;
   }
   for (const auto& check : line["checks"]) {
     if (check.value("name", "") != "surface_within_s") continue;
@@ -168,6 +190,29 @@ nlohmann::ordered_json Summary::to_json(const CampaignRun& run) const {
     surf.push_back(std::move(e));
   }
   j["time_to_surface"] = std::move(surf);
+  // A case past the proven worst case is a failure of the analysis, not of
+  // the mission: counted apart ("exceeded"), with the worst measured time.
+  nlohmann::ordered_json bounds = nlohmann::ordered_json::array();
+  for (const auto& [key, b] : bounds_) {
+    const Family* f = nullptr;
+    for (const Family& fam : spec_.families) {
+      if (fam.name == key.second) f = &fam;
+    }
+    if (f == nullptr) continue;
+    const ExpectationSet& set = spec_.expectations.at(f->expect);
+    nlohmann::ordered_json e{{"mission", key.first},
+                             {"family", key.second},
+                             {"bound", set.bound ? set.bound->text : ""},
+                             {"proven_s", b.proven_s ? nlohmann::ordered_json(*b.proven_s) : nullptr},
+                             {"measured", b.measured},
+                             {"max_s", b.measured ? nlohmann::ordered_json(b.max_s) : nullptr},
+                             {"exceeded", b.exceeded},
+                             {"unproven", b.unproven}};
+    if (b.proven_s && b.measured && b.max_s > 0) e["ratio"] = std::round(*b.proven_s / b.max_s * 100.0) / 100.0;
+    if (!b.note.empty()) e["note"] = b.note;
+    bounds.push_back(std::move(e));
+  }
+  j["bounds"] = std::move(bounds);
   j["failures"] = failures_;
   j["failures_not_listed"] = failed_ > failures_.size() ? failed_ - failures_.size() : 0;
   nlohmann::ordered_json cov = nlohmann::ordered_json::object();

@@ -2,7 +2,7 @@
 // What a campaign found, gathered case by case as results arrive (memory
 // grows with the failures kept and a few numbers per case, not with the
 // cases' lines): the counts, the outcome matrix of family x injection time,
-// time-to-surface after a fault, the failing cases with their repro
+// time-to-surface after a fault, proven bounds against the measured times, the failing cases with their repro
 // commands, and coverage. report.json is to_json(); report.html is drawn
 // from that same JSON.
 #include <cstdint>
@@ -43,6 +43,8 @@ class Summary {
 
   std::uint64_t done() const { return done_; }
   std::uint64_t failed() const { return failed_; }
+  // Cases past a proven bound (the timing analysis unsound for them).
+  std::uint64_t past_proven_bound() const;
 
   // report.json.
   nlohmann::ordered_json to_json(const CampaignRun& run) const;
@@ -64,6 +66,14 @@ class Summary {
     std::uint64_t never = 0;  // the fault happened; the vehicle was not seen at the surface
   };
 
+  // A proven bound (an expectation set's `bound`) against one mission's cases.
+  struct BoundSeen {
+    std::optional<double> proven_s;  // the analysis's worst case (the checks' limit)
+    std::uint64_t measured = 0, exceeded = 0, unproven = 0;
+    double max_s = 0.0;
+    std::string note;  // the first case's note without a proven bound (PROLOG rules, an unbounded answer)
+  };
+
   std::size_t column(const Row& row, double at_s) const;
 
   const Spec& spec_;
@@ -72,6 +82,7 @@ class Summary {
   std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> families_;  // done, failed
   std::vector<Row> rows_;                                                    // mission-major, family-minor
   std::map<std::string, Surfacing> surfacing_;                               // by family
+  std::map<std::pair<std::string, std::string>, BoundSeen> bounds_;          // by mission, family
   std::vector<nlohmann::ordered_json> failures_;
   std::map<std::string, std::map<std::string, std::uint64_t>> coverage_;  // mission -> item -> cases
   std::vector<double> case_wall_s_;

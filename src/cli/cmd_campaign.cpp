@@ -323,6 +323,12 @@ Runner add_campaign_command(CLI::App& app) {
                              r.done - r.failed, r.failed, r.wall_s,
                              r.wall_s > 0 ? static_cast<double>(r.done) / r.wall_s : 0.0);
     std::cout << fmt::format("  results: {0}/results.jsonl, report: {0}/report.html\n", f->out);
+    if (r.past_proven_bound > 0) {
+      std::cout << fmt::format(
+          "  {} cases took longer than the proven bound: the timing analysis is unsound for them (report.json, "
+          "\"bounds\")\n",
+          r.past_proven_bound);
+    }
     if (r.interrupted) {
       std::cout << fmt::format("  interrupted by {}: the finished cases are kept\n", signal_name(g_last_signal));
       return kExitSignalBase + static_cast<int>(g_last_signal);
