@@ -49,9 +49,8 @@ BoundProof proven_bound(const Spec& spec, std::size_t mission, const Expectation
   }
   const coral::BoundQuery& q = *set.bound;
   // The ascent changes the answer only for a bound to the surface.
-  const double ascent_s = q.to == coral::BoundQuery::To::Surface
-                              ? run::ascent_estimate_s(params, bound_depth_m(set))
-                              : 0.0;
+  const double ascent_s =
+      q.to == coral::BoundQuery::To::Surface ? run::ascent_estimate_s(params, bound_depth_m(set)) : 0.0;
   static std::mutex mutex;
   static std::map<std::tuple<std::string, std::string, double>, BoundProof> proofs;
   const auto key = std::make_tuple(m.resolved, q.text, ascent_s);

@@ -40,6 +40,7 @@ int write_report_witness(const coral::VerifyReport& report, const std::string& m
       if (!net.empty() && n.name != net) continue;
       for (const auto& p : n.properties) {
         if (p.blocking != blocking || p.status != coral::Property::Status::Fails || !p.counterexample) continue;
+        if (p.counterexample->timed) continue;  // a requirement's path crosses nets: no witness
         const auto& steps = p.counterexample->steps;
         const std::string from = fmt::format("{} counterexample", p.key);
         return write_json(coral::witness_answers_json(mission, n.name, from, steps), file,

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "coral/timing_internal.h"
+#include "coral/verifier.h"
 
 namespace strata::coral {
 namespace timing_detail {
@@ -126,7 +127,7 @@ class Solver {
       a.path.push_back(step(x_.immediate_from_.second, 0.0));
     }
     if (extra > 0) {
-      a.path.push_back({a.worst_s, "", fmt::format("at the surface (the ascent, at most {:.1f} s)", extra)});
+      a.path.push_back(pass_step(a.worst_s, "", fmt::format("at the surface (the ascent, at most {:.1f} s)", extra)));
     }
     return a;
   }
@@ -281,8 +282,10 @@ class Solver {
     auto flush = [&] {
       if (waited == 0) return;
       elapsed += waited;
-      out.push_back(
-          {static_cast<double>(elapsed) * tick, "", fmt::format("{:.1f} s pass", static_cast<double>(waited) * tick)});
+      BoundStep b = pass_step(static_cast<double>(elapsed) * tick, "",
+                              fmt::format("{:.1f} s pass", static_cast<double>(waited) * tick));
+      b.trace.action = fmt::format("{:.1f} s of waiting", static_cast<double>(waited) * tick);
+      out.push_back(std::move(b));
       waited = 0;
     };
     for (std::uint32_t e : way) {
@@ -298,11 +301,20 @@ class Solver {
     return elapsed;
   }
 
+  static BoundStep pass_step(std::optional<double> t, std::string instance, std::string what) {
+    BoundStep b{t, std::move(instance), std::move(what), {}};
+    b.trace.kind = TraceStep::Kind::Pass;
+    b.trace.action = b.what;
+    b.trace.instance = b.net;
+    b.trace.t_s = t;
+    return b;
+  }
+
   BoundStep step(std::uint32_t label, std::optional<double> t) const {
     if (label == kOnset) {
-      return {
+      return pass_step(
           t, "",
-          fmt::format("the fault starts: every ask {} answers {} from now on", q_.from_name, q_.fault_value ? 1 : 0)};
+          fmt::format("the fault starts: every ask {} answers {} from now on", q_.from_name, q_.fault_value ? 1 : 0));
     }
     const GlobalTransition& g = m_.transitions[label];
     const Inst& in = m_.insts[g.inst];
@@ -310,22 +322,27 @@ class Solver {
     const CompiledNet& cn = *in.cn;
     const std::string name(cn.net.transition_name(st.transition));
     const auto& actions = cn.actions[st.transition];
+    BoundStep b{t, in.path, name, trace_step(program_, in.an, g.t)};
+    b.trace.instance = in.path;
+    b.trace.net = cn.name;
+    b.trace.t_s = t;
     switch (st.kind) {
       case AnalysisNet::Step::Kind::Transition: {
-        std::string what = "fires " + name;
-        for (std::size_t i = 0; i < actions.size(); ++i) what += (i ? ", " : ": ") + action_text(actions[i]);
-        return {t, in.path, what};
+        b.what = "fires " + name;
+        for (std::size_t i = 0; i < actions.size(); ++i) b.what += (i ? ", " : ": ") + action_text(actions[i]);
+        break;
       }
       case AnalysisNet::Step::Kind::Outcome: {
         const ActionSpec& a = actions[st.action];
         const char* verb = a.kind == ActionSpec::Kind::Phase ? "ends at" : "answers";
-        return {t, in.path, fmt::format("{} {} {}", action_text(a), verb, answer_text(program_, a, st.answer))};
+        b.what = fmt::format("{} {} {}", action_text(a), verb, answer_text(program_, a, st.answer));
+        break;
       }
       case AnalysisNet::Step::Kind::Forget:
-        return {t, in.path,
-                fmt::format("guard {} forgets {}", cn.guards.at(st.answer).name, action_text(actions[st.action]))};
+        b.what = fmt::format("guard {} forgets {}", cn.guards.at(st.answer).name, action_text(actions[st.action]));
+        break;
     }
-    return {t, in.path, name};
+    return b;
   }
 
   // The BFS tree's steps from the initial state to s (before the event).

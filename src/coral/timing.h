@@ -32,6 +32,7 @@
 
 #include "core/result.h"
 #include "coral/program.h"
+#include "coral/trace_step.h"
 
 namespace strata::coral {
 
@@ -78,6 +79,9 @@ struct BoundStep {
   std::optional<double> t_s;  // since the event (nullopt: before it)
   std::string net;            // the instance: "survey", "survey/leg#2"
   std::string what;           // "fires check_depth: ASK depth_reached", "answer 1", "3.0 s pass"
+  // The same step in the verifier's terms, with its instance, net and time
+  // (the studio plays it on the nets as it plays a counterexample).
+  TraceStep trace;
 };
 
 struct BoundAnswer {

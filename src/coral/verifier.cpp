@@ -271,17 +271,27 @@ void add_requirements(const Program& program, const CompiledNet& mission, const 
     } else {
       const BoundAnswer a = analyse_bound(program, q.value(), *options.timing);
       const double within = *q.value().within_s;
+      // The evidence, held or not: the worst path, or the way to the cycle
+      // that delays TO for ever (the studio plays it on the nets).
+      if (a.verdict == BoundAnswer::Verdict::Bounded || a.verdict == BoundAnswer::Verdict::Unbounded) {
+        Counterexample cx;
+        cx.timed = true;
+        for (const BoundStep& b : a.path) cx.steps.push_back(b.trace);
+        if (a.verdict == BoundAnswer::Verdict::Unbounded) {
+          cx.repeat_from = cx.steps.size();
+          for (const BoundStep& b : a.cycle) cx.steps.push_back(b.trace);
+        }
+        p.counterexample = std::move(cx);
+      }
       switch (a.verdict) {
         case BoundAnswer::Verdict::Bounded:
           p.status = a.worst_s <= within + 1e-9 ? Property::Status::Holds : Property::Status::Fails;
           p.message = fmt::format("{}: at worst {:.1f} s{}", r.text, a.worst_s,
-                                  p.status == Property::Status::Holds
-                                      ? ""
-                                      : fmt::format(", past {} s (`strata verify --bound` shows the path)", within));
+                                  p.status == Property::Status::Holds ? "" : fmt::format(", past {} s", within));
           break;
         case BoundAnswer::Verdict::Unbounded:
           p.status = Property::Status::Fails;
-          p.message = fmt::format("{}: unbounded: {} (`strata verify --bound` shows the cycle)", r.text, a.message);
+          p.message = fmt::format("{}: unbounded: {}", r.text, a.message);
           break;
         case BoundAnswer::Verdict::NoEvent:
           p.status = Property::Status::Holds;

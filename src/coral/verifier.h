@@ -41,6 +41,7 @@
 #include "coral/analysis.h"
 #include "coral/program.h"
 #include "coral/timing.h"
+#include "coral/trace_step.h"
 #include "core/source.h"
 
 namespace strata::coral {
@@ -71,23 +72,15 @@ struct VerifyOptions {
   std::optional<BoundOptions> timing = std::nullopt;
 };
 
-// One step of a counterexample.
-struct TraceStep {
-  enum class Kind { Fire, Answer } kind = Kind::Fire;
-  std::string transition;            // the mission transition fired, or whose action answers
-  std::vector<std::string> actions;  // Fire: what it issues ("ASK depth_reached")
-  std::string action;                // Answer: the action answering
-  std::string answer;                // Answer: "1", "0", or the phase's exit
-  std::string tactic;                // Answer: "exec", "ask", "ood" or "phase" (the engine's action kinds)
-  std::string primitive;             // Answer: the primitive called, or the phase net run
-  std::vector<std::string> marks;    // mission places it marks
-};
-
 struct Counterexample {
   std::vector<TraceStep> steps;
   std::string marking;                     // mission places at the end: "a:1 b:2", or "(empty)"
   std::vector<std::string> in_flight;      // "ASK depth_reached (check_depth)"
   std::optional<std::size_t> repeat_from;  // bounded: the steps from here on repeat for ever
+  // A requirement's: the timing analysis's path (the worst case, or the
+  // way to an unbounded cycle) across the mission's nets, with times. Not a
+  // witness: a run cannot follow it by scripted answers.
+  bool timed = false;
 };
 
 struct Property {

@@ -34,6 +34,7 @@ std::string counterexample_text(const Counterexample& cx, std::string_view inden
       out += fmt::format("{}   -- from here on the steps can repeat --\n", indent);
     out += fmt::format("{}{:>3}. {}\n", indent, i + 1, step_text(cx.steps[i]));
   }
+  if (cx.timed) return out;  // across nets: no one marking to show
   out += fmt::format("{}marking: {}\n", indent, cx.marking);
   if (!cx.in_flight.empty()) out += fmt::format("{}in flight: {}\n", indent, join_items(cx.in_flight));
   return out;
@@ -51,13 +52,17 @@ std::string property_line(const Property& p, std::vector<std::pair<std::string, 
   }
   if (!p.counterexample) return out;
   const Counterexample& cx = *p.counterexample;
+  // A requirement's path is evidence for the studio; the text shows it
+  // when the requirement fails.
+  if (cx.timed && p.status == Property::Status::Holds) return out;
   std::string text = counterexample_text(cx, "        ");
   for (const auto& [key, earlier] : shown) {
     if (earlier == text) return out + fmt::format("        the same sequence as for {}\n", key);
   }
   shown.emplace_back(p.key, text);
   if (!cx.steps.empty()) {
-    out += fmt::format("        shortest sequence ({} step{}):\n", cx.steps.size(), cx.steps.size() == 1 ? "" : "s");
+    out += fmt::format("        {} ({} step{}):\n", cx.timed ? "the worst path" : "shortest sequence", cx.steps.size(),
+                       cx.steps.size() == 1 ? "" : "s");
   }
   return out + text;
 }
@@ -159,11 +164,17 @@ std::string_view status_name(Property::Status status) {
 }
 
 std::string step_text(const TraceStep& s) {
+  // The timing analysis's steps: when (since the event) and in which net.
+  std::string when;
+  if (s.t_s) when = fmt::format("{:.1f} s: ", *s.t_s);
+  if (!s.instance.empty()) when += s.instance + ": ";
+  if (s.kind == TraceStep::Kind::Pass) return when + s.action;
   std::string marks = s.marks.empty() ? "" : fmt::format(" -> {}", join_items(s.marks));
   if (s.kind == TraceStep::Kind::Fire) {
-    return fmt::format("fire {}{}{}", s.transition, s.actions.empty() ? "" : ": " + join_items(s.actions), marks);
+    return fmt::format("{}fire {}{}{}", when, s.transition, s.actions.empty() ? "" : ": " + join_items(s.actions),
+                       marks);
   }
-  return fmt::format("{} ({}) answers {}{}", s.action, s.transition, s.answer, marks);
+  return fmt::format("{}{} ({}) answers {}{}", when, s.action, s.transition, s.answer, marks);
 }
 
 std::string verify_text(const VerifyReport& report, bool holding) {
@@ -227,8 +238,13 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
       if (p.counterexample) {
         nlohmann::ordered_json steps = nlohmann::ordered_json::array();
         for (const auto& s : p.counterexample->steps) {
-          nlohmann::ordered_json sj{{"kind", s.kind == TraceStep::Kind::Fire ? "fire" : "answer"},
+          nlohmann::ordered_json sj{{"kind", s.kind == TraceStep::Kind::Fire     ? "fire"
+                                             : s.kind == TraceStep::Kind::Answer ? "answer"
+                                                                                 : "pass"},
                                     {"transition", s.transition}};
+          if (!s.instance.empty()) sj["instance"] = s.instance;
+          if (!s.net.empty()) sj["net"] = s.net;
+          if (s.t_s) sj["t_s"] = *s.t_s;
           if (s.kind == TraceStep::Kind::Fire) {
             sj["actions"] = s.actions;
           } else {
@@ -242,6 +258,7 @@ nlohmann::ordered_json verify_json(const VerifyReport& report) {
         nlohmann::ordered_json cj{
             {"steps", steps}, {"marking", p.counterexample->marking}, {"in_flight", p.counterexample->in_flight}};
         if (p.counterexample->repeat_from) cj["repeat_from"] = *p.counterexample->repeat_from;
+        if (p.counterexample->timed) cj["timed"] = true;
         pj["counterexample"] = std::move(cj);
       }
       j["properties"].push_back(std::move(pj));

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "studio/server_test_support.h"
 #include "studio/sonar_status.h"
@@ -307,6 +308,44 @@ TEST_F(StudioServerTest, VerifyResultsCarryTheirLocationInTheFolder) {
     if (p["key"] != "no_dead") continue;
     EXPECT_EQ(json({{"file", "tank/dead.coral"}, {"line", 3}, {"col", 3}, {"transition", "u"}}), p["at"]) << p.dump();
   }
+}
+
+// Issue 38: a mission's `require` comes back with its worst path, each step
+// with its instance, net and time, for the page to play on the nets.
+TEST_F(StudioServerTest, ARequirementComesBackWithItsWorstPathAcrossTheNets) {
+  std::ofstream(base_ / "root/tank/held.coral")
+      << "net hold(s) { place a = 1; exit done;\n"
+         "  transition nap { wait { a } action { TACTIC(EXEC, sleep(s), done) } } }\n"
+         "mission held { require \"fault system_problem -> exec surface within 2\";\n"
+         "  place begin = 1, held, up; exit closed, aborted;\n"
+         "  transition hold { wait { begin } action { PHASE(hold(5), held) } }\n"
+         "  transition check { wait { held } action { TACTIC(ASK, system_problem, up, closed) } }\n"
+         "  transition close { wait { up } action { TACTIC(EXEC, surface, aborted) } } }\n";
+  auto c = client();
+  auto v = c.Post("/api/verify", R"({"path": "tank/held.coral"})", "application/json");
+  ASSERT_TRUE(v);
+  ASSERT_EQ(200, v->status) << v->body;
+  const json r = json::parse(v->body);
+  EXPECT_FALSE(r["ok"].get<bool>());  // 5.2 s at worst, past 2 s
+  const json* req = nullptr;
+  for (const json& n : r["nets"]) {
+    for (const json& p : n["properties"]) {
+      if (p["key"] == "requirement") req = &p;
+    }
+  }
+  ASSERT_NE(nullptr, req) << r.dump();
+  EXPECT_EQ("fails", (*req)["status"]);
+  ASSERT_TRUE(req->contains("counterexample")) << req->dump();
+  const json& cx = (*req)["counterexample"];
+  EXPECT_TRUE(cx.value("timed", false));
+  std::set<std::string> instances;
+  for (const json& st : cx["steps"]) {
+    if (st.contains("instance")) instances.insert(st["instance"].get<std::string>());
+  }
+  EXPECT_EQ(std::set<std::string>({"held", "held/hold#1"}), instances) << cx.dump();
+  EXPECT_EQ("fire", cx["steps"].back()["kind"]);
+  EXPECT_EQ("close", cx["steps"].back()["transition"]);
+  EXPECT_NEAR(5.2, cx["steps"].back()["t_s"].get<double>(), 1e-9);
 }
 
 TEST_F(StudioServerTest, AMissionWhoseDataFileIsOutsideIsNotRun) {

@@ -149,6 +149,41 @@ test('a counterexample plays on its net: to the stall and one step back', async 
   await waitFor(page, "!s.cex && s.view === 'edit'", 3000, 'the player closed');
 });
 
+// Issue 38: a mission's `require` shows its worst path on the nets, the
+// player moving into the phase each step runs in.
+const HELD = `net hold(s) { place a = 1; exit done;
+  transition nap { wait { a } action { TACTIC(EXEC, sleep(s), done) } } }
+mission held { require "fault system_problem -> exec surface within 2";
+  place begin = 1, held, up; exit closed, aborted;
+  transition hold { wait { begin } action { PHASE(hold(5), held) } }
+  transition check { wait { held } action { TACTIC(ASK, system_problem, up, closed) } }
+  transition close { wait { up } action { TACTIC(EXEC, surface, aborted) } } }
+`;
+
+test.describe('a requirement', () => {
+  test.use({ files: { 'held/held.coral': HELD } });
+
+  test('its worst path plays on the nets, into the phase and back', async ({ page }) => {
+    await openPage(page, 'held/held.coral');
+    await page.locator('#btn-verify').click();
+    await waitFor(page, 's.verify && s.verify.nets && s.verify.nets.some((n) => n.name === "held")', 30000, 'verification of held');
+    const req = page.locator('#verify-body li.prop[data-key="requirement"]');
+    await expect(req).toContainText('at worst 5.2 s, past 2 s');
+    await req.locator('button.play-cex').click();
+    await waitFor(page, "s.view === 'cex' && s.cex && s.cex.i === 0 && s.netName === 'held'", 5000, 'the player at its start');
+    await expect(page.locator('#cex-title')).toContainText('the worst path');
+    const length = await studio(page, 's.cex.length');
+    await page.locator('#cex-next').click();  // the mission calls the phase
+    await page.locator('#cex-next').click();  // in the phase: nap fires
+    await waitFor(page, "s.netName === 'hold' && s.cex.i === 2 && cy.getElementById('t:nap').hasClass('cex')", 5000, 'the player in the phase, at nap');
+    await page.locator('#cex-next').click();  // the fault starts: still in the phase
+    await waitFor(page, "s.netName === 'hold' && s.cex.i === 3", 5000, 'the fault, in the phase');
+    for (let i = 3; i < length; i++) await page.locator('#cex-next').click();
+    await waitFor(page, `s.netName === 'held' && s.cex.i === ${length} && cy.getElementById('t:close').hasClass('cex')`, 5000, 'back on the mission, at close');
+    await expect(page.locator('#cex-text')).toContainText('5.2 s: held: fire close: EXEC surface');
+  });
+});
+
 test('a sonar search run shows the newest scan beside the net', async ({ page }) => {
   const SEARCH = 'missions/sonar_search/sonar_search.coral';
   await openPage(page, SEARCH);

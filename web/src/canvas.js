@@ -6,7 +6,7 @@
 // viewports go to the store.
 import { netElements, createElementCache, createCy, diagnosticsByElement, transitionLabel, tokenSvg } from './graph.js';
 import { layeredLayout } from './layout.js';
-import { currentNet, tokensFor } from './store.js';
+import { currentNet, tokensFor, cexFocus } from './store.js';
 import { bindGestures, viewCentre } from './gestures.js';
 import { kLargeNet, windowBox, windowIds } from './netwindow.js';
 
@@ -244,7 +244,7 @@ export function createCanvas(container, store, fx) {
     }
     const enabled = new Set(running ? (s.rs.enabled[net.name] || []) : []);
     const last = running && s.rs.lastFired && s.rs.lastFired.net === net.name ? s.rs.lastFired.transition : null;
-    const cexT = s.view === 'cex' && s.cex && s.cex.net === net.name && s.cex.i > 0 ? s.cex.steps[s.cex.i - 1].transition : null;
+    const cexT = s.view === 'cex' && s.cex && cexFocus(s.cex).net === net.name && s.cex.i > 0 ? s.cex.steps[s.cex.i - 1].transition : null;
     const byName = new Map((net.transitions || []).map((t) => [t.name, t]));
     // Only what changed is touched: a class or data set restyles the element.
     const toggle = (n, cls, on) => { if (n.hasClass(cls) !== on) n.toggleClass(cls, on); };

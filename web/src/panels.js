@@ -213,7 +213,8 @@ export function createPanels(store, fx) {
     const c = s.cex;
     $('#cex-box').hidden = !c;
     if (!c) return;
-    $('#cex-title').textContent = `${c.net}: ${c.key}`;
+    const timed = c.steps.some((st) => st.instance);
+    $('#cex-title').textContent = timed ? `${c.net}: ${c.key}, the worst path` : `${c.net}: ${c.key}`;
     $('#cex-pos').textContent = `${c.i} / ${c.steps.length}`;
     $('#cex-text').textContent = c.i > 0 ? `${c.i}. ${c.steps[c.i - 1].text}` : '(initial marking)';
   }

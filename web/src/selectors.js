@@ -35,9 +35,30 @@ export function uniqueName(s, prefix) {
   return prefix + (used.size + 2);
 }
 
+// Where a counterexample stands after its first c.i steps: {net, instance}.
+// A verifier's counterexample stays on its net (instance null); a
+// requirement's worst path (its steps carry `instance` and `net`) moves into
+// the phase each step runs in, and a step of time passing stays where the
+// step before it was.
+export function cexFocus(c) {
+  for (let k = Math.min(c.i, c.steps.length) - 1; k >= 0; k--) {
+    const st = c.steps[k];
+    if (st.instance && st.net) return { net: st.net, instance: st.instance };
+  }
+  const first = c.steps.find((st) => st.instance && st.net);
+  return first && first.net === c.net ? { net: c.net, instance: first.instance } : { net: c.net, instance: null };
+}
+
 // The marking drawn on net: a counterexample's, the run's, or null (the initial marking).
 export function tokensFor(s, netName) {
-  if (s.view === 'cex' && s.cex && s.cex.net === netName) return cexMarking(s, netName, s.cex.steps, s.cex.i);
+  if (s.view === 'cex' && s.cex) {
+    const f = cexFocus(s.cex);
+    if (f.net !== netName) return null;
+    if (!f.instance) return cexMarking(s, netName, s.cex.steps, s.cex.i);
+    // Only the steps of this instance, from its net's initial marking.
+    const mine = s.cex.steps.slice(0, s.cex.i).filter((st) => st.instance === f.instance);
+    return cexMarking(s, netName, mine, mine.length);
+  }
   if ((s.view === 'live' || s.view === 'replay') && s.rs.markings[netName]) return s.rs.markings[netName];
   return null;
 }
@@ -52,6 +73,7 @@ export function cexMarking(s, netName, steps, i) {
   const tr = new Map((net.transitions || []).map((t) => [t.name, t]));
   for (let k = 0; k < i; k++) {
     const st = steps[k];
+    if (st.kind === 'pass') continue;  // time passing, the fault starting: no token moves
     if (st.kind === 'fire') {
       const t = tr.get(st.transition);
       if (t) {

@@ -10,7 +10,7 @@
 // run's telemetry and reports arrays are append-only and shared between
 // versions (a view compares their length).
 import { emptyRun, applyEvent, chainOf } from './runstate.js';
-import { placeId, transId, displayNets, currentNet, editable, dirty, nextFiring, positionsFromLayout } from './selectors.js';
+import { placeId, transId, displayNets, currentNet, editable, dirty, nextFiring, positionsFromLayout, cexFocus } from './selectors.js';
 export * from './selectors.js';
 
 export const kMaxUndo = 200;
@@ -413,9 +413,13 @@ export function reduce(s, a) {
       n = { ...n, view: 'cex', netName: a.net, cex: { net: a.net, key: a.key, steps: a.steps, i: 0 } };
       return n;
     }
-    case 'cex/go':
+    case 'cex/go': {
       if (!s.cex) return s;
-      return { ...s, cex: { ...s.cex, i: Math.max(0, Math.min(s.cex.steps.length, a.i)) }, netName: s.cex.net };
+      const cex = { ...s.cex, i: Math.max(0, Math.min(s.cex.steps.length, a.i)) };
+      // A worst path moves into the phase its step runs in, when that net is in the load.
+      const at = cexFocus(cex).net;
+      return { ...s, cex, netName: displayNets(s).some((n) => n.name === at) ? at : s.cex.net };
+    }
     case 'cex/close':
       return { ...s, cex: null, view: s.rs.status === 'idle' ? 'edit' : 'live' };
 

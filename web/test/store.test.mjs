@@ -192,6 +192,39 @@ test('a counterexample plays on its net: forward, back, close', () => {
   assert.equal(reduce(s, { type: 'cex/play', net: 'nope', key: 'k', steps: [] }), s);
 });
 
+test('a requirement\'s worst path moves into the phase each step runs in, one instance at a time', () => {
+  const ph = { name: 'ph', kind: 'phase', file: 'm.coral', editable: true, exits: ['done'],
+    places: [{ name: 'x', initial: 1, line: 2 }, { name: 'done', initial: 0, line: 2 }],
+    transitions: [{ name: 'go', priority: 0, line: 2, inputs: [{ place: 'x', weight: 1 }], outputs: [{ place: 'done', weight: 1 }], actions: [] }] };
+  const base = model();
+  let s = opened({ ...base, nets: [...base.nets, ph] });
+  const steps = [
+    { kind: 'fire', transition: 't', instance: 'n', net: 'n', marks: [], text: 'n: fire t' },
+    { kind: 'pass', transition: '', t_s: 0, marks: [], text: '0.0 s: the fault starts' },
+    { kind: 'fire', transition: 'go', instance: 'n/ph#1', net: 'ph', t_s: 0, marks: [], text: 'n/ph#1: fire go' },
+    { kind: 'pass', transition: '', t_s: 1.1, marks: [], text: '1.1 s: 1.1 s of waiting' },
+    { kind: 'answer', transition: 'go', instance: 'n/ph#2', net: 'ph', t_s: 1.1, marks: ['x'], text: 'n/ph#2: an answer marks x' },
+  ];
+  s = reduce(s, { type: 'cex/play', net: 'n', key: 'requirement', steps });
+  assert.equal(s.netName, 'n');
+  assert.deepEqual(tokensFor(s, 'n'), { a: 1 });
+  s = reduce(s, { type: 'cex/go', i: 2 });  // the fault: still on the mission
+  assert.equal(s.netName, 'n');
+  assert.deepEqual(tokensFor(s, 'n'), { b: 1 });
+  s = reduce(s, { type: 'cex/go', i: 3 });  // into the phase's first call
+  assert.equal(s.netName, 'ph');
+  assert.deepEqual(tokensFor(s, 'ph'), { done: 1 });
+  assert.equal(tokensFor(s, 'n'), null);
+  s = reduce(s, { type: 'cex/go', i: 4 });  // time passing stays there
+  assert.equal(s.netName, 'ph');
+  s = reduce(s, { type: 'cex/go', i: 5 });  // a second call starts from the net's initial marking
+  assert.deepEqual(tokensFor(s, 'ph'), { x: 2 });
+  s = reduce(s, { type: 'cex/go', i: 4 });
+  assert.deepEqual(tokensFor(s, 'ph'), { done: 1 });
+  s = reduce(s, { type: 'cex/go', i: 0 });
+  assert.equal(s.netName, 'n');
+});
+
 test('a page with no file shows the run\'s nets', () => {
   const s = reduce(initialState(), { type: 'run/event', name: 'snapshot', data: { run: 3, mission: 'x.coral', nets: model().nets, instances: [] } });
   assert.equal(displayNets(s)[0].name, 'n');
