@@ -40,6 +40,8 @@ struct StudioOptions {
   std::string catalogue;
   std::string sonar;
   bool no_sonar = false;
+  int max_streams = studio::StudioOptions{}.max_streams;
+  int max_verifies = studio::StudioOptions{}.max_verifies;
   VerbosityFlags verbosity;
 };
 
@@ -101,6 +103,8 @@ int run_studio(const StudioOptions& o, bool listen_given) {
   }
   so.web_root = o.web_root;
   so.catalogue = &catalogue.value();
+  so.max_streams = o.max_streams;
+  so.max_verifies = o.max_verifies;
   // Runs started from the page get a Sonar Manager writing here; the page
   // shows its newest scan.
   if (!o.no_sonar) {
@@ -250,6 +254,14 @@ Runner add_studio_command(CLI::App& app, const LoadedConfig& config) {
                   "Where the Sonar Manager of a run started from the page writes its scans (default: a folder in "
                   "the system's temporary folder)");
   cmd->add_flag("--no-sonar", o->no_sonar, "Runs started from the page get no Sonar Manager");
+  cmd->add_option("--max-streams", o->max_streams,
+                  "Live-view event streams open at once, from every tab (each holds a worker; past it: 503)")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  cmd->add_option("--max-verifies", o->max_verifies,
+                  "Verifications running at once (each may take its memory limit; past it: 429)")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str();
   cmd->footer(
       "docs/studio.md has the page's API. Exit 0 after Ctrl-C; 69 when its HTTP module (libstrata_studio_http.so) is "
       "missing; 74 when it cannot listen or read DIR.");

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include "studio/assets.h"
 #include "studio/file_watcher.h"
@@ -34,7 +35,29 @@ bool method_not_allowed(const httplib::Request& req, httplib::Response& res) {
   return true;
 }
 
+// Why a request for the API is not from this studio's own page, or "". A
+// browser says where a request comes from (Sec-Fetch-Site): "same-origin"
+// from the page, "none" from the address bar. A page on another port of
+// this machine is "same-site", another host "cross-site": either may embed
+// an event stream (an iframe holds a worker for ever) or read nothing but
+// still make the studio work, so both are refused, whatever the method.
+std::string cross_site(const httplib::Request& req) {
+  if (!req.has_header("Sec-Fetch-Site")) return "";
+  const std::string site = req.get_header_value("Sec-Fetch-Site");
+  if (site == "same-origin" || site == "none") return "";
+  return fmt::format("{} {}: a request from another site (Sec-Fetch-Site: {}); only this studio's own page may ask",
+                     req.method, req.path, site);
+}
+
 }  // namespace
+
+std::shared_ptr<Slot> Slot::take(std::atomic<int>& count, int limit) {
+  if (++count > limit) {
+    --count;
+    return nullptr;
+  }
+  return std::make_shared<Slot>(count);
+}
 
 StudioServer::StudioServer(StudioOptions options, EventHub& hub)
     : options_(std::move(options)), hub_(hub), sandbox_(options_.root), server_(std::make_unique<httplib::Server>()) {
@@ -45,6 +68,15 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
   // holds one, so a few tabs would starve every other request.
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server_->set_payload_max_length(options_.max_body_bytes);
+  // The library listens with a backlog of 5: a burst of connections
+  // overflows it, and each dropped SYN is retried by the client after 1, 3,
+  // 7, 15... seconds (a GET of the file list took a minute beside 1,000
+  // others). The socket is kept here and listened on again with a deep
+  // backlog once bound.
+  server_->set_socket_options([this](int sock) {
+    httplib::default_socket_options(sock);
+    listen_fd_ = sock;
+  });
   // Headers and body go out in two writes: without TCP_NODELAY the body
   // waits for the page's delayed ACK (40 ms a request on a kept-alive
   // connection).
@@ -71,6 +103,7 @@ core::Result<std::uint16_t> StudioServer::start() {
                                    options_.port == 0 ? std::string("any port") : std::to_string(options_.port))};
   }
   port_ = static_cast<std::uint16_t>(port);
+  if (listen_fd_ >= 0) ::listen(listen_fd_, kListenBacklog);
   // The addresses a request may name (Host) and come from (Origin): the one
   // printed first, then the loopback forms a browser may be given.
   own_hosts_ = {lower(fmt::format("{}:{}", options_.host, port_))};
@@ -120,9 +153,38 @@ void StudioServer::routes() {
   // for a same-origin GET, and a GET changes nothing.
   s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     const std::string host = req.get_header_value("Host");
+    if (const std::size_t hosts = req.get_header_value_count("Host"); hosts != 1) {
+      send_error(res, 400,
+                 hosts == 0
+                     ? fmt::format("a request names this studio's address in Host: http://{}", own_hosts_.front())
+                     : fmt::format("a request names its Host once ({} given)", hosts));
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (!own_host(host)) {
       send_error(res, 403, fmt::format("Host '{}' is not this studio's address (http://{})", host, own_hosts_.front()));
       return httplib::Server::HandlerResponse::Handled;
+    }
+    // A body comes with its length: the library reads a chunked one whole,
+    // past max_body_bytes, before any handler. Refused here, before it is
+    // read; the connection closes (what follows is that body).
+    if (req.has_header("Transfer-Encoding")) {
+      res.set_header("Connection", "close");
+      send_error(res, 411,
+                 fmt::format("a request body needs Content-Length (Transfer-Encoding: {} is refused); at most {} bytes",
+                             req.get_header_value("Transfer-Encoding"), options_.max_body_bytes));
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.path.starts_with("/api/")) {
+      if (std::string why = cross_site(req); !why.empty()) {
+        send_error(res, 403, why);
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      // An Origin, when a GET has one, is this studio's too.
+      const std::string origin = req.get_header_value("Origin");
+      if (!origin.empty() && (!origin.starts_with("http://") || !own_host(origin.substr(7)))) {
+        send_error(res, 403, fmt::format("Origin '{}' is not this studio (http://{})", origin, own_hosts_.front()));
+        return httplib::Server::HandlerResponse::Handled;
+      }
     }
     if (req.method != "GET" && req.method != "HEAD") {
       const std::string origin = req.get_header_value("Origin");

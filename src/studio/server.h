@@ -39,6 +39,10 @@ namespace strata::studio {
 
 class FileWatcher;
 
+// Connections waiting to be accepted (listen(2)'s backlog; the kernel caps
+// it at net.core.somaxconn, 4096 on Debian 12).
+inline constexpr int kListenBacklog = 1024;
+
 class StudioServer final : public HttpServer {
  public:
   StudioServer(StudioOptions options, EventHub& hub);
@@ -81,6 +85,23 @@ class StudioServer final : public HttpServer {
   std::atomic<bool> listener_done_{false};  // listen_after_bind returned
   std::uint16_t port_ = 0;
   std::vector<std::string> own_hosts_;  // set by start(), before the first request
+  int listen_fd_ = -1;                  // the listening socket, once made
+  std::atomic<int> streams_{0};         // event streams open now
+  std::atomic<int> verifies_{0};        // verifications running now
+};
+
+// Holds one of `count`'s `limit` places while it lives (an event stream, a
+// verification); empty when every place was taken.
+class Slot {
+ public:
+  static std::shared_ptr<Slot> take(std::atomic<int>& count, int limit);
+  ~Slot() { --count_; }
+  Slot(const Slot&) = delete;
+  Slot& operator=(const Slot&) = delete;
+  explicit Slot(std::atomic<int>& count) : count_(count) {}
+
+ private:
+  std::atomic<int>& count_;
 };
 
 }  // namespace strata::studio

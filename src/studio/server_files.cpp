@@ -151,6 +151,15 @@ void StudioServer::file_routes(httplib::Server& s) {
   s.Post("/api/verify", [this, &catalogue, mission_body](const httplib::Request& req, httplib::Response& res) {
     auto body = mission_body(req, res);
     if (!body) return;
+    // Each may take its memory limit: a bounded number at once.
+    auto slot = Slot::take(verifies_, options_.max_verifies);
+    if (!slot) {
+      res.set_header("Retry-After", "2");
+      return send_error(res, 429,
+                        fmt::format("{} verifications are running, the most this studio runs at once "
+                                    "(--max-verifies): try again when one ends",
+                                    options_.max_verifies));
+    }
     const std::string path = body->value("path", "");
     std::optional<std::string> text;
     if (body->contains("text") && (*body)["text"].is_string()) text = (*body)["text"].get<std::string>();

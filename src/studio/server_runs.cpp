@@ -124,13 +124,23 @@ void StudioServer::run_routes(httplib::Server& s) {
   });
 
   s.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
+    // Each stream holds a worker while open: a bounded number, so that the
+    // API always has workers left.
+    auto slot = Slot::take(streams_, options_.max_streams);
+    if (!slot) {
+      res.set_header("Retry-After", "5");
+      return send_error(res, 503,
+                        fmt::format("{} event streams are open, the most this studio serves (--max-streams): close a "
+                                    "tab or try again",
+                                    options_.max_streams));
+    }
     auto sub = hub_.subscribe();
     const auto heartbeat = options_.heartbeat;
     const auto batch = options_.batch;
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
     res.set_chunked_content_provider("text/event-stream",
-                                     [sub, heartbeat, batch](std::size_t, httplib::DataSink& sink) {
+                                     [sub, slot, heartbeat, batch](std::size_t, httplib::DataSink& sink) {
                                        std::optional<std::string> chunk = sub->next(heartbeat, batch);
                                        if (!chunk) {
                                          sink.done();  // the server is stopping

@@ -69,24 +69,73 @@ TEST_F(StudioServerTest, AClientLeavingMidStreamDoesNotWedgeTheServer) {
   EXPECT_EQ(200, r->status);
 }
 
-TEST_F(StudioServerTest, TwentyOpenStreamsDoNotBlockOtherRequestsAndStopReturns) {
+TEST_F(StudioServerTest, StreamsPastTheCapAre503AndOtherRequestsAreStillAnswered) {
   std::atomic<bool> stop{false};
   std::vector<std::unique_ptr<StreamReader>> readers;
-  for (int i = 0; i < 20; ++i) readers.push_back(std::make_unique<StreamReader>(port_, stop));
-  ASSERT_TRUE(wait_for([&] { return hub_.subscribers() == 20; })) << hub_.subscribers();
+  const int cap = StudioOptions{}.max_streams;
+  for (int i = 0; i < cap; ++i) readers.push_back(std::make_unique<StreamReader>(port_, stop));
+  ASSERT_TRUE(wait_for([&] { return hub_.subscribers() == static_cast<std::size_t>(cap); })) << hub_.subscribers();
+  // One more: refused at once, with when to come back; no worker held.
+  auto more = client().Get("/api/events");
+  ASSERT_TRUE(more);
+  EXPECT_EQ(503, more->status);
+  EXPECT_EQ("5", more->get_header_value("Retry-After"));
+  EXPECT_NE(std::string::npos, more->body.find("--max-streams")) << more->body;
   for (int i = 0; i < 5; ++i) {
     auto r = client().Get("/api/primitives");
-    ASSERT_TRUE(r) << "request " << i << " got no answer with 20 streams open";
+    ASSERT_TRUE(r) << "request " << i << " got no answer with " << cap << " streams open";
     EXPECT_EQ(200, r->status);
   }
   hub_.publish("report", {{"text", "to all"}});
   for (auto& r : readers) {
     EXPECT_TRUE(wait_for([&] { return r->seen().find("to all") != std::string::npos; }));
   }
-  // stop() with the streams still open: it ends them and returns.
-  server_->stop();
+  // A stream that ends gives its place back.
+  stop = true;
+  hub_.publish("report", {{"text", "wake the readers"}});
   for (auto& r : readers) r->thread.join();
+  ASSERT_TRUE(wait_for([&] { return hub_.subscribers() == 0; })) << hub_.subscribers();
+  std::atomic<bool> stop_again{false};
+  StreamReader again(port_, stop_again);
+  EXPECT_TRUE(wait_for([&] { return again.seen().find("event: snapshot") != std::string::npos; })) << again.seen();
+  // stop() with a stream still open: it ends it and returns.
+  server_->stop();
+  again.thread.join();
   EXPECT_EQ(0u, hub_.subscribers());
+}
+
+// Issue 39: a page on another port held 16 iframes of /api/events, and a
+// studio tab in that browser never loaded. A browser says where a request
+// comes from; every API request from another site is refused, streams too.
+TEST_F(StudioServerTest, CrossSiteRequestsOfEveryMethodAreRefusedStreamsToo) {
+  httplib::Client c("127.0.0.1", port_);
+  c.set_read_timeout(5, 0);
+  for (const char* site : {"same-site", "cross-site"}) {
+    for (const char* path : {"/api/events", "/api/files", "/api/mission?path=tank/tank.coral"}) {
+      auto r = c.Get(path, {{"Sec-Fetch-Site", site}});
+      ASSERT_TRUE(r) << path;
+      EXPECT_EQ(403, r->status) << site << " " << path;
+      EXPECT_NE(std::string::npos, r->body.find("another site")) << r->body;
+    }
+    auto w = c.Post("/api/check", {{"Sec-Fetch-Site", site}, {"Origin", origin()}}, R"({"path": "tank/tank.coral"})",
+                    "application/json");
+    ASSERT_TRUE(w);
+    EXPECT_EQ(403, w->status) << site;
+  }
+  EXPECT_EQ(0u, hub_.subscribers());
+  // A GET naming another origin is refused too.
+  auto other = c.Get("/api/files", {{"Origin", "http://127.0.0.1:1"}});
+  ASSERT_TRUE(other);
+  EXPECT_EQ(403, other->status);
+  // The page itself, and the address bar, are served.
+  for (const char* site : {"same-origin", "none"}) {
+    auto r = c.Get("/api/files", {{"Sec-Fetch-Site", site}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(200, r->status) << site;
+  }
+  auto page = c.Get("/", {{"Sec-Fetch-Site", "cross-site"}});  // a link to the studio from elsewhere
+  ASSERT_TRUE(page);
+  EXPECT_NE(403, page->status);
 }
 
 }  // namespace

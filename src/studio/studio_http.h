@@ -49,8 +49,15 @@ struct StudioOptions {
   std::uint16_t port = 0;                          // 0: any free port
   std::filesystem::path web_root;                  // "": the page compiled into strata
   const tactical::Catalogue* catalogue = nullptr;  // null: the built-in one
-  std::size_t max_body_bytes = 4u << 20;
+  std::size_t max_body_bytes = 4u << 20;           // with Content-Length; a body framed otherwise is refused (411)
   int threads = 48;
+  // Event streams open at once, from every client: each holds one of the
+  // `threads` workers for as long as it is open. Past it, 503 with
+  // Retry-After. The rest of the workers stay for the API.
+  int max_streams = 16;
+  // Verifications running at once (each may take its memory limit): past
+  // it, 429 with Retry-After.
+  int max_verifies = 2;
   std::chrono::milliseconds heartbeat{1000};
   // An event stream looks for news this often and writes all that came in
   // one go: 25 writes a second is plenty for a page, and 20 pages cost a
