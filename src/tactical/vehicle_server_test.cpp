@@ -181,36 +181,80 @@ TEST(VehicleServer, HelloWithAnUnsupportedVersionIsRefusedNamingTheVersionsSpoke
 }
 
 // Regression (issue 15): a client that connected and never said hello held
-// the vehicle for ever; every controller after it was refused as busy.
-TEST(VehicleServer, AClientThatNeverSaysHelloIsDroppedAndTheNextIsServed) {
+// the vehicle for ever. It is closed after its hello timeout, saying why.
+TEST(VehicleServer, AClientThatNeverSaysHelloIsClosedAfterItsTimeout) {
   Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, vehicle::default_params(),
           [](vehicle::ServerOptions& so) { so.hello_timeout_s = 0.3; });
   LineClient silent(rig.io, rig.server->port());
-  run_until(
-      rig.io, [] { return false; }, 20ms);  // the vehicle accepts it
-
-  LinkOptions o;
-  o.port = rig.server->port();
-  o.reconnect_attempts = 0;
-  auto refused = VehicleLink::create(rig.io, o);
-  std::optional<core::Result<protocol::Welcome>> refused_welcome;
-  refused->connect([&](core::Result<protocol::Welcome> r) { refused_welcome = std::move(r); });
-  ASSERT_TRUE(run_until(rig.io, [&] { return refused_welcome.has_value(); }));
-  ASSERT_FALSE(refused_welcome->ok());
-  EXPECT_NE(std::string::npos, refused_welcome->error().message.find("busy")) << refused_welcome->error().message;
-
-  // The silent client is told why and dropped.
   ASSERT_TRUE(run_until(rig.io, [&] {
     silent.poll();
     return silent.closed;
   }));
   ASSERT_EQ(1u, silent.lines.size());
   EXPECT_EQ("err 0 not_ready \"no hello within 0.3 s: closing this connection\"", silent.lines[0]);
-
   auto served = rig.connect();
   EXPECT_TRUE(served->connected());
   EXPECT_TRUE(rig.ask(*served, "depth_filter_off"));
-  EXPECT_EQ(1u, rig.server->clients_refused());
+  EXPECT_EQ(0u, rig.server->clients_refused());
+}
+
+// Regression (issue 39): while a client that said nothing was within its
+// hello timeout, a real controller was refused `busy`. The first accepted
+// hello takes the vehicle; the silent client is refused then, and heard
+// nothing before (no heartbeat, no telemetry).
+TEST(VehicleServer, ASilentClientNeverBlocksARealController) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, vehicle::default_params(),
+          [](vehicle::ServerOptions& so) { so.hello_timeout_s = 3600; });
+  LineClient silent(rig.io, rig.server->port());
+  LineClient early(rig.io, rig.server->port());
+  early.say("ping 1");  // not a hello: not served, and holds nothing
+  ASSERT_TRUE(early.wait_for(rig.io, "err 1"));
+  EXPECT_EQ("err 1 not_ready \"say hello first\"", early.lines[0]);
+
+  auto served = rig.connect();
+  ASSERT_TRUE(served->connected());
+  EXPECT_TRUE(rig.ask(*served, "depth_filter_off"));
+  ASSERT_TRUE(run_until(rig.io, [&] {
+    silent.poll();
+    early.poll();
+    return silent.closed && early.closed;
+  }));
+  ASSERT_EQ(1u, silent.lines.size()) << "a client without a hello hears nothing but its refusal";
+  EXPECT_EQ("err 0 busy \"another client controls the vehicle\"", silent.lines[0]);
+  EXPECT_EQ("err 0 busy \"another client controls the vehicle\"", early.lines.back());
+
+  // While it controls the vehicle, a newcomer is refused at once.
+  LineClient late(rig.io, rig.server->port());
+  late.say("hello 5 late 2");
+  ASSERT_TRUE(run_until(rig.io, [&] {
+    late.poll();
+    return late.closed;
+  }));
+  ASSERT_FALSE(late.lines.empty());
+  EXPECT_EQ("err 0 busy \"another client controls the vehicle\"", late.lines[0]);
+  EXPECT_TRUE(rig.ask(*served, "depth_filter_off"));
+  EXPECT_EQ(3u, rig.server->clients_refused());
+}
+
+// At most kMaxWaitingClients wait for their hello at once.
+TEST(VehicleServer, TooManyClientsWithoutAHelloAreRefused) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, vehicle::default_params(),
+          [](vehicle::ServerOptions& so) { so.hello_timeout_s = 3600; });
+  std::vector<std::unique_ptr<LineClient>> waiting;
+  for (std::size_t i = 0; i < vehicle::kMaxWaitingClients; ++i) {
+    waiting.push_back(std::make_unique<LineClient>(rig.io, rig.server->port()));
+    waiting.back()->say("ping 1");
+    ASSERT_TRUE(waiting.back()->wait_for(rig.io, "err 1"));  // accepted, waiting
+  }
+  LineClient one_more(rig.io, rig.server->port());
+  ASSERT_TRUE(run_until(rig.io, [&] {
+    one_more.poll();
+    return one_more.closed;
+  }));
+  ASSERT_EQ(1u, one_more.lines.size());
+  EXPECT_EQ(0u, one_more.lines[0].find("err 0 busy")) << one_more.lines[0];
+  waiting.back()->say("hello 2 hand 2");  // one of them still gets the vehicle
+  ASSERT_TRUE(waiting.back()->wait_for(rig.io, "ok 2"));
 }
 
 // A controller that said hello is not subject to the hello timeout.

@@ -31,13 +31,7 @@ protocol::LineConnectionOptions controller_options() {
 }  // namespace
 
 VehicleServer::VehicleServer(asio::io_context& io, Simulation& sim, ServerOptions options)
-    : io_(io),
-      sim_(sim),
-      options_(std::move(options)),
-      acceptor_(io),
-      tick_timer_(io),
-      silence_timer_(io),
-      hello_timer_(io) {}
+    : io_(io), sim_(sim), options_(std::move(options)), acceptor_(io), tick_timer_(io), silence_timer_(io) {}
 
 VehicleServer::~VehicleServer() { stop(); }
 
@@ -79,7 +73,11 @@ void VehicleServer::stop() {
   acceptor_.close(ignored);
   tick_timer_.cancel();
   silence_timer_.cancel();
-  hello_timer_.cancel();
+  for (auto& w : waiting_clients_) {
+    w.hello_timer->cancel();
+    w.conn->close("the vehicle is stopping");
+  }
+  waiting_clients_.clear();
   waiting_.clear();
   if (controller_) controller_->close("the vehicle is stopping");
   controller_.reset();
@@ -98,28 +96,96 @@ void VehicleServer::accept() {
           {[this](protocol::LineConnection& conn, const protocol::Frame& frame) { on_line(conn, frame); },
            [this](protocol::LineConnection& conn, const protocol::CloseReason& why) { on_closed(conn, why); }});
       if (controller_ && !controller_->closing()) {
-        ++refused_;
-        log("refused a second client: one client controls the vehicle");
-        write(*c, protocol::encode(protocol::VehicleMessage{
-                      protocol::Err{0, ErrorCode::Busy, "another client controls the vehicle"}}));
-        c->close_when_written("refused: another client controls the vehicle");
+        refuse(*c, "another client controls the vehicle");
+      } else if (waiting_clients_.size() >= kMaxWaitingClients) {
+        refuse(*c, fmt::format("{} clients are connected without a hello; try again", waiting_clients_.size()));
       } else {
-        controller_ = c;
-        hello_done_ = false;
-        session_version_ = 0;
-        deferred_.clear();  // replies owed to a previous client are not this one's
-        waiting_.clear();
-        held_advance_.reset();
-        telemetry_.stop();
-        last_rx_s_ = sim_.time_s();
+        // It waits for its hello beside any others: the first accepted
+        // hello takes the vehicle (server.h, "Hello").
         log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
+        auto timer = std::make_unique<asio::steady_timer>(io_);
+        arm_hello_timeout(c, *timer);
+        waiting_clients_.push_back({c, std::move(timer)});
         c->start();
-        arm_silence_watchdog();
-        arm_hello_timeout(c);
       }
     }
     accept();
   });
+}
+
+void VehicleServer::refuse(protocol::LineConnection& c, const std::string& why) {
+  ++refused_;
+  log("refused a client: " + why);
+  write(c, protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::Busy, why}}));
+  c.close_when_written("refused: " + why);
+}
+
+std::shared_ptr<protocol::LineConnection> VehicleServer::waiting_client(const protocol::LineConnection& c) const {
+  for (const auto& w : waiting_clients_) {
+    if (w.conn.get() == &c) return w.conn;
+  }
+  return nullptr;
+}
+
+void VehicleServer::drop_waiting(const protocol::LineConnection& c) {
+  auto it = std::find_if(waiting_clients_.begin(), waiting_clients_.end(),
+                         [&](const WaitingClient& w) { return w.conn.get() == &c; });
+  if (it == waiting_clients_.end()) return;
+  it->hello_timer->cancel();
+  waiting_clients_.erase(it);
+}
+
+void VehicleServer::on_waiting_line(const std::shared_ptr<protocol::LineConnection>& c, const protocol::Frame& frame) {
+  if (options_.trace) log("< " + frame.line);
+  auto answer = [&](const protocol::Err& e) { write(*c, protocol::encode(protocol::VehicleMessage{e})); };
+  if (frame.too_long) {
+    answer({protocol::peek_id(frame.line), ErrorCode::TooLong,
+            fmt::format("line over {} bytes", protocol::kMaxLineBytes)});
+    return;
+  }
+  auto decoded = protocol::decode_request(frame.line);
+  if (!decoded) {
+    answer(protocol::to_err(decoded.error()));
+    return;
+  }
+  const protocol::Request& r = decoded.value();
+  if (r.verb != protocol::Verb::Hello) {
+    answer({r.id, ErrorCode::NotReady, "say hello first"});
+    return;
+  }
+  if (!protocol::speaks_version(r.version)) {
+    log(fmt::format("refused hello from '{}': protocol version {}", r.name, r.version));
+    answer({r.id, ErrorCode::BadArgument,
+            fmt::format("protocol version {} is not spoken here; this vehicle speaks {}", r.version,
+                        protocol::spoken_versions())});
+    return;
+  }
+  take_control(c, r);
+}
+
+void VehicleServer::take_control(const std::shared_ptr<protocol::LineConnection>& c, const protocol::Request& r) {
+  drop_waiting(*c);
+  // The others still waiting lose the race: refused, as any client while
+  // this one controls the vehicle.
+  for (auto& w : std::exchange(waiting_clients_, {})) {
+    w.hello_timer->cancel();
+    refuse(*w.conn, "another client controls the vehicle");
+  }
+  controller_ = c;
+  hello_done_ = true;
+  session_version_ = r.version;
+  deferred_.clear();  // replies owed to a previous client are not this one's
+  waiting_.clear();
+  held_advance_.reset();
+  telemetry_.stop();
+  last_rx_s_ = sim_.time_s();
+  log(fmt::format("{:.1f} s: client '{}' controls the vehicle (protocol {})", sim_.time_s(), r.name, r.version));
+  arm_silence_watchdog();
+  // The session speaks the version asked for: a version-1 client keeps
+  // version 1's lockstep, where each request moves time itself.
+  send(protocol::Welcome{r.id, options_.vehicle_name, r.version, options_.clock,
+                         sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt,
+                         wire_time(sim_.time_s())});
 }
 
 void VehicleServer::send(const protocol::VehicleMessage& m) {
@@ -148,6 +214,7 @@ void VehicleServer::write(protocol::LineConnection& c, std::string line) {
 }
 
 void VehicleServer::on_line(protocol::LineConnection& c, const protocol::Frame& frame) {
+  if (auto w = waiting_client(c)) return on_waiting_line(w, frame);
   if (&c != controller_.get()) return;
   if (sim_.link_lost() && !is_clock_line(frame)) return;  // lost on the way
   last_rx_s_ = sim_.time_s();
@@ -172,11 +239,9 @@ void VehicleServer::on_line(protocol::LineConnection& c, const protocol::Frame& 
 void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Request& r) {
   using protocol::Verb;
   if (r.verb == Verb::Hello) {
-    on_hello(r);
-    return;
-  }
-  if (!hello_done_) {
-    send(protocol::Err{r.id, ErrorCode::NotReady, "say hello first"});
+    // The session is under way: one hello a connection.
+    send(protocol::Err{r.id, ErrorCode::BadArgument,
+                       fmt::format("this session said hello already (protocol {})", session_version_)});
     return;
   }
   switch (r.verb) {
@@ -213,28 +278,6 @@ void VehicleServer::on_request(protocol::LineConnection& c, const protocol::Requ
       return;
     default: on_call(r); return;
   }
-}
-
-void VehicleServer::on_hello(const protocol::Request& r) {
-  if (!protocol::speaks_version(r.version)) {
-    log(fmt::format("refused hello from '{}': protocol version {}", r.name, r.version));
-    send(protocol::Err{r.id, ErrorCode::BadArgument,
-                       fmt::format("protocol version {} is not spoken here; this vehicle speaks {}", r.version,
-                                   protocol::spoken_versions())});
-    return;
-  }
-  hello_done_ = true;
-  session_version_ = r.version;
-  hello_timer_.cancel();
-  // The session speaks the version asked for: a version-1 client keeps
-  // version 1's lockstep, where each request moves time itself.
-  protocol::Welcome welcome{r.id,
-                            options_.vehicle_name,
-                            r.version,
-                            options_.clock,
-                            sonar_ ? std::optional<std::uint16_t>(sonar_->port()) : std::nullopt,
-                            wire_time(sim_.time_s())};
-  send(welcome);
 }
 
 bool VehicleServer::in_flight(protocol::RequestId id) const {

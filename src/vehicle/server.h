@@ -31,12 +31,20 @@
 // is at the surface. A protocol-2 client that holds requests without sending
 // `advance` is silent: nothing moves until it speaks.
 //
-// Hello: a controller that has not said a hello this vehicle accepts within
+// Hello: a client controls the vehicle from the hello this vehicle accepts,
+// not from its connection. Until then it waits beside the others that
+// connected (at most kMaxWaitingClients; one more is refused `busy`), is
+// answered only `err ID not_ready` ("say hello first") and hears nothing
+// else (no heartbeat, no telemetry); the first whose hello is accepted gets
+// the vehicle, and the others still waiting are refused `busy` and closed.
+// So a client that connects and says nothing never blocks a real
+// controller. One that has not said an accepted hello within
 // hello_timeout_s (wall seconds from its connection) is sent
-// `err 0 not_ready` saying why and closed, so the next client can be served.
-// A hello naming a version this vehicle does not speak is answered
-// `err ID bad_argument` naming the versions it speaks; the client stays
-// connected without a session and may say hello again (within the timeout).
+// `err 0 not_ready` saying why and closed. A hello naming a version this
+// vehicle does not speak is answered `err ID bad_argument` naming the
+// versions it speaks; the client stays and may say hello again (within the
+// timeout). While a controller holds the vehicle, a new client is refused
+// `busy` at once.
 //
 // A scenario's link_loss makes the link silent: from its time on, the
 // vehicle neither reads nor answers the controller (lines are dropped, as a
@@ -66,6 +74,9 @@
 #include "vehicle/telemetry_sampler.h"
 
 namespace strata::vehicle {
+
+// Clients connected at once without an accepted hello; one more is refused.
+inline constexpr std::size_t kMaxWaitingClients = 8;
 
 struct ServerOptions {
   std::string address = "127.0.0.1";
@@ -126,7 +137,13 @@ class VehicleServer {
  private:
   void accept();
   void on_request(protocol::LineConnection& c, const protocol::Request& r);
-  void on_hello(const protocol::Request& r);
+  void refuse(protocol::LineConnection& c, const std::string& why);
+  // A waiting client's line: its hello, or `not_ready`.
+  void on_waiting_line(const std::shared_ptr<protocol::LineConnection>& c, const protocol::Frame& frame);
+  // The client whose hello was accepted becomes the controller.
+  void take_control(const std::shared_ptr<protocol::LineConnection>& c, const protocol::Request& hello);
+  std::shared_ptr<protocol::LineConnection> waiting_client(const protocol::LineConnection& c) const;
+  void drop_waiting(const protocol::LineConnection& c);
   void on_call(const protocol::Request& r);
   void advance(std::optional<protocol::RequestId> advance_id, std::optional<double> until_s = std::nullopt);
   // Whether a line is the lockstep clock (a bounded advance), which a lost
@@ -137,7 +154,7 @@ class VehicleServer {
   void watch_lost_link();
   void reply_due();
   bool in_flight(protocol::RequestId id) const;
-  void arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c);
+  void arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c, asio::steady_timer& timer);
   void on_line(protocol::LineConnection& c, const protocol::Frame& frame);
   void on_closed(protocol::LineConnection& c, const protocol::CloseReason& why);
   void send(const protocol::VehicleMessage& m);
@@ -164,8 +181,13 @@ class VehicleServer {
   asio::ip::tcp::acceptor acceptor_;
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
-  asio::steady_timer hello_timer_;
-  std::shared_ptr<protocol::LineConnection> controller_;
+  // Connected, no accepted hello yet: each with its hello timer.
+  struct WaitingClient {
+    std::shared_ptr<protocol::LineConnection> conn;
+    std::unique_ptr<asio::steady_timer> hello_timer;
+  };
+  std::vector<WaitingClient> waiting_clients_;
+  std::shared_ptr<protocol::LineConnection> controller_;  // said an accepted hello
   std::unique_ptr<SonarServer> sonar_;
   bool sonar_was_on_ = false;
   std::uint16_t port_ = 0;

@@ -14,21 +14,21 @@ namespace strata::vehicle {
 
 using protocol::ErrorCode;
 
-// A client that connects and says nothing must not hold the vehicle: every
-// client after it would be refused as busy for ever.
-void VehicleServer::arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c) {
+// A client that connects and says nothing is closed after hello_timeout_s:
+// it holds nothing meanwhile (a real controller's hello takes the vehicle),
+// but is not kept for ever.
+void VehicleServer::arm_hello_timeout(const std::shared_ptr<protocol::LineConnection>& c, asio::steady_timer& timer) {
   if (options_.hello_timeout_s <= 0) return;
-  hello_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+  timer.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(std::min(options_.hello_timeout_s, 86400.0))));
-  hello_timer_.async_wait([this, weak = std::weak_ptr<protocol::LineConnection>(c)](const asio::error_code& e) {
+  timer.async_wait([this, weak = std::weak_ptr<protocol::LineConnection>(c)](const asio::error_code& e) {
     auto conn = weak.lock();
-    if (e || stopped_ || hello_done_ || !conn || conn != controller_ || conn->closing()) return;
+    if (e || stopped_ || !conn || conn->closing() || !waiting_client(*conn)) return;
     const std::string why = fmt::format("no hello within {} s: closing this connection", options_.hello_timeout_s);
-    log(fmt::format("{:.1f} s: {}; the next client will be served", sim_.time_s(), why));
+    log(fmt::format("{:.1f} s: {}", sim_.time_s(), why));
     write(*conn, protocol::encode(protocol::VehicleMessage{protocol::Err{0, ErrorCode::NotReady, why}}));
     conn->close_when_written(why);
-    controller_.reset();
-    silence_timer_.cancel();
+    drop_waiting(*conn);
   });
 }
 
@@ -53,6 +53,12 @@ void VehicleServer::controller_gone() {
 }
 
 void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::CloseReason& why) {
+  // A client that never controlled the vehicle leaves nothing behind.
+  if (waiting_client(c)) {
+    log(fmt::format("{:.1f} s: a client left before its hello", sim_.time_s()));
+    drop_waiting(c);
+    return;
+  }
   // A close this server asked for (bye, the hello timeout) is no dropped link.
   if (&c != controller_.get() || why.why == protocol::CloseReason::Why::Local) return;
   if (why.why == protocol::CloseReason::Why::PeerClosed) {
@@ -61,8 +67,8 @@ void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::Close
     log(fmt::format("{:.1f} s: client disconnected: {}", sim_.time_s(), why.message));
   }
   silence_timer_.cancel();
-  hello_timer_.cancel();
   controller_.reset();
+  hello_done_ = false;
   deferred_.clear();
   waiting_.clear();  // nobody to answer
   held_advance_.reset();
