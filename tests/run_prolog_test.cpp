@@ -197,6 +197,45 @@ TEST(BadRules, EndlessRecursionIsStoppedAndTheVehicleSurfaced) {
   EXPECT_LE(*r.report.final_depth_m, kParams.surface_depth_m);
 }
 
+// Regression (issue 39): a phase2.pl with no clauses made the tank mission
+// restart phase 2 until the inference limit: 1.67 M lines and 67 MB on
+// stdout, a 9.2 MB summary line, 127 MB of log. Now the log's bound ends the
+// run safely with its reason, the console says a repeated line three times
+// then counts it, and the summary's phases are one entry with a count.
+TEST(BadRules, APhaseRestartedInALoopIsBoundedInLogConsoleAndSummary) {
+  TempDir dir;
+  const fs::path copy = dir.file("tank");
+  fs::copy(kTankDir, copy, fs::copy_options::recursive);
+  std::ofstream(copy / "phase2.pl", std::ios::trunc) << "% no clauses\n";
+  RunOptions o;
+  o.mission = (copy / "tank.pl").string();
+  o.log = (copy / "run.jsonl").string();
+  o.max_log_bytes = 1u << 20;
+  std::ostringstream out, err;
+  const RunReport report = run_mission(o, out, err);
+  ASSERT_TRUE(report.result.has_value()) << err.str();
+  EXPECT_EQ(Outcome::Failed, report.result->outcome);
+  EXPECT_EQ("limit", report.stopped_by);
+  EXPECT_EQ(1, report.exit_code);
+  EXPECT_NE(std::string::npos, report.result->reason.find("the mission log reached its limit of 1 MB"))
+      << report.result->reason;
+  EXPECT_LE(fs::file_size(copy / "run.jsonl"), o.max_log_bytes);
+  const std::string log = read_file((copy / "run.jsonl").string());
+  EXPECT_NE(std::string::npos, log.find("\"event\":\"log_limit\"")) << "the log says where it was cut";
+  EXPECT_NE(std::string::npos, log.find("\"event\":\"mission_end\"")) << "the end fits in the reserve";
+  ASSERT_TRUE(report.final_depth_m.has_value());
+  EXPECT_LE(*report.final_depth_m, kParams.surface_depth_m);
+  // The console: three of each repeated line, then a count.
+  const std::string text = out.str();
+  EXPECT_LT(text.size(), 4000u) << text.substr(0, 4000);
+  EXPECT_NE(std::string::npos, text.find("repeated lines not shown")) << text;
+  // The summary: 2 aborted, once, with its count.
+  ASSERT_GE(report.phases.size(), 2u);
+  EXPECT_LE(report.phases.size(), 4u);
+  EXPECT_EQ("1 completed", report.phases[0]);
+  EXPECT_EQ(0u, report.phases[1].find("2 aborted (x")) << report.phases[1];
+}
+
 TEST(BadRules, AnExceptionInTheRulesEndsTheMissionWithItsText) {
   TracedRun r = run_traced(kFixtures + "/raises_at_depth.pl", "");
   ASSERT_TRUE(r.report.result.has_value()) << r.err;

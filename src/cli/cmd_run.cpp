@@ -161,6 +161,12 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
          "simulated seconds")
       ->check(finite_range(1.0, 1e9))
       ->capture_default_str();
+  cmd->add_option_function<std::uint64_t>(
+         "--max-log-mb", [o](std::uint64_t mb) { o->max_log_bytes = mb << 20; },
+         "End the run (an abort: the vehicle is surfaced) when its mission log reaches this many MB, and write "
+         "no more of it; 0: no bound")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 20))
+      ->default_str(std::to_string(run::RunOptions{}.max_log_bytes >> 20));
   cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
       ->check(finite_range(0.0, 100.0))
       ->capture_default_str();

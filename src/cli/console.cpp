@@ -6,7 +6,34 @@
 
 namespace strata::cli {
 
+bool Console::shown(const std::string& text, std::optional<double> sim_time_s) {
+  if (!sim_time_s) return true;
+  if (!instant_s_ || *sim_time_s > *instant_s_ + 1e-9) {
+    say_hidden();
+    instant_s_ = sim_time_s;
+    at_instant_.clear();
+  }
+  constexpr std::size_t kMaxTexts = 1000;  // distinct lines remembered at one instant
+  if (at_instant_.size() >= kMaxTexts && !at_instant_.contains(text)) return true;
+  const std::size_t n = ++at_instant_[text];
+  if (n <= kRepeatsShown) return true;
+  if (hidden_++ == 0) {
+    out_ << fmt::format("[{:7.1f} s] (lines repeating at this instant: the rest are counted, not shown)\n",
+                        *sim_time_s);
+  }
+  return false;
+}
+
+void Console::say_hidden() {
+  if (hidden_ == 0 || !instant_s_) return;
+  if (status_shown_) out_ << "\r\033[K";
+  out_ << fmt::format("[{:7.1f} s] {} repeated lines not shown\n", *instant_s_, hidden_);
+  status_shown_ = false;
+  hidden_ = 0;
+}
+
 void Console::print(const std::string& text, std::optional<double> sim_time_s) {
+  if (!shown(text, sim_time_s)) return;
   if (status_shown_) out_ << "\r\033[K";
   if (sim_time_s) {
     out_ << fmt::format("[{:7.1f} s] {}\n", *sim_time_s, text);
@@ -113,6 +140,7 @@ void Console::vehicle_event(const std::string& text, double sim_time_s) {
 void Console::note(const std::string& text, std::optional<double> sim_time_s) { print(text, sim_time_s); }
 
 void Console::clear_status() {
+  say_hidden();
   if (status_shown_) {
     out_ << "\r\033[K";
     out_.flush();

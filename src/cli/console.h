@@ -5,7 +5,9 @@
 // Event lines ("[  12.3 s] phase dive_from_surface completed") always; on a
 // TTY also a live status line (phase, depth, setpoint, sim time, the action
 // in flight), redrawn in place at most once per 0.1 s of simulated time so a
-// lockstep run does not flood the terminal.
+// lockstep run does not flood the terminal. A line repeated at one
+// simulated instant (a loop that never waits) is shown kRepeatsShown times,
+// then counted: "N lines repeated at 0.2 s not shown".
 #include <map>
 #include <optional>
 #include <ostream>
@@ -41,6 +43,11 @@ class Console final : public run::RunObserver {
 
  private:
   void print(const std::string& text, std::optional<double> sim_time_s);
+  // Whether an event line is shown: the same text more than
+  // kRepeatsShown times at one simulated instant (a phase restarted in a
+  // loop that never waits) is counted instead, and said once.
+  bool shown(const std::string& text, std::optional<double> sim_time_s);
+  void say_hidden();
   void draw_status(bool force);
 
   std::ostream& out_;
@@ -59,6 +66,14 @@ class Console final : public run::RunObserver {
   std::optional<double> depth_m_;
   std::optional<double> setpoint_m_;
   std::string action_;
+  // Lines at the current instant, by text (cleared when time moves; at most
+  // kMaxTexts kept), and those not shown.
+  std::optional<double> instant_s_;
+  std::map<std::string, std::size_t> at_instant_;
+  std::size_t hidden_ = 0;
 };
+
+// The same event line shown at most this often at one simulated instant.
+inline constexpr std::size_t kRepeatsShown = 3;
 
 }  // namespace strata::cli

@@ -79,6 +79,12 @@ struct RunOptions {
   // harbour mission takes minutes; a loop of sleep(1) would otherwise run,
   // and log, until the disk is full.
   double max_sim_time_s = 86'400.0;
+  // The mission log's size: past it (less a reserve for its last records)
+  // the run ends as at a limit, the vehicle surfaced by the safe end, and
+  // later lines are dropped. 0: no bound. A tank run logs about 200 KB, an
+  // hour's survey at 10 Hz telemetry a few MB; a mission that restarts a
+  // phase in a loop logged 127 MB in 25 s.
+  std::uint64_t max_log_bytes = std::uint64_t{256} << 20;
   // Every line on the link (see tactical::LinkOptions::tap); for benchmarks.
   std::function<void(bool sent, std::string_view line)> wire_tap;
 };

@@ -38,7 +38,7 @@ std::string summary_text(const RunReport& r) {
     line("  the vehicle said: " + r.vehicle_reason);
   }
   std::string phases;
-  for (const auto& p : r.phases) phases += (phases.empty() ? "" : ", ") + p;
+  for (const auto& p : r.phases) phases += (phases.empty() ? "" : ", ") + p;  // bounded (PhaseRecorder)
   line("  phases: " + (phases.empty() ? std::string("none ended") : phases));
   const double speedup = r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0.0;
   line(fmt::format("  sim time {:.1f} s, {} primitive calls, wall time {}{}", r.sim_time_s, r.primitive_calls,
@@ -73,7 +73,10 @@ std::string summary_text(const RunReport& r) {
                      r.shutdown_error.empty() ? "" : ", unanswered (" + r.shutdown_error + ")"));
   }
   if (r.hurried) line("  after it: cut short by a second stop request");
-  if (!r.log_path.empty()) line(fmt::format("  log: {} ({} lines)", r.log_path, r.log_lines));
+  if (!r.log_path.empty()) {
+    line(fmt::format("  log: {} ({} lines{})", r.log_path, r.log_lines,
+                     r.log_dropped ? fmt::format(", {} more past its limit not written", r.log_dropped) : ""));
+  }
   return out;
 }
 

@@ -69,6 +69,7 @@ struct RunReport {
   std::string log_path;    // "" none
   bool log_dated = false;  // the log was (to be) a dated one in RunOptions::log_dir
   std::uint64_t log_lines = 0;
+  std::uint64_t log_dropped = 0;  // lines past RunOptions::max_log_bytes, not written
   // With RunOptions::answers: how many of the script's answers the run used,
   // of how many, and why it left the script ("" it did not).
   std::size_t answers_used = 0;

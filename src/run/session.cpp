@@ -329,6 +329,7 @@ void RunSession::Run::write_end_of_log() {
     report_.log_error = Error{ErrorKind::LogUnwritable, "", "the mission log is incomplete: " + s.error().message, {}};
   }
   report_.log_lines = log_->lines();
+  report_.log_dropped = log_->dropped();
   log_.reset();  // closed and flushed
 }
 

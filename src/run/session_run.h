@@ -33,7 +33,12 @@ namespace detail {
 constexpr double kLockstepWallPerSim = 0.01;
 constexpr const char* kShutdown = "shutdown_network";
 
-// Records the depth-1 phases as they end, for the summary.
+// The most entries the summary's phases list keeps; the rest are counted.
+constexpr std::size_t kMaxPhaseEntries = 100;
+
+// Records the depth-1 phases as they end, for the summary. Bounded: the same
+// ending again is one entry with its count ("2 aborted (x624999)"), and past
+// kMaxPhaseEntries the last entry counts the rest ("... and 12 more").
 class PhaseRecorder final : public strategic::Observer {
  public:
   explicit PhaseRecorder(std::vector<std::string>& phases) : phases_(phases) {}
@@ -42,17 +47,33 @@ class PhaseRecorder final : public strategic::Observer {
     auto it = depth_.find(e.instance);
     if (it == depth_.end()) return;
     if (it->second == 1) {
-      phases_.push_back(fmt::format("{} {}", e.name,
-                                    e.cancelled         ? "cancelled"
-                                    : e.exit_index == 0 ? "completed"
-                                                        : "aborted"));
+      add(fmt::format("{} {}", e.name, e.cancelled ? "cancelled" : e.exit_index == 0 ? "completed" : "aborted"));
     }
     depth_.erase(it);
   }
 
  private:
+  void add(std::string entry) {
+    if (!phases_.empty() && entry == last_) {
+      phases_.back() = fmt::format("{} (x{})", last_, ++repeats_);
+      return;
+    }
+    last_ = entry;
+    repeats_ = 1;
+    if (more_ == 0 && phases_.size() + 1 < kMaxPhaseEntries) {
+      phases_.push_back(std::move(entry));
+      return;
+    }
+    if (more_++ == 0) phases_.emplace_back();
+    phases_.back() = fmt::format("... and {} more", more_);
+    last_.clear();
+  }
+
   std::vector<std::string>& phases_;
   std::map<strategic::InstanceId, std::size_t> depth_;
+  std::string last_;  // the newest entry, before its count
+  std::size_t repeats_ = 0;
+  std::size_t more_ = 0;
 };
 
 inline bool link_error(const strategic::MissionResult& r) {

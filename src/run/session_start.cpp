@@ -28,6 +28,14 @@ Stage RunSession::Run::open_log() {
     return Error{ErrorKind::LogUnwritable, "", "cannot write the mission log: " + opened.error().message, {}};
   log_ = std::move(opened.value());
   report_.log_path = o_.log_stream ? o_.log : log_->path();
+  // A runaway mission ends at the log's bound, as at any limit: from
+  // whatever thread writes the line (RunSession::stop interrupts the rules).
+  log_->limit(o_.max_log_bytes, [this] {
+    session_.stop(
+        "limit",
+        fmt::format("the mission log reached its limit of {} MB (--max-log-mb sets it)", o_.max_log_bytes >> 20),
+        kExitAbort);
+  });
   if (o_.seed) log_->write({{"event", "choice"}, {"seed", *o_.seed}});
   if (loaded_.verification) {
     log_->write(verification_record(*loaded_.verification, o_.unverified || loaded_.answers.has_value()));

@@ -193,11 +193,35 @@ core::Result<MissionLog> MissionLog::to_stream(std::ostream& out, const RunInfo&
   return start(MissionLog(nullptr, &out, "<stream>", std::move(wall)), run);
 }
 
+void MissionLog::limit(std::uint64_t max_bytes, std::function<void()> on_full) {
+  max_bytes_ = max_bytes;
+  on_full_ = std::move(on_full);
+}
+
 void MissionLog::write(const ordered_json& line) {
   assert(line.is_object());
   if (failure_) return;
   std::string text = dump(line);
   text += '\n';
+  if (max_bytes_ > 0) {
+    if (bytes_ + text.size() > max_bytes_) {
+      ++dropped_;
+      return;
+    }
+    const std::uint64_t reserve = std::min<std::uint64_t>(max_bytes_ / 8, std::uint64_t{1} << 20);
+    if (!full_ && bytes_ + text.size() > max_bytes_ - reserve) {
+      full_ = true;
+      ordered_json note;
+      note["event"] = "log_limit";
+      note["max_bytes"] = max_bytes_;
+      note["bytes"] = bytes_;
+      std::string said = dump(note) + '\n';
+      out_->write(said.data(), static_cast<std::streamsize>(said.size()));
+      bytes_ += said.size();
+      ++lines_;
+      if (on_full_) on_full_();
+    }
+  }
   out_->write(text.data(), static_cast<std::streamsize>(text.size()));
   out_->flush();
   if (!*out_) {
@@ -205,6 +229,7 @@ void MissionLog::write(const ordered_json& line) {
     return;
   }
   ++lines_;
+  bytes_ += text.size();
 }
 
 void MissionLog::request(std::uint64_t id, std::string_view primitive, std::string_view message, double sim_time_s) {

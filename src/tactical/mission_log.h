@@ -99,6 +99,16 @@ class MissionLog {
   // Any object, as one line. Wall-clock-dependent keys must be named wall_*.
   void write(const nlohmann::ordered_json& line);
 
+  // Bounds the log to max_bytes (0: no bound). Past max_bytes minus a
+  // reserve for the run's last records (an eighth of it, at most 1 MiB) it
+  // writes {"event":"log_limit","max_bytes","bytes"} and calls on_full
+  // once (the run then ends safely); past max_bytes every line is dropped
+  // and counted. So a runaway mission cannot fill the disk.
+  void limit(std::uint64_t max_bytes, std::function<void()> on_full);
+  bool full() const { return full_; }
+  std::uint64_t bytes() const { return bytes_; }
+  std::uint64_t dropped() const { return dropped_; }
+
   // Ok, or the first write failure; once a write failed, later ones are dropped.
   core::Result<void> status() const;
   // Lines written, the header included.
@@ -120,6 +130,11 @@ class MissionLog {
   WallTimeSource wall_;
   std::unordered_map<std::uint64_t, Pending> pending_;
   std::size_t lines_ = 0;
+  std::uint64_t bytes_ = 0;
+  std::uint64_t max_bytes_ = 0;  // 0: no bound
+  std::function<void()> on_full_;
+  bool full_ = false;
+  std::uint64_t dropped_ = 0;
   std::optional<core::Error> failure_;
 };
 

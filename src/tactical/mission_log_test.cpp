@@ -145,6 +145,29 @@ TEST(MissionLog, OneLinePerEventWithFixedKeyOrder) {
   EXPECT_EQ(R"({"event":"error","message":"link lost","sim_time":1.3})", lines[10]);
 }
 
+// Issue 39: a runaway mission wrote 127 MB of log. Bounded: past the bound
+// less its reserve, one log_limit line and one call; past the bound nothing.
+TEST(MissionLog, ABoundedLogSaysWhereItWasCutCallsOnceAndNeverPassesItsBound) {
+  std::ostringstream out;
+  auto log = MissionLog::to_stream(out, tank_run(), fake_clock({}, 0us));
+  ASSERT_TRUE(log.ok());
+  int calls = 0;
+  const std::uint64_t bound = 8192;  // reserve: 1 KB
+  log.value().limit(bound, [&] { ++calls; });
+  for (int i = 0; i < 500; ++i) log.value().report("a line of some length, written again and again", i * 0.1);
+  EXPECT_EQ(1, calls);
+  EXPECT_TRUE(log.value().full());
+  EXPECT_LE(out.str().size(), bound);
+  EXPECT_EQ(out.str().size(), log.value().bytes());
+  EXPECT_GT(log.value().dropped(), 300u);
+  const std::string text = out.str();
+  const auto cut = text.find("{\"event\":\"log_limit\",\"max_bytes\":8192,\"bytes\":");
+  ASSERT_NE(std::string::npos, cut) << text;
+  EXPECT_LE(cut, bound - 1024) << "said before the reserve";
+  EXPECT_GT(text.size() - cut, 512u) << "lines after it, in the reserve";
+  EXPECT_TRUE(log.value().status().ok());
+}
+
 TEST(MissionLog, AReplyToAnUnknownIdHasNoLatency) {
   std::ostringstream out;
   auto log = MissionLog::to_stream(out, tank_run(), fake_clock({}, 1us));
