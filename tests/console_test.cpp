@@ -13,20 +13,21 @@ TEST(Console, ALineRepeatedAtOneInstantIsShownThriceThenCounted) {
   std::ostringstream out;
   Console c(out, false);
   for (int i = 0; i < 10'000; ++i) c.report("again", 0.2);
-  c.report("later", 0.3);  // time moves: the count is said
+  c.report("later", 0.3);                              // time moves: the count is said
   for (int i = 0; i < 3; ++i) c.report("again", 0.4);  // a new instant: shown again
   c.clear_status();
   const std::string text = out.str();
-  EXPECT_EQ("[    0.2 s] REPORT: again\n"
-            "[    0.2 s] REPORT: again\n"
-            "[    0.2 s] REPORT: again\n"
-            "[    0.2 s] (lines repeating at this instant: the rest are counted, not shown)\n"
-            "[    0.2 s] 9997 repeated lines not shown\n"
-            "[    0.3 s] REPORT: later\n"
-            "[    0.4 s] REPORT: again\n"
-            "[    0.4 s] REPORT: again\n"
-            "[    0.4 s] REPORT: again\n",
-            text);
+  EXPECT_EQ(
+      "[    0.2 s] REPORT: again\n"
+      "[    0.2 s] REPORT: again\n"
+      "[    0.2 s] REPORT: again\n"
+      "[    0.2 s] (lines repeating at this instant: the rest are counted, not shown)\n"
+      "[    0.2 s] 9997 repeated lines not shown\n"
+      "[    0.3 s] REPORT: later\n"
+      "[    0.4 s] REPORT: again\n"
+      "[    0.4 s] REPORT: again\n"
+      "[    0.4 s] REPORT: again\n",
+      text);
 }
 
 TEST(Console, LinesThatRepeatOverTimeAreAllShown) {

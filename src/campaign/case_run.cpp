@@ -24,6 +24,7 @@ namespace {
 // from memory through RunOptions::read_file.
 constexpr const char* kScenarioName = "campaign-case.toml";
 constexpr std::size_t kMaxMissionFileBytes = std::size_t{16} << 20;
+constexpr std::uint64_t kMaxCaseLogBytes = std::uint64_t{64} << 20;
 
 // Gathers what the expectations and the coverage need, as the run goes.
 class CaseWatcher final : public run::RunObserver {
@@ -297,6 +298,9 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.telemetry_hz = spec.telemetry_hz;
   o.trace = true;
   o.keep_rules = true;  // a worker runs one mission's rules case after case
+  // A case's log is kept in memory until the case ends: a runaway case must
+  // not take a worker's memory (an hour's survey logs a few MB).
+  o.max_log_bytes = kMaxCaseLogBytes;
   const Family& family = spec.families[c.family];
   o.answers = family.answers_resolved;
   o.params = spec.params_resolved;

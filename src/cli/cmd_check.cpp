@@ -88,8 +88,8 @@ int run_check(const CheckOptions& o) {
   bool rules_unreadable = false;
   for (const auto& file : o.files) {
     if (auto why = not_a_mission(file, {core::MissionLanguage::Coral, core::MissionLanguage::Prolog})) {
-      std::cerr << "strata check: " << *why << "\n";
-      return kExitUsage;
+      std::cerr << "strata check: " << why->message << "\n";
+      return why->exit_code;
     }
   }
   for (const auto& file : o.files) {
@@ -163,8 +163,8 @@ int run_dump(const CheckOptions& o) {
     return kExitUsage;
   }
   if (auto why = not_a_mission(o.files.front(), {core::MissionLanguage::Coral})) {
-    std::cerr << "strata dump: " << *why << "\n";
-    return kExitUsage;
+    std::cerr << "strata dump: " << why->message << "\n";
+    return why->exit_code;
   }
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) {

@@ -204,6 +204,13 @@ int run_verify_mission(const VerifyOptions& o) {
   vo.time_limit_s = o.time_limit_s;
   vo.sources = &load.sources;
   vo.timing = run::bound_options(catalogue.value());
+  if (load.program->nets.empty()) {
+    // Nothing was verified, so nothing holds: a file of comments is no mission.
+    const std::string why = fmt::format("{}: no net to verify (the file declares none)", o.mission);
+    if (json) print_unverified_json(why, load.diagnostics_json());
+    std::cerr << "strata verify: " << why << "\n";
+    return kExitInvalid;
+  }
   const coral::VerifyReport report = coral::verify_program(*load.program, vo);
   if (json) {
     nlohmann::ordered_json j = coral::verify_json(report);

@@ -1,5 +1,6 @@
 #include "cli/mission_files.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -7,7 +8,7 @@
 
 namespace strata::cli {
 
-std::optional<std::string> not_a_mission(const std::string& path,
+std::optional<NotAMission> not_a_mission(const std::string& path,
                                          std::initializer_list<core::MissionLanguage> languages) {
   const core::MissionLanguage language = core::mission_language(path);
   bool known = false;
@@ -23,7 +24,7 @@ std::optional<std::string> not_a_mission(const std::string& path,
                        : ext == ".jsonl" ? " (a mission log?)"
                        : ext == ".pnml"  ? " (a P/T net: `strata verify --pnml`)"
                                          : "";
-    return fmt::format("'{}' is not a mission file{}: this command takes {}", path, what, wanted);
+    return NotAMission{fmt::format("'{}' is not a mission file{}: this command takes {}", path, what, wanted), 64};
   }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;  // the parser says what it is
@@ -31,8 +32,11 @@ std::optional<std::string> not_a_mission(const std::string& path,
   char head[4096];
   in.read(head, sizeof head);
   const std::string_view bytes(head, static_cast<std::size_t>(in.gcount()));
-  if (bytes.find('\0') != std::string_view::npos) {
-    return fmt::format("'{}' is not text (it holds NUL bytes): not a mission file", path);
+  if (const auto nul = bytes.find('\0'); nul != std::string_view::npos) {
+    const std::string_view before = bytes.substr(0, nul);
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+    const std::size_t col = nul - (before.rfind('\n') == std::string_view::npos ? 0 : before.rfind('\n') + 1) + 1;
+    return NotAMission{fmt::format("{}:{}:{}: not text (a NUL byte): not a mission file", path, line, col), 65};
   }
   return std::nullopt;
 }

@@ -29,7 +29,7 @@ TEST(PhaseRecorder, PastItsBoundTheRestAreCounted) {
   ASSERT_EQ(kMaxPhaseEntries, phases.size());
   EXPECT_EQ("leg completed", phases.front());
   EXPECT_EQ("leg completed", phases[kMaxPhaseEntries - 2]);  // the 99th
-  EXPECT_EQ("... and 151 more", phases.back());  // 99 kept, 151 counted
+  EXPECT_EQ("... and 151 more", phases.back());              // 99 kept, 151 counted
 }
 
 }  // namespace

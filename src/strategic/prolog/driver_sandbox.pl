@@ -153,7 +153,10 @@ refusal(error(instantiation_error, sandbox(_, _)), call, Text) :-
     Text = "a call the sandbox cannot see through (the goal is a variable, as in call(G)): a mission's calls must be written out".
 
 % shell/1 is refused as shell/2, which it calls: name the one the rules
-% wrote, the outermost system or library predicate among the parents.
+% wrote, the outermost system or library predicate among the parents. A
+% meta-predicate (catch/3, findall/3, forall/2, call/N, the control
+% constructs) only carries the refused goal: name the goal inside it
+% (catch(abolish(f/1), _, true) is refused for abolish/1, not catch/3).
 outermost_refused(Goal0, Context, Goal) :-
     (   nonvar(Context),
         Context = sandbox(_, Parents),
@@ -165,10 +168,21 @@ outermost_refused(Goal0, Context, Goal) :-
         callable(PG),
         (   predicate_property(PM:PG, built_in)
         ;   predicate_property(PM:PG, imported_from(_))
-        )
+        ),
+        \+ calls_goal(PM:PG)
     ->  Goal = P
     ;   Goal = Goal0
     ).
+
+% A meta-predicate that calls one of its arguments as a goal (catch(0,?,0),
+% findall(?,0,-)); not one that only takes a module-qualified argument
+% (use_foreign_library(:)).
+calls_goal(PI) :-
+    predicate_property(PI, meta_predicate(Spec)),
+    Spec =.. [_|Args],
+    member(A, Args),
+    ( integer(A) ; A == (^) ; A == (//) ),
+    !.
 
 refused_text(PI, Text) :-
     format(string(Text), "~w is not allowed in a mission: the rules run in a sandbox \c
