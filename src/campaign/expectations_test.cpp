@@ -1,6 +1,8 @@
 // Expectations: each check's verdict, figure and note.
 #include "campaign/expectations.h"
 
+#include <functional>
+
 #include <gtest/gtest.h>
 
 #include "campaign/campaign_test_support.h"
@@ -48,19 +50,36 @@ TEST(CampaignExpectations, EveryCheckPassesForAGoodRunAndKeepsItsFigure) {
   EXPECT_EQ(0.8, checks[3].figure.get<double>());
 }
 
+// Each limit broken alone fails its own check and no other (issue 39: the
+// test broke all five at once, so a check that failed for another's reason
+// would have passed).
 TEST(CampaignExpectations, EachLimitFailsOnItsOwn) {
-  Observation o = aborted_after_leak();
-  o.outcome = "completed";
-  o.time_to_surface_s = 12.5;
-  o.max_depth_m = 1.2;
-  o.stalled = true;
-  o.refused_execs = 2;
-  o.first_refused = "exec submerge at 3.0 s: answered 0";
-  const auto checks = evaluate(all_checks(), o);
-  EXPECT_EQ("ran:pass outcome:FAIL surface_within_s:FAIL max_depth_m:FAIL no_stall:FAIL no_refused_exec:FAIL",
-            verdicts(checks));
-  EXPECT_EQ(2, checks[5].figure.get<int>());
-  EXPECT_EQ("exec submerge at 3.0 s: answered 0", checks[5].note);
+  const std::vector<std::pair<std::string, std::function<void(Observation&)>>> breaks = {
+      {"outcome", [](Observation& o) { o.outcome = "completed"; }},
+      {"surface_within_s", [](Observation& o) { o.time_to_surface_s = 12.5; }},
+      {"max_depth_m", [](Observation& o) { o.max_depth_m = 1.2; }},
+      {"no_stall", [](Observation& o) { o.stalled = true; }},
+      {"no_refused_exec",
+       [](Observation& o) {
+         o.refused_execs = 2;
+         o.first_refused = "exec submerge at 3.0 s: answered 0";
+       }},
+  };
+  for (const auto& [name, broken] : breaks) {
+    SCOPED_TRACE(name);
+    Observation o = aborted_after_leak();
+    broken(o);
+    std::string expected;
+    for (const char* check : {"ran", "outcome", "surface_within_s", "max_depth_m", "no_stall", "no_refused_exec"}) {
+      expected += (expected.empty() ? "" : " ") + std::string(check) + (name == check ? ":FAIL" : ":pass");
+    }
+    const auto checks = evaluate(all_checks(), o);
+    EXPECT_EQ(expected, verdicts(checks));
+    if (name == "no_refused_exec") {
+      EXPECT_EQ(2, checks[5].figure.get<int>());
+      EXPECT_EQ("exec submerge at 3.0 s: answered 0", checks[5].note);
+    }
+  }
 }
 
 TEST(CampaignExpectations, SurfacingIsJudgedOnlyWhenTheFaultHappened) {

@@ -84,10 +84,24 @@ TEST(Edit, RenameTouchesOnlyTheNames) {
   e.op = Op::RenamePlace;
   e.name = "middle";
   e.to = "halfway";
-  std::string out = edit(e);
+  // A comment, a string and a longer name holding the old one stay as they are.
+  std::string text = "// the middle of it\n" + kText.substr(0, kText.size() - 2) +
+                     "  transition r { wait { middle_x } action { TACTIC(REPORT, \"middle\") } }\n}\n";
+  text.replace(text.find("  exit done;\n"), 0, "  place middle_x;\n");
+  std::string out = edit(e, text);
   EXPECT_NE(std::string::npos, out.find("place start = 1, halfway;  // two places"));
   EXPECT_NE(std::string::npos, out.find("TACTIC(EXEC, sleep(1), halfway) }  // sleep a bit"));
   EXPECT_NE(std::string::npos, out.find("transition end { wait { halfway } signal { done } }"));
+  // Only: the text with exactly those three uses replaced, nothing else.
+  std::string expected = text;
+  for (const char* use : {"1, middle;", "sleep(1), middle)", "wait { middle }"}) {
+    const std::string was(use);
+    std::string now = was;
+    now.replace(now.find("middle"), 6, "halfway");
+    ASSERT_NE(std::string::npos, expected.find(was)) << was;
+    expected.replace(expected.find(was), was.size(), now);
+  }
+  EXPECT_EQ(expected, out);
   Edit taken = e;
   taken.to = "start";
   EXPECT_EQ("error: 'start' is already used in net 'n'", edit(taken));

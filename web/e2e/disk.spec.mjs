@@ -27,9 +27,13 @@ test('a file changed on disk while open without unsaved edits is read again, and
   // Our own save is no news: no reload, no conflict.
   expect(await page.evaluate(() => window.__studio.applyOp({ op: 'add_place', net: 'initialize', name: 'saved_here' }))).toBe(true);
   expect(await page.evaluate(() => window.__studio.save())).toBe(true);
-  await page.waitForTimeout(1500);
-  expect(await studio(page, '!s.state.conflict && !s.dirty')).toBe(true);
   await expect(page.locator('#edit-msg')).toContainText('saved');
+  // The watcher's next look: a change written after the save (the layout
+  // file) is told, so any word about our save has come before it.
+  page.studio.write(`${DISK}.layout.json`, '{}\n');
+  await waitFor(page, `s.state.disk && s.state.disk.path === '${DISK}.layout.json'`, 10000, 'the watcher\'s next look');
+  expect(await studio(page, '!s.state.conflict && !s.dirty')).toBe(true);
+  expect(await studio(page, 's.text')).toMatch(/saved_here/);
 });
 
 test('a file changed on disk while it has unsaved edits: the conflict, Reload takes the file, Keep mine saves over it', async ({ page }) => {
@@ -62,8 +66,8 @@ test('an imported file changed on disk: the lists are read again, the open file 
   await page.locator('#file-list li[data-path="missions/tank/tank.coral"]').click();
   await waitFor(page, "s.path === 'missions/tank/tank.coral' && s.busy === 0 && cy.nodes().length > 0", 15000, 'tank open');
   // A file made after the list was read is not in it until the lists are read again.
+  // (No watcher looks for new files: nothing is told, so nothing to wait for.)
   page.studio.write('missions/tank/made_later.coral', page.studio.read('missions/tank/initialize.coral'));
-  await page.waitForTimeout(1200);
   await expect(page.locator('#file-list li[data-path="missions/tank/made_later.coral"]')).toHaveCount(0);
   const text = await studio(page, 's.text');
   const imp = 'missions/tank/initialize.coral';
