@@ -9,4 +9,8 @@ namespace strata::core {
 // followed by ellipsis when it was cut.
 std::string shorten(std::string text, std::size_t max_bytes, std::string_view ellipsis);
 
+// Whether text is well-formed UTF-8 (no overlong forms, no surrogates,
+// nothing past U+10FFFF).
+bool valid_utf8(std::string_view text);
+
 }  // namespace strata::core

@@ -23,5 +23,20 @@ TEST(Shorten, NeverCutsInsideAUtf8Character) {
   EXPECT_EQ("a...", shorten("a\xE2\x86\x92", 3, "..."));
 }
 
+TEST(ValidUtf8, TakesWellFormedTextAndRefusesEveryMalformedKind) {
+  EXPECT_TRUE(valid_utf8(""));
+  EXPECT_TRUE(valid_utf8("tank.coral"));
+  EXPECT_TRUE(valid_utf8("plongée/été.coral"));   // 2 bytes
+  EXPECT_TRUE(valid_utf8("\xe6\xb5\xb7.coral"));  // 3 bytes (海)
+  EXPECT_TRUE(valid_utf8("\xf0\x9f\x90\x8b"));    // 4 bytes (a whale)
+  EXPECT_FALSE(valid_utf8("caf\xe9.coral"));      // Latin-1
+  EXPECT_FALSE(valid_utf8("\xc0\xaf"));           // overlong '/'
+  EXPECT_FALSE(valid_utf8("\xe0\x80\xaf"));       // overlong, 3 bytes
+  EXPECT_FALSE(valid_utf8("\xed\xa0\x80"));       // a surrogate
+  EXPECT_FALSE(valid_utf8("\xf4\x90\x80\x80"));   // past U+10FFFF
+  EXPECT_FALSE(valid_utf8("\xe6\xb5"));           // cut short
+  EXPECT_FALSE(valid_utf8("\x80"));               // a lone continuation byte
+}
+
 }  // namespace
 }  // namespace strata::core

@@ -127,6 +127,10 @@ void RunSession::Run::on_stop() {
   } else if ((requests > 1 || hard) && safe_end_running_) {
     report_.hurried = true;
     safe_end_->abandon();
+  } else if ((requests > 1 || hard) && settling_ && server_) {
+    // Waiting for the embedded vehicle to surface by itself: stop waiting.
+    report_.hurried = true;
+    server_->stop();
   }
 }
 
@@ -216,7 +220,9 @@ void RunSession::Run::wrap_up() {
   // mission left it under water with its network up, its watchdog surfaces
   // it before the run ends.
   server_->controller_gone();
+  settling_ = true;
   server_->when_settled([this] {
+    settling_ = false;
     server_->stop();
     finished_ = true;
   });

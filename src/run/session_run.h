@@ -167,6 +167,7 @@ class RunSession::Run {
   std::optional<SafeEnd> safe_end_;
   bool mission_sent_done_ = false;
   bool safe_end_running_ = false;
+  bool settling_ = false;  // waiting for the embedded vehicle to surface by itself (wrap_up)
   bool finished_ = false;
   std::optional<std::string> internal_error_;
 };

@@ -12,8 +12,9 @@
 
 #include <fmt/format.h>
 
-#include "core/unique_fd.h"
 #include "core/file.h"
+#include "core/text.h"
+#include "core/unique_fd.h"
 
 namespace strata::studio {
 
@@ -249,7 +250,7 @@ core::Result<void> Sandbox::remove_empty(std::string_view folder, std::string_vi
 
 std::string Sandbox::relative(const fs::path& path) const { return path.lexically_relative(root_).generic_string(); }
 
-std::vector<std::string> Sandbox::list(const std::vector<std::string>& extensions) const {
+std::vector<std::string> Sandbox::list(const std::vector<std::string>& extensions, std::size_t* unnamed) const {
   std::vector<std::string> out;
   std::error_code ec;
   fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
@@ -266,7 +267,14 @@ std::vector<std::string> Sandbox::list(const std::vector<std::string>& extension
     if (std::find(extensions.begin(), extensions.end(), p.extension().string()) == extensions.end()) continue;
     const fs::path real = fs::canonical(p, ec);
     if (ec || !inside(real)) continue;
-    out.push_back(relative(p));
+    std::string rel = relative(p);
+    // A name that is not UTF-8 cannot travel in JSON as itself: listed, it
+    // came back mangled and could not be opened. Counted instead.
+    if (!core::valid_utf8(rel)) {
+      if (unnamed) ++*unnamed;
+      continue;
+    }
+    out.push_back(std::move(rel));
   }
   std::sort(out.begin(), out.end());
   return out;

@@ -72,7 +72,8 @@ class Sandbox {
   // Every regular file under the root with one of these extensions, as
   // relative paths, sorted; links that leave the root are not followed, and
   // folders named build, node_modules or starting with '.' are skipped.
-  std::vector<std::string> list(const std::vector<std::string>& extensions) const;
+  // Names that are not UTF-8 are left out, and counted in *unnamed.
+  std::vector<std::string> list(const std::vector<std::string>& extensions, std::size_t* unnamed = nullptr) const;
 
  private:
   bool inside(const std::filesystem::path& real) const;

@@ -67,13 +67,19 @@ void StudioServer::file_routes(httplib::Server& s) {
 
   s.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {
     json missions = json::array();
-    for (const auto& path : sandbox_.list({".coral", ".pl"})) {
+    std::size_t unnamed = 0;  // files whose names are not UTF-8: the page could not name them
+    for (const auto& path : sandbox_.list({".coral", ".pl"}, &unnamed)) {
       missions.push_back({{"path", path}, {"kind", mission_kind(path)}});
     }
-    send_json(res, {{"root", sandbox_.root().string()},
-                    {"files", sandbox_.list({".coral"})},
-                    {"missions", missions},
-                    {"logs", sandbox_.list({".jsonl"})}});
+    json body = {{"root", sandbox_.root().string()},
+                 {"files", sandbox_.list({".coral"})},
+                 {"missions", missions},
+                 {"logs", sandbox_.list({".jsonl"}, &unnamed)}};
+    if (unnamed > 0) {
+      body["unlisted"] = fmt::format("{} file{} whose name is not UTF-8 (rename to open in the studio)", unnamed,
+                                     unnamed == 1 ? "" : "s");
+    }
+    send_json(res, body);
   });
 
   s.Get("/api/mission", [this, &catalogue](const httplib::Request& req, httplib::Response& res) {

@@ -77,6 +77,24 @@ TEST_F(StudioServerTest, ListsTheMissionsAndServesTheirModel) {
   EXPECT_TRUE(m["diagnostics"].empty());
 }
 
+// Issue 39: a file whose name is not UTF-8 was listed (mangled in JSON)
+// and then could not be opened (404). Left out of the lists, and counted.
+TEST_F(StudioServerTest, AFileNamedInNoUtf8IsNotListedButCounted) {
+  std::ofstream(base_ / "root/tank/caf\xe9.coral") << "net n { }\n";
+  auto files = client().Get("/api/files");
+  ASSERT_TRUE(files);
+  ASSERT_EQ(200, files->status);
+  const json j = json::parse(files->body);
+  for (const char* list : {"files", "missions"}) {
+    for (const auto& f : j[list]) {
+      const std::string path = f.is_string() ? f.get<std::string>() : f["path"].get<std::string>();
+      EXPECT_EQ(std::string::npos, path.find("caf")) << path;
+    }
+  }
+  ASSERT_TRUE(j.contains("unlisted")) << j.dump();
+  EXPECT_EQ("1 file whose name is not UTF-8 (rename to open in the studio)", j["unlisted"]);
+}
+
 TEST_F(StudioServerTest, ChecksUnsavedTextAndPointsAtTheLine) {
   auto c = client();
   json body = {{"path", "tank/tank.coral"}, {"text", "mission m { place a = 1;\n transition t { wait { b } } }"}};

@@ -146,6 +146,34 @@ TEST(VehicleServer, OnTheWallClockAdvanceIsAnsweredAtOnce) {
   EXPECT_TRUE(c.wait_for(rig.io, "ok 2"));
 }
 
+// Regression (issue 39): on the wall clock, a run that lost its link let the
+// embedded vehicle go at once (`strata run --speed 10` left it at 1.26 m).
+// when_settled waits until the vehicle, its watchdog tripped, is at the
+// surface by itself.
+TEST(VehicleServer, OnTheWallClockAVehicleLeftAtDepthIsSettledOnlyAtTheSurface) {
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Wall);  // speed 20
+  auto link = rig.connect();
+  EXPECT_TRUE(rig.call(*link, protocol::make_ood(0, "start_network")).ok());
+  EXPECT_TRUE(rig.exec(*link, "setpoint", {protocol::Value::real(1.5), protocol::Value::integer(60)}));
+  EXPECT_TRUE(rig.exec(*link, "start_depth_filter"));
+  EXPECT_TRUE(rig.exec(*link, "submerge"));
+  EXPECT_TRUE(rig.exec(*link, "sleep", {protocol::Value::integer(8)}));
+  ASSERT_GT(rig.sim.heave().depth_m, 0.5);
+  link->close();
+  rig.server->controller_gone();
+  bool settled = false;
+  std::optional<double> depth_when_settled;
+  rig.server->when_settled([&] {
+    settled = true;
+    depth_when_settled = rig.sim.heave().depth_m;
+  });
+  ASSERT_TRUE(run_until(
+      rig.io, [&] { return settled; }, 60s));
+  ASSERT_TRUE(depth_when_settled.has_value());
+  EXPECT_LE(*depth_when_settled, rig.sim.params().surface_depth_m + 0.05);
+  EXPECT_TRUE(rig.sim.watchdog_tripped());
+}
+
 // Regression (found by LockstepMission.LockstepAndTheWallClockAgree): on the
 // wall clock the sleeps waited in arrival order, so a `sleep 2` sent after a
 // `sleep 5` was answered with it, at 5 s.

@@ -130,8 +130,10 @@ class VehicleServer {
   // Nothing when there is no controller.
   void controller_gone();
   // Calls f (on the io_context) once the vehicle is not running on its own:
-  // at once, unless a lockstep watchdog trip has it surfacing by itself, in
-  // which case when that is over (or the server stops).
+  // at once, unless a watchdog trip has it surfacing by itself, in which
+  // case when that is over: at the surface, or autonomous_run_s later (in
+  // lockstep it runs alone; on the wall clock it moves with its ticks), or
+  // the server stops.
   void when_settled(std::function<void()> f);
 
  private:
@@ -172,6 +174,9 @@ class VehicleServer {
   void run_alone(std::optional<double> trip_at_s);
   void run_alone_batch();
   void settled();
+  // Wall clock: calls the when_settled waiters once the vehicle is at the
+  // surface after a trip, or wall_settle_until_s_ has come.
+  void check_wall_settled();
   void tick();
   void log(const std::string& line);
 
@@ -194,7 +199,8 @@ class VehicleServer {
   std::size_t refused_ = 0;
   bool stopped_ = false;
   bool hello_done_ = false;
-  int session_version_ = 0;  // the controller's protocol version, once it said hello
+  std::optional<double> wall_settle_until_s_;  // wall clock: waiting for the vehicle to surface by itself
+  int session_version_ = 0;                    // the controller's protocol version, once it said hello
   bool running_alone_ = false;
   double alone_until_s_ = 0.0;
   std::optional<double> alone_trip_at_s_;

@@ -147,6 +147,7 @@ void VehicleServer::tick() {
   tick_timer_.async_wait([this](const asio::error_code& e) {
     if (e || stopped_) return;
     step_one();
+    check_wall_settled();
     // Every sleep whose time has come, whatever was sent before it: a
     // `sleep 2` sent after a `sleep 5` must not wait for it. In id order.
     std::vector<Deferred> due;

@@ -132,7 +132,23 @@ void VehicleServer::run_alone_batch() {
 
 void VehicleServer::when_settled(std::function<void()> f) {
   settled_waiters_.push_back(std::move(f));
-  if (!running_alone_ || stopped_) settled();
+  if (stopped_) return settled();
+  // On the wall clock the vehicle moves by itself (tick): after a trip it
+  // is settled at the surface, or autonomous_run_s later; tick() says so.
+  if (options_.clock == protocol::ClockMode::Wall && sim_.watchdog_tripped() && !sim_.surface_reached()) {
+    if (!wall_settle_until_s_) wall_settle_until_s_ = sim_.time_s() + options_.autonomous_run_s;
+    return;
+  }
+  if (!running_alone_) settled();
+}
+
+void VehicleServer::check_wall_settled() {
+  if (!wall_settle_until_s_ || settled_waiters_.empty()) return;
+  const bool up = sim_.surface_reached();
+  if (!up && sim_.time_s() < *wall_settle_until_s_) return;
+  log(fmt::format("{:.1f} s: {}", sim_.time_s(), up ? "at the surface; holding" : "not at the surface in time"));
+  wall_settle_until_s_.reset();
+  settled();
 }
 
 void VehicleServer::settled() {

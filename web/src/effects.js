@@ -22,7 +22,7 @@ export function createEffects(store, api, ui = {}) {
   async function loadFiles() {
     try {
       const f = await api.files();
-      dispatch({ type: 'files/loaded', files: f.files, logs: f.logs, root: f.root, missions: f.missions });
+      dispatch({ type: 'files/loaded', files: f.files, logs: f.logs, root: f.root, missions: f.missions, unlisted: f.unlisted });
     } catch (e) { say(`files: ${e.message}`, true); }
   }
 

@@ -52,6 +52,8 @@ export function createPanels(store, fx) {
       fl.append(el('li', { class: p === s.path ? 'active' : '', 'data-path': p, 'data-kind': kind, title: kind === 'prolog' ? `${p} (PROLOG mission: text only)` : p, onpointerenter: () => fx.prefetch(p), onpointerdown: () => fx.prefetch(p), onclick: () => fx.openFile(p) },
         p, kind === 'prolog' ? el('span', { class: 'badge prolog' }, ' PROLOG') : null));
     }
+    // Files the server could not name (not UTF-8): said, not listed.
+    if (s.unlisted) fl.append(el('li', { class: 'muted', id: 'unlisted' }, `not listed: ${s.unlisted}`));
     const ll = $('#log-list'); ll.replaceChildren();
     for (const p of s.logs) ll.append(el('li', { 'data-path': p, title: p, class: s.replay && s.replay.path === p ? 'active' : '', onclick: () => fx.openReplay(p) }, p));
     if (!s.logs.length) ll.append(el('li', { class: 'muted' }, 'none'));

@@ -204,7 +204,7 @@ export function missionPaths(s) { return s.missions.length ? s.missions.map((m) 
 export function reduce(s, a) {
   switch (a.type) {
     case 'files/loaded':
-      return { ...s, files: a.files || [], logs: a.logs || [], root: a.root ?? s.root,
+      return { ...s, files: a.files || [], logs: a.logs || [], root: a.root ?? s.root, unlisted: a.unlisted || null,
         missions: a.missions || (a.files || []).map((p) => ({ path: p, kind: 'coral' })) };
     case 'runs/loaded':
       if (a.mission !== s.path) return s;
