@@ -152,6 +152,17 @@ void StudioServer::routes() {
   // without a preflight). GET needs no Origin: a browser does not send one
   // for a same-origin GET, and a GET changes nothing.
   s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    // A browser sends a dozen or two headers. (The library has read them all
+    // by now: this refuses the request, it does not bound that read.)
+    std::size_t headers = req.headers.size();
+    for (const char* own : {"REMOTE_ADDR", "REMOTE_PORT", "LOCAL_ADDR", "LOCAL_PORT"}) {
+      headers -= req.headers.count(own);  // the library's, not the client's
+    }
+    if (headers > kMaxHeaders) {
+      res.set_header("Connection", "close");
+      send_error(res, 431, fmt::format("{} request headers; at most {}", headers, kMaxHeaders));
+      return httplib::Server::HandlerResponse::Handled;
+    }
     const std::string host = req.get_header_value("Host");
     if (const std::size_t hosts = req.get_header_value_count("Host"); hosts != 1) {
       send_error(res, 400,

@@ -42,6 +42,8 @@ class FileWatcher;
 // Connections waiting to be accepted (listen(2)'s backlog; the kernel caps
 // it at net.core.somaxconn, 4096 on Debian 12).
 inline constexpr int kListenBacklog = 1024;
+// Request headers a request may carry (431 past it).
+inline constexpr std::size_t kMaxHeaders = 100;
 
 class StudioServer final : public HttpServer {
  public:

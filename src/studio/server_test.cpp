@@ -317,6 +317,15 @@ TEST_F(StudioServerTest, VerificationsAndStreamsPastTheirLimitAreToldWhenToComeB
   EXPECT_EQ(200, f->status);
 }
 
+TEST_F(StudioServerTest, AHundredAndOneHeadersAre431) {
+  const std::string host = "127.0.0.1:" + std::to_string(port_);
+  std::string request = "GET /api/files HTTP/1.1\r\nHost: " + host + "\r\n";
+  for (std::size_t i = 0; i < kMaxHeaders; ++i) request += "X-Filler-" + std::to_string(i) + ": 1\r\n";
+  const std::string got = raw_request(port_, request + "\r\n");
+  EXPECT_EQ(0u, got.find("HTTP/1.1 431")) << got.substr(0, 300);
+  EXPECT_NE(std::string::npos, got.find("101 request headers; at most 100")) << got.substr(0, 300);
+}
+
 TEST_F(StudioServerTest, VerifiesAndListsPrimitives) {
   auto c = client();
   auto v = c.Post("/api/verify", R"({"path": "tank/tank.coral"})", "application/json");
