@@ -89,6 +89,16 @@ class Editor {
     while (offset > 0 && text_[offset - 1] != '\n') --offset;
     return offset;
   }
+  // offset, or the end of its line when nothing but blanks and a `//`
+  // comment follow it there: what is added after a statement goes after
+  // the comment that ends its line, not between them.
+  std::uint32_t past_line_comment(std::uint32_t offset) const {
+    std::uint32_t i = offset;
+    while (i < text_.size() && (text_[i] == ' ' || text_[i] == '\t')) ++i;
+    if (i + 1 >= text_.size() || text_[i] != '/' || text_[i + 1] != '/') return offset;
+    while (i < text_.size() && text_[i] != '\n') ++i;
+    return i;
+  }
   std::string indent_of(std::uint32_t offset) const {
     const std::uint32_t start = line_start(offset);
     std::uint32_t end = start;
@@ -129,6 +139,7 @@ class Editor {
       after = std::max(after.value_or(0), p.statement.offset + p.statement.length);
     }
     if (after) {
+      *after = past_line_comment(*after);
       splices_.push_back({*after, 0, "\n" + body_indent() + decl});
     } else if (!net_->transitions.empty()) {
       const std::uint32_t at = net_->transitions.front().extent.offset;

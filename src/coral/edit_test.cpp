@@ -51,6 +51,18 @@ TEST(Edit, AddPlaceGoesAfterTheLastDeclarationAndKeepsEverythingElse) {
   EXPECT_NE(std::string::npos, out.find("TACTIC(EXEC, sleep(1), middle) }  // sleep a bit"));
 }
 
+// Issue 39: a place added after a declaration with a comment at its end
+// went between the line and its comment.
+TEST(Edit, AddPlaceKeepsTheCommentAtTheEndOfTheLineBeforeIt) {
+  Edit e;
+  e.op = Op::AddPlace;
+  e.name = "spare";
+  std::string text = kText;
+  text.replace(text.find("  exit done;\n"), 13, "  exit done;  // where it ends\n");
+  std::string out = edit(e, text);
+  EXPECT_NE(std::string::npos, out.find("  exit done;  // where it ends\n  place spare;\n")) << out;
+}
+
 TEST(Edit, AnArcReprintsOnlyItsTransition) {
   Edit e;
   e.op = Op::AddArc;

@@ -58,6 +58,19 @@ test('add a place from the toolbar: in the text, unsaved shown', async ({ page }
   await expect(page.locator('#text-pane .cm-content')).toContainText('logbook');
 });
 
+// Issue 39: in "+ Place" mode a tap on the canvas ignored the name field.
+test('a place tapped in place mode takes the name field\'s name', async ({ page }) => {
+  await openPage(page);
+  await page.locator('button.mode[data-mode="place"]').click();
+  await waitFor(page, "s.mode === 'place'", 2000);
+  await page.locator('#new-name').fill('tapped_here');
+  const box = await page.locator('#cy').boundingBox();
+  await page.mouse.click(box.x + 30, box.y + box.height - 30);
+  await waitFor(page, "cy.getElementById('p:tapped_here').nonempty() && s.busy === 0", 10000, 'place tapped_here');
+  expect(await studio(page, 's.text')).toMatch(/\btapped_here\b/);
+  await expect(page.locator('#new-name')).toHaveValue('');
+});
+
 // Drags with edgehandles, each step waited for: the source taken, the
 // target snapped (its eh-target class) before the button is released. A
 // broken arc drawing never shows eh-target, and the test fails.

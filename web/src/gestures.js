@@ -61,7 +61,13 @@ export function bindGestures(cy, container, store, fx) {
   cy.on('tap', (ev) => {
     if (ev.target !== cy) return;
     const s = getState();
-    if (s.mode === 'place' || s.mode === 'transition') addNode(s.mode, { ...ev.position });
+    if (s.mode === 'place' || s.mode === 'transition') {
+      // The name field counts in these modes too (it was ignored): used once, then cleared.
+      const input = document.getElementById('new-name');
+      const name = input ? input.value.trim() : '';
+      if (input) input.value = '';
+      addNode(s.mode, { ...ev.position }, name);
+    }
   });
   // Double-click a PHASE transition: open the phase's net.
   cy.on('dbltap', 'node.transition', (ev) => {
