@@ -73,8 +73,11 @@ export function createEffects(store, api, ui = {}) {
         const model = await (pre || api.mission(path));
         // A reload for a change on disk (force) that the user's edit
         // overtook: the edit is kept (their save meets the new version: 412).
+        // Only an edit counts: another reload that came first (the layout's
+        // news after the text's, from one save in another tab) leaves the
+        // text changed but nothing unsaved.
         const now = getState();
-        if (force && now.path === path && now.text !== textBefore) {
+        if (force && now.path === path && now.text !== textBefore && dirty(now)) {
           say(`${path} changed on disk while you were editing it: your edit is kept; saving it will ask`, true);
           return false;
         }

@@ -385,3 +385,21 @@ test('effects: the open file clicked again with unsaved edits asks before readin
   assert.equal(asked, 1);
   assert.equal(dirty(store.getState()), true);
 });
+
+// Issue 39: a clean tab reloading after another tab's save (two file_changed
+// events, the text's and the layout's) said "your edit is kept": it had none.
+test('effects: two reloads for one save elsewhere, in a clean tab, reload quietly', async () => {
+  const store = createStore();
+  let version = 1;
+  const api = fakeApi({ mission: async () => model(`net n { place a = 1; place b; transition t { wait { a } signal { b } } } // v${version}`, { etag: `"v${version}"` }) });
+  const said = [];
+  store.subscribe((st, prev) => { if (st.message !== (prev && prev.message) && st.message && st.message.text) said.push([st.message.text, st.message.error]); });
+  const fx = createEffects(store, api);
+  await fx.openFile('m.coral');
+  version = 2;
+  await Promise.all([fx.fileChanged({ path: 'm.coral', etag: '"v2"' }), fx.fileChanged({ path: 'm.coral.layout.json', etag: '"l2"' })]);
+  assert.equal(dirty(store.getState()), false);
+  assert.match(store.getState().text, /\/\/ v2$/);
+  assert.equal(said.filter(([t]) => /your edit is kept/.test(t)).length, 0, JSON.stringify(said));
+});
+
