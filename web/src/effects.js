@@ -167,7 +167,18 @@ export function createEffects(store, api, ui = {}) {
         // Each save names the version it was made from: a file saved since
         // (by another tab, or on disk) is refused with 412, not overwritten.
         const r = await api.saveFile(path, text, s.etag);
-        const l = await api.saveLayout(path, layoutByName(getState()), s.layoutEtag);
+        // The text is saved: its new version is ours whatever the layout's
+        // save says (else our own save came back as a change on disk, a
+        // conflict of no line).
+        let l;
+        try {
+          l = await api.saveLayout(path, layoutByName(getState()), s.layoutEtag);
+        } catch (e) {
+          dispatch({ type: 'file/saved', path, text, etag: r.etag, layoutSaved: false });
+          if (e.status === 412) throw e;
+          say(`saved ${path}, but not its layout (the positions): ${e.message}`, true);
+          return false;
+        }
         dispatch({ type: 'file/saved', path, text, etag: r.etag, layoutEtag: l.etag, layoutSaved: true });
         say(`saved ${path}`);
         return true;

@@ -403,3 +403,21 @@ test('effects: two reloads for one save elsewhere, in a clean tab, reload quietl
   assert.equal(said.filter(([t]) => /your edit is kept/.test(t)).length, 0, JSON.stringify(said));
 });
 
+// Issue 39: a save whose layout file was a link out (403) left the page
+// "unsaved", then a conflict of 0 lines, and said nothing of the 403.
+test('effects: a save whose layout is refused keeps the text saved and says why', async () => {
+  const store = createStore();
+  const refused = Object.assign(new Error("'m.coral.layout.json': a link out of the folder"), { status: 403 });
+  const api = fakeApi({ saveLayout: async () => { throw refused; } });
+  const fx = createEffects(store, api);
+  await fx.openFile('m.coral');
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  assert.equal(await fx.save(), false);
+  const s = store.getState();
+  assert.equal(s.etag, '"v9"');                      // the text's new version is ours
+  assert.equal(s.savedText, s.text);                 // the text is not unsaved
+  assert.equal(s.conflict, null);
+  assert.match(s.message.text, /saved m\.coral, but not its layout .*a link out of the folder/);
+  assert.equal(s.message.error, true);
+});
+
