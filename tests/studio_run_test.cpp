@@ -186,6 +186,17 @@ TEST_F(StudioRunTest, AbortSurfacesTheVehicleThenEndsAborted) {
   EXPECT_EQ("aborted", mission_end["outcome"]);
   EXPECT_EQ("abort", mission_end["stop"]);
   EXPECT_TRUE(mission_end["safe_end"]["surfaced"].get<bool>()) << mission_end.dump();
+  // Issue 39: the run panel said 12.5 s, the replay 20.7 s (the end of the
+  // surfacing). Both say the run's end now, and when the mission ended.
+  EXPECT_NEAR(mission_end["sim_time"].get<double>(), end["t"].get<double>(), 1e-6) << end.dump();
+  EXPECT_NEAR(mission_end["mission_sim_time"].get<double>(), end["mission_t"].get<double>(), 1e-6) << end.dump();
+  EXPECT_LT(end["mission_t"].get<double>(), end["t"].get<double>()) << "the safe end took time";
+  std::ifstream in(logs()[0]);
+  const auto replayed = studio::replay_from_log(std::string((std::istreambuf_iterator<char>(in)), {}));
+  ASSERT_TRUE(replayed.ok());
+  const json& replay_end = replayed.value()["events"].back()["data"];
+  EXPECT_NEAR(end["t"].get<double>(), replay_end["t"].get<double>(), 1e-6) << replay_end.dump();
+  EXPECT_NEAR(end["mission_t"].get<double>(), replay_end["mission_t"].get<double>(), 1e-6) << replay_end.dump();
   for (const auto& l : log) {
     if (l["event"] == "vehicle_final") {
       EXPECT_LT(std::stod(l["depth_m"].dump()), surfaced_depth_m()) << l.dump();

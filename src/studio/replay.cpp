@@ -105,8 +105,10 @@ core::Result<nlohmann::json> replay_from_log(const std::string& text) {
     } else if (kind == "answers_diverged") {
       emit("answers_diverged", {{"reason", e.value("reason", "")}, {"used", e.value("used", 0)}});
     } else if (kind == "mission_end") {
-      emit("run_end",
-           {{"outcome", e.value("outcome", "")}, {"exit", e.value("exit", "")}, {"reason", e.value("reason", "")}});
+      emit("run_end", {{"outcome", e.value("outcome", "")},
+                       {"exit", e.value("exit", "")},
+                       {"reason", e.value("reason", "")},
+                       {"mission_t", e.value("mission_sim_time", t)}});
     }
   }
   return nlohmann::json{{"mission", mission}, {"events", events}};

@@ -1,5 +1,7 @@
 #include "studio/run_publisher.h"
 
+#include <algorithm>
+
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -193,7 +195,10 @@ void RunPublisher::run_ended(const run::RunReport& report) {
                            {"final_depth_m", report.final_depth_m ? json(*report.final_depth_m) : json(nullptr)},
                            {"surfaced", report.emergency_surfaced},
                            {"log", log_},
-                           {"t", r.sim_time_s}});
+                           // The run's end, after the safe end (the replay's too); the
+                           // mission's own end is mission_t.
+                           {"t", std::max({r.sim_time_s, report.sim_time_s, report.final_time_s.value_or(0.0)})},
+                           {"mission_t", r.sim_time_s}});
 }
 
 namespace {

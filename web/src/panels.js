@@ -146,7 +146,7 @@ export function createPanels(store, fx) {
     status.className = `status ${rs.status}`;
     const out = $('#run-outcome');
     if (rs.ended) {
-      out.textContent = `${rs.ended.outcome}${rs.ended.exit ? ` (exit ${rs.ended.exit})` : ''}${rs.ended.reason ? `: ${rs.ended.reason}` : ''}${rs.ended.t != null ? ` at t=${rs.ended.t}` : ''}`;
+      out.textContent = `${rs.ended.outcome}${rs.ended.exit ? ` (exit ${rs.ended.exit})` : ''}${rs.ended.reason ? `: ${rs.ended.reason}` : ''}${rs.ended.t != null ? ` at t=${rs.ended.t}` : ''}${rs.ended.mission_t != null && rs.ended.t != null && rs.ended.mission_t < rs.ended.t - 1e-6 ? ` (the mission ended at t=${rs.ended.mission_t}; then the safe end)` : ''}`;
       out.className = `outcome ${rs.ended.outcome}`;
     } else if (rs.status === 'running') {
       out.textContent = `running ${rs.mission || ''}${rs.scenario ? ` (${rs.scenario}, ×${rs.speed})` : ''}`;
