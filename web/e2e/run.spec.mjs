@@ -149,6 +149,35 @@ test('a counterexample plays on its net: to the stall and one step back', async 
   await waitFor(page, "!s.cex && s.view === 'edit'", 3000, 'the player closed');
 });
 
+// Issue 39: "follow" opened a long phase net at its start, and the action
+// in flight, at its far end, was off screen.
+function longPhase(n) {
+  let text = 'net long {\n  place p0 = 1;\n';
+  for (let i = 1; i <= n; i++) text += `  place p${i};\n`;
+  text += '  exit done;\n';
+  for (let i = 1; i <= n; i++) text += `  transition t${i} { wait { p${i - 1} } signal { p${i} } }\n`;
+  text += `  transition last { wait { p${n} } action { TACTIC(EXEC, sleep(30), done) } }\n}\n`;
+  text += 'mission follows { place begin = 1, over; exit closed;\n';
+  text += '  transition go { wait { begin } action { PHASE(long, over) } }\n';
+  text += '  transition end { wait { over } signal { closed } } }\n';
+  return text;
+}
+
+test.describe('a long phase net', () => {
+  test.use({ files: { 'long/long.coral': longPhase(40) } });
+
+  test('followed into it, the action in flight is in view', async ({ page }) => {
+    await openPage(page, 'long/long.coral');
+    await page.locator('#run-speed').fill('2');
+    await page.locator('#btn-run').click();
+    await waitFor(page, "s.net === 'long' && s.inFlight.some((a) => a.transition === 'last')", 30000, 'followed into long, sleep in flight');
+    await waitFor(page, `(() => { const n = cy.getElementById('t:last'); if (n.empty()) return false;
+      const p = n.renderedPosition(); return p.x >= 0 && p.y >= 0 && p.x <= cy.width() && p.y <= cy.height(); })()`, 5000, 'the transition in flight in view');
+    await page.locator('#btn-abort').click();
+    await waitFor(page, 's.runEnded != null', 60000, 'the run ended');
+  });
+});
+
 // Issue 38: a mission's `require` shows its worst path on the nets, the
 // player moving into the phase each step runs in.
 const HELD = `net hold(s) { place a = 1; exit done;

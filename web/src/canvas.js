@@ -49,6 +49,20 @@ export function createCanvas(container, store, fx) {
   // start (left), centred vertically when it fits. The box is taken from the
   // node positions (labels hang below, within the padding): cytoscape's own
   // fit measures every label and edge, seconds on a 10,000-node net.
+  // Centres the view on the net's first action in flight, when it is out of view.
+  function showInFlight(s, net, pos) {
+    const a = Object.values(s.rs.inFlight || {}).find((f) => f.net === net.name && f.transition);
+    if (!a) return;
+    const id = `t:${a.transition}`;
+    const node = cy.getElementById(id);
+    const p = node.nonempty() ? node.position() : (pos && pos[id]) || (part && part.pos[id]);
+    if (!p) return;
+    const zoom = cy.zoom(), pan = cy.pan(), w = cy.width(), h = cy.height();
+    const x = p.x * zoom + pan.x, y = p.y * zoom + pan.y;
+    if (x >= 40 && x <= w - 40 && y >= 40 && y <= h - 40) return;
+    cy.pan({ x: w / 2 - p.x * zoom, y: h / 2 - p.y * zoom });
+  }
+
   function fitReadable() {
     const points = nodePoints(null);
     if (!points.length) return;
@@ -350,6 +364,9 @@ export function createCanvas(container, store, fx) {
         if (laid) dispatch({ type: 'positions/set', net: net.name, positions: laid, replace: true });
         else if (!large) placeNodes(s, net);
         if (vp) cy.viewport({ zoom: vp.zoom, pan: vp.pan }); else fitReadable();
+        // Followed into a net by a run: its action in flight in view (a long
+        // phase net opened at its start had it off screen).
+        if (!vp && s.follow && (s.view === 'live' || s.view === 'replay')) showInFlight(s, net, pos);
         if (large && !laid) placeNodes(s, net, true);   // places what has no position, then shows the part in view
         else if (large) showWindow();
         applyDiagnostics(s, net);
@@ -363,6 +380,11 @@ export function createCanvas(container, store, fx) {
       placeNodes(s, net);
     }
     if (net && prev && !rebuilt && s.model !== prev.model) applyDiagnostics(s, net);
+    // Following a run: a new action in flight in this net comes into view.
+    if (net && prev && !rebuilt && s.follow && (s.view === 'live' || s.view === 'replay') && s.rs.inFlight !== prev.rs.inFlight) {
+      showInFlight(s, net, null);
+      if (part) showWindow();
+    }
     if (!prev || s.mode !== prev.mode || rebuilt) {
       if (s.mode === 'arc') eh.enableDrawMode(); else eh.disableDrawMode();
       // Every edge when the mode or the net changes; after an edit, only
