@@ -220,6 +220,18 @@ void RunSession::Run::wrap_up() {
   // mission left it under water with its network up, its watchdog surfaces
   // it before the run ends.
   server_->controller_gone();
+  bool hard = false;
+  {
+    std::lock_guard lock(session_.mutex_);
+    hard = session_.hard_requested_;
+  }
+  if (hard) {
+    // A hard stop stops now: nothing waits for the vehicle, not even its
+    // own watchdog's surfacing.
+    server_->stop();
+    finished_ = true;
+    return;
+  }
   settling_ = true;
   server_->when_settled([this] {
     settling_ = false;

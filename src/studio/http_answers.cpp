@@ -39,6 +39,11 @@ void send_error(httplib::Response& res, int status, const std::string& message) 
   send_json(res, {{"error", message}}, status);
 }
 
+void send_busy(httplib::Response& res, int status, int retry_after_s, const std::string& message) {
+  res.set_header("Retry-After", std::to_string(retry_after_s));
+  send_error(res, status, message);
+}
+
 // 403 for a path that leaves the folder, 404 for one that is not there.
 void send_path_error(httplib::Response& res, const core::Error& e) {
   send_error(res, e.code == core::ErrorCode::Io ? 404 : 403, e.message);

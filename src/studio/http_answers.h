@@ -19,6 +19,8 @@ void send_bytes(httplib::Response& res, std::string bytes, const char* mime);
 void send_bytes_view(httplib::Response& res, std::string_view bytes, const char* mime);
 void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 void send_error(httplib::Response& res, int status, const std::string& message);
+// An error that says when to come back (Retry-After, seconds): 429, 503.
+void send_busy(httplib::Response& res, int status, int retry_after_s, const std::string& message);
 // A refused or missing path: its status (status_of) and message.
 void send_path_error(httplib::Response& res, const core::Error& e);
 int status_of(const core::Error& e);

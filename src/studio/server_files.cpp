@@ -160,11 +160,10 @@ void StudioServer::file_routes(httplib::Server& s) {
     // Each may take its memory limit: a bounded number at once.
     auto slot = Slot::take(verifies_, options_.max_verifies);
     if (!slot) {
-      res.set_header("Retry-After", "2");
-      return send_error(res, 429,
-                        fmt::format("{} verifications are running, the most this studio runs at once "
-                                    "(--max-verifies): try again when one ends",
-                                    options_.max_verifies));
+      return send_busy(res, 429, 2,
+                       fmt::format("{} verifications are running, the most this studio runs at once "
+                                   "(--max-verifies): try again when one ends",
+                                   options_.max_verifies));
     }
     const std::string path = body->value("path", "");
     std::optional<std::string> text;

@@ -128,11 +128,10 @@ void StudioServer::run_routes(httplib::Server& s) {
     // API always has workers left.
     auto slot = Slot::take(streams_, options_.max_streams);
     if (!slot) {
-      res.set_header("Retry-After", "5");
-      return send_error(res, 503,
-                        fmt::format("{} event streams are open, the most this studio serves (--max-streams): close a "
-                                    "tab or try again",
-                                    options_.max_streams));
+      return send_busy(res, 503, 5,
+                       fmt::format("{} event streams are open, the most this studio serves (--max-streams): close a "
+                                   "tab or try again",
+                                   options_.max_streams));
     }
     auto sub = hub_.subscribe();
     const auto heartbeat = options_.heartbeat;
