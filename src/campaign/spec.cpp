@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -275,6 +277,15 @@ class SpecReader {
       errors_.add(node, "'bound' starts at the case's fault: \"fault ASK -> ...\" (the ask the fault turns to 1)");
       return;
     }
+    if (!bound_texts_.contains(q.value().text) && bound_texts_.size() >= kMaxBounds) {
+      if (bound_texts_.size() > kMaxBounds) return;  // said once, at the first
+      bound_texts_.insert(q.value().text);
+      errors_.add(node, fmt::format("more than {} different bounds in one spec (each is a timing analysis of every "
+                                    "mission before the cases)",
+                                    kMaxBounds));
+      return;
+    }
+    bound_texts_.insert(q.value().text);
     e.bound = std::move(q).value();
   }
 
@@ -461,6 +472,7 @@ class SpecReader {
   }
 
   core::TomlErrors errors_;
+  std::set<std::string> bound_texts_;  // the distinct `bound` questions read so far
   SpecLimits limits_;
   Spec spec_;
   std::vector<Perturbation> spec_perturb_;  // the top-level perturb, for every family

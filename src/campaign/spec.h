@@ -87,6 +87,10 @@ struct Perturbation {
 // The most vehicle parameters one family may perturb.
 inline constexpr std::size_t kMaxPerturbedParams = 16;
 
+// The most distinct `bound` questions a spec may ask: each is a timing
+// analysis of every mission (the survey's takes 0.2 s) before the cases.
+inline constexpr std::size_t kMaxBounds = 16;
+
 // One fault kind (or none) over its axes: the cases are every combination
 // of at_s x health x duration_s x each perturbed parameter (an axis a kind
 // does not use has one value).

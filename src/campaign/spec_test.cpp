@@ -1,6 +1,7 @@
 // Campaign specs: what they make, and every way they can be wrong, located.
 #include "campaign/spec.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "campaign/campaign_test_support.h"
@@ -352,6 +353,23 @@ expect = "a"
   EXPECT_NE(std::string::npos, e.find("c.toml:5:9: 'bound': column 22: ")) << e;
   EXPECT_NE(std::string::npos, e.find("c.toml:7:9: 'bound' starts at the case's fault")) << e;
   EXPECT_EQ(std::string::npos, e.find("c.toml:9:")) << "a `within` is allowed (and not needed): " << e;
+}
+
+// A thousand expectation sets each asking its own bound would be a thousand
+// analyses of every mission before the first case: at most kMaxBounds
+// distinct questions; the same question again costs nothing.
+TEST(CampaignSpec, AThousandDistinctBoundsAreRefusedAtTheFirstPastTheLimit) {
+  std::string sets, same;
+  for (int i = 0; i < 1000; ++i) {
+    sets += fmt::format("[expect.s{}]\nbound = \"fault system_problem -> exec surface within {}\"\n", i, i + 1);
+    same += fmt::format("[expect.s{}]\nbound = \"fault system_problem -> exec surface\"\n", i);
+  }
+  const std::string family = "[[family]]\nfault = \"leak\"\nat_s = 3\nexpect = \"s0\"\n";
+  const std::string e = error_of(spec_text(sets + family));
+  EXPECT_NE(std::string::npos, e.find("more than 16 different bounds in one spec")) << e.substr(0, 400);
+  EXPECT_EQ(e.find("different bounds"), e.rfind("different bounds")) << "said once";
+  auto ok = parse(spec_text(same + family));
+  EXPECT_TRUE(ok.ok()) << (ok ? "" : ok.error().message.substr(0, 400));
 }
 
 TEST(CampaignSpec, ExpectationsAreCheckedAndFamiliesMustNameOne) {

@@ -135,7 +135,6 @@ TEST_F(StudioServerTest, AHundredAndOneHeadersAre431) {
   EXPECT_NE(std::string::npos, got.find("101 request headers; at most 100")) << got.substr(0, 300);
 }
 
-
 // Issue 17: any web page could start a run (a cross-origin text/plain POST
 // needs no preflight), and DNS rebinding reached the API.
 TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
@@ -193,7 +192,6 @@ TEST_F(StudioServerTest, ForeignHostsAndOriginsAreRefused) {
   EXPECT_EQ(404, nothing->status);
   EXPECT_TRUE(json::parse(nothing->body, nullptr, false).contains("error")) << nothing->body;
 }
-
 
 }  // namespace
 }  // namespace strata::studio
