@@ -108,8 +108,8 @@ def a_broken_file_stops_the_commands_that_use_it_with_each_problem_located():
                 '[run]\ntelemetry_hz = 500\nvehicel = "x"\nvehicle = "nohost:1"\nlog = "yes"\n[studo]\n')
     r = strata(["run", TANK], STRATA_CONFIG=cfg)
     expect("broken", r.returncode == 65, "run exits 65", r)
-    for where in (":2:", ":3:1: unknown key 'vehicel' in [run]; its keys: vehicle", ":4:", ":5:",
-                  ":6:2: unknown table [studo]"):
+    for where in (":2:", ":3:1: unknown key 'vehicel' in [run]: did you mean 'vehicle'? (its keys: vehicle", ":4:", ":5:",
+                  ":6:2: unknown table [studo]: did you mean 'studio'?"):
         expect("broken", f"{cfg}{where}" in r.stderr, f"names {where}", r)
     r = strata(["check", TANK], STRATA_CONFIG=cfg)
     expect("broken", r.returncode == 0, "check does not use it and runs", r)

@@ -217,9 +217,12 @@ int run_verify_mission(const VerifyOptions& o) {
     j["diagnostics"] = load.diagnostics_json();  // warnings
     std::cout << j.dump(2) << "\n";
   } else {
-    // Quiet: the report without the properties that hold (what failed or
-    // is not decided, and the facts around it).
-    std::cout << coral::verify_text(report, /*holding=*/o.verbosity.level() != Verbosity::Quiet);
+    // Quiet: only the nets with a problem; the default adds a line for
+    // each net that is fine; verbose shows every property of every net.
+    const Verbosity level = o.verbosity.level();
+    std::cout << coral::verify_text(report, level == Verbosity::Quiet     ? coral::VerifyDetail::Problems
+                                            : level == Verbosity::Verbose ? coral::VerifyDetail::Full
+                                                                          : coral::VerifyDetail::Nets);
   }
   if (!o.witness_out.empty()) {
     const int written = write_report_witness(report, o.mission, o.witness_net, o.witness_out);
@@ -256,7 +259,9 @@ Runner add_verify_command(CLI::App& app) {
       ->check(finite_range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
-  add_verbosity_flags(cmd, o->verbosity, "");
+  add_verbosity_flags(cmd, o->verbosity,
+                      "every property of every net, its place bounds and P-invariants (by default a net whose "
+                      "properties all hold is one line; -q leaves those out)");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);
   auto bounds = std::make_shared<BoundFlags>();

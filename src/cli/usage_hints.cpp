@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "coral/checker.h"
+#include "core/text.h"
 
 namespace strata::cli {
 namespace {
@@ -50,7 +50,7 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
   const std::vector<std::string> commands = visible_commands(app);
   if (sub == nullptr) {
     std::string hint = fmt::format("{}: unknown command '{}'", app.get_name(), first);
-    if (auto s = coral::suggest(first, commands)) hint += fmt::format(": did you mean '{}'?", *s);
+    if (auto s = core::suggest(first, commands)) hint += fmt::format(": did you mean '{}'?", *s);
     hints.push_back(hint);
     hints.push_back("the commands: " + join(commands));
     return hints;
@@ -66,7 +66,7 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
     for (const auto& k : known) found = found || k == name;
     if (found) continue;
     std::string hint = fmt::format("{} {}: unknown option '{}'", app.get_name(), sub->get_name(), name);
-    if (auto s = coral::suggest(name, known)) hint += fmt::format(": did you mean '{}'?", *s);
+    if (auto s = core::suggest(name, known)) hint += fmt::format(": did you mean '{}'?", *s);
     hints.push_back(hint);
   }
   if (!hints.empty()) hints.push_back(fmt::format("`{} {} --help` lists its options", app.get_name(), sub->get_name()));

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "core/text.h"
 #include "core/toml_reader.h"
 #include "run/inputs.h"
 
@@ -27,6 +28,15 @@ const std::map<std::string, std::vector<std::string>>& known_keys() {
       {"studio", {"listen"}},
   };
   return keys;
+}
+
+// What follows "unknown key 'x'": the known names, and the closest of them
+// when one is a typo away.
+std::string known_tail(std::string_view name, const std::vector<std::string>& known, std::string_view what,
+                       const std::string& listed) {
+  const auto s = core::suggest(name, known);
+  if (!s) return fmt::format("; {}: {}", what, listed);
+  return fmt::format(": did you mean '{}'? ({}: {})", *s, what, listed);
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -57,7 +67,10 @@ class Reader {
       if (known == known_keys().end()) {
         std::vector<std::string> tables;
         for (const auto& [name, keys] : known_keys()) tables.push_back("[" + name + "]");
-        errors_.add(table_key, fmt::format("unknown table [{}]; the tables: {}", table, joined(tables)));
+        std::vector<std::string> names;
+        for (const auto& [name, keys] : known_keys()) names.push_back(name);
+        errors_.add(table_key, fmt::format("unknown table [{}]{}", table,
+                                           known_tail(table, names, "the tables", joined(tables))));
         continue;
       }
       const toml::table* entries = node.as_table();
@@ -140,7 +153,8 @@ class Reader {
     } else if (name == "studio.listen") {
       address(config_.studio_listen, value, name, false);
     } else {
-      errors_.add(where, fmt::format("unknown key '{}' in [{}]; its keys: {}", key, table, joined(keys)));
+      errors_.add(where,
+                  fmt::format("unknown key '{}' in [{}]{}", key, table, known_tail(key, keys, "its keys", joined(keys))));
     }
   }
 

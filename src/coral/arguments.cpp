@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "core/text.h"
+
 namespace strata::coral {
 
 std::optional<double> ast::number_value(const Literal& literal) {
@@ -166,7 +168,7 @@ void ArgumentChecker::check_names(const ast::Net& net, const std::vector<ast::Li
                        fmt::format("'{}' is not a parameter of '{}'", a.text, net.name.text));
       std::vector<std::string> names;
       for (const auto& p : net.params) names.push_back(p.name.text);
-      if (auto s = suggest(a.text, names)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+      if (auto s = core::suggest(a.text, names)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
     }
     core::add_note(d, "a string argument is written in quotes, a number as digits");
   }
@@ -183,7 +185,7 @@ void ArgumentChecker::check_report_param(const ast::Net& net, const ast::Literal
     for (const auto& p : net.params) {
       if (p.type == ast::ParamType::String) names.push_back(p.name.text);
     }
-    if (auto s = suggest(name.text, names)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+    if (auto s = core::suggest(name.text, names)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
     return;
   }
   const ast::Param& p = net.params[*j];

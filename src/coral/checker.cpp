@@ -11,6 +11,7 @@
 #include "coral/arguments.h"
 #include "coral/program.h"
 #include "coral/timing.h"
+#include "core/text.h"
 
 namespace strata::coral {
 namespace {
@@ -106,7 +107,7 @@ class NetChecker {
     auto* d = sink_.report(DiagnosticKind::UndefinedPlace, n.span,
                            fmt::format("place '{}' is not declared in '{}'", n.text, net_.name.text));
     if (!d) return nullptr;  // past the error limit: spare the suggestion's cost
-    if (auto s = suggest(n.text, place_names_)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
+    if (auto s = core::suggest(n.text, place_names_)) core::add_note(d, fmt::format("did you mean '{}'?", *s));
     return nullptr;
   }
 
@@ -161,7 +162,7 @@ class NetChecker {
       auto* d = sink_.report(DiagnosticKind::UnknownPrimitive, call.name.span,
                              fmt::format("unknown primitive '{}'", call.name.text));
       if (!d) return;
-      if (auto s = suggest(call.name.text, options_.primitive_names)) {
+      if (auto s = core::suggest(call.name.text, options_.primitive_names)) {
         core::add_note(d, call.name.span, fmt::format("did you mean '{}'?", *s));
       }
       return;
@@ -200,7 +201,7 @@ class NetChecker {
         if (ref.net->kind == ast::Net::Kind::Phase) phases.push_back(name);
       }
       std::sort(phases.begin(), phases.end());  // ties resolve the same way every run
-      if (auto s = suggest(a.phase.text, phases))
+      if (auto s = core::suggest(a.phase.text, phases))
         core::add_note(d, fmt::format("did you mean '{}'?", *s));
       else
         core::add_note(d, "import the file that declares it");
@@ -551,39 +552,5 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
   }
 }
 
-std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {
-  auto distance = [](std::string_view a, std::string_view b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-      std::size_t diag = row[0];
-      row[0] = i;
-      for (std::size_t j = 1; j <= b.size(); ++j) {
-        std::size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-        diag = up;
-      }
-    }
-    return row[b.size()];
-  };
-  if (name.size() > 64) return std::nullopt;
-  std::optional<std::string> best;
-  // Accept up to about a third of the name in edits (two for a five-letter name).
-  std::size_t best_d = std::max<std::size_t>(1, (name.size() + 2) / 3) + 1;
-  // Bound the work on huge nets: at most kMaxTried distance computations.
-  constexpr std::size_t kMaxTried = 4096;
-  std::size_t tried = 0;
-  for (const auto& c : candidates) {
-    std::size_t gap = c.size() > name.size() ? c.size() - name.size() : name.size() - c.size();
-    if (c.size() > 64 || gap >= best_d) continue;  // length alone rules it out
-    if (++tried > kMaxTried) break;
-    std::size_t d = distance(name, c);
-    if (d < best_d) {
-      best_d = d;
-      best = c;
-    }
-  }
-  return best;
-}
 
 }  // namespace strata::coral

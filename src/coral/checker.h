@@ -49,8 +49,4 @@ struct CheckOptions {
 
 void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& options = {});
 
-// The closest candidate to `name` by edit distance, if close enough to be a
-// plausible typo.
-std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates);
-
 }  // namespace strata::coral

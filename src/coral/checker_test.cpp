@@ -162,10 +162,5 @@ TEST(Checker, ErrorsPastTheLimitDoNotReachTheWarnings) {
   EXPECT_TRUE(c->sink.saturated());
 }
 
-TEST(Suggest, OnlyCloseNames) {
-  EXPECT_EQ("depth_reached", suggest("depth_reachd", {"time_out", "depth_reached"}));
-  EXPECT_FALSE(suggest("xyz", {"depth_reached"}));
-}
-
 }  // namespace
 }  // namespace strata::coral

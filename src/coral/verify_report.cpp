@@ -177,13 +177,20 @@ std::string step_text(const TraceStep& s) {
   return fmt::format("{}{} ({}) answers {}{}", when, s.action, s.transition, s.answer, marks);
 }
 
-std::string verify_text(const VerifyReport& report, bool holding) {
+std::string verify_text(const VerifyReport& report, VerifyDetail detail) {
   std::string out;
   for (const auto& n : report.nets) {
+    const bool fine = n.all_hold();
+    if (fine && detail == VerifyDetail::Problems) continue;
+    if (fine && detail == VerifyDetail::Nets) {
+      out += fmt::format("{} {} ({}): {}, every property holds\n", n.kind, n.name, n.file,
+                         count(n.states, "reachable marking", "reachable markings"));
+      continue;
+    }
     out += net_heading(n);
     std::vector<std::pair<std::string, std::string>> shown;
     for (const auto& p : n.properties) {
-      if (holding || p.status != Property::Status::Holds) out += property_line(p, shown);
+      if (detail == VerifyDetail::Full || p.status != Property::Status::Holds) out += property_line(p, shown);
     }
     std::vector<std::string> exits;
     for (std::size_t e = 0; e < n.exits.size(); ++e) {

@@ -12,10 +12,17 @@ namespace strata::coral {
 
 std::string_view status_name(Property::Status status);  // "holds", "fails", "undecided"
 
-// Every net, its properties, bounds and P-invariants; counterexamples under
-// the properties that fail. holding = false leaves out the properties that
-// hold (`strata verify -q`).
-std::string verify_text(const VerifyReport& report, bool holding = true);
+// How much of a report `verify_text` shows.
+enum class VerifyDetail {
+  Problems,  // the nets with a property that fails or is not decided, and the summary (`-q`)
+  Nets,      // one line per net that is fine, those nets in full, the summary (the default)
+  Full,      // every net, its properties, bounds and P-invariants (`-v`)
+};
+
+// The report for people; counterexamples under the properties that fail.
+// A net shown in full at Problems or Nets leaves out the properties that
+// hold.
+std::string verify_text(const VerifyReport& report, VerifyDetail detail = VerifyDetail::Full);
 // Only what fails, with counterexamples, and one line per net that is
 // fine; for `strata run`.
 std::string verify_failures_text(const VerifyReport& report);

@@ -1,5 +1,6 @@
 #include "core/text.h"
 
+#include <algorithm>
 #include <cstdint>
 
 namespace strata::core {
@@ -47,6 +48,41 @@ bool valid_utf8(std::string_view text) {
     i += n + 1;
   }
   return true;
+}
+
+std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diag = up;
+      }
+    }
+    return row[b.size()];
+  };
+  if (name.size() > 64) return std::nullopt;
+  std::optional<std::string> best;
+  // Accept up to about a third of the name in edits (two for a five-letter name).
+  std::size_t best_d = std::max<std::size_t>(1, (name.size() + 2) / 3) + 1;
+  // Bound the work on huge nets: at most kMaxTried distance computations.
+  constexpr std::size_t kMaxTried = 4096;
+  std::size_t tried = 0;
+  for (const auto& c : candidates) {
+    std::size_t gap = c.size() > name.size() ? c.size() - name.size() : name.size() - c.size();
+    if (c.size() > 64 || gap >= best_d) continue;  // length alone rules it out
+    if (++tried > kMaxTried) break;
+    std::size_t d = distance(name, c);
+    if (d < best_d) {
+      best_d = d;
+      best = c;
+    }
+  }
+  return best;
 }
 
 }  // namespace strata::core

@@ -38,5 +38,10 @@ TEST(ValidUtf8, TakesWellFormedTextAndRefusesEveryMalformedKind) {
   EXPECT_FALSE(valid_utf8("\x80"));               // a lone continuation byte
 }
 
+TEST(Suggest, OnlyCloseNames) {
+  EXPECT_EQ("depth_reached", suggest("depth_reachd", {"time_out", "depth_reached"}));
+  EXPECT_FALSE(suggest("xyz", {"depth_reached"}));
+}
+
 }  // namespace
 }  // namespace strata::core

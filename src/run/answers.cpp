@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "coral/checker.h"
+#include "core/text.h"
 
 namespace strata::run {
 namespace {
@@ -170,7 +171,7 @@ core::Result<void> check_answers(const AnswerScript& script, const tactical::Cat
     if (a.action != "phase") {
       const tactical::Primitive* p = catalogue.find(a.primitive);
       if (!p) {
-        auto s = coral::suggest(a.primitive, names);
+        auto s = core::suggest(a.primitive, names);
         return invalid(fmt::format("{}: unknown primitive '{}'{}", where, a.primitive,
                                    s ? fmt::format(" (did you mean '{}'?)", *s) : std::string()));
       }
@@ -191,7 +192,7 @@ core::Result<void> check_answers(const AnswerScript& script, const tactical::Cat
     for (const auto& n : program->nets) nets.push_back(n.name);
     const coral::CompiledNet* net = program->find(a.net);
     if (!net) {
-      auto s = coral::suggest(a.net, nets);
+      auto s = core::suggest(a.net, nets);
       return invalid(fmt::format("{}: the mission has no net '{}'{}", where, a.net,
                                  s ? fmt::format(" (did you mean '{}'?)", *s) : std::string()));
     }

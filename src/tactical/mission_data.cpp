@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/text.h"
 #include "core/toml_reader.h"
 
 namespace strata::tactical {
@@ -38,7 +39,13 @@ void check_entry(const toml::table& t, const std::string& owner, std::initialize
   for (auto&& [key, value] : t) {
     const std::string_view k = key.str();
     if (std::find(known.begin(), known.end(), k) == known.end()) {
-      errors.add(key, fmt::format("{}: unknown key '{}' (known: {})", owner, k, fmt::join(known, ", ")));
+      const std::vector<std::string> names(known.begin(), known.end());
+      auto s = core::suggest(k, names);
+      for (const auto& n : names) {
+        if (!s && n.starts_with(std::string(k) + "_")) s = n;  // the unit left off: 'x' for 'x_m'
+      }
+      errors.add(key, fmt::format("{}: unknown key '{}'{} (known: {}; docs/mission-data.md)", owner, k,
+                                  s ? fmt::format(": did you mean '{}'?", *s) : "", fmt::join(known, ", ")));
     }
   }
   if (const toml::node* n = t.get("name")) {

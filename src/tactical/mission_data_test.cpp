@@ -45,7 +45,7 @@ TEST(MissionData, ErrorsCarryLineAndColumn) {
       error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 10\n\n[[setpoint]]\ndepth_m = -0.5\n"
                "timeout_s = 10\n"));
   EXPECT_EQ("data.toml:1:1: setpoint 1 has no timeout_s", error_of("[[setpoint]]\ndepth_m = 1\n"));
-  EXPECT_EQ("data.toml:4:1: setpoint 1: unknown key 'speed' (known: depth_m, name, timeout_s)",
+  EXPECT_EQ("data.toml:4:1: setpoint 1: unknown key 'speed' (known: depth_m, name, timeout_s; docs/mission-data.md)",
             error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 10\nspeed = 2\n"));
   EXPECT_EQ("data.toml:3:13: setpoint 1: timeout_s is 0 s; it must be above 0",
             error_of("[[setpoint]]\ndepth_m = 1\ntimeout_s = 0\n"));
@@ -65,7 +65,8 @@ TEST(MissionData, EveryErrorIsReportedInFileOrder) {
   std::string e = error_of("[[setpoint]]\ndepht_m = 1\ntimeout_s = 1\n");
   EXPECT_EQ(
       "data.toml:1:1: setpoint 1 has no depth_m\n"
-      "data.toml:2:1: setpoint 1: unknown key 'depht_m' (known: depth_m, name, timeout_s)",
+      "data.toml:2:1: setpoint 1: unknown key 'depht_m': did you mean 'depth_m'? (known: depth_m, name, timeout_s; "
+      "docs/mission-data.md)",
       e);
 }
 
@@ -165,8 +166,17 @@ TEST(MissionData, WaypointErrorsCarryLineAndColumn) {
   EXPECT_EQ("data.toml:3:7: waypoint 1: y_m is 1e+300 m; it must lie within +-100000 m",
             error_of("[[waypoint]]\nx_m = 0\ny_m = 1e300\n"));
   EXPECT_EQ("data.toml:1:1: waypoint 1 has no y_m", error_of("[[waypoint]]\nx_m = 1\n"));
-  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'z_m' (known: name, x_m, y_m)",
+  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'z_m': did you mean 'x_m'? (known: name, x_m, y_m; "
+            "docs/mission-data.md)",
             error_of("[[waypoint]]\nz_m = 1\nx_m = 0\ny_m = 0\n"));
+}
+
+TEST(MissionData, AWaypointKeyWithoutItsUnitIsNamedWithIt) {
+  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'x': did you mean 'x_m'? (known: name, x_m, y_m; "
+            "docs/mission-data.md)\n"
+            "data.toml:3:1: waypoint 1: unknown key 'y': did you mean 'y_m'? (known: name, x_m, y_m; "
+            "docs/mission-data.md)",
+            error_of("[[waypoint]]\nx = 1\ny = 2\nx_m = 0\ny_m = 0\n"));
   EXPECT_EQ("data.toml:1:12: the waypoint list is empty", error_of("waypoint = []\n"));
 }
 
