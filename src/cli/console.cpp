@@ -91,11 +91,25 @@ void Console::phase_ended(const strategic::PhaseEnd& e) {
         e.sim_time_s);
 }
 
+namespace {
+
+// " 1.5 \"text\"": each argument as the wire writes it, strings quoted.
+std::string call_arguments(std::span<const tactical::Value> args) {
+  std::string out;
+  for (const auto& a : args) {
+    out += a.type == tactical::Value::Type::String ? fmt::format(" \"{}\"", a.text) : " " + tactical::to_string(a);
+  }
+  return out;
+}
+
+}  // namespace
+
 void Console::action_started(const strategic::ActionStart& e) {
   if (e.is_phase() || e.is_call(core::CallVerb::Report)) return;
   sim_time_s_ = std::max(sim_time_s_, e.sim_time_s);
   action_ = fmt::format("{} {}", e.kind_name(), e.primitive);
-  if (calls_) calls_in_flight_[e.id] = action_;
+  // -v: the call as sent, arguments included ("exec set_speed 1.5").
+  if (calls_) calls_in_flight_[e.id] = action_ + call_arguments(e.args);
   draw_status(false);
 }
 

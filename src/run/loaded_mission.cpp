@@ -6,11 +6,11 @@
 
 #include "core/mission_language.h"
 #include "core/file.h"
-#include "core/mission_language.h"
 #include "coral/verify_report.h"
 #include "run/bound_options.h"
 #include "run/coral_load.h"
 #include "run/inputs.h"
+#include "run/scenario_folder.h"
 #include "tactical/execution_level.h"
 #include "tactical/sha256.h"
 
@@ -156,6 +156,7 @@ Loaded load_vehicle_inputs(const RunOptions& o, LoadedMission& loaded) {
                               : load_scenario_option(o.scenario, o.mission);
   if (!scenario) return input_error(scenario.error());
   loaded.scenario = std::move(scenario.value());
+  loaded.scenario_origin = scenario_origin(o);
   if (!o.vehicle.empty() && (!o.scenario.empty() || !o.params.empty() || !o.param_overrides.empty() || o.realtime)) {
     return Error{ErrorKind::Usage, "",
                  "--scenario, --params and --realtime set up the embedded vehicle; with "
@@ -210,6 +211,20 @@ strategic::LoadLimits load_limits(const RuleLoadLimits& limits) {
   l.inferences = limits.inferences;
   l.max_bytes = static_cast<std::size_t>(limits.max_bytes);
   return l;
+}
+
+std::string scenario_origin(const RunOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!o.scenario.empty()) {
+    if (o.read_file || o.mission.empty() || fs::is_regular_file(o.scenario, ec)) return o.scenario;
+    return scenario_path(o.mission, o.scenario).string();
+  }
+  if (o.mission.empty()) return "built in";
+  const std::string nominal = scenario_path(o.mission, "nominal").string();
+  const bool found = o.read_file ? o.read_file(nominal).ok() : fs::is_regular_file(nominal, ec);
+  if (found) return nominal;
+  return fmt::format("built in: no {} beside the mission", (fs::path("scenarios") / "nominal.toml").string());
 }
 
 std::string scenario_name(const RunOptions& o) { return o.scenario.empty() ? "nominal" : o.scenario; }

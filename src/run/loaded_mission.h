@@ -43,6 +43,10 @@ struct LoadedMission {
   std::optional<tactical::DataCursor> cursor;
   vehicle::VehicleParams params;
   vehicle::Scenario scenario;
+  // Where the scenario came from, for the run's header: the file read, or
+  // why the built-in one ("built in: no scenarios/nominal.toml beside
+  // the mission").
+  std::string scenario_origin;
   // CORAL: the verification. A run goes on with a report that is not ok()
   // only with --unverified or --answers; one that is ok() but not
   // all_hold() is information, not a veto.
@@ -58,6 +62,8 @@ core::Result<void, Error> load_mission(const RunOptions& options, LoadedMission&
 // The strategic::LoadLimits of the options' limits.
 strategic::LoadLimits load_limits(const RuleLoadLimits& limits);
 
+// Where the options' scenario is read from (LoadedMission::scenario_origin).
+std::string scenario_origin(const RunOptions& options);
 // The scenario's name as the log and the console give it ("nominal" for none).
 std::string scenario_name(const RunOptions& options);
 // The mission log's header: which inputs made this run.

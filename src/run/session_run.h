@@ -116,6 +116,7 @@ class RunSession::Run {
   Stage connect();
   // The same for an IMC vehicle (--vehicle imc://HOST:PORT[/ID]).
   Stage connect_imc();
+  std::string embedded_world() const;  // the header's world and scenario, and where it came from
   // The Sonar Manager started and connected, when a folder is given.
   Stage start_sonar();
   // The Tactical level, the executor and their observers, wired.

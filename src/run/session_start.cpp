@@ -107,8 +107,19 @@ Stage RunSession::Run::connect() {
   }
   note(fmt::format("vehicle {} at {}:{} ({}{})", w.vehicle_name, link_options_.host, link_options_.port,
                    report_.lockstep ? "lockstep" : "wall clock",
-                   o_.vehicle.empty() ? fmt::format(", embedded, scenario {}", scenario_name(o_)) : ""));
+                   o_.vehicle.empty() ? embedded_world() : ""));
   return {};
+}
+
+// ", embedded; open water, scenario nominal from missions/survey/scenarios/
+// nominal.toml": which world the run is in, and why.
+std::string RunSession::Run::embedded_world() const {
+  const std::string name = scenario_name(o_);
+  const std::string& origin = loaded_.scenario_origin;
+  const char* world = loaded_.scenario.world.open_water ? "open water" : "the tank";
+  if (origin == name) return fmt::format(", embedded; {}, scenario {}", world, name);
+  return fmt::format(", embedded; {}, scenario {} {}{}", world, name, origin.starts_with("built in") ? "" : "from ",
+                     origin);
 }
 
 Stage RunSession::Run::connect_imc() {

@@ -367,13 +367,15 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
   std::string_view transition = inst.net->net.transition_name(t);
   const coral::GuardNode node = inst.net->guard_node(t);
   const bool polls = node.role == coral::GuardRole::Poll || node.role == coral::GuardRole::Ask;
+  std::vector<tactical::Value> args = arguments(inst, t, index);
   ActionStart event{id,
                     inst.id,
                     verb_of(a),
                     primitive_of(a),
                     transition,
                     now(),
-                    polls ? std::string_view(inst.net->guards[node.guard].name) : std::string_view()};
+                    polls ? std::string_view(inst.net->guards[node.guard].name) : std::string_view(),
+                    args};
   observers_.action_started(event);
   if (a.kind == coral::ActionSpec::Kind::Phase) {
     const coral::CompiledNet* phase = program_.find(a.target);
@@ -383,12 +385,12 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
                        inst.net->name, inst.depth + 1, options_.max_phase_depth));
       return;
     }
-    start_instance(*phase, inst.id, &a, transition, arguments(inst, t, index));
+    start_instance(*phase, inst.id, &a, transition, std::move(args));
     return;
   }
   if (a.tactic == coral::ast::TacticType::Report) {
     // A REPORT marks nothing and waits for nothing: sent, not tracked.
-    tactics_.call(primitive_of(a), arguments(inst, t, index), [](const tactical::CallResult&) {});
+    tactics_.call(primitive_of(a), std::move(args), [](const tactical::CallResult&) {});
     return;
   }
   in_flight_.emplace(id, InFlight{inst.id, &a, transition, t, polls});
@@ -397,9 +399,9 @@ void CoralEngine::issue(Instance& inst, petri::TransitionId t, std::size_t index
     if (auto engine = self.lock(); engine && *engine) (*engine)->deliver(id, std::move(outcome));
   };
   if (polls) {
-    tactics_.guard_call(event.guard, primitive_of(a), arguments(inst, t, index), std::move(deliver));
+    tactics_.guard_call(event.guard, primitive_of(a), std::move(args), std::move(deliver));
   } else {
-    tactics_.call(primitive_of(a), arguments(inst, t, index), std::move(deliver));
+    tactics_.call(primitive_of(a), std::move(args), std::move(deliver));
   }
 }
 

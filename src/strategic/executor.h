@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -18,6 +19,7 @@
 #include "core/result.h"
 #include "petri/net.h"
 #include "tactical/call_error.h"
+#include "tactical/value.h"
 
 namespace strata::petri {
 class State;
@@ -97,6 +99,8 @@ struct ActionStart {
   // A guard's own poll (its `sleep` or a term of its condition): the name
   // of the guard; "" for a call of the mission itself.
   std::string_view guard = {};
+  // The call's (or the phase's) arguments, valid during the callback.
+  std::span<const tactical::Value> args = {};
 
   bool is_phase() const { return !verb.has_value(); }
   bool is_call(core::CallVerb v) const { return verb == v; }

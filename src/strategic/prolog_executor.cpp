@@ -141,7 +141,8 @@ void PrologExecutor::issue() {
   const tactical::Primitive* p = catalogue_.find(pending_name_);
   ActionId id = next_action_++;
   in_flight_ = id;
-  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now(), {}};
+  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now(), {},
+                    pending_args_};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.call(pending_name_, std::move(pending_args_), [self, id](tactical::CallResult outcome) {
@@ -190,7 +191,7 @@ void PrologExecutor::deliver(ActionId id, tactical::CallResult outcome) {
 }
 
 void PrologExecutor::report(const std::string& name, std::vector<tactical::Value> args) {
-  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now(), {}};
+  ActionStart event{next_action_++, current_instance(), core::CallVerb::Report, name, "", now(), {}, args};
   observers_.action_started(event);
   tactics_.call(name, std::move(args), [](const tactical::CallResult&) {});
 }
@@ -336,7 +337,7 @@ void PrologExecutor::poll(Scope& scope, std::size_t guard) {
   ActionId id = next_action_++;
   g.in_flight = id;
   guard_calls_[id] = {scope.id, guard, fmt::format("{} {}", core::call_verb_name(verb), name)};
-  ActionStart event{id, scope.instance, verb, name, "", now(), g.spec.name};
+  ActionStart event{id, scope.instance, verb, name, "", now(), g.spec.name, args};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.guard_call(g.spec.name, name, std::move(args), [self, id](tactical::CallResult outcome) {
