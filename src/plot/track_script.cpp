@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "plot/script_parts.h"
+#include "plot/track_layout.h"
 
 namespace strata::plot {
 namespace {
@@ -18,6 +19,12 @@ constexpr const char* kFixColour = "#cc3311";
 constexpr const char* kSeabedColour = "#8c510a";
 constexpr const char* kAltitudeColour = "#aa3377";
 constexpr std::size_t kAbortWrap = 34;  // characters: an abort label fits half a time panel
+
+// The picture's size, and where the time panels' graphs sit across it.
+constexpr int kWidthPx = 1400;
+constexpr int kHeightPx = 800;
+constexpr double kTimeLeft = 0.50;
+constexpr double kTimeRight = 0.80;
 
 std::string xy(const Point& p) { return fmt::format("{} {}\n", p.x_m, p.y_m); }
 
@@ -78,9 +85,10 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   std::string s = "# Written by `strata plot`; run it again with `gnuplot plot.gp`.\n";
   s += "set encoding utf8\n";
   if (format == Format::Svg) {
-    s += "set terminal svg size 1400,800 noenhanced font 'sans,11' background rgb 'white'\n";
+    s += fmt::format("set terminal svg size {},{} noenhanced font 'sans,11' background rgb 'white'\n", kWidthPx,
+                     kHeightPx);
   } else {
-    s += "set terminal png size 1400,800 noenhanced background rgb 'white'\n";
+    s += fmt::format("set terminal png size {},{} noenhanced background rgb 'white'\n", kWidthPx, kHeightPx);
   }
   s += fmt::format("set output {}\n", gp_string(output.string()));
   s += fmt::format("set multiplot title {}\n", gp_string(plot.title()));
@@ -90,7 +98,12 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   s += "set origin 0,0\nset size ratio -1 0.42,0.94\n";
   s += "set key below\n";
   s += "set xlabel 'x east (m)'\nset ylabel 'y north (m)'\n";
-  s += "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
+  // Ranges and ticks from the data (track_layout.h): autoscaled, a straight
+  // leg made the box a strip and crowded its y tick labels.
+  const layout::XyFrame frame = layout::xy_frame(plot);
+  s += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", num(frame.x0), num(frame.x1), num(frame.y0),
+                   num(frame.y1));
+  s += fmt::format("set xtics {0}\nset ytics {0}\n", num(frame.step));
   std::string curves;
   auto add = [&](const std::string& curve) { curves += (curves.empty() ? "plot " : ", \\\n     ") + curve; };
   if (!lines(plot, true).empty()) {
@@ -118,11 +131,11 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
                     kFixColour));
   }
   s += curves + "\n";
-  s += "set size noratio\nset offsets 0, 0, 0, 0\n";
+  s += "set size noratio\nset xtics autofreq\nset ytics autofreq\n";
 
   // The time panels share their left and right edges, so their axes line up.
   s += "\n# Against time.\n";
-  s += "set lmargin at screen 0.50\nset rmargin at screen 0.80\n";
+  s += fmt::format("set lmargin at screen {}\nset rmargin at screen {}\n", num(kTimeLeft), num(kTimeRight));
   s += "set key default\nset key outside right top\n";
   const double span = plot.last_s > plot.first_s ? plot.last_s - plot.first_s : 1.0;
   s += fmt::format("set xrange [{}:{}]\n", num(plot.first_s), num(plot.first_s + span * 1.02));
