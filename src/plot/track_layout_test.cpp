@@ -1,7 +1,7 @@
 // The open-water plot's layout, read back from the script it writes: the
-// x-y panel's box and ticks. Sizes are measured the way gnuplot draws them
-// (its PNG font: about 8.1 pixels a character across, 15 down), not taken
-// from the code.
+// x-y panel's box and ticks, and where the abort texts land in the depth
+// panel. Sizes are measured the way gnuplot draws them (its PNG font: about
+// 8.1 pixels a character across, 15 down), not taken from the code.
 #include <cmath>
 #include <regex>
 #include <string>
@@ -84,6 +84,52 @@ std::vector<double> numbers_of(const std::string& s, const std::string& setting)
   return out;
 }
 
+struct Box {
+  std::string text;
+  bool abort = false;  // in the abort colour
+  double x0, x1, y0, y1;
+};
+
+// The labels of a time panel's section as boxes in pixels, origin at the
+// graph's lower left, y up; the graph is w x h pixels over the ranges
+// [t0, t1] and [v0, v1] (v0 at the bottom).
+std::vector<Box> label_boxes(const std::string& s, double w, double h, double t0, double t1, double v0, double v1) {
+  const std::regex re(
+      R"(\nset label ((?:'[^']*'(?:\."\\n"\.)?)+) at (first|graph) ([-0-9.e+]+), (first|graph) ([-0-9.e+]+)( left| right| center)?(?: offset ([-0-9.e+]+),([-0-9.e+]+))?([^\n]*))");
+  std::vector<Box> out;
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), re); it != std::sregex_iterator(); ++it) {
+    const auto& m = *it;
+    std::vector<std::string> lines;
+    const std::regex quoted("'([^']*)'");
+    const std::string texts = m[1];
+    for (auto q = std::sregex_iterator(texts.begin(), texts.end(), quoted); q != std::sregex_iterator(); ++q) {
+      lines.push_back((*q)[1]);
+    }
+    std::size_t longest = 0;
+    for (const auto& l : lines) longest = std::max(longest, l.size());
+    const double x = (m[2] == "first" ? (std::stod(m[3]) - t0) / (t1 - t0) : std::stod(m[3])) * w +
+                     (m[7].matched ? std::stod(m[7]) * kCharW : 0);
+    const double y = (m[4] == "first" ? (std::stod(m[5]) - v0) / (v1 - v0) : std::stod(m[5])) * h +
+                     (m[8].matched ? std::stod(m[8]) * kCharH : 0);
+    const double width = static_cast<double>(longest) * kCharW;
+    const std::string align = m[6].matched ? std::string(m[6]) : " left";
+    const double left = align == " right" ? x - width : align == " center" ? x - width / 2 : x;
+    // The first line is centred on y; the others go under it.
+    out.push_back({fmt::format("{}", fmt::join(lines, " ")), std::string(m[9]).find("#cc0000") != std::string::npos,
+                   left, left + width, y - (static_cast<double>(lines.size()) - 0.5) * kCharH, y + kCharH / 2});
+  }
+  return out;
+}
+
+bool overlap(const Box& a, const Box& b) {
+  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+std::string no_spaces(std::string s) {
+  std::erase(s, ' ');
+  return s;
+}
+
 TEST(TrackPlot, TrackPanelIsNotSquashed) {
   const MissionPlot p = survey();
   const std::string xy = section(gnuplot_script(p, Format::Png, "/d", "/d/plot.png"), "# The horizontal plane");
@@ -150,6 +196,60 @@ TEST(TrackPlot, TrackTickLabelsDoNotOverlap) {
   EXPECT_LT(s.find("set xtics autofreq"), depth);
 }
 
+TEST(TrackPlot, AbortLabelsDoNotOverlapEachOtherOrTheSeabed) {
+  const MissionPlot p = survey();
+  ASSERT_EQ(3u, p.aborts.size());
+  const std::string s = gnuplot_script(p, Format::Png, "/d", "/d/plot.png");
+  const std::string depth = section(s, "# Depth");
+  const auto lmargin = numbers_of(s, "lmargin at screen");
+  const auto rmargin = numbers_of(s, "rmargin at screen");
+  const auto time = numbers_of(s, "xrange");  // the last: the time axis
+  const auto range = numbers_of(depth, "yrange");
+  const auto size = numbers_of(depth, "size");
+  const auto tmargin = numbers_of(depth, "tmargin");
+  ASSERT_TRUE(lmargin.size() == 1 && rmargin.size() == 1 && time.size() == 2 && range.size() == 2 &&
+              size.size() == 2 && tmargin.size() == 1)
+      << depth;
+  const double w = (rmargin[0] - lmargin[0]) * kPictureW;
+  // Under the depth graph: its (empty) tick labels.
+  const double h = size[1] * kPictureH - (tmargin[0] + 2) * kCharH;
+  const auto boxes = label_boxes(depth, w, h, time[0], time[1], range[0], range[1]);
+
+  // Every abort's text is written.
+  std::string written;
+  for (const Box& b : boxes) {
+    if (b.abort) written += b.text;
+  }
+  for (const AbortMark& m : p.aborts) EXPECT_NE(std::string::npos, no_spaces(written).find(no_spaces(m.label))) << m.label;
+
+  // No two labels (the aborts' and the phases') cover each other.
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+      EXPECT_FALSE(overlap(boxes[i], boxes[j])) << "'" << boxes[i].text << "' and '" << boxes[j].text << "'";
+    }
+  }
+  // No abort label covers the seabed, nor the depth line, nor the key's
+  // rows (depth, setpoint, seabed) at the top of the right margin.
+  auto y_of = [&](double v) { return (v - range[0]) / (range[1] - range[0]) * h; };
+  for (const Box& b : boxes) {
+    if (!b.abort) continue;
+    for (const Series* series : {&p.seabed_m, &p.depth_m}) {
+      for (std::size_t k = 0; k < series->size(); ++k) {
+        const double x = (series->time_s[k] - time[0]) / (time[1] - time[0]) * w;
+        const double y = y_of(series->value[k]);
+        if (b.x0 <= x && x <= b.x1 && b.y0 <= y && y <= b.y1) {
+          ADD_FAILURE() << "'" << b.text << "' covers " << (series == &p.seabed_m ? "the seabed" : "the depth")
+                        << " at t " << series->time_s[k];
+          break;
+        }
+      }
+    }
+    if (b.x1 > w) {
+      EXPECT_LE(b.y1, h - 3 * kCharH) << "'" << b.text << "' is in the key";
+    }
+  }
+}
+
 TEST(TrackLayout, TickStepIsOneTwoOrFiveTimesAPowerOfTen) {
   EXPECT_DOUBLE_EQ(50.0, layout::tick_step(275, 8));
   EXPECT_DOUBLE_EQ(50.0, layout::tick_step(250, 5));
@@ -158,6 +258,18 @@ TEST(TrackLayout, TickStepIsOneTwoOrFiveTimesAPowerOfTen) {
   EXPECT_DOUBLE_EQ(2000.0, layout::tick_step(12000, 8));
   EXPECT_DOUBLE_EQ(1.0, layout::tick_step(0, 8));
   EXPECT_DOUBLE_EQ(1.0, layout::tick_step(INFINITY, 8));
+}
+
+TEST(TrackLayout, SpreadKeepsOrderAndDistance) {
+  using V = std::vector<double>;
+  EXPECT_EQ((V{50, 200}), layout::spread({50, 200}, 20, 400));
+  // Close at the end: pushed apart and back inside.
+  EXPECT_EQ((V{350, 370, 390}), layout::spread({388, 395, 399}, 20, 400));
+  // At the start too.
+  EXPECT_EQ((V{10, 30}), layout::spread({0, 1}, 20, 400));
+  // Too many for the axis: evenly spread.
+  EXPECT_EQ((V{50, 150, 250, 350}), layout::spread({1, 2, 3, 4}, 150, 400));
+  EXPECT_TRUE(layout::spread({}, 20, 400).empty());
 }
 
 }  // namespace
