@@ -67,8 +67,6 @@ void bands(std::string& s, const MissionPlot& plot, bool nested) {
   }
 }
 
-// Abort lines (every panel) and, with `labels`, their text in rows from the
-// bottom, on the side of the line nearer the middle of the run.
 std::vector<std::string> wrapped(const std::string& text, std::size_t width) {
   std::vector<std::string> lines;
   std::istringstream words(text);
@@ -84,7 +82,9 @@ std::vector<std::string> wrapped(const std::string& text, std::size_t width) {
   return lines;
 }
 
-void aborts(std::string& s, const MissionPlot& plot, bool labels, std::size_t wrap) {
+// Abort lines (every panel) and, with `labels`, their text in rows from the
+// bottom, on the side of the line nearer the middle of the run.
+void aborts(std::string& s, const MissionPlot& plot, bool labels) {
   const double middle = (plot.first_s + plot.last_s) / 2;
   std::size_t row = 0;
   for (const AbortMark& m : plot.aborts) {
@@ -92,21 +92,9 @@ void aborts(std::string& s, const MissionPlot& plot, bool labels, std::size_t wr
                      num(m.time_s), kAbortColour, m.mission ? "dt 1 lw 2.5" : "dt 2 lw 1.5");
     if (!labels) continue;
     const bool right_half = m.time_s > middle;
-    // Unwrapped, the label is written as it is (one quoted string, one row).
-    std::string text = gp_string(m.label);
-    std::size_t rows = 1;
-    if (wrap > 0) {
-      const auto lines = wrapped(m.label, wrap);
-      text.clear();
-      for (const std::string& line : lines) text += (text.empty() ? "" : ".\"\\n\".") + gp_string(line);
-      rows = lines.size();
-    }
-    // gnuplot writes a label's later lines under its first: the first is
-    // lifted by as many character heights as there are lines under it.
-    s += fmt::format("set label {} at first {}, graph {} {} offset {},{} tc rgb '{}' front\n", text, num(m.time_s),
-                     num(0.04 + 0.06 * static_cast<double>(row)), right_half ? "right" : "left",
-                     right_half ? "-0.6" : "0.6", rows - 1, kAbortColour);
-    row += rows;
+    s += fmt::format("set label {} at first {}, graph {} {} offset {},0 tc rgb '{}' front\n", gp_string(m.label),
+                     num(m.time_s), num(0.04 + 0.06 * static_cast<double>(row++)), right_half ? "right" : "left",
+                     right_half ? "-0.6" : "0.6", kAbortColour);
   }
 }
 

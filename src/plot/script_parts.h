@@ -43,13 +43,12 @@ core::Result<void> write_scratch(const std::filesystem::path& file, const std::s
 // the strips of deeper phases (the depth panel only).
 void bands(std::string& s, const MissionPlot& plot, bool nested);
 
-// Abort lines (every time panel) and, with `labels`, their text; with
-// `wrap`, in lines of at most that many characters (a word longer stays
-// whole), for a narrow panel.
-void aborts(std::string& s, const MissionPlot& plot, bool labels, std::size_t wrap = 0);
+// Abort lines (every time panel) and, with `labels`, their text beside them
+// (the tank plot; the open-water plot numbers them: track_layout.h).
+void aborts(std::string& s, const MissionPlot& plot, bool labels);
 
-// `text` in lines of at most `width` characters, broken at spaces; one line
-// with width 0.
+// `text` in lines of at most `width` characters, broken at spaces (a word
+// longer stays whole); one line with width 0.
 std::vector<std::string> wrapped(const std::string& text, std::size_t width);
 
 // The names of the depth-1 phases above the depth panel.

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "plot/script_parts.h"
+#include "plot/track_layout.h"
 
 namespace strata::plot {
 namespace {
@@ -17,7 +18,14 @@ constexpr const char* kPlanColour = "#ee7733";
 constexpr const char* kFixColour = "#cc3311";
 constexpr const char* kSeabedColour = "#8c510a";
 constexpr const char* kAltitudeColour = "#aa3377";
-constexpr std::size_t kAbortWrap = 34;  // characters: an abort label fits half a time panel
+constexpr std::size_t kLegendWrap = 26;  // characters: an abort's text fits the right margin
+
+// The picture's size, and where the time panels' graphs sit across it.
+constexpr int kWidthPx = 1400;
+constexpr int kHeightPx = 800;
+constexpr double kTimeLeft = 0.50;
+constexpr double kTimeRight = 0.80;
+constexpr double kDepthTopChars = 3.5;  // the depth panel's top margin: the phase names
 
 std::string xy(const Point& p) { return fmt::format("{} {}\n", p.x_m, p.y_m); }
 
@@ -78,9 +86,10 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   std::string s = "# Written by `strata plot`; run it again with `gnuplot plot.gp`.\n";
   s += "set encoding utf8\n";
   if (format == Format::Svg) {
-    s += "set terminal svg size 1400,800 noenhanced font 'sans,11' background rgb 'white'\n";
+    s += fmt::format("set terminal svg size {},{} noenhanced font 'sans,11' background rgb 'white'\n", kWidthPx,
+                     kHeightPx);
   } else {
-    s += "set terminal png size 1400,800 noenhanced background rgb 'white'\n";
+    s += fmt::format("set terminal png size {},{} noenhanced background rgb 'white'\n", kWidthPx, kHeightPx);
   }
   s += fmt::format("set output {}\n", gp_string(output.string()));
   s += fmt::format("set multiplot title {}\n", gp_string(plot.title()));
@@ -90,7 +99,12 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
   s += "set origin 0,0\nset size ratio -1 0.42,0.94\n";
   s += "set key below\n";
   s += "set xlabel 'x east (m)'\nset ylabel 'y north (m)'\n";
-  s += "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
+  // Ranges and ticks from the data (track_layout.h): autoscaled, a straight
+  // leg made the box a strip and crowded its y tick labels.
+  const layout::XyFrame frame = layout::xy_frame(plot);
+  s += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", num(frame.x0), num(frame.x1), num(frame.y0),
+                   num(frame.y1));
+  s += fmt::format("set xtics {0}\nset ytics {0}\n", num(frame.step));
   std::string curves;
   auto add = [&](const std::string& curve) { curves += (curves.empty() ? "plot " : ", \\\n     ") + curve; };
   if (!lines(plot, true).empty()) {
@@ -118,25 +132,45 @@ std::string open_water_script(const MissionPlot& plot, Format format, const fs::
                     kFixColour));
   }
   s += curves + "\n";
-  s += "set size noratio\nset offsets 0, 0, 0, 0\n";
+  s += "set size noratio\nset xtics autofreq\nset ytics autofreq\n";
 
   // The time panels share their left and right edges, so their axes line up.
   s += "\n# Against time.\n";
-  s += "set lmargin at screen 0.50\nset rmargin at screen 0.80\n";
-  s += "set key default\nset key outside right top\n";
+  s += fmt::format("set lmargin at screen {}\nset rmargin at screen {}\n", num(kTimeLeft), num(kTimeRight));
+  // A short sample: at the usual length the seabed's title ran into the graph.
+  s += "set key default\nset key outside right top samplen 2\n";
   const double span = plot.last_s > plot.first_s ? plot.last_s - plot.first_s : 1.0;
   s += fmt::format("set xrange [{}:{}]\n", num(plot.first_s), num(plot.first_s + span * 1.02));
   const double lower = heading ? 0.26 : 0.0;  // the heading panel's share
   const double depth_origin = altitude ? lower + (0.94 - lower) * 0.42 : lower;
 
-  const auto [shallow, deep] = depth_range(plot, &plot.seabed_m);
+  const bool depth_at_bottom = !altitude && !heading;
+  const double depth_size = 0.94 - depth_origin;
+  const layout::DepthPanel panel{
+      .first_s = plot.first_s,
+      .last_s = plot.first_s + span * 1.02,
+      .width_px = (kTimeRight - kTimeLeft) * kWidthPx,
+      // The bottom margin is a row of (empty) tick labels, or those and
+      // the time axis's name.
+      .height_px = depth_size * kHeightPx - (kDepthTopChars + (depth_at_bottom ? 3.5 : 2.0)) * layout::kCharHeightPx,
+      .key_rows = 1 + (plot.setpoint_m.empty() ? 0u : 1u) + (plot.seabed_m.empty() ? 0u : 1u),
+      .wrap = kLegendWrap,
+  };
+  // The abort numbers get a strip of their own under the deepest data (the
+  // seabed): the range is stretched down by that part of the panel.
+  auto [shallow, deep] = depth_range(plot, &plot.seabed_m);
+  const double strip = layout::abort_strip(plot, panel);
+  deep += (deep - shallow) * strip / (1 - strip);
   s += "\n# Depth, positive down, with the seabed under it.\n";
-  time_panel(s, depth_origin, 0.94 - depth_origin, !altitude && !heading);
+  time_panel(s, depth_origin, depth_size, depth_at_bottom);
   s += fmt::format("set yrange [{}:{}]\n", num(deep), num(shallow));
-  s += "set tmargin 3.5\nset ylabel 'depth (m)'\n";
+  s += fmt::format("set tmargin {}\nset ylabel 'depth (m)'\n", num(kDepthTopChars));
   bands(s, plot, true);
   phase_labels(s, plot);
-  aborts(s, plot, true, kAbortWrap);
+  // Numbered, with their texts beside the key: the texts are long, and a
+  // phase's abort and the mission's end come seconds apart, so beside their
+  // lines they covered each other and the data.
+  s += layout::numbered_aborts(plot, panel);
   s += fmt::format("plot {} using 1:2 with lines lw 2 lc rgb '{}' title 'depth'", file(data_folder, "depth.dat"),
                    kDepthColour);
   if (!plot.setpoint_m.empty()) {
