@@ -18,22 +18,41 @@ XDG_* folders and STRATA_CONFIG, STRATA_LOG_DIR unset):
                                        command that must fail ends with
                                        `# exit N`.
 
+A command `export NAME=VALUE` (VALUE as bash expands it, in the scratch
+folder) sets NAME for the commands after it, as in the reader's shell.
+
+  ```sh group=NAME                     a command block that needs what not
+  $ scripts/slurm-local start here     every machine has (root, daemons): run
+  ```                                  only with --group NAME, and then only
+                                       the blocks of that group (and the file
+                                       blocks) are. With --requires CMD, CMD
+                                       runs first in the scratch folder; when
+                                       it fails, the document is skipped:
+                                       "skipped: <its output>", exit 77.
+                                       --finally CMD runs after the commands,
+                                       also when they failed or the run was
+                                       stopped by SIGTERM (a daemon stopped).
+
 Blocks of any other kind (```console for what cannot run here, such as the
 studio) are shown to the reader and not run. Exit 0 when every command gave
 its exit code and its output; else each failure with its line in the
 document, exit 1.
 
   doc_run.py DOC --strata BIN --source REPO --work DIR [--copy DIR ...]
+             [--group NAME [--requires CMD] [--finally CMD]]
 """
 import argparse
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 
 FENCE = re.compile(r"^```(\S*)(.*)$")
 EXIT = re.compile(r"#\s*exit\s+(\d+)\s*$")
+EXPORT = re.compile(r"^export ([A-Za-z_][A-Za-z0-9_]*)=(.*)$")
+GROUP = re.compile(r"(?:^|\s)group=(\S+)")
 
 
 def blocks(lines):
@@ -86,7 +105,13 @@ def main():
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per command")
     ap.add_argument("--copy", action="append", default=[], metavar="DIR",
                     help="a folder of the repository to copy too (tests/verify, ...); repeatable")
+    ap.add_argument("--group", help="run only the ```sh group=NAME blocks of this name (without it: none of them)")
+    ap.add_argument("--requires", metavar="CMD", help="with --group: skip (exit 77) unless CMD succeeds")
+    ap.add_argument("--finally", dest="finally_", metavar="CMD", help="with --group: run CMD at the end, always")
     a = ap.parse_args()
+    # ctest's timeout (SIGTERM) or a Ctrl-C: through the finally below, which runs --finally.
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, lambda n, _: sys.exit(128 + n))
 
     work = os.path.abspath(a.work)
     shutil.rmtree(work, ignore_errors=True)
@@ -108,7 +133,23 @@ def main():
     with open(a.doc, encoding="utf-8") as f:
         lines = f.read().split("\n")
     name = os.path.basename(a.doc)
-    failures, commands, files = [], 0, 0
+    if a.requires:
+        r = subprocess.run(["bash", "-c", a.requires], cwd=work, env=env, capture_output=True, text=True,
+                           timeout=a.timeout)
+        if r.returncode != 0:
+            print(f"skipped: {name}: `{a.requires}` exited {r.returncode}: {(r.stdout + r.stderr).strip()}")
+            return 77
+    try:
+        return run_blocks(a, lines, name, work, env)
+    finally:
+        if a.finally_:
+            r = subprocess.run(["bash", "-c", a.finally_], cwd=work, env=env, capture_output=True, text=True,
+                               timeout=a.timeout)
+            print(f"{name}: finally `{a.finally_}` exited {r.returncode}: {(r.stdout + r.stderr).strip()}")
+
+
+def run_blocks(a, lines, name, work, env):
+    failures, commands, files, held_back = [], 0, 0, 0
     for start, lang, rest, body in blocks(lines):
         fm = re.match(r"file=(\S+)$", rest)
         if fm:
@@ -122,6 +163,10 @@ def main():
             files += 1
             continue
         if lang != "sh":
+            continue
+        gm = GROUP.search(rest)
+        if (gm.group(1) if gm else None) != a.group:
+            held_back += 1 if gm else 0
             continue
         k = 0
         while k < len(body):
@@ -144,6 +189,11 @@ def main():
                 failures.append(f"{name}:{line_no}: `{cmd}` did not end in {a.timeout:.0f} s")
                 continue
             out = r.stdout + r.stderr
+            xm = EXPORT.match(cmd)
+            if xm and r.returncode == 0:
+                value = subprocess.run(["bash", "-c", f"printf %s {xm.group(2)}"], cwd=work, env=env,
+                                       capture_output=True, text=True, timeout=a.timeout).stdout
+                env[xm.group(1)] = value
             if r.returncode != want:
                 failures.append(f"{name}:{line_no}: `{cmd}` exited {r.returncode}, the document says {want}\n{out[-2000:]}")
                 continue
@@ -152,7 +202,9 @@ def main():
                 failures.append(f"{name}:{line_no}: `{cmd}` did not print, in order: {missing.strip()}\n{out[-2000:]}")
     for f in failures:
         print(f, file=sys.stderr)
-    print(f"{name}: {commands} commands, {files} files, {len(failures)} failed")
+    group = f" (group {a.group})" if a.group else ""
+    held = f", {held_back} blocks of a group not run here" if held_back else ""
+    print(f"{name}{group}: {commands} commands, {files} files, {len(failures)} failed{held}")
     if commands == 0:
         print(f"{name}: no commands to run", file=sys.stderr)
         return 1

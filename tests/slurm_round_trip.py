@@ -1,18 +1,23 @@
 #!/usr/bin/env python3
 """A campaign run as a Slurm job array, for real (issue 21, docs/campaigns.md).
 
-Brings up a single-node Slurm on loopback -- munged, slurmctld and slurmd of
-Debian's munge and slurm-wlm, each with its own key, socket, configuration,
-state, spool and logs in a temporary folder, on free ports -- submits a
+Brings up a single-node Slurm on loopback with scripts/slurm-local, the
+recipe docs/campaigns.md gives users ("Slurm on one machine"): munged,
+slurmctld and slurmd of Debian's munge and slurm-wlm, each with its own key,
+socket, configuration, state, spool and logs in a temporary folder, on free
+ports. It submits a
 small campaign with `strata campaign SPEC --slurm --submit`, waits (bounded)
 for the merge job, and checks that the merged results and report equal a
 local run of the same spec, apart from the wall-clock fields. The spec and
 the folders have spaces and quotes in their names.
 
-Every daemon is started in the foreground by this script and stopped by its
-process id, also when the test fails. When the daemons cannot be started
-(packages missing, not root, a daemon that exits or a node that never comes
-up) it prints "skipped: <why>" and exits 77 (ctest's SKIP_RETURN_CODE).
+`scripts/slurm-local start --foreground` runs as this script's child and is
+stopped by its process id, also when the test fails; it stops the daemons
+by theirs (and they die with it if it is killed), and `slurm-local status`
+must then find none running. When slurm-local refuses to start (packages
+missing: 69; not root: 77) the test prints "skipped: <why>" and exits 77
+(ctest's SKIP_RETURN_CODE); a daemon that exits or a node that never comes
+up is a failure, with the daemons' logs.
 
 usage: slurm_round_trip.py --strata PATH --source DIR
 """
@@ -21,11 +26,11 @@ import argparse
 import ctypes
 import json
 import os
-import pwd
 import re
 import shutil
 import signal
-import socket
+import select
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -44,12 +49,6 @@ class Failure(Exception):
     pass
 
 
-def free_port():
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def tail(path, lines=15):
     try:
         with open(path, errors="replace") as f:
@@ -59,7 +58,7 @@ def tail(path, lines=15):
 
 
 def die_with_parent():
-    """In a daemon before exec: SIGTERM when this script dies, however it dies."""
+    """In slurm-local before exec: SIGTERM when this script dies, however it dies."""
     ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
 
 
@@ -68,148 +67,89 @@ def find(name):
 
 
 class Cluster:
-    """munged, slurmctld and slurmd in `root`, stopped by pid in stop()."""
+    """scripts/slurm-local start --foreground in `root`: munged, slurmctld and slurmd, stopped by its pid."""
 
-    def __init__(self, root):
+    def __init__(self, source, root):
+        self.script = os.path.join(source, "scripts", "slurm-local")
         self.root = root
-        self.procs = []  # (name, Popen, log file)
-        self.env = dict(os.environ)
-        self.tools = {}
-
-    def check_tools(self):
-        missing = [n for n in ("munged", "mungekey", "slurmctld", "slurmd", "sbatch", "scontrol", "scancel")
-                   if not find(n)]
-        if missing:
-            raise Skip(f"{', '.join(missing)} not found: install the Debian packages munge and slurm-wlm "
-                       "(scripts/setup)")
-        self.tools = {n: find(n) for n in ("munged", "mungekey", "slurmctld", "slurmd", "sbatch", "scontrol",
-                                           "scancel")}
-        if os.geteuid() != 0:
-            raise Skip(f"not root (uid {os.geteuid()}): slurmd runs as root to start each job as its user "
-                       "(Slurm's quick start guide); run the test as root")
+        self.dir = os.path.join(root, "slurm")
+        self.proc = None
+        self.env = None
+        self.output = ""
 
     def start(self):
-        r = self.root
-        for d in ("munge", "state", "spool", "log"):
-            os.makedirs(os.path.join(r, d), mode=0o700)
-        key = os.path.join(r, "munge", "munge.key")
-        made = subprocess.run([self.tools["mungekey"], "--create", "--keyfile", key], capture_output=True, text=True)
-        if made.returncode != 0:
-            raise Skip(f"mungekey could not make a key: {made.stderr.strip()}")
-        self.munge_socket = os.path.join(r, "munge", "munge.socket")
-        self.spawn("munged", [self.tools["munged"], "--foreground", "--force", f"--socket={self.munge_socket}",
-                              f"--key-file={key}", f"--pid-file={r}/munge/munged.pid",
-                              f"--seed-file={r}/munge/munged.seed", f"--log-file={r}/log/munged.log"],
-                   f"{r}/log/munged.log")
-        self.wait_for(lambda: os.path.exists(self.munge_socket), "munged", "its socket never appeared")
-
-        user = pwd.getpwuid(os.geteuid()).pw_name
-        host = socket.gethostname().split(".")[0]
-        self.node = "strata-node"
-        conf = os.path.join(r, "slurm.conf")
-        with open(conf, "w") as f:
-            f.write(f"""# A single-node Slurm for strata's round-trip test, all on loopback.
-ClusterName=strata-test
-SlurmctldHost={host}(127.0.0.1)
-SlurmctldPort={free_port()}
-SlurmdPort={free_port()}
-SlurmUser={user}
-SlurmdUser={user}
-AuthType=auth/munge
-CredType=cred/munge
-AuthInfo=socket={self.munge_socket}
-CommunicationParameters=NoCtldInAddrAny,NoInAddrAny
-StateSaveLocation={r}/state
-SlurmdSpoolDir={r}/spool
-SlurmctldPidFile={r}/slurmctld.pid
-SlurmdPidFile={r}/slurmd.pid
-SlurmctldLogFile={r}/log/slurmctld.log
-SlurmdLogFile={r}/log/slurmd.log
-SlurmctldDebug=info
-SlurmdDebug=info
-PlugStackConfig={r}/plugstack.conf
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-JobAcctGatherType=jobacct_gather/none
-AccountingStorageType=accounting_storage/none
-JobCompType=jobcomp/none
-MpiDefault=none
-SwitchType=switch/none
-SchedulerType=sched/builtin
-SelectType=select/cons_tres
-SelectTypeParameters=CR_CPU
-SlurmdParameters=config_overrides
-ReturnToService=2
-MinJobAge=600
-KillWait=2
-NodeName={self.node} NodeAddr=127.0.0.1 NodeHostname={host} CPUs=2 State=UNKNOWN
-PartitionName=strata-test Nodes={self.node} Default=YES MaxTime=INFINITE State=UP
-""")
-        open(os.path.join(r, "plugstack.conf"), "w").close()
-        self.env["SLURM_CONF"] = conf
+        # The script itself refuses, saying why, with 69 (a program missing) or 77 (not root).
+        self.proc = subprocess.Popen([sys.executable, self.script, "start", "--foreground", self.dir],
+                                     stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     preexec_fn=die_with_parent)
+        deadline = time.monotonic() + DAEMON_BOUND_S + 10  # the script's own bound is DAEMON_BOUND_S
+        conf, buf, fd = None, b"", self.proc.stdout.fileno()
+        while conf is None and time.monotonic() < deadline:
+            if not select.select([fd], [], [], 0.2)[0]:
+                continue
+            chunk = os.read(fd, 65536)
+            if not chunk:
+                self.proc.wait(timeout=10)  # its output ended: it has exited
+                break
+            buf += chunk
+            m = re.search(rb"^  export SLURM_CONF=(.+)$", buf, re.M)
+            if m:
+                conf = shlex.split(m.group(1).decode())[0]
+        buf = buf.decode(errors="replace")
+        self.output = buf
+        if conf is None:
+            code = self.proc.poll()
+            if code in (69, 77):
+                raise Skip(buf.strip())
+            raise Failure(f"scripts/slurm-local start exited {code} without a cluster:\n{buf}")
+        if conf != os.path.join(self.dir, "slurm.conf"):
+            raise Failure(f"scripts/slurm-local start says SLURM_CONF={conf}, not in {self.dir}")
+        self.env = dict(os.environ)
         for var in list(self.env):
-            if var.startswith(("SLURM_", "SBATCH_")) and var != "SLURM_CONF":
+            if var.startswith(("SLURM_", "SBATCH_")):
                 del self.env[var]  # the test's own jobs, not an outer job's settings
-        self.spawn("slurmctld", [self.tools["slurmctld"], "-D", "-c", "-f", conf], f"{r}/log/slurmctld.log")
-        self.spawn("slurmd", [self.tools["slurmd"], "-D", "-N", self.node, "-f", conf], f"{r}/log/slurmd.log")
-        self.wait_for(self.node_idle, "slurmd", "the node never became idle")
-
-    def spawn(self, name, argv, log):
-        out = open(os.path.join(self.root, "log", f"{name}.stdout"), "w")
-        try:
-            p = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT, env=self.env,
-                                 start_new_session=True, preexec_fn=die_with_parent)
-        except OSError as e:
-            raise Skip(f"cannot start {name}: {e}")
-        finally:
-            out.close()
-        self.procs.append((name, p, log))
-
-    def node_idle(self):
-        r = subprocess.run([self.tools["scontrol"], "show", "node", self.node], capture_output=True, text=True,
-                           env=self.env, timeout=10)
-        return r.returncode == 0 and re.search(r"State=IDLE\b", r.stdout) is not None
-
-    def wait_for(self, ready, name, what):
-        deadline = time.monotonic() + DAEMON_BOUND_S
-        while time.monotonic() < deadline:
-            for n, p, log in self.procs:
-                if p.poll() is not None:
-                    raise Skip(f"{n} exited ({p.returncode}) while starting; its log ends:\n"
-                               f"{tail(log)}{tail(os.path.join(self.root, 'log', n + '.stdout'))}")
-            try:
-                if ready():
-                    return
-            except subprocess.TimeoutExpired:
-                pass
-            time.sleep(0.2)
-        logs = "".join(f"--- {n}:\n{tail(log)}" for n, _, log in self.procs)
-        raise Skip(f"{name} did not come up within {DAEMON_BOUND_S} s: {what}\n{logs}")
+        self.env["SLURM_CONF"] = conf
 
     def run(self, argv, **kw):
         return subprocess.run(argv, capture_output=True, text=True, env=self.env, timeout=30, **kw)
 
     def job(self, job_id):
         """scontrol's fields of a job (of an array: its tasks' records, joined)."""
-        r = self.run([self.tools["scontrol"], "-o", "show", "job", job_id])
+        r = self.run([find("scontrol"), "-o", "show", "job", job_id])
         if r.returncode != 0:
             raise Failure(f"scontrol show job {job_id}: {r.stderr.strip()}")
         return r.stdout
 
+    def logs(self):
+        return "".join(f"--- {n}'s log ends:\n{tail(os.path.join(self.dir, 'log', n + '.log'))}"
+                       for n in ("munged", "slurmctld", "slurmd"))
+
     def stop(self, job_ids):
-        for j in job_ids:
-            try:
-                self.run([self.tools["scancel"], j])
-            except (OSError, subprocess.TimeoutExpired):
-                pass
-        for name, p, _ in reversed(self.procs):
-            if p.poll() is None:
-                p.send_signal(signal.SIGTERM)
+        """The jobs cancelled, then slurm-local stopped by its pid (it stops the daemons by theirs); Failure when
+        a daemon still runs after."""
+        if self.proc is None:
+            return
+        if self.env is not None:
+            for j in job_ids:
                 try:
-                    p.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    p.kill()
-                    p.wait()
+                    self.run([find("scancel"), j])
+                except (OSError, subprocess.TimeoutExpired):
+                    pass
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.wait(timeout=40)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()  # its daemons get SIGTERM as it dies (PR_SET_PDEATHSIG)
+                self.proc.wait()
+                raise Failure("scripts/slurm-local did not stop within 40 s of SIGTERM")
+        self.proc.stdout.close()
+        if self.env is not None:
+            status = subprocess.run([sys.executable, self.script, "status", self.dir], capture_output=True, text=True,
+                                    timeout=30)
+            if status.returncode != 3:
+                raise Failure(f"after scripts/slurm-local stopped, status exited {status.returncode} (3: nothing "
+                              f"runs):\n{status.stdout}{status.stderr}")
 
 
 def results_by_index(path):
@@ -263,10 +203,10 @@ def main():
         signal.signal(sig, lambda n, _: sys.exit(128 + n))
     started = time.monotonic()
     root = tempfile.mkdtemp(prefix="strata-slurm-")
-    cluster = Cluster(root)
+    cluster = Cluster(args.source, root)
     job_ids = []
+    rc = 1
     try:
-        cluster.check_tools()
         cluster.start()
         up_s = time.monotonic() - started
 
@@ -303,7 +243,7 @@ expect = "strong"
         out = os.path.join(work, "slurm run")
         shards = 4
         sub = cluster.run([args.strata, "campaign", spec, "--slurm", "--submit", "--shards", str(shards), "--out", out,
-                           "-j", "1", "--partition", "strata-test", "--time", "5"])
+                           "-j", "1", "--partition", "strata-local", "--time", "5"])
         print(sub.stdout, end="")
         if sub.returncode != 0:
             raise Failure(f"strata campaign --slurm --submit exited {sub.returncode}:\n{sub.stderr}")
@@ -355,18 +295,22 @@ expect = "strong"
         print(f"slurm round trip: {cases} cases in {shards} array tasks and a merge (job {array_id}, {merge_id}): "
               f"merged results and report equal the local run's; {failing} failing cases both ways; "
               f"Slurm up in {up_s:.1f} s, {time.monotonic() - started:.1f} s in all")
-        return 0
+        rc = 0
     except Skip as e:
         print(f"skipped: {e}")
-        return SKIP
+        rc = SKIP
     except (Failure, subprocess.TimeoutExpired) as e:
         print(f"FAILED: {e}", file=sys.stderr)
-        for name, _, log in cluster.procs:
-            print(f"--- {name}'s log ends:\n{tail(log)}", file=sys.stderr)
-        return 1
+        print(cluster.logs(), file=sys.stderr)
+        rc = 1
     finally:
-        cluster.stop(job_ids)
+        try:
+            cluster.stop(job_ids)
+        except Failure as e:
+            print(f"FAILED: {e}", file=sys.stderr)
+            rc = 1
         shutil.rmtree(root, ignore_errors=True)
+    return rc
 
 
 if __name__ == "__main__":

@@ -172,23 +172,31 @@ std::string trimmed(std::string s) {
   return s;
 }
 
-core::Result<std::string> sbatch_once(const std::vector<std::string>& args, double bound_s) {
+SubmitError submit_error(std::string message, SubmitProblem problem = SubmitProblem::Other) {
+  SubmitError e;
+  e.code = core::ErrorCode::Io;
+  e.message = std::move(message);
+  e.problem = problem;
+  return e;
+}
+
+core::Result<std::string, SubmitError> sbatch_once(const std::vector<std::string>& args, double bound_s) {
   const std::string shown = fmt::format("{}", fmt::join(args, " "));
   auto ran = run_captured(args, bound_s);
-  if (!ran) return ran.error();
+  if (!ran) return submit_error(ran.error().message);
   const Ran& r = ran.value();
   if (!WIFEXITED(r.status) || WEXITSTATUS(r.status) != 0) {
     const std::string why = WIFEXITED(r.status) ? fmt::format("exit {}", WEXITSTATUS(r.status))
                                                 : fmt::format("signal {}", WTERMSIG(r.status));
-    return core::make_error(core::ErrorCode::Io,
-                            fmt::format("{} failed ({}){}{}", shown, why, r.err.empty() ? "" : ": ", trimmed(r.err)));
+    return submit_error(fmt::format("{} failed ({}){}{}", shown, why, r.err.empty() ? "" : ": ", trimmed(r.err)),
+                        sbatch_problem(r.err));
   }
   auto id = parse_sbatch_job_id(r.out);
   if (!id) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("{}: {}{}{}", shown, id.error().message,
-                                                             r.err.empty() ? "" : "; stderr: ", trimmed(r.err)));
+    return submit_error(
+        fmt::format("{}: {}{}{}", shown, id.error().message, r.err.empty() ? "" : "; stderr: ", trimmed(r.err)));
   }
-  return id;
+  return id.value();
 }
 
 }  // namespace
@@ -296,7 +304,27 @@ core::Result<std::string> parse_sbatch_job_id(std::string_view output) {
   return line;
 }
 
-core::Result<SlurmJobs> submit_slurm(const std::string& dir, const std::string& sbatch, double bound_s) {
+SubmitProblem sbatch_problem(std::string_view sbatch_stderr) {
+  // text-ok: sbatch's own messages (a third party's), the only account of why it failed
+  if (sbatch_stderr.find("DNS SRV lookup failed") != std::string_view::npos ||
+      sbatch_stderr.find("Could not establish a configuration source") != std::string_view::npos) {
+    return SubmitProblem::NoCluster;
+  }
+  // text-ok: sbatch's own message (slurm_strerror of SLURMCTLD_COMMUNICATIONS_CONNECTION_ERROR)
+  if (sbatch_stderr.find("Unable to contact slurm controller") != std::string_view::npos) {
+    return SubmitProblem::NoController;
+  }
+  return SubmitProblem::Other;
+}
+
+core::Result<SlurmJobs, SubmitError> submit_slurm(const std::string& dir, const std::string& sbatch, double bound_s) {
+  if (const char* conf = std::getenv("SLURM_CONF")) {
+    std::error_code ec;
+    if (!fs::is_regular_file(conf, ec)) {
+      return submit_error(fmt::format("SLURM_CONF is '{}', which is no file (sbatch would try it for a minute)", conf),
+                          SubmitProblem::NoCluster);
+    }
+  }
   const std::string chdir = "--chdir=" + dir;
   SlurmJobs jobs;
   auto array = sbatch_once({sbatch, "--parsable", chdir, (fs::path(dir) / "campaign.sbatch").string()}, bound_s);
@@ -306,8 +334,9 @@ core::Result<SlurmJobs> submit_slurm(const std::string& dir, const std::string& 
       {sbatch, "--parsable", chdir, "--dependency=afterok:" + jobs.array_id, (fs::path(dir) / "merge.sbatch").string()},
       bound_s);
   if (!merge) {
-    return core::make_error(core::ErrorCode::Io, fmt::format("the array job {} was submitted, its merge was not: {}",
-                                                             jobs.array_id, merge.error().message));
+    return submit_error(
+        fmt::format("the array job {} was submitted, its merge was not: {}", jobs.array_id, merge.error().message),
+        merge.error().problem);
   }
   jobs.merge_id = merge.value();
   return jobs;

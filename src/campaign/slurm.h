@@ -76,13 +76,33 @@ struct SlurmJobs {
   std::string array_id, merge_id;
 };
 
+// Why a submission failed, for the caller to say what to do next.
+enum class SubmitProblem {
+  Other,         // sbatch could not be run, failed otherwise, or printed no job id
+  NoCluster,     // no Slurm configuration: SLURM_CONF names no file, or sbatch found
+                 // no slurm.conf and no DNS SRV record naming a controller
+  NoController,  // the configuration's controller (slurmctld) did not answer
+};
+
+struct SubmitError : core::Error {
+  SubmitProblem problem = SubmitProblem::Other;
+};
+
+// The problem sbatch's stderr reports, from Slurm's own messages (22.05:
+// "fetch_config: DNS SRV lookup failed", "Could not establish a
+// configuration source"; "Unable to contact slurm controller"); Other for
+// any other text.
+SubmitProblem sbatch_problem(std::string_view sbatch_stderr);
+
 // Submits dir's campaign.sbatch, then merge.sbatch with
 // --dependency=afterok:<array id>, both with --chdir=dir, running sbatch
 // (an absolute path; see find_on_path) and waiting at most `bound_s` seconds
-// for each. Errors name the command and carry what sbatch wrote on stderr:
-// Io when it cannot be started, did not end in time, failed, or printed no
-// job id.
-core::Result<SlurmJobs> submit_slurm(const std::string& dir, const std::string& sbatch, double bound_s = 120.0);
+// for each. Errors (Io) name the command and carry what sbatch wrote on
+// stderr, with the problem: NoCluster before any sbatch runs when
+// $SLURM_CONF is set and names no regular file (sbatch would retry it for a
+// minute), else what sbatch_problem reads in its stderr when it failed.
+core::Result<SlurmJobs, SubmitError> submit_slurm(const std::string& dir, const std::string& sbatch,
+                                                  double bound_s = 120.0);
 
 // The first executable file called name in $PATH's folders; "" when none.
 std::string find_on_path(std::string_view name);

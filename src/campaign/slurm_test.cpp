@@ -8,6 +8,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -54,6 +56,22 @@ int run_sh(const std::string& dir, const std::string& env, const std::string& sc
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
+
+// Sets (or, with nullptr, unsets) an environment variable for a scope.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    value ? ::setenv(name, value, 1) : ::unsetenv(name);
+  }
+  ~ScopedEnv() { old_ ? ::setenv(name_, old_->c_str(), 1) : ::unsetenv(name_); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
 
 struct Fixture {
   TempDir tmp;
@@ -148,6 +166,7 @@ TEST(CampaignSlurm, TheMergeJoinsEveryShardIntoMerged) {
 
 TEST(CampaignSlurm, SubmitShAndSubmitSlurmMakeTheMergeDependOnTheArray) {
   Fixture f;
+  const ScopedEnv no_conf("SLURM_CONF", nullptr);
   f.options.partition = "debug";
   f.options.time = "0-01:30:00";
   f.options.sbatch_args = {"--account=ocean"};
@@ -232,6 +251,48 @@ TEST(CampaignSlurm, TheFolderIsNewOrAnEarlierSlurmCampaign) {
   ASSERT_TRUE(write_slurm_scripts(f.dir, scripts.value()).ok());
   fs::create_directories(f.dir + "/shard-0");
   EXPECT_TRUE(write_slurm_scripts(f.dir, scripts.value()).ok()) << "written again over an earlier one";
+}
+
+TEST(CampaignSlurm, SbatchsMessagesSayWhenThereIsNoSlurmToSubmitTo) {
+  // Slurm 22.05's sbatch without slurm.conf or a DNS SRV record, then with
+  // a controller that does not answer.
+  EXPECT_EQ(SubmitProblem::NoCluster, sbatch_problem("sbatch: error: resolve_ctls_from_dns_srv: res_nsearch error: "
+                                                     "Unknown host\nsbatch: error: fetch_config: DNS SRV lookup "
+                                                     "failed\nsbatch: fatal: Could not establish a configuration "
+                                                     "source\n"));
+  EXPECT_EQ(SubmitProblem::NoCluster, sbatch_problem("sbatch: fatal: Could not establish a configuration source\n"));
+  EXPECT_EQ(SubmitProblem::NoController, sbatch_problem("sbatch: error: Batch job submission failed: Unable to contact "
+                                                        "slurm controller (connect failure)\n"));
+  EXPECT_EQ(SubmitProblem::Other, sbatch_problem("sbatch: error: invalid partition specified: debug\n"));
+  EXPECT_EQ(SubmitProblem::Other, sbatch_problem(""));
+
+  Fixture f;
+  auto scripts = slurm_scripts(f.options);
+  ASSERT_TRUE(scripts.ok()) << scripts.error().message;
+  ASSERT_TRUE(write_slurm_scripts(f.dir, scripts.value()).ok());
+  const std::string sbatch = f.tmp.file("sbatch");
+  std::ofstream(sbatch) << "#!/bin/sh\necho run >> \"$FAKE_ARGS\"\n"
+                           "echo 'sbatch: error: Batch job submission failed: Unable to contact slurm controller "
+                           "(connect failure)' >&2\nexit 1\n";
+  ::chmod(sbatch.c_str(), 0755);
+  const ScopedEnv args("FAKE_ARGS", f.args.c_str());
+  {
+    const ScopedEnv no_conf("SLURM_CONF", nullptr);
+    auto down = submit_slurm(f.dir, sbatch, 30);
+    ASSERT_FALSE(down.ok());
+    EXPECT_EQ(SubmitProblem::NoController, down.error().problem) << down.error().message;
+    EXPECT_NE(std::string::npos, down.error().message.find("Unable to contact slurm controller"));
+  }
+  // SLURM_CONF naming no file: NoCluster, and sbatch is not run (it would
+  // retry the file for a minute).
+  fs::remove(f.args);
+  const ScopedEnv missing("SLURM_CONF", f.tmp.file("no such slurm.conf").c_str());
+  auto none = submit_slurm(f.dir, sbatch, 30);
+  ASSERT_FALSE(none.ok());
+  EXPECT_EQ(SubmitProblem::NoCluster, none.error().problem);
+  EXPECT_NE(std::string::npos, none.error().message.find("no such slurm.conf', which is no file"))
+      << none.error().message;
+  EXPECT_FALSE(fs::exists(f.args)) << "sbatch ran";
 }
 
 TEST(CampaignSlurm, SbatchParsableOutputGivesTheJobId) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -100,6 +101,30 @@ int run_one_case(const campaign::Spec& spec, std::uint64_t index) {
   return static_cast<int>(line["pass"].get<bool>() ? kExitOk : kExitAbort);
 }
 
+// What to do when --submit found no Slurm to submit to, as a line before
+// the error itself; "" for any other failure.
+std::string submit_advice(const campaign::SubmitError& e, const std::string& dir) {
+  const char* conf = std::getenv("SLURM_CONF");
+  const std::string later = fmt::format("the scripts are written: {}/submit.sh submits them later", dir);
+  const std::string recipe = "docs/campaigns.md, \"Slurm on one machine\"";
+  switch (e.problem) {
+    case campaign::SubmitProblem::NoCluster:
+      return fmt::format(
+          "sbatch found no Slurm cluster to submit to ({}). To try --submit on this machine, start a single-node "
+          "Slurm with `scripts/slurm-local start` (as root) and export the SLURM_CONF it prints: {}; {}.\n  ",
+          conf ? fmt::format("SLURM_CONF={} is no file", conf)
+               : "SLURM_CONF is not set, and no /etc/slurm/slurm.conf or DNS SRV record names a controller",
+          recipe, later);
+    case campaign::SubmitProblem::NoController:
+      return fmt::format(
+          "sbatch could not reach the Slurm controller that {} names: is slurmctld running? For the single-node "
+          "Slurm of scripts/slurm-local, `scripts/slurm-local status` says ({}); {}.\n  ",
+          conf ? fmt::format("SLURM_CONF={}", conf) : "/etc/slurm/slurm.conf", recipe, later);
+    case campaign::SubmitProblem::Other: break;
+  }
+  return "";
+}
+
 // --slurm: the job array and its merge written into --out (and submitted).
 int write_slurm(const CampaignFlags& f, const CLI::App& cmd, std::uint64_t count) {
   namespace fs = std::filesystem;
@@ -156,7 +181,7 @@ int write_slurm(const CampaignFlags& f, const CLI::App& cmd, std::uint64_t count
   }
   auto jobs = campaign::submit_slurm(o.dir, sbatch);
   if (!jobs) {
-    std::cerr << "strata campaign: --submit: " << jobs.error().message << "\n";
+    std::cerr << "strata campaign: --submit: " << submit_advice(jobs.error(), o.dir) << jobs.error().message << "\n";
     return static_cast<int>(kExitUnavailable);
   }
   std::cout << fmt::format("  submitted: array job {} ({} tasks), merge job {} after it (afterok)\n",
