@@ -18,6 +18,7 @@
 #include "campaign/case_run.h"
 #include "campaign/slurm.h"
 #include "campaign/spec.h"
+#include "core/mission_language.h"
 #include "cli/validators.h"
 #include "cli/verbosity.h"
 #include "cli/commands.h"
@@ -266,9 +267,15 @@ Runner add_campaign_command(CLI::App& app) {
       std::cerr << "strata campaign: a spec is needed (or --compare A.jsonl B.jsonl)\n";
       return static_cast<int>(kExitUsage);
     }
+    if (core::mission_language(f->spec) != core::MissionLanguage::None) {
+      std::cerr << fmt::format("strata campaign: '{}' is a mission, not a campaign spec (a .toml file: "
+                               "docs/campaigns.md); `strata run {}` runs it once\n",
+                               f->spec, f->spec);
+      return static_cast<int>(kExitUsage);
+    }
     auto spec = campaign::load_spec(f->spec, {f->max_cases});
     if (!spec) {
-      std::cerr << spec.error().message << "\n";
+      std::cerr << "strata campaign: " << spec.error().message << "\n";
       return exit_code_for_input(spec.error());
     }
     const std::uint64_t count = spec.value().case_count();

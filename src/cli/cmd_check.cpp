@@ -38,6 +38,7 @@ struct CheckOptions {
 // file checked alone and through the mission that imports it) shown once.
 class Report {
  public:
+  explicit Report(std::string_view command) : command_(command) {}
   void add(const core::SourceManager& sources, const core::DiagnosticSink& sink) {
     for (const auto& d : sink.diagnostics()) {
       std::string path = d.span.file < sources.size() ? sources.path(d.span.file) : "";
@@ -49,7 +50,7 @@ class Report {
         unreadable_root_ = true;
       }
       json_.push_back(core::diagnostics_to_json(sources, std::span(&d, 1))[0]);
-      core::print_diagnostic(text_, sources, d);
+      core::print_diagnostic(text_, sources, d, command_);
     }
   }
   std::size_t errors() const { return errors_; }
@@ -59,6 +60,7 @@ class Report {
   const nlohmann::json& json() const { return json_; }
 
  private:
+  std::string_view command_;
   std::set<std::tuple<std::string, std::uint32_t, int, std::string>> seen_;
   std::size_t errors_ = 0, warnings_ = 0;
   bool unreadable_root_ = false;
@@ -73,23 +75,30 @@ int exit_code_for(const Report& report) {
 
 std::string plural(std::size_t n, std::string_view word) { return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s"); }
 
+// A problem before any file is checked: the command's line for people, or
+// with --format json the same as {"error": ...} on stdout, for tools.
+int refuse(const CheckOptions& o, std::string_view command, const std::string& message, int code) {
+  if (o.format == "json") {
+    std::cout << core::dump_json({{"error", message}, {"diagnostics", nlohmann::json::array()}}) << "\n";
+  } else {
+    std::cerr << command << ": " << message << "\n";
+  }
+  return code;
+}
+
 int run_check(const CheckOptions& o) {
   auto catalogue = load_catalogue_option(o.catalogue);
-  if (!catalogue) {
-    std::cerr << "strata check: " << catalogue.error().message << "\n";
-    return exit_code_for_input(catalogue.error());
-  }
+  if (!catalogue) return refuse(o, "strata check", catalogue.error().message, exit_code_for_input(catalogue.error()));
   const tactical::ExecutionLevel level = tactical::execution_level_of(o.vehicle);
   const coral::CheckOptions options = strategic::coral_check_options(catalogue.value(), level);
   coral::DiskFileProvider disk;
-  Report report;
+  Report report("strata check");
   nlohmann::json files = nlohmann::json::array();
   std::vector<std::string> summaries;
   bool rules_unreadable = false;
   for (const auto& file : o.files) {
     if (auto why = not_a_mission(file, {core::MissionLanguage::Coral, core::MissionLanguage::Prolog})) {
-      std::cerr << "strata check: " << why->message << "\n";
-      return why->exit_code;
+      return refuse(o, "strata check", why->message, why->exit_code);
     }
   }
   for (const auto& file : o.files) {
@@ -152,39 +161,48 @@ int run_check(const CheckOptions& o) {
       std::cout << plural(report.errors(), "error") << ", " << plural(report.warnings(), "warning") << "\n";
     }
   }
+  // Every file with an error: one line that says so, in the command's voice.
+  for (const auto& f : files) {
+    if (o.format == "json" || f["errors"].get<std::size_t>() == 0) continue;
+    std::cerr << fmt::format("strata check: {}: {} (above, each at its place); fix and check again\n",
+                             f["file"].get<std::string>(), plural(f["errors"].get<std::size_t>(), "error"));
+  }
   if (rules_unreadable) return kExitIo;
   return exit_code_for(report);
 }
 
 int run_dump(const CheckOptions& o) {
   if (core::mission_language(o.files.front()) == core::MissionLanguage::Prolog) {
-    std::cerr << "strata dump: '" << o.files.front() << "' holds PROLOG rules, not nets: dump prints a CORAL "
-              << "mission's nets (`strata check` checks rules)\n";
-    return kExitUsage;
+    return refuse(o, "strata dump",
+                  fmt::format("'{}' holds PROLOG rules, not nets: dump prints a CORAL mission's nets (`strata check` "
+                              "checks rules)",
+                              o.files.front()),
+                  kExitUsage);
   }
   if (auto why = not_a_mission(o.files.front(), {core::MissionLanguage::Coral})) {
-    std::cerr << "strata dump: " << why->message << "\n";
-    return why->exit_code;
+    return refuse(o, "strata dump", why->message, why->exit_code);
   }
   auto catalogue = load_catalogue_option(o.catalogue);
-  if (!catalogue) {
-    std::cerr << "strata dump: " << catalogue.error().message << "\n";
-    return exit_code_for_input(catalogue.error());
-  }
+  if (!catalogue) return refuse(o, "strata dump", catalogue.error().message, exit_code_for_input(catalogue.error()));
   coral::DiskFileProvider disk;
   core::SourceManager sources;
   core::DiagnosticSink sink;
   auto program =
       coral::compile_file(o.files.front(), disk, sources, sink, strategic::coral_check_options(catalogue.value()));
   sink.sort();
-  Report report;
+  Report report("strata dump");
   report.add(sources, sink);
   if (o.format == "json") {
     if (!program) std::cout << core::dump_json({{"diagnostics", report.json()}}) << "\n";
   } else {
     std::cerr << report.text();
   }
-  if (!program) return exit_code_for(report);
+  if (!program) {
+    if (o.format != "json")
+      std::cerr << fmt::format("strata dump: {}: {}; no net to dump (`strata check` says the same)\n", o.files.front(),
+                             plural(report.errors(), "error"));
+    return exit_code_for(report);
+  }
   if (!o.net.empty()) {
     const auto* n = program->find(o.net);
     if (!n) {

@@ -12,6 +12,7 @@
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
 #include "cli/rule_load_flags.h"
+#include "cli/run_flags.h"
 #include "cli/trace_compare.h"
 #include "cli/verbosity.h"
 #include "core/mission_language.h"
@@ -30,6 +31,7 @@ struct CompareOptions {
   std::string catalogue;
   std::uint64_t inference_limit = RunOptions{}.inference_limit;
   run::RuleLoadLimits rule_load;
+  RunOptions shared;  // --data, --max-sim-time, --telemetry-hz: for both runs
   std::optional<std::size_t> context;
   std::string format = "text";
   VerbosityFlags verbosity;
@@ -91,6 +93,9 @@ int run_compare(const CompareOptions& o) {
   const std::string* paths[2] = {&o.a, &o.b};
   for (int i = 0; i < 2; ++i) {
     RunOptions run;
+    run.data = o.shared.data;
+    run.max_sim_time_s = o.shared.max_sim_time_s;
+    run.telemetry_hz = o.shared.telemetry_hz;
     run.mission = *paths[i];
     run.vehicle = i == 0 ? o.vehicle_a : o.vehicle_b;
     run.speed = o.speed;
@@ -201,6 +206,7 @@ Runner add_compare_command(CLI::App& app) {
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
   add_rule_load_flags(cmd, o->rule_load);
+  add_shared_run_flags(cmd, o->shared);
   cmd->add_option("--context", o->context,
                   "Show only this many calls around the first difference (default: every call)");
   cmd->add_option("--format", o->format,

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/mission_language.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/verbosity.h"
@@ -34,6 +35,12 @@ int run_plot(const PlotOptions& o) {
   const auto format = plot::format_for(output);
   if (!format) {
     std::cerr << fmt::format("strata plot: '{}': the output is a .svg or a .png file\n", output.string());
+    return kExitUsage;
+  }
+  if (core::mission_language(o.log) != core::MissionLanguage::None) {
+    std::cerr << fmt::format("strata plot: '{}' is a mission, not a run's log; `strata run {} --log run.jsonl` "
+                             "writes one to plot\n",
+                             o.log, o.log);
     return kExitUsage;
   }
   auto log = plot::read_log_file(o.log);

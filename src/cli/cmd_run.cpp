@@ -13,6 +13,7 @@
 #include "cli/exit_codes.h"
 #include "cli/mission_run.h"
 #include "cli/rule_load_flags.h"
+#include "cli/run_flags.h"
 #include "cli/studio_serve.h"
 #include "cli/user_config.h"
 #include "cli/verbosity.h"
@@ -106,7 +107,7 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
       "Run a mission: check and verify it, start the simulated vehicle on a free loopback port (unless "
       "--vehicle), and execute it through the Tactical level");
   cmd->add_option("mission", o->mission, "The mission: a CORAL net (.coral) or PROLOG rules (.pl)")->required();
-  cmd->add_option("--data", o->data, "Mission data file (default: the one the mission names)");
+  add_shared_run_flags(cmd, *o);
   cmd->add_option("--scenario", o->scenario,
                   "Vehicle scenario: NAME in the mission's scenarios/ folder, or a path (default: the mission's "
                   "scenarios/nominal.toml if it has one, else no faults)");
@@ -155,21 +156,12 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
   cmd->add_option("--sonar", o->sonar_dir,
                   "Start the Sonar Manager (`strata sonar`, a separate process) on the vehicle's sonar socket; "
                   "it writes the scans (PNG) and sonar.jsonl into this folder");
-  cmd->add_option(
-         "--max-sim-time", o->max_sim_time_s,
-         "Lockstep, or an IMC vehicle's clock: end the run (an abort: the vehicle is surfaced) after this many "
-         "simulated seconds")
-      ->check(finite_range(1.0, 1e9))
-      ->capture_default_str();
   cmd->add_option_function<std::uint64_t>(
          "--max-log-mb", [o](std::uint64_t mb) { o->max_log_bytes = mb << 20; },
          "End the run (an abort: the vehicle is surfaced) when its mission log reaches this many MB, and write "
          "no more of it; 0: no bound")
       ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 20))
       ->default_str(std::to_string(run::RunOptions{}.max_log_bytes >> 20));
-  cmd->add_option("--telemetry-hz", o->telemetry_hz, "Telemetry asked of the vehicle, per simulated second")
-      ->check(finite_range(0.0, 100.0))
-      ->capture_default_str();
   cmd->add_option("--format", c->format, "text, or json: the summary as one JSON document on stdout, no event lines")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();

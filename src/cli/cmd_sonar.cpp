@@ -57,6 +57,8 @@ int run_sonar(const SonarOptions& o) {
   mo.processor.image.size_px = o.size_px;
   mo.verbose = o.verbosity.level() == Verbosity::Verbose;
   mo.quiet = o.verbosity.level() == Verbosity::Quiet;
+  // The manager's lines start "sonar: "; here they are the command's own.
+  mo.log = [](const std::string& line) { std::cerr << "strata " << line << std::endl; };
 
   // SIGINT and SIGTERM are taken by a watcher thread (blocked here before any
   // thread starts, so no other thread receives them): it asks the manager to

@@ -69,6 +69,14 @@ std::string imc_conflict(const VehicleOptions& o) {
   return "";
 }
 
+// "leak (a leak at 20 s)": the scenario as named, and its description when
+// it says more.
+std::string scenario_label(const VehicleOptions& o, const vehicle::Scenario& scenario) {
+  const std::string name = o.scenario.empty() ? "nominal" : o.scenario;
+  if (scenario.description.empty() || scenario.description == name) return name;
+  return fmt::format("{} ({})", name, scenario.description);
+}
+
 int run_imc_vehicle(const VehicleOptions& o, const vehicle::VehicleParams& params, const vehicle::Scenario& scenario) {
   vehicle::ImcServerOptions so;
   so.port = o.port.value_or(6002);
@@ -99,9 +107,9 @@ int run_imc_vehicle(const VehicleOptions& o, const vehicle::VehicleParams& param
   const bool quiet = o.verbosity.level() == Verbosity::Quiet;
   if (!quiet) {
     std::cerr << fmt::format(
-                     "vehicle: IMC on udp://{}:{} (wall clock, speed {}, scenario '{}', seed {}); "
+                     "vehicle: IMC on udp://{}:{} (wall clock, speed {}, scenario {}, seed {}); "
                      "announce to it to be heard",
-                     so.address, server.port(), o.speed, scenario.description, scenario.seed)
+                     so.address, server.port(), o.speed, scenario_label(o, scenario), scenario.seed)
               << std::endl;
   }
   asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -175,9 +183,9 @@ int run_vehicle(const VehicleOptions& o) {
   // The first line of stdout is the address, for scripts and tests.
   std::cout << so.address << ":" << server.port() << std::endl;
   if (!quiet) {
-    std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario '{}', seed {})", so.address,
+    std::cerr << fmt::format("vehicle: listening on {}:{} ({} clock{}, scenario {}, seed {})", so.address,
                              server.port(), o.realtime ? "wall" : "lockstep",
-                             o.realtime ? fmt::format(", speed {}", o.speed) : "", scenario.value().description,
+                             o.realtime ? fmt::format(", speed {}", o.speed) : "", scenario_label(o, scenario.value()),
                              scenario.value().seed)
               << std::endl;
     std::cerr << fmt::format("vehicle: sonar socket on {}:{} (`strata sonar --stream {}:{} --out DIR` reads it)",

@@ -65,11 +65,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    if (code != 0) {
-      for (const auto& hint : usage_hints(app, argc, argv)) std::cerr << hint << "\n";
-    }
-    return code == 0 ? kExitOk : kExitUsage;
+    // --help and --version end here too, with code 0, printed by CLI11.
+    if (e.get_exit_code() == 0) return app.exit(e) == 0 ? kExitOk : kExitUsage;
+    for (const auto& line : usage_error(app, e, argc, argv)) std::cerr << line << "\n";
+    return kExitUsage;
   }
   try {
     for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();

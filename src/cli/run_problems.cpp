@@ -26,7 +26,7 @@ std::string error_line(std::string_view command, const run::Error& error) {
 }
 
 void print_load_findings(std::ostream& err, const run::LoadedMission& loaded, const run::RunOptions& options) {
-  core::print_diagnostics(err, loaded.sources, loaded.diagnostics);
+  core::print_diagnostics(err, loaded.sources, loaded.diagnostics, "strata run");
   if (!loaded.verification) return;
   const coral::VerifyReport& v = *loaded.verification;
   if (v.ok()) {
@@ -34,7 +34,7 @@ void print_load_findings(std::ostream& err, const run::LoadedMission& loaded, co
     if (!v.all_hold()) err << "strata run: warning:\n" << coral::verify_failures_text(v);
     return;
   }
-  err << coral::verify_failures_text(v);
+  err << "strata run: " << options.mission << " fails verification:\n" << coral::verify_failures_text(v);
   if (options.unverified) {
     err << "strata run: warning: running a mission that fails verification (--unverified)\n";
   } else if (!options.answers.empty()) {
@@ -57,7 +57,7 @@ void print_run_errors(std::ostream& err, run::RunReport& report) {
 }
 
 int print_coral_load(std::ostream& err, const run::CoralLoad& load, std::string_view command, std::string_view suffix) {
-  core::print_diagnostics(err, load.sources, load.diagnostics);
+  core::print_diagnostics(err, load.sources, load.diagnostics, command);
   const auto failed = load.error();
   if (!failed) return kExitOk;
   err << error_line(command, *failed) << suffix << "\n";

@@ -36,6 +36,22 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
+// The deepest command argv names (`config show`), or app itself.
+const CLI::App* named_command(const CLI::App& app, int argc, const char* const* argv) {
+  const CLI::App* at = &app;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg.empty() || arg[0] == '-') continue;
+    const CLI::App* next = nullptr;
+    for (const CLI::App* s : at->get_subcommands([](const CLI::App*) { return true; })) {
+      if (s->check_name(std::string(arg))) next = s;
+    }
+    if (next == nullptr) break;  // an argument of the command found so far
+    at = next;
+  }
+  return at;
+}
+
 }  // namespace
 
 std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* const* argv) {
@@ -55,6 +71,9 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
     hints.push_back("the commands: " + join(commands));
     return hints;
   }
+  // The command the options belong to: `config show`'s, not `config`'s.
+  const std::string path = command_path(app, argc, argv);
+  sub = named_command(app, argc, argv);
   const std::vector<std::string> known = option_spellings(*sub);
   for (int i = 2; i < argc; ++i) {
     std::string_view arg = argv[i];
@@ -65,12 +84,39 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
     bool found = false;
     for (const auto& k : known) found = found || k == name;
     if (found) continue;
-    std::string hint = fmt::format("{} {}: unknown option '{}'", app.get_name(), sub->get_name(), name);
+    std::string hint = fmt::format("{}: unknown option '{}'", path, name);
     if (auto s = core::suggest(name, known)) hint += fmt::format(": did you mean '{}'?", *s);
     hints.push_back(hint);
   }
-  if (!hints.empty()) hints.push_back(fmt::format("`{} {} --help` lists its options", app.get_name(), sub->get_name()));
+  if (!hints.empty()) hints.push_back(fmt::format("`{} --help` lists its options", path));
   return hints;
+}
+
+std::string command_path(const CLI::App& app, int argc, const char* const* argv) {
+  std::string path;
+  for (const CLI::App* at = named_command(app, argc, argv); at != nullptr; at = at->get_parent()) {
+    path = at->get_name() + (path.empty() ? "" : " " + path);
+  }
+  return path;
+}
+
+std::vector<std::string> usage_error(const CLI::App& app, const CLI::ParseError& error, int argc,
+                                     const char* const* argv) {
+  std::vector<std::string> lines = usage_hints(app, argc, argv);
+  if (!lines.empty()) return lines;
+  const std::string path = command_path(app, argc, argv);
+  std::string what = error.what();
+  if (path == app.get_name() && argc < 2) {
+    lines.push_back(fmt::format("{}: give a command: {}", path, join(visible_commands(app))));
+    lines.push_back(fmt::format("`{} --help` says what each does", path));
+    return lines;
+  }
+  if (!what.empty() && what[0] >= 'A' && what[0] <= 'Z') what[0] = static_cast<char>(what[0] - 'A' + 'a');
+  // A value's own message ("--speed: 'abc' is not a number") names its
+  // option already; CLI11's tail ("Run with --help ...") is replaced below.
+  lines.push_back(fmt::format("{}: {}", path, what));
+  lines.push_back(fmt::format("`{} --help` lists its arguments and options", path));
+  return lines;
 }
 
 }  // namespace strata::cli

@@ -16,4 +16,14 @@ namespace strata::cli {
 // (the command line's problem is something else: a missing value, a range).
 std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* const* argv);
 
+// The command argv names, as errors start: "strata run", "strata config
+// show"; "strata" when argv names none.
+std::string command_path(const CLI::App& app, int argc, const char* const* argv);
+
+// What a command line that does not parse prints, every line of it:
+// the hints when there are any, else "strata run: " and CLI11's message,
+// then where the command's arguments are listed.
+std::vector<std::string> usage_error(const CLI::App& app, const CLI::ParseError& error, int argc,
+                                     const char* const* argv);
+
 }  // namespace strata::cli

@@ -20,10 +20,10 @@ std::string printable(std::string_view s) {
   return out;
 }
 
-// "file:line:col: " (no more than precision knows), or "strata: " for a
+// "file:line:col: " (no more than precision knows), or "TOOL: " for a
 // problem that has no place in a file.
-std::string location(const SourceManager& sources, SourceSpan span, Precision precision) {
-  if (span.file >= sources.size()) return "strata: ";
+std::string location(const SourceManager& sources, SourceSpan span, Precision precision, std::string_view tool) {
+  if (span.file >= sources.size()) return fmt::format("{}: ", tool);
   if (precision == Precision::File) return fmt::format("{}: ", sources.path(span.file));
   LineCol lc = sources.line_col(span.file, span.offset);
   if (precision == Precision::Line) return fmt::format("{}:{}: ", sources.path(span.file), lc.line);
@@ -61,19 +61,20 @@ void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan s
 
 }  // namespace
 
-void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d) {
-  out << location(sources, d.span, d.precision) << severity_name(d.severity) << ": " << printable(d.message) << " ["
+void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d, std::string_view tool) {
+  out << location(sources, d.span, d.precision, tool) << severity_name(d.severity) << ": " << printable(d.message) << " ["
       << kind_name(d.kind) << "]\n";
   print_excerpt(out, sources, d.span, d.precision);
   for (const auto& note : d.notes) {
-    out << location(sources, note.has_span ? note.span : d.span, note.has_span ? Precision::Span : d.precision)
+    out << location(sources, note.has_span ? note.span : d.span, note.has_span ? Precision::Span : d.precision, tool)
         << "note: " << printable(note.message) << "\n";
     if (note.has_span) print_excerpt(out, sources, note.span, Precision::Span);
   }
 }
 
-void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics) {
-  for (const auto& d : diagnostics) print_diagnostic(out, sources, d);
+void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics,
+                       std::string_view tool) {
+  for (const auto& d : diagnostics) print_diagnostic(out, sources, d, tool);
 }
 
 nlohmann::json diagnostics_to_json(const SourceManager& sources, std::span<const Diagnostic> diagnostics) {

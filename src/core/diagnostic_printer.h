@@ -11,9 +11,13 @@
 namespace strata::core {
 
 // file:line:col: severity: message [Kind], the source line, a caret under the
-// span, then the notes. Bytes that are not printable are shown as '?'.
-void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d);
-void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics);
+// span, then the notes. Bytes that are not printable are shown as '?'. A
+// problem with no place in a file starts with `tool` instead: "strata
+// check: error: cannot open ...".
+void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d,
+                      std::string_view tool = "strata");
+void print_diagnostics(std::ostream& out, const SourceManager& sources, std::span<const Diagnostic> diagnostics,
+                       std::string_view tool = "strata");
 
 // One object per diagnostic: severity, kind, file, line, col, end_line,
 // end_col, message, notes[] (each with file/line/col when it has a span).

@@ -51,19 +51,21 @@ bool valid_utf8(std::string_view text) {
 }
 
 std::optional<std::string> suggest(std::string_view name, const std::vector<std::string>& candidates) {
+  // Edits and swaps of two neighbours ("rnu" is one swap from "run"): the
+  // optimal string alignment distance, three rows.
   auto distance = [](std::string_view a, std::string_view b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    std::vector<std::size_t> before(b.size() + 1), prev(b.size() + 1), row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
     for (std::size_t i = 1; i <= a.size(); ++i) {
-      std::size_t diag = row[0];
       row[0] = i;
       for (std::size_t j = 1; j <= b.size(); ++j) {
-        std::size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-        diag = up;
+        row[j] = std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
       }
+      std::swap(before, prev);
+      std::swap(prev, row);
     }
-    return row[b.size()];
+    return prev[b.size()];
   };
   if (name.size() > 64) return std::nullopt;
   std::optional<std::string> best;

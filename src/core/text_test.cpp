@@ -43,5 +43,11 @@ TEST(Suggest, OnlyCloseNames) {
   EXPECT_FALSE(suggest("xyz", {"depth_reached"}));
 }
 
+TEST(Suggest, TwoLettersSwappedAreOneTypo) {
+  EXPECT_EQ("run", suggest("rnu", {"check", "run", "dump"}));
+  EXPECT_EQ("verify", suggest("verfiy", {"run", "verify"}));
+  EXPECT_FALSE(suggest("nur", {"run"}));  // a reversal is two swaps, too far for three letters
+}
+
 }  // namespace
 }  // namespace strata::core
