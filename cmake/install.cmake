@@ -12,9 +12,12 @@ include(GNUInstallDirs)
 set(STRATA_GEN_DIR ${PROJECT_BINARY_DIR}/generated)
 
 install(TARGETS strata RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-# The studio's HTTP server, loaded by strata from BINDIR/../LIBDIR/strata
-# (src/studio/http_module.h).
-install(TARGETS strata_studio_http LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/strata)
+# The studio's HTTP server, loaded by strata from BINDIR/../LIBDIR/strata/modules
+# (src/studio/http_module.h). Two folders below LIBDIR, not one: CPack
+# (CPackDeb.cmake) has the package run ldconfig on install and removal for
+# any shared object one folder below /usr/lib, which ld.so does not search
+# for a private module (lintian: maintscript-calls-ldconfig).
+install(TARGETS strata_studio_http LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/strata/modules)
 install(DIRECTORY ${STRATA_GEN_DIR}/man/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1")
 install(FILES ${STRATA_GEN_DIR}/completion/strata.bash
         DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/bash-completion/completions RENAME strata)

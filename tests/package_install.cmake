@@ -55,7 +55,8 @@ foreach(f usr/bin/strata usr/share/man/man1/strata.1 usr/share/man/man1/strata-r
           usr/share/man/man1/strata-verify.1 usr/share/bash-completion/completions/strata
           usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
           usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
-          usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl)
+          usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl
+          usr/lib/strata/modules/libstrata_studio_http.so)
   if(NOT EXISTS ${root}/${f})
     fail("${f} is not installed")
   endif()
