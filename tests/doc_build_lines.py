@@ -89,11 +89,13 @@ LINES = {
         "build/release/bench/open_water_bench": ("bench",),
     },
     "install.md": {
-        "cmake --preset release && cmake --build --preset release": ("presets", "configure:release", "build:release"),
-        "sudo cmake --install build/release": ("install", "sudo"),
-        "cmake --install build/release --prefix ~/.local": ("install", "~/.local"),
-        "cd build/release && cpack -G DEB": ("same", "tests/package_install.cmake", "COMMAND cpack -G DEB",
+        "cmake --preset package && cmake --build --preset package": ("presets", "configure:package", "build:package"),
+        "sudo cmake --install build/package": ("install", "sudo"),
+        "cmake --install build/package --prefix ~/.local": ("install", "~/.local"),
+        "cd build/package && cpack -G DEB": ("same", "tests/package_install.cmake", "COMMAND cpack -G DEB",
                                              "WORKING_DIRECTORY ${BUILD_DIR}"),
+        "lintian --fail-on error,warning strata_*_amd64.deb": ("same", "tests/package_lintian.cmake",
+                                                              "COMMAND ${LINTIAN} --fail-on error,warning"),
         "sudo apt install ./strata_*_amd64.deb": ("shown", "it installs into this machine's system; package.deb "
                                                   "unpacks the same package into a scratch root instead"),
         "source <(strata completion bash)": ("run", "complete -p strata", r"-F _strata strata"),

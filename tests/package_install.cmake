@@ -51,11 +51,13 @@ endif()
 
 # What must be there, at the standard places.
 set(strata ${root}/usr/bin/strata)
-foreach(f usr/bin/strata usr/share/man/man1/strata.1 usr/share/man/man1/strata-run.1
-          usr/share/man/man1/strata-verify.1 usr/share/bash-completion/completions/strata
+foreach(f usr/bin/strata usr/share/man/man1/strata.1.gz usr/share/man/man1/strata-run.1.gz
+          usr/share/man/man1/strata-verify.1.gz usr/share/bash-completion/completions/strata
           usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
           usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
-          usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl)
+          usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl
+          usr/lib/strata/modules/libstrata_studio_http.so usr/share/doc/strata/copyright
+          usr/share/doc/strata/changelog.gz)
   if(NOT EXISTS ${root}/${f})
     fail("${f} is not installed")
   endif()
@@ -108,7 +110,7 @@ if(MODE STREQUAL "deb")
   return()   # the pages and scripts are the same files as MODE=install's
 endif()
 
-# One page per subcommand, each rendering without a warning.
+# One page per subcommand, gzipped, each rendering without a warning.
 execute_process(COMMAND ${strata} --help OUTPUT_VARIABLE help)
 string(REGEX MATCHALL "\n  [a-z]+ " commands "${help}")
 list(LENGTH commands ncommands)
@@ -117,16 +119,22 @@ if(ncommands LESS 10)
 endif()
 foreach(c IN LISTS commands)
   string(STRIP "${c}" c)
-  if(NOT EXISTS ${root}/usr/share/man/man1/strata-${c}.1)
+  if(NOT EXISTS ${root}/usr/share/man/man1/strata-${c}.1.gz)
     fail("no man page for `strata ${c}`")
   endif()
 endforeach()
-file(GLOB pages ${root}/usr/share/man/man1/*.1)
+file(GLOB pages ${root}/usr/share/man/man1/*)
+foreach(page IN LISTS pages)
+  if(NOT page MATCHES "\\.1\\.gz$")
+    fail("${page}: not a gzipped page (Debian Policy 12.1)")
+  endif()
+endforeach()
 find_program(GROFF groff)
 if(GROFF)
   foreach(page IN LISTS pages)
-    execute_process(COMMAND ${GROFF} -man -ww -z ${page} RESULT_VARIABLE rc ERROR_VARIABLE warnings)
-    if(NOT rc EQUAL 0 OR NOT warnings STREQUAL "")
+    execute_process(COMMAND gzip -dc ${page} COMMAND ${GROFF} -man -ww -z
+                    RESULTS_VARIABLE rcs ERROR_VARIABLE warnings)
+    if(NOT rcs STREQUAL "0;0" OR NOT warnings STREQUAL "")
       fail("groff on ${page}: ${warnings}")
     endif()
   endforeach()

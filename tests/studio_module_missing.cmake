@@ -8,7 +8,7 @@ set(strata ${WORK_DIR}/bin/strata)
 file(MAKE_DIRECTORY ${WORK_DIR}/tmp)
 execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${WORK_DIR}/tmp ${strata} studio ${WORK_DIR} --listen 127.0.0.1:0
                 TIMEOUT 20 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 69 OR NOT err MATCHES "the studio's HTTP module libstrata_studio_http.so is missing \\(looked in [^)]*/bin/libstrata_studio_http.so, [^)]*/lib/strata/libstrata_studio_http.so\\)")
+if(NOT rc EQUAL 69 OR NOT err MATCHES "the studio's HTTP module libstrata_studio_http.so is missing \\(looked in [^)]*/bin/libstrata_studio_http.so, [^)]*/lib/strata/modules/libstrata_studio_http.so\\)")
   message(FATAL_ERROR "strata studio without its module: exit ${rc}\n${out}${err}")
 endif()
 # The sonar folder it made for its runs went with it.

@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 #ifndef STRATA_STUDIO_MODULE_DIR
-#define STRATA_STUDIO_MODULE_DIR "../lib/strata"
+#define STRATA_STUDIO_MODULE_DIR "../lib/strata/modules"
 #endif
 
 struct Loaded {

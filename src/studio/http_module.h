@@ -27,7 +27,7 @@ using HttpModuleEntry = HttpServer* (*)(int abi, std::size_t options_size, const
 
 // Where the module is looked for, in order: beside the strata executable
 // (a build folder), then in the installed library folder relative to it
-// (bin/../lib/strata, as cmake --install and the Debian package put it).
+// (bin/../lib/strata/modules, as cmake --install and the Debian package put it).
 std::vector<std::filesystem::path> http_module_paths();
 
 // The studio's server, from the module (loaded once, and kept). An error
