@@ -165,7 +165,7 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
   cmd->add_option("--format", c->format, "text, or json: the summary as one JSON document on stdout, no event lines")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
-  add_verbosity_flags(cmd, c->verbosity, "Also a line for each primitive call and its answer");
+  add_verbosity_flags(cmd, c->verbosity, "Also a line for each primitive call, with its arguments, and its answer");
   return [o, cmd, c, &config] { return run_command(*o, *cmd, *c, config); };
 }
 
