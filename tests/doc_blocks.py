@@ -94,7 +94,9 @@ ALLOW = {
     ("docs/studio.md", '{ "path": P, "kind": "prolog", "read_only": true, "text": "...", "etag": "\\"...\\"",'):
         "the PROLOG model's JSON, annotated (the studio's API tests read each field)",
     ("docs/tutorial-first-mission.md", "$ strata studio first"):
-        "the studio serves until Ctrl-C and is used in a browser (docs.readme_tour starts and stops it)",
+        "the studio serves until Ctrl-C and is used in a browser: web/e2e/tutorial.spec.mjs runs it as written",
+    ("docs/tutorial-first-survey.md", "$ strata studio out_and_back"):
+        "the studio serves until Ctrl-C and is used in a browser: web/e2e/tutorial.spec.mjs runs it as written",
     ("docs/verification.md", '{ "ok": false, "all_hold": false,'):
         "the --format json answer, shortened and annotated",
     ("docs/verification.md", "strata verify MISSION --witness-out FILE"):
