@@ -268,9 +268,10 @@ Runner add_campaign_command(CLI::App& app) {
       return static_cast<int>(kExitUsage);
     }
     if (core::mission_language(f->spec) != core::MissionLanguage::None) {
-      std::cerr << fmt::format("strata campaign: '{}' is a mission, not a campaign spec (a .toml file: "
-                               "docs/campaigns.md); `strata run {}` runs it once\n",
-                               f->spec, f->spec);
+      std::cerr << fmt::format(
+          "strata campaign: '{}' is a mission, not a campaign spec (a .toml file: "
+          "docs/campaigns.md); `strata run {}` runs it once\n",
+          f->spec, f->spec);
       return static_cast<int>(kExitUsage);
     }
     auto spec = campaign::load_spec(f->spec, {f->max_cases});

@@ -200,7 +200,7 @@ int run_dump(const CheckOptions& o) {
   if (!program) {
     if (o.format != "json")
       std::cerr << fmt::format("strata dump: {}: {}; no net to dump (`strata check` says the same)\n", o.files.front(),
-                             plural(report.errors(), "error"));
+                               plural(report.errors(), "error"));
     return exit_code_for(report);
   }
   if (!o.net.empty()) {

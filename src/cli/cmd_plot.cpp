@@ -38,9 +38,10 @@ int run_plot(const PlotOptions& o) {
     return kExitUsage;
   }
   if (core::mission_language(o.log) != core::MissionLanguage::None) {
-    std::cerr << fmt::format("strata plot: '{}' is a mission, not a run's log; `strata run {} --log run.jsonl` "
-                             "writes one to plot\n",
-                             o.log, o.log);
+    std::cerr << fmt::format(
+        "strata plot: '{}' is a mission, not a run's log; `strata run {} --log run.jsonl` "
+        "writes one to plot\n",
+        o.log, o.log);
     return kExitUsage;
   }
   auto log = plot::read_log_file(o.log);

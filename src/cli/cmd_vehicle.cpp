@@ -72,7 +72,7 @@ std::string imc_conflict(const VehicleOptions& o) {
 // "leak (a leak at 20 s)": the scenario as named, and its description when
 // it says more.
 std::string scenario_label(const VehicleOptions& o, const vehicle::Scenario& scenario) {
-  const std::string name = o.scenario.empty() ? "nominal" : o.scenario;
+  std::string name = o.scenario.empty() ? "nominal" : o.scenario;
   if (scenario.description.empty() || scenario.description == name) return name;
   return fmt::format("{} ({})", name, scenario.description);
 }

@@ -231,9 +231,10 @@ int run_verify_mission(const VerifyOptions& o) {
   if (report.ok()) return kExitOk;
   std::size_t failing = 0;
   for (const auto& n : report.nets) failing += n.ok() ? 0 : 1;
-  std::cerr << fmt::format("strata verify: {}: {} of {} nets with a property that fails or is not decided (the report "
-                           "says which, with the shortest way there); `strata run` refuses it until they hold\n",
-                           o.mission, failing, report.nets.size());
+  std::cerr << fmt::format(
+      "strata verify: {}: {} of {} nets with a property that fails or is not decided (the report "
+      "says which, with the shortest way there); `strata run` refuses it until they hold\n",
+      o.mission, failing, report.nets.size());
   return kExitInvalid;
 }
 

@@ -93,9 +93,14 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
 }
 
 std::string command_path(const CLI::App& app, int argc, const char* const* argv) {
-  std::string path;
+  std::vector<std::string> names;
   for (const CLI::App* at = named_command(app, argc, argv); at != nullptr; at = at->get_parent()) {
-    path = at->get_name() + (path.empty() ? "" : " " + path);
+    names.push_back(at->get_name());
+  }
+  std::string path;
+  for (auto n = names.rbegin(); n != names.rend(); ++n) {
+    if (!path.empty()) path += ' ';
+    path += *n;
   }
   return path;
 }

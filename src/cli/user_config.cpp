@@ -69,8 +69,8 @@ class Reader {
         for (const auto& [name, keys] : known_keys()) tables.push_back("[" + name + "]");
         std::vector<std::string> names;
         for (const auto& [name, keys] : known_keys()) names.push_back(name);
-        errors_.add(table_key, fmt::format("unknown table [{}]{}", table,
-                                           known_tail(table, names, "the tables", joined(tables))));
+        errors_.add(table_key,
+                    fmt::format("unknown table [{}]{}", table, known_tail(table, names, "the tables", joined(tables))));
         continue;
       }
       const toml::table* entries = node.as_table();
@@ -153,8 +153,8 @@ class Reader {
     } else if (name == "studio.listen") {
       address(config_.studio_listen, value, name, false);
     } else {
-      errors_.add(where,
-                  fmt::format("unknown key '{}' in [{}]{}", key, table, known_tail(key, keys, "its keys", joined(keys))));
+      errors_.add(where, fmt::format("unknown key '{}' in [{}]{}", key, table,
+                                     known_tail(key, keys, "its keys", joined(keys))));
     }
   }
 

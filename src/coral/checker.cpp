@@ -552,5 +552,4 @@ void check(const Load& load, core::DiagnosticSink& sink, const CheckOptions& opt
   }
 }
 
-
 }  // namespace strata::coral

@@ -62,8 +62,8 @@ void print_excerpt(std::ostream& out, const SourceManager& sources, SourceSpan s
 }  // namespace
 
 void print_diagnostic(std::ostream& out, const SourceManager& sources, const Diagnostic& d, std::string_view tool) {
-  out << location(sources, d.span, d.precision, tool) << severity_name(d.severity) << ": " << printable(d.message) << " ["
-      << kind_name(d.kind) << "]\n";
+  out << location(sources, d.span, d.precision, tool) << severity_name(d.severity) << ": " << printable(d.message)
+      << " [" << kind_name(d.kind) << "]\n";
   print_excerpt(out, sources, d.span, d.precision);
   for (const auto& note : d.notes) {
     out << location(sources, note.has_span ? note.span : d.span, note.has_span ? Precision::Span : d.precision, tool)

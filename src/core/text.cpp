@@ -60,7 +60,8 @@ std::optional<std::string> suggest(std::string_view name, const std::vector<std:
       row[0] = i;
       for (std::size_t j = 1; j <= b.size(); ++j) {
         row[j] = std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          row[j] = std::min(row[j], before[j - 2] + 1);
       }
       std::swap(before, prev);
       std::swap(prev, row);

@@ -139,8 +139,8 @@ std::string numbered_aborts(const MissionPlot& plot, const DepthPanel& panel) {
   const auto last_row = static_cast<std::size_t>(panel.height_px / kCharHeightPx);
   std::size_t row = panel.key_rows + 1;
   auto legend = [&](const std::string& text, double x) {
-    s += fmt::format("set label {} at graph 1, graph 1 left offset {},{} tc rgb '{}' front\n", gp_string(text),
-                     num(x), num(-static_cast<double>(row)), kAbortColour);
+    s += fmt::format("set label {} at graph 1, graph 1 left offset {},{} tc rgb '{}' front\n", gp_string(text), num(x),
+                     num(-static_cast<double>(row)), kAbortColour);
   };
   for (std::size_t i = 0; i < marks.size(); ++i) {
     const auto lines = script::wrapped(marks[i]->label, panel.wrap);

@@ -121,9 +121,7 @@ std::vector<Box> label_boxes(const std::string& s, double w, double h, double t0
   return out;
 }
 
-bool overlap(const Box& a, const Box& b) {
-  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
-}
+bool overlap(const Box& a, const Box& b) { return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1; }
 
 std::string no_spaces(std::string s) {
   std::erase(s, ' ');
@@ -207,8 +205,8 @@ TEST(TrackPlot, AbortLabelsDoNotOverlapEachOtherOrTheSeabed) {
   const auto range = numbers_of(depth, "yrange");
   const auto size = numbers_of(depth, "size");
   const auto tmargin = numbers_of(depth, "tmargin");
-  ASSERT_TRUE(lmargin.size() == 1 && rmargin.size() == 1 && time.size() == 2 && range.size() == 2 &&
-              size.size() == 2 && tmargin.size() == 1)
+  ASSERT_TRUE(lmargin.size() == 1 && rmargin.size() == 1 && time.size() == 2 && range.size() == 2 && size.size() == 2 &&
+              tmargin.size() == 1)
       << depth;
   const double w = (rmargin[0] - lmargin[0]) * kPictureW;
   // Under the depth graph: its (empty) tick labels.
@@ -220,7 +218,8 @@ TEST(TrackPlot, AbortLabelsDoNotOverlapEachOtherOrTheSeabed) {
   for (const Box& b : boxes) {
     if (b.abort) written += b.text;
   }
-  for (const AbortMark& m : p.aborts) EXPECT_NE(std::string::npos, no_spaces(written).find(no_spaces(m.label))) << m.label;
+  for (const AbortMark& m : p.aborts)
+    EXPECT_NE(std::string::npos, no_spaces(written).find(no_spaces(m.label))) << m.label;
 
   // No two labels (the aborts' and the phases') cover each other.
   for (std::size_t i = 0; i < boxes.size(); ++i) {

@@ -221,7 +221,7 @@ std::string scenario_origin(const RunOptions& o) {
     return scenario_path(o.mission, o.scenario).string();
   }
   if (o.mission.empty()) return "built in";
-  const std::string nominal = scenario_path(o.mission, "nominal").string();
+  std::string nominal = scenario_path(o.mission, "nominal").string();
   const bool found = o.read_file ? o.read_file(nominal).ok() : fs::is_regular_file(nominal, ec);
   if (found) return nominal;
   return fmt::format("built in: no {} beside the mission", (fs::path("scenarios") / "nominal.toml").string());

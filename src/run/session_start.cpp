@@ -106,8 +106,7 @@ Stage RunSession::Run::connect() {
                  {"embedded", o_.vehicle.empty()}});
   }
   note(fmt::format("vehicle {} at {}:{} ({}{})", w.vehicle_name, link_options_.host, link_options_.port,
-                   report_.lockstep ? "lockstep" : "wall clock",
-                   o_.vehicle.empty() ? embedded_world() : ""));
+                   report_.lockstep ? "lockstep" : "wall clock", o_.vehicle.empty() ? embedded_world() : ""));
   return {};
 }
 

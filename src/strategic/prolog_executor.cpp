@@ -141,8 +141,8 @@ void PrologExecutor::issue() {
   const tactical::Primitive* p = catalogue_.find(pending_name_);
   ActionId id = next_action_++;
   in_flight_ = id;
-  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now(), {},
-                    pending_args_};
+  ActionStart event{id, current_instance(), p ? p->kind : core::CallVerb::Exec, pending_name_, "", now(),
+                    {}, pending_args_};
   observers_.action_started(event);
   std::weak_ptr<PrologExecutor*> self = self_;
   tactics_.call(pending_name_, std::move(pending_args_), [self, id](tactical::CallResult outcome) {

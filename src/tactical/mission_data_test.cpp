@@ -166,17 +166,19 @@ TEST(MissionData, WaypointErrorsCarryLineAndColumn) {
   EXPECT_EQ("data.toml:3:7: waypoint 1: y_m is 1e+300 m; it must lie within +-100000 m",
             error_of("[[waypoint]]\nx_m = 0\ny_m = 1e300\n"));
   EXPECT_EQ("data.toml:1:1: waypoint 1 has no y_m", error_of("[[waypoint]]\nx_m = 1\n"));
-  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'z_m': did you mean 'x_m'? (known: name, x_m, y_m; "
-            "docs/mission-data.md)",
-            error_of("[[waypoint]]\nz_m = 1\nx_m = 0\ny_m = 0\n"));
+  EXPECT_EQ(
+      "data.toml:2:1: waypoint 1: unknown key 'z_m': did you mean 'x_m'? (known: name, x_m, y_m; "
+      "docs/mission-data.md)",
+      error_of("[[waypoint]]\nz_m = 1\nx_m = 0\ny_m = 0\n"));
 }
 
 TEST(MissionData, AWaypointKeyWithoutItsUnitIsNamedWithIt) {
-  EXPECT_EQ("data.toml:2:1: waypoint 1: unknown key 'x': did you mean 'x_m'? (known: name, x_m, y_m; "
-            "docs/mission-data.md)\n"
-            "data.toml:3:1: waypoint 1: unknown key 'y': did you mean 'y_m'? (known: name, x_m, y_m; "
-            "docs/mission-data.md)",
-            error_of("[[waypoint]]\nx = 1\ny = 2\nx_m = 0\ny_m = 0\n"));
+  EXPECT_EQ(
+      "data.toml:2:1: waypoint 1: unknown key 'x': did you mean 'x_m'? (known: name, x_m, y_m; "
+      "docs/mission-data.md)\n"
+      "data.toml:3:1: waypoint 1: unknown key 'y': did you mean 'y_m'? (known: name, x_m, y_m; "
+      "docs/mission-data.md)",
+      error_of("[[waypoint]]\nx = 1\ny = 2\nx_m = 0\ny_m = 0\n"));
   EXPECT_EQ("data.toml:1:12: the waypoint list is empty", error_of("waypoint = []\n"));
 }
 

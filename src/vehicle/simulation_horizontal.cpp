@@ -164,7 +164,9 @@ core::Result<void> Simulation::goto_depth(double depth_m) {
 
 core::Result<void> Simulation::gps_fix() {
   if (auto r = require_network(); !r) return r;
-  if (!open_water()) return refused_here("no GPS in the tank (the scenario's world; an open-water scenario has one: docs/open_water.md)");
+  if (!open_water())
+    return refused_here(
+        "no GPS in the tank (the scenario's world; an open-water scenario has one: docs/open_water.md)");
   if (faults_.no_gps) return refused_here("no GPS fix (the receiver hears no satellites)");
   if (heave_.depth_m > params_.gps_max_depth_m) {
     return refused_here(fmt::format("no GPS fix at {:.2f} m depth: the antenna is under water", heave_.depth_m));
