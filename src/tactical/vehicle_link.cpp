@@ -193,8 +193,11 @@ protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler ha
                             fmt::format("no reply to `{}` (request {}) within {} ms", what, id, wait.count())));
   });
   pending_.emplace(id, std::move(p));
-  write(protocol::encode(request));
+  // The check first: it runs before the connection's posted write, so an
+  // advance it sends for this request leaves in the same write (one
+  // sendmsg, one wake-up of the vehicle) rather than after it.
   note_activity();
+  write(protocol::encode(request));
   return id;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <asio.hpp>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "tactical/test_rig.h"
@@ -318,6 +319,29 @@ TEST(VehicleServer, RequestsHeldWithoutAnAdvanceAreSilenceAndTheWatchdogTrips) {
   bool said_why = false;
   for (const auto& line : rig.vehicle_log) said_why |= line.find("link silent for 0.2 s") != std::string::npos;
   EXPECT_TRUE(said_why) << ::testing::PrintToString(rig.vehicle_log);
+}
+
+// The silence watchdog keeps one wait and, when it ends early, waits again
+// for the newest deadline (it is not re-armed at each line): a client that
+// speaks more often than the watchdog's limit, for longer than it, is never
+// silent. 3 s of limit, a line each 0.2 s for 7 s.
+TEST(VehicleServer, InLockstepLinesMoreOftenThanTheLimitKeepTheWatchdogQuietPastIt) {
+  vehicle::VehicleParams params = vehicle::default_params();
+  params.watchdog_s = 3.0;
+  Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, params);
+  LineClient c(rig.io, rig.server->port());
+  c.say("hello 1 hand 2");
+  c.say("ood 2 start_network");
+  c.say("advance 3");
+  ASSERT_TRUE(c.wait_for(rig.io, "ok 3"));
+  for (int i = 0; i < 35; ++i) {
+    run_until(rig.io, [] { return false; }, 200ms);
+    c.say(fmt::format("ping {}", 10 + i));
+    ASSERT_TRUE(c.wait_for(rig.io, fmt::format("pong {}", 10 + i)));
+  }
+  EXPECT_FALSE(rig.sim.watchdog_tripped()) << ::testing::PrintToString(rig.vehicle_log);
+  // ...and silence after the last line still trips it.
+  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 30000ms));
 }
 
 // ...while a client that keeps advancing is not silent, however much

@@ -72,7 +72,7 @@ void VehicleServer::stop() {
   asio::error_code ignored;
   acceptor_.close(ignored);
   tick_timer_.cancel();
-  silence_timer_.cancel();
+  cancel_silence_watchdog();
   for (auto& w : waiting_clients_) {
     w.hello_timer->cancel();
     w.conn->close("the vehicle is stopping");

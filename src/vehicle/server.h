@@ -57,6 +57,7 @@
 // Threads: one; everything runs on the io_context given, which must not run
 // this server's handlers after it is destroyed (destroy the server, then
 // stop or destroy the io_context without running it again).
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -169,7 +170,12 @@ class VehicleServer {
   void flush_events();
   void flush_pings();
   void reply_later(protocol::RequestId id, double until_s);
+  // Lockstep: the silence counts again from now. The timer is not re-armed
+  // for each line (a syscall and a cancelled wait each time): one wait is
+  // kept, and when it ends early it waits again for the newest deadline.
   void arm_silence_watchdog();
+  void wait_for_silence();
+  void cancel_silence_watchdog();
   void trip(const std::string& reason);
   void run_alone(std::optional<double> trip_at_s);
   void run_alone_batch();
@@ -186,6 +192,9 @@ class VehicleServer {
   asio::ip::tcp::acceptor acceptor_;
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
+  std::chrono::steady_clock::time_point silence_deadline_{};
+  bool silence_waiting_ = false;     // a wait of silence_timer_ is pending
+  std::uint64_t silence_generation_ = 0;  // a cancelled wait's handler is stale
   // Connected, no accepted hello yet: each with its hello timer.
   struct WaitingClient {
     std::shared_ptr<protocol::LineConnection> conn;

@@ -38,7 +38,7 @@ void VehicleServer::advance(std::optional<protocol::RequestId> advance_id, std::
       // Nobody can ask the simulation to move now: it runs on alone, and the
       // watchdog trips after watchdog_s of silence (run_alone trips it in
       // simulated time).
-      silence_timer_.cancel();
+      cancel_silence_watchdog();
       if (!running_alone_) run_alone(sim_.time_s() + sim_.params().watchdog_s);
       return;
     }

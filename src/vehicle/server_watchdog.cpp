@@ -37,12 +37,29 @@ void VehicleServer::arm_silence_watchdog() {
   const double limit_s = options_.lockstep_silence_s.value_or(sim_.params().watchdog_s);
   if (limit_s <= 0) return;                             // the controller is in this process: its end closes the link
   const double silence_s = std::min(limit_s, 86400.0);  // a day is "never" here
-  silence_timer_.expires_after(
-      std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(silence_s)));
-  silence_timer_.async_wait([this](const asio::error_code& e) {
+  silence_deadline_ = std::chrono::steady_clock::now() +
+                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(silence_s));
+  if (!silence_waiting_) wait_for_silence();
+}
+
+void VehicleServer::wait_for_silence() {
+  silence_waiting_ = true;
+  silence_timer_.expires_at(silence_deadline_);
+  silence_timer_.async_wait([this, generation = silence_generation_](const asio::error_code& e) {
+    if (generation != silence_generation_) return;  // cancelled: a newer wait, or none, is in charge
+    silence_waiting_ = false;
     if (e || stopped_ || !controller_ || controller_->closing() || !sim_.network_up()) return;
+    // A line came since this wait began: the silence is shorter than it.
+    if (std::chrono::steady_clock::now() < silence_deadline_) return wait_for_silence();
     trip(fmt::format("link silent for {:.1f} s", options_.lockstep_silence_s.value_or(sim_.params().watchdog_s)));
   });
+}
+
+void VehicleServer::cancel_silence_watchdog() {
+  ++silence_generation_;
+  silence_waiting_ = false;
+  silence_timer_.cancel();
 }
 
 void VehicleServer::controller_gone() {
@@ -66,7 +83,7 @@ void VehicleServer::on_closed(protocol::LineConnection& c, const protocol::Close
   } else {
     log(fmt::format("{:.1f} s: client disconnected: {}", sim_.time_s(), why.message));
   }
-  silence_timer_.cancel();
+  cancel_silence_watchdog();
   controller_.reset();
   hello_done_ = false;
   deferred_.clear();
