@@ -17,19 +17,23 @@ using question_detail::MarkingStore;
 // The largest number of markings (indexes are 32 bits).
 constexpr std::uint64_t kMaxQuestionMarkings = 0xfffffff0ULL;
 
-// Whether the stubborn sets pay, judged continuously: computing them must
-// cost at most kStepsPerPruned steps (stubborn.h's work) per transition
-// they prune. Firing a transition costs the search a few dozen steps, and a
-// pruned one often saves the markings behind it too, hence the margin.
-// Both counts are halved every kJudgeWindow sets (the judgement follows
-// the net's phases); the first kJudgeAfter sets are not judged. While the
-// sets do not pay, the search fires every enabled transition (a stubborn
-// set too) and computes them again on one marking in kReductionRetry, which
-// may turn them back on. Each marking may use any stubborn set: the
-// argument in stubborn.h holds marking by marking.
+// Whether the stubborn sets pay, judged continuously. EF φ: computing them
+// must cost at most kStepsPerPruned steps (stubborn.h's work) per
+// transition they prune (firing a transition costs the search a few dozen
+// steps, and a pruned one often saves the markings behind it too, hence
+// the margin). Deadlock: one set may cost at most kStepsPerPruned steps per
+// transition it could prune (its enabled transitions less one; past that
+// it is the best found so far), and the sets are kept while they prune
+// anything: fewer markings is the aim, and a marking pruned saves more
+// than its set cost. Both counts are halved every kJudgeWindow sets (the
+// judgement follows the net's phases); the first kJudgeAfter sets are not
+// judged. While the sets do not pay, the search fires every enabled
+// transition (a stubborn set too) and computes them again on one marking
+// in kReductionRetry, which may turn them back on. Each marking may use any
+// stubborn set: the argument in stubborn.h holds marking by marking.
 constexpr std::uint64_t kStepsPerPruned = 256;
 constexpr std::uint64_t kJudgeWindow = 64;
-constexpr std::uint64_t kJudgeAfter = 4;
+constexpr std::uint64_t kJudgeAfter = 16;
 constexpr std::uint64_t kReductionRetry = 16;
 // See QuestionSearch::hand_over_to_explorer.
 constexpr std::uint64_t kExplorerAfter = 256;
@@ -195,7 +199,7 @@ class QuestionSearch {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
       return;
     }
-    // A deadlock set costing more than it could save (all but one pruned) is given up.
+    // A deadlock set's search stops at what it could save (all but one pruned).
     const std::uint64_t steps =
         q_.kind == QuestionKind::Deadlock
             ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
@@ -214,7 +218,8 @@ class QuestionSearch {
       steps_ /= 2;
       pruned_ /= 2;
     }
-    if (sets_ >= kJudgeAfter) reducing_ = steps_ <= kStepsPerPruned * pruned_;
+    if (sets_ < kJudgeAfter) return;
+    reducing_ = q_.kind == QuestionKind::Deadlock ? pruned_ > 0 : steps_ <= kStepsPerPruned * pruned_;
   }
 
   // The deadlock question, when the stubborn sets have pruned nothing: the
