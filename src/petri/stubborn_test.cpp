@@ -83,6 +83,7 @@ TEST(StubbornSets, VisitsNoMoreMarkingsThanLolaOnTheCorpus) {
     const Net& net = loaded.value().net;
     const QuestionResult r = answer_question(net, ask(net, "deadlock"));
     ASSERT_NE(Answer::NotDecided, r.answer) << model;
+    EXPECT_EQ(corpus::corpus_answer(model)->verdict("deadlock") ? Answer::Yes : Answer::No, r.answer) << model;
     const auto over = kOverLola.find(model);
     const std::uint64_t limit = over == kOverLola.end() ? lola_count : over->second;
     EXPECT_LE(r.states, limit) << model << ": LoLA 2.0 visits " << lola_count;
