@@ -17,7 +17,7 @@ ExploreResult Explorer::run() {
   const std::size_t places = net_.place_count();
   r_.place_bounds.assign(places, 0);
   r_.transition_fired.assign(net_.transition_count(), false);
-  start(net_);  // the fields' widths and an empty table
+  start(net_, true);  // the fields' widths and an empty table
   layout();
   queue_.assign(kInitialQueue * words_, 0);
   queue_slots_ = kInitialQueue;

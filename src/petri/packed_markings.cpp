@@ -49,12 +49,12 @@ Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
 
 Words::~Words() { std::free(p_); }
 
-void PackedMarkings::start(const Net& net) {
+void PackedMarkings::start(const Net& net, bool semiflow_bounds) {
   const std::size_t places = net.place_count();
   // Fields as wide as a P-semiflow bound when there is one (fixed: the
   // place cannot overflow); else as the initial tokens, widened on
   // overflow.
-  bound_ = structural_bounds(net);
+  bound_ = semiflow_bounds ? structural_bounds(net) : std::vector<std::uint64_t>(places, kNoBound);
   bits_.assign(places, 1);
   bounded_.assign(places, false);
   for (PlaceId p = 0; p < places; ++p) {

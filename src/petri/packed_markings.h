@@ -97,9 +97,13 @@ class PackedMarkings {
  public:
   PackedMarkings() = default;
 
-  // Field widths for `net` (P-semiflow bounds, else the initial tokens),
-  // their layout, and an empty table of kInitialSlots.
-  void start(const Net& net);
+  // Field widths for `net` (with `semiflow_bounds`, a P-semiflow's bound
+  // where there is one; else the initial tokens, widened on overflow), their
+  // layout, and an empty table of kInitialSlots. The P-semiflows cost up to
+  // tens of milliseconds on nets of a few hundred places: worth it for the
+  // explorer, which visits every marking, not for a search that may stop
+  // after a few.
+  void start(const Net& net, bool semiflow_bounds);
 
   std::uint32_t words() const { return words_; }
   std::uint64_t size() const { return count_; }

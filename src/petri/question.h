@@ -19,8 +19,8 @@
 // search; the answer is then NotDecided, never a yes or no it has not seen.
 //
 // Storage: every visited marking in the full exploration's packed storage
-// (packed_markings.h: bit fields as wide as the P-semiflow bounds, in the
-// slots of an open-addressing hash table), and the search stack.
+// (packed_markings.h: bit fields, widened as counts grow, in the slots of an
+// open-addressing hash table), and the search stack.
 // Threads: one.
 #include <chrono>
 #include <cstdint>

@@ -11,14 +11,15 @@
 namespace strata::petri::question_detail {
 
 // The visited markings in the full exploration's storage
-// (packed_markings.h: bit fields as wide as the P-semiflow bounds, the
-// markings in the slots of the hash table), and the current marking kept
-// packed beside them (set() per place changed), so a lookup packs nothing.
-// A count that does not fit its field widens it and re-packs the table.
+// (packed_markings.h: bit fields, the markings in the slots of the hash
+// table), and the current marking kept packed beside them (set() per place
+// changed), so a lookup packs nothing. The fields start as wide as the
+// initial tokens (no P-semiflows: most searches stop after a few markings);
+// a count that does not fit widens its field and re-packs the table.
 class MarkingStore {
  public:
   explicit MarkingStore(const Net& net) {
-    set_.start(net);
+    set_.start(net, false);
     cur_.assign(set_.words(), 0);
     set_.pack(net.initial_marking(), cur_.data());
   }
