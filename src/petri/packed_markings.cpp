@@ -49,7 +49,7 @@ Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
 
 Words::~Words() { std::free(p_); }
 
-void PackedMarkings::start(const Net& net, bool semiflow_bounds) {
+void PackedMarkings::start(const Net& net, bool semiflow_bounds, std::size_t slots) {
   const std::size_t places = net.place_count();
   // Fields as wide as a P-semiflow bound when there is one (fixed: the
   // place cannot overflow); else as the initial tokens, widened on
@@ -68,7 +68,7 @@ void PackedMarkings::start(const Net& net, bool semiflow_bounds) {
   }
   layout_fields();
   count_ = 0;
-  new_table(kInitialSlots);
+  new_table(slots);
 }
 
 void PackedMarkings::layout_fields() {

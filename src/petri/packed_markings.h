@@ -99,11 +99,11 @@ class PackedMarkings {
 
   // Field widths for `net` (with `semiflow_bounds`, a P-semiflow's bound
   // where there is one; else the initial tokens, widened on overflow), their
-  // layout, and an empty table of kInitialSlots. The P-semiflows cost up to
+  // layout, and an empty table of `slots` (a power of 2). The P-semiflows cost up to
   // tens of milliseconds on nets of a few hundred places: worth it for the
   // explorer, which visits every marking, not for a search that may stop
   // after a few.
-  void start(const Net& net, bool semiflow_bounds);
+  void start(const Net& net, bool semiflow_bounds, std::size_t slots = kInitialSlots);
 
   std::uint32_t words() const { return words_; }
   std::uint64_t size() const { return count_; }

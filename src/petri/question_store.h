@@ -18,8 +18,11 @@ namespace strata::petri::question_detail {
 // a count that does not fit widens its field and re-packs the table.
 class MarkingStore {
  public:
+  // A small table first: a widening re-packs all of it.
+  static constexpr std::size_t kInitialSlots = 64;
+
   explicit MarkingStore(const Net& net) {
-    set_.start(net, false);
+    set_.start(net, false, kInitialSlots);
     cur_.assign(set_.words(), 0);
     set_.pack(net.initial_marking(), cur_.data());
   }
