@@ -8,9 +8,8 @@
 //
 // Counters: ms (wall time of one run, parsing excluded), cpu_ms (the
 // process's CPU time for it: steadier on a loaded machine), markings (visited
-// or, for explore, reachable), edges (transitions fired), explorer (1 when
-// the question handed over to the full exploration: markings and edges are
-// then its own), answer (1 yes, 0 no, -1 not decided), and on
+// or, for explore, reachable), edges (transitions fired), answer (1 yes, 0
+// no, -1 not decided), and on
 // every row lola_ms and lola_markings (LoLA 2's question time and markings
 // visited, measured on this class of machine; -1 when not listed).
 // Run: ./bench/question_bench --benchmark_counters_tabular=true
@@ -69,7 +68,7 @@ std::vector<std::string> corpus_in_order() {
 enum class Mode { Explore, Reduced, Unreduced };
 
 void bm_deadlock(benchmark::State& st, const std::shared_ptr<const Net>& net, Mode mode, LolaFigures lola) {
-  double seconds = 0, cpu_seconds = 0, markings = 0, answer = -1, edges = 0, by_exploration = 0;
+  double seconds = 0, cpu_seconds = 0, markings = 0, answer = -1, edges = 0;
   Question q;
   q.kind = QuestionKind::Deadlock;
   for (auto _ : st) {
@@ -88,7 +87,6 @@ void bm_deadlock(benchmark::State& st, const std::shared_ptr<const Net>& net, Mo
       const QuestionResult r = answer_question(*net, q, o);
       markings = static_cast<double>(r.states);
       edges = static_cast<double>(r.edges);
-      by_exploration = r.by_exploration ? 1 : 0;
       answer = r.answer == Answer::Yes ? 1 : r.answer == Answer::No ? 0 : -1;
     }
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -98,7 +96,6 @@ void bm_deadlock(benchmark::State& st, const std::shared_ptr<const Net>& net, Mo
   st.counters["cpu_ms"] = cpu_seconds * 1000;
   st.counters["markings"] = markings;
   st.counters["edges"] = edges;
-  st.counters["explorer"] = by_exploration;
   st.counters["answer"] = answer;
   st.counters["lola_ms"] = lola.ms;
   st.counters["lola_markings"] = lola.markings;

@@ -230,7 +230,7 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (tty && r.states >= qo.progress_every) std::cerr << "\r" << std::string(40, ' ') << "\r" << std::flush;
 
-  const char* decided_by = !r.structural_reason.empty() ? "structure" : r.by_exploration ? "exploration" : "search";
+  const char* decided_by = !r.structural_reason.empty() ? "structure" : "search";
   if (format == "json") {
     nlohmann::ordered_json j;
     j["question"] = f.question;
@@ -261,9 +261,8 @@ int ask_net(const petri::Net& net, const std::string& header, const std::vector<
       std::cout << fmt::format("  marking    {}\n", marking_text(net, r.witness_marking));
     }
     if (r.structural_reason.empty()) {
-      std::cout << fmt::format("  searched   {} markings, {} firings ({}{}) in {:.3f} s\n", r.states, r.edges,
-                               reduced ? "stubborn sets" : "no reduction",
-                               r.by_exploration ? ", which pruned nothing: explored in full" : "", seconds);
+      std::cout << fmt::format("  searched   {} markings, {} firings ({}) in {:.3f} s\n", r.states, r.edges,
+                               reduced ? "stubborn sets" : "no reduction", seconds);
     }
   }
   if (on_witness) {

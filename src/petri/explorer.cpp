@@ -7,76 +7,18 @@
 #include <string>
 #include <utility>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include <fmt/format.h>
 
 #include "petri/explorer_internal.h"
-#include "petri/invariants.h"
 
 namespace strata::petri {
 namespace explorer_detail {
-namespace {
-
-// P-semiflows (for the place bounds) only on nets up to this many cells of
-// the Farkas matrix, places * (places + transitions), and this many rows.
-constexpr std::size_t kMaxSemiflowCells = std::size_t{1} << 21;
-constexpr std::size_t kMaxSemiflowRows = 2000;
-
-// By place: y.M0 / y(p) over the P-semiflows y covering p (every reachable
-// marking has at most that many tokens in p), or kNoBound.
-std::vector<std::uint64_t> structural_bounds(const Net& net) {
-  const std::size_t places = net.place_count();
-  std::vector<std::uint64_t> bound(places, kNoBound);
-  if (places == 0 || places * (places + net.transition_count()) > kMaxSemiflowCells) return bound;
-  const Semiflows s = p_semiflows(net, kMaxSemiflowRows);
-  for (const Semiflow& f : s.flows) {
-    if (!is_p_invariant(net, f.weights)) continue;  // never expected; a wrong bound would corrupt markings
-    for (const auto& [p, w] : f.weights) {
-      if (w > 0) bound[p] = std::min(bound[p], f.constant / w);
-    }
-  }
-  return bound;
-}
-
-}  // namespace
-
-Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
-  if (bytes_ >= kHuge) {
-    p_ = static_cast<std::uint64_t*>(std::aligned_alloc(kHuge, bytes_));
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (p_) madvise(p_, bytes_, MADV_HUGEPAGE);
-#endif
-  } else {
-    p_ = static_cast<std::uint64_t*>(std::malloc(std::max<std::size_t>(bytes_, 8)));
-  }
-  if (!p_) throw std::bad_alloc();
-}
-
 ExploreResult Explorer::run() {
   const std::size_t places = net_.place_count();
   r_.place_bounds.assign(places, 0);
   r_.transition_fired.assign(net_.transition_count(), false);
-  // Fields as wide as a P-semiflow bound when there is one (fixed: the
-  // place cannot overflow); else as the initial tokens, widened on
-  // overflow.
-  bound_ = structural_bounds(net_);
-  const std::vector<std::uint64_t>& bound = bound_;
-  bits_.assign(places, 1);
-  bounded_.assign(places, false);
-  for (PlaceId p = 0; p < places; ++p) {
-    const unsigned initial = static_cast<unsigned>(std::bit_width(net_.initial_marking()[p]));
-    if (bound[p] != kNoBound && std::bit_width(bound[p]) <= static_cast<int>(kMaxBits)) {
-      bounded_[p] = true;
-      bits_[p] = std::max(1u, static_cast<unsigned>(std::bit_width(bound[p])));
-    } else {
-      bits_[p] = std::max(1u, initial);
-    }
-  }
+  start(net_, true);  // the fields' widths and an empty table
   layout();
-  new_table(kInitialSlots);
   queue_.assign(kInitialQueue * words_, 0);
   queue_slots_ = kInitialQueue;
   std::vector<std::uint64_t> initial = pack_initial();
@@ -106,17 +48,8 @@ ExploreResult Explorer::run() {
 }
 
 void Explorer::layout() {
+  layout_fields();
   const std::size_t places = bits_.size();
-  fields_.resize(places);
-  std::vector<unsigned> used;
-  for (std::size_t p = 0; p < places; ++p) {
-    std::size_t w = 0;
-    while (w < used.size() && used[w] + bits_[p] > (w == 0 ? 63u : 64u)) ++w;
-    if (w == used.size()) used.push_back(0);
-    fields_[p] = {static_cast<std::uint32_t>(w), used[w], (1ULL << bits_[p]) - 1};
-    used[w] += bits_[p];
-  }
-  words_ = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(used.size()));
   seen_or_.assign(words_, 0);
   digits_.clear();
   track_.clear();
@@ -209,40 +142,16 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
                                    queue_slots_ * words_ * sizeof(std::uint64_t))) {
     return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
   }
+  repack_table(old_fields, old_words);
   std::vector<std::uint64_t> m(words_);
-  auto repack = [&](const std::uint64_t* from) {
-    std::fill(m.begin(), m.end(), 0);
-    for (std::size_t q = 0; q < fields_.size(); ++q) set(m.data(), fields_[q], get(from, old_fields[q]));
-  };
-  Words old_table = std::move(table_);
-  new_table(slots_);
-  for (std::size_t i = 0; i < slots_; ++i) {
-    if (old_table[i * old_words] == kEmpty) continue;
-    repack(&old_table[i * old_words]);
-    place(m.data(), hash<0>(m.data()));
-  }
   std::vector<std::uint64_t> old = std::move(queue_);
   queue_.assign(queue_slots_ * words_, 0);
   for (std::size_t k = 0; k < queue_size_; ++k) {
-    repack(&old[((queue_head_ + k) & (queue_slots_ - 1)) * old_words]);
+    repack(&old[((queue_head_ + k) & (queue_slots_ - 1)) * old_words], old_fields, m.data());
     std::memcpy(&queue_[k * words_], m.data(), words_ * sizeof(std::uint64_t));
   }
   queue_head_ = 0;
   return true;
-}
-
-void Explorer::new_table(std::size_t slots) {
-  slots_ = slots;
-  shift_ = 64 - static_cast<unsigned>(std::countr_zero(slots));
-  table_ = Words(slots * words_);
-  for (std::size_t i = 0; i < table_.size(); ++i) table_[i] = i % words_ == 0 ? kEmpty : 0;
-}
-
-void Explorer::place(const std::uint64_t* m, std::uint64_t full_hash) {
-  const std::size_t mask = slots_ - 1;
-  std::size_t i = slot_of(full_hash);
-  while (table_[i * words_] != kEmpty) i = (i + 1) & mask;
-  std::memcpy(&table_[i * words_], m, words_ * sizeof(std::uint64_t));
 }
 
 template <unsigned W>
@@ -263,11 +172,7 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     const std::size_t need = table_.bytes() + Words::rounded(table_.size() * 16) + queue_.size() * 8;
     if (slots_ * 2 > std::size_t{1} << 31) return stop(fmt::format("stopped at {} states: the table's limit", count_));
     if (!fits(need)) return full(need);
-    Words old = std::move(table_);
-    new_table(slots_ * 2);
-    for (std::size_t k = 0; k < old.size(); k += words) {
-      if (old[k] != kEmpty) place(&old[k], hash<W>(&old[k]));
-    }
+    grow();
     i = slot_of(full_hash);
     while (table_[i * words] != kEmpty) i = (i + 1) & (slots_ - 1);
   }

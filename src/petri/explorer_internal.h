@@ -15,29 +15,20 @@
 
 #include "petri/explorer.h"
 #include "petri/net.h"
+#include "petri/packed_markings.h"
 
 namespace strata::petri::explorer_detail {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-constexpr unsigned kMaxBits = 32;  // Tokens are 32-bit
-// Word 0 of a free table slot. No field uses bit 63 of word 0, so no packed
-// marking has this word 0.
-constexpr std::uint64_t kEmpty = ~0ULL;
-constexpr std::uint64_t kNoBound = ~0ULL;
-constexpr std::size_t kInitialSlots = 1024;
+using packed::Field;
+using packed::get;
+using packed::kEmpty;
+using packed::kInitialSlots;
+using packed::kMaxBits;
+using packed::kNoBound;
+using packed::kNone;
+using packed::mix;
+using packed::Words;
 constexpr std::size_t kInitialQueue = 64;  // markings
-
-// Where one place's tokens live in a packed marking.
-struct Field {
-  std::uint32_t word = 0;
-  std::uint32_t shift = 0;
-  std::uint64_t mask = 0;  // the field's width, at the low bits
-};
-
-inline std::uint64_t get(const std::uint64_t* m, const Field& f) { return (m[f.word] >> f.shift) & f.mask; }
-inline void set(std::uint64_t* m, const Field& f, std::uint64_t v) {
-  m[f.word] = (m[f.word] & ~(f.mask << f.shift)) | (v << f.shift);
-}
 
 // An input arc of a transition: the place's field and the weight.
 struct InArc {
@@ -61,39 +52,6 @@ struct Delta {
   std::uint64_t sub = 0, add = 0;
 };
 
-// An array of words for the hash table. From 2 MB on, it is allocated in
-// whole 2 MB pages and the kernel asked for transparent huge pages: the
-// lookups are random, and with 4 KB pages nearly every one also missed the
-// TLB. bytes() is what was allocated (rounded up).
-class Words {
- public:
-  static constexpr std::size_t kHuge = std::size_t{1} << 21;
-  Words() = default;
-  // The bytes an array of that many bytes takes.
-  static std::size_t rounded(std::size_t bytes) { return bytes >= kHuge ? (bytes + kHuge - 1) / kHuge * kHuge : bytes; }
-  explicit Words(std::size_t n);
-  Words(Words&& o) noexcept
-      : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)), bytes_(std::exchange(o.bytes_, 0)) {}
-  Words& operator=(Words&& o) noexcept {
-    std::swap(p_, o.p_);
-    std::swap(n_, o.n_);
-    std::swap(bytes_, o.bytes_);
-    return *this;
-  }
-  Words(const Words&) = delete;
-  Words& operator=(const Words&) = delete;
-  ~Words() { std::free(p_); }
-
-  std::size_t size() const { return n_; }
-  std::size_t bytes() const { return bytes_; }
-  std::uint64_t& operator[](std::size_t i) { return p_[i]; }
-  const std::uint64_t& operator[](std::size_t i) const { return p_[i]; }
-
- private:
-  std::uint64_t* p_ = nullptr;
-  std::size_t n_ = 0, bytes_ = 0;
-};
-
 // Bits set (no popcnt instruction in the baseline x86-64 the build targets).
 inline std::uint64_t popcount(std::uint64_t x) {
   x = x - ((x >> 1) & 0x5555555555555555ULL);
@@ -102,13 +60,8 @@ inline std::uint64_t popcount(std::uint64_t x) {
   return (x * 0x0101010101010101ULL) >> 56;
 }
 
-inline std::uint64_t mix(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-class Explorer {
+// The packed markings (packed_markings.h) are the explorer's table.
+class Explorer : private packed::PackedMarkings {
  public:
   Explorer(const Net& net, const ExploreOptions& options) : net_(net), opt_(options) {}
 
@@ -116,8 +69,8 @@ class Explorer {
 
  private:
   // ---- layout ---------------------------------------------------------------
-  // First fit of the fields into words (word 0 keeps bit 63 free), then each
-  // transition's arcs, word deltas and overflow checks in that layout.
+  // The fields laid out (layout_fields), then each transition's arcs, word
+  // deltas and overflow checks in that layout.
   void layout();
 
   // The 1-bit places seen marked (seen_or_, in the current layout: call
@@ -131,45 +84,7 @@ class Explorer {
   // the memory limit): the exploration stops.
   bool widen(PlaceId p, std::uint64_t value);
 
-  // ---- the set of markings: open addressing, linear probing, the packed
-  // markings in the slots (one cache miss per lookup) --------------------------
-  template <unsigned W>
-  std::uint64_t hash(const std::uint64_t* m) const {
-    const std::uint32_t words = W ? W : words_;
-    std::uint64_t h = 0x9E3779B97F4A7C15ULL;
-    for (std::uint32_t k = 0; k < words; ++k) h = mix(h ^ m[k]);
-    return h;
-  }
-
-  template <unsigned W>
-  bool equal(const std::uint64_t* a, const std::uint64_t* b) const {
-    const std::uint32_t words = W ? W : words_;
-    for (std::uint32_t k = 0; k < words; ++k) {
-      if (a[k] != b[k]) return false;
-    }
-    return true;
-  }
-
-  std::size_t slot_of(std::uint64_t full_hash) const { return static_cast<std::size_t>(full_hash >> shift_); }
-  const std::uint64_t* marking(std::size_t slot) const { return &table_[slot * words_]; }
-
-  void new_table(std::size_t slots);
-
-  // Stores m, known to be absent, without any check.
-  void place(const std::uint64_t* m, std::uint64_t full_hash);
-
-  // The slot holding m, or kNone.
-  template <unsigned W>
-  std::uint32_t find(const std::uint64_t* m, std::uint64_t full_hash) const {
-    const std::uint32_t words = W ? W : words_;
-    const std::size_t mask = slots_ - 1;
-    for (std::size_t i = slot_of(full_hash);; i = (i + 1) & mask) {
-      const std::uint64_t* s = &table_[i * words];
-      if (s[0] == kEmpty) return kNone;
-      if (equal<W>(s, m)) return static_cast<std::uint32_t>(i);
-    }
-  }
-
+  // ---- the set of markings: PackedMarkings' table ------------------------------
   std::size_t memory() const { return table_.bytes() + queue_.size() * 8; }
   bool fits(std::size_t bytes) const { return opt_.max_memory_bytes == 0 || bytes <= opt_.max_memory_bytes; }
 
@@ -262,9 +177,6 @@ class Explorer {
   ExploreOptions opt_;
   ExploreResult r_;
   // Layout.
-  std::vector<unsigned> bits_;
-  std::vector<bool> bounded_;         // by place: the field has a P-semiflow bound
-  std::vector<std::uint64_t> bound_;  // by place: that bound, or kNoBound
   // Token counts (expand): per word, the bits at position k of every field
   // (total tokens = sum of popcounts << k); the OR of every marking seen
   // (the bounds of 1-bit places); the wider places whose bound may still
@@ -276,17 +188,10 @@ class Explorer {
   std::vector<Digit> digits_;
   std::vector<std::uint64_t> seen_or_;
   std::vector<PlaceId> track_;
-  std::vector<Field> fields_;
-  std::uint32_t words_ = 1;
   std::vector<InArc> in_;
   std::vector<Touch> touch_, checks_;  // checks_: the touches that may overflow
   std::vector<Delta> deltas_;
   std::vector<std::uint32_t> in_begin_, touch_begin_, check_begin_, delta_begin_;
-  // The table: slots_ packed markings, word 0 kEmpty when free.
-  Words table_;
-  std::size_t slots_ = 0;
-  unsigned shift_ = 64;  // slot = hash >> shift_
-  std::uint64_t count_ = 0;
   // The breadth-first queue: a ring of queue_slots_ markings.
   std::vector<std::uint64_t> queue_;
   std::size_t queue_slots_ = 0, queue_head_ = 0, queue_size_ = 0;

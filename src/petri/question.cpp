@@ -1,5 +1,6 @@
 #include "petri/question.h"
 
+#include <algorithm>
 #include <limits>
 
 #include <fmt/format.h>
@@ -17,24 +18,25 @@ using question_detail::MarkingStore;
 // The largest number of markings (indexes are 32 bits).
 constexpr std::uint64_t kMaxQuestionMarkings = 0xfffffff0ULL;
 
-// Whether the stubborn sets pay, judged continuously: computing them must
-// cost at most kStepsPerPruned steps (stubborn.h's work) per transition
-// they prune. Firing a transition costs the search a few dozen steps, and a
-// pruned one often saves the markings behind it too, hence the margin.
-// Both counts are halved every kJudgeWindow sets (the judgement follows
-// the net's phases); the first kJudgeAfter sets are not judged. While the
-// sets do not pay, the search fires every enabled transition (a stubborn
-// set too) and computes them again on one marking in kReductionRetry, which
-// may turn them back on. Each marking may use any stubborn set: the
-// argument in stubborn.h holds marking by marking.
+// Whether the stubborn sets pay, judged continuously. EF φ: computing them
+// must cost at most kStepsPerPruned steps (stubborn.h's work) per
+// transition they prune (firing a transition costs the search a few dozen
+// steps, and a pruned one often saves the markings behind it too, hence
+// the margin). Deadlock: one set may cost at most kStepsPerPruned steps per
+// transition it could prune (its enabled transitions less one; past that
+// it is the best found so far), and the sets are kept while they prune
+// anything: fewer markings is the aim, and a marking pruned saves more
+// than its set cost. Both counts are halved every kJudgeWindow sets (the
+// judgement follows the net's phases); the first kJudgeAfter sets are not
+// judged. While the sets do not pay, the search fires every enabled
+// transition (a stubborn set too) and computes them again on one marking
+// in kReductionRetry, which may turn them back on. Each marking may use any
+// stubborn set: the argument in stubborn.h holds marking by marking.
 constexpr std::uint64_t kStepsPerPruned = 256;
 constexpr std::uint64_t kJudgeWindow = 64;
-constexpr std::uint64_t kJudgeAfter = 4;
+constexpr std::uint64_t kJudgeAfter = 16;
 constexpr std::uint64_t kReductionRetry = 16;
-// See QuestionSearch::hand_over_to_explorer.
-constexpr std::uint64_t kExplorerAfter = 256;
-constexpr std::uint64_t kExplorerEarly = 64;
-constexpr std::uint64_t kRevisitsPerMarking = 4;
+constexpr std::uint64_t kReductionRetryMax = 4096;
 
 class QuestionSearch {
  public:
@@ -42,7 +44,7 @@ class QuestionSearch {
       : net_(net),
         q_(q),
         o_(o),
-        store_(net.initial_marking()),
+        store_(net),
         stubborn_(net),
         is_enabled_(net.transition_count(), 0),
         missing_(net.transition_count(), 0),
@@ -63,11 +65,6 @@ class QuestionSearch {
         change[a.node] = 0;
       }
       delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
-      std::uint64_t h = 0;
-      for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
-        h += static_cast<std::uint64_t>(deltas_[i].change) * store_.key(deltas_[i].place);
-      }
-      hash_change_.push_back(h);
     }
   }
 
@@ -118,7 +115,6 @@ class QuestionSearch {
         continue;
       }
       if (!store_.insert_current()) {
-        ++revisits_;
         apply(m, t, -1);
         continue;
       }
@@ -147,7 +143,6 @@ class QuestionSearch {
           return;
         }
       }
-      if (hand_over_to_explorer(r)) return;
       frames_.emplace_back(static_cast<std::uint32_t>(cand_.size()), t);
       if (at_goal(m)) {
         for (std::size_t k = 1; k < frames_.size(); ++k) r.witness.push_back(frames_[k].via);
@@ -182,91 +177,40 @@ class QuestionSearch {
   }
 
   // Appends the transitions to try from m (enabled_ is m's enabled set;
-  // none when terminal_), their successors' table slots prefetched.
+  // none when terminal_).
   void candidates(const Marking& m) {
-    const std::size_t first = cand_.size();
-    choose(m);
-    for (std::size_t k = first; k < cand_.size(); ++k) store_.prefetch(hash_change_[cand_[k]]);
-  }
-  void choose(const Marking& m) {
     ++visited_;
     if (terminal_) return;
-    if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ % kReductionRetry != 0)) {
+    if (!reduce_ || enabled_.size() <= 1 || (!reducing_ && visited_ < next_retry_)) {
       cand_.insert(cand_.end(), enabled_.begin(), enabled_.end());
       return;
     }
-    // A deadlock set costing more than it could save (all but one pruned) is given up.
+    // A deadlock set's search stops at what it could save (all but one pruned).
     const std::uint64_t steps =
         q_.kind == QuestionKind::Deadlock
             ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
             : stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     cand_.insert(cand_.end(), set_.begin(), set_.end());
-    judge(steps, enabled_.size(), enabled_.size() - set_.size());
+    judge(steps, enabled_.size() - set_.size());
   }
 
   // The continuous judgement (kStepsPerPruned).
-  void judge(std::uint64_t steps, std::uint64_t enabled, std::uint64_t pruned) {
-    total_pruned_ += pruned;
-    could_prune_ += enabled - 1;
+  void judge(std::uint64_t steps, std::uint64_t pruned) {
     steps_ += steps;
     pruned_ += pruned;
     if (++sets_ % kJudgeWindow == 0) {
       steps_ /= 2;
       pruned_ /= 2;
     }
-    if (sets_ >= kJudgeAfter) reducing_ = steps_ <= kStepsPerPruned * pruned_;
-  }
-
-  // The deadlock question, when the stubborn sets have pruned nothing: the
-  // breadth-first explorer fires transitions two to three times faster than
-  // this search on nets of some size, but starts slower (P-semiflows,
-  // layout: 0.03 to 0.13 ms on most MCC nets, about what this search takes
-  // for a few hundred markings; 17 ms on IBM319-PT-none). It takes over
-  //   - after kExplorerEarly markings when the sets could have pruned
-  //     kExplorerEarly transitions (the sum of their enabled transitions
-  //     less one) and pruned none: wide sets that prune nothing
-  //     (Dekker-PT-010: 10 to 34 enabled transitions, all in every set);
-  //   - else after kExplorerAfter markings (narrow sets: LamportFastMutEx-PT-2
-  //     prunes first at its 112th marking, with 2 enabled in each set before);
-  // and only once the search keeps coming back to markings it has stored
-  // (a firing into one for every kRevisitsPerMarking markings stored): a
-  // search that dives from new marking to new marking may be on its way to a
-  // deadlock that the explorer, breadth first, would reach only after every
-  // marking nearer the initial one (counters sharing a pool:
-  // question_test.cpp), so it goes on.
-  // The explorer decides the question whole, counting nothing it does not
-  // need (ExploreOptions::statistics). True when it did (no deadlock, or a
-  // limit); when it found a deadlock, the search goes on for the witness.
-  bool hand_over_to_explorer(QuestionResult& r) {
-    if (handed_over_ || q_.kind != QuestionKind::Deadlock || !reduce_ || total_pruned_ > 0 || sets_ < kJudgeAfter) {
-      return false;
-    }
-    const std::uint64_t n = store_.size();
-    if (n < kExplorerAfter && (n < kExplorerEarly || could_prune_ < kExplorerEarly)) return false;
-    if (revisits_ * kRevisitsPerMarking < n) return false;
-    r.searched_before_explorer = n;
-    handed_over_ = true;
-    ExploreOptions eo;
-    eo.liveness = false;
-    eo.statistics = false;
-    eo.max_states = o_.max_states;
-    eo.max_memory_bytes = o_.max_memory_bytes;
-    eo.deadline = o_.deadline;
-    eo.progress = o_.progress;
-    eo.progress_every = o_.progress_every;
-    const ExploreResult full = explore(net_, eo);
-    if (full.complete && full.deadlock) return false;
-    r.by_exploration = true;
-    r.edges += full.edges;
-    if (!full.complete) {
-      stop(r, full.stopped_why);
+    if (sets_ < kJudgeAfter) return;
+    const bool was = reducing_;
+    reducing_ = q_.kind == QuestionKind::Deadlock ? pruned_ > 0 : steps_ <= kStepsPerPruned * pruned_;
+    if (reducing_) {
+      retry_gap_ = kReductionRetry;
     } else {
-      r.answer = Answer::No;
-      finish(r);
+      if (!was) retry_gap_ = std::min(retry_gap_ * 2, kReductionRetryMax);  // a retry that did not pay
+      next_retry_ = visited_ + retry_gap_;
     }
-    r.states = full.states;
-    r.memory_bytes = full.memory_bytes;
-    return true;
   }
 
   bool fits(const Marking& m, TransitionId t) const {
@@ -338,17 +282,14 @@ class QuestionSearch {
   std::vector<std::uint32_t> missing_;     // by transition: input arcs not satisfied
   std::vector<std::uint32_t> enabled_at_;  // by enabled transition: its index in enabled_
   std::vector<std::uint32_t> delta_begin_;
-  std::vector<PlaceDelta> deltas_;          // by transition: the places it changes
-  std::vector<std::uint64_t> hash_change_;  // by transition
+  std::vector<PlaceDelta> deltas_;  // by transition: the places it changes
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
-  std::uint64_t visited_ = 0, total_pruned_ = 0;
-  std::uint64_t could_prune_ = 0;                    // sum over the sets computed of (enabled transitions - 1)
-  std::uint64_t revisits_ = 0;                       // firings that reached a marking already stored
-  std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;  // judge()
+  std::uint64_t visited_ = 0;
+  std::uint64_t next_retry_ = 0, retry_gap_ = kReductionRetry;  // judge()
+  std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;             // judge()
   bool reduce_ = o_.reduction && o_.terminal_places.empty();
   bool reducing_ = true;
-  bool handed_over_ = false;
   bool terminal_ = false;  // the current marking has a token in a terminal place
 };
 

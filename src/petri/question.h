@@ -11,21 +11,16 @@
 // the firing sequence from the initial marking to the marking found (the
 // path of the search: not the shortest); replay() checks it.
 //
-// The stubborn sets are computed while they pay for themselves (their cost
-// against the transitions they prune, judged as the search goes; see
-// question.cpp). The deadlock question with reduction: when they have
-// pruned nothing (judged after 64 markings when they are wide, else after
-// 256) and the search keeps meeting markings it has seen, the full
-// exploration (explorer.h), faster per firing, decides it instead
-// (by_exploration); when it finds a deadlock, the search goes on for the
-// witness.
+// The stubborn sets are computed while they pay for themselves (see
+// question.cpp). The search decides every question itself: it never hands
+// one over to the full exploration.
 //
 // Limits: max_states, max_memory_bytes, deadline and the progress callback stop the
 // search; the answer is then NotDecided, never a yes or no it has not seen.
 //
-// Storage: every visited marking, one byte per place while every count
-// fits (else 4 bytes per place: the store is re-packed once), in an
-// open-addressing hash table of 4-byte indexes, and the search stack.
+// Storage: every visited marking in the full exploration's packed storage
+// (packed_markings.h: bit fields, widened as counts grow, in the slots of an
+// open-addressing hash table), and the search stack.
 // Threads: one.
 #include <chrono>
 #include <cstdint>
@@ -35,7 +30,7 @@
 #include <vector>
 
 #include "core/result.h"
-#include "petri/explorer.h"
+#include "petri/explorer.h"  // ExploreProgress
 #include "petri/net.h"
 #include "petri/predicate.h"
 
@@ -70,15 +65,10 @@ struct QuestionResult {
   std::vector<TransitionId> witness;
   Marking witness_marking;
   std::string structural_reason;  // set when structure alone answered
-  bool by_exploration = false;    // the full exploration decided (see above); states are its count
   std::string stopped_why;        // when NotDecided
   std::uint64_t states = 0;       // markings visited (stored)
   std::uint64_t edges = 0;        // transitions fired by the search
   std::size_t memory_bytes = 0;   // the store at the end
-  // When the explorer was handed the question: the markings the search had
-  // stored then (also when the explorer found a deadlock and the search went
-  // on for the witness).
-  std::uint64_t searched_before_explorer = 0;
 };
 
 QuestionResult answer_question(const Net& net, const Question& question, const QuestionOptions& options = {});

@@ -1,6 +1,7 @@
-// The depth-first search and the full explorer: when the stubborn sets
-// prune nothing the search hands a deadlock question over to the explorer
-// (question.cpp, hand_over_to_explorer), and only then; a place only tested
+// The depth-first search where the stubborn sets prune nothing: it decides
+// the deadlock question itself (it once handed it over to the full
+// explorer), in the explorer's packed storage (packed_markings.h), within
+// the memory the explorer takes for the same markings; a place only tested
 // is no conflict. Every answer is the full exploration's.
 #include <gtest/gtest.h>
 
@@ -64,25 +65,25 @@ Net locked_ring(unsigned n, Tokens k, bool read_lock) {
   return std::move(b).build();
 }
 
-TEST(QuestionDeadlock, WhenStubbornSetsPruneNothingTheExplorerDecidesAndTheWitnessIsStillFound) {
+TEST(QuestionDeadlock, WhenStubbornSetsPruneNothingTheSearchDecidesInPackedStorage) {
   const Net with_deadlock = pooled_counters(4, 4);  // 625 markings
   const Question q = ask(with_deadlock, "deadlock");
   const QuestionResult r = answer_question(with_deadlock, q);
   EXPECT_EQ(Answer::Yes, r.answer);
-  EXPECT_FALSE(r.by_exploration);
   expect_witness_replays(with_deadlock, q, r);
-  // A lock around a ring: no deadlock, decided by the explorer.
+  // A lock around a ring: no deadlock, every marking searched, no more
+  // memory than the explorer's table and queue for them.
   const Net free = locked_ring(7, 5, false);
   const ExploreResult all = explore(free);
   const QuestionResult full = answer_question(free, ask(free, "deadlock"));
   EXPECT_EQ(Answer::No, full.answer);
-  EXPECT_TRUE(full.by_exploration);
   EXPECT_EQ(all.states, full.states);
+  EXPECT_LE(full.memory_bytes, all.memory_bytes);
   QuestionOptions limited;
-  limited.max_states = all.states - 1;  // the explorer, handed the question, stops one short
+  limited.max_states = all.states - 1;  // the search stops one short
   const QuestionResult stopped = answer_question(free, ask(free, "deadlock"), limited);
   EXPECT_EQ(Answer::NotDecided, stopped.answer);
-  EXPECT_TRUE(stopped.by_exploration);
+  EXPECT_EQ(all.states - 1, stopped.states);
 }
 
 // n processes, each idle or busy, all through one pool of n + 1 tokens:
@@ -109,39 +110,61 @@ Net shared_pool(unsigned n) {
   return std::move(b).build();
 }
 
-TEST(QuestionDeadlock, WideSetsThatPruneNothingAreHandedOverEarly) {
-  // Ten enabled transitions at every marking, none pruned: the explorer
-  // takes over after 64 markings (not 256), and its answer is the full
-  // exploration's.
+TEST(QuestionDeadlock, WideSetsThatPruneNothingAreSearchedWhole) {
+  // Ten enabled transitions at every marking, none pruned: the search
+  // visits every marking itself, in no more memory than the explorer.
   const Net net = shared_pool(10);
   const ExploreResult all = explore(net);
   ASSERT_EQ(1024u, all.states);
   const QuestionResult r = answer_question(net, ask(net, "deadlock"));
   EXPECT_EQ(Answer::No, r.answer);
-  EXPECT_TRUE(r.by_exploration);
   EXPECT_EQ(all.states, r.states);
-  EXPECT_GE(r.searched_before_explorer, 64u);
-  EXPECT_LT(r.searched_before_explorer, 256u);
-  // Where the sets prune, no hand-over: Referendum's voters are independent.
+  EXPECT_LE(r.memory_bytes, all.memory_bytes);
+  // Where the sets prune, fewer: Referendum's voters are independent.
   const Net votes = referendum(8);
   const QuestionResult v = answer_question(votes, ask(votes, "deadlock"));
   EXPECT_EQ(Answer::Yes, v.answer);
-  EXPECT_FALSE(v.by_exploration);
-  EXPECT_EQ(0u, v.searched_before_explorer);
+  EXPECT_LT(v.states, explore(votes).states);
+}
+
+// A place no P-semiflow covers starts in a field as wide as its initial
+// tokens: 300 firings into it widen the field four times (1 to 16 bits),
+// re-packing every stored marking, as in the explorer.
+TEST(QuestionDeadlock, AFieldThatOverflowsIsWidened) {
+  NetBuilder b;
+  PlaceId budget = b.add_place("budget", 300);
+  PlaceId heap = b.add_place("heap", 0);
+  TransitionId one = b.add_transition("one");
+  b.add_input(one, budget);
+  b.add_output(one, heap);
+  TransitionId two = b.add_transition("two");  // with `one`, no P-semiflow covers heap
+  b.add_input(two, budget);
+  b.add_output(two, heap, 2);
+  const Net net = std::move(b).build();
+  const Question q = ask(net, "deadlock");
+  const QuestionResult r = answer_question(net, q, with_reduction(false));
+  EXPECT_EQ(Answer::Yes, r.answer);
+  EXPECT_EQ(301u, r.states);  // `one` first, 300 times
+  ASSERT_TRUE(r.has_witness);
+  EXPECT_EQ(300u, r.witness_marking[heap]);
+  expect_witness_replays(net, q, r);
+  // Every marking, (k1, k2) with k1 + k2 <= 300: C(302, 2).
+  const QuestionResult all = answer_question(net, ask(net, "EF heap == 601"), with_reduction(false, false));
+  EXPECT_EQ(Answer::No, all.answer);
+  EXPECT_EQ(45451u, all.states);
 }
 
 TEST(QuestionDeadlock, ASearchDivingToADeadlockIsNotHandedOver) {
   // 70 counters on one pool: sets of 70 enabled transitions prune nothing,
   // but every firing reaches a new marking and the 281st is the deadlock.
-  // Handed over after 256 markings (as it was), the explorer would face
-  // 5^70 markings: here it would stop at the limit, not decided.
+  // Handed over to the explorer after 256 markings (as it once was), it
+  // would have faced 5^70 markings.
   const Net net = pooled_counters(70, 4);
   QuestionOptions o;
   o.max_states = 10'000;
   const Question q = ask(net, "deadlock");
   const QuestionResult r = answer_question(net, q, o);
   EXPECT_EQ(Answer::Yes, r.answer);
-  EXPECT_FALSE(r.by_exploration);
   EXPECT_EQ(281u, r.states);
   expect_witness_replays(net, q, r);
 }
@@ -152,7 +175,6 @@ TEST(QuestionDeadlock, APlaceOnlyTestedIsNoConflict) {
   const Net net = locked_ring(7, 5, true);
   const QuestionResult r = answer_question(net, ask(net, "deadlock"));
   EXPECT_EQ(Answer::No, r.answer);
-  EXPECT_FALSE(r.by_exploration);
   EXPECT_LT(r.states, 100u);
   EXPECT_EQ(462u, explore(net).states);
 }

@@ -4,12 +4,19 @@
 
 namespace strata::petri {
 
+namespace {
+// The deletion algorithm may take this many times the budget of the
+// component search (it tries each enabled transition in turn).
+constexpr std::uint64_t kDeletionBudget = 4;
+}  // namespace
+
 StubbornSets::StubbornSets(const Net& net)
     : net_(net),
       stamp_(net.transition_count(), 0),
       number_(net.transition_count(), 0),
       low_(net.transition_count(), 0),
-      on_stack_(net.transition_count(), 0) {
+      on_stack_(net.transition_count(), 0),
+      reach_(net.transition_count(), 0) {
   const std::size_t places = net.place_count();
   const std::size_t transitions = net.transition_count();
   // One pass over each transition's arcs (Net::incidence would search them
@@ -85,11 +92,15 @@ StubbornSets::StubbornSets(const Net& net)
     }
     needs_begin_.push_back(static_cast<std::uint32_t>(needs_.size()));
   }
+  build_reverse();
 }
 
 void StubbornSets::next_generation() {
   if (++generation_ == 0) {  // wrapped: old stamps could collide
     std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(deleted_.begin(), deleted_.end(), 0);
+    std::fill(dead_.begin(), dead_.end(), 0);
+    std::fill(options_stamp_.begin(), options_stamp_.end(), 0);
     generation_ = 1;
   }
   work_.clear();
@@ -98,13 +109,18 @@ void StubbornSets::next_generation() {
 
 std::span<const TransitionId> StubbornSets::needed_by(TransitionId t, std::span<const Tokens> m, bool enabled) const {
   if (enabled) return {needs_.data() + needs_begin_[t], needs_.data() + needs_begin_[t + 1]};
-  // The scapegoat: an input place short of tokens, with the fewest
-  // transitions that increase it.
+  // The scapegoat: an input place short of tokens whose increasing
+  // transitions are already in the set, or the fewest of them not yet in
+  // (then the fewest in all): a set that closes on itself stays small.
   PlaceId best = 0;
-  std::uint32_t best_count = UINT32_MAX;
+  std::uint64_t best_count = UINT64_MAX;
   for (const Arc& in : net_.inputs(t)) {
     if (m[in.node] >= in.weight) continue;
-    const std::uint32_t count = inc_begin_[in.node + 1] - inc_begin_[in.node];
+    std::uint64_t fresh = 0;
+    for (std::uint32_t i = inc_begin_[in.node]; i < inc_begin_[in.node + 1]; ++i) {
+      fresh += stamp_[inc_[i]] != generation_ ? 1 : 0;
+    }
+    const std::uint64_t count = (fresh << 32) | (inc_begin_[in.node + 1] - inc_begin_[in.node]);
     if (count < best_count) {
       best = in.node;
       best_count = count;
@@ -127,57 +143,105 @@ void StubbornSets::close(std::span<const Tokens> m, const std::vector<char>& is_
 std::uint64_t StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
                                          const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
                                          std::uint64_t max_work) {
-  // Tarjan from the enabled transition needing the fewest others. The
-  // components complete in reverse topological order: the first with an
-  // enabled member reaches no other enabled transition beyond itself, so
-  // its enabled members are those of its closure.
+  // Tarjan over "u needs v" from every enabled transition (the fewest needs
+  // first). The components complete in reverse topological order, each
+  // knowing whether its closure holds an enabled transition (reach_); one
+  // with enabled members whose other successors reach none closes a set
+  // whose enabled members are its own. The smallest such set is kept.
   next_generation();
   calls_.clear();
   out.clear();
-  TransitionId root = enabled[0];
-  for (TransitionId t : enabled) {
-    if (needs_begin_[t + 1] - needs_begin_[t] < needs_begin_[root + 1] - needs_begin_[root]) root = t;
-  }
+  roots_.assign(enabled.begin(), enabled.end());
+  std::sort(roots_.begin(), roots_.end(), [&](TransitionId a, TransitionId b) {
+    const std::uint32_t na = needs_begin_[a + 1] - needs_begin_[a], nb = needs_begin_[b + 1] - needs_begin_[b];
+    return na != nb ? na < nb : a < b;
+  });
   std::uint32_t counter = 0;
+  std::size_t best = SIZE_MAX;
   auto visit = [&](TransitionId t) {
     ++steps_;
     stamp_[t] = generation_;
     number_[t] = low_[t] = counter++;
     on_stack_[t] = 1;
+    reach_[t] = 0;
     work_.push_back(t);
     const auto next = needed_by(t, m, is_enabled[t] != 0);
     calls_.push_back({t, 0, static_cast<std::uint32_t>(next.size()), next.data()});
   };
-  visit(root);
-  while (out.empty()) {
-    if (steps_ > max_work) {
-      out.assign(enabled.begin(), enabled.end());
-      break;
-    }
-    Call& c = calls_.back();
-    if (c.next < c.end) {
-      ++steps_;
-      const TransitionId u = c.list[c.next++];
-      if (stamp_[u] != generation_) {
-        visit(u);
-      } else if (on_stack_[u]) {
-        low_[c.t] = std::min(low_[c.t], number_[u]);
+  for (TransitionId root : roots_) {
+    if (stamp_[root] == generation_) continue;
+    if (best == 1) break;  // none smaller
+    if (steps_ > max_work) break;
+    visit(root);
+    while (!calls_.empty()) {
+      if (steps_ > max_work) {  // the best set so far, if any
+        calls_.clear();
+        break;
       }
-      continue;
+      Call& c = calls_.back();
+      if (c.next < c.end) {
+        ++steps_;
+        const TransitionId u = c.list[c.next++];
+        if (stamp_[u] != generation_) {
+          visit(u);
+        } else if (on_stack_[u]) {
+          low_[c.t] = std::min(low_[c.t], number_[u]);
+        } else {
+          if (reach_[u]) reach_[c.t] = 1;  // a completed component
+        }
+        continue;
+      }
+      const TransitionId t = c.t;
+      calls_.pop_back();
+      if (low_[t] != number_[t]) {
+        Call& parent = calls_.back();  // t's component is not complete: the parent is in it
+        low_[parent.t] = std::min(low_[parent.t], low_[t]);
+        if (reach_[t]) reach_[parent.t] = 1;
+        continue;
+      }
+      // The component: work_ from t to the top.
+      std::size_t first = work_.size();
+      bool outside = false;
+      std::size_t own = 0;
+      do {
+        --first;
+        on_stack_[work_[first]] = 0;
+        outside = outside || reach_[work_[first]] != 0;
+        own += is_enabled[work_[first]] ? 1 : 0;
+      } while (work_[first] != t);
+      if (own > 0 && !outside && own < best) {
+        best = own;
+        out.clear();
+        for (std::size_t k = first; k < work_.size(); ++k) {
+          if (is_enabled[work_[k]]) out.push_back(work_[k]);
+        }
+      }
+      const char r = (outside || own > 0) ? 1 : 0;
+      for (std::size_t k = first; k < work_.size(); ++k) reach_[work_[k]] = r;
+      work_.resize(first);
+      if (r && !calls_.empty()) reach_[calls_.back().t] = 1;
     }
-    const TransitionId t = c.t;
-    calls_.pop_back();
-    if (!calls_.empty()) low_[calls_.back().t] = std::min(low_[calls_.back().t], low_[t]);
-    if (low_[t] != number_[t]) continue;
-    // The component: work_ from t to the top.
-    std::size_t first = work_.size();
-    do {
-      --first;
-      on_stack_[work_[first]] = 0;
-      if (is_enabled[work_[first]]) out.push_back(work_[first]);
-    } while (work_[first] != t);
-    work_.resize(first);
   }
+  if (out.empty()) {
+    out.assign(enabled.begin(), enabled.end());
+  } else if (out.size() > 1) {
+    // The deletion algorithm on top: the transitions outside the set
+    // first, which leaves at most its enabled ones, then its own.
+    std::sort(out.begin(), out.end());
+    roots_.clear();
+    for (TransitionId t : enabled) {
+      if (!std::binary_search(out.begin(), out.end(), t)) roots_.push_back(t);
+    }
+    std::sort(roots_.begin(), roots_.end());  // whatever order `enabled` came in
+    roots_.insert(roots_.end(), out.begin(), out.end());
+    work_.clear();
+    shrink(m, enabled.size(), is_enabled, max_work == UINT64_MAX ? max_work : steps_ + kDeletionBudget * max_work);
+    out.clear();
+    for (TransitionId t : enabled) {
+      if (deleted_[t] != generation_) out.push_back(t);
+    }
+  }
+  std::sort(out.begin(), out.end());
   return steps_;
 }
 

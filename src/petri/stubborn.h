@@ -18,13 +18,27 @@
 // every path to a deadlock fires some transition of S, since the key stays
 // enabled otherwise. Firing only S's enabled transitions keeps a shortest
 // path to a deadlock one step shorter, so every deadlock stays reachable.
-// The set is found in one pass of Tarjan's strongly connected components
-// over the graph "u in S needs v in S" (the scapegoats chosen as it goes),
-// from the enabled transition that needs the fewest others: the first
-// component completed with an enabled member reaches no other enabled
-// transition, so the set it closes has exactly its enabled members. One
-// search costs at most the closure of that transition, where trying
-// several keys cost a closure each.
+// The set is found in two stages (Valmari's two algorithms, combined):
+//   1. Tarjan's strongly connected components over the graph "u in S needs
+//      v in S" (the scapegoats chosen as it goes), from every enabled
+//      transition (those needing the fewest others first). A component
+//      with enabled members whose other successors reach no enabled
+//      transition closes a set whose enabled members are its own; the one
+//      with the fewest is kept (one with a single enabled member ends it).
+//   2. The deletion algorithm on top: start from every transition (a
+//      stubborn set) and delete one enabled transition at a time, with
+//      whatever then breaks a rule: an enabled transition needing a deleted
+//      one; a disabled one whose every short input place lost an increasing
+//      transition (so no scapegoat is left). A deletion that would leave no
+//      enabled transition is undone. The enabled transitions outside stage
+//      1's set are tried first (they all go: that set never needs them),
+//      then its own: the result has at most its enabled members, and may
+//      use other scapegoats than the ones stage 1 fixed.
+// The scapegoat of a disabled transition in stage 1: a short input place
+// whose increasing transitions are already in the graph, else the fewest
+// not yet in, then the fewest in all. The enabled members come out in
+// increasing TransitionId (the order the search fires them: declaration
+// order, as LoLA's).
 //
 // EF φ, φ false at m: S also holds up(φ, m), transitions one of which every
 // path making φ true must fire: for "x >= k" false, the transitions that
@@ -54,9 +68,11 @@ class StubbornSets {
   // transitions pruned; question.cpp).
   //
   // The enabled transitions of a stubborn set at m for the deadlock question,
-  // into out (cleared first). `enabled` lists m's enabled transitions (not
-  // empty); `is_enabled` is indexed by TransitionId. Past max_work it gives
-  // up: out is then every enabled transition (a stubborn set too).
+  // into out (cleared first), in increasing TransitionId. `enabled` lists
+  // m's enabled transitions (not empty); `is_enabled` is indexed by
+  // TransitionId. Past max_work stage 1 stops with the best set so far, or
+  // every enabled transition (a stubborn set too) when it has none; stage 2
+  // may take kDeletionBudget times max_work more (stubborn.cpp).
   std::uint64_t for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
                              const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
                              std::uint64_t max_work = UINT64_MAX);
@@ -98,6 +114,11 @@ class StubbornSets {
   // reachable, on the stack.
   std::vector<std::uint32_t> number_, low_;
   std::vector<char> on_stack_;
+  // By transition, once its component is complete: its closure holds an
+  // enabled transition; before: one of its successors' closures outside
+  // its component does.
+  std::vector<char> reach_;
+  std::vector<TransitionId> roots_;
   struct Call {
     TransitionId t;
     std::uint32_t next, end;  // its successors: (*list)[next, end)
@@ -105,6 +126,25 @@ class StubbornSets {
   };
   std::vector<Call> calls_;
   std::uint64_t steps_ = 0;  // the work of the current call
+
+  // The deletion algorithm (stubborn_deletion.cpp).
+  void build_reverse();
+  std::uint32_t options_of(TransitionId t, std::span<const Tokens> m);
+  std::size_t delete_from(TransitionId t0, std::span<const Tokens> m, const std::vector<char>& is_enabled);
+  void undo_to(std::size_t mark);
+  // Deletes roots_ in turn (each with what then breaks a rule) while an
+  // enabled transition is left; a deletion that would leave none is undone.
+  void shrink(std::span<const Tokens> m, std::size_t enabled, const std::vector<char>& is_enabled,
+              std::uint64_t max_work);
+  std::vector<std::uint32_t> rneeds_begin_, raises_begin_;
+  std::vector<TransitionId> rneeds_;
+  std::vector<PlaceId> raises_;
+  std::vector<std::uint32_t> deleted_, dead_, options_, options_stamp_;
+  struct Undo {
+    enum class Kind : std::uint8_t { Transition, Place, Options, Fresh } kind;
+    std::uint32_t node, value;
+  };
+  std::vector<Undo> log_;
 };
 
 }  // namespace strata::petri
