@@ -40,6 +40,8 @@
 //     driver.pl): it is made before anything else in this program touches
 //     Prolog, by whichever prolog/ or run/tank/prolog benchmark comes first,
 //     and its wall_time_s is reported as first_run_ms on run/tank/prolog.
+//     The driver comes precompiled from the build folder
+//     (STRATA_PROLOG_DRIVER, unless already set: "" for its text).
 //     Target: PROLOG ms_per_run within 2x of CORAL's.
 //
 // A run or query that does not end as it should stops its benchmark with
@@ -49,6 +51,7 @@
 #include <unistd.h>
 
 #include <asio.hpp>
+#include <cstdlib>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -289,6 +292,8 @@ void register_all() {
 }  // namespace strata
 
 int main(int argc, char** argv) {
+  // This program is not beside the precompiled driver, as strata is.
+  ::setenv("STRATA_PROLOG_DRIVER", STRATA_PRECOMPILED_DRIVER, 0);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   strata::register_all();

@@ -18,6 +18,9 @@ install(TARGETS strata RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # any shared object one folder below /usr/lib, which ld.so does not search
 # for a private module (lintian: maintscript-calls-ldconfig).
 install(TARGETS strata_studio_http LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/strata/modules)
+# The precompiled PROLOG driver, loaded by strata from BINDIR/../LIBDIR/strata
+# (src/strategic/prolog_driver_precompiled.h); built with strata_strategic.
+install(FILES ${STRATA_PRECOMPILED_DRIVER} DESTINATION ${CMAKE_INSTALL_LIBDIR}/strata)
 # Gzipped by the build (cmake/gzip_man_pages.cmake); man reads them so.
 install(DIRECTORY ${STRATA_GEN_DIR}/man/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1.gz")
 install(FILES ${STRATA_GEN_DIR}/completion/strata.bash

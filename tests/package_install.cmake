@@ -56,7 +56,8 @@ foreach(f usr/bin/strata usr/share/man/man1/strata.1.gz usr/share/man/man1/strat
           usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
           usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
           usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl
-          usr/lib/strata/modules/libstrata_studio_http.so usr/share/doc/strata/copyright
+          usr/lib/strata/modules/libstrata_studio_http.so usr/lib/strata/strata_driver.qlf
+          usr/share/doc/strata/copyright
           usr/share/doc/strata/changelog.gz)
   if(NOT EXISTS ${root}/${f})
     fail("${f} is not installed")
@@ -100,6 +101,15 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_LIBRARY ${strata}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   fail("strata check of rules using the installed library: exit ${rc}\n${out}${err}")
+endif()
+# The precompiled PROLOG driver from the installed library folder
+# (src/strategic/prolog_driver_precompiled.h): the tank rules check without
+# a note that it was missing or not this strata's.
+execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_PROLOG_DRIVER ${strata} check
+                        ${root}/usr/share/strata/missions/tank/tank.pl
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR err MATCHES "note:")
+  fail("strata check of the installed tank rules with the installed driver: exit ${rc}\n${out}${err}")
 endif()
 execute_process(COMMAND ${strata} --version OUTPUT_VARIABLE version)
 if(NOT version MATCHES "^strata [0-9]+\\.[0-9]+\\.[0-9]+ \\([^)]+\\)")

@@ -1,7 +1,8 @@
 // The PROLOG driver (prolog/driver.pl with driver_load.pl and
-// driver_sandbox.pl, prolog/driver_check.pl and prolog/driver_keep.pl,
-// compiled in): loading it once into the engine, and
-// calling its predicates.
+// driver_sandbox.pl, prolog/driver_check.pl and prolog/driver_keep.pl, the
+// libraries of prolog/driver_libraries.pl, compiled in): loading it once
+// into the engine, precompiled or from its text, and calling its predicates.
+#include <iostream>
 #include <string>
 #include <string_view>
 
@@ -10,7 +11,9 @@
 #include "strategic/prolog_driver.h"
 #include "strategic/prolog_driver_check_text.h"
 #include "strategic/prolog_driver_keep_text.h"
+#include "strategic/prolog_driver_libraries_text.h"
 #include "strategic/prolog_driver_load_text.h"
+#include "strategic/prolog_driver_precompiled.h"
 #include "strategic/prolog_driver_sandbox_text.h"
 #include "strategic/prolog_driver_text.h"
 
@@ -85,17 +88,40 @@ core::Result<void> load_module_text(const char* name, std::string_view text, con
   return {};
 }
 
+// The driver from its text: the libraries it uses first, in the order of
+// driver_libraries.pl and importing nothing (as precompile_driver.pl
+// compiles them), then its files.
+core::Result<void> load_driver_text() {
+  if (auto r = load_module_text("strata_driver_libraries", kDriverLibrariesText); !r) return r;
+  auto libraries = prolog::call_once(
+      "forall(strata_driver_libraries:driver_library(Spec),"
+      " load_files(user:Spec, [if(not_loaded), silent(true), imports([])]))");
+  if (!libraries || !libraries.value()) {
+    return core::make_error(core::ErrorCode::Internal,
+                            fmt::format("the PROLOG driver's libraries did not load: {}",
+                                        libraries ? std::string("failed") : libraries.error().message));
+  }
+  if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
+  if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
+  if (auto r = load_module_text("strata_driver_load", kDriverLoadText, "strata_driver"); !r) return r;
+  if (auto r = load_module_text("strata_driver_sandbox", kDriverSandboxText, "strata_driver"); !r) return r;
+  return load_module_text("strata_driver_keep", kDriverKeepText);
+}
+
 }  // namespace
 
 core::Result<void> ensure_driver() {
   static bool loaded = false;
   if (loaded) return {};
   if (auto r = prolog::initialise(); !r) return r.error();
-  if (auto r = load_module_text("strata_driver_check", kDriverCheckText); !r) return r;
-  if (auto r = load_module_text("strata_driver", kDriverText); !r) return r;
-  if (auto r = load_module_text("strata_driver_load", kDriverLoadText, "strata_driver"); !r) return r;
-  if (auto r = load_module_text("strata_driver_sandbox", kDriverSandboxText, "strata_driver"); !r) return r;
-  if (auto r = load_module_text("strata_driver_keep", kDriverKeepText); !r) return r;
+  PrecompiledDriver precompiled = load_precompiled_driver();
+  if (!precompiled.loaded) {
+    if (!precompiled.note.empty()) {
+      std::cerr << "strata: note: the precompiled PROLOG driver " << precompiled.note
+                << "; loading the driver from its text instead (a slower start)\n";
+    }
+    if (auto r = load_driver_text(); !r) return r;
+  }
   register_foreign_predicates();
   if (auto set = prolog::call_once("assertz(strata_driver:uncatchable_stops)"); !set || !set.value()) {
     return core::make_error(core::ErrorCode::Internal, "cannot set up the PROLOG driver");

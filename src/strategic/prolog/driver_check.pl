@@ -22,14 +22,21 @@
 % that before it is read (prolog_mission.cpp, scan_rules_text); text a mission
 % builds cannot be, so the predicates that parse text as a term are refused
 % (docs/prolog.md, section 7). library(sandbox) lists them as safe and asks
-% safe_primitive/1 before any other hook: these clauses come before its
-% own, as this file loads first (ensure_driver, prolog_mission.cpp), and the
-% directive at the end of this file checks that they do.
-:- multifile sandbox:safe_primitive/1.
-sandbox:safe_primitive(system:term_to_atom(_, _)) :- parses_text(term_to_atom/2).
-sandbox:safe_primitive(system:atom_to_term(_, _, _)) :- parses_text(atom_to_term/3).
-sandbox:safe_primitive(system:term_string(_, _)) :- parses_text(term_string/2).
-sandbox:safe_primitive('$syspreds':term_string(_, _, _)) :- parses_text(term_string/3).
+% safe_primitive/1 before any other hook: that predicate is wrapped here,
+% so the refusal comes before every clause of it, whichever file loaded
+% first (ensure_driver, prolog_driver.cpp, loads library(sandbox) before
+% this file); the directive at the end of this file checks that it does.
+:- use_module(library(prolog_wrap)).
+:- wrap_predicate(sandbox:safe_primitive(Goal), strata_parses_text, Safe,
+                  (   strata_driver_check:parsing_primitive(Goal, PI)
+                  ->  strata_driver_check:parses_text(PI)
+                  ;   Safe
+                  )).
+
+parsing_primitive(system:term_to_atom(_, _), term_to_atom/2).
+parsing_primitive(system:atom_to_term(_, _, _), atom_to_term/3).
+parsing_primitive(system:term_string(_, _), term_string/2).
+parsing_primitive('$syspreds':term_string(_, _, _), term_string/3).
 
 parses_text(PI) :-
     format(string(Text), "~w is not allowed in a mission: it parses text as a term, and \c
@@ -382,7 +389,7 @@ handler_problem(Module, Handler, Problem) :-
     ).
 
 % The refusals above hold only if they come before library(sandbox)'s own
-% clauses: a driver where they do not is not loaded at all.
+% clauses (the wrapper above): a driver where they do not is not loaded at all.
 :- (   catch(( safe_goal(user:term_to_atom(_, _)), Refused = false ),
              error(strata_refused(term_to_atom/2, _), _),
              Refused = true),

@@ -1,0 +1,128 @@
+// Whole-process start-up of PROLOG commands (issue 41): each benchmark runs
+// two commands in turn, one process each per iteration (posix_spawn, wait),
+// output to /dev/null, and reports the median wall time of each (a_ms,
+// b_ms) and their ratio (b_over_a), measured side by side in one run.
+//
+//   startup/check_pl_vs_swipl     swipl -g halt | strata check tank.pl
+//                                 target: b_over_a <= 2
+//   startup/check_pl_text_vs_swipl  the same with STRATA_PROLOG_DRIVER=""
+//                                 (the driver compiled from its text)
+//   startup/run_pl_vs_coral       strata run tank.coral | strata run tank.pl
+//   startup/check_coral_vs_swipl  swipl -g halt | strata check tank.coral
+//
+// strata is the one built beside this program (STRATA_EXE), which finds the
+// precompiled driver beside it; swipl the one the build found. A command
+// that does not exit 0 stops its benchmark with SkipWithError.
+#include <benchmark/benchmark.h>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kTankProlog = STRATA_SOURCE_DIR "/missions/tank/tank.pl";
+constexpr const char* kTankCoral = STRATA_SOURCE_DIR "/missions/tank/tank.coral";
+
+struct Command {
+  std::vector<std::string> argv;
+  bool driver_text = false;  // STRATA_PROLOG_DRIVER="" (the driver from its text)
+};
+
+// Runs command to its end: wall seconds, or a negative value when it did
+// not start or did not exit 0.
+double run(const Command& command) {
+  std::vector<char*> argv;
+  argv.reserve(command.argv.size() + 1);
+  for (const auto& a : command.argv) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text;
+  for (char** e = environ; *e != nullptr; ++e) {
+    std::string entry(*e);
+    if (entry.rfind("STRATA_PROLOG_DRIVER=", 0) != 0) env_text.push_back(entry);
+  }
+  if (command.driver_text) env_text.emplace_back("STRATA_PROLOG_DRIVER=");
+  std::vector<char*> env;
+  env.reserve(env_text.size() + 1);
+  for (auto& e : env_text) env.push_back(e.data());
+  env.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  const auto start = Clock::now();
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), env.data());
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1.0;
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return -1.0;
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? seconds : -1.0;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
+}
+
+void bm_pair(benchmark::State& st, const Command& a, const Command& b) {
+  std::vector<double> as;
+  std::vector<double> bs;
+  for (auto _ : st) {
+    const double ta = run(a);
+    const double tb = run(b);
+    if (ta < 0 || tb < 0) {
+      const std::string why = (ta < 0 ? a : b).argv[0] + " did not exit 0";
+      st.SkipWithError(why.c_str());
+      return;
+    }
+    as.push_back(ta);
+    bs.push_back(tb);
+  }
+  if (as.empty()) return;
+  st.counters["a_ms"] = median(as) * 1000.0;
+  st.counters["b_ms"] = median(bs) * 1000.0;
+  st.counters["b_over_a"] = median(bs) / median(as);
+}
+
+void register_all() {
+  const Command swipl{{SWIPL_EXE, "-g", "halt"}};
+  const Command check_pl{{STRATA_EXE, "check", kTankProlog}};
+  const Command check_pl_text{{STRATA_EXE, "check", kTankProlog}, true};
+  const Command check_coral{{STRATA_EXE, "check", kTankCoral}};
+  const Command run_pl{{STRATA_EXE, "run", kTankProlog}};
+  const Command run_coral{{STRATA_EXE, "run", kTankCoral}};
+  auto add = [](const char* name, const Command& a, const Command& b) {
+    benchmark::RegisterBenchmark(name, [a, b](benchmark::State& st) { bm_pair(st, a, b); })
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(20);
+  };
+  add("startup/check_pl_vs_swipl", swipl, check_pl);
+  add("startup/check_pl_text_vs_swipl", swipl, check_pl_text);
+  add("startup/run_pl_vs_coral", run_coral, run_pl);
+  add("startup/check_coral_vs_swipl", swipl, check_coral);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  register_all();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
