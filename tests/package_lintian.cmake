@@ -19,18 +19,10 @@ endif()
 find_program(DPKG_DEB dpkg-deb REQUIRED)
 find_program(DPKG_PARSECHANGELOG dpkg-parsechangelog REQUIRED)
 
-set(pkgdir ${WORK_DIR}/lintian-out)
-file(REMOVE_RECURSE ${pkgdir})
+include(${CMAKE_CURRENT_LIST_DIR}/package_cpack.cmake)
 # gzip, not the package's xz: the same files, in seconds rather than minutes
 # for a sanitizer build's binary (lintian refuses no compression at all).
-execute_process(COMMAND cpack -G DEB -B ${pkgdir} --config ${BUILD_DIR}/CPackConfig.cmake
-                        -D CPACK_DEBIAN_COMPRESSION_TYPE=gzip
-                WORKING_DIRECTORY ${BUILD_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-file(GLOB debs ${pkgdir}/*.deb)
-list(LENGTH debs n)
-if(NOT rc EQUAL 0 OR NOT n EQUAL 1)
-  fail("cpack -G DEB: ${rc}, ${n} package(s)\n${out}${err}")
-endif()
+strata_cpack_deb(debs ${WORK_DIR}/lintian-out gzip)
 
 # The changelog shipped is cmake/debian/changelog: a new version needs its entry.
 execute_process(COMMAND ${DPKG_DEB} --field ${debs} Version OUTPUT_VARIABLE version OUTPUT_STRIP_TRAILING_WHITESPACE)

@@ -300,6 +300,14 @@ TEST(VehicleServer, TheHelloTimeoutEndsWithTheHello) {
   EXPECT_FALSE(c.closed);
 }
 
+// A protocol-2 session whose network is up (requests 1 to 3 used).
+bool start_network(Rig& rig, LineClient& c) {
+  c.say("hello 1 hand 2");
+  c.say("ood 2 start_network");
+  c.say("advance 3");
+  return c.wait_for(rig.io, "ok 3");
+}
+
 // The watchdog in protocol 2: silence counts from the last line received or
 // reply sent, so a client holding requests without advancing is silent, and
 // when the watchdog trips it is told what became of them.
@@ -308,10 +316,7 @@ TEST(VehicleServer, RequestsHeldWithoutAnAdvanceAreSilenceAndTheWatchdogTrips) {
   params.watchdog_s = 0.2;  // wall seconds of silence, in lockstep
   Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, params);
   LineClient c(rig.io, rig.server->port());
-  c.say("hello 1 hand 2");
-  c.say("ood 2 start_network");
-  c.say("advance 3");
-  ASSERT_TRUE(c.wait_for(rig.io, "ok 3"));
+  ASSERT_TRUE(start_network(rig, c));
   c.say("exec 4 sleep 1");
   ASSERT_TRUE(c.wait_for(rig.io, "err 4", 3000ms));
   EXPECT_TRUE(c.starting("err 4")[0].starts_with("err 4 not_ready \"the watchdog tripped")) << c.starting("err 4")[0];
@@ -330,10 +335,7 @@ TEST(VehicleServer, InLockstepLinesMoreOftenThanTheLimitKeepTheWatchdogQuietPast
   params.watchdog_s = 3.0;
   Rig rig(vehicle::Scenario::nominal(), protocol::ClockMode::Lockstep, params);
   LineClient c(rig.io, rig.server->port());
-  c.say("hello 1 hand 2");
-  c.say("ood 2 start_network");
-  c.say("advance 3");
-  ASSERT_TRUE(c.wait_for(rig.io, "ok 3"));
+  ASSERT_TRUE(start_network(rig, c));
   for (int i = 0; i < 35; ++i) {
     run_until(rig.io, [] { return false; }, 200ms);
     c.say(fmt::format("ping {}", 10 + i));
