@@ -357,9 +357,9 @@ TEST(VehicleServer, InLockstepAClientThatKeepsAdvancingIsNotSilent) {
   int asks = 0;
   bool slept = false;
   link->send(protocol::make_exec(0, "sleep", {protocol::Value::integer(20)}),
-             [&](core::Result<protocol::VehicleMessage> r) { slept = r.ok(); });
+             [&](const core::Result<protocol::VehicleMessage>& r) { slept = r.ok(); });
   std::function<void()> ask = [&] {
-    link->send(protocol::make_ask(0, "system_problem"), [&](core::Result<protocol::VehicleMessage> r) {
+    link->send(protocol::make_ask(0, "system_problem"), [&](const core::Result<protocol::VehicleMessage>& r) {
       if (r.ok() && ++asks < 150) ask();
     });
   };
