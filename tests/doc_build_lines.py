@@ -92,7 +92,7 @@ LINES = {
         "cmake --preset package && cmake --build --preset package": ("presets", "configure:package", "build:package"),
         "sudo cmake --install build/package": ("install", "sudo"),
         "cmake --install build/package --prefix ~/.local": ("install", "~/.local"),
-        "cd build/package && cpack -G DEB": ("same", "tests/package_install.cmake", "COMMAND cpack -G DEB",
+        "cd build/package && cpack -G DEB": ("same", "tests/package_cpack.cmake", "COMMAND cpack -G DEB",
                                              "WORKING_DIRECTORY ${BUILD_DIR}"),
         "lintian --fail-on error,warning strata_*_amd64.deb": ("same", "tests/package_lintian.cmake",
                                                               "COMMAND ${LINTIAN} --fail-on error,warning"),
