@@ -267,7 +267,7 @@ Runner add_verify_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-liveness", o->no_liveness, "--pnml: skip the liveness pass (a second walk of the graph)");
   add_verbosity_flags(cmd, o->verbosity,
-                      "every property of every net, its place bounds and P-invariants (by default a net whose "
+                      "Every property of every net, its place bounds and P-invariants (by default a net whose "
                       "properties all hold is one line; -q leaves those out)");
   auto q = std::make_shared<QuestionFlags>();
   add_question_options(*cmd, *q);

@@ -337,13 +337,15 @@ TEST(VehicleServer, InLockstepLinesMoreOftenThanTheLimitKeepTheWatchdogQuietPast
   LineClient c(rig.io, rig.server->port());
   ASSERT_TRUE(start_network(rig, c));
   for (int i = 0; i < 35; ++i) {
-    run_until(rig.io, [] { return false; }, 200ms);
+    run_until(
+        rig.io, [] { return false; }, 200ms);
     c.say(fmt::format("ping {}", 10 + i));
     ASSERT_TRUE(c.wait_for(rig.io, fmt::format("pong {}", 10 + i)));
   }
   EXPECT_FALSE(rig.sim.watchdog_tripped()) << ::testing::PrintToString(rig.vehicle_log);
   // ...and silence after the last line still trips it.
-  ASSERT_TRUE(run_until(rig.io, [&] { return rig.sim.watchdog_tripped(); }, 30000ms));
+  ASSERT_TRUE(run_until(
+      rig.io, [&] { return rig.sim.watchdog_tripped(); }, 30000ms));
 }
 
 // ...while a client that keeps advancing is not silent, however much

@@ -193,7 +193,7 @@ class VehicleServer {
   asio::steady_timer tick_timer_;
   asio::steady_timer silence_timer_;
   std::chrono::steady_clock::time_point silence_deadline_{};
-  bool silence_waiting_ = false;     // a wait of silence_timer_ is pending
+  bool silence_waiting_ = false;          // a wait of silence_timer_ is pending
   std::uint64_t silence_generation_ = 0;  // a cancelled wait's handler is stale
   // Connected, no accepted hello yet: each with its hello timer.
   struct WaitingClient {

@@ -37,9 +37,9 @@ void VehicleServer::arm_silence_watchdog() {
   const double limit_s = options_.lockstep_silence_s.value_or(sim_.params().watchdog_s);
   if (limit_s <= 0) return;                             // the controller is in this process: its end closes the link
   const double silence_s = std::min(limit_s, 86400.0);  // a day is "never" here
-  silence_deadline_ = std::chrono::steady_clock::now() +
-                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                          std::chrono::duration<double>(silence_s));
+  silence_deadline_ =
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(silence_s));
   if (!silence_waiting_) wait_for_silence();
 }
 
