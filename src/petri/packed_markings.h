@@ -125,6 +125,12 @@ class PackedMarkings {
     return true;
   }
   bool contains(const std::uint64_t* m) const { return find<0>(m, hash<0>(m)) != kNone; }
+  // Batched lookups (the question's search): m's hash, a prefetch of the
+  // slot a lookup with that hash starts at, and the lookup itself. Issuing
+  // the prefetches of a batch before its lookups overlaps their cache misses.
+  std::uint64_t hash_of(const std::uint64_t* m) const { return hash<0>(m); }
+  void prefetch(std::uint64_t full_hash) const { __builtin_prefetch(&table_[slot_of(full_hash) * words_]); }
+  bool contains(const std::uint64_t* m, std::uint64_t full_hash) const { return find<0>(m, full_hash) != kNone; }
   // The bytes the table takes once it grows for one more marking.
   std::size_t bytes_after_insert() const {
     return (count_ + 1) * 4 > slots_ * 3 ? table_.bytes() + Words::rounded(table_.size() * 16) : table_.bytes();

@@ -81,6 +81,7 @@ class QuestionSearch {
     }
     frames_.emplace_back(0, kNoTransition);
     candidates(m);
+    r.edges += drop_stored(frames_.back().begin);
     std::uint64_t next_progress = o_.progress_every;
     auto last_progress = std::chrono::steady_clock::now();
     const std::uint64_t max_states =
@@ -150,6 +151,7 @@ class QuestionSearch {
         return;
       }
       candidates(m);
+      r.edges += drop_stored(frames_.back().begin);
     }
     r.answer = q_.kind == QuestionKind::Invariant ? Answer::Yes : Answer::No;
     finish(r);
@@ -163,10 +165,7 @@ class QuestionSearch {
     std::uint32_t next = 0;
     Frame(std::uint32_t b, TransitionId v) : begin(b), via(v), next(b) {}
   };
-  struct PlaceDelta {
-    PlaceId place;
-    std::int64_t change;
-  };
+  using PlaceDelta = MarkingStore::Change;
 
   // Whether m is what the search looks for; sets terminal_.
   bool at_goal(const Marking& m) {
@@ -194,6 +193,31 @@ class QuestionSearch {
     judge(steps, enabled_.size() - set_.size());
   }
 
+  // Takes out of cand_[begin, end) the transitions whose successor is
+  // already stored (the store only grows: the search would step back from
+  // it), looked up from the packed current marking without firing. Most
+  // successors are old where the search prunes little (Dekker-PT-015: 60
+  // transitions fired per new marking); firing each, looking it up and
+  // taking it back cost the search twice the explorer's time. Returns how
+  // many went (they count as fired).
+  std::uint64_t drop_stored(std::uint32_t begin) {
+    const TransitionId* ts = cand_.data() + begin;
+    store_.contains_after(
+        cand_.size() - begin,
+        [&](std::size_t i) {
+          return std::span<const PlaceDelta>(deltas_.data() + delta_begin_[ts[i]],
+                                             deltas_.data() + delta_begin_[ts[i] + 1]);
+        },
+        stored_);
+    std::size_t kept = begin;
+    for (std::size_t k = begin; k < cand_.size(); ++k) {
+      if (stored_[k - begin] != 1) cand_[kept++] = cand_[k];
+    }
+    const std::uint64_t dropped = cand_.size() - kept;
+    cand_.resize(kept);
+    return dropped;
+  }
+
   // The continuous judgement (kStepsPerPruned).
   void judge(std::uint64_t steps, std::uint64_t pruned) {
     steps_ += steps;
@@ -216,7 +240,7 @@ class QuestionSearch {
   bool fits(const Marking& m, TransitionId t) const {
     for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
       const PlaceDelta& d = deltas_[i];
-      if (d.change > 0 && std::int64_t{m[d.place]} + d.change > std::int64_t{kMaxTokens}) return false;
+      if (d.by > 0 && std::int64_t{m[d.place]} + d.by > std::int64_t{kMaxTokens}) return false;
     }
     return true;
   }
@@ -225,7 +249,7 @@ class QuestionSearch {
   void apply(Marking& m, TransitionId t, int sign) {
     for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
       const PlaceDelta& d = deltas_[i];
-      m[d.place] = static_cast<Tokens>(std::int64_t{m[d.place]} + sign * d.change);
+      m[d.place] = static_cast<Tokens>(std::int64_t{m[d.place]} + sign * d.by);
       store_.set(d.place, m[d.place]);
     }
   }
@@ -235,7 +259,7 @@ class QuestionSearch {
     for (std::uint32_t i = delta_begin_[t]; i < delta_begin_[t + 1]; ++i) {
       const PlaceDelta& d = deltas_[i];
       const std::int64_t after = m[d.place];
-      const std::int64_t before = after - sign * d.change;
+      const std::int64_t before = after - sign * d.by;
       for (const Arc& r : net_.readers(d.place)) {
         const bool was = before >= r.weight, is = after >= r.weight;
         if (was && !is && missing_[r.node]++ == 0) disable(r.node);
@@ -285,6 +309,7 @@ class QuestionSearch {
   std::vector<PlaceDelta> deltas_;  // by transition: the places it changes
   std::vector<TransitionId> enabled_, set_, cand_;
   std::vector<Frame> frames_;
+  std::vector<signed char> stored_;  // drop_stored's
   std::uint64_t visited_ = 0;
   std::uint64_t next_retry_ = 0, retry_gap_ = kReductionRetry;  // judge()
   std::uint64_t sets_ = 0, steps_ = 0, pruned_ = 0;             // judge()

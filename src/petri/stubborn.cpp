@@ -99,6 +99,7 @@ void StubbornSets::next_generation() {
   if (++generation_ == 0) {  // wrapped: old stamps could collide
     std::fill(stamp_.begin(), stamp_.end(), 0);
     std::fill(deleted_.begin(), deleted_.end(), 0);
+    std::fill(needed_.begin(), needed_.end(), 0);
     std::fill(dead_.begin(), dead_.end(), 0);
     std::fill(options_stamp_.begin(), options_stamp_.end(), 0);
     generation_ = 1;

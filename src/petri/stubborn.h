@@ -130,7 +130,8 @@ class StubbornSets {
   // The deletion algorithm (stubborn_deletion.cpp).
   void build_reverse();
   std::uint32_t options_of(TransitionId t, std::span<const Tokens> m);
-  std::size_t delete_from(TransitionId t0, std::span<const Tokens> m, const std::vector<char>& is_enabled);
+  std::size_t delete_from(TransitionId t0, std::span<const Tokens> m, const std::vector<char>& is_enabled,
+                          std::size_t alive);
   void undo_to(std::size_t mark);
   // Deletes roots_ in turn (each with what then breaks a rule) while an
   // enabled transition is left; a deletion that would leave none is undone.
@@ -139,7 +140,9 @@ class StubbornSets {
   std::vector<std::uint32_t> rneeds_begin_, raises_begin_;
   std::vector<TransitionId> rneeds_;
   std::vector<PlaceId> raises_;
-  std::vector<std::uint32_t> deleted_, dead_, options_, options_stamp_;
+  // By transition (== generation_: so): deleted; every stubborn set left
+  // holds it (its deletion was undone). By place: no scapegoat any more.
+  std::vector<std::uint32_t> deleted_, needed_, dead_, options_, options_stamp_;
   struct Undo {
     enum class Kind : std::uint8_t { Transition, Place, Options, Fresh } kind;
     std::uint32_t node, value;

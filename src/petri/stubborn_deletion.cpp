@@ -27,6 +27,7 @@ void StubbornSets::build_reverse() {
   deleted_.assign(transitions, 0);
   options_.assign(transitions, 0);
   options_stamp_.assign(transitions, 0);
+  needed_.assign(transitions, 0);
   dead_.assign(inc_begin_.size() - 1, 0);
 }
 
@@ -42,20 +43,34 @@ std::uint32_t StubbornSets::options_of(TransitionId t, std::span<const Tokens> m
 }
 
 // Deletes t0 and whatever then breaks rule (a) or (b); every deletion is
-// logged for undo. Returns the enabled transitions deleted.
-std::size_t StubbornSets::delete_from(TransitionId t0, std::span<const Tokens> m, const std::vector<char>& is_enabled) {
+// logged for undo. Returns the enabled transitions deleted, or `alive` as
+// soon as it is clear that none will be left (the caller undoes it all, so
+// the rest of the cascade, often most of the net, is not followed): when
+// the last one goes, or when a transition every stubborn set left holds
+// (one whose own deletion was undone: needed_) goes.
+std::size_t StubbornSets::delete_from(TransitionId t0, std::span<const Tokens> m, const std::vector<char>& is_enabled,
+                                      std::size_t alive) {
   std::size_t enabled_gone = 0;
+  bool doomed = false;
   auto remove = [&](TransitionId t) {
+    doomed = doomed || needed_[t] == generation_;
     deleted_[t] = generation_;
     log_.push_back({Undo::Kind::Transition, t, 0});
     work_.push_back(t);
   };
   remove(t0);
   while (!work_.empty()) {
+    if (doomed) {
+      work_.clear();
+      return alive;
+    }
     const TransitionId u = work_.back();
     work_.pop_back();
     ++steps_;
-    if (is_enabled[u]) ++enabled_gone;
+    if (is_enabled[u] && ++enabled_gone == alive) {
+      work_.clear();
+      break;
+    }
     // Rule (a): an enabled transition needing u goes.
     for (std::uint32_t i = rneeds_begin_[u]; i < rneeds_begin_[u + 1]; ++i) {
       ++steps_;
@@ -108,9 +123,10 @@ void StubbornSets::shrink(std::span<const Tokens> m, std::size_t enabled, const 
     if (alive == 1 || steps_ > max_work) break;
     if (deleted_[t0] == generation_) continue;
     const std::size_t mark = log_.size();
-    const std::size_t gone = delete_from(t0, m, is_enabled);
+    const std::size_t gone = delete_from(t0, m, is_enabled, alive);
     if (gone == alive) {
       undo_to(mark);  // every stubborn set left holds t0
+      needed_[t0] = generation_;
     } else {
       alive -= gone;
     }
