@@ -297,7 +297,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.max_sim_time_s = spec.max_sim_time_s;
   o.telemetry_hz = spec.telemetry_hz;
   o.trace = true;
-  o.keep_rules = true;  // a worker runs one mission's rules case after case
+  o.keep_mission = true;  // a worker runs one mission case after case
   // A case's log is kept in memory until the case ends: a runaway case must
   // not take a worker's memory (an hour's survey logs a few MB).
   o.max_log_bytes = kMaxCaseLogBytes;

@@ -1,6 +1,9 @@
 #include "run/loaded_mission.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -55,14 +58,13 @@ class ReaderFileProvider final : public coral::FileProvider {
 
 using Loaded = core::Result<void, Error>;
 
-// Compiles the mission; its diagnostics (warnings too) are kept in `loaded`.
-Loaded load_coral(const RunOptions& o, const std::string& path, LoadedMission& loaded) {
-  std::optional<ReaderFileProvider> reader;
-  if (o.read_file) reader.emplace(o);
+// Compiles the mission with `files` (null: the disk); its diagnostics
+// (warnings too) are kept in `loaded`.
+Loaded load_coral(const std::string& path, const coral::FileProvider* files, tactical::ExecutionLevel level,
+                  LoadedMission& loaded) {
   // Checked for the vehicle it is to run on: an IMC vehicle's refusals
   // stop the run here, before anything starts.
-  CoralLoad load =
-      load_coral_file(path, loaded.catalogue, reader ? &*reader : nullptr, tactical::execution_level_of(o.vehicle));
+  CoralLoad load = load_coral_file(path, loaded.catalogue, files, level);
   std::optional<Error> failed = load.error();
   loaded.diagnostics = std::move(load.diagnostics);
   loaded.sources = std::move(load.sources);
@@ -82,12 +84,143 @@ Loaded load_coral(const RunOptions& o, const std::string& path, LoadedMission& l
   return {};
 }
 
+// What a compile read, for RunOptions::keep_mission: every file's text (or
+// that it could not be read) and every name looked up, in order.
+class RecordingFileProvider final : public coral::FileProvider {
+ public:
+  struct Read {
+    std::string path;
+    std::optional<std::string> text;  // nullopt: not readable
+  };
+  struct Lookup {
+    std::string path;
+    bool exists = false;
+  };
+
+  explicit RecordingFileProvider(const coral::FileProvider& base) : base_(base) {}
+  std::string canonical(const std::string& path) const override { return base_.canonical(path); }
+  core::Result<std::string> read(const std::string& path) const override {
+    auto r = base_.read(path);
+    reads_.push_back({path, r ? std::optional<std::string>(r.value()) : std::nullopt});
+    return r;
+  }
+  bool exists(const std::string& path) const override {
+    const bool found = base_.exists(path);
+    lookups_.push_back({path, found});
+    return found;
+  }
+
+  std::vector<Read> take_reads() { return std::move(reads_); }
+  std::vector<Lookup> take_lookups() { return std::move(lookups_); }
+
+ private:
+  const coral::FileProvider& base_;
+  mutable std::vector<Read> reads_;
+  mutable std::vector<Lookup> lookups_;
+};
+
+// A CORAL mission compiled and verified, kept for the next run of it in
+// this process (RunOptions::keep_mission).
+struct KeptCoral {
+  std::string key;  // the mission's path, the vehicle it was checked for
+  std::vector<RecordingFileProvider::Read> reads;
+  std::vector<RecordingFileProvider::Lookup> lookups;
+  core::SourceManager sources;
+  std::vector<core::Diagnostic> diagnostics;
+  coral::Program program;
+  coral::VerifyReport verification;
+  std::string name, data_path;
+};
+
+// A worker runs a spec's few missions: the most kept at once, the least
+// recently used going first.
+constexpr std::size_t kMaxKeptCoral = 4;
+std::mutex g_kept_mutex;
+std::vector<std::shared_ptr<const KeptCoral>> g_kept_coral;  // most recent first
+
+bool reads_the_same(const KeptCoral& kept, const coral::FileProvider& files) {
+  for (const auto& r : kept.reads) {
+    auto now = files.read(r.path);
+    if (now.ok() != r.text.has_value() || (now && now.value() != *r.text)) return false;
+  }
+  return std::all_of(kept.lookups.begin(), kept.lookups.end(),
+                     [&files](const auto& l) { return files.exists(l.path) == l.exists; });
+}
+
+// The kept mission of key that still reads the same, or null.
+std::shared_ptr<const KeptCoral> take_kept(const std::string& key, const coral::FileProvider& files) {
+  std::shared_ptr<const KeptCoral> kept;
+  {
+    std::lock_guard lock(g_kept_mutex);
+    auto it = std::find_if(g_kept_coral.begin(), g_kept_coral.end(), [&key](const auto& k) { return k->key == key; });
+    if (it == g_kept_coral.end()) return nullptr;
+    kept = *it;
+    std::rotate(g_kept_coral.begin(), it, it + 1);
+  }
+  if (reads_the_same(*kept, files)) return kept;
+  std::lock_guard lock(g_kept_mutex);
+  std::erase(g_kept_coral, kept);
+  return nullptr;
+}
+
+void keep(std::shared_ptr<const KeptCoral> kept) {
+  std::lock_guard lock(g_kept_mutex);
+  std::erase_if(g_kept_coral, [&kept](const auto& k) { return k->key == kept->key; });
+  g_kept_coral.insert(g_kept_coral.begin(), std::move(kept));
+  if (g_kept_coral.size() > kMaxKeptCoral) g_kept_coral.resize(kMaxKeptCoral);
+}
+
+void compute_verification(LoadedMission& loaded) {
+  coral::VerifyOptions vo;
+  vo.mission_only = true;                       // what this run can reach
+  vo.timing = bound_options(loaded.catalogue);  // the mission's `require`
+  loaded.verification = coral::verify_program(*loaded.program, vo);
+}
+
+// The mission compiled (and, when it is kept, verified) or taken back.
+Loaded load_coral(const RunOptions& o, LoadedMission& loaded) {
+  std::optional<ReaderFileProvider> reader;
+  if (o.read_file) reader.emplace(o);
+  coral::DiskFileProvider disk;
+  const coral::FileProvider& files = reader ? static_cast<const coral::FileProvider&>(*reader) : disk;
+  const tactical::ExecutionLevel level = tactical::execution_level_of(o.vehicle);
+  // Only the built-in catalogue: a --catalogue file is read afresh by every run.
+  if (!o.keep_mission || !o.catalogue.empty()) return load_coral(o.mission, &files, level, loaded);
+  const std::string key = fmt::format("{}\n{}", o.mission, tactical::execution_level_name(level));
+  if (auto kept = take_kept(key, files)) {
+    loaded.sources = kept->sources;
+    loaded.diagnostics = kept->diagnostics;
+    loaded.program = kept->program;
+    loaded.verification = kept->verification;
+    loaded.name = kept->name;
+    loaded.data_path = kept->data_path;
+    loaded.taken_back = true;
+    return {};
+  }
+  RecordingFileProvider recording(files);
+  Loaded r = load_coral(o.mission, &recording, level, loaded);
+  if (!r) return r;
+  compute_verification(loaded);
+  auto kept = std::make_shared<KeptCoral>();
+  kept->key = key;
+  kept->reads = recording.take_reads();
+  kept->lookups = recording.take_lookups();
+  kept->sources = loaded.sources;
+  kept->diagnostics = loaded.diagnostics;
+  kept->program = *loaded.program;
+  kept->verification = *loaded.verification;
+  kept->name = loaded.name;
+  kept->data_path = loaded.data_path;
+  keep(std::move(kept));
+  return {};
+}
+
 // Loads and checks the rules; their messages (warnings too) are kept in `loaded`.
 Loaded load_prolog(const RunOptions& o, LoadedMission& loaded) {
   const std::string& path = o.mission;
   core::DiagnosticSink sink;
   auto rules = strategic::PrologMission::load(path, loaded.catalogue, loaded.sources, sink, load_limits(o.rule_load),
-                                              o.keep_rules ? strategic::KeepRules::Yes : strategic::KeepRules::No,
+                                              o.keep_mission ? strategic::KeepRules::Yes : strategic::KeepRules::No,
                                               tactical::execution_level_of(o.vehicle));
   loaded.diagnostics = sink.diagnostics();
   if (!rules) {
@@ -121,12 +254,10 @@ Loaded load_answers(const RunOptions& o, LoadedMission& loaded) {
   return {};
 }
 
-// CORAL: the nets are verified before anything moves.
+// CORAL: the nets are verified before anything moves (a kept mission's
+// verification came with it).
 Loaded verify(const RunOptions& o, LoadedMission& loaded) {
-  coral::VerifyOptions vo;
-  vo.mission_only = true;                       // what this run can reach
-  vo.timing = bound_options(loaded.catalogue);  // the mission's `require`
-  loaded.verification = coral::verify_program(*loaded.program, vo);
+  if (!loaded.verification) compute_verification(loaded);
   if (loaded.verification->ok() || o.unverified || !o.answers.empty()) return {};
   return Error{ErrorKind::FailsVerification, "",
                fmt::format("{} fails verification; not running (`strata verify {}` shows every property; "
@@ -197,7 +328,7 @@ core::Result<void, Error> load_mission(const RunOptions& o, LoadedMission& loade
   auto catalogue = load_catalogue_option(o.catalogue);
   if (!catalogue) return input_error(catalogue.error());
   loaded.catalogue = std::move(catalogue.value());
-  Loaded r = language == core::MissionLanguage::Prolog ? load_prolog(o, loaded) : load_coral(o, o.mission, loaded);
+  Loaded r = language == core::MissionLanguage::Prolog ? load_prolog(o, loaded) : load_coral(o, loaded);
   if (r && !o.answers.empty()) r = load_answers(o, loaded);
   if (r && loaded.program) r = verify(o, loaded);
   if (r) r = load_vehicle_inputs(o, loaded);

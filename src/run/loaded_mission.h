@@ -52,6 +52,9 @@ struct LoadedMission {
   // all_hold() is information, not a veto.
   std::optional<coral::VerifyReport> verification;
   std::optional<AnswerScript> answers;  // --answers: checked against the mission
+  // CORAL, RunOptions::keep_mission: the program and its verification were
+  // taken back from an earlier run in this process, not compiled again.
+  bool taken_back = false;
 };
 
 // Loads everything the options name into `loaded`, stopping at the first

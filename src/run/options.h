@@ -62,10 +62,13 @@ struct RunOptions {
   std::string sonar_dir;
   double telemetry_hz = 2.0;  // telemetry asked of the vehicle, per simulated second
   bool trace = false;         // keep every primitive call in RunReport::trace (strata compare)
-  // PROLOG: the rules may be taken back from an earlier run in this process,
-  // and stay loaded after this one (strategic::KeepRules::Yes): a campaign's
-  // worker, which runs one mission case after case.
-  bool keep_rules = false;
+  // The mission may be taken back from an earlier run in this process: a
+  // campaign's worker, which runs one mission case after case. PROLOG: the
+  // rules stay loaded after this run (strategic::KeepRules::Yes). CORAL:
+  // the mission compiled and verified is kept, and taken back while every
+  // file its compile read (the mission, its imports, the library folders'
+  // lookups) reads the same, with the same catalogue and vehicle.
+  bool keep_mission = false;
   // CORAL: a mission that fails verification (docs/verification.md) is not
   // run unless this is set; then it runs and the log records the failures.
   bool unverified = false;
