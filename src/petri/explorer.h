@@ -86,7 +86,11 @@ struct ExploreResult {
   std::vector<bool> transition_fired;           // by TransitionId
   std::optional<std::uint64_t> first_deadlock;  // the state index (BFS order) of a deadlock
   std::size_t memory_bytes = 0;                 // hash table (the markings) + queue, allocated, at the end
-  std::size_t words_per_state = 0;              // 64-bit words one packed marking takes
+  // The most the hash table and the queue held at once, a growing table's
+  // old and new arrays counted as far as both were held (the liveness
+  // pass's arrays are not counted).
+  std::size_t peak_memory_bytes = 0;
+  std::size_t words_per_state = 0;  // 64-bit words one packed marking takes
 };
 
 ExploreResult explore(const Net& net, const ExploreOptions& options = {});

@@ -155,6 +155,21 @@ TEST(Explorer, ReferendumHas3PowNPlus1States) {
   }
 }
 
+TEST(Explorer, TheTableAndQueuePeakUnder22BytesAStateOnReferendum12) {
+  // 531,442 states of one word; the table doubles from 4 MB to 8 MB at
+  // 393,217, with about 130,000 markings queued. Holding the old and the
+  // new table at once, and a ring queue that doubled (old and new ring), the
+  // peak was over 14 MB: 26 bytes a state.
+  ExploreResult r = explore(referendum(12));
+  ASSERT_EQ(pow3(12) + 1, r.states);
+  ASSERT_EQ(1u, r.words_per_state);
+  EXPECT_EQ(std::size_t{8} << 20, r.memory_bytes - (r.memory_bytes & ((std::size_t{1} << 20) - 1)))
+      << "the table at the end: 2^20 slots";
+  EXPECT_GE(r.peak_memory_bytes, r.memory_bytes);
+  EXPECT_LE(static_cast<double>(r.peak_memory_bytes) / static_cast<double>(r.states), 22.0)
+      << r.peak_memory_bytes << " bytes at the peak";
+}
+
 TEST(Explorer, LimitsStopWithAPartialResult) {
   ExploreOptions o;
   o.max_states = 50;
