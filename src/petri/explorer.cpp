@@ -69,6 +69,10 @@ void Explorer::layout() {
   deltas_.clear();
   in_begin_.assign(1, 0);
   touch_begin_.assign(1, 0);
+  back_.clear();
+  back_wide_.clear();
+  back_begin_.assign(1, 0);
+  back_wide_begin_.assign(1, 0);
   check_begin_.assign(1, 0);
   delta_begin_.assign(1, 0);
   for (TransitionId t = 0; t < net_.transition_count(); ++t) {
@@ -101,6 +105,14 @@ void Explorer::layout() {
     for (std::size_t k = first_touch; k < touch_.size(); ++k) {
       const Touch& tc = touch_[k];
       if (!bounded_[tc.place] && tc.post > tc.pre) checks_.push_back(tc);
+      if (bits_[tc.place] == 1 && tc.pre <= 1 && tc.post <= 1) {
+        std::size_t b = back_begin_.back();
+        while (b < back_.size() && back_[b].word != tc.field.word) ++b;
+        if (b == back_.size()) back_.push_back({tc.field.word, 0, 0});
+        (tc.post == 1 ? back_[b].set : back_[b].clear) |= 1ULL << tc.field.shift;
+      } else {
+        back_wide_.push_back(tc);
+      }
       std::size_t d = first_delta;
       while (d < deltas_.size() && deltas_[d].word != tc.field.word) ++d;
       if (d == deltas_.size()) deltas_.push_back({tc.field.word, 0, 0});
@@ -109,6 +121,8 @@ void Explorer::layout() {
     }
     in_begin_.push_back(static_cast<std::uint32_t>(in_.size()));
     touch_begin_.push_back(static_cast<std::uint32_t>(touch_.size()));
+    back_begin_.push_back(static_cast<std::uint32_t>(back_.size()));
+    back_wide_begin_.push_back(static_cast<std::uint32_t>(back_wide_.size()));
     check_begin_.push_back(static_cast<std::uint32_t>(checks_.size()));
     delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
   }

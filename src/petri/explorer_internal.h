@@ -99,6 +99,16 @@ struct Touch {
   PlaceId place = 0;
 };
 
+// The 1-bit places of one word a transition touches, for the backward
+// search (a predecessor m - Post(t) + Pre(t) exists when these hold): the
+// bits Post(t) needs set in m, and the bits Pre(t) alone needs clear (a
+// place in Pre(t) and not in Post(t) held a token before t fired and could
+// not hold a second one).
+struct BackTest {
+  std::uint32_t word = 0;
+  std::uint64_t set = 0, clear = 0;
+};
+
 // What a firing does to one word: m[word] - sub + add. Fields cannot borrow
 // from each other (the transition is enabled) nor carry (no field
 // overflows: checked, or the place is bounded by a P-semiflow).
@@ -248,7 +258,9 @@ class Explorer : private packed::PackedMarkings {
   std::vector<InArc> in_;
   std::vector<Touch> touch_, checks_;  // checks_: the touches that may overflow
   std::vector<Delta> deltas_;
-  std::vector<std::uint32_t> in_begin_, touch_begin_, check_begin_, delta_begin_;
+  std::vector<BackTest> back_;    // by transition: the 1-bit places touched
+  std::vector<Touch> back_wide_;  // by transition: the other places touched
+  std::vector<std::uint32_t> in_begin_, touch_begin_, check_begin_, delta_begin_, back_begin_, back_wide_begin_;
   MarkingQueue queue_;
   std::uint64_t explored_ = 0;
   std::uint64_t clock_calls_ = 0;
