@@ -17,7 +17,10 @@ ExploreResult Explorer::run() {
   const std::size_t places = net_.place_count();
   r_.place_bounds.assign(places, 0);
   r_.transition_fired.assign(net_.transition_count(), false);
-  start(net_, true);  // the fields' widths and an empty table
+  // The fields as wide as the initial tokens (widened on overflow) and an
+  // empty table; the P-semiflows' bounds once the graph proves big enough
+  // to pay for them (adopt_semiflow_bounds).
+  start(net_, false);
   layout();
   queue_ = MarkingQueue(words_);
   std::vector<std::uint64_t> initial = pack_initial();
@@ -151,6 +154,26 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::vector<Field> old_fields = fields_;
   const std::uint32_t old_words = words_;
   bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
+  return relayout(old_fields, old_words, "widening a field");
+}
+
+bool Explorer::adopt_semiflow_bounds() {
+  semiflow_bounds_ = true;
+  fold_bounds();
+  const std::vector<Field> old_fields = fields_;
+  const std::uint32_t old_words = words_;
+  bound_ = packed::structural_bounds(net_);
+  for (PlaceId p = 0; p < bits_.size(); ++p) {
+    // Every marking stored so far fits the bound, whatever its field.
+    if (bound_[p] != kNoBound && std::bit_width(bound_[p]) <= static_cast<int>(kMaxBits)) {
+      bounded_[p] = true;
+      bits_[p] = std::max(1u, static_cast<unsigned>(std::bit_width(bound_[p])));
+    }
+  }
+  return relayout(old_fields, old_words, "the P-semiflows' field widths");
+}
+
+bool Explorer::relayout(const std::vector<Field>& old_fields, std::uint32_t old_words, const char* what) {
   layout();
   // The old and the new table at once, then the old and the new queue.
   const std::size_t table_after = Words::rounded(slots_ * words_ * sizeof(std::uint64_t));
@@ -159,7 +182,7 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::size_t bytes =
       std::max(table_.bytes() + table_after + queue_.bytes(), table_after + queue_.bytes() + queue_after);
   if (words_ != old_words && !fits(bytes)) {
-    return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
+    return stop(fmt::format("stopped at {} states: {} needs more than --max-memory", count_, what));
   }
   repack_table(old_fields, old_words);
   note_peak(last_growth_bytes_ + queue_.bytes());
@@ -321,6 +344,7 @@ bool Explorer::breadth_first() {
       }
     }
     if (queue_.size() == 0) return false;
+    if (!semiflow_bounds_ && count_ >= kSemiflowsAfter) return adopt_semiflow_bounds();
     if (ahead) {
       std::swap(now, next);
     } else {

@@ -4,16 +4,17 @@
 // Contest reports (docs/verification.md).
 //
 // Storage: a marking is packed into 64-bit words, each place in a bit field.
-// A place covered by a P-semiflow y (y >= 0, y.C = 0) gets a field wide
-// enough for its bound y.M0 / y(p) from the start and never overflows; any
-// other place starts as wide as its initial tokens, and a field that would
-// overflow widens (doubling) and every stored marking is re-packed. The
-// markings are kept in the slots of an open-addressing hash table (linear
-// probing, one cache miss per lookup; huge pages when the kernel allows);
-// a ring of copies of the markings not explored yet is the breadth-first
-// queue. Nothing is allocated per state. The successors of the next queued
-// state are computed and their slots prefetched before this state's
-// lookups.
+// A field starts as wide as the place's initial tokens; one that would
+// overflow widens (doubling) and every stored marking is re-packed. From
+// 2^15 states on, a place covered by a P-semiflow y (y >= 0, y.C = 0) has a
+// field as wide as its bound y.M0 / y(p), which never overflows (computing
+// the P-semiflows costs more than a small graph). The markings are kept in
+// the slots of an open-addressing hash table (linear probing, one cache miss
+// per lookup; huge pages when the kernel allows; doubling without holding
+// two full arrays); copies of the markings not explored yet, in 64 KB
+// blocks, are the breadth-first queue. Nothing is allocated per state. The
+// successors of the next queued state are computed and their slots
+// prefetched before this state's lookups.
 //
 // Liveness needs a second pass, run only when the answer is not already
 // known (a deadlock, a dead transition): a backward search from the initial

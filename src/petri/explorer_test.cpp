@@ -170,6 +170,39 @@ TEST(Explorer, TheTableAndQueuePeakUnder22BytesAStateOnReferendum12) {
       << r.peak_memory_bytes << " bytes at the peak";
 }
 
+TEST(Explorer, FieldsWidenedBeforeTheSemiflowBoundsAreRepackedToThem) {
+  // Ten voters each vote yes or no once; a vote moves a token from the
+  // budget (20) to the count. count + budget = 20 is a P-semiflow, but the
+  // explorer only uses it after 2^15 states: until then the count's field
+  // widens from 1 bit as the votes come, then it is re-packed as 5 bits.
+  NetBuilder b;
+  const PlaceId budget = b.add_place("budget", 20);
+  const PlaceId count = b.add_place("count");
+  for (int i = 0; i < 10; ++i) {
+    const PlaceId ready = b.add_place(fmt::format("ready{}", i), 1);
+    for (const char* vote : {"yes", "no"}) {
+      const PlaceId voted = b.add_place(fmt::format("{}{}", vote, i));
+      const TransitionId t = b.add_transition(fmt::format("vote_{}{}", vote, i));
+      b.add_input(t, ready);
+      b.add_input(t, budget);
+      b.add_output(t, voted);
+      b.add_output(t, count);
+    }
+  }
+  ExploreResult r = explore(std::move(b).build());
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(pow3(10), r.states);
+  EXPECT_EQ(2 * 10 * pow3(9), r.edges) << "two votes for each voter still ready, in every state";
+  EXPECT_EQ(20u, r.place_bounds[budget]);
+  EXPECT_EQ(10u, r.place_bounds[count]);
+  EXPECT_EQ(20u, r.max_tokens_in_place);
+  EXPECT_EQ(30u, r.max_tokens_per_marking);
+  EXPECT_TRUE(r.deadlock);
+  EXPECT_FALSE(r.one_safe);
+  EXPECT_TRUE(r.quasi_live);
+  EXPECT_EQ(std::optional<bool>(false), r.live);
+}
+
 TEST(Explorer, LimitsStopWithAPartialResult) {
   ExploreOptions o;
   o.max_states = 50;

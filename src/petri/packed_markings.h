@@ -3,16 +3,17 @@
 // the full exploration's storage (explorer.h) and the question search's
 // (question.h). Not part of the API.
 //
-// Layout: a place covered by a P-semiflow y (y >= 0, y.C = 0) gets a field
-// wide enough for its bound y.M0 / y(p) from the start and never overflows;
-// any other place starts as wide as its initial tokens, and a field that
-// would overflow is widened (doubling: widen_field) and every stored marking
-// re-packed (repack_table). First fit of the fields into words; word 0
-// keeps bit 63 free, so kEmpty marks a free slot.
+// Layout: with start(net, true), a place covered by a P-semiflow y (y >= 0,
+// y.C = 0) gets a field wide enough for its bound y.M0 / y(p) and never
+// overflows; any other place starts as wide as its initial tokens, and a
+// field that would overflow is widened (doubling: widen_field) and every
+// stored marking re-packed (repack_table). First fit of the fields into
+// words; word 0 keeps bit 63 free, so kEmpty marks a free slot.
 //
 // The set: an open-addressing hash table (linear probing, one cache miss
 // per lookup; huge pages from 2 MB when the kernel allows) whose slots hold
-// the packed markings themselves, 2^k slots, at most 3/4 full.
+// the packed markings themselves, 2^k slots, at most 3/4 full. It doubles
+// without holding two full arrays (grow()).
 //
 // Threads: one per instance.
 #include <algorithm>
