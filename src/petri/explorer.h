@@ -47,9 +47,10 @@ struct ExploreProgress {
 
 struct ExploreOptions {
   // Stop (complete = false) once the hash table (the markings) and the
-  // queue would need more, counting the old and the new arrays while one
-  // grows; the liveness pass is not run (live unset) when its arrays would
-  // not fit beside the table. 0: no limit.
+  // queue would need more, counting a growing table at its peak (while the
+  // old array is under 2 MB, both arrays; then the new one and two 2 MB
+  // pages of the old); the liveness pass is not run (live unset) when its
+  // arrays would not fit beside the table. 0: no limit.
   std::size_t max_memory_bytes = 0;
   // Stop (complete = false; or live unset, in the liveness pass) once the
   // clock passes it.

@@ -192,7 +192,7 @@ TEST(Explorer, FieldsWidenedBeforeTheSemiflowBoundsAreRepackedToThem) {
   ExploreResult r = explore(std::move(b).build());
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(pow3(10), r.states);
-  EXPECT_EQ(2 * 10 * pow3(9), r.edges) << "two votes for each voter still ready, in every state";
+  EXPECT_EQ(std::uint64_t{20} * pow3(9), r.edges) << "two votes for each voter still ready, in every state";
   EXPECT_EQ(20u, r.place_bounds[budget]);
   EXPECT_EQ(10u, r.place_bounds[count]);
   EXPECT_EQ(20u, r.max_tokens_in_place);
@@ -213,7 +213,7 @@ TEST(Explorer, LimitsStopWithAPartialResult) {
   EXPECT_NE(std::string::npos, r.stopped_why.find("50 states")) << r.stopped_why;
 
   ExploreOptions m;
-  m.max_memory_bytes = 64 * 1024;
+  m.max_memory_bytes = std::size_t{64} << 10;
   ExploreResult rm = explore(dining_philosophers(10), m);
   EXPECT_FALSE(rm.complete);
   EXPECT_LT(rm.states, pow3(10));

@@ -45,12 +45,11 @@ Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
     const std::size_t span = bytes_ + kHuge;
     void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
     if (raw == MAP_FAILED) throw std::bad_alloc();
-    const auto base = reinterpret_cast<std::uintptr_t>(raw);
-    const std::uintptr_t aligned = (base + kHuge - 1) / kHuge * kHuge;
-    if (aligned > base) munmap(raw, aligned - base);
-    if (base + span > aligned + bytes_)
-      munmap(reinterpret_cast<void*>(aligned + bytes_), base + span - aligned - bytes_);
-    p_ = reinterpret_cast<std::uint64_t*>(aligned);
+    const std::size_t head = (kHuge - reinterpret_cast<std::uintptr_t>(raw) % kHuge) % kHuge;
+    char* start = static_cast<char*>(raw) + head;
+    if (head > 0) munmap(raw, head);
+    if (span > head + bytes_) munmap(start + bytes_, span - head - bytes_);
+    p_ = static_cast<std::uint64_t*>(static_cast<void*>(start));
 #if defined(MADV_HUGEPAGE)
     madvise(p_, bytes_, MADV_HUGEPAGE);
 #endif
