@@ -41,9 +41,11 @@ Words::Words(std::size_t n) : n_(n), bytes_(rounded(n * 8)) {
   if (mapped()) {
 #if defined(__linux__)
     // Map a page more than needed and trim it to a kHuge boundary: huge
-    // pages need the alignment.
+    // pages need the alignment. Not MAP_NORESERVE: a map the kernel would
+    // not commit fails here (std::bad_alloc, a partial result), not later
+    // when a page is written.
     const std::size_t span = bytes_ + kHuge;
-    void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (raw == MAP_FAILED) throw std::bad_alloc();
     const std::size_t head = (kHuge - reinterpret_cast<std::uintptr_t>(raw) % kHuge) % kHuge;
     char* start = static_cast<char*>(raw) + head;
