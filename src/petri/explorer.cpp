@@ -17,10 +17,12 @@ ExploreResult Explorer::run() {
   const std::size_t places = net_.place_count();
   r_.place_bounds.assign(places, 0);
   r_.transition_fired.assign(net_.transition_count(), false);
-  start(net_, true);  // the fields' widths and an empty table
+  // The fields as wide as the initial tokens (widened on overflow) and an
+  // empty table; the P-semiflows' bounds once the graph proves big enough
+  // to pay for them (adopt_semiflow_bounds).
+  start(net_, false);
   layout();
-  queue_.assign(kInitialQueue * words_, 0);
-  queue_slots_ = kInitialQueue;
+  queue_ = MarkingQueue(words_);
   std::vector<std::uint64_t> initial = pack_initial();
   bool out_of_memory = false;
   try {
@@ -35,6 +37,7 @@ ExploreResult Explorer::run() {
   r_.one_safe = r_.max_tokens_in_place <= 1;
   r_.quasi_live = std::all_of(r_.transition_fired.begin(), r_.transition_fired.end(), [](bool b) { return b; });
   r_.memory_bytes = memory();
+  note_peak(r_.memory_bytes);
   r_.words_per_state = words_;
   if (!opt_.statistics) r_.live_why = "not computed (statistics off)";
   if (out_of_memory || !opt_.statistics) return std::move(r_);
@@ -69,6 +72,10 @@ void Explorer::layout() {
   deltas_.clear();
   in_begin_.assign(1, 0);
   touch_begin_.assign(1, 0);
+  back_.clear();
+  back_wide_.clear();
+  back_begin_.assign(1, 0);
+  back_wide_begin_.assign(1, 0);
   check_begin_.assign(1, 0);
   delta_begin_.assign(1, 0);
   for (TransitionId t = 0; t < net_.transition_count(); ++t) {
@@ -101,6 +108,14 @@ void Explorer::layout() {
     for (std::size_t k = first_touch; k < touch_.size(); ++k) {
       const Touch& tc = touch_[k];
       if (!bounded_[tc.place] && tc.post > tc.pre) checks_.push_back(tc);
+      if (bits_[tc.place] == 1 && tc.pre <= 1 && tc.post <= 1) {
+        std::size_t b = back_begin_.back();
+        while (b < back_.size() && back_[b].word != tc.field.word) ++b;
+        if (b == back_.size()) back_.push_back({tc.field.word, 0, 0});
+        (tc.post == 1 ? back_[b].set : back_[b].clear) |= 1ULL << tc.field.shift;
+      } else {
+        back_wide_.push_back(tc);
+      }
       std::size_t d = first_delta;
       while (d < deltas_.size() && deltas_[d].word != tc.field.word) ++d;
       if (d == deltas_.size()) deltas_.push_back({tc.field.word, 0, 0});
@@ -109,6 +124,8 @@ void Explorer::layout() {
     }
     in_begin_.push_back(static_cast<std::uint32_t>(in_.size()));
     touch_begin_.push_back(static_cast<std::uint32_t>(touch_.size()));
+    back_begin_.push_back(static_cast<std::uint32_t>(back_.size()));
+    back_wide_begin_.push_back(static_cast<std::uint32_t>(back_wide_.size()));
     check_begin_.push_back(static_cast<std::uint32_t>(checks_.size()));
     delta_begin_.push_back(static_cast<std::uint32_t>(deltas_.size()));
   }
@@ -137,20 +154,42 @@ bool Explorer::widen(PlaceId p, std::uint64_t value) {
   const std::vector<Field> old_fields = fields_;
   const std::uint32_t old_words = words_;
   bits_[p] = std::min(kMaxBits, std::max(need, bits_[p] * 2));
+  return relayout(old_fields, old_words, "widening a field");
+}
+
+bool Explorer::adopt_semiflow_bounds() {
+  semiflow_bounds_ = true;
+  fold_bounds();
+  const std::vector<Field> old_fields = fields_;
+  const std::uint32_t old_words = words_;
+  bound_ = packed::structural_bounds(net_);
+  for (PlaceId p = 0; p < bits_.size(); ++p) {
+    // Every marking stored so far fits the bound, whatever its field.
+    if (bound_[p] != kNoBound && std::bit_width(bound_[p]) <= static_cast<int>(kMaxBits)) {
+      bounded_[p] = true;
+      bits_[p] = std::max(1u, static_cast<unsigned>(std::bit_width(bound_[p])));
+    }
+  }
+  return relayout(old_fields, old_words, "the P-semiflows' field widths");
+}
+
+bool Explorer::relayout(const std::vector<Field>& old_fields, std::uint32_t old_words, const char* what) {
   layout();
-  if (words_ != old_words && !fits(memory() + Words::rounded(slots_ * words_ * sizeof(std::uint64_t)) +
-                                   queue_slots_ * words_ * sizeof(std::uint64_t))) {
-    return stop(fmt::format("stopped at {} states: widening a field needs more than --max-memory", count_));
+  // The old and the new table at once, then the old and the new queue.
+  const std::size_t table_after = Words::rounded(slots_ * words_ * sizeof(std::uint64_t));
+  const std::size_t queue_after = (queue_.size() * words_ * sizeof(std::uint64_t) / MarkingQueue::kBlockBytes + 2) *
+                                  (MarkingQueue::kBlockBytes + words_ * sizeof(std::uint64_t));
+  const std::size_t bytes =
+      std::max(table_.bytes() + table_after + queue_.bytes(), table_after + queue_.bytes() + queue_after);
+  if (words_ != old_words && !fits(bytes)) {
+    return stop(fmt::format("stopped at {} states: {} needs more than --max-memory", count_, what));
   }
   repack_table(old_fields, old_words);
-  std::vector<std::uint64_t> m(words_);
-  std::vector<std::uint64_t> old = std::move(queue_);
-  queue_.assign(queue_slots_ * words_, 0);
-  for (std::size_t k = 0; k < queue_size_; ++k) {
-    repack(&old[((queue_head_ + k) & (queue_slots_ - 1)) * old_words], old_fields, m.data());
-    std::memcpy(&queue_[k * words_], m.data(), words_ * sizeof(std::uint64_t));
-  }
-  queue_head_ = 0;
+  note_peak(last_growth_bytes_ + queue_.bytes());
+  MarkingQueue old = std::move(queue_);
+  queue_ = MarkingQueue(words_);
+  for (std::size_t k = 0; k < old.size(); ++k) repack(old.at(k), old_fields, queue_.push());
+  note_peak(memory() + old.bytes());
   return true;
 }
 
@@ -168,28 +207,22 @@ bool Explorer::insert(const std::uint64_t* m, std::uint64_t full_hash) {
     return stop(fmt::format("stopped at {} states (the limit)", count_));
   if (count_ + 1 >= kNone) return stop("more than 4 294 967 294 states");
   if ((count_ + 1) * 4 > slots_ * 3) {
-    // The old table stays while the new one fills.
-    const std::size_t need = table_.bytes() + Words::rounded(table_.size() * 16) + queue_.size() * 8;
+    // What the table holds while it grows (growth_bytes()).
+    const std::size_t need = growth_bytes() + queue_.bytes();
     if (slots_ * 2 > std::size_t{1} << 31) return stop(fmt::format("stopped at {} states: the table's limit", count_));
     if (!fits(need)) return full(need);
     grow();
+    note_peak(last_growth_bytes_ + queue_.bytes());
     i = slot_of(full_hash);
     while (table_[i * words] != kEmpty) i = (i + 1) & (slots_ - 1);
   }
-  if (queue_size_ == queue_slots_) {
-    const std::size_t need = table_.bytes() + queue_.size() * 24;  // the old ring and the new
-    if (!fits(need)) return full(need);
-    std::vector<std::uint64_t> bigger(queue_.size() * 2);
-    const std::size_t first = queue_slots_ - queue_head_;  // entries before the wrap
-    std::memcpy(bigger.data(), &queue_[queue_head_ * words], first * words * sizeof(std::uint64_t));
-    std::memcpy(&bigger[first * words], queue_.data(), queue_head_ * words * sizeof(std::uint64_t));
-    queue_ = std::move(bigger);
-    queue_slots_ *= 2;
-    queue_head_ = 0;
+  const std::size_t queue_bytes = queue_.bytes_after_push();
+  if (queue_bytes != queue_.bytes()) {
+    if (!fits(table_.bytes() + queue_bytes)) return full(table_.bytes() + queue_bytes);
+    note_peak(table_.bytes() + queue_bytes);
   }
   std::memcpy(&table_[i * words], m, words * sizeof(std::uint64_t));
-  std::memcpy(&queue_[((queue_head_ + queue_size_) & (queue_slots_ - 1)) * words], m, words * sizeof(std::uint64_t));
-  ++queue_size_;
+  std::memcpy(queue_.push(), m, words * sizeof(std::uint64_t));
   ++count_;
   return true;
 }
@@ -282,11 +315,11 @@ bool Explorer::breadth_first() {
   const std::uint32_t words = W ? W : words_;
   Batch* now = &batches_[0];
   Batch* next = &batches_[1];
-  if (queue_size_ == 0) return false;
-  if (!expand<W>(&queue_[queue_head_ * words], *now)) return widen(now->overflow_place, now->overflow_value);
+  if (queue_.size() == 0) return false;
+  if (!expand<W>(queue_.front(), *now)) return widen(now->overflow_place, now->overflow_value);
   for (;;) {
-    const bool ahead = queue_size_ >= 2;
-    if (ahead) expand<W>(&queue_[((queue_head_ + 1) & (queue_slots_ - 1)) * words], *next);
+    const bool ahead = queue_.size() >= 2;
+    if (ahead) expand<W>(queue_.at(1), *next);
     for (std::size_t k = 0; k < now->n; ++k) {
       if (!insert<W>(&now->succ[k * words], now->hashes[k])) return false;
     }
@@ -298,8 +331,7 @@ bool Explorer::breadth_first() {
       r_.deadlock = true;
       r_.first_deadlock = explored_;
     }
-    queue_head_ = (queue_head_ + 1) & (queue_slots_ - 1);
-    --queue_size_;
+    queue_.pop();
     ++explored_;
     if (past_deadline()) {
       return stop(interrupted_ ? fmt::format("interrupted after {} states", count_)
@@ -311,11 +343,12 @@ bool Explorer::breadth_first() {
         return stop(fmt::format("interrupted after {} states", count_));
       }
     }
-    if (queue_size_ == 0) return false;
+    if (queue_.size() == 0) return false;
+    if (!semiflow_bounds_ && count_ >= kSemiflowsAfter) return adopt_semiflow_bounds();
     if (ahead) {
       std::swap(now, next);
     } else {
-      expand<W>(&queue_[queue_head_ * words], *now);
+      expand<W>(queue_.front(), *now);
     }
     if (now->overflow) return widen(now->overflow_place, now->overflow_value);
   }

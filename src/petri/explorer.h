@@ -4,16 +4,17 @@
 // Contest reports (docs/verification.md).
 //
 // Storage: a marking is packed into 64-bit words, each place in a bit field.
-// A place covered by a P-semiflow y (y >= 0, y.C = 0) gets a field wide
-// enough for its bound y.M0 / y(p) from the start and never overflows; any
-// other place starts as wide as its initial tokens, and a field that would
-// overflow widens (doubling) and every stored marking is re-packed. The
-// markings are kept in the slots of an open-addressing hash table (linear
-// probing, one cache miss per lookup; huge pages when the kernel allows);
-// a ring of copies of the markings not explored yet is the breadth-first
-// queue. Nothing is allocated per state. The successors of the next queued
-// state are computed and their slots prefetched before this state's
-// lookups.
+// A field starts as wide as the place's initial tokens; one that would
+// overflow widens (doubling) and every stored marking is re-packed. From
+// 2^15 states on, a place covered by a P-semiflow y (y >= 0, y.C = 0) has a
+// field as wide as its bound y.M0 / y(p), which never overflows (computing
+// the P-semiflows costs more than a small graph). The markings are kept in
+// the slots of an open-addressing hash table (linear probing, one cache miss
+// per lookup; huge pages when the kernel allows; doubling without holding
+// two full arrays); copies of the markings not explored yet, in 64 KB
+// blocks, are the breadth-first queue. Nothing is allocated per state. The
+// successors of the next queued state are computed and their slots
+// prefetched before this state's lookups.
 //
 // Liveness needs a second pass, run only when the answer is not already
 // known (a deadlock, a dead transition): a backward search from the initial
@@ -46,9 +47,10 @@ struct ExploreProgress {
 
 struct ExploreOptions {
   // Stop (complete = false) once the hash table (the markings) and the
-  // queue would need more, counting the old and the new arrays while one
-  // grows; the liveness pass is not run (live unset) when its arrays would
-  // not fit beside the table. 0: no limit.
+  // queue would need more, counting a growing table at its peak (while the
+  // old array is under 2 MB, both arrays; then the new one and two 2 MB
+  // pages of the old); the liveness pass is not run (live unset) when its
+  // arrays would not fit beside the table. 0: no limit.
   std::size_t max_memory_bytes = 0;
   // Stop (complete = false; or live unset, in the liveness pass) once the
   // clock passes it.
@@ -86,7 +88,11 @@ struct ExploreResult {
   std::vector<bool> transition_fired;           // by TransitionId
   std::optional<std::uint64_t> first_deadlock;  // the state index (BFS order) of a deadlock
   std::size_t memory_bytes = 0;                 // hash table (the markings) + queue, allocated, at the end
-  std::size_t words_per_state = 0;              // 64-bit words one packed marking takes
+  // The most the hash table and the queue held at once, a growing table's
+  // old and new arrays counted as far as both were held (the liveness
+  // pass's arrays are not counted).
+  std::size_t peak_memory_bytes = 0;
+  std::size_t words_per_state = 0;  // 64-bit words one packed marking takes
 };
 
 ExploreResult explore(const Net& net, const ExploreOptions& options = {});

@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -28,7 +30,60 @@ using packed::kNoBound;
 using packed::kNone;
 using packed::mix;
 using packed::Words;
-constexpr std::size_t kInitialQueue = 64;  // markings
+
+// The breadth-first queue: copies of the markings not explored yet, in
+// blocks of kBlockBytes taken at the tail and given back at the head, so it
+// holds about what it queues (never an old and a new array at once, as a
+// doubling ring did). One emptied block is kept for the next.
+class MarkingQueue {
+ public:
+  static constexpr std::size_t kBlockBytes = std::size_t{1} << 16;
+
+  explicit MarkingQueue(std::uint32_t words = 1)
+      : words_(words), per_block_(std::max<std::size_t>(1, kBlockBytes / (words * sizeof(std::uint64_t)))) {}
+
+  std::size_t size() const { return size_; }
+  // The blocks held, the spare included.
+  std::size_t bytes() const { return (blocks_.size() + (spare_ ? 1 : 0)) * block_bytes(); }
+  // The bytes held once one more marking is pushed.
+  std::size_t bytes_after_push() const { return bytes() + (needs_block() && !spare_ ? block_bytes() : 0); }
+
+  // The k-th queued marking from the head (k < size()).
+  const std::uint64_t* at(std::size_t k) const {
+    const std::size_t i = head_ + k;
+    return &blocks_[i / per_block_][(i % per_block_) * words_];
+  }
+  const std::uint64_t* front() const { return &blocks_.front()[head_ * words_]; }
+
+  // Room for one more marking at the tail (words() words, to be written).
+  std::uint64_t* push() {
+    if (needs_block())
+      blocks_.push_back(spare_ ? std::move(spare_) : std::make_unique_for_overwrite<std::uint64_t[]>(block_words()));
+    const std::size_t i = head_ + size_++;
+    return &blocks_.back()[(i - (blocks_.size() - 1) * per_block_) * words_];
+  }
+  void pop() {
+    --size_;
+    if (++head_ == per_block_) {
+      spare_ = std::move(blocks_.front());
+      blocks_.pop_front();
+      head_ = 0;
+    } else if (size_ == 0) {
+      head_ = 0;
+    }
+  }
+
+ private:
+  std::size_t block_words() const { return per_block_ * words_; }
+  std::size_t block_bytes() const { return block_words() * sizeof(std::uint64_t); }
+  bool needs_block() const { return head_ + size_ == blocks_.size() * per_block_; }
+
+  std::uint32_t words_;
+  std::size_t per_block_;
+  std::deque<std::unique_ptr<std::uint64_t[]>> blocks_;
+  std::unique_ptr<std::uint64_t[]> spare_;
+  std::size_t head_ = 0, size_ = 0;  // head_: index in the first block
+};
 
 // An input arc of a transition: the place's field and the weight.
 struct InArc {
@@ -42,6 +97,16 @@ struct Touch {
   Field field;
   std::uint64_t pre = 0, post = 0;
   PlaceId place = 0;
+};
+
+// The 1-bit places of one word a transition touches, for the backward
+// search (a predecessor m - Post(t) + Pre(t) exists when these hold): the
+// bits Post(t) needs set in m, and the bits Pre(t) alone needs clear (a
+// place in Pre(t) and not in Post(t) held a token before t fired and could
+// not hold a second one).
+struct BackTest {
+  std::uint32_t word = 0;
+  std::uint64_t set = 0, clear = 0;
 };
 
 // What a firing does to one word: m[word] - sub + add. Fields cannot borrow
@@ -84,8 +149,24 @@ class Explorer : private packed::PackedMarkings {
   // the memory limit): the exploration stops.
   bool widen(PlaceId p, std::uint64_t value);
 
+  // Once kSemiflowsAfter states are found: the places a P-semiflow bounds
+  // get fields as wide as their bounds, which never overflow (no checks), and
+  // the table and the queue are re-packed. Computing the P-semiflows takes up
+  // to tens of milliseconds on nets of a few hundred places, more than
+  // exploring a small graph (IBM319-PT-none: 25 ms for 2,482 states). False
+  // when the memory limit stops the exploration.
+  static constexpr std::uint64_t kSemiflowsAfter = std::uint64_t{1} << 15;
+  bool adopt_semiflow_bounds();
+
+  // The fields changed (bits_, bounded_): lay them out and re-pack the table
+  // and the queue from old_fields. False (stopped) when that would not fit
+  // the memory limit; `what` says what needed it.
+  bool relayout(const std::vector<Field>& old_fields, std::uint32_t old_words, const char* what);
+
   // ---- the set of markings: PackedMarkings' table ------------------------------
-  std::size_t memory() const { return table_.bytes() + queue_.size() * 8; }
+  std::size_t memory() const { return table_.bytes() + queue_.bytes(); }
+  // The most memory() has been, the table's growth included.
+  void note_peak(std::size_t bytes) { r_.peak_memory_bytes = std::max(r_.peak_memory_bytes, bytes); }
   bool fits(std::size_t bytes) const { return opt_.max_memory_bytes == 0 || bytes <= opt_.max_memory_bytes; }
 
   // Adds m if new (and queues it). False when a limit stops the exploration.
@@ -191,14 +272,15 @@ class Explorer : private packed::PackedMarkings {
   std::vector<InArc> in_;
   std::vector<Touch> touch_, checks_;  // checks_: the touches that may overflow
   std::vector<Delta> deltas_;
-  std::vector<std::uint32_t> in_begin_, touch_begin_, check_begin_, delta_begin_;
-  // The breadth-first queue: a ring of queue_slots_ markings.
-  std::vector<std::uint64_t> queue_;
-  std::size_t queue_slots_ = 0, queue_head_ = 0, queue_size_ = 0;
+  std::vector<BackTest> back_;    // by transition: the 1-bit places touched
+  std::vector<Touch> back_wide_;  // by transition: the other places touched
+  std::vector<std::uint32_t> in_begin_, touch_begin_, check_begin_, delta_begin_, back_begin_, back_wide_begin_;
+  MarkingQueue queue_;
   std::uint64_t explored_ = 0;
   std::uint64_t clock_calls_ = 0;
   std::chrono::steady_clock::time_point last_progress_ = std::chrono::steady_clock::now();
-  bool interrupted_ = false;  // the progress callback said stop
+  bool interrupted_ = false;      // the progress callback said stop
+  bool semiflow_bounds_ = false;  // adopt_semiflow_bounds() ran
   std::uint64_t next_progress_ = opt_.progress_every;
   // The successors (predecessors, going backwards) of this state and the
   // next one.

@@ -118,8 +118,12 @@ void Explorer::expand_back(const std::uint64_t* m, Batch& b) {
   std::size_t n = 0;
   for (TransitionId t = 0; t < transitions; ++t) {
     bool ok = true;
-    for (std::uint32_t i = touch_begin_[t]; i < touch_begin_[t + 1] && ok; ++i) {
-      const Touch& c = touch_[i];
+    for (std::uint32_t i = back_begin_[t]; i < back_begin_[t + 1] && ok; ++i) {
+      const std::uint64_t x = m[back_[i].word];
+      ok = (x & back_[i].set) == back_[i].set && (x & back_[i].clear) == 0;
+    }
+    for (std::uint32_t i = back_wide_begin_[t]; i < back_wide_begin_[t + 1] && ok; ++i) {
+      const Touch& c = back_wide_[i];
       const std::uint64_t v = get(m, c.field);
       ok = v >= c.post && v - c.post + c.pre <= c.field.mask;
     }

@@ -155,6 +155,54 @@ TEST(Explorer, ReferendumHas3PowNPlus1States) {
   }
 }
 
+TEST(Explorer, TheTableAndQueuePeakUnder22BytesAStateOnReferendum12) {
+  // 531,442 states of one word; the table doubles from 4 MB to 8 MB at
+  // 393,217, with about 130,000 markings queued. Holding the old and the
+  // new table at once, and a ring queue that doubled (old and new ring), the
+  // peak was over 14 MB: 26 bytes a state.
+  ExploreResult r = explore(referendum(12));
+  ASSERT_EQ(pow3(12) + 1, r.states);
+  ASSERT_EQ(1u, r.words_per_state);
+  EXPECT_EQ(std::size_t{8} << 20, r.memory_bytes - (r.memory_bytes & ((std::size_t{1} << 20) - 1)))
+      << "the table at the end: 2^20 slots";
+  EXPECT_GE(r.peak_memory_bytes, r.memory_bytes);
+  EXPECT_LE(static_cast<double>(r.peak_memory_bytes) / static_cast<double>(r.states), 22.0)
+      << r.peak_memory_bytes << " bytes at the peak";
+}
+
+TEST(Explorer, FieldsWidenedBeforeTheSemiflowBoundsAreRepackedToThem) {
+  // Ten voters each vote yes or no once; a vote moves a token from the
+  // budget (20) to the count. count + budget = 20 is a P-semiflow, but the
+  // explorer only uses it after 2^15 states: until then the count's field
+  // widens from 1 bit as the votes come, then it is re-packed as 5 bits.
+  NetBuilder b;
+  const PlaceId budget = b.add_place("budget", 20);
+  const PlaceId count = b.add_place("count");
+  for (int i = 0; i < 10; ++i) {
+    const PlaceId ready = b.add_place(fmt::format("ready{}", i), 1);
+    for (const char* vote : {"yes", "no"}) {
+      const PlaceId voted = b.add_place(fmt::format("{}{}", vote, i));
+      const TransitionId t = b.add_transition(fmt::format("vote_{}{}", vote, i));
+      b.add_input(t, ready);
+      b.add_input(t, budget);
+      b.add_output(t, voted);
+      b.add_output(t, count);
+    }
+  }
+  ExploreResult r = explore(std::move(b).build());
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(pow3(10), r.states);
+  EXPECT_EQ(std::uint64_t{20} * pow3(9), r.edges) << "two votes for each voter still ready, in every state";
+  EXPECT_EQ(20u, r.place_bounds[budget]);
+  EXPECT_EQ(10u, r.place_bounds[count]);
+  EXPECT_EQ(20u, r.max_tokens_in_place);
+  EXPECT_EQ(30u, r.max_tokens_per_marking);
+  EXPECT_TRUE(r.deadlock);
+  EXPECT_FALSE(r.one_safe);
+  EXPECT_TRUE(r.quasi_live);
+  EXPECT_EQ(std::optional<bool>(false), r.live);
+}
+
 TEST(Explorer, LimitsStopWithAPartialResult) {
   ExploreOptions o;
   o.max_states = 50;
@@ -165,7 +213,7 @@ TEST(Explorer, LimitsStopWithAPartialResult) {
   EXPECT_NE(std::string::npos, r.stopped_why.find("50 states")) << r.stopped_why;
 
   ExploreOptions m;
-  m.max_memory_bytes = 64 * 1024;
+  m.max_memory_bytes = std::size_t{64} << 10;
   ExploreResult rm = explore(dining_philosophers(10), m);
   EXPECT_FALSE(rm.complete);
   EXPECT_LT(rm.states, pow3(10));

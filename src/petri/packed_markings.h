@@ -3,18 +3,20 @@
 // the full exploration's storage (explorer.h) and the question search's
 // (question.h). Not part of the API.
 //
-// Layout: a place covered by a P-semiflow y (y >= 0, y.C = 0) gets a field
-// wide enough for its bound y.M0 / y(p) from the start and never overflows;
-// any other place starts as wide as its initial tokens, and a field that
-// would overflow is widened (doubling: widen_field) and every stored marking
-// re-packed (repack_table). First fit of the fields into words; word 0
-// keeps bit 63 free, so kEmpty marks a free slot.
+// Layout: with start(net, true), a place covered by a P-semiflow y (y >= 0,
+// y.C = 0) gets a field wide enough for its bound y.M0 / y(p) and never
+// overflows; any other place starts as wide as its initial tokens, and a
+// field that would overflow is widened (doubling: widen_field) and every
+// stored marking re-packed (repack_table). First fit of the fields into
+// words; word 0 keeps bit 63 free, so kEmpty marks a free slot.
 //
 // The set: an open-addressing hash table (linear probing, one cache miss
 // per lookup; huge pages from 2 MB when the kernel allows) whose slots hold
-// the packed markings themselves, 2^k slots, at most 3/4 full.
+// the packed markings themselves, 2^k slots, at most 3/4 full. It doubles
+// without holding two full arrays (grow()).
 //
 // Threads: one per instance.
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -58,13 +60,17 @@ inline std::uint64_t mix(std::uint64_t x) {
 // nets of moderate size (packed_markings.cpp).
 std::vector<std::uint64_t> structural_bounds(const Net& net);
 
-// An array of words for the hash table. From 2 MB on, it is allocated in
-// whole 2 MB pages and the kernel asked for transparent huge pages: the
-// lookups are random, and with 4 KB pages nearly every one also missed the
-// TLB. bytes() is what was allocated (rounded up).
+// An array of words for the hash table. From 2 MB on, it is mapped from the
+// kernel directly in whole 2 MB pages (aligned) and the kernel asked for
+// transparent huge pages: the lookups are random, and with 4 KB pages nearly
+// every one also missed the TLB. Such an array is not initialised: its pages
+// read 0 and take memory only once written, and discard() gives pages back.
+// A smaller array comes from malloc, uninitialised. bytes() is what was
+// allocated (rounded up).
 class Words {
  public:
   static constexpr std::size_t kHuge = std::size_t{1} << 21;
+  static constexpr std::size_t kPage = std::size_t{1} << 12;
   Words() = default;
   // The bytes an array of that many bytes takes.
   static std::size_t rounded(std::size_t bytes) { return bytes >= kHuge ? (bytes + kHuge - 1) / kHuge * kHuge : bytes; }
@@ -83,6 +89,12 @@ class Words {
 
   std::size_t size() const { return n_; }
   std::size_t bytes() const { return bytes_; }
+  // Mapped (from kHuge bytes on): discard() can give memory back.
+  bool mapped() const { return bytes_ >= kHuge; }
+  // Gives back the whole pages (kPage) within bytes [from, to) (mapped
+  // arrays; otherwise nothing) and returns how many bytes that was. Those
+  // words read 0 afterwards, and take memory again once written.
+  std::size_t discard(std::size_t from, std::size_t to);
   std::uint64_t& operator[](std::size_t i) { return p_[i]; }
   const std::uint64_t& operator[](std::size_t i) const { return p_[i]; }
 
@@ -115,7 +127,7 @@ class PackedMarkings {
   void pack(std::span<const Tokens> m, std::uint64_t* out) const;
 
   // Inserts m (words() words) when absent, growing the table past 3/4
-  // full. Returns whether it was new.
+  // full (grow()). Returns whether it was new.
   bool insert(const std::uint64_t* m) {
     const std::uint64_t h = hash<0>(m);
     if (find<0>(m, h) != kNone) return false;
@@ -131,10 +143,19 @@ class PackedMarkings {
   std::uint64_t hash_of(const std::uint64_t* m) const { return hash<0>(m); }
   void prefetch(std::uint64_t full_hash) const { __builtin_prefetch(&table_[slot_of(full_hash) * words_]); }
   bool contains(const std::uint64_t* m, std::uint64_t full_hash) const { return find<0>(m, full_hash) != kNone; }
-  // The bytes the table takes once it grows for one more marking.
-  std::size_t bytes_after_insert() const {
-    return (count_ + 1) * 4 > slots_ * 3 ? table_.bytes() + Words::rounded(table_.size() * 16) : table_.bytes();
+  // The most bytes the table holds at once while it takes one more marking
+  // (growing, if it has to: growth_bytes()).
+  std::size_t bytes_after_insert() const { return (count_ + 1) * 4 > slots_ * 3 ? growth_bytes() : table_.bytes(); }
+  // The most bytes the table holds at once while it doubles: the old and
+  // the new array together while the old one is not mapped; else the new
+  // one and what of the old one is not given back yet (grow()), within two
+  // kHuge pages.
+  std::size_t growth_bytes() const {
+    const std::size_t bigger = Words::rounded(table_.size() * 16);
+    return table_.mapped() ? bigger + 2 * Words::kHuge : table_.bytes() + bigger;
   }
+  // The most bytes the table has held at once (its growth included).
+  std::size_t peak_table_bytes() const { return std::max(peak_bytes_, table_.bytes()); }
 
   // Place p needs room for `value` tokens (at most 32 bits; the caller
   // checks): its field doubles (or more), the fields are laid out again
@@ -182,7 +203,11 @@ class PackedMarkings {
   void new_table(std::size_t slots);
   // Stores m, known to be absent, without any check (count_ unchanged).
   void place(const std::uint64_t* m, std::uint64_t full_hash);
-  // Twice the slots, every marking placed again.
+  // Twice the slots, every marking placed again. A mapped table is not
+  // held twice: the old slots are swept in order (a slot's marking lands at
+  // about twice its index, slot_of() taking the hash's top bits), the new
+  // array initialised just ahead of where they land and the old one given
+  // back just behind the sweep.
   void grow();
   // Every stored marking from the old layout into the current one.
   void repack_table(const std::vector<Field>& old_fields, std::uint32_t old_words);
@@ -197,6 +222,8 @@ class PackedMarkings {
   std::size_t slots_ = 0;
   unsigned shift_ = 64;  // slot = hash >> shift_
   std::uint64_t count_ = 0;
+  std::size_t peak_bytes_ = 0;         // peak_table_bytes()
+  std::size_t last_growth_bytes_ = 0;  // the most the last grow() or repack_table() held at once
 };
 
 }  // namespace strata::petri::packed
