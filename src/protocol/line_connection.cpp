@@ -1,8 +1,8 @@
 #include "protocol/line_connection.h"
 
 #include <algorithm>
+#include <span>
 #include <utility>
-#include <vector>
 
 namespace strata::protocol {
 
@@ -115,11 +115,13 @@ void LineConnection::write_front() {
   writing_ = true;
   // Everything queued so far, in one gathered write (deque elements stay
   // where they are while more are queued behind them).
+  // The buffers live in the connection, not in a vector made for each write:
+  // the write operation copies the span (two words), and gather_ is not
+  // touched again until the write completes.
   const std::size_t n = std::min<std::size_t>(queue_.size(), kMaxGather);
-  std::vector<asio::const_buffer> buffers;
-  buffers.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) buffers.emplace_back(asio::buffer(queue_[i]));
+  for (std::size_t i = 0; i < n; ++i) gather_[i] = asio::buffer(queue_[i]);
   in_flight_ = n;
+  const std::span<const asio::const_buffer> buffers(gather_.data(), n);
   asio::async_write(socket_, buffers, [self = shared_from_this()](const asio::error_code& e, std::size_t) {
     self->writing_ = false;
     if (self->closed_) return;

@@ -125,9 +125,10 @@ class LineConnection : public std::enable_shared_from_this<LineConnection> {
   std::array<char, 4096> buffer_{};
   std::deque<std::string> queue_;
   std::size_t queued_bytes_ = 0;
-  std::size_t in_flight_ = 0;                    // the first in_flight_ of queue_ are being written
-  static constexpr std::size_t kMaxGather = 64;  // at most this many in one write
-  bool writing_ = false;                         // a write is under way or posted
+  std::size_t in_flight_ = 0;                            // the first in_flight_ of queue_ are being written
+  static constexpr std::size_t kMaxGather = 64;          // at most this many in one write
+  std::array<asio::const_buffer, kMaxGather> gather_{};  // the write in progress's pieces
+  bool writing_ = false;                                 // a write is under way or posted
   bool reading_ = false;
   bool closing_ = false;
   bool closed_ = false;

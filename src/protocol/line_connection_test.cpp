@@ -187,6 +187,27 @@ TEST(LineConnection, ThePeerClosingIsReportedOnce) {
   EXPECT_EQ(1, t.closes);
 }
 
+// One write gathers at most 64 queued pieces, and a large burst is written
+// in parts: every byte still arrives, in order, burst after burst.
+TEST(LineConnection, BurstsLargerThanOneGatheredWriteArriveWholeAndInOrder) {
+  LineConnectionOptions o;
+  o.max_queue_bytes = std::size_t{8} << 20;
+  Loopback t(o);
+  std::string expected;
+  for (int burst = 0; burst < 2; ++burst) {
+    for (int i = 0; i < 300; ++i) {
+      std::string line = "tlm " + std::to_string(burst) + " " + std::to_string(i) + " " +
+                         std::string(static_cast<std::size_t>(i % 7) * 900, static_cast<char>('a' + i % 26)) + "\n";
+      expected += line;
+      ASSERT_EQ(LineConnection::Sent::Queued, t.connection->send(std::move(line)));
+    }
+    // Written (the queue empty) and read (every byte at the peer).
+    ASSERT_TRUE(t.run_until([&] { return t.connection->queued_bytes() == 0 && t.received.size() >= expected.size(); }));
+  }
+  EXPECT_EQ(expected, t.received);
+  EXPECT_FALSE(t.connection->closing());
+}
+
 TEST(LineConnection, CloseWhenWrittenWritesEverythingThenClosesAndSaysSo) {
   Loopback t;
   EXPECT_EQ(LineConnection::Sent::Queued, t.connection->send("ok 1\n"));
