@@ -42,6 +42,7 @@
 :- use_module(library(prolog_wrap)).
 :- use_module(library(sandbox)).
 :- use_module(library(occurs)).
+:- use_module(library(error), [must_be/2]).
 
 :- dynamic loading/1,            % Module: collecting load messages for it
            load_message/5,       % Kind, File, Line, Column, Text
@@ -82,11 +83,15 @@ open_mission(Module, Primitives) :-
 
 % halt/0,1 in the rules end the mission, not the host: they throw
 % strata_halt and strata_halt(Code), which the host turns into the end.
+% must_be/2 is named with its module: the mission's module does not import
+% it, and the check's walk of halt/1 would otherwise look it up in
+% SWI-Prolog's autoload index, which the first check of a process then
+% reads from its text (about 3 ms of `strata check`).
 guard_halt(M) :-
     redefine_system_predicate(M:halt),
     M:assertz((halt :- throw(strata_halt))),
     redefine_system_predicate(M:halt(_)),
-    M:assertz((halt(Code) :- must_be(integer, Code), throw(strata_halt(Code)))),
+    M:assertz((halt(Code) :- error:must_be(integer, Code), throw(strata_halt(Code)))),
     compile_predicates(M:[halt/0, halt/1]).
 
 % system:halt/0,1 called by the rules (module-qualified, past the guard
