@@ -44,6 +44,39 @@
 :- use_module(library(occurs)).
 :- use_module(library(error), [must_be/2]).
 
+% The libraries the driver loads call some predicates of other libraries
+% through autoload declarations, which SWI-Prolog resolves at the first
+% call by reading the other library's file for its exports (autoload/1):
+% about 2.5 ms of the first load and check of a process (`strata check`),
+% although every one of these libraries is loaded already (the precompiled
+% driver, driver_libraries.pl). The links those first calls make are made
+% here instead, from the loaded modules: the same imports, at once. A link
+% whose modules or predicate are not there (another SWI-Prolog, the plunit
+% tests' load order) is left to the autoloader, as before.
+library_link(solution_sequences, nb_set, empty_nb_set/1).   % distinct/1,2
+library_link(solution_sequences, nb_set, add_nb_set/3).
+library_link(nb_set, lists, member/2).
+library_link(prolog_codewalk, swi_option, meta_options/3).  % prolog_walk_code/1
+library_link(prolog_codewalk, error, must_be/2).
+library_link(prolog_codewalk, prolog_debug, debug/3).
+library_link(prolog_codewalk, prolog_metainference, inferred_meta_predicate/2).
+library_link(swi_option, error, must_be/2).
+
+link_library_predicate(Module, From, Name/Arity) :-
+    (   current_module(Module),
+        current_module(From),
+        current_predicate(From:Name/Arity),
+        functor(Head, Name, Arity),
+        % Not defined there (a call names it, the autoloader has not run):
+        % current_predicate/1 would say it is.
+        \+ '$get_predicate_attribute'(Module:Head, defined, 1),
+        \+ '$get_predicate_attribute'(Module:Head, imported, _)
+    ->  Module:import(From:Name/Arity)
+    ;   true
+    ).
+
+:- forall(library_link(Module, From, PI), link_library_predicate(Module, From, PI)).
+
 :- dynamic loading/1,            % Module: collecting load messages for it
            load_message/5,       % Kind, File, Line, Column, Text
            inference_budget/1,   % inferences allowed between primitive calls
