@@ -56,6 +56,7 @@
 library_link(solution_sequences, nb_set, empty_nb_set/1).   % distinct/1,2
 library_link(solution_sequences, nb_set, add_nb_set/3).
 library_link(nb_set, lists, member/2).
+library_link(lists, error, must_be/2).                      % append/2 (check_mission/2)
 library_link(prolog_codewalk, swi_option, meta_options/3).  % prolog_walk_code/1
 library_link(prolog_codewalk, error, must_be/2).
 library_link(prolog_codewalk, prolog_debug, debug/3).

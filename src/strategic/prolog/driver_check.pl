@@ -137,9 +137,13 @@ snapshot_property(Goal, Property) :-
                        transparent, meta_predicate(_), foreign, public, non_terminal ]),
     predicate_property(Goal, Property).
 
-% The last 16 rules that passed, newest last.
+% The last 16 rules that passed, newest last; rules of more than about
+% 2 MB of terms are not kept (16 of them would hold too much).
 remember_passed(Hash, Rules) :-
     (   passed_check(Hash, Known), Known =@= Rules
+    ->  true
+    ;   term_size(Rules, Cells),
+        Cells > 250000
     ->  true
     ;   assertz(passed_check(Hash, Rules)),
         aggregate_all(count, passed_check(_, _), Count),
