@@ -62,7 +62,7 @@ parses_text(PI) :-
 check_mission(Module, Problems) :-
     % The first check of a process keeps nothing: most processes (`strata
     % check`, `strata run`) check one mission once, and the snapshot costs
-    % about a sixth of a check.
+    % about an eighth of a check.
     flag(strata_checks, Checks, Checks + 1),
     (   Checks > 0,
         rules_snapshot(Module, Rules, Hash)
@@ -112,9 +112,9 @@ walk_problems(Module, Walked) :-
 %   most of a load when one process loads the same rules run after run
 %   (bench/prolog_bench, a campaign's worker that cannot keep them, the
 %   studio), from its second check on. Only rules that passed are kept: a
-%   problem is always found again, with its place. Fails, and nothing is kept, when the rules name
-%   their own module (the same text in another module means something
-%   else) or cannot be hashed.
+%   problem is always found again, with its place. Fails, and nothing is
+%   kept, when the rules name their own module (the same text in another
+%   module means something else) or cannot be hashed.
 
 rules_snapshot(Module, Rules, Hash) :-
     findall(PI-What, module_predicate(Module, PI, What), Rules0),
