@@ -42,7 +42,15 @@
 //     and its wall_time_s is reported as first_run_ms on run/tank/prolog.
 //     The driver comes precompiled from the build folder
 //     (STRATA_PROLOG_DRIVER, unless already set: "" for its text).
-//     Target: PROLOG ms_per_run within 2x of CORAL's.
+//     Target: PROLOG ms_per_run within 2x of CORAL's. Each PROLOG run loads
+//     and checks the rules afresh; from the third load on, the check is
+//     answered by the driver's memory of rules that passed it
+//     (driver_check.pl), as it is for every run of a process but its first.
+//
+//   run/tank/prolog/kept
+//     The same runs as a campaign's worker makes them (RunOptions::keep_rules):
+//     the rules loaded once and taken back, put back as they were, for each
+//     later run (strategic::KeepRules).
 //
 // A run or query that does not end as it should stops its benchmark with
 // SkipWithError, so a broken run is never timed as a success.
@@ -92,9 +100,10 @@ class NullBuf : public std::streambuf {
 };
 
 // One run, console discarded; why says what went wrong when the exit code is not 0.
-cli::RunReport run_once(const char* mission, std::string& why) {
+cli::RunReport run_once(const char* mission, std::string& why, bool keep_rules = false) {
   cli::RunOptions options;
   options.mission = mission;
+  options.keep_rules = keep_rules;
   NullBuf null;
   std::ostream out(&null);
   std::ostringstream err;  // empty in a nominal run
@@ -243,13 +252,13 @@ void bm_foreign_call_executor(benchmark::State& st) {
   set_per_call(st, spent, tactics.calls);
 }
 
-void bm_run(benchmark::State& st, const char* mission, bool prolog) {
+void bm_run(benchmark::State& st, const char* mission, bool prolog, bool keep_rules = false) {
   if (prolog && !first_prolog_run().error.empty()) {
     st.SkipWithError(first_prolog_run().error.c_str());
     return;
   }
   std::string why;
-  if (run_once(mission, why).exit_code != 0) {
+  if (run_once(mission, why, keep_rules).exit_code != 0) {
     st.SkipWithError(why.c_str());
     return;
   }
@@ -258,7 +267,7 @@ void bm_run(benchmark::State& st, const char* mission, bool prolog) {
   double calls = 0.0;
   std::int64_t runs = 0;
   for (auto _ : st) {
-    cli::RunReport report = run_once(mission, why);
+    cli::RunReport report = run_once(mission, why, keep_rules);
     if (report.exit_code != 0) {
       st.SkipWithError(why.c_str());
       break;
@@ -286,6 +295,7 @@ void register_all() {
   add("prolog/load/tank", bm_load_tank);
   add("run/tank/coral", [](benchmark::State& st) { bm_run(st, kTankCoral, false); });
   add("run/tank/prolog", [](benchmark::State& st) { bm_run(st, kTankProlog, true); });
+  add("run/tank/prolog/kept", [](benchmark::State& st) { bm_run(st, kTankProlog, true, true); });
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <iterator>
+#include <memory>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -165,43 +166,51 @@ void check_level(const PrologMission& mission, const tactical::Catalogue& catalo
 // A wall-clock limit on the Prolog that runs on this thread while it lives:
 // past it, a watchdog thread interrupts it (prolog/interrupt.h: also out of
 // sleep/1), again every 50 ms, since a directive's catch/3 could swallow one
-// raise when the query runs without the driver's exception hook.
+// raise when the query runs without the driver's exception hook. The end
+// does not wait for the watchdog: it tells it, under the lock the watchdog
+// interrupts under, and leaves it to end on its own (joining it cost a
+// wake-up of that thread at every load: milliseconds of wall clock on a busy
+// machine, most of a repeated load's).
 class TimeLimit {
  public:
-  explicit TimeLimit(std::chrono::milliseconds limit) : scope_(this) {
-    watchdog_ = std::thread([this, limit] {
-      std::unique_lock lock(mutex_);
-      if (done_cv_.wait_for(lock, limit, [this] { return done_; })) return;
-      expired_ = true;
-      while (!done_) {
-        prolog::interrupt(this);
-        done_cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return done_; });
+  explicit TimeLimit(std::chrono::milliseconds limit) : scope_(this), state_(std::make_shared<State>()) {
+    std::thread([state = state_, owner = static_cast<const void*>(this), limit] {
+      std::unique_lock lock(state->mutex);
+      if (state->done_cv.wait_for(lock, limit, [&state] { return state->done; })) return;
+      state->expired = true;
+      while (!state->done) {
+        prolog::interrupt(owner);
+        state->done_cv.wait_for(lock, std::chrono::milliseconds(50), [&state] { return state->done; });
       }
-    });
+    }).detach();
   }
+  // After this, the watchdog interrupts nothing: it sees `done` at once
+  // when it holds the lock, else the next time it takes it.
   ~TimeLimit() {
     {
-      std::lock_guard lock(mutex_);
-      done_ = true;
+      std::lock_guard lock(state_->mutex);
+      state_->done = true;
     }
-    done_cv_.notify_all();
-    watchdog_.join();
+    state_->done_cv.notify_all();
   }
   TimeLimit(const TimeLimit&) = delete;
   TimeLimit& operator=(const TimeLimit&) = delete;
 
   bool expired() {
-    std::lock_guard lock(mutex_);
-    return expired_;
+    std::lock_guard lock(state_->mutex);
+    return state_->expired;
   }
 
  private:
+  // Shared with the watchdog, which may outlive this.
+  struct State {
+    std::mutex mutex;
+    std::condition_variable done_cv;
+    bool done = false;
+    bool expired = false;
+  };
   prolog::InterruptScope scope_;
-  std::mutex mutex_;
-  std::condition_variable done_cv_;
-  bool done_ = false;
-  bool expired_ = false;
-  std::thread watchdog_;
+  std::shared_ptr<State> state_;
 };
 
 // Rules kept loaded after their PrologMission ended (KeepRules::Yes): one set

@@ -167,5 +167,19 @@ TEST_F(PrologMissionTest, parsing_text_as_a_term_is_refused_by_the_check) {
   EXPECT_NE(text.find("parses text as a term"), std::string::npos) << text;
 }
 
+// The check of rules that passed is not made again for the same rules
+// (driver_check.pl, passed_check/2): rules edited between two loads of one
+// process are checked again, and a clause the sandbox refuses is refused,
+// at its place, however often the rules before it loaded.
+TEST_F(PrologMissionTest, rules_edited_between_two_loads_are_checked_again) {
+  const std::string path = rules_.write("m.pl", "mission :- helper.\nhelper :- write(ok).\n");
+  for (int i = 0; i < 2; ++i) ASSERT_NE(load_ok(path), nullptr);
+  rules_.write("m.pl", "mission :- helper.\nhelper :- write(ok),\n    shell('true').\n");
+  const std::string text = failed_load(path, LoadLimits{});
+  EXPECT_NE(text.find("m.pl:3:5: error: "), std::string::npos) << text;
+  EXPECT_NE(text.find("shell/1"), std::string::npos) << text;
+  EXPECT_EQ(text, failed_load(path, LoadLimits{}));  // found again, the same, by a load that follows
+}
+
 }  // namespace
 }  // namespace strata::strategic

@@ -3,6 +3,11 @@
 #include <cassert>
 #include <vector>
 
+#if defined(__x86_64__)
+#include <cpuid.h>
+#include <immintrin.h>
+#endif
+
 #include <fmt/format.h>
 
 #include "core/file.h"
@@ -23,11 +28,88 @@ constexpr std::array<std::uint32_t, 64> kRound = {
 
 constexpr std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
 
+#if defined(__x86_64__)
+bool cpu_has_sha_extensions() {
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  if (__get_cpuid(1, &a, &b, &c, &d) == 0 || (c & bit_SSSE3) == 0 || (c & bit_SSE4_1) == 0) return false;
+  return __get_cpuid_count(7, 0, &a, &b, &c, &d) != 0 && (b & bit_SHA) != 0;
+}
+
+// Four rounds with the SHA extensions (Intel's SHA-NI), on four words of
+// the message schedule (from word 4 * step); the state is kept as the two
+// halves the round instruction takes, ABEF and CDGH.
+__attribute__((target("sha,ssse3,sse4.1"))) void four_rounds(__m128i& abef, __m128i& cdgh, __m128i words,
+                                                             std::size_t step) {
+  const __m128i message =
+      _mm_add_epi32(words, _mm_loadu_si128(reinterpret_cast<const __m128i*>(kRound.data() + 4 * step)));
+  cdgh = _mm_sha256rnds2_epu32(cdgh, abef, message);  // now the new ABEF
+  abef = _mm_sha256rnds2_epu32(abef, cdgh, _mm_shuffle_epi32(message, 0x0E));
+}
+
+// Words 4i..4i+3 of a block, as numbers (big-endian in the block).
+__attribute__((target("sha,ssse3,sse4.1"))) __m128i block_words(const std::uint8_t* block, std::size_t i) {
+  const __m128i byte_swap = _mm_set_epi64x(0x0c0d0e0f08090a0bLL, 0x0405060700010203LL);
+  return _mm_shuffle_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(block + 16 * i)), byte_swap);
+}
+
+// One block with the SHA extensions: the first 16 words are the block's;
+// each later four are made from the 16 before them (msg1, the words 7
+// back, msg2).
+__attribute__((target("sha,ssse3,sse4.1"))) void compress_extensions(std::uint32_t* h, const std::uint8_t* block) {
+  const __m128i abcd = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h));
+  const __m128i efgh = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h + 4));
+  const __m128i cdab = _mm_shuffle_epi32(abcd, 0xB1);
+  const __m128i hgfe = _mm_shuffle_epi32(efgh, 0x1B);
+  __m128i abef = _mm_alignr_epi8(cdab, hgfe, 8);
+  __m128i cdgh = _mm_blend_epi16(hgfe, cdab, 0xF0);
+  const __m128i abef_before = abef;
+  const __m128i cdgh_before = cdgh;
+  // The last 16 words, four by four, oldest first.
+  __m128i w0 = block_words(block, 0);
+  __m128i w1 = block_words(block, 1);
+  __m128i w2 = block_words(block, 2);
+  __m128i w3 = block_words(block, 3);
+  four_rounds(abef, cdgh, w0, 0);
+  four_rounds(abef, cdgh, w1, 1);
+  four_rounds(abef, cdgh, w2, 2);
+  four_rounds(abef, cdgh, w3, 3);
+  for (std::size_t step = 4; step < 16; ++step) {
+    const __m128i next =
+        _mm_sha256msg2_epu32(_mm_add_epi32(_mm_sha256msg1_epu32(w0, w1), _mm_alignr_epi8(w3, w2, 4)), w3);
+    four_rounds(abef, cdgh, next, step);
+    w0 = w1;
+    w1 = w2;
+    w2 = w3;
+    w3 = next;
+  }
+  abef = _mm_add_epi32(abef, abef_before);
+  cdgh = _mm_add_epi32(cdgh, cdgh_before);
+  const __m128i feba = _mm_shuffle_epi32(abef, 0x1B);
+  const __m128i dchg = _mm_shuffle_epi32(cdgh, 0xB1);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(h), _mm_blend_epi16(feba, dchg, 0xF0));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 4), _mm_alignr_epi8(dchg, feba, 8));
+}
+#else
+bool cpu_has_sha_extensions() { return false; }
+void compress_extensions(std::uint32_t*, const std::uint8_t*) { assert(false); }
+#endif
+
 }  // namespace
 
-Sha256::Sha256() : h_{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19} {}
+Sha256::Sha256(Code code)
+    : h_{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19},
+      extensions_(code == Code::Best && cpu_extensions()) {}
+
+bool Sha256::cpu_extensions() {
+  static const bool has = cpu_has_sha_extensions();
+  return has;
+}
 
 void Sha256::compress(const std::uint8_t* block) {
+  if (extensions_) {
+    compress_extensions(h_.data(), block);
+    return;
+  }
   std::array<std::uint32_t, 64> w{};
   for (std::size_t i = 0; i < 16; ++i) {
     w[i] = (std::uint32_t{block[4 * i]} << 24) | (std::uint32_t{block[4 * i + 1]} << 16) |

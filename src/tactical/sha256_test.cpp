@@ -39,6 +39,21 @@ TEST(Sha256, PiecesGiveTheSameDigestAsTheWhole) {
   }
 }
 
+// The CPU's SHA extensions, where this machine has them, and the portable
+// code give the same digests at every length up to three blocks and past.
+TEST(Sha256, CpuExtensionsAndPortableCodeAgree) {
+  if (!Sha256::cpu_extensions()) GTEST_SKIP() << "this CPU has no SHA extensions";
+  std::string text;
+  for (int i = 0; i < 300; ++i) text += static_cast<char>((i * 131 + 7) % 256);
+  for (std::size_t n = 0; n <= text.size(); ++n) {
+    Sha256 best;
+    Sha256 portable(Sha256::Code::Portable);
+    best.update(std::string_view(text).substr(0, n));
+    portable.update(std::string_view(text).substr(0, n));
+    ASSERT_EQ(Sha256::hex(portable.finish()), Sha256::hex(best.finish())) << n;
+  }
+}
+
 TEST(Sha256, Files) {
   auto path = std::filesystem::temp_directory_path() / ("strata_sha256_" + std::to_string(::getpid()));
   {

@@ -42,6 +42,41 @@
 :- use_module(library(prolog_wrap)).
 :- use_module(library(sandbox)).
 :- use_module(library(occurs)).
+:- use_module(library(error), [must_be/2]).
+
+% The libraries the driver loads call some predicates of other libraries
+% through autoload declarations, which SWI-Prolog resolves at the first
+% call by reading the other library's file for its exports (autoload/1):
+% about 2.5 ms of the first load and check of a process (`strata check`),
+% although every one of these libraries is loaded already (the precompiled
+% driver, driver_libraries.pl). The links those first calls make are made
+% here instead, from the loaded modules: the same imports, at once. A link
+% whose modules or predicate are not there (another SWI-Prolog, the plunit
+% tests' load order) is left to the autoloader, as before.
+library_link(solution_sequences, nb_set, empty_nb_set/1).   % distinct/1,2
+library_link(solution_sequences, nb_set, add_nb_set/3).
+library_link(nb_set, lists, member/2).
+library_link(lists, error, must_be/2).                      % append/2 (check_mission/2)
+library_link(prolog_codewalk, swi_option, meta_options/3).  % prolog_walk_code/1
+library_link(prolog_codewalk, error, must_be/2).
+library_link(prolog_codewalk, prolog_debug, debug/3).
+library_link(prolog_codewalk, prolog_metainference, inferred_meta_predicate/2).
+library_link(swi_option, error, must_be/2).
+
+link_library_predicate(Module, From, Name/Arity) :-
+    (   current_module(Module),
+        current_module(From),
+        current_predicate(From:Name/Arity),
+        functor(Head, Name, Arity),
+        % Not defined there (a call names it, the autoloader has not run):
+        % current_predicate/1 would say it is.
+        \+ '$get_predicate_attribute'(Module:Head, defined, 1),
+        \+ '$get_predicate_attribute'(Module:Head, imported, _)
+    ->  Module:import(From:Name/Arity)
+    ;   true
+    ).
+
+:- forall(library_link(Module, From, PI), link_library_predicate(Module, From, PI)).
 
 :- dynamic loading/1,            % Module: collecting load messages for it
            load_message/5,       % Kind, File, Line, Column, Text
@@ -82,11 +117,15 @@ open_mission(Module, Primitives) :-
 
 % halt/0,1 in the rules end the mission, not the host: they throw
 % strata_halt and strata_halt(Code), which the host turns into the end.
+% must_be/2 is named with its module: the mission's module does not import
+% it, and the check's walk of halt/1 would otherwise look it up in
+% SWI-Prolog's autoload index, which the first check of a process then
+% reads from its text (about 3 ms of `strata check`).
 guard_halt(M) :-
     redefine_system_predicate(M:halt),
     M:assertz((halt :- throw(strata_halt))),
     redefine_system_predicate(M:halt(_)),
-    M:assertz((halt(Code) :- must_be(integer, Code), throw(strata_halt(Code)))),
+    M:assertz((halt(Code) :- error:must_be(integer, Code), throw(strata_halt(Code)))),
     compile_predicates(M:[halt/0, halt/1]).
 
 % system:halt/0,1 called by the rules (module-qualified, past the guard

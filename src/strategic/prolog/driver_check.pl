@@ -14,6 +14,7 @@
 :- use_module(library(aggregate)).
 :- use_module(library(readutil)).
 :- use_module(library(prolog_codewalk)).
+:- use_module(library(occurs)).
 
 % Reading a term from text made at run time: SWI-Prolog 9.0.4's reader can
 % read freed memory on a digit followed by a quote (0'c, 16'FF) at some
@@ -47,6 +48,7 @@ parses_text(PI) :-
 :- use_module(library(sandbox)).
 
 :- dynamic walk_problem/4.           % File, Line, Callee, Text
+:- dynamic passed_check/2.           % Hash, Rules: rules the walk and the sandbox found nothing in
 
 %!  check_mission(+Module, -Problems) is det.
 %
@@ -58,15 +60,27 @@ parses_text(PI) :-
 %   problem(File, Line:Column, Text).
 
 check_mission(Module, Problems) :-
-    % A walk without the source is cheap; only when it finds a problem is
-    % the source read again, for the line of each call.
-    walk_mission(Module, false),
-    (   walk_problem(_, _, _, _)
-    ->  walk_mission(Module, true)
-    ;   true
+    % The first check of a process keeps nothing: most processes (`strata
+    % check`, `strata run`) check one mission once, and the snapshot costs
+    % about an eighth of a check.
+    flag(strata_checks, Checks, Checks + 1),
+    (   Checks > 0,
+        rules_snapshot(Module, Rules, Hash)
+    ->  true
+    ;   Hash = none
     ),
-    findall(problem(F, L, T), walk_problem(F, L, _, T), Walked),
-    sandbox_problems(Module, Refused),
+    (   Hash \== none,
+        passed_check(Hash, Passed),
+        Passed =@= Rules
+    ->  Walked = [],
+        Refused = []
+    ;   walk_problems(Module, Walked),
+        sandbox_problems(Module, Refused),
+        (   Walked == [], Refused == [], Hash \== none
+        ->  remember_passed(Hash, Rules)
+        ;   true
+        )
+    ),
     guard_problems(Module, Guards),
     append([Walked, Refused, Guards], All),
     sort(All, Sorted),
@@ -74,6 +88,69 @@ check_mission(Module, Problems) :-
     ->  Problems = Sorted
     ;   Problems = [problem('', 0, "no mission/0 to run: the rules must define `mission :- ...`")
                    |Sorted]
+    ).
+
+walk_problems(Module, Walked) :-
+    % A walk without the source is cheap; only when it finds a problem is
+    % the source read again, for the line of each call.
+    walk_mission(Module, false),
+    (   walk_problem(_, _, _, _)
+    ->  walk_mission(Module, true)
+    ;   true
+    ),
+    findall(problem(F, L, T), walk_problem(F, L, _, T), Walked).
+
+%!  rules_snapshot(+Module, -Rules, -Hash) is semidet.
+%
+%   Rules is all that the walk and the sandbox's check of Module see:
+%   every predicate of the module (sorted by name and arity), with where
+%   it is imported from, or with its properties and its clauses, the
+%   primitives the driver defined from the catalogue among them. Hash is
+%   its variant_sha1/2. Rules that passed both once pass them again, in
+%   any module: check_mission/2 keeps the last few (passed_check/2) and
+%   does not walk or check rules equal (=@=) to one of them, which saves
+%   most of a load when one process loads the same rules run after run
+%   (bench/prolog_bench, a campaign's worker that cannot keep them, the
+%   studio), from its second check on. Only rules that passed are kept: a
+%   problem is always found again, with its place. Fails, and nothing is
+%   kept, when the rules name their own module (the same text in another
+%   module means something else) or cannot be hashed.
+
+rules_snapshot(Module, Rules, Hash) :-
+    findall(PI-What, module_predicate(Module, PI, What), Rules0),
+    msort(Rules0, Rules),
+    \+ ( sub_term(Sub, Rules), Sub == Module ),
+    catch(variant_sha1(Rules, Hash), _, fail).
+
+module_predicate(Module, Name/Arity, What) :-
+    current_predicate(Module:Name/Arity),
+    functor(Head, Name, Arity),
+    (   predicate_property(Module:Head, imported_from(From))
+    ->  What = imported(From)
+    ;   findall(P, snapshot_property(Module:Head, P), Properties),
+        findall((Head :- Body), clause(Module:Head, Body), Clauses),
+        What = own(Properties, Clauses)
+    ).
+
+snapshot_property(Goal, Property) :-
+    member(Property, [ dynamic, multifile, discontiguous, tabled, thread_local,
+                       transparent, meta_predicate(_), foreign, public, non_terminal ]),
+    predicate_property(Goal, Property).
+
+% The last 16 rules that passed, newest last; rules of more than about
+% 2 MB of terms are not kept (16 of them would hold too much).
+remember_passed(Hash, Rules) :-
+    (   passed_check(Hash, Known), Known =@= Rules
+    ->  true
+    ;   term_size(Rules, Cells),
+        Cells > 250000
+    ->  true
+    ;   assertz(passed_check(Hash, Rules)),
+        aggregate_all(count, passed_check(_, _), Count),
+        (   Count > 16
+        ->  once(retract(passed_check(_, _)))
+        ;   true
+        )
     ).
 
 % One walk finds both the calls nobody defines and the ood/N calls (the
