@@ -48,6 +48,21 @@ TEST_F(ReadRegularFile, AFileOfExactlyTheLimitIsRead) {
   EXPECT_EQ(r.value().size(), 100u);
 }
 
+// A regular file whose size says 0 but that has text (/proc's): the buffer
+// starts one byte past the size and grows as the text comes.
+TEST_F(ReadRegularFile, AFileLongerThanItsSizeSaysIsReadWhole) {
+  auto r = read_regular_file("/proc/self/status", std::size_t{1} << 20);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_NE(r.value().find("Name:"), std::string::npos);
+  EXPECT_NE(r.value().find("VmPeak:"), std::string::npos);  // past the first byte
+}
+
+TEST_F(ReadRegularFile, AnEmptyFileIsReadEmpty) {
+  auto r = read_regular_file(write("a.pl", ""), 100);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_TRUE(r.value().empty());
+}
+
 TEST_F(ReadRegularFile, AFileOverTheLimitIsRefusedNamingTheLimit) {
   auto r = read_regular_file(write("a.pl", std::string(101, 'x')), 100);
   ASSERT_FALSE(r);
