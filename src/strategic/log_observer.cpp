@@ -7,10 +7,23 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json tokens_object(const std::vector<std::pair<std::string_view, petri::Tokens>>& changes) {
-  Json out = Json::object();
-  for (const auto& [place, n] : changes) out[std::string(place)] = n;
-  return out;
+// {"place": tokens, ...} in the order given. A place named twice keeps its
+// first place and its last count, as a JSON object built key by key would.
+void tokens_object(tactical::LogLine& line, std::string_view key,
+                   const std::vector<std::pair<std::string_view, petri::Tokens>>& changes) {
+  line.begin_object(key);
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const std::string_view place = changes[i].first;
+    bool seen_before = false;
+    for (std::size_t j = 0; j < i && !seen_before; ++j) seen_before = changes[j].first == place;
+    if (seen_before) continue;
+    petri::Tokens n = changes[i].second;
+    for (std::size_t j = i + 1; j < changes.size(); ++j) {
+      if (changes[j].first == place) n = changes[j].second;
+    }
+    line.add(place, n);
+  }
+  line.end_object();
 }
 
 Json marking_object(const petri::State& state) {
@@ -51,28 +64,20 @@ void LogObserver::phase_ended(const PhaseEnd& e) {
 }
 
 void LogObserver::fired(const Firing& e) {
-  Json line;
-  line["event"] = "fire";
-  line["n"] = e.index;
-  line["instance"] = e.instance;
-  line["net"] = e.net;
-  line["transition"] = e.transition_name;
-  line["consumed"] = tokens_object(e.consumed);
-  line["produced"] = tokens_object(e.produced);
-  line["sim_time"] = t(e.sim_time_s);
-  log_.write(line);
+  tactical::LogLine line("fire");
+  line.add("n", e.index).add("instance", e.instance).add("net", e.net).add("transition", e.transition_name);
+  tokens_object(line, "consumed", e.consumed);
+  tokens_object(line, "produced", e.produced);
+  line.add("sim_time", t(e.sim_time_s));
+  log_.write(std::move(line));
 }
 
 void LogObserver::action_finished(const ActionFinish& e) {
   if (e.marks.empty()) return;
-  Json line;
-  line["event"] = "mark";
-  line["instance"] = e.instance;
-  line["net"] = e.net;
-  line["place"] = e.marks;
-  line["by"] = e.primitive;
-  line["sim_time"] = t(e.sim_time_s);
-  log_.write(line);
+  tactical::LogLine line("mark");
+  line.add("instance", e.instance).add("net", e.net).add("place", e.marks).add("by", e.primitive);
+  line.add("sim_time", t(e.sim_time_s));
+  log_.write(std::move(line));
 }
 
 void LogObserver::notice(const Notice& e) {

@@ -1,5 +1,6 @@
 #include "tactical/mission_log.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cerrno>
 #include <cmath>
@@ -108,6 +109,9 @@ core::Result<MissionLog> MissionLog::start(MissionLog log, const RunInfo& run) {
 
 namespace {
 
+// The most dated logs of one mission in one second (open_dated).
+constexpr int kMaxDatedLogs = 100'000;
+
 // An output stream over a file descriptor it owns (closed with it).
 class FdStream final : public std::ostream {
  public:
@@ -165,8 +169,24 @@ core::Result<MissionLog> MissionLog::open_dated(const std::string& folder, const
                                                              ec ? ec.message() : "not a folder"));
   }
   const auto now = std::chrono::system_clock::now();
-  for (int n = 1; n <= 100; ++n) {
-    const std::string path = (fs::path(folder) / dated_log_name(mission, now, n)).string();
+  const auto path_of = [&](int n) { return (fs::path(folder) / dated_log_name(mission, now, n)).string(); };
+  const auto taken = [&](int n) {
+    struct stat st {};
+    return ::lstat(path_of(n).c_str(), &st) == 0;
+  };
+  // The names of a second are taken 1, 2, 3...: probe up by doubling past
+  // those taken, then halve back to a free one, so a script's 1,000th run
+  // in one second looks at about 20 names, not 1,000. A name another run
+  // takes between the look and the open moves this one on to the next.
+  int below = 0, free = 1;
+  while (free <= kMaxDatedLogs && taken(free)) below = free, free *= 2;
+  free = std::min(free, kMaxDatedLogs + 1);
+  while (free - below > 1) {
+    const int mid = below + (free - below) / 2;
+    (taken(mid) ? below : free) = mid;
+  }
+  for (int n = free; n <= kMaxDatedLogs; ++n) {
+    const std::string path = path_of(n);
     auto fd = open_log_file(path, /*exclusive=*/true);
     if (!fd && fd.error().code == core::ErrorCode::Overflow) continue;  // taken: the next name
     if (!fd) return fd.error();
@@ -174,8 +194,9 @@ core::Result<MissionLog> MissionLog::open_dated(const std::string& folder, const
     std::ostream* out = file.get();
     return start(MissionLog(std::move(file), out, path, std::move(wall)), run);
   }
-  return core::make_error(core::ErrorCode::Io, fmt::format("{}: 100 logs of '{}' in one second already; not logging",
-                                                           folder, fs::path(mission).filename().string()));
+  return core::make_error(core::ErrorCode::Io,
+                          fmt::format("{}: {} logs of '{}' in one second already; not logging", folder, kMaxDatedLogs,
+                                      fs::path(mission).filename().string()));
 }
 
 std::string dated_log_name(const std::string& mission, std::chrono::system_clock::time_point utc, int n) {
@@ -201,8 +222,15 @@ void MissionLog::limit(std::uint64_t max_bytes, std::function<void()> on_full) {
 void MissionLog::write(const ordered_json& line) {
   assert(line.is_object());
   if (failure_) return;
-  std::string text = dump(line);
-  text += '\n';
+  write_text(dump(line) + '\n');
+}
+
+void MissionLog::write(LogLine&& line) {
+  if (failure_) return;
+  write_text(std::move(line).finish());
+}
+
+void MissionLog::write_text(const std::string& text) {
   if (max_bytes_ > 0) {
     if (bytes_ + text.size() > max_bytes_) {
       ++dropped_;
@@ -234,32 +262,24 @@ void MissionLog::write(const ordered_json& line) {
 
 void MissionLog::request(std::uint64_t id, std::string_view primitive, std::string_view message, double sim_time_s) {
   pending_[id] = Pending{sim_time_s, wall_.monotonic()};
-  ordered_json j;
-  j["event"] = "request";
-  j["id"] = id;
-  j["primitive"] = primitive;
-  j["message"] = message;
-  j["sim_time"] = log_time(sim_time_s);
-  write(j);
+  LogLine line("request");
+  line.add("id", id).add("primitive", primitive).add("message", message).add("sim_time", log_time(sim_time_s));
+  write(std::move(line));
 }
 
 void MissionLog::reply(std::uint64_t id, const ordered_json& result, double sim_time_s) {
-  ordered_json j;
-  j["event"] = "reply";
-  j["id"] = id;
-  j["result"] = result;
-  j["sim_time"] = log_time(sim_time_s);
+  LogLine line("reply");
+  line.add("id", id).add("result", result).add("sim_time", log_time(sim_time_s));
   auto it = pending_.find(id);
   if (it == pending_.end()) {
-    j["latency_sim_s"] = nullptr;
-    j["wall_latency_us"] = nullptr;
+    line.add_null("latency_sim_s").add_null("wall_latency_us");
   } else {
-    j["latency_sim_s"] = log_time(sim_time_s - it->second.sim_time_s);
+    line.add("latency_sim_s", log_time(sim_time_s - it->second.sim_time_s));
     auto wall = std::chrono::duration_cast<std::chrono::microseconds>(wall_.monotonic() - it->second.wall);
-    j["wall_latency_us"] = wall.count();
+    line.add("wall_latency_us", static_cast<std::int64_t>(wall.count()));
     pending_.erase(it);
   }
-  write(j);
+  write(std::move(line));
 }
 
 void MissionLog::telemetry(double sim_time_s, const ordered_json& fields) {

@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "tactical/log_line.h"
 
 namespace strata::tactical {
 
@@ -65,7 +66,7 @@ class MissionLog {
                                        WallTimeSource wall = WallTimeSource::system());
   // A new log in `folder` (made if missing), named for the mission and the
   // time (dated_log_name): never an existing file; -2, -3... when the name
-  // is taken, up to 100 in one second.
+  // is taken, up to 100,000 in one second.
   static core::Result<MissionLog> open_dated(const std::string& folder, const std::string& mission, const RunInfo& run,
                                              WallTimeSource wall = WallTimeSource::system());
   // The same onto a stream the caller owns and keeps alive (tests).
@@ -98,6 +99,8 @@ class MissionLog {
   void event(std::string_view name, const nlohmann::ordered_json& fields);
   // Any object, as one line. Wall-clock-dependent keys must be named wall_*.
   void write(const nlohmann::ordered_json& line);
+  // The same, written field by field (the busiest lines).
+  void write(LogLine&& line);
 
   // Bounds the log to max_bytes (0: no bound). Past max_bytes minus a
   // reserve for the run's last records (an eighth of it, at most 1 MiB) it
@@ -122,6 +125,7 @@ class MissionLog {
   };
 
   MissionLog(std::unique_ptr<std::ostream> owned, std::ostream* out, std::string path, WallTimeSource wall);
+  void write_text(const std::string& text);  // one whole line, its newline included
   static core::Result<MissionLog> start(MissionLog log, const RunInfo& run);
 
   std::unique_ptr<std::ostream> owned_;

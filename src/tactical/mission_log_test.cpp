@@ -8,7 +8,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <iterator>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -312,6 +314,29 @@ TEST(MissionLog, ADatedLogIsAlwaysANewFileNamedForTheMissionsFile) {
     EXPECT_NE(std::string::npos, n.find("Z-tank.coral")) << n;
     EXPECT_TRUE(n.ends_with(".jsonl")) << n;
   }
+}
+
+// A script that runs one mission more than 100 times in a second (a
+// campaign's cases as processes) got exit 74 from the 101st: "100 logs of
+// 'tank.coral' in one second already; not logging".
+TEST(MissionLog, TheHundredAndFirstLogOfAMissionInOneSecondIsStillWritten) {
+  TempDir dir;
+  const std::string folder = dir.path().string();
+  const auto now = std::chrono::system_clock::now();
+  std::set<std::string> made;
+  // This second and the next two, in case the second turns meanwhile.
+  for (int s = 0; s < 3; ++s) {
+    for (int n = 1; n <= 150; ++n) {
+      const std::string name = dated_log_name("tank.coral", now + std::chrono::seconds(s), n);
+      std::ofstream(dir.path() / name) << "";
+      made.insert(name);
+    }
+  }
+  auto log = MissionLog::open_dated(folder, "missions/tank/tank.coral", tank_run(), fake_clock({}, 1us));
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  const std::string name = std::filesystem::path(log.value().path()).filename().string();
+  EXPECT_EQ(0u, made.count(name)) << name;
+  EXPECT_TRUE(name.ends_with("Z-tank.coral-151.jsonl")) << name;  // the first name free
 }
 
 TEST(MissionLog, TheDatedNameIsTheStartTimeInUtcAndTheFilesName) {

@@ -39,17 +39,21 @@ protocol::Request to_request(const RenderedCall& call) {
   return r;
 }
 
-nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
-  nlohmann::ordered_json fields;
-  auto put = [&](const char* key, const std::optional<double>& v) {
-    if (v) fields[key] = log_time(*v);  // to the microsecond, like every logged number
+namespace {
+
+// The telemetry's fields in the log's names, to the microsecond like every
+// logged number, each through put(key, value).
+template <typename Put>
+void each_telemetry_field(const protocol::Telemetry& t, Put&& put) {
+  auto opt = [&](const char* key, const std::optional<double>& v) {
+    if (v) put(key, log_time(*v));
   };
-  put("depth_m", t.depth_m);
-  put("filtered_depth_m", t.filtered_depth_m);
-  put("rate_mps", t.rate_mps);
-  put("thrust_n", t.thrust_n);
-  put("setpoint_m", t.setpoint_m);
-  put("heading_deg", t.heading_deg);
+  opt("depth_m", t.depth_m);
+  opt("filtered_depth_m", t.filtered_depth_m);
+  opt("rate_mps", t.rate_mps);
+  opt("thrust_n", t.thrust_n);
+  opt("setpoint_m", t.setpoint_m);
+  opt("heading_deg", t.heading_deg);
   for (auto [wire, logged] :
        {std::pair{"x", "x_m"}, std::pair{"y", "y_m"}, std::pair{"true_x", "true_x_m"}, std::pair{"true_y", "true_y_m"},
         std::pair{"pos_sd", "position_sd_m"}, std::pair{"speed", "speed_mps"}, std::pair{"alt", "altitude_m"}}) {
@@ -58,9 +62,23 @@ nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
     double v = 0.0;
     const char* end = it->second.data() + it->second.size();
     const auto [ptr, ec] = std::from_chars(it->second.data(), end, v);
-    if (ec == std::errc{} && ptr == end && std::isfinite(v)) put(logged, v);
+    if (ec == std::errc{} && ptr == end && std::isfinite(v)) put(logged, log_time(v));
   }
+}
+
+}  // namespace
+
+nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t) {
+  nlohmann::ordered_json fields;
+  each_telemetry_field(t, [&fields](const char* key, double v) { fields[key] = v; });
   return fields;
+}
+
+LogLine telemetry_log_line(const protocol::Telemetry& t) {
+  LogLine line("telemetry");
+  line.add("sim_time", log_time(t.sim_time_s));
+  each_telemetry_field(t, [&line](const char* key, double v) { line.add(key, v); });
+  return line;
 }
 
 TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, std::shared_ptr<ExecutionLink> link,
@@ -71,8 +89,7 @@ TacticalLevel::TacticalLevel(asio::io_context& io, const Catalogue& catalogue, s
     sim_time_s_ = std::max(sim_time_s_, t.sim_time_s);
     last_heard_s_ = std::max(last_heard_s_, t.sim_time_s);
     if (log_) {
-      const nlohmann::ordered_json fields = telemetry_log_fields(t);
-      log_->telemetry(t.sim_time_s, fields);
+      log_->write(telemetry_log_line(t));
     }
     if (on_telemetry_) on_telemetry_(t);
   });

@@ -140,5 +140,8 @@ protocol::Request to_request(const RenderedCall& call);
 // altitude_m. A field the line lacks, or a non-number, is left out, so a
 // tank run's log reads as before.
 nlohmann::ordered_json telemetry_log_fields(const protocol::Telemetry& t);
+// The whole telemetry line of the log, {"event":"telemetry","sim_time":...}
+// and those fields, written without building a JSON value.
+LogLine telemetry_log_line(const protocol::Telemetry& t);
 
 }  // namespace strata::tactical

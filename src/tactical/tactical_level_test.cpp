@@ -347,5 +347,24 @@ TEST(TelemetryLogFields, OpenWaterAddsThePlaneAfterTheTankFields) {
   EXPECT_EQ(R"({"depth_m":2.0,"heading_deg":90.0})", telemetry_log_fields(t).dump());
 }
 
+// The telemetry line is written without building a JSON value: its bytes
+// are the line the log wrote from one ({"event","sim_time"}, then the fields).
+TEST(TelemetryLogFields, TheLogLineIsTheJsonLineItReplaced) {
+  protocol::Telemetry t;
+  t.sim_time_s = 12.3000004;
+  t.depth_m = -0.0412;
+  t.filtered_depth_m = 1.5;
+  t.rate_mps = 1e-7;
+  t.thrust_n = 0.0;
+  t.heading_deg = 359.99;
+  t.extras = {{"x", "12.35"}, {"speed", "0.800"}, {"alt", "garbage"}};
+  nlohmann::ordered_json j;
+  j["event"] = "telemetry";
+  j["sim_time"] = log_time(t.sim_time_s);
+  const nlohmann::ordered_json fields = telemetry_log_fields(t);
+  for (const auto& [k, v] : fields.items()) j[k] = v;
+  EXPECT_EQ(j.dump() + "\n", telemetry_log_line(t).finish());
+}
+
 }  // namespace
 }  // namespace strata::tactical
