@@ -1,6 +1,7 @@
 #include "run/loaded_mission.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -122,7 +123,7 @@ class RecordingFileProvider final : public coral::FileProvider {
 // A CORAL mission compiled and verified, kept for the next run of it in
 // this process (RunOptions::keep_mission).
 struct KeptCoral {
-  std::string key;  // the mission's path, the vehicle it was checked for
+  std::string key;  // the mission's path, the folder, the vehicle, STRATA_LIBRARY
   std::vector<RecordingFileProvider::Read> reads;
   std::vector<RecordingFileProvider::Lookup> lookups;
   core::SourceManager sources;
@@ -184,9 +185,14 @@ Loaded load_coral(const RunOptions& o, LoadedMission& loaded) {
   coral::DiskFileProvider disk;
   const coral::FileProvider& files = reader ? static_cast<const coral::FileProvider&>(*reader) : disk;
   const tactical::ExecutionLevel level = tactical::execution_level_of(o.vehicle);
+  std::error_code ec;
   // Only the built-in catalogue: a --catalogue file is read afresh by every run.
   if (!o.keep_mission || !o.catalogue.empty()) return load_coral(o.mission, &files, level, loaded);
-  const std::string key = fmt::format("{}\n{}", o.mission, tactical::execution_level_name(level));
+  // The library folders come from STRATA_LIBRARY (coral/loader.h): another
+  // value looks elsewhere, so it is part of the key.
+  const char* library = std::getenv("STRATA_LIBRARY");
+  const std::string key = fmt::format("{}\n{}\n{}\n{}", o.mission, fs::current_path(ec).string(),
+                                      tactical::execution_level_name(level), library ? library : "");
   if (auto kept = take_kept(key, files)) {
     loaded.sources = kept->sources;
     loaded.diagnostics = kept->diagnostics;
