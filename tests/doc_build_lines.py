@@ -79,6 +79,7 @@ LINES = {
         "build/release/bench/petri_bench --benchmark_counters_tabular=true": ("bench",),
         "build/release/bench/coral_bench": ("bench",),
         "build/release/bench/run_bench --benchmark_counters_tabular=true": ("bench",),
+        "build/release/bench/campaign_bench --benchmark_counters_tabular=true": ("bench",),
         "build/release/bench/prolog_bench --benchmark_counters_tabular=true": ("bench",),
         "build/release/bench/explorer_bench --benchmark_counters_tabular=true": ("bench",),
         "build/release/bench/studio_bench": ("bench",),
