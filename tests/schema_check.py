@@ -299,10 +299,12 @@ def cmd_logs(a):
 
 
 # Where the source writes a record: {"event", "KIND"} (an initialiser),
-# ["event"] = "KIND" (by key) or ->event("KIND", ...) / .event("KIND", ...).
+# ["event"] = "KIND" (by key), ->event("KIND", ...) / .event("KIND", ...),
+# or LogLine NAME("KIND") (a line written field by field).
 KIND_IN_SOURCE = [re.compile(r'\{\s*"event"\s*,\s*"([a-z_]+)"\s*\}'),
                   re.compile(r'\[\s*"event"\s*\]\s*=\s*"([a-z_]+)"'),
-                  re.compile(r'(?:->|\.)event\(\s*"([a-z_]+)"')]
+                  re.compile(r'(?:->|\.)event\(\s*"([a-z_]+)"'),
+                  re.compile(r'\bLogLine\s+\w+\(\s*"([a-z_]+)"\s*\)')]
 # The folders whose code writes the mission log (the Sonar Manager and the
 # campaign write files of their own).
 LOG_WRITERS = ["tactical", "strategic", "run"]
