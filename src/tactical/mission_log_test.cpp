@@ -12,6 +12,7 @@
 #include <iterator>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace strata::tactical {
@@ -337,6 +338,37 @@ TEST(MissionLog, TheHundredAndFirstLogOfAMissionInOneSecondIsStillWritten) {
   const std::string name = std::filesystem::path(log.value().path()).filename().string();
   EXPECT_EQ(0u, made.count(name)) << name;
   EXPECT_TRUE(name.ends_with("Z-tank.coral-151.jsonl")) << name;  // the first name free
+}
+
+// A thousand runs of one mission starting at once (a campaign's cases as
+// processes, two scripts at the same moment): each gets a log of its own,
+// none is refused, none written over.
+TEST(MissionLog, AThousandDatedLogsOpenedAtOnceAreEachANewFile) {
+  TempDir dir;
+  const std::string folder = dir.path().string();
+  constexpr int kThreads = 8, kEach = 125;
+  std::vector<std::vector<std::string>> names(kThreads);
+  std::vector<std::string> errors(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < kEach; ++i) {
+        auto log = MissionLog::open_dated(folder, "missions/tank/tank.coral", tank_run(), fake_clock({}, 1us));
+        if (!log.ok()) {
+          errors[t] = log.error().message;
+          return;
+        }
+        names[t].push_back(log.value().path());
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  std::set<std::string> all;
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_EQ("", errors[t]);
+    all.insert(names[t].begin(), names[t].end());
+  }
+  EXPECT_EQ(static_cast<std::size_t>(kThreads * kEach), all.size());
 }
 
 TEST(MissionLog, TheDatedNameIsTheStartTimeInUtcAndTheFilesName) {
