@@ -350,6 +350,7 @@ TEST(MissionLog, AThousandDatedLogsOpenedAtOnceAreEachANewFile) {
   std::vector<std::vector<std::string>> names(kThreads);
   std::vector<std::string> errors(kThreads);
   std::vector<std::thread> threads;
+  threads.reserve(kThreads);
   for (int t = 0; t < kThreads; ++t) {
     threads.emplace_back([&, t] {
       for (int i = 0; i < kEach; ++i) {
