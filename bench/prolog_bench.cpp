@@ -48,7 +48,7 @@
 //     (driver_check.pl), as it is for every run of a process but its first.
 //
 //   run/tank/prolog/kept
-//     The same runs as a campaign's worker makes them (RunOptions::keep_rules):
+//     The same runs as a campaign's worker makes them (RunOptions::keep_mission):
 //     the rules loaded once and taken back, put back as they were, for each
 //     later run (strategic::KeepRules).
 //
@@ -100,10 +100,10 @@ class NullBuf : public std::streambuf {
 };
 
 // One run, console discarded; why says what went wrong when the exit code is not 0.
-cli::RunReport run_once(const char* mission, std::string& why, bool keep_rules = false) {
+cli::RunReport run_once(const char* mission, std::string& why, bool keep_mission = false) {
   cli::RunOptions options;
   options.mission = mission;
-  options.keep_rules = keep_rules;
+  options.keep_mission = keep_mission;
   NullBuf null;
   std::ostream out(&null);
   std::ostringstream err;  // empty in a nominal run
@@ -252,13 +252,13 @@ void bm_foreign_call_executor(benchmark::State& st) {
   set_per_call(st, spent, tactics.calls);
 }
 
-void bm_run(benchmark::State& st, const char* mission, bool prolog, bool keep_rules = false) {
+void bm_run(benchmark::State& st, const char* mission, bool prolog, bool keep_mission = false) {
   if (prolog && !first_prolog_run().error.empty()) {
     st.SkipWithError(first_prolog_run().error.c_str());
     return;
   }
   std::string why;
-  if (run_once(mission, why, keep_rules).exit_code != 0) {
+  if (run_once(mission, why, keep_mission).exit_code != 0) {
     st.SkipWithError(why.c_str());
     return;
   }
@@ -267,7 +267,7 @@ void bm_run(benchmark::State& st, const char* mission, bool prolog, bool keep_ru
   double calls = 0.0;
   std::int64_t runs = 0;
   for (auto _ : st) {
-    cli::RunReport report = run_once(mission, why, keep_rules);
+    cli::RunReport report = run_once(mission, why, keep_mission);
     if (report.exit_code != 0) {
       st.SkipWithError(why.c_str());
       break;

@@ -197,8 +197,26 @@ export function createEffects(store, api, ui = {}) {
     });
     try { return await saving; } finally { saving = null; }
   }
-  // Merge by text: the user keeps their text over the new version.
-  async function keepMine() { dispatch({ type: 'conflict/keep-mine' }); return save(); }
+  // Merge by text: the user keeps their text over the new version. The
+  // versions on disk are read again first: a layout saved since the conflict
+  // was shown (its notice not yet here) is saved over too, and a text saved
+  // again since is shown, not overwritten unseen.
+  async function keepMine() {
+    const { path, conflict: c } = getState();
+    if (!path || !c) return false;
+    let m = null;
+    try { m = await api.mission(path); } catch { /* saved over the versions the conflict holds */ }
+    if (m && getState().conflict === c) {
+      if (c.etag != null && m.etag !== c.etag) {
+        dispatch({ type: 'save/conflict', path, theirs: m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: c.disk });
+        say(`not saved: ${path} changed again since it was shown. Compare again, then Reload or keep yours over it.`, true);
+        return false;
+      }
+      dispatch({ type: 'save/conflict', path, theirs: c.theirs ?? m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: c.disk });
+    }
+    dispatch({ type: 'conflict/keep-mine' });
+    return save();
+  }
   async function reload() { const p = getState().path; if (p) return openFile(p, { force: true }); return false; }
 
   // ------------------------------------------------------------ run, replay, verify

@@ -224,8 +224,14 @@ export function reduce(s, a) {
         if (a.etag != null && a.etag === mine) return s;
         if (a.etag == null && !layout) return { ...s, disk: { path: a.path, etag: null, what: 'gone', seq } };
         if (dirty(s)) {
+          // A conflict shown already holds the newest versions known of the
+          // text and of the layout: a notice changes only its own file's, so
+          // Keep mine saves over what is on disk, not over our old version.
+          const c = s.conflict;
+          if (c && a.etag === (layout ? c.layoutEtag : c.etag)) return s;
           return { ...s, disk: { path: a.path, etag: a.etag, what: 'conflict', seq },
-            conflict: { path: s.path, theirs: null, disk: true, etag: layout ? s.etag : a.etag, layoutEtag: layout ? a.etag : s.layoutEtag } };
+            conflict: { path: s.path, theirs: layout && c ? c.theirs : null, disk: true,
+              etag: layout ? (c ? c.etag : s.etag) : a.etag, layoutEtag: layout ? a.etag : (c ? c.layoutEtag : s.layoutEtag) } };
         }
         return { ...s, disk: { path: a.path, etag: a.etag, what: 'reload', seq } };
       }

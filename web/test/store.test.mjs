@@ -421,3 +421,39 @@ test('effects: a save whose layout is refused keeps the text saved and says why'
   assert.equal(s.message.error, true);
 });
 
+test('effects: keep mine reads the versions on disk first: a layout saved since is saved over; a text saved again is shown, not overwritten', async () => {
+  const store = createStore();
+  let onDisk = { text: 'THEIRS', etag: '"v2"', layout: '"l2"' };
+  const api = fakeApi({
+    saveFile: (p, text, etag) => {
+      if (etag !== onDisk.etag) { const e = new Error('412: changed'); e.status = 412; throw e; }
+      return { ok: true, etag: '"v9"' };
+    },
+    saveLayout: (p, l, etag) => {
+      if (etag !== onDisk.layout) { const e = new Error('412: changed'); e.status = 412; throw e; }
+      return { ok: true, etag: '"l9"' };
+    },
+    mission: () => ({ ...model(onDisk.text), etag: onDisk.etag, layout_etag: onDisk.layout }),
+  });
+  const fx = createEffects(store, api);
+  await fx.openFile('m.coral');
+  onDisk = { text: 'THEIRS', etag: '"v2"', layout: '"l2"' };
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  store.dispatch({ type: 'save/conflict', path: 'm.coral', theirs: 'THEIRS', etag: '"v2"', layoutEtag: '"l1"' });
+  // The layout's notice has not come: the conflict still holds l1.
+  onDisk = { text: 'THEIRS', etag: '"v2"', layout: '"l3"' };
+  assert.equal(await fx.keepMine(), true);
+  assert.equal(store.getState().conflict, null);
+  assert.equal(dirty(store.getState()), false);
+  // A text saved again after the conflict was shown: not saved over unseen.
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'r' });
+  store.dispatch({ type: 'save/conflict', path: 'm.coral', theirs: 'SECOND', etag: '"v10"', layoutEtag: '"l9"' });
+  onDisk = { text: 'THIRD', etag: '"v11"', layout: '"l9"' };
+  const saves = api.calls.filter((x) => x[0] === 'saveFile').length;
+  assert.equal(await fx.keepMine(), false);
+  assert.equal(api.calls.filter((x) => x[0] === 'saveFile').length, saves);
+  assert.equal(store.getState().conflict.theirs, 'THIRD');
+  assert.equal(store.getState().conflict.etag, '"v11"');
+  assert.match(store.getState().message.text, /changed again/);
+  assert.equal(await fx.keepMine(), true);   // now over the version shown
+});

@@ -207,6 +207,38 @@ test('file_changed with unsaved edits: the conflict (Reload / Keep mine) with th
   assert.equal(s.etag, '"v2"');   // the next save is made over the new version
 });
 
+// The race that failed the keep-mine browser test under load: tab one saves
+// the text, then its layout; tab two (unsaved edits) hears of each on its own.
+// The layout's notice must not put tab two's old text version back into the
+// conflict, nor the text's notice drop the 412's layout version, or Keep mine
+// saves over a version that is no longer on disk and gets a second 412.
+test('keep mine after a 412 and a later layout notice saves over both new versions', () => {
+  let s = reduce(opened(), { type: 'model/edited', path: 'm.coral', model: model('MINE') });
+  s = reduce(s, { type: 'save/conflict', path: 'm.coral', theirs: 'THEIRS', etag: '"v2"', layoutEtag: '"l1"' });
+  s = reduce(s, { type: 'disk/changed', path: 'm.coral.layout.json', etag: '"l2"' });
+  assert.equal(s.conflict.etag, '"v2"');
+  assert.equal(s.conflict.layoutEtag, '"l2"');
+  assert.equal(s.conflict.theirs, 'THEIRS');   // their text did not change
+  s = reduce(s, { type: 'conflict/keep-mine' });
+  assert.equal(s.etag, '"v2"');
+  assert.equal(s.layoutEtag, '"l2"');
+});
+
+test('keep mine after a 412 and the notice of the text it already holds keeps the 412\'s layout version', () => {
+  let s = reduce(opened(), { type: 'model/edited', path: 'm.coral', model: model('MINE') });
+  s = reduce(s, { type: 'save/conflict', path: 'm.coral', theirs: 'THEIRS', etag: '"v2"', layoutEtag: '"l2"' });
+  const before = s;
+  s = reduce(s, { type: 'disk/changed', path: 'm.coral', etag: '"v2"' });
+  assert.equal(s, before);   // the version the conflict shows: no news
+  s = reduce(s, { type: 'disk/changed', path: 'm.coral', etag: '"v3"' });   // a newer one is
+  assert.equal(s.conflict.etag, '"v3"');
+  assert.equal(s.conflict.layoutEtag, '"l2"');
+  assert.equal(s.conflict.theirs, null);   // read again by the effects
+  s = reduce(s, { type: 'conflict/keep-mine' });
+  assert.equal(s.etag, '"v3"');
+  assert.equal(s.layoutEtag, '"l2"');
+});
+
 function fakeApi(over = {}) {
   const calls = [];
   const api = { calls };
