@@ -180,15 +180,15 @@ inline std::vector<Packet> every_message() {
   PlanManeuver pm;
   pm.maneuver_id = "m";
   pm.data = FollowReference{0x4001, 5, 10.0f, 5.0f, 1.0f};
-  pm.start_actions.push_back(Inline(EntityList{EntityList::kOpQuery, ""}));
-  pm.end_actions.push_back(Inline());
+  pm.start_actions.emplace_back(Inline(EntityList{EntityList::kOpQuery, ""}));
+  pm.end_actions.emplace_back(Inline());
   out.push_back({h, pm});
   out.push_back({h, PlanTransition{"m", "_done_", "ManeuverIsDone", {Inline(Heartbeat{})}}});
   PlanSpecification spec = std::get<PlanSpecification>(*follow_reference_plan().arg.get());
   spec.description = "one reference";
   spec.variables.push_back(PlanVariable{"speed", "1.2", PlanVariable::kTypeNumber, PlanVariable::kAccessLocal});
   spec.transitions.push_back(PlanTransition{"m", "_done_", "ManeuverIsDone", {}});
-  spec.end_actions.push_back(Inline(Abort{}));
+  spec.end_actions.emplace_back(Inline(Abort{}));
   out.push_back({h, spec});
   Packet plan{h, follow_reference_plan()};
   plan.header.dst = kAnyVehicle;
