@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "vehicle/depth_controller.h"
+#include "vehicle/drag_axis.h"
 #include "vehicle/time_compare.h"
 
 namespace strata::vehicle {
@@ -256,9 +257,11 @@ void Simulation::advance_yaw_and_sonar() {
   const double model_limit = sway_force_limit_n(params_, std::clamp(moment_cmd_nm_, -nominal, nominal), 1.0);
   sway_model_cmd_n_ = std::clamp(sway_asked, -model_limit, model_limit);
   const double h = params_.cycle_s / params_.substeps;
+  const double transverse_lag = lag_fraction(h, params_.transverse_lag_s);
+  const double motor_lag = lag_fraction(h, params_.motor_lag_s);
   for (int i = 1; i <= params_.substeps; ++i) {
-    advance_yaw(params_, moment_cmd_nm_, limit, h, yaw_);
-    move_substep(h);
+    advance_yaw(params_, moment_cmd_nm_, limit, h, transverse_lag, yaw_);
+    move_substep(h, motor_lag, transverse_lag);
     const double t = (static_cast<double>(cycle_) + static_cast<double>(i) / params_.substeps) * params_.cycle_s;
     sonar_.substep(t, pose());
   }

@@ -321,7 +321,7 @@ class Simulation {
   double compass_deg() const;
   void guide();
   void hold();
-  void move_substep(double h_s);
+  void move_substep(double h_s, double motor_lag, double transverse_lag);
   void navigate();
   double bottom_m() const;
   void apply_faults();

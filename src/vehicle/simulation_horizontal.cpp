@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/units.h"
+#include "vehicle/drag_axis.h"
 #include "vehicle/simulation.h"
 #include "vehicle/time_compare.h"
 
@@ -234,17 +235,26 @@ void Simulation::hold() {
 }
 
 // One sub-step of surge and of the true position: water velocity along the
-// true heading plus the current; the tank's walls hold the vehicle in.
-void Simulation::move_substep(double h_s) {
+// true heading plus the current; the tank's walls hold the vehicle in. The
+// lags are lag_fraction(h_s, ...) of the motors and the transverse thrusters.
+void Simulation::move_substep(double h_s, double motor_lag, double transverse_lag) {
   const double thrust = speed_target_mps_ ? speed_thrust_n(params_, *speed_target_mps_) : 0.0;
-  advance_surge(params_, thrust, params_.max_surge_thrust_n() * faults_.thrust_health, h_s, surge_);
+  advance_surge(params_, thrust, params_.max_surge_thrust_n() * faults_.thrust_health, h_s, motor_lag, surge_);
   const double psi = yaw_.heading_deg * core::kRadPerDeg;
-  x_m_ += h_s * (surge_.speed_mps * std::sin(psi) + scenario_.world.current_x_mps);
-  y_m_ += h_s * (surge_.speed_mps * std::cos(psi) + scenario_.world.current_y_mps);
+  const double cx = scenario_.world.current_x_mps;
+  const double cy = scenario_.world.current_y_mps;
+  // No surge (+0 exactly): 0 * sin + c is c, bit for bit, unless c is -0.
+  if (plus_zero(surge_.speed_mps) && !(cx == 0.0 && std::signbit(cx)) && !(cy == 0.0 && std::signbit(cy))) {
+    x_m_ += h_s * cx;
+    y_m_ += h_s * cy;
+  } else {
+    x_m_ += h_s * (surge_.speed_mps * std::sin(psi) + cx);
+    y_m_ += h_s * (surge_.speed_mps * std::cos(psi) + cy);
+  }
   // Sway, to starboard (heading + 90 degrees). Skipped while at rest, so a
   // vehicle never asked to sway moves exactly as before sway existed.
-  advance_sway(params_, sway_force_cmd_n_, params_.max_sway_force_n(), h_s, sway_);
-  advance_sway(params_, sway_model_cmd_n_, params_.max_sway_force_n(), h_s, sway_model_);
+  advance_sway(params_, sway_force_cmd_n_, params_.max_sway_force_n(), h_s, transverse_lag, sway_);
+  advance_sway(params_, sway_model_cmd_n_, params_.max_sway_force_n(), h_s, transverse_lag, sway_model_);
   if (sway_.speed_mps != 0.0) {
     x_m_ += h_s * sway_.speed_mps * std::cos(psi);
     y_m_ -= h_s * sway_.speed_mps * std::sin(psi);

@@ -13,8 +13,13 @@ double speed_thrust_n(const VehicleParams& p, double speed_mps) {
 }
 
 void advance_surge(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double h_s, SurgeState& s) {
+  advance_surge(p, thrust_cmd_n, thrust_limit_n, h_s, lag_fraction(h_s, p.motor_lag_s), s);
+}
+
+void advance_surge(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double h_s, double lag,
+                   SurgeState& s) {
   advance_drag_axis({p.motor_lag_s, p.surge_drag_coeff, p.total_surge_mass_kg()}, thrust_cmd_n, thrust_limit_n, h_s,
-                    s.thrust_n, s.speed_mps);
+                    lag, s.thrust_n, s.speed_mps);
 }
 
 }  // namespace strata::vehicle

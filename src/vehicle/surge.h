@@ -32,5 +32,8 @@ double speed_thrust_n(const VehicleParams& p, double speed_mps);
 // Advances s by one sub-step of h_s (semi-implicit Euler; the lag exactly).
 // thrust_limit_n (>= 0) clamps the command (nominal times health).
 void advance_surge(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double h_s, SurgeState& s);
+// The same, with the motors' lag_fraction(h_s, p.motor_lag_s) worked out already.
+void advance_surge(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, double h_s, double lag,
+                   SurgeState& s);
 
 }  // namespace strata::vehicle

@@ -18,8 +18,13 @@ double sway_force_limit_n(const VehicleParams& p, double moment_nm, double healt
 }
 
 void advance_sway(const VehicleParams& p, double force_cmd_n, double force_limit_n, double h_s, SwayState& s) {
+  advance_sway(p, force_cmd_n, force_limit_n, h_s, lag_fraction(h_s, p.transverse_lag_s), s);
+}
+
+void advance_sway(const VehicleParams& p, double force_cmd_n, double force_limit_n, double h_s, double lag,
+                  SwayState& s) {
   advance_drag_axis({p.transverse_lag_s, p.sway_drag_coeff, p.total_sway_mass_kg()}, force_cmd_n, force_limit_n, h_s,
-                    s.force_n, s.speed_mps);
+                    lag, s.force_n, s.speed_mps);
 }
 
 }  // namespace strata::vehicle

@@ -44,5 +44,9 @@ double sway_force_limit_n(const VehicleParams& p, double moment_nm, double healt
 // Advances s by one sub-step of h_s (semi-implicit Euler; the lag exactly).
 // force_limit_n (>= 0) clamps the command.
 void advance_sway(const VehicleParams& p, double force_cmd_n, double force_limit_n, double h_s, SwayState& s);
+// The same, with the transverse thrusters' lag_fraction(h_s,
+// p.transverse_lag_s) worked out already.
+void advance_sway(const VehicleParams& p, double force_cmd_n, double force_limit_n, double h_s, double lag,
+                  SwayState& s);
 
 }  // namespace strata::vehicle

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/units.h"
+#include "vehicle/drag_axis.h"
 
 namespace strata::vehicle {
 
@@ -21,8 +22,12 @@ double heading_error_deg(double heading_deg, double target_deg) {
 }
 
 void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, YawState& s) {
+  advance_yaw(p, moment_cmd_nm, moment_limit_nm, h_s, lag_fraction(h_s, p.transverse_lag_s), s);
+}
+
+void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, double lag,
+                 YawState& s) {
   const double target = std::clamp(moment_cmd_nm, -moment_limit_nm, moment_limit_nm);
-  const double lag = p.transverse_lag_s > 0.0 ? 1.0 - std::exp(-h_s / p.transverse_lag_s) : 1.0;
   s.moment_nm += (target - s.moment_nm) * lag;
   double r = s.rate_dps * kRadPerDeg;
   r += h_s * (s.moment_nm - p.yaw_drag_coeff * r * std::abs(r)) / p.total_yaw_inertia_kgm2();

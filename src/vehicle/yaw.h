@@ -46,6 +46,10 @@ double heading_error_deg(double heading_deg, double target_deg);
 // exactly). moment_cmd_nm is the law's command; moment_limit_nm (>= 0) is
 // what the thrusters can give now and clamps it.
 void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, YawState& s);
+// The same, with the transverse thrusters' lag_fraction(h_s,
+// p.transverse_lag_s) worked out already.
+void advance_yaw(const VehicleParams& p, double moment_cmd_nm, double moment_limit_nm, double h_s, double lag,
+                 YawState& s);
 
 // The heading law's moment command toward target_deg, clamped to the nominal
 // moment of both thrusters.
