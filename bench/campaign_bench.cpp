@@ -57,6 +57,7 @@
 
 #include <fmt/format.h>
 
+#include "campaign/case_run.h"
 #include "campaign/cases.h"
 #include "campaign/spec.h"
 #include "cli/mission_run.h"
@@ -120,17 +121,17 @@ std::vector<std::vector<std::string>> case_commands(const strata::campaign::Spec
     const campaign::Case c = campaign::case_at(spec, i);
     const std::string scenario = (dir / fmt::format("case-{}.toml", i)).string();
     if (!strata::core::write_file_atomically(scenario, campaign::scenario_toml(spec, c)).ok()) return {};
-    std::vector<std::string> argv{STRATA_EXE, "run", spec.missions[c.mission].resolved, "--scenario", scenario};
+    std::string params;
     if (!c.params.empty()) {
-      const std::string params = (dir / fmt::format("case-{}.params.toml", i)).string();
+      params = (dir / fmt::format("case-{}.params.toml", i)).string();
       const auto text = strata::vehicle::params_toml(campaign::case_params(spec, c));
       if (!strata::core::write_file_atomically(params, text).ok()) return {};
-      argv.insert(argv.end(), {"--params", params});
     }
+    std::vector<std::string> argv{STRATA_EXE};
+    for (std::string& a : campaign::repro_run_args(spec, c, scenario, params)) argv.push_back(std::move(a));
     // No mission log: the campaign keeps a failing case's only, and every
     // case of the example passes.
-    argv.insert(argv.end(), {"--max-sim-time", fmt::format("{}", spec.max_sim_time_s), "--telemetry-hz",
-                             fmt::format("{}", spec.telemetry_hz), "--no-log"});
+    argv.emplace_back("--no-log");
     out.push_back(std::move(argv));
   }
   return out;

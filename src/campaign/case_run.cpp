@@ -283,6 +283,21 @@ std::string repro_command(const Spec& spec, const Case& c) {
   return fmt::format("strata campaign {} --case {}", shell_quote(spec.path), c.index);
 }
 
+std::vector<std::string> repro_run_args(const Spec& spec, const Case& c, const std::string& scenario_file,
+                                        const std::string& case_params_file) {
+  std::vector<std::string> args{"run", spec.missions[c.mission].resolved, "--scenario", scenario_file};
+  if (!case_params_file.empty()) {
+    args.insert(args.end(), {"--params", case_params_file});
+  } else if (!spec.params.empty()) {
+    args.insert(args.end(), {"--params", spec.params_resolved});
+  }
+  args.insert(args.end(), {"--max-sim-time", fmt::format("{}", spec.max_sim_time_s), "--telemetry-hz",
+                           fmt::format("{}", spec.telemetry_hz)});
+  const Family& family = spec.families[c.family];
+  if (!family.answers.empty()) args.insert(args.end(), {"--answers", family.answers_resolved});
+  return args;
+}
+
 nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunConfig& config) {
   const auto wall_start = std::chrono::steady_clock::now();
   const std::string scenario = scenario_toml(spec, c);
@@ -347,17 +362,12 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
       if (params_kept) j["params_file"] = params_file;
       if (write_new_file(config.out_dir + "/" + file, scenario) && (c.params.empty() || params_kept)) {
         j["scenario"] = file;
-        // The vehicle: the case's whole parameter file, or the spec's.
-        std::string params_arg;
-        if (params_kept) {
-          params_arg = " --params " + shell_quote(config.out_dir + "/" + params_file);
-        } else if (!spec.params.empty()) {
-          params_arg = " --params " + shell_quote(spec.params_resolved);
+        std::string line = "strata";
+        for (const std::string& a : repro_run_args(spec, c, config.out_dir + "/" + file,
+                                                   params_kept ? config.out_dir + "/" + params_file : "")) {
+          line += " " + shell_quote(a);
         }
-        j["repro_run"] = fmt::format(
-            "strata run {} --scenario {}{} --max-sim-time {} --telemetry-hz {}{}", shell_quote(mission.resolved),
-            shell_quote(config.out_dir + "/" + file), params_arg, spec.max_sim_time_s, spec.telemetry_hz,
-            family.answers.empty() ? "" : " --answers " + shell_quote(family.answers_resolved));
+        j["repro_run"] = std::move(line);
       }
     }
   }

@@ -43,4 +43,12 @@ bool refused_exec(const tactical::CallRecord& call);
 // The command that runs the case alone again.
 std::string repro_command(const Spec& spec, const Case& c);
 
+// The `strata run` arguments (after `strata`) that run case c as a plain
+// run: its mission, scenario_file (the case's scenario, written out), the
+// vehicle (case_params_file, the case's whole parameter file, when not
+// empty; else the spec's --params), the spec's limits and the family's
+// answers. A failing case's repro_run line is these, quoted.
+std::vector<std::string> repro_run_args(const Spec& spec, const Case& c, const std::string& scenario_file,
+                                        const std::string& case_params_file);
+
 }  // namespace strata::campaign
