@@ -188,6 +188,35 @@ TEST(RunAnswers, AScriptWithoutNetsDrivesPrologRulesToo) {
   EXPECT_EQ(1, scripted[0].at("answer"));
 }
 
+// Regression: the test above, after the studio's run of the same rules in
+// one process of the test program, crashed inside SWI-Prolog: the studio's
+// run had started it on the studio's PROLOG thread, and this one called it
+// from the main thread (the studio's tests have a program of their own
+// now). On one thread, as a campaign's worker runs its cases (rules kept
+// between runs), the rules run plain, then driven by a script, then plain
+// again, each ending as it does alone.
+TEST(RunAnswers, PrologRunsOneAfterAnotherInOneProcessEachEndAsAlone) {
+  auto run = [](const std::string& answers) {
+    RunOptions o;
+    o.mission = kTankPl;
+    o.answers = answers;
+    o.keep_mission = true;
+    return run_logged(std::move(o));
+  };
+  auto expect_plain = [](const MissionRun& r, const char* which) {
+    ASSERT_TRUE(r.report.result.has_value()) << which << " run: " << r.err;
+    EXPECT_EQ(Outcome::Completed, r.report.result->outcome) << which << " run: " << r.report.result->reason;
+    EXPECT_EQ(0u, r.report.answers_used) << which << " run";
+  };
+  expect_plain(run(""), "first");
+  const MissionRun scripted = run(kTankDir + "/witnesses/system_problem.json");
+  ASSERT_TRUE(scripted.report.result.has_value()) << scripted.err;
+  EXPECT_EQ(Outcome::Aborted, scripted.report.result->outcome) << scripted.report.result->reason;
+  EXPECT_EQ(1u, scripted.report.answers_used);
+  EXPECT_EQ(1u, events(scripted.log, "scripted_answer").size());
+  expect_plain(run(""), "third");
+}
+
 struct BadFile {
   std::string name, text;
   int exit_code;

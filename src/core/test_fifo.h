@@ -15,7 +15,7 @@ namespace strata::core::testing {
 inline std::filesystem::path make_fifo(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("strata_fifo_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const auto path = dir / name;
+  auto path = dir / name;
   std::filesystem::remove(path);
   if (::mkfifo(path.c_str(), 0600) != 0) return {};
   return path;

@@ -1,7 +1,9 @@
 #include "prolog/engine.h"
 
+#include <atomic>
 #include <csignal>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -11,7 +13,10 @@
 namespace strata::prolog {
 namespace {
 
-bool g_initialised = false;
+// Set once, on the engine's thread, g_engine_thread before g_initialised:
+// other threads read them (initialised(), and initialise() refusing them).
+std::atomic<bool> g_initialised = false;
+std::thread::id g_engine_thread;
 
 constexpr int kQueryFlags = PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS;
 
@@ -24,7 +29,12 @@ constexpr const char* kHaltGuard =
 }  // namespace
 
 core::Result<void> initialise(const EngineOptions& options) {
-  if (g_initialised) return {};
+  if (g_initialised) {
+    if (g_engine_thread == std::this_thread::get_id()) return {};
+    return core::make_error(core::ErrorCode::Internal,
+                            "SWI-Prolog was started on another thread of this process, and only that thread may "
+                            "call it");
+  }
   std::string stack = "--stack-limit=" + options.stack_limit;
   // SWI keeps argv; these strings live as long as the process.
   static std::vector<std::string> args;
@@ -50,6 +60,7 @@ core::Result<void> initialise(const EngineOptions& options) {
     if (sig == SIGSEGV || sig == SIGBUS || sig == SIGUSR2 || sig == SIGKILL || sig == SIGSTOP) continue;
     (void)sigaction(sig, &before[sig], nullptr);
   }
+  g_engine_thread = std::this_thread::get_id();
   g_initialised = true;
   // Queries that run the exception hook are not PL_Q_NODEBUG: an uncaught
   // error must still never start the debugger.

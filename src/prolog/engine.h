@@ -22,8 +22,11 @@ struct EngineOptions {
   std::string stack_limit = "256m";  // SWI's --stack-limit: deep recursion ends in resource_error
 };
 
-// Starts the engine (once; later calls check nothing and return ok).
+// Starts the engine on the calling thread (once). A later call returns ok
+// on that thread and an error on any other: SWI-Prolog has no engine there,
+// and the first call into it from there would crash the process.
 core::Result<void> initialise(const EngineOptions& options = {});
+// Any thread.
 bool initialised();
 
 // The term as writeq/1 prints it.

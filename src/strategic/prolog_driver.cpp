@@ -112,8 +112,9 @@ core::Result<void> load_driver_text() {
 
 core::Result<void> ensure_driver() {
   static bool loaded = false;
-  if (loaded) return {};
+  // Also once loaded: from a thread other than SWI-Prolog's it is an error.
   if (auto r = prolog::initialise(); !r) return r.error();
+  if (loaded) return {};
   PrecompiledDriver precompiled = load_precompiled_driver();
   if (!precompiled.loaded) {
     if (!precompiled.note.empty()) {

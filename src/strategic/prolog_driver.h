@@ -22,7 +22,8 @@ core::Result<bool> call_driver(const char* name, std::initializer_list<term_t> a
 // strata_driver_keep:Name(Args...) (prolog/driver_keep.pl)
 core::Result<bool> call_driver_keep(const char* name, std::initializer_list<term_t> args);
 // Starts the engine and loads the driver once per process (its foreign
-// predicates too); later calls return at once.
+// predicates too); later calls return at once, on the engine's thread, and
+// with an error on any other (prolog::initialise()).
 core::Result<void> ensure_driver();
 
 // Registers the foreign predicates in module strata_driver (ensure_driver()).

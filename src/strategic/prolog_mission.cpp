@@ -317,8 +317,9 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
          fmt::format("the file is over the limit of {} bytes for rules (--max-rules-size)", limits.max_bytes)});
     return core::make_error(core::ErrorCode::InvalidInput, fmt::format("{}: 1 error", path));
   }
-  prolog_detail::set_max_rules_bytes(limits.max_bytes);
+  // The driver first: it refuses a thread other than SWI-Prolog's.
   if (auto r = prolog_detail::ensure_driver(); !r) return r.error();
+  prolog_detail::set_max_rules_bytes(limits.max_bytes);
   std::unique_ptr<PrologMission> mission(new PrologMission());
   mission->path_ = path;
   mission->name_ = fs::path(path).stem().string();

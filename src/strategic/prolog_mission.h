@@ -11,7 +11,8 @@
 // One mission runs at a time per process (SWI-Prolog has one engine here):
 // while a PrologMissionQuery is open, no other Prolog may run.
 //
-// Threads: the one that called prolog::initialise().
+// Threads: the one that called prolog::initialise(); load() on another
+// returns an error.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>

@@ -102,6 +102,24 @@ TEST_F(PrologMissionTest, FlagsARunSetsDoNotReachTheNextMission) {
   EXPECT_TRUE(prolog::call_once("current_prolog_flag(occurs_check, false)").value());
 }
 
+// Regression: rules loaded on a thread other than the one SWI-Prolog was
+// started on crashed the process inside SWI-Prolog (a test program ran the
+// studio's PROLOG run, on the studio's thread, then rules on its main
+// thread). The load says why it cannot run there; the engine's thread is
+// untouched.
+TEST_F(PrologMissionTest, RulesLoadedOffSwiPrologsThreadAreAnErrorNotACrash) {
+  const std::string path = rules_.write("m.pl", "mission :- report(ok).\n");
+  ASSERT_TRUE(load_ok(path));
+  std::string elsewhere;
+  std::thread([&] {
+    Reported reported;
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), reported.sources, reported.sink);
+    elsewhere = m ? std::string("loaded") : m.error().message;
+  }).join();
+  EXPECT_NE(std::string::npos, elsewhere.find("started on another thread")) << elsewhere;
+  EXPECT_TRUE(load_ok(path));
+}
+
 TEST_F(PrologMissionTest, Figure10StyleBoundVariableIsCheckedAfterTheCall) {
   // exec_submerge(X) with X already 1: the call is still made; 0 then fails.
   auto m = load_ok(rules_.write("m.pl", R"(
