@@ -326,7 +326,9 @@ export function createCanvas(container, store, fx) {
 
   function render(s, prev) {
     const net = currentNet(s);
-    if (warming && (net || s.netName)) endWarm();
+    // Any file open ends the warm-up at once (warm.js stops at its next
+    // step): a PROLOG mission has no net, and kept its hidden elements till then.
+    if (warming && (net || s.netName || s.path != null)) endWarm();
     const switched = s.netName !== drawnName || !drawnNet !== !net;
     const changed = net !== drawnNet;
     const rebuilt = switched || changed;
@@ -461,7 +463,8 @@ export function createCanvas(container, store, fx) {
   }
   // Whether els were added (not once a net is shown).
   function warm(els) {
-    if (drawnNet || getState().netName || (!warming && cy.elements().nonempty())) return false;
+    const s = getState();
+    if (drawnNet || s.path != null || s.netName || (!warming && cy.elements().nonempty())) return false;
     if (!warming) { canvases(false); warming = cy.collection(); }
     const added = cy.add(els);
     added.unselectify();

@@ -184,7 +184,7 @@ export function createEffects(store, api, ui = {}) {
         return true;
       } catch (e) {
         if (e.status === 412) {
-          let theirs = null, etag = null, layoutEtag = null;
+          let theirs = null, etag = null, layoutEtag;   // layoutEtag: undefined unless read (null: no layout file)
           try { const m = await api.mission(path); theirs = m.text; etag = m.etag; layoutEtag = m.layout_etag; } catch { /* shown without their text */ }
           dispatch({ type: 'save/conflict', path, theirs, etag, layoutEtag });
           say(`not saved: ${path} changed since you opened it (another tab or program saved it). ` +
@@ -206,13 +206,23 @@ export function createEffects(store, api, ui = {}) {
     if (!path || !c) return false;
     let m = null;
     try { m = await api.mission(path); } catch { /* saved over the versions the conflict holds */ }
-    if (m && getState().conflict === c) {
-      if (c.etag != null && m.etag !== c.etag) {
-        dispatch({ type: 'save/conflict', path, theirs: m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: c.disk });
-        say(`not saved: ${path} changed again since it was shown. Compare again, then Reload or keep yours over it.`, true);
-        return false;
+    const now = getState().conflict;
+    // Reloaded, dismissed or another file opened meanwhile: nothing to keep.
+    if (!now || getState().path !== path) return false;
+    const again = () => {
+      say(`not saved: ${path} changed again since it was shown. Compare again, then Reload or keep yours over it.`, true);
+      return false;
+    };
+    if (m) {
+      // Only over the text version the user compared with (c's): a newer one
+      // (read now, or told of meanwhile) is shown first, never overwritten.
+      if (c.etag != null && (m.etag !== c.etag || (now.etag != null && now.etag !== c.etag))) {
+        if (m.etag !== c.etag) dispatch({ type: 'save/conflict', path, theirs: m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: now.disk });
+        return again();
       }
-      dispatch({ type: 'save/conflict', path, theirs: c.theirs ?? m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: c.disk });
+      dispatch({ type: 'save/conflict', path, theirs: c.theirs ?? m.text, etag: m.etag, layoutEtag: m.layout_etag, disk: now.disk });
+    } else if (now !== c && now.etag !== c.etag) {
+      return again();   // not read, and told of a newer text: not saved over unseen
     }
     dispatch({ type: 'conflict/keep-mine' });
     return save();
@@ -258,7 +268,7 @@ export function createEffects(store, api, ui = {}) {
         if (await openFile(path, { keepView: true, force: true })) say(`${path} changed on disk: reloaded`);
         break;
       case 'conflict': {
-        let theirs = null, etag = null, layoutEtag = null;
+        let theirs = null, etag = null, layoutEtag;   // layoutEtag: undefined unless read (null: no layout file)
         try { const m = await api.mission(path); theirs = m.text; etag = m.etag; layoutEtag = m.layout_etag; } catch { /* shown without their text */ }
         if (getState().conflict && getState().conflict.disk) dispatch({ type: 'save/conflict', path, theirs, etag, layoutEtag, disk: true });
         say(`${path} changed on disk while you have unsaved edits: Reload it (your edits here are dropped), or keep yours over it.`, true);

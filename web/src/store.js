@@ -319,11 +319,12 @@ export function reduce(s, a) {
     // A save refused with 412: their text and version, for Reload or merge by text.
     case 'save/conflict':
       if (a.path !== s.path) return s;
-      return { ...s, conflict: { path: a.path, theirs: a.theirs ?? null, etag: a.etag ?? null, layoutEtag: a.layoutEtag ?? null, disk: !!a.disk } };
+      // layoutEtag: undefined when not known (then ours is saved against); null: no layout file on disk.
+      return { ...s, conflict: { path: a.path, theirs: a.theirs ?? null, etag: a.etag ?? null, layoutEtag: a.layoutEtag, disk: !!a.disk } };
     // Keep mine: the next save is made over their version.
     case 'conflict/keep-mine':
       if (!s.conflict) return s;
-      return { ...s, etag: s.conflict.etag ?? s.etag, layoutEtag: s.conflict.layoutEtag ?? s.layoutEtag, conflict: null };
+      return { ...s, etag: s.conflict.etag ?? s.etag, layoutEtag: s.conflict.layoutEtag === undefined ? s.layoutEtag : s.conflict.layoutEtag, conflict: null };
     case 'conflict/dismiss':
       return { ...s, conflict: null };
 

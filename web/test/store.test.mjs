@@ -457,3 +457,72 @@ test('effects: keep mine reads the versions on disk first: a layout saved since 
   assert.match(store.getState().message.text, /changed again/);
   assert.equal(await fx.keepMine(), true);   // now over the version shown
 });
+
+// Keep mine's re-read of the versions on disk takes a while; what happens
+// meanwhile (review of the keep-mine race fix).
+function keepMineRig(onRead) {
+  const store = createStore();
+  const disk = { text: 'THEIRS', etag: '"v2"', layout: '"l2"' };
+  const api = fakeApi({
+    saveFile: (p, text, etag) => {
+      if (etag !== disk.etag) { const e = new Error('412: changed'); e.status = 412; throw e; }
+      disk.text = text; disk.etag = '"v9"';
+      return { ok: true, etag: disk.etag };
+    },
+    saveLayout: (p, l, etag) => {
+      if (disk.layout == null ? etag != null : etag !== disk.layout) { const e = new Error('412: changed'); e.status = 412; throw e; }
+      disk.layout = '"l9"';
+      return { ok: true, etag: disk.layout };
+    },
+    mission: () => { const m = { ...model(disk.text), etag: disk.etag, layout_etag: disk.layout }; if (onRead.now) onRead.now(store, disk); return m; },
+  });
+  return { store, disk, api, fx: createEffects(store, api) };
+}
+async function inConflict(rig) {
+  const { store, fx } = rig;
+  await fx.openFile('m.coral');
+  await fx.applyOp({ op: 'add_place', net: 'n', name: 'q' });
+  store.dispatch({ type: 'save/conflict', path: 'm.coral', theirs: 'THEIRS', etag: '"v2"', layoutEtag: '"l2"' });
+}
+
+test('keep mine: a newer text saved while it re-reads is shown, not saved over unseen', async () => {
+  const hook = {};
+  const rig = keepMineRig(hook);
+  await inConflict(rig);
+  // Another tab saves THIRD while the re-read is on its way; its notice comes first.
+  hook.now = (store, disk) => { disk.text = 'THIRD'; disk.etag = '"v3"'; store.dispatch({ type: 'disk/changed', path: 'm.coral', etag: '"v3"' }); hook.now = null; };
+  const saves = rig.api.calls.filter((x) => x[0] === 'saveFile').length;
+  assert.equal(await rig.fx.keepMine(), false);
+  assert.equal(rig.api.calls.filter((x) => x[0] === 'saveFile').length, saves);
+  assert.equal(rig.disk.text, 'THIRD');
+  assert.match(rig.store.getState().message.text, /changed again/);
+});
+
+test('keep mine: Reload while it re-reads leaves the reloaded file alone', async () => {
+  const hook = {};
+  const rig = keepMineRig(hook);
+  await inConflict(rig);
+  hook.now = (store) => { store.dispatch({ type: 'conflict/dismiss' }); hook.now = null; };
+  const saves = rig.api.calls.filter((x) => x[0] === 'saveFile').length;
+  assert.equal(await rig.fx.keepMine(), false);
+  assert.equal(rig.api.calls.filter((x) => x[0] === 'saveFile').length, saves);
+});
+
+test('keep mine: a layout file deleted on disk is written anew, not refused for ever', async () => {
+  const rig = keepMineRig({});
+  await inConflict(rig);
+  rig.disk.layout = null;   // deleted
+  assert.equal(await rig.fx.keepMine(), true);
+  assert.equal(rig.store.getState().conflict, null);
+  assert.equal(rig.disk.layout, '"l9"');
+  const layoutSaves = rig.api.calls.filter((x) => x[0] === 'saveLayout');
+  assert.equal(layoutSaves[layoutSaves.length - 1][3], null);   // no If-Match
+});
+
+test('keep mine: a failed re-read saves over the versions the conflict holds (the server still checks them)', async () => {
+  const rig = keepMineRig({});
+  await inConflict(rig);
+  rig.api.mission = async () => { throw new Error('offline'); };
+  assert.equal(await rig.fx.keepMine(), true);
+  assert.equal(rig.disk.text.includes('q'), true);
+});
