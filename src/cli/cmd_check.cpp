@@ -124,6 +124,7 @@ int run_check(const CheckOptions& o) {
                                      {"warnings", sink.warning_count()}});
       summaries.push_back(rules ? fmt::format("{}: ok (PROLOG rules, mission {})", file, rules.value()->name())
                                 : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
+      if (rules && &file == &o.files.back()) rules.value()->leave_open_to_exit();
       continue;
     }
     core::SourceManager sources;
