@@ -6,6 +6,7 @@
 // mission's own).
 #include <atomic>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 

@@ -13,10 +13,11 @@
 namespace strata::prolog {
 namespace {
 
-// Set once, on the engine's thread, g_engine_thread before g_initialised:
+// Set once, on the engine's thread, g_started_on before g_initialised
+// (not g_engine_thread: interrupt.cpp has one, and a unity build joins them):
 // other threads read them (initialised(), and initialise() refusing them).
 std::atomic<bool> g_initialised = false;
-std::thread::id g_engine_thread;
+std::thread::id g_started_on;
 
 constexpr int kQueryFlags = PL_Q_CATCH_EXCEPTION | PL_Q_EXT_STATUS;
 
@@ -30,7 +31,7 @@ constexpr const char* kHaltGuard =
 
 core::Result<void> initialise(const EngineOptions& options) {
   if (g_initialised) {
-    if (g_engine_thread == std::this_thread::get_id()) return {};
+    if (g_started_on == std::this_thread::get_id()) return {};
     return core::make_error(core::ErrorCode::Internal,
                             "SWI-Prolog was started on another thread of this process, and only that thread may "
                             "call it");
@@ -60,7 +61,7 @@ core::Result<void> initialise(const EngineOptions& options) {
     if (sig == SIGSEGV || sig == SIGBUS || sig == SIGUSR2 || sig == SIGKILL || sig == SIGSTOP) continue;
     (void)sigaction(sig, &before[sig], nullptr);
   }
-  g_engine_thread = std::this_thread::get_id();
+  g_started_on = std::this_thread::get_id();
   g_initialised = true;
   // Queries that run the exception hook are not PL_Q_NODEBUG: an uncaught
   // error must still never start the debugger.

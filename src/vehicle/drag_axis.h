@@ -30,16 +30,12 @@ inline void advance_drag_axis(const DragAxis& a, double cmd_n, double limit_n, d
                               double& speed_mps) {
   const double target = std::clamp(cmd_n, -limit_n, limit_n);
   // At rest and asked for nothing, the step would leave both as they are,
-  // bit for bit (+0 stays +0 through every term below): skipped.
+  // bit for bit for finite parameters (+0 stays +0 through every term
+  // below): skipped.
   if (target == 0.0 && plus_zero(force_n) && plus_zero(speed_mps)) return;
   force_n += (target - force_n) * lag;
   const double force = force_n - a.drag_coeff * speed_mps * std::abs(speed_mps);
   speed_mps += h_s * force / a.mass_kg;
-}
-
-inline void advance_drag_axis(const DragAxis& a, double cmd_n, double limit_n, double h_s, double& force_n,
-                              double& speed_mps) {
-  advance_drag_axis(a, cmd_n, limit_n, h_s, lag_fraction(h_s, a.lag_s), force_n, speed_mps);
 }
 
 }  // namespace strata::vehicle
