@@ -26,6 +26,7 @@ skipped (exit 77) with one line saying why: DUNE is never part of Strata's
 build (docs/imc.md says how to build it).
 """
 import argparse
+import concurrent.futures
 import json
 import os
 import re
@@ -236,6 +237,7 @@ def main():
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
     ap.add_argument("--speed", type=float, default=20.0)
+    ap.add_argument("--jobs", type=int, default=3, help="compared cases run at once (default 3)")
     ap.add_argument("cases", nargs="+")
     a = ap.parse_args()
     if a.dune:
@@ -243,55 +245,64 @@ def main():
     failures = []
     work = a.work or os.getcwd()
     os.makedirs(work, exist_ok=True)
+    compared = []
     for case in a.cases:
         if case == "safe_end":
             failures += safe_end(a, work)
-            continue
-        if case == "second_controller":
+        elif case == "second_controller":
             failures += second_controller(a, work)
-            continue
-        # MISSION@SCENARIO:lost -- the vehicle falls silent: both runs must
-        # fail for the lost link (the call it fails on depends on the level).
-        case_spec, _, expect = case.partition(":")
-        mission, _, scenario = case_spec.partition("@")
-        mission_path = os.path.join(a.source, mission)
-        scenario_path = ""
-        if scenario:
-            scenario_path = os.path.join(os.path.dirname(mission_path), "scenarios", scenario + ".toml")
-        proc, port = start_vehicle(a.strata, scenario_path, a.speed)
-        try:
-            cmd = [a.strata, "compare", mission_path, mission_path, "--format", "json",
-                   "--vehicle-b", f"imc://127.0.0.1:{port}", "--speed", str(a.speed)]
-            if scenario:
-                cmd += ["--scenario", scenario]
-            r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-        finally:
-            proc.kill()  # by its pid: the vehicle never ends by itself
-            proc.wait()
-        try:
-            j = json.loads(r.stdout)
-        except json.JSONDecodeError:
-            failures.append(f"{case}: compare printed no JSON (exit {r.returncode}):\n{r.stdout}{r.stderr}")
-            continue
-        if expect == "lost":
-            lost = (j["a"]["outcome"] == "failed" and j["b"]["outcome"] == "failed"
-                    and "no EstimatedState from the IMC vehicle" in j["b"]["reason"])
-            if not lost:
-                failures.append(f"{case}: not both failed for the lost link:\n{json.dumps(j, indent=1)}")
-            else:
-                print(f"{case}: both runs failed for the lost link")
-            continue
-        if (r.returncode != 0 or not j.get("identical") or j.get("compared") != "commands"
-                or j["b"].get("execution_level") != "imc"):
-            failures.append(f"{case}: not the same commands over IMC (exit {r.returncode}):\n"
-                            f"{json.dumps(j, indent=1)}\n{r.stderr}")
-            continue
-        print(f"{case}: the same {j['a']['outcome']} run over IMC ({j['a']['calls']} calls on the Phoenix, "
-              f"{j['b']['calls']} over IMC)")
+        else:
+            compared.append(case)
+    # The compared cases mostly wait on their vehicles' wall clocks: a few
+    # at once (each its own vehicle on its own port), reported in order.
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        for lines, failed in pool.map(lambda c: compare_case(a, c), compared):
+            for line in lines:
+                print(line)
+            failures += failed
     for f in failures:
         print(f, file=sys.stderr)
     print(f"{len(a.cases) - len(failures)} passed, {len(failures)} failed")
     return 1 if failures else 0
+
+
+def compare_case(a, case):
+    """One mission compared over the Phoenix protocol and over IMC: (lines
+    to print, failures)."""
+    # MISSION@SCENARIO:lost -- the vehicle falls silent: both runs must
+    # fail for the lost link (the call it fails on depends on the level).
+    case_spec, _, expect = case.partition(":")
+    mission, _, scenario = case_spec.partition("@")
+    mission_path = os.path.join(a.source, mission)
+    scenario_path = ""
+    if scenario:
+        scenario_path = os.path.join(os.path.dirname(mission_path), "scenarios", scenario + ".toml")
+    proc, port = start_vehicle(a.strata, scenario_path, a.speed)
+    try:
+        cmd = [a.strata, "compare", mission_path, mission_path, "--format", "json",
+               "--vehicle-b", f"imc://127.0.0.1:{port}", "--speed", str(a.speed)]
+        if scenario:
+            cmd += ["--scenario", scenario]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    finally:
+        proc.kill()  # by its pid: the vehicle never ends by itself
+        proc.wait()
+    try:
+        j = json.loads(r.stdout)
+    except json.JSONDecodeError:
+        return [], [f"{case}: compare printed no JSON (exit {r.returncode}):\n{r.stdout}{r.stderr}"]
+    if expect == "lost":
+        lost = (j["a"]["outcome"] == "failed" and j["b"]["outcome"] == "failed"
+                and "no EstimatedState from the IMC vehicle" in j["b"]["reason"])
+        if not lost:
+            return [], [f"{case}: not both failed for the lost link:\n{json.dumps(j, indent=1)}"]
+        return [f"{case}: both runs failed for the lost link"], []
+    if (r.returncode != 0 or not j.get("identical") or j.get("compared") != "commands"
+            or j["b"].get("execution_level") != "imc"):
+        return [], [f"{case}: not the same commands over IMC (exit {r.returncode}):\n"
+                    f"{json.dumps(j, indent=1)}\n{r.stderr}"]
+    return [f"{case}: the same {j['a']['outcome']} run over IMC ({j['a']['calls']} calls on the Phoenix, "
+            f"{j['b']['calls']} over IMC)"], []
 
 
 if __name__ == "__main__":
