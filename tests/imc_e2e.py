@@ -240,6 +240,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=3, help="compared cases run at once (default 3)")
     ap.add_argument("cases", nargs="+")
     a = ap.parse_args()
+    if a.jobs < 1:
+        ap.error(f"--jobs must be 1 or more, not {a.jobs}")
     if a.dune:
         return run_on_dune(a)
     failures = []
