@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vehicle/drag_axis.h"
+
 namespace strata::vehicle {
 
 HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double thrust_limit_n, HeaveState& s) {
@@ -14,7 +16,7 @@ HeaveContact advance_heave(const VehicleParams& p, double thrust_cmd_n, double t
   const double h = p.cycle_s / p.substeps;
   const double target = std::clamp(thrust_cmd_n, -thrust_limit_n, thrust_limit_n);
   // Exact step of tau dT/dt = target - T over h; a zero lag follows at once.
-  const double lag = p.thruster_lag_s > 0.0 ? 1.0 - std::exp(-h / p.thruster_lag_s) : 1.0;
+  const double lag = lag_fraction(h, p.thruster_lag_s);
   const double mass = p.total_mass_kg();
   HeaveContact contact;
   for (int i = 0; i < p.substeps; ++i) {

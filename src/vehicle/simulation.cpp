@@ -223,7 +223,7 @@ void Simulation::step() {
   // The Execution level's own model of its thrusters: the lag, at nominal
   // strength (it cannot know they are weak).
   thrust_model_n_ +=
-      (thrust_cmd_n_ - thrust_model_n_) * (1.0 - std::exp(-params_.cycle_s / std::max(params_.thruster_lag_s, 1e-9)));
+      (thrust_cmd_n_ - thrust_model_n_) * lag_fraction(params_.cycle_s, std::max(params_.thruster_lag_s, 1e-9));
   const double limit = params_.max_total_thrust_n() * faults_.thrust_health;
   const HeaveContact contact = advance_heave(params_, thrust_cmd_n_, limit, bottom_m(), heave_);
   guide();
