@@ -16,7 +16,13 @@
 //                   the embedded vehicle, telemetry at the run's default
 //                   2 Hz, no log), median wall time of one run; and the same
 //                   at the spec's telemetry rate (10 Hz: the campaign samples
-//                   the depth five times as often) as in_process_spec_hz.
+//                   the depth five times as often) as in_process_spec_hz;
+//     cases_in_process  every case of the spec, one after another in this
+//                   process, as one worker runs them
+//                   (strata::campaign::run_case, no output folder): its own
+//                   mission, fault, perturbed vehicle and length, and the
+//                   PROLOG start in this process at its first tank.pl case;
+//                   wall time to the last.
 //   Counters:
 //     cases                  the spec's cases
 //     campaign_cases_per_s   cases / campaign wall
@@ -27,6 +33,10 @@
 //     in_process_ms          the median run
 //     in_process_spec_hz_ms  the same at the spec's telemetry rate
 //     campaign_over_spec_hz_limit  cases/s over cores / in_process_spec_hz
+//     cases_in_process_ms    cases_in_process / cases: a case's mean run
+//     campaign_over_cases_limit   cases/s over cores / cases_in_process_ms:
+//                            what the pool (workers, hand-offs, results)
+//                            keeps of the machine, for these very cases
 //   Each iteration takes a few seconds (most of it the per-process way);
 //   --benchmark_repetitions gives several.
 //
@@ -193,6 +203,19 @@ double in_process_run_s(double hz) {
   return runs[runs.size() / 2];
 }
 
+// Wall seconds of every case of spec run in this process one after
+// another, or a negative value when a case did not give its result line.
+double cases_in_process_s(const strata::campaign::Spec& spec) {
+  namespace campaign = strata::campaign;
+  const campaign::CaseRunConfig config;  // no folder: nothing written
+  const auto t0 = Clock::now();
+  for (std::uint64_t i = 0; i < spec.case_count(); ++i) {
+    const auto line = campaign::run_case(spec, campaign::case_at(spec, i), config);
+    if (!line.contains("pass")) return -1.0;
+  }
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
 void bm_campaign(benchmark::State& st) {
   char tmpl[] = "/tmp/strata-campaign-bench-XXXXXX";
   if (mkdtemp(tmpl) == nullptr) {
@@ -204,19 +227,21 @@ void bm_campaign(benchmark::State& st) {
   const auto commands = spec ? case_commands(spec.value(), dir) : std::vector<std::vector<std::string>>{};
   const std::size_t cases = commands.size();
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  double campaign_s = 0, per_process_s = 0, in_process_s = 0, spec_hz_s = 0;
+  double campaign_s = 0, per_process_s = 0, in_process_s = 0, spec_hz_s = 0, cases_s = 0;
   for (auto _ : st) {
     campaign_s = campaign_wall_s(dir);
     per_process_s = cases > 0 ? per_process_wall_s(commands) : -1.0;
     in_process_s = in_process_run_s(strata::cli::RunOptions{}.telemetry_hz);
     spec_hz_s = spec ? in_process_run_s(spec.value().telemetry_hz) : -1.0;
-    if (cases == 0 || campaign_s < 0 || per_process_s < 0 || in_process_s < 0 || spec_hz_s < 0) break;
+    cases_s = spec ? cases_in_process_s(spec.value()) : -1.0;
+    if (cases == 0 || campaign_s < 0 || per_process_s < 0 || in_process_s < 0 || spec_hz_s < 0 || cases_s < 0) break;
   }
   std::filesystem::remove_all(dir);
-  if (cases == 0 || campaign_s < 0 || per_process_s < 0 || in_process_s < 0 || spec_hz_s < 0) {
+  if (cases == 0 || campaign_s < 0 || per_process_s < 0 || in_process_s < 0 || spec_hz_s < 0 || cases_s < 0) {
     st.SkipWithError(cases == 0          ? "the spec did not load or its files could not be written"
                      : campaign_s < 0    ? "the campaign did not exit 0"
                      : per_process_s < 0 ? "a case's strata run exited 64 or more"
+                     : cases_s < 0       ? "a case run in this process gave no result"
                                          : "the in-process tank run did not complete");
     return;
   }
@@ -231,10 +256,21 @@ void bm_campaign(benchmark::State& st) {
   st.counters["campaign_over_limit"] = n / campaign_s / limit;
   st.counters["in_process_spec_hz_ms"] = spec_hz_s * 1000.0;
   st.counters["campaign_over_spec_hz_limit"] = n / campaign_s / (cores / spec_hz_s);
+  st.counters["cases_in_process_ms"] = cases_s / n * 1000.0;
+  st.counters["campaign_over_cases_limit"] = cases_s / (cores * campaign_s);
 }
 
 }  // namespace
 
 BENCHMARK(bm_campaign)->Name("campaign/tank")->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  // cases_in_process runs tank.pl here: this program is not beside the
+  // precompiled PROLOG driver, as strata is.
+  ::setenv("STRATA_PROLOG_DRIVER", STRATA_PRECOMPILED_DRIVER, 0);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

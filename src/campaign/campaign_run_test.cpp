@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "campaign/campaign_test_support.h"
@@ -170,6 +172,38 @@ TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReprod
   ASSERT_EQ(2u, report["failures"].size());
   const std::string html = testing::read_text(dir.file("out/report.html"));
   EXPECT_NE(std::string::npos, html.find("--case 0"));
+}
+
+// A passing case runs without a mission log; a failing one whose log is
+// kept runs again with it, and the log kept is of a run that went the same
+// way as the one the line reports.
+TEST(CampaignRun, AFailingCaseRunAgainForItsLogKeepsTheLogOfTheSameRun) {
+  TempDir dir;
+  const Spec spec = load(dir, small_spec(kNominalTooDeep));
+  fs::create_directories(dir.file("out/logs"));
+  fs::create_directories(dir.file("out/scenarios"));
+  bool failed_one = false, passed_one = false;
+  for (std::uint64_t i = 0; i < spec.case_count(); ++i) {
+    const auto line = run_case(spec, case_at(spec, i), CaseRunConfig{dir.file("out"), KeepLogs::Failed});
+    const std::string log = dir.file(fmt::format("out/logs/case-{}.jsonl", i));
+    EXPECT_FALSE(line.contains("log_note")) << line.dump();
+    if (line["pass"].get<bool>()) {
+      passed_one = true;
+      EXPECT_FALSE(line.contains("log")) << line.dump();
+      EXPECT_FALSE(fs::exists(log));
+      continue;
+    }
+    failed_one = true;
+    ASSERT_TRUE(line.contains("log")) << line.dump();
+    std::istringstream lines(testing::read_text(log));
+    nlohmann::json end;
+    for (std::string l; std::getline(lines, l);) end = nlohmann::json::parse(l);
+    ASSERT_EQ("mission_end", end["event"]) << end.dump();
+    EXPECT_EQ(line["outcome"], end["outcome"]);
+    EXPECT_NEAR(line["figures"]["sim_time_s"].get<double>(), end["sim_time"].get<double>(), 0.05);
+  }
+  EXPECT_TRUE(failed_one);
+  EXPECT_TRUE(passed_one) << "the spec's fault cases pass";
 }
 
 TEST(CampaignRun, ACaseOverItsWallTimeIsACrashedCaseAndTheCampaignGoesOn) {

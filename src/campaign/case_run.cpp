@@ -298,9 +298,18 @@ std::vector<std::string> repro_run_args(const Spec& spec, const Case& c, const s
   return args;
 }
 
-nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunConfig& config) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const std::string scenario = scenario_toml(spec, c);
+namespace {
+
+// One run of a case: its result line (without the files kept and the
+// timings) and, when asked for, its mission log.
+struct CaseRun {
+  nlohmann::ordered_json line;
+  bool logged = false;
+  std::string log;
+  double run_wall_s = 0.0;
+};
+
+CaseRun run_case_once(const Spec& spec, const Case& c, const std::string& scenario, bool with_log) {
   const Mission& mission = spec.missions[c.mission];
   run::RunOptions o;
   o.mission = mission.resolved;
@@ -321,12 +330,9 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   o.params = spec.params_resolved;
   o.param_overrides = c.params;
   std::ostringstream log;
-  const std::string log_name = fmt::format("case-{}.jsonl", c.index);
-  // With scripted answers the log is always written (in memory): its
-  // scripted_answer records are where a scripted EXEC failure shows.
-  if ((config.keep_logs != KeepLogs::None && !config.out_dir.empty()) || !family.answers.empty()) {
+  if (with_log) {
     o.log_stream = &log;
-    o.log = "logs/" + log_name;
+    o.log = fmt::format("logs/case-{}.jsonl", c.index);
   }
   const vehicle::VehicleParams params = case_params(spec, c);
   const double surface_depth_m = params.surface_depth_m;  // perturbed, when it is
@@ -343,20 +349,58 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
       observe(report, watcher, c, surface_depth_m,
               family.answers.empty() ? std::vector<ScriptedExecFailure>{} : scripted_exec_failures(log.str()));
 
-  nlohmann::ordered_json j = result_line(spec, c, seen, proof ? &*proof : nullptr);
-  if (report.result) j["exit"] = report.result->exit;
-  j["phases"] = report.phases;
-  j["coverage"] = watcher.coverage();
+  CaseRun out;
+  out.line = result_line(spec, c, seen, proof ? &*proof : nullptr);
+  if (report.result) out.line["exit"] = report.result->exit;
+  out.line["phases"] = report.phases;
+  out.line["coverage"] = watcher.coverage();
+  out.logged = with_log && report.result;
+  if (out.logged) out.log = log.str();
+  out.run_wall_s = report.wall_time_s;
+  return out;
+}
+
+}  // namespace
+
+nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunConfig& config) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::string scenario = scenario_toml(spec, c);
+  const bool folder = !config.out_dir.empty();
+  // A mission log costs about a third of a run, and most cases pass. So it
+  // is written as the case runs only when it is always kept, or when the
+  // scripted answers' failures are read from it; a failing case whose log
+  // is to be kept runs again with it (a lockstep run goes the same way
+  // every time), and the log is kept only when that run gave the very same
+  // result line.
+  const bool log_now = (folder && config.keep_logs == KeepLogs::All) || !spec.families[c.family].answers.empty();
+  CaseRun first = run_case_once(spec, c, scenario, log_now);
+  nlohmann::ordered_json& j = first.line;
+  double run_wall_s = first.run_wall_s;
   const bool pass = j["pass"].get<bool>();
+  if (folder && !pass && config.keep_logs == KeepLogs::Failed && !first.logged) {
+    CaseRun again = run_case_once(spec, c, scenario, true);
+    run_wall_s += again.run_wall_s;
+    if (again.line == j) {
+      first.logged = again.logged;
+      first.log = std::move(again.log);
+    } else {
+      j["log_note"] =
+          fmt::format("no log: the run again with its log went another way ({}: {})",
+                      again.line.value("outcome", std::string("?")), again.line.value("reason", std::string("?")));
+    }
+  }
+  const std::string log_name = fmt::format("case-{}.jsonl", c.index);
+
   if (!config.out_dir.empty()) {
     const bool keep = config.keep_logs == KeepLogs::All || (config.keep_logs == KeepLogs::Failed && !pass);
-    if (keep && report.result && write_new_file(config.out_dir + "/logs/" + log_name, log.str())) {
+    if (keep && first.logged && write_new_file(config.out_dir + "/logs/" + log_name, first.log)) {
       j["log"] = "logs/" + log_name;
     }
     if (!pass) {
       const std::string file = fmt::format("scenarios/case-{}.toml", c.index);
       // A perturbed vehicle travels as a whole parameter file (--params).
       const std::string params_file = fmt::format("scenarios/case-{}.params.toml", c.index);
+      const vehicle::VehicleParams params = case_params(spec, c);
       const bool params_kept =
           !c.params.empty() && write_new_file(config.out_dir + "/" + params_file, vehicle::params_toml(params));
       if (params_kept) j["params_file"] = params_file;
@@ -373,7 +417,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   }
   if (!pass) j["repro"] = repro_command(spec, c);
   j["timings"] = {{"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count()},
-                  {"run_wall_s", report.wall_time_s},
+                  {"run_wall_s", run_wall_s},
                   {"pid", static_cast<long>(::getpid())}};
   return j;
 }
