@@ -19,12 +19,12 @@ std::string_view why_name(CloseReason::Why why) {
   return "?";
 }
 
-std::shared_ptr<LineConnection> LineConnection::create(asio::ip::tcp::socket socket, LineConnectionOptions options,
+std::shared_ptr<LineConnection> LineConnection::create(Socket socket, LineConnectionOptions options,
                                                        Handlers handlers) {
   return std::shared_ptr<LineConnection>(new LineConnection(std::move(socket), options, std::move(handlers)));
 }
 
-LineConnection::LineConnection(asio::ip::tcp::socket socket, LineConnectionOptions options, Handlers handlers)
+LineConnection::LineConnection(Socket socket, LineConnectionOptions options, Handlers handlers)
     : socket_(std::move(socket)), options_(options), handlers_(std::move(handlers)), framer_(options.max_line_bytes) {}
 
 LineConnection::~LineConnection() {
@@ -150,7 +150,7 @@ bool LineConnection::shut(CloseReason reason) {
   queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(std::min(in_flight_, queue_.size())), queue_.end());
   queued_bytes_ = 0;
   asio::error_code ignored;
-  socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  socket_.shutdown(asio::socket_base::shutdown_both, ignored);
   socket_.close(ignored);
   return true;
 }

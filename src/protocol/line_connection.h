@@ -85,9 +85,12 @@ class LineConnection : public std::enable_shared_from_this<LineConnection> {
     std::function<void(LineConnection& c, const CloseReason& reason)> on_close;
   };
 
+  // A connected stream socket: TCP, or one end of a pair of local sockets
+  // (an embedded vehicle; a tcp::socket converts to it).
+  using Socket = asio::generic::stream_protocol::socket;
+
   // Takes a connected socket. Nothing is read until start().
-  static std::shared_ptr<LineConnection> create(asio::ip::tcp::socket socket, LineConnectionOptions options,
-                                                Handlers handlers);
+  static std::shared_ptr<LineConnection> create(Socket socket, LineConnectionOptions options, Handlers handlers);
   ~LineConnection();
   LineConnection(const LineConnection&) = delete;
   LineConnection& operator=(const LineConnection&) = delete;
@@ -109,7 +112,7 @@ class LineConnection : public std::enable_shared_from_this<LineConnection> {
   const LineConnectionOptions& options() const { return options_; }
 
  private:
-  LineConnection(asio::ip::tcp::socket socket, LineConnectionOptions options, Handlers handlers);
+  LineConnection(Socket socket, LineConnectionOptions options, Handlers handlers);
   void read();
   void write_front();
   // Closes the socket and records why; returns false if already closed.
@@ -118,7 +121,7 @@ class LineConnection : public std::enable_shared_from_this<LineConnection> {
   void fail(CloseReason reason);
   void tell_closed_later();
 
-  asio::ip::tcp::socket socket_;
+  Socket socket_;
   LineConnectionOptions options_;
   Handlers handlers_;
   LineFramer framer_;

@@ -110,7 +110,8 @@ class RunSession::Run {
   Stage load_inputs();
   // The mission log created, with its header and the verification.
   Stage open_log();
-  // The embedded vehicle started on a free port, or --vehicle parsed.
+  // The embedded vehicle started on one end of a pair of local sockets, or
+  // --vehicle parsed.
   Stage open_vehicle();
   // The link connected and hello answered; the vehicle's clock known.
   Stage connect();
@@ -154,6 +155,9 @@ class RunSession::Run {
   std::vector<std::string> vehicle_log_;
   std::optional<vehicle::Simulation> sim_;
   std::unique_ptr<vehicle::VehicleServer> server_;
+  // The link's end of the pair the embedded vehicle holds the other of,
+  // from open_vehicle() to connect().
+  std::optional<protocol::LineConnection::Socket> paired_;
   tactical::LinkOptions link_options_;
   std::optional<std::uint16_t> sonar_port_;  // as hello announced it
   std::shared_ptr<tactical::ExecutionLink> link_;

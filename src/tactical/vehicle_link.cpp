@@ -56,13 +56,13 @@ void VehicleLink::drop_connection(const std::string& why) {
   connection_.reset();
 }
 
-void VehicleLink::connect(std::function<void(core::Result<protocol::Welcome>)> done) {
+void VehicleLink::connect(const std::function<void(core::Result<protocol::Welcome>)>& done) {
   reconnects_left_ = options_.reconnect_attempts;
   closing_ = false;
-  start_connect(std::move(done));
+  start_connect(done);
 }
 
-void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcome>)> done) {
+void VehicleLink::start_connect(const std::function<void(core::Result<protocol::Welcome>)>& done) {
   auto self = this->self();
   asio::error_code ec;
   auto address = asio::ip::make_address(options_.host == "localhost" ? "127.0.0.1" : options_.host, ec);
@@ -96,65 +96,89 @@ void VehicleLink::start_connect(std::function<void(core::Result<protocol::Welcom
     asio::ip::tcp::no_delay nodelay(true);
     asio::error_code ignored;
     socket_.set_option(nodelay, ignored);
-    connected_ = true;
-    std::weak_ptr<VehicleLink> weak = self;
-    connection_ =
-        protocol::LineConnection::create(std::move(socket_), link_options(),
-                                         {[weak](protocol::LineConnection&, const protocol::Frame& frame) {
-                                            if (auto link = weak.lock()) link->handle_line(frame);
-                                          },
-                                          [weak](protocol::LineConnection& c, const protocol::CloseReason& why) {
-                                            if (auto link = weak.lock()) link->connection_closed(c, why);
-                                          }});
-    connection_->start();
-    // This handler is kept in pending_, inside the link: it must not hold
-    // `self`, or the link would own itself.
-    protocol::Request hello = protocol::make_hello(0, options_.client_name);
-    hello.version = options_.protocol_version;
-    std::string what = describe(hello);
-    send(
-        std::move(hello),
-        [this, finished, done, what](core::Result<protocol::VehicleMessage> r) {
-          if (*finished) return;
-          *finished = true;
-          connect_timer_.cancel();
-          // A hello that fails ends this connection: a refused or foreign
-          // vehicle is not a lost link to reconnect to.
-          auto refuse = [&](core::Error error) {
-            abandon(error);
-            done(std::move(error));
-          };
-          if (!r) {
-            refuse(r.error());
-            return;
-          }
-          if (auto* err = std::get_if<protocol::Err>(&r.value())) {
-            refuse(make_error(ErrorCode::Protocol, refusal_text(what, *err)));
-            return;
-          }
-          if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
-            // The session's version: the one asked for, or an older one
-            // we speak (a version-1 vehicle says 1 whatever it is asked).
-            if (!protocol::speaks_version(w->version) || w->version > options_.protocol_version) {
-              refuse(make_error(ErrorCode::Protocol,
-                                fmt::format("vehicle speaks protocol {}, we asked for {} (we speak {})", w->version,
-                                            options_.protocol_version, protocol::spoken_versions())));
-              return;
-            }
-            session_version_ = w->version;
-            barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
-            // A vehicle that tells its time in the welcome also takes a
-            // bounded advance (docs/protocol.md §8); one that does not gets
-            // wall-clock timeouts only.
-            sim_now_ = w->sim_time_s;
-            bounded_ = barrier_ && w->sim_time_s.has_value();
-            done(*w);
-            return;
-          }
-          refuse(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
-        },
-        options_.connect_timeout);
+    say_hello(std::move(socket_), finished, done);
   });
+}
+
+void VehicleLink::connect_paired(protocol::LineConnection::Socket socket,
+                                 std::function<void(core::Result<protocol::Welcome>)> done) {
+  reconnects_left_ = 0;  // nothing to connect to again
+  closing_ = false;
+  auto self = this->self();
+  drop_connection("connecting again");
+  auto finished = std::make_shared<bool>(false);
+  connect_timer_.expires_after(options_.connect_timeout);
+  connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
+    if (e || *finished) return;
+    *finished = true;
+    auto error = make_error(ErrorCode::Timeout, fmt::format("no answer from the embedded vehicle within {} ms",
+                                                            options_.connect_timeout.count()));
+    abandon(error);
+    done(error);
+  });
+  say_hello(std::move(socket), finished, std::move(done));
+}
+
+void VehicleLink::say_hello(protocol::LineConnection::Socket socket, const std::shared_ptr<bool>& finished,
+                            std::function<void(core::Result<protocol::Welcome>)> done) {
+  connected_ = true;
+  std::weak_ptr<VehicleLink> weak = self();
+  connection_ =
+      protocol::LineConnection::create(std::move(socket), link_options(),
+                                       {[weak](protocol::LineConnection&, const protocol::Frame& frame) {
+                                          if (auto link = weak.lock()) link->handle_line(frame);
+                                        },
+                                        [weak](protocol::LineConnection& c, const protocol::CloseReason& why) {
+                                          if (auto link = weak.lock()) link->connection_closed(c, why);
+                                        }});
+  connection_->start();
+  // This handler is kept in pending_, inside the link: it must not hold
+  // `self`, or the link would own itself.
+  protocol::Request hello = protocol::make_hello(0, options_.client_name);
+  hello.version = options_.protocol_version;
+  std::string what = describe(hello);
+  send(
+      std::move(hello),
+      [this, finished, done, what](core::Result<protocol::VehicleMessage> r) {
+        if (*finished) return;
+        *finished = true;
+        connect_timer_.cancel();
+        // A hello that fails ends this connection: a refused or foreign
+        // vehicle is not a lost link to reconnect to.
+        auto refuse = [&](core::Error error) {
+          abandon(error);
+          done(std::move(error));
+        };
+        if (!r) {
+          refuse(r.error());
+          return;
+        }
+        if (auto* err = std::get_if<protocol::Err>(&r.value())) {
+          refuse(make_error(ErrorCode::Protocol, refusal_text(what, *err)));
+          return;
+        }
+        if (auto* w = std::get_if<protocol::Welcome>(&r.value())) {
+          // The session's version: the one asked for, or an older one
+          // we speak (a version-1 vehicle says 1 whatever it is asked).
+          if (!protocol::speaks_version(w->version) || w->version > options_.protocol_version) {
+            refuse(make_error(ErrorCode::Protocol,
+                              fmt::format("vehicle speaks protocol {}, we asked for {} (we speak {})", w->version,
+                                          options_.protocol_version, protocol::spoken_versions())));
+            return;
+          }
+          session_version_ = w->version;
+          barrier_ = w->clock == protocol::ClockMode::Lockstep && w->version >= 2;
+          // A vehicle that tells its time in the welcome also takes a
+          // bounded advance (docs/protocol.md §8); one that does not gets
+          // wall-clock timeouts only.
+          sim_now_ = w->sim_time_s;
+          bounded_ = barrier_ && w->sim_time_s.has_value();
+          done(*w);
+          return;
+        }
+        refuse(make_error(ErrorCode::Protocol, "vehicle answered hello with something else"));
+      },
+      options_.connect_timeout);
 }
 
 protocol::RequestId VehicleLink::send(protocol::Request request, ReplyHandler handler,

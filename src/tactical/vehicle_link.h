@@ -89,7 +89,12 @@ class VehicleLink final : public ExecutionLink {
 
   // Connects and says hello; `done` gets the vehicle's welcome or the reason
   // it could not (refused, timed out, refused as a second client).
-  void connect(std::function<void(core::Result<protocol::Welcome>)> done);
+  void connect(const std::function<void(core::Result<protocol::Welcome>)>& done);
+  // The same over one end of a connected pair of local sockets, the other
+  // end an embedded vehicle's (VehicleServer::start_paired): no host, no
+  // port, and no reconnecting when it closes.
+  void connect_paired(protocol::LineConnection::Socket socket,
+                      std::function<void(core::Result<protocol::Welcome>)> done);
 
   // Sends request (its id is assigned here and returned) and calls handler
   // exactly once: with the reply, or with an error (timeout, link closed).
@@ -129,7 +134,10 @@ class VehicleLink final : public ExecutionLink {
     double sim_timeout_s = 0;
   };
 
-  void start_connect(std::function<void(core::Result<protocol::Welcome>)> done);
+  void start_connect(const std::function<void(core::Result<protocol::Welcome>)>& done);
+  // Connected: the line connection made and hello sent; done once answered.
+  void say_hello(protocol::LineConnection::Socket socket, const std::shared_ptr<bool>& finished,
+                 std::function<void(core::Result<protocol::Welcome>)> done);
   void handle_line(const protocol::Frame& frame);
   void write(std::string line);
   void connection_closed(protocol::LineConnection& c, const protocol::CloseReason& why);

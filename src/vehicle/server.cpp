@@ -54,14 +54,25 @@ core::Result<void> VehicleServer::start() {
                             fmt::format("cannot listen on {}:{}: {}", options_.address, options_.port, ec.message()));
   }
   port_ = acceptor_.local_endpoint().port();
-  if (options_.sonar) {
-    sonar_ = std::make_unique<SonarServer>(io_, SonarServerOptions{options_.address, options_.sonar_port});
-    if (auto r = sonar_->start(); !r) {
-      acceptor_.close(ec);
-      return r;
-    }
+  if (auto r = start_running(); !r) {
+    acceptor_.close(ec);
+    return r;
   }
   accept();
+  return {};
+}
+
+core::Result<void> VehicleServer::start_paired(protocol::LineConnection::Socket client) {
+  if (auto r = start_running(); !r) return r;
+  admit(std::move(client));
+  return {};
+}
+
+core::Result<void> VehicleServer::start_running() {
+  if (options_.sonar) {
+    sonar_ = std::make_unique<SonarServer>(io_, SonarServerOptions{options_.address, options_.sonar_port});
+    if (auto r = sonar_->start(); !r) return r;
+  }
   if (options_.clock == protocol::ClockMode::Wall) tick();
   return {};
 }
@@ -91,26 +102,30 @@ void VehicleServer::accept() {
     if (!e) {
       asio::error_code ignored;
       socket.set_option(asio::ip::tcp::no_delay(true), ignored);
-      auto c = protocol::LineConnection::create(
-          std::move(socket), controller_options(),
-          {[this](protocol::LineConnection& conn, const protocol::Frame& frame) { on_line(conn, frame); },
-           [this](protocol::LineConnection& conn, const protocol::CloseReason& why) { on_closed(conn, why); }});
-      if (controller_ && !controller_->closing()) {
-        refuse(*c, "another client controls the vehicle");
-      } else if (waiting_clients_.size() >= kMaxWaitingClients) {
-        refuse(*c, fmt::format("{} clients are connected without a hello; try again", waiting_clients_.size()));
-      } else {
-        // It waits for its hello beside any others: the first accepted
-        // hello takes the vehicle (server.h, "Hello").
-        log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
-        auto timer = std::make_unique<asio::steady_timer>(io_);
-        arm_hello_timeout(c, *timer);
-        waiting_clients_.push_back({c, std::move(timer)});
-        c->start();
-      }
+      admit(std::move(socket));
     }
     accept();
   });
+}
+
+void VehicleServer::admit(protocol::LineConnection::Socket socket) {
+  auto c = protocol::LineConnection::create(
+      std::move(socket), controller_options(),
+      {[this](protocol::LineConnection& conn, const protocol::Frame& frame) { on_line(conn, frame); },
+       [this](protocol::LineConnection& conn, const protocol::CloseReason& why) { on_closed(conn, why); }});
+  if (controller_ && !controller_->closing()) {
+    refuse(*c, "another client controls the vehicle");
+  } else if (waiting_clients_.size() >= kMaxWaitingClients) {
+    refuse(*c, fmt::format("{} clients are connected without a hello; try again", waiting_clients_.size()));
+  } else {
+    // It waits for its hello beside any others: the first accepted
+    // hello takes the vehicle (server.h, "Hello").
+    log(fmt::format("{:.1f} s: client connected", sim_.time_s()));
+    auto timer = std::make_unique<asio::steady_timer>(io_);
+    arm_hello_timeout(c, *timer);
+    waiting_clients_.push_back({c, std::move(timer)});
+    c->start();
+  }
 }
 
 void VehicleServer::refuse(protocol::LineConnection& c, const std::string& why) {

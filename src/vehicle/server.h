@@ -118,6 +118,11 @@ class VehicleServer {
 
   // Binds and listens; fails with ErrorCode::Io if the address is taken.
   core::Result<void> start();
+  // Started with no listening socket: its one client is the other end of a
+  // connected pair of local sockets (the embedded vehicle of a run, in the
+  // same process: no TCP stack between the two levels). port() is 0; the
+  // sonar still listens on TCP.
+  core::Result<void> start_paired(protocol::LineConnection::Socket client);
   void stop();
   std::uint16_t port() const { return port_; }
   // 0 without a sonar socket.
@@ -139,6 +144,10 @@ class VehicleServer {
 
  private:
   void accept();
+  // The sonar and, on the wall clock, the clock: the rest of a start.
+  core::Result<void> start_running();
+  // A connected client: waits for its hello, or is refused.
+  void admit(protocol::LineConnection::Socket socket);
   void on_request(protocol::LineConnection& c, const protocol::Request& r);
   void refuse(protocol::LineConnection& c, const std::string& why);
   // A waiting client's line: its hello, or `not_ready`.
