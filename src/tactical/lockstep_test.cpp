@@ -67,6 +67,52 @@ TEST(Lockstep, AnAskSentWhileASleepRunsIsAnsweredInTheNextCycle) {
   EXPECT_EQ(3u, link->advances_sent());  // 0 -> 0.1, 0.1 -> 0.2, 0.2 -> 5.0
 }
 
+// The embedded vehicle of a run (run/session_start.cpp): the server and the
+// link over a connected pair of local sockets, no port. The same protocol
+// (hello, the lockstep barrier, a call); and when the vehicle closes its
+// end, the link is lost at once: there is nothing to reconnect to, whatever
+// LinkOptions::reconnect_attempts says (the link's comments: a lost link
+// is otherwise told only once the reconnects have failed).
+TEST(Lockstep, APairedLinkSpeaksTheProtocolAndIsLostWithoutReconnectingWhenClosed) {
+  asio::io_context io;
+  vehicle::Simulation sim(vehicle::default_params(), vehicle::Scenario::nominal());
+  vehicle::ServerOptions so;
+  so.clock = protocol::ClockMode::Lockstep;
+  so.lockstep_silence_s = 0.0;
+  vehicle::VehicleServer server(io, sim, so);
+  asio::local::stream_protocol::socket ours(io), theirs(io);
+  asio::error_code ec;
+  asio::local::connect_pair(ours, theirs, ec);
+  ASSERT_FALSE(ec) << ec.message();
+  ASSERT_TRUE(server.start_paired(std::move(theirs)).ok());
+  EXPECT_EQ(0, server.port()) << "no listening socket";
+
+  LinkOptions options;
+  options.reconnect_attempts = 2;
+  options.reconnect_delay = std::chrono::minutes(10);  // a reconnect would outlast the test's bound
+  auto link = VehicleLink::create(io, options);
+  std::optional<core::Result<protocol::Welcome>> welcome;
+  link->connect_paired(std::move(ours), [&](core::Result<protocol::Welcome> w) { welcome = std::move(w); });
+  ASSERT_TRUE(run_until(io, [&] { return welcome.has_value(); }));
+  ASSERT_TRUE(welcome->ok()) << welcome->error().message;
+  EXPECT_EQ(protocol::ClockMode::Lockstep, welcome->value().clock);
+  EXPECT_TRUE(link->lockstep_barrier());
+
+  std::optional<core::Result<VehicleMessage>> reply;
+  link->send(protocol::make_ask(0, "depth_filter_off"), [&](core::Result<VehicleMessage> r) { reply = std::move(r); });
+  ASSERT_TRUE(run_until(io, [&] { return reply.has_value(); }));
+  ASSERT_TRUE(reply->ok()) << reply->error().message;
+  EXPECT_DOUBLE_EQ(0.1, time_of(reply->value()));
+  EXPECT_NEAR(0.1, sim.time_s(), 1e-9);
+
+  int lost = 0;
+  link->on_lost([&](const core::Error&) { ++lost; });
+  server.stop();
+  ASSERT_TRUE(run_until(io, [&] { return lost > 0; })) << "the link waited to reconnect";
+  EXPECT_EQ(1, lost);
+  EXPECT_FALSE(link->connected());
+}
+
 // One call in flight at a time costs what it did in protocol 1: a cycle
 // each, sleep its duration.
 TEST(Lockstep, OneCallAtATimeCostsWhatItDidInProtocolOne) {
