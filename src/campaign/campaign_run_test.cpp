@@ -164,7 +164,7 @@ TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReprod
     const std::string scenario = testing::read_text(dir.file("out/" + l["scenario"].get<std::string>()));
     EXPECT_EQ(scenario_toml(spec, case_at(spec, i)), scenario);
     // And the case run alone again fails the same way, with the same figure.
-    const auto again = run_case(spec, case_at(spec, i), CaseRunConfig{"", KeepLogs::None});
+    const auto again = run_case(spec, case_at(spec, i), CaseRunConfig{"", KeepLogs::None, {}});
     EXPECT_FALSE(again["pass"].get<bool>());
     EXPECT_EQ(depth["figure"], again["checks"][2]["figure"]);
   }
@@ -184,9 +184,13 @@ TEST(CampaignRun, AFailingCaseRunAgainForItsLogKeepsTheLogOfTheSameRun) {
   fs::create_directories(dir.file("out/scenarios"));
   bool failed_one = false, passed_one = false;
   for (std::uint64_t i = 0; i < spec.case_count(); ++i) {
-    const auto line = run_case(spec, case_at(spec, i), CaseRunConfig{dir.file("out"), KeepLogs::Failed});
+    int runs_again = 0;
+    // A worker restarts the case's wall-clock limit there.
+    const CaseRunConfig config{dir.file("out"), KeepLogs::Failed, [&] { ++runs_again; }};
+    const auto line = run_case(spec, case_at(spec, i), config);
     const std::string log = dir.file(fmt::format("out/logs/case-{}.jsonl", i));
     EXPECT_FALSE(line.contains("log_note")) << line.dump();
+    EXPECT_EQ(line["pass"].get<bool>() ? 0 : 1, runs_again) << line.dump();
     if (line["pass"].get<bool>()) {
       passed_one = true;
       EXPECT_FALSE(line.contains("log")) << line.dump();

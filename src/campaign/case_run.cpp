@@ -370,24 +370,25 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   // is written as the case runs only when it is always kept, or when the
   // scripted answers' failures are read from it; a failing case whose log
   // is to be kept runs again with it (a lockstep run goes the same way
-  // every time), and the log is kept only when that run gave the very same
-  // result line.
+  // every time). When that run gives another line (a wall-clock limit, or
+  // the log's own size limit, which the first run did not have), its log is
+  // kept all the same, with log_note saying how that run ended.
   const bool log_now = (folder && config.keep_logs == KeepLogs::All) || !spec.families[c.family].answers.empty();
   CaseRun first = run_case_once(spec, c, scenario, log_now);
   nlohmann::ordered_json& j = first.line;
   double run_wall_s = first.run_wall_s;
   const bool pass = j["pass"].get<bool>();
   if (folder && !pass && config.keep_logs == KeepLogs::Failed && !first.logged) {
+    if (config.on_run_again) config.on_run_again();
     CaseRun again = run_case_once(spec, c, scenario, true);
     run_wall_s += again.run_wall_s;
-    if (again.line == j) {
-      first.logged = again.logged;
-      first.log = std::move(again.log);
-    } else {
+    if (again.line != j) {
       j["log_note"] =
-          fmt::format("no log: the run again with its log went another way ({}: {})",
+          fmt::format("the log is of the case run again to write it, which went another way ({}: {})",
                       again.line.value("outcome", std::string("?")), again.line.value("reason", std::string("?")));
     }
+    first.logged = again.logged;
+    first.log = std::move(again.log);
   }
   const std::string log_name = fmt::format("case-{}.jsonl", c.index);
 
@@ -419,7 +420,7 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
   j["timings"] = {{"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count()},
                   {"run_wall_s", run_wall_s},
                   {"pid", static_cast<long>(::getpid())}};
-  return j;
+  return std::move(first.line);
 }
 
 nlohmann::ordered_json crashed_case(const Spec& spec, const Case& c, const std::string& why) {

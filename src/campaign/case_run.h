@@ -5,6 +5,7 @@
 // is started per case but the run itself (no process, no file read but the
 // mission's own).
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct CaseRunConfig {
   // and a failing case's scenario to DIR/scenarios/case-I.toml.
   std::string out_dir;
   KeepLogs keep_logs = KeepLogs::Failed;
+  // Called when a failing case starts again to write its log (run_case):
+  // a worker says so to the pool, whose wall-clock limit a case has then
+  // counts again from there.
+  std::function<void()> on_run_again;
 };
 
 // The case's line of results.jsonl: index, inputs, outcome, reason, phases,

@@ -118,7 +118,7 @@ TEST(CampaignExpectations, AnExecTheVehicleAnswersZeroIsCountedInARealRun) {
                        "[[family]]\nfault = \"none\"\nexpect = \"strict\"\n");
   auto spec = load_spec(spec_path);
   ASSERT_TRUE(spec.ok()) << spec.error().message;
-  const auto line = run_case(spec.value(), case_at(spec.value(), 0), CaseRunConfig{"", KeepLogs::None});
+  const auto line = run_case(spec.value(), case_at(spec.value(), 0), CaseRunConfig{"", KeepLogs::None, {}});
   EXPECT_FALSE(line["pass"].get<bool>()) << line.dump();
   const auto& check = line["checks"][1];
   EXPECT_EQ("no_refused_exec", check["name"]);

@@ -59,8 +59,14 @@ extern "C" void on_worker_term(int) { g_worker_stop = 1; }
       const std::uint64_t index = std::strtoull(p, &end, 10);
       if (end == p) break;
       p = end;
-      if (!write_all_fd(res_fd, fmt::format("S {}\n", index))) ::_exit(2);
-      const std::string result = run_case(spec, case_at(spec, index), config).dump();
+      const std::string started = fmt::format("S {}\n", index);
+      if (!write_all_fd(res_fd, started)) ::_exit(2);
+      CaseRunConfig case_config = config;
+      // Run again for its log: its wall-clock limit starts again too.
+      case_config.on_run_again = [&] {
+        if (!write_all_fd(res_fd, started)) ::_exit(2);
+      };
+      const std::string result = run_case(spec, case_at(spec, index), case_config).dump();
       if (!write_all_fd(res_fd, "R " + result + "\n")) ::_exit(2);
     }
   }

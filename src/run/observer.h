@@ -22,7 +22,7 @@ class RunObserver : public strategic::Observer {
   virtual void telemetry(const protocol::Telemetry&) {}
   virtual void report(const std::string& /*text*/, double /*sim_time_s*/) {}
   virtual void vehicle_event(const std::string& /*text*/, double /*sim_time_s*/) {}
-  // A line from the run itself ("vehicle phoenix-sim at ...", what the safe
+  // A line from the run itself ("vehicle phoenix-sim in this process ...", what the safe
   // end does), with the simulated time when it has one.
   virtual void note(const std::string& /*text*/, std::optional<double> /*sim_time_s*/) {}
   // Last: the run is over and its log closed. Told even when the mission
