@@ -102,10 +102,10 @@ Runner add_run_command(CLI::App& app, const LoadedConfig& config) {
   o->vehicle = config.config.run_vehicle.value;
   o->telemetry_hz = config.config.run_telemetry_hz.value;
   auto c = std::make_shared<RunCli>();
-  auto* cmd = app.add_subcommand(
-      "run",
-      "Run a mission: check and verify it, start the simulated vehicle in this process (unless "
-      "--vehicle), and execute it through the Tactical level");
+  auto* cmd =
+      app.add_subcommand("run",
+                         "Run a mission: check and verify it, start the simulated vehicle in this process (unless "
+                         "--vehicle), and execute it through the Tactical level");
   cmd->add_option("mission", o->mission, "The mission: a CORAL net (.coral) or PROLOG rules (.pl)")->required();
   add_shared_run_flags(cmd, *o);
   cmd->add_option("--scenario", o->scenario,
