@@ -19,7 +19,14 @@ missing: 69; not root: 77) the test prints "skipped: <why>" and exits 77
 (ctest's SKIP_RETURN_CODE); a daemon that exits or a node that never comes
 up is a failure, with the daemons' logs.
 
-usage: slurm_round_trip.py --strata PATH --source DIR
+With --deep, instead: the cluster's folder is too deep a path for a Unix
+socket (slurmd's step sockets in its spool would pass 107 bytes, as in a
+checkout's build folder), and one job must still run: slurm-local puts the
+sockets and the spool in a short folder in /tmp, and stop removes it. The
+folder has spaces in its name, which slurm.conf must quote; a folder with a
+double quote, which it cannot, is refused (64) before anything starts.
+
+usage: slurm_round_trip.py --strata PATH --source DIR [--deep]
 """
 
 import argparse
@@ -69,10 +76,10 @@ def find(name):
 class Cluster:
     """scripts/slurm-local start --foreground in `root`: munged, slurmctld and slurmd, stopped by its pid."""
 
-    def __init__(self, source, root):
+    def __init__(self, source, root, folder="slurm"):
         self.script = os.path.join(source, "scripts", "slurm-local")
         self.root = root
-        self.dir = os.path.join(root, "slurm")
+        self.dir = os.path.join(root, folder)
         self.proc = None
         self.env = None
         self.output = ""
@@ -144,6 +151,7 @@ class Cluster:
                 self.proc.wait()
                 raise Failure("scripts/slurm-local did not stop within 40 s of SIGTERM")
         self.proc.stdout.close()
+        self.proc = None  # stopped: a second stop does nothing
         if self.env is not None:
             status = subprocess.run([sys.executable, self.script, "status", self.dir], capture_output=True, text=True,
                                     timeout=30)
@@ -193,14 +201,79 @@ def field(record, name):
     return m.group(1) if m else None
 
 
+def one_job_in_a_deep_folder(source):
+    """--deep: a job runs on a cluster whose folder is too deep a path for slurmd's step sockets."""
+    root = tempfile.mkdtemp(prefix="strata-slurm-")
+    deep = os.path.join("a folder as deep as a checkout's build folder", "tests", "doc_run", "campaigns_slurm")
+    cluster = Cluster(source, root, deep)
+    rc, job_ids = 1, []
+    try:
+        if len(os.path.join(cluster.dir, "spool", "strata-node_1.4294967291")) <= 108:
+            raise Failure(f"{cluster.dir} is not deep enough for this test")
+        quoted = os.path.join(root, 'a "quoted" folder')
+        r = subprocess.run([sys.executable, cluster.script, "start", quoted], capture_output=True, text=True,
+                           timeout=30)
+        if r.returncode in (69, 77):
+            raise Skip(r.stderr.strip())
+        if r.returncode != 64 or "slurm.conf cannot name a path with '\"' in it" not in r.stderr \
+                or os.path.exists(quoted):
+            raise Failure(f"slurm-local start in a folder with a double quote exited {r.returncode} (64 expected, "
+                          f"before making it): {r.stderr}")
+        cluster.start()
+        m = re.search(r"Its sockets and spool are in (/tmp/strata-slurm-sockets-\S+):", cluster.output)
+        if not m:
+            raise Failure(f"slurm-local did not say where the sockets went:\n{cluster.output}")
+        short = m.group(1)
+        if not os.path.isdir(os.path.join(short, "spool")):
+            raise Failure(f"{short}/spool is no folder while the cluster runs")
+        said = os.path.join(root, "said")
+        sub = cluster.run([find("sbatch"), "--parsable", "--output", os.devnull, "--wrap", f"echo ran > {said}"])
+        if sub.returncode != 0:
+            raise Failure(f"sbatch exited {sub.returncode}: {sub.stderr}")
+        job_ids = [sub.stdout.strip().split(";")[0]]
+        deadline = time.monotonic() + JOBS_BOUND_S
+        state = None
+        while time.monotonic() < deadline:
+            state = field(cluster.job(job_ids[0]), "JobState")
+            if state in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"):
+                break
+            time.sleep(0.25)
+        if state != "COMPLETED" or not os.path.isfile(said) or open(said).read() != "ran\n":
+            raise Failure(f"the job was {state} after at most {JOBS_BOUND_S} s, and wrote "
+                          f"{open(said).read() if os.path.isfile(said) else 'nothing'!r}\n{cluster.job(job_ids[0])}")
+        cluster.stop(job_ids)
+        if os.path.exists(short):
+            raise Failure(f"{short} is still there after slurm-local stopped")
+        print(f"slurm in a folder {len(cluster.dir)} bytes deep: job {job_ids[0]} ran, its sockets in {short}, "
+              "removed when it stopped")
+        rc = 0
+    except Skip as e:
+        print(f"skipped: {e}")
+        rc = SKIP
+    except (Failure, subprocess.TimeoutExpired) as e:
+        print(f"FAILED: {e}", file=sys.stderr)
+        print(cluster.logs(), file=sys.stderr)
+    finally:
+        try:
+            cluster.stop(job_ids)
+        except Failure as e:
+            print(f"FAILED: {e}", file=sys.stderr)
+            rc = 1
+        shutil.rmtree(root, ignore_errors=True)
+    return rc
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
+    ap.add_argument("--deep", action="store_true", help="one job on a cluster in a folder too deep for a socket")
     args = ap.parse_args()
     # ctest's timeout or a Ctrl-C: through the finally below, which stops the daemons.
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, lambda n, _: sys.exit(128 + n))
+    if args.deep:
+        return one_job_in_a_deep_folder(args.source)
     started = time.monotonic()
     root = tempfile.mkdtemp(prefix="strata-slurm-")
     cluster = Cluster(args.source, root)
