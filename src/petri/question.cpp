@@ -1,7 +1,6 @@
 #include "petri/question.h"
 
 #include <algorithm>
-#include <limits>
 
 #include <fmt/format.h>
 
@@ -158,7 +157,7 @@ class QuestionSearch {
   }
 
  private:
-  static constexpr TransitionId kNoTransition = std::numeric_limits<TransitionId>::max();
+  static constexpr TransitionId kNoTransition = StubbornSets::kNoTransition;
   struct Frame {
     std::uint32_t begin = 0;  // its candidates: cand_[begin, end of cand_)
     TransitionId via = 0;     // fired to get here
@@ -187,7 +186,8 @@ class QuestionSearch {
     // A deadlock set's search stops at what it could save (all but one pruned).
     const std::uint64_t steps =
         q_.kind == QuestionKind::Deadlock
-            ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1))
+            ? stubborn_.for_deadlock(m, enabled_, is_enabled_, set_, kStepsPerPruned * (enabled_.size() - 1),
+                                     frames_.back().via)
             : stubborn_.for_reaching(q_.target, m, is_enabled_, set_);
     cand_.insert(cand_.end(), set_.begin(), set_.end());
     judge(steps, enabled_.size() - set_.size());

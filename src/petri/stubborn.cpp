@@ -13,6 +13,7 @@ constexpr std::uint64_t kDeletionBudget = 4;
 StubbornSets::StubbornSets(const Net& net)
     : net_(net),
       stamp_(net.transition_count(), 0),
+      fed_(net.transition_count(), 0),
       number_(net.transition_count(), 0),
       low_(net.transition_count(), 0),
       on_stack_(net.transition_count(), 0),
@@ -93,11 +94,40 @@ StubbornSets::StubbornSets(const Net& net)
     needs_begin_.push_back(static_cast<std::uint32_t>(needs_.size()));
   }
   build_reverse();
+  // Breadth-first from the sink places (and the transitions without an
+  // output place) back along the arcs: a place is one more than the
+  // nearest transition taking from it, a transition the nearest of its
+  // output places.
+  sink_distance_.assign(transitions, UINT32_MAX);
+  std::vector<std::uint32_t> place_distance(places, UINT32_MAX);
+  std::vector<PlaceId> queue;
+  for (PlaceId p = 0; p < places; ++p) {
+    if (net.readers(p).empty()) {
+      place_distance[p] = 0;
+      queue.push_back(p);
+    }
+  }
+  auto reach = [&](TransitionId t, std::uint32_t d) {
+    if (sink_distance_[t] != UINT32_MAX) return;
+    sink_distance_[t] = d;
+    for (const Arc& in : net.inputs(t)) {
+      if (place_distance[in.node] != UINT32_MAX) continue;
+      place_distance[in.node] = d + 1;
+      queue.push_back(in.node);
+    }
+  };
+  for (TransitionId t = 0; t < transitions; ++t) {
+    if (net.outputs(t).empty()) reach(t, 0);
+  }
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    for (const Arc& w : net.writers(queue[k])) reach(w.node, place_distance[queue[k]]);
+  }
 }
 
 void StubbornSets::next_generation() {
   if (++generation_ == 0) {  // wrapped: old stamps could collide
     std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(fed_.begin(), fed_.end(), 0);
     std::fill(deleted_.begin(), deleted_.end(), 0);
     std::fill(needed_.begin(), needed_.end(), 0);
     std::fill(dead_.begin(), dead_.end(), 0);
@@ -143,20 +173,25 @@ void StubbornSets::close(std::span<const Tokens> m, const std::vector<char>& is_
 
 std::uint64_t StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
                                          const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
-                                         std::uint64_t max_work) {
-  // Tarjan over "u needs v" from every enabled transition (the fewest needs
-  // first). The components complete in reverse topological order, each
-  // knowing whether its closure holds an enabled transition (reach_); one
-  // with enabled members whose other successors reach none closes a set
-  // whose enabled members are its own. The smallest such set is kept.
+                                         std::uint64_t max_work, TransitionId last) {
+  // Tarjan over "u needs v" from every enabled transition (`last`, then
+  // those it fed, then the rest). The components complete in reverse
+  // topological order, each knowing whether its closure holds an enabled
+  // transition (reach_); one with enabled members whose other successors
+  // reach none closes a set whose enabled members are its own. The
+  // smallest such set is kept: the first found among equals.
   next_generation();
   calls_.clear();
   out.clear();
   roots_.assign(enabled.begin(), enabled.end());
-  std::sort(roots_.begin(), roots_.end(), [&](TransitionId a, TransitionId b) {
-    const std::uint32_t na = needs_begin_[a + 1] - needs_begin_[a], nb = needs_begin_[b + 1] - needs_begin_[b];
-    return na != nb ? na < nb : a < b;
-  });
+  std::sort(roots_.begin(), roots_.end());
+  if (last != kNoTransition) {
+    for (std::uint32_t i = raises_begin_[last]; i < raises_begin_[last + 1]; ++i) {
+      for (const Arc& r : net_.readers(raises_[i])) fed_[r.node] = generation_;
+    }
+    const auto rank = [&](TransitionId t) { return t == last ? 0 : fed_[t] == generation_ ? 1 : 2; };
+    std::stable_sort(roots_.begin(), roots_.end(), [&](TransitionId a, TransitionId b) { return rank(a) < rank(b); });
+  }
   std::uint32_t counter = 0;
   std::size_t best = SIZE_MAX;
   auto visit = [&](TransitionId t) {
@@ -242,7 +277,9 @@ std::uint64_t StubbornSets::for_deadlock(std::span<const Tokens> m, std::span<co
       if (deleted_[t] != generation_) out.push_back(t);
     }
   }
-  std::sort(out.begin(), out.end());
+  std::sort(out.begin(), out.end(), [&](TransitionId a, TransitionId b) {
+    return sink_distance_[a] != sink_distance_[b] ? sink_distance_[a] < sink_distance_[b] : a < b;
+  });
   return steps_;
 }
 

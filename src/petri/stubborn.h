@@ -21,10 +21,14 @@
 // The set is found in two stages (Valmari's two algorithms, combined):
 //   1. Tarjan's strongly connected components over the graph "u in S needs
 //      v in S" (the scapegoats chosen as it goes), from every enabled
-//      transition (those needing the fewest others first). A component
-//      with enabled members whose other successors reach no enabled
-//      transition closes a set whose enabled members are its own; the one
-//      with the fewest is kept (one with a single enabled member ends it).
+//      transition: the one whose firing led to m first, then those it fed
+//      (an input place it increased), then the rest in increasing
+//      TransitionId. A component with enabled members whose other
+//      successors reach no enabled transition closes a set whose enabled
+//      members are its own; the one with the fewest is kept (one with a
+//      single enabled member ends it). So of the sets with one enabled
+//      transition the search keeps moving the part of the net that just
+//      moved (persistence), and interleaves the independent parts less.
 //   2. The deletion algorithm on top: start from every transition (a
 //      stubborn set) and delete one enabled transition at a time, with
 //      whatever then breaks a rule: an enabled transition needing a deleted
@@ -36,9 +40,13 @@
 //      use other scapegoats than the ones stage 1 fixed.
 // The scapegoat of a disabled transition in stage 1: a short input place
 // whose increasing transitions are already in the graph, else the fewest
-// not yet in, then the fewest in all. The enabled members come out in
-// increasing TransitionId (the order the search fires them: declaration
-// order, as LoLA's).
+// not yet in, then the fewest in all. The enabled members come out in the
+// order the search fires them: nearest a sink place first (one no
+// transition takes from: where tokens stop, as in a deadlock), counted in
+// transitions along the net's arcs, then increasing TransitionId
+// (declaration order, as LoLA's). Where the set holds a decision, the
+// search tries first the branch that ends soonest; in a net without sink
+// places the order is declaration order.
 //
 // EF φ, φ false at m: S also holds up(φ, m), transitions one of which every
 // path making φ true must fire: for "x >= k" false, the transitions that
@@ -61,6 +69,8 @@ namespace strata::petri {
 
 class StubbornSets {
  public:
+  static constexpr TransitionId kNoTransition = UINT32_MAX;
+
   explicit StubbornSets(const Net& net);
 
   // Both return the work done: transitions taken into the set plus the
@@ -68,14 +78,16 @@ class StubbornSets {
   // transitions pruned; question.cpp).
   //
   // The enabled transitions of a stubborn set at m for the deadlock question,
-  // into out (cleared first), in increasing TransitionId. `enabled` lists
+  // into out (cleared first), in the order to fire them (below). `enabled` lists
   // m's enabled transitions (not empty); `is_enabled` is indexed by
-  // TransitionId. Past max_work stage 1 stops with the best set so far, or
-  // every enabled transition (a stubborn set too) when it has none; stage 2
-  // may take kDeletionBudget times max_work more (stubborn.cpp).
+  // TransitionId; `last` is the transition whose firing led to m
+  // (kNoTransition at the initial marking). Past max_work stage 1 stops
+  // with the best set so far, or every enabled transition (a stubborn set
+  // too) when it has none; stage 2 may take kDeletionBudget times max_work
+  // more (stubborn.cpp).
   std::uint64_t for_deadlock(std::span<const Tokens> m, std::span<const TransitionId> enabled,
                              const std::vector<char>& is_enabled, std::vector<TransitionId>& out,
-                             std::uint64_t max_work = UINT64_MAX);
+                             std::uint64_t max_work = UINT64_MAX, TransitionId last = kNoTransition);
 
   // The enabled transitions of a stubborn set at m for reaching `target`,
   // which is false at m. Empty when no firing can make it true.
@@ -107,7 +119,11 @@ class StubbornSets {
   // By place: the transitions that increase / decrease it.
   std::vector<std::uint32_t> inc_begin_, dec_begin_;
   std::vector<TransitionId> inc_, dec_;
+  // By transition: the fewest transitions from its output to a sink place
+  // (0: it outputs to one, or to nothing), UINT32_MAX when none is reached.
+  std::vector<std::uint32_t> sink_distance_;
   std::vector<std::uint32_t> stamp_;  // == generation_: in the set (visited)
+  std::vector<std::uint32_t> fed_;    // == generation_: fed by for_deadlock's `last`
   std::uint32_t generation_ = 0;
   std::vector<TransitionId> work_;  // the worklist; Tarjan's stack
   // Tarjan (for_deadlock), by transition: visit number, lowest number
