@@ -20,6 +20,8 @@
 #include "campaign/merge.h"
 #include "campaign/output.h"
 #include "campaign/pool.h"
+#include "campaign/report_html.h"
+#include "campaign/summary.h"
 
 namespace strata::campaign {
 namespace {
@@ -166,7 +168,7 @@ TEST(CampaignRun, AFailingExpectationKeepsTheLogTheScenarioAndACommandThatReprod
     // And the case run alone again fails the same way, with the same figure.
     const auto again = run_case(spec, case_at(spec, i), CaseRunConfig{"", KeepLogs::None, {}});
     EXPECT_FALSE(again["pass"].get<bool>());
-    EXPECT_EQ(depth["figure"], again["checks"][2]["figure"]);
+    EXPECT_EQ(depth["figure"].get<double>(), again["checks"][2]["figure"].get<double>());
   }
   const auto report = nlohmann::json::parse(testing::read_text(dir.file("out/report.json")));
   ASSERT_EQ(2u, report["failures"].size());
@@ -203,11 +205,56 @@ TEST(CampaignRun, AFailingCaseRunAgainForItsLogKeepsTheLogOfTheSameRun) {
     nlohmann::json end;
     for (std::string l; std::getline(lines, l);) end = nlohmann::json::parse(l);
     ASSERT_EQ("mission_end", end["event"]) << end.dump();
-    EXPECT_EQ(line["outcome"], end["outcome"]);
+    EXPECT_EQ(line["outcome"].get<std::string>(), end["outcome"].get<std::string>());
     EXPECT_NEAR(line["figures"]["sim_time_s"].get<double>(), end["sim_time"].get<double>(), 0.05);
   }
   EXPECT_TRUE(failed_one);
   EXPECT_TRUE(passed_one) << "the spec's fault cases pass";
+}
+
+// A failing case's second run, for its log, can go another way: here its
+// mission's setpoints are edited in between (what a user editing a mission
+// while its campaign runs does). The log kept is that run's, and log_note
+// says so, in the line, report.json's failures and report.html.
+TEST(CampaignRun, ACaseRunAgainThatGoesAnotherWayKeepsItsLogWithALogNoteInTheReports) {
+  TempDir dir;
+  fs::create_directories(dir.file("m"));
+  for (const auto& e : fs::directory_iterator(testing::kTankDir)) {
+    const std::string ext = e.path().extension().string();
+    if (ext == ".coral" || ext == ".toml") fs::copy_file(e.path(), dir.file("m/" + e.path().filename().string()));
+  }
+  std::string spec_text = small_spec(kNominalTooDeep);
+  spec_text.replace(spec_text.find(testing::kTankDir), testing::kTankDir.size(), dir.file("m"));
+  const Spec spec = load(dir, spec_text);
+  fs::create_directories(dir.file("out/logs"));
+  fs::create_directories(dir.file("out/scenarios"));
+  const std::string setpoints = testing::read_text(dir.file("m/setpoints.toml"));
+  const std::string shallow = "depth_m = 0.8";
+  ASSERT_NE(std::string::npos, setpoints.find("depth_m = 1.5"));
+  const CaseRunConfig config{dir.file("out"), KeepLogs::Failed, [&] {
+                               std::string edited = setpoints;
+                               edited.replace(edited.find("depth_m = 1.5"), shallow.size(), shallow);
+                               std::ofstream(dir.file("m/setpoints.toml"), std::ios::trunc) << edited;
+                             }};
+  const auto line = run_case(spec, case_at(spec, 0), config);  // nominal, seed 1: 1.5 m, deeper than 1.0
+  EXPECT_FALSE(line["pass"].get<bool>()) << line.dump();
+  ASSERT_TRUE(line.contains("log_note")) << line.dump();
+  EXPECT_EQ("the log is of the case run again to write it, which went another way (completed)", line["log_note"]);
+  ASSERT_TRUE(line.contains("log")) << line.dump();
+  std::istringstream lines(testing::read_text(dir.file("out/" + line["log"].get<std::string>())));
+  double deepest = 0.0;
+  for (std::string l; std::getline(lines, l);) {
+    const auto e = nlohmann::json::parse(l);
+    if (e["event"] == "telemetry") deepest = std::max(deepest, e["depth_m"].get<double>());
+  }
+  EXPECT_LT(deepest, 1.0) << "the log is of the second run, to the edited 0.8 m";
+
+  Summary summary(spec);
+  summary.add(line);
+  const auto report = summary.to_json(CampaignRun{1, 1, 0.0, false, "strata campaign spec.toml"});
+  ASSERT_EQ(1u, report["failures"].size());
+  EXPECT_EQ(line["log_note"], report["failures"][0]["log_note"]);
+  EXPECT_NE(std::string::npos, report_html(report).find("which went another way (completed)"));
 }
 
 TEST(CampaignRun, ACaseOverItsWallTimeIsACrashedCaseAndTheCampaignGoesOn) {

@@ -383,9 +383,9 @@ nlohmann::ordered_json run_case(const Spec& spec, const Case& c, const CaseRunCo
     CaseRun again = run_case_once(spec, c, scenario, true);
     run_wall_s += again.run_wall_s;
     if (again.line != j) {
-      j["log_note"] =
-          fmt::format("the log is of the case run again to write it, which went another way ({}: {})",
-                      again.line.value("outcome", std::string("?")), again.line.value("reason", std::string("?")));
+      const std::string reason = again.line.value("reason", std::string());
+      j["log_note"] = fmt::format("the log is of the case run again to write it, which went another way ({}{}{})",
+                                  again.line.value("outcome", std::string("?")), reason.empty() ? "" : ": ", reason);
     }
     first.logged = again.logged;
     first.log = std::move(again.log);

@@ -220,6 +220,7 @@ void failures(std::string& out, const Json& r) {
     std::string repro = fmt::format("<code>{}</code>", esc(f["repro"]));
     if (f.contains("repro_run")) repro += fmt::format("<br><code>{}</code>", esc(f["repro_run"]));
     if (f.contains("log")) repro += fmt::format("<br>log: <code>{}</code>", esc(f["log"]));
+    if (f.contains("log_note")) repro += fmt::format("<br><span class=muted>{}</span>", esc(f["log_note"]));
     out += fmt::format(
         "<tr><td>{}</td><td class=l>{} · {} · {}seed={}</td><td class=l>{}<br><span class=muted>{}"
         "</span></td><td class=l>{}</td><td class=l>{}</td></tr>\n",

@@ -121,7 +121,7 @@ void Summary::add(const nlohmann::ordered_json& line) {
         if (!check.value("pass", true)) failed.push_back(check);
       }
       f["failed_checks"] = std::move(failed);
-      for (const char* key : {"repro", "repro_run", "log", "scenario"}) {
+      for (const char* key : {"repro", "repro_run", "log", "log_note", "scenario"}) {
         if (line.contains(key)) f[key] = line[key];
       }
       failures_.push_back(std::move(f));

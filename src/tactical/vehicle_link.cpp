@@ -73,17 +73,7 @@ void VehicleLink::start_connect(const std::function<void(core::Result<protocol::
   asio::ip::tcp::endpoint endpoint(address, options_.port);
   drop_connection("connecting again");
   socket_ = asio::ip::tcp::socket(io_);
-  auto finished = std::make_shared<bool>(false);
-  connect_timer_.expires_after(options_.connect_timeout);
-  connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
-    if (e || *finished) return;
-    *finished = true;
-    auto error =
-        make_error(ErrorCode::Timeout, fmt::format("no answer from the vehicle at {}:{} within {} ms", options_.host,
-                                                   options_.port, options_.connect_timeout.count()));
-    abandon(error);
-    done(error);
-  });
+  auto finished = arm_connect_timer(fmt::format("the vehicle at {}:{}", options_.host, options_.port), done);
   socket_.async_connect(endpoint, [this, self, finished, done](const asio::error_code& e) {
     if (*finished) return;
     if (e) {
@@ -104,19 +94,25 @@ void VehicleLink::connect_paired(protocol::LineConnection::Socket socket,
                                  std::function<void(core::Result<protocol::Welcome>)> done) {
   reconnects_left_ = 0;  // nothing to connect to again
   closing_ = false;
-  auto self = this->self();
   drop_connection("connecting again");
+  auto finished = arm_connect_timer("the embedded vehicle", done);
+  say_hello(std::move(socket), finished, std::move(done));
+}
+
+std::shared_ptr<bool> VehicleLink::arm_connect_timer(const std::string& vehicle,
+                                                     const std::function<void(core::Result<protocol::Welcome>)>& done) {
+  auto self = this->self();
   auto finished = std::make_shared<bool>(false);
   connect_timer_.expires_after(options_.connect_timeout);
-  connect_timer_.async_wait([this, self, finished, done](const asio::error_code& e) {
+  connect_timer_.async_wait([this, self, finished, done, vehicle](const asio::error_code& e) {
     if (e || *finished) return;
     *finished = true;
-    auto error = make_error(ErrorCode::Timeout, fmt::format("no answer from the embedded vehicle within {} ms",
-                                                            options_.connect_timeout.count()));
+    auto error = make_error(ErrorCode::Timeout,
+                            fmt::format("no answer from {} within {} ms", vehicle, options_.connect_timeout.count()));
     abandon(error);
     done(error);
   });
-  say_hello(std::move(socket), finished, std::move(done));
+  return finished;
 }
 
 void VehicleLink::say_hello(protocol::LineConnection::Socket socket, const std::shared_ptr<bool>& finished,

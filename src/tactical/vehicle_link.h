@@ -136,6 +136,10 @@ class VehicleLink final : public ExecutionLink {
 
   void start_connect(const std::function<void(core::Result<protocol::Welcome>)>& done);
   // Connected: the line connection made and hello sent; done once answered.
+  // The connect timer: when it fires before `finished`, the link is
+  // abandoned and done told "no answer from VEHICLE within N ms".
+  std::shared_ptr<bool> arm_connect_timer(const std::string& vehicle,
+                                          const std::function<void(core::Result<protocol::Welcome>)>& done);
   void say_hello(protocol::LineConnection::Socket socket, const std::shared_ptr<bool>& finished,
                  std::function<void(core::Result<protocol::Welcome>)> done);
   void handle_line(const protocol::Frame& frame);
