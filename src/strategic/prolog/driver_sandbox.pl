@@ -56,6 +56,20 @@ sandbox:safe_directive(Q:Directive) :-
     ;   mission_directive(M, Q:Directive)
     ).
 
+% `:- if(G).` and `:- elif(G).` run G as the file loads, and SWI-Prolog
+% 9.0.4 runs it without asking library(sandbox): its conditional
+% compilation ('$eval_if'/1, expand.pl) acts before any hook sees the term,
+% and is not a directive. G is checked here as a directive's goal is; a
+% refused G is an error at its line (the load prints what '$eval_if'/1
+% raises) and the condition is false.
+:- wrap_predicate('$expand':'$eval_if'(G), strata_if, If,
+                  (   prolog_load_context(module, M),
+                      strata_driver:loading(M)
+                  ->  safe_goal(M:G),
+                      If
+                  ;   If
+                  )).
+
 %!  allowed_library(?Name)
 %
 %   The libraries a mission may load (use_module/1,2, ensure_loaded/1).
