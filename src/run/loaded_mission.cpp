@@ -225,9 +225,11 @@ Loaded load_coral(const RunOptions& o, LoadedMission& loaded) {
 Loaded load_prolog(const RunOptions& o, LoadedMission& loaded) {
   const std::string& path = o.mission;
   core::DiagnosticSink sink;
+  const strategic::KeepRules keep = o.keep_mission  ? strategic::KeepRules::Yes
+                                    : o.reuse_rules ? strategic::KeepRules::Reproducible
+                                                    : strategic::KeepRules::No;
   auto rules = strategic::PrologMission::load(path, loaded.catalogue, loaded.sources, sink, load_limits(o.rule_load),
-                                              o.keep_mission ? strategic::KeepRules::Yes : strategic::KeepRules::No,
-                                              tactical::execution_level_of(o.vehicle));
+                                              keep, tactical::execution_level_of(o.vehicle));
   loaded.diagnostics = sink.diagnostics();
   if (!rules) {
     Error e = input_error(rules.error());

@@ -69,6 +69,13 @@ struct RunOptions {
   // file its compile read (the mission, its imports, the library folders'
   // lookups) reads the same, with the same catalogue and vehicle.
   bool keep_mission = false;
+  // PROLOG, without keep_mission: rules this process loaded for an earlier
+  // run are taken back, put back as they were right after their load, when
+  // taking them back is the same as loading them again: the same files,
+  // unchanged, whose directives only declare predicates and load files
+  // (strategic::KeepRules::Reproducible). A run in the studio, or the next
+  // of a program that runs missions. false: loaded afresh every time.
+  bool reuse_rules = true;
   // CORAL: a mission that fails verification (docs/verification.md) is not
   // run unless this is set; then it runs and the log records the failures.
   bool unverified = false;

@@ -221,14 +221,17 @@ struct KeptRules {
   std::vector<std::pair<std::string, std::string>> files;  // each file loaded, and the SHA-256 of what it held
   std::vector<PrologMessage> messages;                     // the load's (warnings)
   std::string data_file;
-  bool in_use = false;  // a PrologMission has them
+  bool reproducible = false;  // may be taken back by KeepRules::Reproducible
+  bool in_use = false;        // a PrologMission has them
 };
 std::optional<KeptRules> g_kept;
 
+// The current folder too: the messages name files relative to it.
 std::string kept_key(const std::string& path, const std::string& absolute, const std::string& specs,
                      const LoadLimits& limits, tactical::ExecutionLevel level) {
-  return fmt::format("{}\n{}\n{}\n{} {} {}\n{}", path, absolute, specs, limits.time.count(), limits.inferences,
-                     limits.max_bytes, tactical::execution_level_name(level));
+  std::error_code ec;
+  return fmt::format("{}\n{}\n{}\n{}\n{} {} {}\n{}", path, absolute, fs::current_path(ec).string(), specs,
+                     limits.time.count(), limits.inferences, limits.max_bytes, tactical::execution_level_name(level));
 }
 
 std::string content_sha256(const std::string& file, std::size_t max_bytes) {
@@ -246,10 +249,12 @@ void close_kept() {
 }
 
 // The kept rules of key, put back as they were right after their load;
-// false when there are none, or a file they loaded changed (they are closed
-// then, as they are when they cannot be put back).
-bool take_kept(const std::string& key, std::size_t max_bytes) {
+// false when there are none (or, for KeepRules::Reproducible, none whose
+// load a second one would repeat), or a file they loaded changed (they are
+// closed then, as they are when they cannot be put back).
+bool take_kept(const std::string& key, std::size_t max_bytes, KeepRules mode) {
   if (!g_kept || g_kept->in_use || g_kept->key != key) return false;
+  if (mode == KeepRules::Reproducible && !g_kept->reproducible) return false;
   const bool unchanged = std::all_of(g_kept->files.begin(), g_kept->files.end(), [max_bytes](const auto& file) {
     return content_sha256(file.first, max_bytes) == file.second;
   });
@@ -268,16 +273,21 @@ bool take_kept(const std::string& key, std::size_t max_bytes) {
 }
 
 // Keeps the rules just loaded into module when they can be put back
-// (driver_keep.pl, keepable_mission/1), in place of any kept before.
+// (driver_keep.pl, keepable_mission/1) and, for KeepRules::Reproducible,
+// when a second load would repeat their load (reproducible_mission/1), in
+// place of any kept before.
 bool keep(const std::string& key, const std::string& module, std::vector<PrologMessage> messages,
-          const std::string& data_file, std::size_t max_bytes) {
+          const std::string& data_file, std::size_t max_bytes, KeepRules mode) {
   if (g_kept && g_kept->in_use) return false;  // another PrologMission has them
   prolog::Frame frame;
   term_t m = new_atom(module);
   term_t files = PL_new_term_ref();
   if (auto r = call_driver_keep("keepable_mission", {m}); !r || !r.value()) return false;
+  auto reproducible = call_driver_keep("reproducible_mission", {m});
+  const bool repeats = reproducible && reproducible.value();
+  if (mode == KeepRules::Reproducible && !repeats) return false;
   if (auto r = call_driver_keep("mission_files", {m, files}); !r || !r.value()) return false;
-  KeptRules kept{key, module, {}, std::move(messages), data_file, true};
+  KeptRules kept{key, module, {}, std::move(messages), data_file, repeats, true};
   term_t head = PL_new_term_ref();
   term_t tail = PL_copy_term_ref(files);
   while (PL_get_list(tail, head, tail)) {
@@ -326,10 +336,10 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
 
   const std::string specs_text = primitive_specs(catalogue);
   fs::path absolute = fs::absolute(path, ec);
-  const std::string key = keep_rules == KeepRules::Yes
+  const std::string key = keep_rules != KeepRules::No
                               ? kept_key(path, absolute.lexically_normal().string(), specs_text, limits, level)
                               : std::string();
-  if (keep_rules == KeepRules::Yes && take_kept(key, limits.max_bytes)) {
+  if (keep_rules != KeepRules::No && take_kept(key, limits.max_bytes, keep_rules)) {
     mission->module_ = g_kept->module;
     mission->data_file_ = g_kept->data_file;
     mission->kept_ = true;
@@ -413,10 +423,10 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
     return core::make_error(core::ErrorCode::InvalidInput,
                             fmt::format("{}: {} error{}", path, errors, errors == 1 ? "" : "s"));
   }
-  if (keep_rules == KeepRules::Yes) {
+  if (keep_rules != KeepRules::No) {
     mission->kept_ =
         keep(key, mission->module_, {messages.begin() + static_cast<std::ptrdiff_t>(first_message), messages.end()},
-             mission->data_file_, limits.max_bytes);
+             mission->data_file_, limits.max_bytes, keep_rules);
   }
   return mission;
 }

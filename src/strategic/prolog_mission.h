@@ -112,7 +112,13 @@ struct LoadLimits {
 //    as are rules another PrologMission still has. What the
 //    directives computed is not computed again: get_time/1 in a directive
 //    gives the first load's time. The messages are the first load's.
-enum class KeepRules { No, Yes };
+//  - Reproducible: as Yes, for rules whose second load would do what their
+//    first did: every directive only declared predicates or loaded files
+//    (prolog/driver_keep.pl, reproducible_mission/1), and every file name
+//    the load resolved still names the same file. Taking them back is then
+//    the same as loading them again; other rules are loaded every time,
+//    their directives run again. For runs outside a campaign.
+enum class KeepRules { No, Yes, Reproducible };
 
 class PrologMission {
  public:

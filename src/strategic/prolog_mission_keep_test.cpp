@@ -1,6 +1,9 @@
 // Rules kept loaded between runs (KeepRules::Yes): a run of rules taken
 // back sees what a run of freshly loaded rules sees, and rules whose state
-// could not be put back are loaded afresh.
+// could not be put back are loaded afresh. Outside a campaign
+// (KeepRules::Reproducible) only rules whose load a second load would
+// repeat are taken back.
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,18 +22,19 @@ using prolog_mission_testing::ScriptedHost;
 
 class KeptRules : public PrologMissionTest {
  protected:
-  std::unique_ptr<PrologMission> load_kept(const std::string& path, Reported* messages = nullptr) {
+  std::unique_ptr<PrologMission> load_kept(const std::string& path, Reported* messages = nullptr,
+                                           KeepRules keep = KeepRules::Yes) {
     Reported own;
     Reported& out = messages ? *messages : own;
-    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), out.sources, out.sink, {}, KeepRules::Yes);
+    auto m = PrologMission::load(path, tactical::Catalogue::builtin(), out.sources, out.sink, {}, keep);
     if (!m) ADD_FAILURE() << m.error().message << "\n" << out.text();
     return m ? std::move(m.value()) : nullptr;
   }
 
   // Loads (kept), runs to the end and returns what the rules reported; the
   // module's name goes to module.
-  std::vector<std::string> run_kept(const std::string& path, std::string& module) {
-    auto m = load_kept(path);
+  std::vector<std::string> run_kept(const std::string& path, std::string& module, KeepRules keep = KeepRules::Yes) {
+    auto m = load_kept(path, nullptr, keep);
     if (!m) return {};
     module = m->module();
     ScriptedHost host;
@@ -194,6 +198,75 @@ TEST_F(KeptRules, RulesLoadedWithoutKeepAreNeverTakenBack) {
   PrologMissionQuery q(*m, host, 1'000'000);
   run(q);
   EXPECT_EQ((std::vector<std::string>{"report 1 [start] rule absent"}), host.events);
+}
+
+TEST_F(KeptRules, RulesThatOnlyDeclareAndLoadAreTakenBackOutsideACampaign) {
+  rules_.write("more.pl", "word(more).\n");
+  const std::string path =
+      rules_.write("m.pl", std::string(":- multifile word/1.\n:- discontiguous word/1.\n:- consult(more).\n"
+                                       ":- ensure_loaded(more).\n:- use_module(library(lists)).\n") +
+                               kStatefulRules);
+  std::string first_module, second_module;
+  const auto first = run_kept(path, first_module, KeepRules::Reproducible);
+  EXPECT_EQ((std::vector<std::string>{"report 1 [start] rule absent"}), first);
+  EXPECT_EQ(first, run_kept(path, second_module, KeepRules::Reproducible));
+  EXPECT_EQ(first_module, second_module);
+}
+
+// A directive that computes could give another answer at another load:
+// such rules are loaded again, their directives run again, for every run
+// outside a campaign, as they were before rules were ever taken back.
+TEST_F(KeptRules, RulesWhoseDirectivesComputeAreLoadedAgainForEveryRunOutsideACampaign) {
+  const char* directives[] = {
+      ":- X is 6 * 7, assertz(answer(X)).\n",
+      ":- initialization(assertz(answer(42))).\n",
+      ":- forall(member(X, [42]), assertz(answer(X))).\n",
+      ":- if(true).\nanswer(42).\n:- endif.\n",
+  };
+  for (const char* directive : directives) {
+    const std::string path =
+        rules_.write("m.pl", std::string(":- dynamic answer/1.\n") + directive + "mission :- answer(A), report(A).\n");
+    std::string a, b;
+    EXPECT_EQ((std::vector<std::string>{"report 42"}), run_kept(path, a, KeepRules::Reproducible)) << directive;
+    EXPECT_EQ((std::vector<std::string>{"report 42"}), run_kept(path, b, KeepRules::Reproducible)) << directive;
+    EXPECT_NE(a, b) << directive;
+  }
+}
+
+TEST_F(KeptRules, RulesKeptForACampaignAreNotTakenBackOutsideOneWhenTheirDirectivesCompute) {
+  const std::string path = rules_.write("m.pl", ":- dynamic n/1.\n:- assertz(n(1)).\nmission :- report(ran).\n");
+  std::string a, b;
+  run_kept(path, a, KeepRules::Yes);
+  EXPECT_EQ((std::vector<std::string>{"report ran"}), run_kept(path, b, KeepRules::Reproducible));
+  EXPECT_NE(a, b);
+}
+
+// Regression guard for taking rules back: the same text can name another
+// file today. A library phase now found in a folder STRATA_LIBRARY puts
+// first is loaded, not the one kept.
+TEST_F(KeptRules, RulesWhoseLibraryPhaseAnotherFolderNowHoldsAreLoadedAgain) {
+  const char* before = std::getenv("STRATA_LIBRARY");
+  const std::string saved = before ? before : "";
+  const std::string first = (rules_.dir() / "first").string();
+  std::string both = (rules_.dir() / "second").string();
+  both += ":";
+  both += first;
+  rules_.write("first/hop.pl", "hop :- report(first).\n");
+  const std::string path = rules_.write("m/m.pl", ":- use_phase(hop).\nmission :- hop.\n");
+  for (KeepRules keep : {KeepRules::Yes, KeepRules::Reproducible}) {
+    std::filesystem::remove_all(rules_.dir() / "second");
+    ::setenv("STRATA_LIBRARY", both.c_str(), 1);
+    std::string a, b;
+    EXPECT_EQ((std::vector<std::string>{"report first"}), run_kept(path, a, keep));
+    rules_.write("second/hop.pl", "hop :- report(second).\n");
+    EXPECT_EQ((std::vector<std::string>{"report second"}), run_kept(path, b, keep));
+    EXPECT_NE(a, b);
+  }
+  if (before) {
+    ::setenv("STRATA_LIBRARY", saved.c_str(), 1);
+  } else {
+    ::unsetenv("STRATA_LIBRARY");
+  }
 }
 
 }  // namespace

@@ -89,7 +89,9 @@ link_library_predicate(Module, From, Name/Arity) :-
            uncatchable_stops/0,  % the host's: stops become '$aborted'
            mission_root/2,       % Module, Folder: the folder of the mission's file
            stop_place/2,         % File, Line: where a stop while loading happened
-           flag_baseline/2.      % Flag, Value: as before any mission (restore_flags/0)
+           flag_baseline/2,      % Flag, Value: as before any mission (restore_flags/0)
+           load_effect/2,        % Module, Directive: its load ran more than declarations
+           load_resolution/2.    % Module, Resolution: a file name its load resolved
 
                  /*******************************
                  *   THE MISSION'S OWN MODULE   *
@@ -290,6 +292,8 @@ close_mission(Module) :-
     unlimited,
     retractall(primitive_predicate(Module, _)),
     retractall(ood_names(Module, _, _)),
+    retractall(load_effect(Module, _)),
+    retractall(load_resolution(Module, _)),
     retractall(system:'$load_context_module'(_, Module, _)),
     catch('$destroy_module'(Module), _, true).
 

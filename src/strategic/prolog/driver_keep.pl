@@ -21,6 +21,7 @@
 */
 :- module(strata_driver_keep,
           [ keepable_mission/1,      % +Module
+            reproducible_mission/1,  % +Module
             keep_mission/1,          % +Module
             restore_mission/1,       % +Module
             mission_files/2,         % +Module, -Files
@@ -71,6 +72,20 @@ stateful(b_setval).
 stateful(nb_setval).
 stateful(nb_linkval).
 
+%!  reproducible_mission(+Module) is semidet.
+%
+%   True when a second load of Module's files, unchanged, would do what
+%   their first did: every directive only declared predicates (dynamic/1,
+%   discontiguous/1, multifile/1) or loaded files (consult/1, [File],
+%   ensure_loaded/1, use_module/1,2, use_phase/1), and no :- if/elif ran a
+%   goal (driver_sandbox.pl notes the others as they run). Taking back such
+%   rules, put back as restore_mission/1 does, is the same as loading
+%   them again; a directive that computes (get_time/1, random/1, a goal
+%   that asserts) could give another answer the second time.
+
+reproducible_mission(Module) :-
+    \+ strata_driver:load_effect(Module, _).
+
 %!  keep_mission(+Module) is det.
 %
 %   Takes the snapshot restore_mission/1 puts back: Module's predicates,
@@ -93,10 +108,13 @@ keep_mission(Module) :-
 %   Puts Module back as keep_mission/1 found it: the dynamic predicates
 %   created since are abolished, and each dynamic predicate whose clauses changed
 %   gets those of the snapshot again, in their order. Fails when Module was
-%   not kept.
+%   not kept, or when a file name its load resolved now names another file
+%   (driver_load.pl, resolves_again/1): it must be loaded again.
 
 restore_mission(Module) :-
     kept_predicates(Module, PIs),
+    forall(strata_driver:load_resolution(Module, Resolution),
+           strata_driver:resolves_again(Resolution)),
     % Only dynamic ones: what assertz/1 and retractall/1 made. The one
     % wrap_predicate/4 adds for execute_phase/1 ('$wrap$execute_phase'/1,
     % dynamic too) stays: the wrapper calls it.

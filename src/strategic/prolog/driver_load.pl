@@ -86,7 +86,22 @@ user:prolog_load_file(Module:Spec, Options) :-
                                     access(read), file_errors(fail) ]),
     mission_file(Mission, Abs),
     !,
+    assertz(load_resolution(Mission, file(Spec, Dir, Abs))),
     load_mission_file(Module, Abs, Options).
+
+%!  resolves_again(+Resolution) is semidet.
+%
+%   A file name a load resolved (load_resolution/2) names the same file
+%   today: no file has come to stand before it (a phase2.pl beside the
+%   mission's file where a library phase was found, another STRATA_LIBRARY).
+
+resolves_again(file(Spec, Dir, Abs)) :-
+    absolute_file_name(Spec, Again, [ file_type(prolog), relative_to(Dir),
+                                      access(read), file_errors(fail) ]),
+    Again == Abs.
+resolves_again(phase(Name, Abs)) :-
+    library_phase_file(Name, Again),
+    Again == Abs.
 
 % Abs is one of the files a mission may load: a .pl file in the folder of
 % the mission's file or in a folder beside it (consult_directive/2), or a

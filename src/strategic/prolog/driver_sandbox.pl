@@ -48,12 +48,57 @@ sandbox:safe_meta(system:format(Out, Format, Args), Calls) :-
 %   Directives: library(sandbox) asks safe_directive/1 first. It succeeds
 %   for a directive Strata allows, throws error(strata_refused(Culprit, Text), _) for
 %   one it refuses, and fails to leave the rest to library(sandbox).
+% A directive that does more than declare predicates or load files may do
+% something else at a second load of the same files (ask the time, draw a
+% random number): it is noted, and rules whose load ran one are loaded
+% again for every run outside a campaign, never taken back in place of a
+% load (KeepRules::Reproducible, driver_keep.pl). The clause below decides.
+sandbox:safe_directive(_:Directive) :-
+    prolog_load_context(module, M),
+    loading(M),
+    \+ declaring_directive(Directive),
+    note_load_effect(M, Directive),
+    fail.
 sandbox:safe_directive(Q:Directive) :-
     prolog_load_context(module, M),
     loading(M),
     (   Q == M
     ->  mission_directive(M, Directive)
     ;   mission_directive(M, Q:Directive)
+    ).
+
+% `:- if(G).` and `:- elif(G).` run G as the file loads, and SWI-Prolog
+% 9.0.4 runs it without asking library(sandbox): its conditional
+% compilation ('$eval_if'/1, expand.pl) acts before any hook sees the term,
+% and is not a directive. G is checked here as a directive's goal is; a
+% refused G is an error at its line (the load prints what '$eval_if'/1
+% raises) and the condition is false.
+:- wrap_predicate('$expand':'$eval_if'(G), strata_if, If,
+                  (   prolog_load_context(module, M),
+                      strata_driver:loading(M)
+                  ->  safe_goal(M:G),
+                      strata_driver:note_load_effect(M, if(G)),
+                      If
+                  ;   If
+                  )).
+
+declaring_directive(D) :-
+    var(D), !, fail.
+declaring_directive(_:D) :- !,
+    declaring_directive(D).
+declaring_directive(dynamic(_)).
+declaring_directive(discontiguous(_)).
+declaring_directive(multifile(_)).
+declaring_directive(consult(_)).
+declaring_directive(ensure_loaded(_)).
+declaring_directive(use_module(_)).
+declaring_directive(use_module(_, _)).
+declaring_directive([_|_]).
+
+note_load_effect(M, Directive) :-
+    (   load_effect(M, _)
+    ->  true
+    ;   assertz(load_effect(M, Directive))
     ).
 
 %!  allowed_library(?Name)
@@ -273,7 +318,9 @@ expand_mission_term(Term, Expanded) :-
 % the directive, naming the folders looked in.
 use_phase_expansion(Name, (:- consult(Abs))) :-
     library_phase_file(Name, Abs),
-    !.
+    !,
+    prolog_load_context(module, M),
+    assertz(load_resolution(M, phase(Name, Abs))).
 use_phase_expansion(Name, []) :-
     library_dirs(Dirs),
     (   Dirs == [] -> Looked = 'there are none' ; atomic_list_concat(Dirs, ', ', Looked) ),
