@@ -56,6 +56,7 @@ int run_command(const RunOptions& o, const CLI::App& cmd, const RunCli& c, const
   if (c.no_log && !o.log.empty()) return usage("--log FILE and --no-log: give one");
   RunOptions options = o;
   if (options.vehicle == "embedded") options.vehicle.clear();
+  options.reuse_rules = false;  // one run: no later one of this process takes the rules back
   if (c.studio && core::mission_language(o.mission) != core::MissionLanguage::Coral)
     return usage("--studio shows CORAL missions (.coral)");
   // Every run is logged unless the operator says not (--no-log, or log =
