@@ -25,16 +25,6 @@ export default defineConfig({
   globalTimeout: 900_000,
   expect: { timeout: 15_000 },
   reporter: [['list']],
-  // Projects only order the queue (Playwright takes tests in file-name order
-  // otherwise): the longest tests first, so that at the end no worker is left
-  // alone with a 1-2 minute test while the other has nothing to do. The
-  // tutorials (their documents' commands, then a run in the page) are the
-  // longest, then the live runs; every test still runs once, as before.
-  projects: [
-    { name: 'tutorials', testMatch: /\/tutorial\.spec\.mjs$/ },
-    { name: 'runs', testMatch: /\/(perf|run|runs)\.spec\.mjs$/ },
-    { name: 'pages', testIgnore: /\/(tutorial|perf|run|runs)\.spec\.mjs$/ },
-  ],
   use: {
     headless: true,
     viewport: { width: 1500, height: 950 },
