@@ -101,6 +101,7 @@ for (const t of tutorials) {
       // The survey's text: "The map draws the track".
       expect(await studio(page, 's.map.shown')).toBe(t.map);
     } finally {
+      await page.context().close();   // before the studio stops (fixtures.mjs: keep-alive)
       await stop(s.proc);
       fs.rmSync(work, { recursive: true, force: true });
     }
