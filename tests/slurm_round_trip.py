@@ -201,58 +201,24 @@ def field(record, name):
     return m.group(1) if m else None
 
 
-def one_job_in_a_deep_folder(source):
-    """--deep: a job runs on a cluster whose folder is too deep a path for slurmd's step sockets."""
+def on_a_cluster(source, folder, body):
+    """body(cluster, root, job_ids) on a cluster of scripts/slurm-local in `folder` of a new temporary folder
+    `root`, returning its exit code: SKIP when slurm-local refuses to start here, 1 on a Failure (printed with the
+    daemons' logs). The cluster is stopped by its pid, the jobs in job_ids cancelled and root removed, whatever
+    happens."""
     root = tempfile.mkdtemp(prefix="strata-slurm-")
-    deep = os.path.join("a folder as deep as a checkout's build folder", "tests", "doc_run", "campaigns_slurm")
-    cluster = Cluster(source, root, deep)
-    rc, job_ids = 1, []
+    cluster = Cluster(source, root, folder)
+    job_ids = []
+    rc = 1
     try:
-        if len(os.path.join(cluster.dir, "spool", "strata-node_1.4294967291")) <= 108:
-            raise Failure(f"{cluster.dir} is not deep enough for this test")
-        quoted = os.path.join(root, 'a "quoted" folder')
-        r = subprocess.run([sys.executable, cluster.script, "start", quoted], capture_output=True, text=True,
-                           timeout=30)
-        if r.returncode in (69, 77):
-            raise Skip(r.stderr.strip())
-        if r.returncode != 64 or "slurm.conf cannot name a path with '\"' in it" not in r.stderr \
-                or os.path.exists(quoted):
-            raise Failure(f"slurm-local start in a folder with a double quote exited {r.returncode} (64 expected, "
-                          f"before making it): {r.stderr}")
-        cluster.start()
-        m = re.search(r"Its sockets and spool are in (/tmp/strata-slurm-sockets-\S+):", cluster.output)
-        if not m:
-            raise Failure(f"slurm-local did not say where the sockets went:\n{cluster.output}")
-        short = m.group(1)
-        if not os.path.isdir(os.path.join(short, "spool")):
-            raise Failure(f"{short}/spool is no folder while the cluster runs")
-        said = os.path.join(root, "said")
-        sub = cluster.run([find("sbatch"), "--parsable", "--output", os.devnull, "--wrap", f"echo ran > {said}"])
-        if sub.returncode != 0:
-            raise Failure(f"sbatch exited {sub.returncode}: {sub.stderr}")
-        job_ids = [sub.stdout.strip().split(";")[0]]
-        deadline = time.monotonic() + JOBS_BOUND_S
-        state = None
-        while time.monotonic() < deadline:
-            state = field(cluster.job(job_ids[0]), "JobState")
-            if state in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"):
-                break
-            time.sleep(0.25)
-        if state != "COMPLETED" or not os.path.isfile(said) or open(said).read() != "ran\n":
-            raise Failure(f"the job was {state} after at most {JOBS_BOUND_S} s, and wrote "
-                          f"{open(said).read() if os.path.isfile(said) else 'nothing'!r}\n{cluster.job(job_ids[0])}")
-        cluster.stop(job_ids)
-        if os.path.exists(short):
-            raise Failure(f"{short} is still there after slurm-local stopped")
-        print(f"slurm in a folder {len(cluster.dir)} bytes deep: job {job_ids[0]} ran, its sockets in {short}, "
-              "removed when it stopped")
-        rc = 0
+        rc = body(cluster, root, job_ids)
     except Skip as e:
         print(f"skipped: {e}")
         rc = SKIP
     except (Failure, subprocess.TimeoutExpired) as e:
         print(f"FAILED: {e}", file=sys.stderr)
         print(cluster.logs(), file=sys.stderr)
+        rc = 1
     finally:
         try:
             cluster.stop(job_ids)
@@ -263,35 +229,64 @@ def one_job_in_a_deep_folder(source):
     return rc
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--strata", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--deep", action="store_true", help="one job on a cluster in a folder too deep for a socket")
-    args = ap.parse_args()
-    # ctest's timeout or a Ctrl-C: through the finally below, which stops the daemons.
-    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
-        signal.signal(sig, lambda n, _: sys.exit(128 + n))
-    if args.deep:
-        return one_job_in_a_deep_folder(args.source)
-    started = time.monotonic()
-    root = tempfile.mkdtemp(prefix="strata-slurm-")
-    cluster = Cluster(args.source, root)
-    job_ids = []
-    rc = 1
-    try:
-        cluster.start()
-        up_s = time.monotonic() - started
 
-        # The spec in a folder whose name a shell would take for code.
-        work = os.path.join(root, "it's a \"campaign\" $(touch pwned)")
-        os.makedirs(work)
-        tank = os.path.join(args.source, "missions", "tank", "tank.coral")
-        spec = os.path.join(work, "round trip.toml")
-        with open(spec, "w") as f:
-            # 26 cases; the weak-thrusters case at 10 % fails its
-            # expectations, so a failing case's log and scenario travel.
-            f.write(f"""name = "Slurm round trip"
+def one_job_in_a_deep_folder(cluster, root, job_ids):
+    """--deep: a job runs on a cluster whose folder is too deep a path for slurmd's step sockets."""
+    if len(os.path.join(cluster.dir, "spool", "strata-node_1.4294967291")) <= 108:
+        raise Failure(f"{cluster.dir} is not deep enough for this test")
+    quoted = os.path.join(root, 'a "quoted" folder')
+    r = subprocess.run([sys.executable, cluster.script, "start", quoted], capture_output=True, text=True,
+                       timeout=30)
+    if r.returncode in (69, 77):
+        raise Skip(r.stderr.strip())
+    if r.returncode != 64 or "slurm.conf cannot name a path with '\"' in it" not in r.stderr \
+            or os.path.exists(quoted):
+        raise Failure(f"slurm-local start in a folder with a double quote exited {r.returncode} (64 expected, "
+                      f"before making it): {r.stderr}")
+    cluster.start()
+    m = re.search(r"Its sockets and spool are in (/tmp/strata-slurm-sockets-\S+):", cluster.output)
+    if not m:
+        raise Failure(f"slurm-local did not say where the sockets went:\n{cluster.output}")
+    short = m.group(1)
+    if not os.path.isdir(os.path.join(short, "spool")):
+        raise Failure(f"{short}/spool is no folder while the cluster runs")
+    said = os.path.join(root, "said")
+    sub = cluster.run([find("sbatch"), "--parsable", "--output", os.devnull, "--wrap", f"echo ran > {said}"])
+    if sub.returncode != 0:
+        raise Failure(f"sbatch exited {sub.returncode}: {sub.stderr}")
+    job_ids[:] = [sub.stdout.strip().split(";")[0]]
+    deadline = time.monotonic() + JOBS_BOUND_S
+    state = None
+    while time.monotonic() < deadline:
+        state = field(cluster.job(job_ids[0]), "JobState")
+        if state in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"):
+            break
+        time.sleep(0.25)
+    if state != "COMPLETED" or not os.path.isfile(said) or open(said).read() != "ran\n":
+        raise Failure(f"the job was {state} after at most {JOBS_BOUND_S} s, and wrote "
+                      f"{open(said).read() if os.path.isfile(said) else 'nothing'!r}\n{cluster.job(job_ids[0])}")
+    cluster.stop(job_ids)
+    if os.path.exists(short):
+        raise Failure(f"{short} is still there after slurm-local stopped")
+    print(f"slurm in a folder {len(cluster.dir)} bytes deep: job {job_ids[0]} ran, its sockets in {short}, "
+          "removed when it stopped")
+    return 0
+
+
+def round_trip(args, started, cluster, root, job_ids):
+    """The campaign on Slurm, against the same spec run locally."""
+    cluster.start()
+    up_s = time.monotonic() - started
+
+    # The spec in a folder whose name a shell would take for code.
+    work = os.path.join(root, "it's a \"campaign\" $(touch pwned)")
+    os.makedirs(work)
+    tank = os.path.join(args.source, "missions", "tank", "tank.coral")
+    spec = os.path.join(work, "round trip.toml")
+    with open(spec, "w") as f:
+        # 26 cases; the weak-thrusters case at 10 % fails its
+        # expectations, so a failing case's log and scenario travel.
+        f.write(f"""name = "Slurm round trip"
 missions = [{json.dumps(tank)}]
 seeds = [1, 2]
 [expect.leak]
@@ -313,77 +308,78 @@ at_s = 6
 health = [0.1]
 expect = "strong"
 """)
-        out = os.path.join(work, "slurm run")
-        shards = 4
-        sub = cluster.run([args.strata, "campaign", spec, "--slurm", "--submit", "--shards", str(shards), "--out", out,
-                           "-j", "1", "--partition", "strata-local", "--time", "5"])
-        print(sub.stdout, end="")
-        if sub.returncode != 0:
-            raise Failure(f"strata campaign --slurm --submit exited {sub.returncode}:\n{sub.stderr}")
-        m = re.search(r"array job (\d+) \((\d+) tasks\), merge job (\d+)", sub.stdout)
-        if not m:
-            raise Failure(f"no job ids in strata's output:\n{sub.stdout}")
-        array_id, merge_id = m.group(1), m.group(3)
-        job_ids = [merge_id, array_id]
-        if int(m.group(2)) != shards:
-            raise Failure(f"{m.group(2)} tasks, asked for {shards}")
+    out = os.path.join(work, "slurm run")
+    shards = 4
+    sub = cluster.run([args.strata, "campaign", spec, "--slurm", "--submit", "--shards", str(shards), "--out", out,
+                       "-j", "1", "--partition", "strata-local", "--time", "5"])
+    print(sub.stdout, end="")
+    if sub.returncode != 0:
+        raise Failure(f"strata campaign --slurm --submit exited {sub.returncode}:\n{sub.stderr}")
+    m = re.search(r"array job (\d+) \((\d+) tasks\), merge job (\d+)", sub.stdout)
+    if not m:
+        raise Failure(f"no job ids in strata's output:\n{sub.stdout}")
+    array_id, merge_id = m.group(1), m.group(3)
+    job_ids[:] = [merge_id, array_id]
+    if int(m.group(2)) != shards:
+        raise Failure(f"{m.group(2)} tasks, asked for {shards}")
 
-        # Local, meanwhile: the same spec in one run.
-        local = os.path.join(root, "local")
-        loc = subprocess.run([args.strata, "campaign", spec, "--out", local, "-j", "1"], capture_output=True,
-                             text=True, timeout=JOBS_BOUND_S)
+    # Local, meanwhile: the same spec in one run.
+    local = os.path.join(root, "local")
+    loc = subprocess.run([args.strata, "campaign", spec, "--out", local, "-j", "1"], capture_output=True,
+                         text=True, timeout=JOBS_BOUND_S)
 
-        deadline = started + JOBS_BOUND_S + up_s
-        state = None
-        while time.monotonic() < deadline:
-            record = cluster.job(merge_id)
-            state = field(record, "JobState")
-            if state in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"):
-                break
-            if field(record, "Reason") == "DependencyNeverSatisfied":
-                raise Failure("the merge job will never run: an array task failed\n" + cluster.job(array_id) +
-                              "".join(f"--- {n}:\n{tail(os.path.join(out, n))}" for n in sorted(os.listdir(out))
-                                      if n.startswith("slurm-")))
-            time.sleep(0.25)
-        else:
-            raise Failure(f"the merge job {merge_id} was {state} after {JOBS_BOUND_S} s\n{cluster.job(array_id)}")
-        merge_record = cluster.job(merge_id)
-        merge_exit = field(merge_record, "ExitCode")
-        # Every task of the array ran on Slurm and succeeded (exit 0: a
-        # failing case is the merge's to report).
-        tasks = cluster.job(array_id).strip().splitlines()
-        if len(tasks) != shards or any(field(t, "JobState") != "COMPLETED" for t in tasks):
-            raise Failure("the array's tasks:\n" + "\n".join(tasks))
-        for i in range(shards):
-            if not os.path.isfile(os.path.join(out, f"shard-{i}", "results.jsonl")):
-                raise Failure(f"shard-{i} has no results.jsonl")
-        if os.path.exists(os.path.join(work, "pwned")) or os.path.exists(os.path.join(out, "pwned")):
-            raise Failure("a path in the scripts ran as shell code")
+    deadline = started + JOBS_BOUND_S + up_s
+    state = None
+    while time.monotonic() < deadline:
+        record = cluster.job(merge_id)
+        state = field(record, "JobState")
+        if state in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"):
+            break
+        if field(record, "Reason") == "DependencyNeverSatisfied":
+            raise Failure("the merge job will never run: an array task failed\n" + cluster.job(array_id) +
+                          "".join(f"--- {n}:\n{tail(os.path.join(out, n))}" for n in sorted(os.listdir(out))
+                                  if n.startswith("slurm-")))
+        time.sleep(0.25)
+    else:
+        raise Failure(f"the merge job {merge_id} was {state} after {JOBS_BOUND_S} s\n{cluster.job(array_id)}")
+    merge_record = cluster.job(merge_id)
+    merge_exit = field(merge_record, "ExitCode")
+    # Every task of the array ran on Slurm and succeeded (exit 0: a
+    # failing case is the merge's to report).
+    tasks = cluster.job(array_id).strip().splitlines()
+    if len(tasks) != shards or any(field(t, "JobState") != "COMPLETED" for t in tasks):
+        raise Failure("the array's tasks:\n" + "\n".join(tasks))
+    for i in range(shards):
+        if not os.path.isfile(os.path.join(out, f"shard-{i}", "results.jsonl")):
+            raise Failure(f"shard-{i} has no results.jsonl")
+    if os.path.exists(os.path.join(work, "pwned")) or os.path.exists(os.path.join(out, "pwned")):
+        raise Failure("a path in the scripts ran as shell code")
 
-        cases, failing = compare(local, os.path.join(out, "merged"))
-        # The merge job's exit code is the local run's: 1, a case failed.
-        if merge_exit != f"{loc.returncode}:0" or loc.returncode != 1 or failing != 2:
-            raise Failure(f"merge job ExitCode={merge_exit}, the local run exited {loc.returncode}, "
-                          f"{failing} failing cases (expected 1:0, 1 and 2)\n{tail(os.path.join(out, 'slurm-merge-' + merge_id + '.out'))}")
-        print(f"slurm round trip: {cases} cases in {shards} array tasks and a merge (job {array_id}, {merge_id}): "
-              f"merged results and report equal the local run's; {failing} failing cases both ways; "
-              f"Slurm up in {up_s:.1f} s, {time.monotonic() - started:.1f} s in all")
-        rc = 0
-    except Skip as e:
-        print(f"skipped: {e}")
-        rc = SKIP
-    except (Failure, subprocess.TimeoutExpired) as e:
-        print(f"FAILED: {e}", file=sys.stderr)
-        print(cluster.logs(), file=sys.stderr)
-        rc = 1
-    finally:
-        try:
-            cluster.stop(job_ids)
-        except Failure as e:
-            print(f"FAILED: {e}", file=sys.stderr)
-            rc = 1
-        shutil.rmtree(root, ignore_errors=True)
-    return rc
+    cases, failing = compare(local, os.path.join(out, "merged"))
+    # The merge job's exit code is the local run's: 1, a case failed.
+    if merge_exit != f"{loc.returncode}:0" or loc.returncode != 1 or failing != 2:
+        raise Failure(f"merge job ExitCode={merge_exit}, the local run exited {loc.returncode}, "
+                      f"{failing} failing cases (expected 1:0, 1 and 2)\n{tail(os.path.join(out, 'slurm-merge-' + merge_id + '.out'))}")
+    print(f"slurm round trip: {cases} cases in {shards} array tasks and a merge (job {array_id}, {merge_id}): "
+          f"merged results and report equal the local run's; {failing} failing cases both ways; "
+          f"Slurm up in {up_s:.1f} s, {time.monotonic() - started:.1f} s in all")
+    return 0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--strata", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--deep", action="store_true", help="one job on a cluster in a folder too deep for a socket")
+    args = ap.parse_args()
+    # ctest's timeout or a Ctrl-C: through the finally below, which stops the daemons.
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, lambda n, _: sys.exit(128 + n))
+    if args.deep:
+        deep = os.path.join("a folder as deep as a checkout's build folder", "tests", "doc_run", "campaigns_slurm")
+        return on_a_cluster(args.source, deep, one_job_in_a_deep_folder)
+    started = time.monotonic()
+    return on_a_cluster(args.source, "slurm", lambda c, r, j: round_trip(args, started, c, r, j))
 
 
 if __name__ == "__main__":
