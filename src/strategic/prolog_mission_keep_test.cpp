@@ -142,6 +142,18 @@ TEST_F(KeptRules, KeptRulesAreLoadedAgainWhenAFileTheyConsultChanged) {
   EXPECT_NE(a, b);
 }
 
+// A file the rules include (:- include/1) is theirs as a consulted one is:
+// edited between two runs of a campaign's worker, the rules load again.
+TEST_F(KeptRules, KeptRulesAreLoadedAgainWhenAFileTheyIncludeChanged) {
+  rules_.write("words.pl", "word(first).\n");
+  const std::string path = rules_.write("m.pl", ":- include(words).\nmission :- word(W), report(W).\n");
+  std::string a, b;
+  EXPECT_EQ((std::vector<std::string>{"report first"}), run_kept(path, a));
+  rules_.write("words.pl", "word(second).\n");
+  EXPECT_EQ((std::vector<std::string>{"report second"}), run_kept(path, b));
+  EXPECT_NE(a, b);
+}
+
 TEST_F(KeptRules, KeptRulesGiveTheMessagesOfTheirLoad) {
   const std::string path = rules_.write("m.pl", "p(X) :- true.\nmission :- report(ran).\n");
   Reported first, second;

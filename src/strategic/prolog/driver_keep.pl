@@ -144,13 +144,23 @@ restore_clauses(Module, Name/Arity, Clauses) :-
 
 %!  mission_files(+Module, -Files) is det.
 %
-%   The files loaded into Module: the mission's own file and those it
-%   consulted, whose content the host checks before it takes the kept
-%   module back.
+%   The files loaded into Module: the mission's own file, those it
+%   consulted and those any of them included (:- include/1, at any depth),
+%   whose content the host checks before it takes the kept module back.
 
 mission_files(Module, Files) :-
-    findall(File, source_file_property(File, load_context(Module, _, _)), Files0),
+    findall(File, source_file_property(File, load_context(Module, _, _)), Loaded),
+    included_files(Loaded, Loaded, Files0),
     sort(Files0, Files).
+
+included_files([], Seen, Seen).
+included_files([File|Files], Seen, All) :-
+    findall(Inc, ( source_file_property(File, includes(Inc, _)),
+                   \+ memberchk(Inc, Seen) ), Incs0),
+    sort(Incs0, Incs),
+    append(Seen, Incs, Seen1),
+    append(Files, Incs, Next),
+    included_files(Next, Seen1, All).
 
 %!  forget_kept(+Module) is det.
 
