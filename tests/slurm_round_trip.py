@@ -24,7 +24,8 @@ socket (slurmd's step sockets in its spool would pass 107 bytes, as in a
 checkout's build folder), and one job must still run: slurm-local puts the
 sockets and the spool in a short folder in /tmp, and stop removes it. The
 folder has spaces in its name, which slurm.conf must quote; a folder with a
-double quote, which it cannot, is refused (64) before anything starts.
+double quote, a # or a line break, which it cannot hold, is refused (64)
+before anything starts.
 
 usage: slurm_round_trip.py --strata PATH --source DIR [--deep]
 """
@@ -234,15 +235,16 @@ def one_job_in_a_deep_folder(cluster, root, job_ids):
     """--deep: a job runs on a cluster whose folder is too deep a path for slurmd's step sockets."""
     if len(os.path.join(cluster.dir, "spool", "strata-node_1.4294967291")) <= 108:
         raise Failure(f"{cluster.dir} is not deep enough for this test")
-    quoted = os.path.join(root, 'a "quoted" folder')
-    r = subprocess.run([sys.executable, cluster.script, "start", quoted], capture_output=True, text=True,
-                       timeout=30)
-    if r.returncode in (69, 77):
-        raise Skip(r.stderr.strip())
-    if r.returncode != 64 or "slurm.conf cannot name a path with '\"' in it" not in r.stderr \
-            or os.path.exists(quoted):
-        raise Failure(f"slurm-local start in a folder with a double quote exited {r.returncode} (64 expected, "
-                      f"before making it): {r.stderr}")
+    for name, bad in (('a "quoted" folder', '\'"\''), ("a #hash folder", "'#'"), ("a\nline", "'\\n'")):
+        refused = os.path.join(root, name)
+        r = subprocess.run([sys.executable, cluster.script, "start", refused], capture_output=True, text=True,
+                           timeout=30)
+        if r.returncode in (69, 77):
+            raise Skip(r.stderr.strip())
+        if r.returncode != 64 or f"slurm.conf cannot name a path with {bad} in it" not in r.stderr \
+                or os.path.exists(refused):
+            raise Failure(f"slurm-local start in {refused!r} exited {r.returncode} (64 expected, before making "
+                          f"it): {r.stderr}")
     cluster.start()
     m = re.search(r"Its sockets and spool are in (/tmp/strata-slurm-sockets-\S+):", cluster.output)
     if not m:
