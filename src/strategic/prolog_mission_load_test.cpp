@@ -110,6 +110,57 @@ TEST_F(PrologMissionTest, a_file_in_a_folder_beside_the_missions_folder_loads) {
   EXPECT_TRUE(m);
 }
 
+// The number of errors in a failed load's messages.
+std::size_t errors_in(const std::string& text) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(": error: "); at != std::string::npos; at = text.find(": error: ", at + 1)) ++n;
+  return n;
+}
+
+// Regression: a file that included itself was read again and again until
+// the load's time limit (5 s, then "took longer than its time limit", no
+// place): SWI-Prolog 9.0.4 does not stop an include or a consult loop.
+TEST_F(PrologMissionTest, a_file_that_includes_itself_is_refused_at_its_include_not_timed_out) {
+  const std::string text = failed_load(rules_.write("m.pl", "mission :- true.\n:- include(m).\n"), LoadLimits{});
+  EXPECT_NE(text.find("m.pl:2:4: error: include/1 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("a loop: that file is being loaded already (m.pl:2 -> m.pl)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("time limit"), std::string::npos) << text;
+  EXPECT_EQ(errors_in(text), 1U) << text;  // said once, and include/1 is not then run as a goal
+}
+
+TEST_F(PrologMissionTest, files_that_consult_each_other_are_refused_at_the_consult_that_closes_the_loop) {
+  rules_.write("b.pl", "p.\n:- consult(a).\n");
+  const std::string text = failed_load(rules_.write("a.pl", "mission :- p.\n:- consult(b).\n"), LoadLimits{});
+  EXPECT_NE(text.find("b.pl:2:4: error: consult/1 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("(a.pl:2 -> b.pl:2 -> a.pl)"), std::string::npos) << text;
+  EXPECT_EQ(errors_in(text), 1U) << text;
+}
+
+TEST_F(PrologMissionTest, an_include_loop_through_a_consulted_file_names_the_whole_path) {
+  rules_.write("b.pl", "p.\n:- include(c).\n");
+  rules_.write("c.pl", "q.\n:- include(b).\n");
+  const std::string text = failed_load(rules_.write("a.pl", "mission :- p.\n:- consult(b).\n"), LoadLimits{});
+  EXPECT_NE(text.find("c.pl:2:4: error: include/1 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("(a.pl:2 -> b.pl:2 -> c.pl:2 -> b.pl)"), std::string::npos) << text;
+}
+
+// ensure_loaded/1 of a file that is being loaded does nothing, as in
+// SWI-Prolog (two files that each ensure the other is loaded).
+TEST_F(PrologMissionTest, files_that_ensure_each_other_is_loaded_load) {
+  rules_.write("b.pl", ":- ensure_loaded(a).\np :- q.\n");
+  auto m = load_ok(rules_.write("a.pl", ":- ensure_loaded(b).\nmission :- p.\nq.\n"));
+  EXPECT_TRUE(m);
+}
+
+// A refused include/1 was reported twice: SWI-Prolog asks about it as it
+// reads the term and again as a directive to run.
+TEST_F(PrologMissionTest, a_refused_include_is_reported_once_at_its_place) {
+  const std::string text =
+      failed_load(rules_.write("missions/tank/m.pl", "mission :- true.\n:- include('/etc/hostname').\n"), LoadLimits{});
+  EXPECT_NE(text.find("m.pl:2:4: error: include/1 of `/etc/hostname`"), std::string::npos) << text;
+  EXPECT_EQ(errors_in(text), 1U) << text;
+}
+
 // Regression: SWI-Prolog 9.0.4's reader read freed memory (ASan
 // heap-use-after-free in strtol, from raw_read2's atoi) on a digit followed
 // by a quote when the clause's buffer had just grown; prolog_fuzz found it.

@@ -26,6 +26,7 @@ load_mission(Module, File) :-
 load_mission(Module, File, Budget) :-
     restore_flags,
     retractall(load_message(_, _, _, _, _)),
+    retractall(include_refused(_, _)),
     reset_stop,
     retractall(mission_root(Module, _)),
     file_directory_name(File, Root),
@@ -87,7 +88,11 @@ user:prolog_load_file(Module:Spec, Options) :-
     mission_file(Mission, Abs),
     !,
     assertz(load_resolution(Mission, file(Spec, Dir, Abs))),
-    load_mission_file(Module, Abs, Options).
+    (   memberchk(if(not_loaded), Options),     % ensure_loaded/1 of a file being loaded:
+        loading_cycle(Mission, Abs, _)          % it is, as in SWI-Prolog
+    ->  true
+    ;   load_mission_file(Module, Abs, Options)
+    ).
 
 %!  resolves_again(+Resolution) is semidet.
 %
@@ -204,6 +209,9 @@ stop_text(E, Text) :-
     format(string(Text), "loading stopped: ~q", [E]).
 
 :- multifile user:message_hook/3.
+user:message_hook(error(strata_refused_again, _), _, _) :-
+    loading(_),
+    !.                          % said once already (driver_sandbox.pl, include/1)
 user:message_hook(Term, Kind, _Lines) :-
     loading(_),
     (   Kind == error ; Kind == warning ),

@@ -114,13 +114,13 @@ mission_directive(_, Var) :-
 mission_directive(M, Q:Directive) :-
     Q == system, !,
     mission_directive(M, Directive).
-mission_directive(M, use_module(Spec)) :- !, library_directive(M, Spec).
-mission_directive(M, use_module(Spec, _)) :- !, library_directive(M, Spec).
-mission_directive(M, ensure_loaded(Spec)) :- !, library_directive(M, Spec).
-mission_directive(M, load_files(Spec, _)) :- !, library_directive(M, Spec).
-mission_directive(M, consult(Spec)) :- !, consult_directive(M, Spec).
-mission_directive(M, include(Spec)) :- !, consult_directive(M, Spec).
-mission_directive(M, [H|T]) :- !, consult_directive(M, [H|T]).
+mission_directive(M, use_module(Spec)) :- !, library_directive(M, use_module/1, Spec).
+mission_directive(M, use_module(Spec, _)) :- !, library_directive(M, use_module/2, Spec).
+mission_directive(M, ensure_loaded(Spec)) :- !, library_directive(M, ensure_loaded/1, Spec).
+mission_directive(M, load_files(Spec, _)) :- !, library_directive(M, load_files/2, Spec).
+mission_directive(M, consult(Spec)) :- !, consult_directive(M, consult/1, Spec).
+mission_directive(M, include(Spec)) :- !, include_directive(M, Spec).
+mission_directive(M, [H|T]) :- !, consult_directive(M, consult/1, [H|T]).
 mission_directive(_, set_prolog_flag(Flag, _)) :- !,
     refuse(set_prolog_flag/2, "set_prolog_flag/2: a mission cannot change Prolog's flags (`~w`)", [Flag]).
 mission_directive(_, halt) :- !,
@@ -132,7 +132,7 @@ mission_directive(M, initialization(Goal)) :- !,
 mission_directive(M, initialization(Goal, now)) :- !,
     safe_goal(M:Goal).
 
-library_directive(M, Spec) :-
+library_directive(M, PI, Spec) :-
     (   Spec = library(Name), atom(Name)
     ->  (   allowed_library(Name)
         ->  true
@@ -140,38 +140,78 @@ library_directive(M, Spec) :-
             atomic_list_concat(Ls, ', ', Allowed),
             refuse(library(Name), "library(~w) is not allowed in a mission (allowed: ~w)", [Name, Allowed])
         )
-    ;   consult_directive(M, Spec)
+    ;   consult_directive(M, PI, Spec)
+    ).
+
+% SWI-Prolog asks about an include/1 twice: as it reads the term (a valid
+% one is read in place), then, when that refused it, as a directive to
+% run. The second asking gets a refusal that is not reported again (the
+% message hook drops it, driver_load.pl), so the refusal is said once, at
+% its place, and include/1 is not run as a goal.
+include_directive(M, Spec) :-
+    (   retract(include_refused(M, Spec))
+    ->  throw(error(strata_refused_again, _))
+    ;   catch(consult_directive(M, include/1, Spec), E,
+              ( assertz(include_refused(M, Spec)), throw(E) ))
     ).
 
 % consult/1 of the mission's own files: a .pl file in the folder of the
 % mission's file or in a folder beside it (sonar_search.pl consults
 % ../tank/phases). The file is itself loaded sandboxed.
-consult_directive(_, []) :- !.
-consult_directive(M, [H|T]) :- !,
-    consult_directive(M, H),
-    consult_directive(M, T).
-consult_directive(M, Spec) :-
+consult_directive(_, _, []) :- !.
+consult_directive(M, PI, [H|T]) :- !,
+    consult_directive(M, PI, H),
+    consult_directive(M, PI, T).
+consult_directive(M, PI, Spec) :-
     (   ( atom(Spec) ; string(Spec) )
     ->  true
-    ;   refuse(consult/1, "consult/1 of `~q`: a mission loads its own files by name", [Spec])
+    ;   refuse(PI, "~w of `~q`: a mission loads its own files by name", [PI, Spec])
     ),
     (   prolog_load_context(directory, Dir) -> true ; mission_root(M, Dir) ),
     (   absolute_file_name(Spec, Abs, [ file_type(prolog), relative_to(Dir),
                                         access(read), file_errors(fail) ])
     ->  (   mission_file(M, Abs)          % first: a file outside is not even scanned
         ->  true
-        ;   refuse(consult/1, "consult/1 of `~w`: a mission loads only .pl files in its folder \c
-                               or a folder beside it", [Abs])
+        ;   refuse(PI, "~w of `~w`: a mission loads only .pl files in its folder \c
+                         or a folder beside it", [PI, Abs])
+        ),
+        (   PI \== ensure_loaded/1,       % that one is skipped (driver_load.pl)
+            PI \= use_module/_,
+            loading_cycle(M, Abs, Path)
+        ->  refuse(PI, "~w of `~w`: a loop: that file is being loaded already (~w); \c
+                         a file cannot load itself, directly or through others", [PI, Abs, Path])
+        ;   true
         ),
         (   scan_problem(Abs, Line, Column, Why)
         ->  (   Line > 0
-            ->  refuse(consult/1, "consult/1 of `~w`: ~w:~w: ~w", [Abs, Line, Column, Why])
-            ;   refuse(consult/1, "consult/1 of `~w`: ~w", [Abs, Why])
+            ->  refuse(PI, "~w of `~w`: ~w:~w: ~w", [PI, Abs, Line, Column, Why])
+            ;   refuse(PI, "~w of `~w`: ~w", [PI, Abs, Why])
             )
         ;   true
         )
     ;   true                    % not there: consult/1 says so, with the place
     ).
+
+%!  loading_cycle(+Module, +File, -Path) is semidet.
+%
+%   File is open in the load that reached this directive: the file the
+%   directive is in, or one that consulted or included it on the way here.
+%   Loading it again would start over for ever (SWI-Prolog 9.0.4 does not
+%   stop it: a file that includes itself ran into the load's time limit).
+%   Path is the chain of mission files and lines that leads back to it,
+%   outermost first (`a.pl:2 -> b.pl:1 -> a.pl`).
+loading_cycle(M, File, Path) :-
+    prolog_load_context(file, Current),
+    source_location(_, Line),
+    '$input_context'(Context),
+    findall(F-L, ( member(input(_, F, L, _), Context), atom(F), mission_file(M, F) ), Inner),
+    reverse(Inner, Outer),
+    append(Outer, [Current-Line], Open),
+    memberchk(File-_, Open),
+    findall(Step, ( member(F-L, Open), file_base_name(F, B), format(atom(Step), "~w:~w", [B, L]) ), Steps),
+    file_base_name(File, Base),
+    append(Steps, [Base], All),
+    atomic_list_concat(All, ' -> ', Path).
 
 refuse(Culprit, Format, Args) :-
     format(string(Text), Format, Args),
