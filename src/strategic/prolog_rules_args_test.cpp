@@ -147,5 +147,23 @@ TEST_F(PrologMissionTest, check_for_an_imc_vehicle_refuses_calls_at_their_place_
   EXPECT_TRUE(phoenix.empty()) << phoenix.text();
 }
 
+// Regression: the files a mission's files include/1 (at any depth) were
+// not scanned, so a call there that an IMC vehicle cannot carry out passed
+// the check and failed in the water.
+TEST_F(PrologMissionTest, check_for_an_imc_vehicle_refuses_calls_in_an_included_file) {
+  rules_.write("deeper.pl", "p(X) :-\n    exec_set_sway(0.1, X).\n");
+  rules_.write("search.pl", ":- include(deeper).\n");
+  const std::string path = rules_.write("m.pl", ":- include(search).\nmission :- p(_).\n");
+  prolog_mission_testing::Reported messages;
+  auto m = PrologMission::load(path, tactical::Catalogue::builtin(), messages.sources, messages.sink, {}, KeepRules::No,
+                               tactical::ExecutionLevel::Imc);
+  EXPECT_FALSE(m.ok());
+  ASSERT_EQ(messages.size(), 1U) << messages.text();
+  EXPECT_EQ(core::DiagnosticKind::PrimitiveUnavailable, messages[0].kind);
+  EXPECT_EQ("deeper.pl", std::filesystem::path(messages.file(0)).filename().string());
+  EXPECT_EQ(2U, messages.place(0).line);
+  EXPECT_EQ(5U, messages.place(0).col);
+}
+
 }  // namespace
 }  // namespace strata::strategic
