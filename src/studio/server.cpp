@@ -1,8 +1,14 @@
 #include "studio/server.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+
 #include <algorithm>
+#include <charconv>
 #include <chrono>
+#include <filesystem>
 #include <map>
+#include <system_error>
 #include <thread>
 
 #include <fmt/format.h>
@@ -81,6 +87,7 @@ StudioServer::StudioServer(StudioOptions options, EventHub& hub)
   // waits for the page's delayed ACK (40 ms a request on a kept-alive
   // connection).
   server_->set_tcp_nodelay(true);
+  server_->set_keep_alive_timeout(static_cast<time_t>(options_.keep_alive.count()));
   if (options_.request_log) {
     server_->set_logger([log = options_.request_log](const httplib::Request& req, const httplib::Response& res) {
       log(req.method + " " + req.path + " " + std::to_string(res.status));
@@ -136,7 +143,40 @@ void StudioServer::stop() {
   if (watcher_) watcher_->stop();
   hub_.close();  // every event stream ends
   if (server_) server_->stop();
+  // The library's stop() closes the listening socket, then joins its
+  // workers; a worker holding a kept-alive connection ends only when the
+  // client sends again or its keep-alive runs out (5 s: Ctrl-C with a tab
+  // open took 5 s). Every connection is shut down now instead.
+  if (port_ != 0 && listener_.joinable()) shut_down_connections();
   if (listener_.joinable()) listener_.join();
+}
+
+void StudioServer::shut_down_connections() const {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", ec)) {
+    int fd = -1;
+    const std::string name = entry.path().filename().string();
+    const auto [end, why] = std::from_chars(name.data(), name.data() + name.size(), fd);
+    if (why != std::errc{} || end != name.data() + name.size() || fd < 0) continue;
+    sockaddr_storage local{};
+    socklen_t length = sizeof local;
+    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&local), &length) != 0) continue;  // not a socket
+    std::uint16_t local_port = 0;
+    if (local.ss_family == AF_INET) {
+      local_port = ntohs(reinterpret_cast<const sockaddr_in*>(&local)->sin_port);
+    } else if (local.ss_family == AF_INET6) {
+      local_port = ntohs(reinterpret_cast<const sockaddr_in6*>(&local)->sin6_port);
+    } else {
+      continue;
+    }
+    sockaddr_storage peer{};
+    length = sizeof peer;
+    // Accepted here: our port on this end, a client on the other (a
+    // client's own socket to this port has the port at the other end).
+    if (local_port == port_ && ::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) == 0) {
+      ::shutdown(fd, SHUT_RDWR);
+    }
+  }
 }
 
 bool StudioServer::own_host(const std::string& host) const {

@@ -68,6 +68,9 @@ class StudioServer final : public HttpServer {
   void serve_asset(const httplib::Request& req, httplib::Response& res, const std::string& path);
   // Whether `host` (HOST:PORT) is one of this studio's own addresses.
   bool own_host(const std::string& host) const;
+  // Shuts down (shutdown(2), not close) every connection accepted on
+  // port_: a worker waiting on one for its next request wakes and ends it.
+  void shut_down_connections() const;
   // Why writing `relative` with this request's If-Match is refused (status
   // 412, 428, or the sandbox's), or nullopt to go ahead. Under write_mutex_.
   std::optional<std::string> refuse_write(const std::string& relative, const httplib::Request& req, int& status) const;

@@ -58,6 +58,10 @@ struct StudioOptions {
   // Verifications running at once (each may take its memory limit): past
   // it, 429 with Retry-After.
   int max_verifies = 2;
+  // A connection a page keeps open between requests is closed after this
+  // long idle (cpp-httplib's keep-alive). stop() does not wait for it: it
+  // closes every connection at once.
+  std::chrono::seconds keep_alive{5};
   std::chrono::milliseconds heartbeat{1000};
   // An event stream looks for news this often and writes all that came in
   // one go: 25 writes a second is plenty for a page, and 20 pages cost a
