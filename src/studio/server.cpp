@@ -110,7 +110,11 @@ core::Result<std::uint16_t> StudioServer::start() {
                                    options_.port == 0 ? std::string("any port") : std::to_string(options_.port))};
   }
   port_ = static_cast<std::uint16_t>(port);
-  if (listen_fd_ >= 0) ::listen(listen_fd_, kListenBacklog);
+  if (listen_fd_ >= 0) {
+    ::listen(listen_fd_, kListenBacklog);
+    socklen_t length = sizeof bound_;
+    if (::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound_), &length) != 0) bound_ = {};
+  }
   // The addresses a request may name (Host) and come from (Origin): the one
   // printed first, then the loopback forms a browser may be given.
   own_hosts_ = {lower(fmt::format("{}:{}", options_.host, port_))};
@@ -151,31 +155,56 @@ void StudioServer::stop() {
   if (listener_.joinable()) listener_.join();
 }
 
+namespace {
+
+// The port of an IPv4 or IPv6 address; 0 for another family.
+std::uint16_t port_of(const sockaddr_storage& a) {
+  if (a.ss_family == AF_INET) return ntohs(reinterpret_cast<const sockaddr_in*>(&a)->sin_port);
+  if (a.ss_family == AF_INET6) return ntohs(reinterpret_cast<const sockaddr_in6*>(&a)->sin6_port);
+  return 0;
+}
+
+// Whether `local`, an accepted connection's own address, is on the
+// listening address `bound`: the same port, and the same address unless
+// the studio listens on every address (0.0.0.0 or ::).
+bool on_listening_address(const sockaddr_storage& local, const sockaddr_storage& bound) {
+  if (local.ss_family != bound.ss_family || port_of(local) != port_of(bound) || port_of(bound) == 0) return false;
+  if (bound.ss_family == AF_INET) {
+    const auto& b = reinterpret_cast<const sockaddr_in&>(bound).sin_addr;
+    const auto& l = reinterpret_cast<const sockaddr_in&>(local).sin_addr;
+    return b.s_addr == htonl(INADDR_ANY) || b.s_addr == l.s_addr;
+  }
+  const auto& b = reinterpret_cast<const sockaddr_in6&>(bound).sin6_addr;
+  const auto& l = reinterpret_cast<const sockaddr_in6&>(local).sin6_addr;
+  return IN6_IS_ADDR_UNSPECIFIED(&b) || IN6_ARE_ADDR_EQUAL(&b, &l);
+}
+
+}  // namespace
+
 void StudioServer::shut_down_connections() const {
+  // A worker may close a connection while this looks: its descriptor's
+  // number can be reused at once, so each is checked just before its
+  // shutdown (a stream socket on the listening address, with a peer);
+  // nothing else in the process has such a socket once the listener is
+  // closed.
   std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", ec)) {
+  std::filesystem::directory_iterator it("/proc/self/fd", ec);
+  for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
     int fd = -1;
-    const std::string name = entry.path().filename().string();
+    const std::string name = it->path().filename().string();
     const auto [end, why] = std::from_chars(name.data(), name.data() + name.size(), fd);
     if (why != std::errc{} || end != name.data() + name.size() || fd < 0) continue;
+    int type = 0;
+    socklen_t length = sizeof type;
+    if (::getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &length) != 0 || type != SOCK_STREAM) continue;
     sockaddr_storage local{};
-    socklen_t length = sizeof local;
-    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&local), &length) != 0) continue;  // not a socket
-    std::uint16_t local_port = 0;
-    if (local.ss_family == AF_INET) {
-      local_port = ntohs(reinterpret_cast<const sockaddr_in*>(&local)->sin_port);
-    } else if (local.ss_family == AF_INET6) {
-      local_port = ntohs(reinterpret_cast<const sockaddr_in6*>(&local)->sin6_port);
-    } else {
+    length = sizeof local;
+    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&local), &length) != 0 || !on_listening_address(local, bound_)) {
       continue;
     }
     sockaddr_storage peer{};
     length = sizeof peer;
-    // Accepted here: our port on this end, a client on the other (a
-    // client's own socket to this port has the port at the other end).
-    if (local_port == port_ && ::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) == 0) {
-      ::shutdown(fd, SHUT_RDWR);
-    }
+    if (::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) == 0) ::shutdown(fd, SHUT_RDWR);
   }
 }
 

@@ -1,4 +1,6 @@
 #pragma once
+#include <sys/socket.h>
+
 // `strata studio`'s HTTP server (docs/studio.md): the page, the JSON API and
 // the Server-Sent Events stream of a run, on 127.0.0.1 by default.
 //
@@ -68,8 +70,9 @@ class StudioServer final : public HttpServer {
   void serve_asset(const httplib::Request& req, httplib::Response& res, const std::string& path);
   // Whether `host` (HOST:PORT) is one of this studio's own addresses.
   bool own_host(const std::string& host) const;
-  // Shuts down (shutdown(2), not close) every connection accepted on
-  // port_: a worker waiting on one for its next request wakes and ends it.
+  // Shuts down (shutdown(2), not close) every TCP connection accepted on
+  // the listening address: a worker waiting on one for its next request
+  // wakes and ends it.
   void shut_down_connections() const;
   // Why writing `relative` with this request's If-Match is refused (status
   // 412, 428, or the sandbox's), or nullopt to go ahead. Under write_mutex_.
@@ -91,6 +94,7 @@ class StudioServer final : public HttpServer {
   std::uint16_t port_ = 0;
   std::vector<std::string> own_hosts_;  // set by start(), before the first request
   int listen_fd_ = -1;                  // the listening socket, once made
+  sockaddr_storage bound_{};            // its address, once bound (start())
   std::atomic<int> streams_{0};         // event streams open now
   std::atomic<int> verifies_{0};        // verifications running now
 };

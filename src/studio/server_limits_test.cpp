@@ -86,9 +86,6 @@ TEST_F(StudioServerTest, AHostNamedTwiceOrEmptyIsRefused) {
   EXPECT_EQ(0u, got.find("HTTP/1.1 200")) << got.substr(0, 300);
 }
 
-// Issue 39: five verifications of a 2^40-state net ran at once, each to
-// its own memory limit. A bounded number run; the rest are told when to
-// come back.
 // Regression: with a page open (a connection kept alive between its
 // requests), stopping the studio waited for the connection's keep-alive to
 // run out: Ctrl-C took 5 s. Here the keep-alive is an hour, so a stop that
@@ -120,6 +117,9 @@ TEST(StudioServerStop, AConnectionKeptAliveDoesNotHoldTheStop) {
   fs::remove_all(root);
 }
 
+// Issue 39: five verifications of a 2^40-state net ran at once, each to
+// its own memory limit. A bounded number run; the rest are told when to
+// come back.
 TEST(StudioSlot, ALimitedNumberAreTakenAndEachIsGivenBack) {
   std::atomic<int> count{0};
   auto a = Slot::take(count, 2);
