@@ -161,6 +161,42 @@ TEST_F(PrologMissionTest, a_refused_include_is_reported_once_at_its_place) {
   EXPECT_EQ(errors_in(text), 1U) << text;
 }
 
+// SWI-Prolog asks about an include/1 qualified by the mission's own module
+// only as a directive to run: it is refused with its own reason (include/1
+// is no goal), and a refusal it leaves does not silence the next include's.
+TEST_F(PrologMissionTest, an_include_qualified_by_a_module_is_refused_and_hides_no_other_refusal) {
+  // The module the next rules load into: the one after this load's.
+  auto probe = load_ok(rules_.write("probe.pl", "mission :- true.\n"));
+  ASSERT_NE(probe, nullptr);
+  const std::string module = probe->module();
+  const std::string next = "strata_mission_" + std::to_string(std::stoi(module.substr(module.rfind('_') + 1)) + 1);
+  const std::string path = rules_.write("missions/tank/m.pl",
+                                        "mission :- true.\n"
+                                        ":- " +
+                                            next +
+                                            ":include('/etc/hostname').\n"
+                                            ":- system:include('/etc/hostname').\n"
+                                            ":- include('/etc/hostname').\n");
+  const std::string text = failed_load(path, LoadLimits{});
+  const std::string column = std::to_string(4 + next.size() + 1);
+  EXPECT_NE(text.find("m.pl:2:" + column + ": error: include/1 of `'/etc/hostname'` run as a goal"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("m.pl:3:11: error: include/1 of `/etc/hostname`: a mission loads only"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("m.pl:4:4: error: include/1 of `/etc/hostname`: a mission loads only"), std::string::npos)
+      << text;
+  EXPECT_EQ(errors_in(text), 3U) << text;
+}
+
+// load_files/2 loads a file being loaded again unless told if(not_loaded)
+// (then it is skipped, as ensure_loaded/1 is).
+TEST_F(PrologMissionTest, load_files_of_a_file_being_loaded_is_a_loop_unless_only_if_not_loaded) {
+  EXPECT_TRUE(load_ok(rules_.write("n.pl", "mission :- true.\n:- load_files(n, [if(not_loaded)]).\n")));
+  const std::string text = failed_load(rules_.write("o.pl", "mission :- true.\n:- load_files(o, []).\n"), LoadLimits{});
+  EXPECT_NE(text.find("o.pl:2:4: error: load_files/2 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("a loop: that file is being loaded already (o.pl:2 -> o.pl)"), std::string::npos) << text;
+}
+
 // Regression: SWI-Prolog 9.0.4's reader read freed memory (ASan
 // heap-use-after-free in strtol, from raw_read2's atoi) on a digit followed
 // by a quote when the clause's buffer had just grown; prolog_fuzz found it.

@@ -91,7 +91,7 @@ link_library_predicate(Module, From, Name/Arity) :-
            stop_place/2,         % File, Line: where a stop while loading happened
            flag_baseline/2,      % Flag, Value: as before any mission (restore_flags/0)
            load_effect/2,        % Module, Directive: its load ran more than declarations
-           include_refused/2,    % Module, Spec: an include/1 refused, not to be reported twice
+           include_refused/2,    % Module, Spec: an include/1 refused as read, not to be reported twice
            load_resolution/2.    % Module, Resolution: a file name its load resolved
 
                  /*******************************

@@ -88,8 +88,9 @@ user:prolog_load_file(Module:Spec, Options) :-
     mission_file(Mission, Abs),
     !,
     assertz(load_resolution(Mission, file(Spec, Dir, Abs))),
-    (   memberchk(if(not_loaded), Options),     % ensure_loaded/1 of a file being loaded:
-        loading_cycle(Mission, Abs, _)          % it is, as in SWI-Prolog
+    (   memberchk(if(If), Options),             % ensure_loaded/1 of a file being loaded:
+        If \== true,                            % it is, as in SWI-Prolog
+        loading_cycle(Mission, Abs, _)
     ->  true
     ;   load_mission_file(Module, Abs, Options)
     ).

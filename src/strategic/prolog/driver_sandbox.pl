@@ -117,7 +117,7 @@ mission_directive(M, Q:Directive) :-
 mission_directive(M, use_module(Spec)) :- !, library_directive(M, use_module/1, Spec).
 mission_directive(M, use_module(Spec, _)) :- !, library_directive(M, use_module/2, Spec).
 mission_directive(M, ensure_loaded(Spec)) :- !, library_directive(M, ensure_loaded/1, Spec).
-mission_directive(M, load_files(Spec, _)) :- !, library_directive(M, load_files/2, Spec).
+mission_directive(M, load_files(Spec, Options)) :- !, library_directive(M, load_files(Options), Spec).
 mission_directive(M, consult(Spec)) :- !, consult_directive(M, consult/1, Spec).
 mission_directive(M, include(Spec)) :- !, include_directive(M, Spec).
 mission_directive(M, [H|T]) :- !, consult_directive(M, consult/1, [H|T]).
@@ -132,7 +132,7 @@ mission_directive(M, initialization(Goal)) :- !,
 mission_directive(M, initialization(Goal, now)) :- !,
     safe_goal(M:Goal).
 
-library_directive(M, PI, Spec) :-
+library_directive(M, How, Spec) :-
     (   Spec = library(Name), atom(Name)
     ->  (   allowed_library(Name)
         ->  true
@@ -140,29 +140,55 @@ library_directive(M, PI, Spec) :-
             atomic_list_concat(Ls, ', ', Allowed),
             refuse(library(Name), "library(~w) is not allowed in a mission (allowed: ~w)", [Name, Allowed])
         )
-    ;   consult_directive(M, PI, Spec)
+    ;   consult_directive(M, How, Spec)
     ).
 
 % SWI-Prolog asks about an include/1 twice: as it reads the term (a valid
-% one is read in place), then, when that refused it, as a directive to
-% run. The second asking gets a refusal that is not reported again (the
-% message hook drops it, driver_load.pl), so the refusal is said once, at
-% its place, and include/1 is not run as a goal.
+% one is read in place and never run), then, when that refused it, as a
+% directive to run ('$execute_directive_3'/1). Run as a goal, include/1
+% does nothing (it is no predicate: "Unknown procedure"), so that asking
+% is always refused: silently when the reading refused the same include
+% just before (the message hook drops strata_refused_again, driver_load.pl),
+% so a refusal is said once, at its place; with its own reason otherwise
+% (an include qualified by a module is never read in place).
 include_directive(M, Spec) :-
-    (   retract(include_refused(M, Spec))
-    ->  throw(error(strata_refused_again, _))
-    ;   catch(consult_directive(M, include/1, Spec), E,
+    (   running_a_directive
+    ->  (   clause(include_refused(M, Refused), true, Ref),
+            Refused =@= Spec
+        ->  erase(Ref),
+            throw(error(strata_refused_again, _))
+        ;   refuse(include/1, "include/1 of `~q` run as a goal: write it as a directive of its own, \c
+                               `:- include(File).`", [Spec])
+        )
+    ;   retractall(include_refused(M, _)),
+        catch(consult_directive(M, include/1, Spec), E,
               ( assertz(include_refused(M, Spec)), throw(E) ))
+    ).
+
+% Whether the nearest of the two askings' callers is the one that runs a
+% directive (a file consulted by a directive is read under that one).
+running_a_directive :-
+    prolog_current_frame(Frame),
+    nearest_asking(Frame, system:'$execute_directive_3'/1).
+
+nearest_asking(Frame, Asking) :-
+    prolog_frame_attribute(Frame, parent, Parent),
+    (   prolog_frame_attribute(Parent, predicate_indicator, PI),
+        memberchk(PI, [system:'$execute_directive_3'/1, system:'$expanded_term'/10])
+    ->  PI == Asking
+    ;   nearest_asking(Parent, Asking)
     ).
 
 % consult/1 of the mission's own files: a .pl file in the folder of the
 % mission's file or in a folder beside it (sonar_search.pl consults
-% ../tank/phases). The file is itself loaded sandboxed.
+% ../tank/phases). The file is itself loaded sandboxed. How is the
+% directive's name and arity, or load_files(Options).
 consult_directive(_, _, []) :- !.
-consult_directive(M, PI, [H|T]) :- !,
-    consult_directive(M, PI, H),
-    consult_directive(M, PI, T).
-consult_directive(M, PI, Spec) :-
+consult_directive(M, How, [H|T]) :- !,
+    consult_directive(M, How, H),
+    consult_directive(M, How, T).
+consult_directive(M, How, Spec) :-
+    (   How = load_files(_) -> PI = load_files/2 ; PI = How ),
     (   ( atom(Spec) ; string(Spec) )
     ->  true
     ;   refuse(PI, "~w of `~q`: a mission loads its own files by name", [PI, Spec])
@@ -175,8 +201,7 @@ consult_directive(M, PI, Spec) :-
         ;   refuse(PI, "~w of `~w`: a mission loads only .pl files in its folder \c
                          or a folder beside it", [PI, Abs])
         ),
-        (   PI \== ensure_loaded/1,       % that one is skipped (driver_load.pl)
-            PI \= use_module/_,
+        (   \+ once_only(How),           % those are skipped (driver_load.pl)
             loading_cycle(M, Abs, Path)
         ->  refuse(PI, "~w of `~w`: a loop: that file is being loaded already (~w); \c
                          a file cannot load itself, directly or through others", [PI, Abs, Path])
@@ -191,6 +216,15 @@ consult_directive(M, PI, Spec) :-
         )
     ;   true                    % not there: consult/1 says so, with the place
     ).
+
+% Loads a file only when it is not loaded yet: a file being loaded is
+% skipped, as in SWI-Prolog, rather than refused as a loop.
+once_only(ensure_loaded/1).
+once_only(use_module/_).
+once_only(load_files(Options)) :-
+    is_list(Options),
+    memberchk(if(How), Options),
+    How \== true.
 
 %!  loading_cycle(+Module, +File, -Path) is semidet.
 %
