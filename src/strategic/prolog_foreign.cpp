@@ -2,8 +2,10 @@
 // '$strata_phase'/2, '$strata_guards_open'/2, '$strata_guards_close'/2,
 // '$strata_scan'/2, '$strata_library'/1): where the rules reach the host that
 // runs them (docs/prolog.md).
+#include <cstdlib>
 #include <filesystem>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -229,6 +231,18 @@ foreign_t pl_strata_library(term_t dirs_t) {
   return PL_unify(dirs_t, list);
 }
 
+// '$strata_real_path'(+Path, -Real): Path with every symbolic link and
+// `.`/`..` resolved (realpath(3)); fails when Path does not exist. The
+// check of which files a mission may load compares real paths, so a link
+// in the mission's folder to a file elsewhere is outside it.
+foreign_t pl_strata_real_path(term_t path_t, term_t real_t) {
+  char* path = nullptr;
+  if (!PL_get_chars(path_t, &path, CVT_ATOM | CVT_STRING | REP_UTF8 | CVT_EXCEPTION)) return FALSE;
+  const std::unique_ptr<char, decltype(&std::free)> real(::realpath(path, nullptr), &std::free);
+  if (!real) return FALSE;
+  return PL_unify_chars(real_t, PL_ATOM | REP_UTF8, static_cast<std::size_t>(-1), real.get());
+}
+
 }  // namespace
 
 void set_running_host(PrologHost* host) { g_host = host; }
@@ -243,6 +257,8 @@ void register_foreign_predicates() {
   PL_register_foreign_in_module("strata_driver", "$strata_scan", 2, reinterpret_cast<pl_function_t>(pl_strata_scan), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_library", 1,
                                 reinterpret_cast<pl_function_t>(pl_strata_library), 0);
+  PL_register_foreign_in_module("strata_driver", "$strata_real_path", 2,
+                                reinterpret_cast<pl_function_t>(pl_strata_real_path), 0);
   PL_register_foreign_in_module("strata_driver", "$strata_phase", 2, reinterpret_cast<pl_function_t>(pl_strata_phase),
                                 0);
   PL_register_foreign_in_module("strata_driver", "$strata_guards_open", 2,

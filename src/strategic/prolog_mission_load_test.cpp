@@ -3,7 +3,9 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -195,6 +197,38 @@ TEST_F(PrologMissionTest, load_files_of_a_file_being_loaded_is_a_loop_unless_onl
   const std::string text = failed_load(rules_.write("o.pl", "mission :- true.\n:- load_files(o, []).\n"), LoadLimits{});
   EXPECT_NE(text.find("o.pl:2:4: error: load_files/2 of"), std::string::npos) << text;
   EXPECT_NE(text.find("a loop: that file is being loaded already (o.pl:2 -> o.pl)"), std::string::npos) << text;
+}
+
+// Regression: a link in the mission's folder to a file elsewhere passed
+// the folder check (it compared the path as written), and the file was
+// read as rules: its text showed in the syntax errors (a repository could
+// plant `evil.pl -> ~/.ssh/id_rsa` for `strata check` or the studio).
+TEST_F(PrologMissionTest, a_link_in_the_missions_folder_to_a_file_outside_is_refused_unread) {
+  const std::string secret = rules_.write("outside/secret.txt", "the secret words\n");
+  rules_.write("missions/tank/keep.pl", "p.\n");
+  std::filesystem::create_symlink(secret, rules_.dir() / "missions/tank/evil.pl");
+  const std::string text =
+      failed_load(rules_.write("missions/tank/m.pl", "mission :- p.\n:- consult(evil).\n"), LoadLimits{});
+  EXPECT_NE(text.find("m.pl:2:4: error: consult/1 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("evil.pl`: a link to `"), std::string::npos) << text;
+  EXPECT_EQ(text.find("secret words"), std::string::npos) << text;
+}
+
+// Regression: with the mission's folder reached through a linked folder,
+// whether its own consult/1 passed depended on how the path and the
+// working folder spelt it (`cd LINK/tank && strata check m.pl` refused it).
+TEST_F(PrologMissionTest, a_mission_in_a_linked_folder_loads_its_own_files_from_any_working_folder) {
+  rules_.write("real/tank/helper.pl", "p.\n");
+  rules_.write("real/tank/m.pl", "mission :- p.\n:- consult(helper).\n");
+  std::filesystem::create_directory_symlink(rules_.dir() / "real", rules_.dir() / "link");
+  const std::filesystem::path before = std::filesystem::current_path();
+  for (const auto& [cwd, path] : {std::pair{rules_.dir() / "link/tank", std::string("m.pl")},
+                                  std::pair{rules_.dir() / "real/tank", (rules_.dir() / "link/tank/m.pl").string()},
+                                  std::pair{rules_.dir() / "link/tank", (rules_.dir() / "real/tank/m.pl").string()}}) {
+    std::filesystem::current_path(cwd);
+    EXPECT_TRUE(load_ok(path)) << "in " << cwd << ": " << path;
+  }
+  std::filesystem::current_path(before);
 }
 
 // Regression: SWI-Prolog 9.0.4's reader read freed memory (ASan

@@ -111,17 +111,29 @@ resolves_again(phase(Name, Abs)) :-
 
 % Abs is one of the files a mission may load: a .pl file in the folder of
 % the mission's file or in a folder beside it (consult_directive/2), or a
-% phase of the library (use_phase/1).
+% phase of the library (use_phase/1). Both are compared as real paths
+% (symbolic links resolved): a link in the folder to a file elsewhere is
+% outside it (its text showed in the load's syntax errors), and a folder
+% reached through a link is the folder it names, however the mission's
+% path and the working folder spell it.
 mission_file(_, Abs) :-
     library_file(Abs),
     !.
 mission_file(M, Abs) :-
     file_name_extension(_, pl, Abs),
-    mission_root(M, Root),   % Root's parent holds Root, and the folders beside it
+    mission_root(M, Root0),  % Root's parent holds Root, and the folders beside it
+    real_path(Root0, Root),
+    real_path(Abs, Real),
     file_directory_name(Root, Parent),
     Parent \== '/',
     atom_concat(Parent, '/', Under),            % not /m/tank_evil for /m/tank
-    sub_atom(Abs, 0, _, _, Under).
+    sub_atom(Real, 0, _, _, Under).
+
+real_path(Path, Real) :-
+    (   current_predicate(strata_driver:'$strata_real_path'/2)
+    ->  '$strata_real_path'(Path, Real)
+    ;   Real = Path             % without the host (plunit): as written
+    ).
 
 %!  library_phase_file(+Name, -Abs) is semidet.
 %

@@ -198,6 +198,10 @@ consult_directive(M, How, Spec) :-
                                         access(read), file_errors(fail) ])
     ->  (   mission_file(M, Abs)          % first: a file outside is not even scanned
         ->  true
+        ;   real_path(Abs, Real),
+            Real \== Abs
+        ->  refuse(PI, "~w of `~w`: a link to `~w`; a mission loads only .pl files in its \c
+                         folder or a folder beside it, links resolved", [PI, Abs, Real])
         ;   refuse(PI, "~w of `~w`: a mission loads only .pl files in its folder \c
                          or a folder beside it", [PI, Abs])
         ),
