@@ -1,7 +1,7 @@
 // The driver's foreign predicates ('$strata_call'/3, '$strata_report'/2,
 // '$strata_phase'/2, '$strata_guards_open'/2, '$strata_guards_close'/2,
-// '$strata_scan'/2, '$strata_library'/1): where the rules reach the host that
-// runs them (docs/prolog.md).
+// '$strata_scan'/2, '$strata_library'/1, '$strata_real_path'/2): where the
+// rules reach the host that runs them (docs/prolog.md).
 #include <cstdlib>
 #include <filesystem>
 #include <cstdint>
