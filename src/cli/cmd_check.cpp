@@ -34,6 +34,30 @@ struct CheckOptions {
   VerbosityFlags verbosity;
 };
 
+// What makes two diagnostics the same problem: its file, place, kind and text.
+using DiagnosticKey = std::tuple<std::string, std::uint32_t, int, std::string>;
+
+DiagnosticKey key_of(const core::SourceManager& sources, const core::Diagnostic& d) {
+  std::string path = d.span.file < sources.size() ? sources.path(d.span.file) : "";
+  return {std::move(path), d.span.offset, static_cast<int>(d.kind), d.message};
+}
+
+// A file's errors and warnings, each problem once: a file its rules load
+// twice says the same thing twice, and the report shows it once.
+struct Counts {
+  std::size_t errors = 0, warnings = 0;
+};
+Counts distinct_counts(const core::SourceManager& sources, const core::DiagnosticSink& sink) {
+  std::set<DiagnosticKey> seen;
+  Counts counts;
+  for (const auto& d : sink.diagnostics()) {
+    if (!seen.insert(key_of(sources, d)).second) continue;
+    if (d.severity == core::Severity::Error) ++counts.errors;
+    if (d.severity == core::Severity::Warning) ++counts.warnings;
+  }
+  return counts;
+}
+
 // Diagnostics of all roots, with a problem found through two roots (a phase
 // file checked alone and through the mission that imports it) shown once.
 class Report {
@@ -41,9 +65,7 @@ class Report {
   explicit Report(std::string_view command) : command_(command) {}
   void add(const core::SourceManager& sources, const core::DiagnosticSink& sink) {
     for (const auto& d : sink.diagnostics()) {
-      std::string path = d.span.file < sources.size() ? sources.path(d.span.file) : "";
-      auto key = std::make_tuple(path, d.span.offset, static_cast<int>(d.kind), d.message);
-      if (!seen_.insert(key).second) continue;
+      if (!seen_.insert(key_of(sources, d)).second) continue;
       if (d.severity == core::Severity::Error) ++errors_;
       if (d.severity == core::Severity::Warning) ++warnings_;
       if (d.kind == core::DiagnosticKind::FileUnreadable && d.span.file >= sources.size()) {
@@ -61,7 +83,7 @@ class Report {
 
  private:
   std::string_view command_;
-  std::set<std::tuple<std::string, std::uint32_t, int, std::string>> seen_;
+  std::set<DiagnosticKey> seen_;
   std::size_t errors_ = 0, warnings_ = 0;
   bool unreadable_root_ = false;
   std::ostringstream text_;
@@ -117,13 +139,14 @@ int run_check(const CheckOptions& o) {
       }
       if (!rules && rules.error().code == core::ErrorCode::Io) rules_unreadable = true;
       report.add(sources, sink);
+      const Counts counts = distinct_counts(sources, sink);
       files.push_back(nlohmann::json{{"file", file},
                                      {"language", "prolog"},
                                      {"ok", rules.ok()},
-                                     {"errors", sink.error_count()},
-                                     {"warnings", sink.warning_count()}});
+                                     {"errors", counts.errors},
+                                     {"warnings", counts.warnings}});
       summaries.push_back(rules ? fmt::format("{}: ok (PROLOG rules, mission {})", file, rules.value()->name())
-                                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
+                                : fmt::format("{}: {}", file, plural(counts.errors, "error")));
       if (rules && &file == &o.files.back()) rules.value()->leave_open_to_exit();
       continue;
     }
@@ -132,6 +155,7 @@ int run_check(const CheckOptions& o) {
     auto program = coral::compile_file(file, disk, sources, sink, options);
     sink.sort();
     report.add(sources, sink);
+    const Counts counts = distinct_counts(sources, sink);
     std::size_t nets = program ? program->nets.size() : 0;
     std::size_t transitions = 0;
     if (program) {
@@ -142,11 +166,11 @@ int run_check(const CheckOptions& o) {
                                    {"ok", program.has_value()},
                                    {"nets", nets},
                                    {"transitions", transitions},
-                                   {"errors", sink.error_count()},
-                                   {"warnings", sink.warning_count()}});
+                                   {"errors", counts.errors},
+                                   {"warnings", counts.warnings}});
     summaries.push_back(
         program ? fmt::format("{}: ok ({}, {})", file, plural(nets, "net"), plural(transitions, "transition"))
-                : fmt::format("{}: {}", file, plural(sink.error_count(), "error")));
+                : fmt::format("{}: {}", file, plural(counts.errors, "error")));
   }
   if (o.format == "json") {
     nlohmann::json out = {

@@ -1,0 +1,2 @@
+p.
+:- system:include('/etc/hostname').
