@@ -1,6 +1,4 @@
 #pragma once
-#include <sys/socket.h>
-
 // `strata studio`'s HTTP server (docs/studio.md): the page, the JSON API and
 // the Server-Sent Events stream of a run, on 127.0.0.1 by default.
 //
@@ -13,6 +11,8 @@
 // thread of its own; requests are served by a pool of `threads` workers
 // (each open event stream holds one). stop() ends every stream, stops the
 // listener and joins it; it is safe to call twice, and from the destructor.
+#include <sys/socket.h>
+
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
