@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -144,6 +145,33 @@ TEST_F(PrologMissionTest, an_include_loop_through_a_consulted_file_names_the_who
   const std::string text = failed_load(rules_.write("a.pl", "mission :- p.\n:- consult(b).\n"), LoadLimits{});
   EXPECT_NE(text.find("c.pl:2:4: error: include/1 of"), std::string::npos) << text;
   EXPECT_NE(text.find("(a.pl:2 -> b.pl:2 -> c.pl:2 -> b.pl)"), std::string::npos) << text;
+}
+
+// A chain of 300 files, each including the next: it loads, and a loop
+// closed at its far end is found, naming its whole way. (Before the loop
+// check looked at its own directive first, the chain took 2.3 s instead of
+// 0.2 s: every include resolved every file above it. That speed is
+// measured, not tested here.)
+TEST_F(PrologMissionTest, a_chain_of_300_includes_loads_and_a_loop_at_its_end_is_found) {
+  constexpr int kDepth = 300;
+  for (int i = 1; i <= kDepth; ++i) {
+    rules_.write("f" + std::to_string(i) + ".pl",
+                 "p" + std::to_string(i) + ".\n" +
+                     (i < kDepth ? ":- include(f" + std::to_string(i + 1) + ").\n" : std::string()));
+  }
+  LoadLimits limits;
+  limits.time = std::chrono::seconds(120);  // a bound on a broken build, not a speed limit
+  const std::string top = rules_.write("f0.pl", "mission :- p300.\n:- include(f1).\n");
+  {
+    prolog_mission_testing::Reported loaded;
+    auto m = PrologMission::load(top, tactical::Catalogue::builtin(), loaded.sources, loaded.sink, limits);
+    EXPECT_TRUE(m.ok()) << loaded.text();
+  }  // closed: the same file loads again below
+  rules_.write("f300.pl", "p300.\n:- include(f150).\n");
+  const std::string text = failed_load(top, limits);
+  EXPECT_NE(text.find("f300.pl:2:4: error: include/1 of"), std::string::npos) << text.substr(0, 2000);
+  EXPECT_NE(text.find("(f0.pl:2 -> f1.pl:2 -> "), std::string::npos) << text.substr(0, 2000);
+  EXPECT_NE(text.find("-> f299.pl:2 -> f300.pl:2 -> f150.pl)"), std::string::npos) << text.substr(0, 2000);
 }
 
 // ensure_loaded/1 of a file that is being loaded does nothing, as in

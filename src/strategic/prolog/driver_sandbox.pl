@@ -240,8 +240,14 @@ once_only(load_files(Options)) :-
 %   outermost first (`a.pl:2 -> b.pl:1 -> a.pl`).
 loading_cycle(M, File, Path) :-
     prolog_load_context(file, Current),
-    source_location(_, Line),
     '$input_context'(Context),
+    % Cheap first: the path below resolves every file on the way (realpath),
+    % which a chain of 300 includes paid at each of its directives (2 s).
+    (   File == Current
+    ->  true
+    ;   memberchk(input(_, File, _, _), Context)
+    ),
+    source_location(_, Line),
     findall(F-L, ( member(input(_, F, L, _), Context), atom(F), mission_file(M, F) ), Inner),
     reverse(Inner, Outer),
     append(Outer, [Current-Line], Open),
