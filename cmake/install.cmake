@@ -11,7 +11,7 @@ include(GNUInstallDirs)
 # each link (src/cli/CMakeLists.txt), into:
 set(STRATA_GEN_DIR ${PROJECT_BINARY_DIR}/generated)
 
-install(TARGETS strata RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS strata strata-pnml RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # The studio's HTTP server, loaded by strata from BINDIR/../LIBDIR/strata/modules
 # (src/studio/http_module.h). Two folders below LIBDIR, not one: CPack
 # (CPackDeb.cmake) has the package run ldconfig on install and removal for

@@ -1,7 +1,15 @@
-# strata_cli_cases(TABLE): one ctest case, cli.NAME, per row of a
-# tab-separated table of the CLI's contract (tests/cli_cases.tsv says its
-# columns), each run on the real binary by tests/run_cli.cmake.
+# strata_cli_cases(TABLE [PROGRAM TARGET PREFIX P]): one ctest case, cli.NAME
+# (P.NAME), per row of a tab-separated table of the CLI's contract
+# (tests/cli_cases.tsv says its columns), each run on the real binary, strata
+# (TARGET), by tests/run_cli.cmake.
 function(strata_cli_cases table)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "PROGRAM;PREFIX" "")
+  if(NOT arg_PROGRAM)
+    set(arg_PROGRAM strata)
+  endif()
+  if(NOT arg_PREFIX)
+    set(arg_PREFIX cli)
+  endif()
   # Read as text, with the characters a CMake list treats specially ([, ]
   # and ;) kept out of the way until each column is taken.
   file(READ ${table} text)
@@ -47,15 +55,17 @@ function(strata_cli_cases table)
     if(err STREQUAL "-")
       set(err_arg "-DSTDERR_ANY=1")
     endif()
-    add_test(NAME cli.${name}
-             COMMAND ${CMAKE_COMMAND} -DSTRATA=$<TARGET_FILE:strata> -DEXPECT=${expect} "-DARGS=${args}"
-                     "${out_arg}" "${err_arg}" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_cli.cmake)
-    set_tests_properties(cli.${name} PROPERTIES ENVIRONMENT "${STRATA_TEST_ENV}")
+    set(name ${arg_PREFIX}.${name})
+    add_test(NAME ${name}
+             COMMAND ${CMAKE_COMMAND} -DSTRATA=$<TARGET_FILE:${arg_PROGRAM}> -DPROGRAM=${arg_PROGRAM}
+                     -DEXPECT=${expect} "-DARGS=${args}" "${out_arg}" "${err_arg}"
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/run_cli.cmake)
+    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${STRATA_TEST_ENV}")
     # A run starts threads: such a case also runs under TSan, except the
     # survey's, whose threads are the tank runs' over a much longer mission
     # (51 s of the tsan tests for no thread of their own).
     if(args MATCHES "^(run|compare|sonar|studio|campaign);" AND NOT args MATCHES "/missions/survey/")
-      set_tests_properties(cli.${name} PROPERTIES LABELS threads)
+      set_tests_properties(${name} PROPERTIES LABELS threads)
     endif()
   endforeach()
 endfunction()

@@ -88,6 +88,7 @@ LINES = {
         "build/release/bench/link_bench": ("bench",),
         "build/release/bench/question_bench": ("bench",),
         "build/release/bench/open_water_bench": ("bench",),
+        "build/release/bench/startup_bench --benchmark_counters_tabular=true": ("bench",),
     },
     "install.md": {
         "cmake --preset package && cmake --build --preset package": ("presets", "configure:package", "build:package"),

@@ -9,7 +9,9 @@ src/cli/cli_docs.h); this checks the result, not the intent:
   - each command's options (every spelling) and arguments, with their help
     text and default, are in its man page, and the man page has no option
     the command does not take;
-  - the exit codes `--help` ends with are in the man page.
+  - the exit codes `--help` ends with are in the man page;
+  - the same for the programs of their own beside strata (strata-pnml),
+    each with its page PROGRAM.1.
 
   help_agrees.py STRATA MAN_DIR
 """
@@ -82,13 +84,41 @@ def footer(help_text):
     return words(parts[-1])
 
 
+# Programs of their own installed beside strata, each with a page
+# PROGRAM.1 written by `strata manpages` (cli/pnml_verify.h).
+PROGRAMS = ["strata-pnml"]
+
+
+def check_page(text, page, page_name, command, failures):
+    """What `COMMAND --help` (text) says, the page says, and no more options."""
+    secs = sections(text)
+    for spellings, description in secs.get("Options", []) + secs.get("Positionals", []):
+        opt = re.sub(r"\s+(TEXT|FLOAT|UINT|INT|ENUM|\[.*\]).*$", "", spellings)
+        opt = re.sub(r"\s+Excludes:.*$", "", opt)
+        for s in re.findall(r"--?[\w-]+|^\w+$", opt):
+            if s not in page:
+                failures.append(f"{page_name} lacks {s} (`{command} --help` has it)")
+        d = words(re.sub(r"\s*Excludes: \S+", "", description))
+        d = re.sub(r"^(TEXT|FLOAT|UINT|INT)(:.*?)?(=\S+)?\s+", "", d)
+        if d and d not in page:
+            failures.append(f"{page_name} does not say what `{command} --help` says of {opt}: {d}")
+    taken = set(re.findall(r"(?<![\w-])--[\w][\w-]*", text))
+    for s in sorted(set(re.findall(r"(?<![\w-])--[\w][\w-]*", page)) - taken):
+        # Options named in prose of another command ("`strata run --vehicle`") are fine.
+        if not re.search(rf"strata \w+ [^`]*{re.escape(s)}", page) and s not in text:
+            failures.append(f"{page_name} names {s}, which `{command} --help` does not")
+    if footer(text) not in page:
+        failures.append(f"{page_name} lacks the exit codes of `{command} --help`: {footer(text)}")
+
+
 def main():
     strata, man_dir = sys.argv[1], sys.argv[2]
     failures = []
     top = run(strata, "--help")
     commands = [(c.split()[0], words(d)) for c, d in sections(top)["Subcommands"]]
     pages = sorted(f[len("strata-"):].split(".")[0] for f in os.listdir(man_dir)
-                   if f.startswith("strata-") and (f.endswith(".1") or f.endswith(".1.gz")))
+                   if f.startswith("strata-") and (f.endswith(".1") or f.endswith(".1.gz"))
+                   and f.split(".")[0] not in PROGRAMS)
     if sorted(set(pages)) != sorted(c for c, _ in commands):
         failures.append(f"man pages {sorted(set(pages))} but `strata --help` lists {sorted(c for c, _ in commands)}")
     main_page = man_text(man_dir, "strata.1")
@@ -98,28 +128,16 @@ def main():
     if footer(top) not in main_page:
         failures.append(f"strata.1 lacks the exit codes of `strata --help`: {footer(top)}")
     for name, _ in commands:
-        text = run(strata, name, "--help")
-        if name not in pages:
-            continue  # said above
-        page = man_text(man_dir, f"strata-{name}.1")
-        secs = sections(text)
-        for spellings, description in secs.get("Options", []) + secs.get("Positionals", []):
-            opt = re.sub(r"\s+(TEXT|FLOAT|UINT|INT|ENUM|\[.*\]).*$", "", spellings)
-            opt = re.sub(r"\s+Excludes:.*$", "", opt)
-            for s in re.findall(r"--?[\w-]+|^\w+$", opt):
-                if s not in page:
-                    failures.append(f"strata-{name}.1 lacks {s} (`strata {name} --help` has it)")
-            d = words(re.sub(r"\s*Excludes: \S+", "", description))
-            d = re.sub(r"^(TEXT|FLOAT|UINT|INT)(:.*?)?(=\S+)?\s+", "", d)
-            if d and d not in page:
-                failures.append(f"strata-{name}.1 does not say what `strata {name} --help` says of {opt}: {d}")
-        taken = set(re.findall(r"(?<![\w-])--[\w][\w-]*", text))
-        for s in sorted(set(re.findall(r"(?<![\w-])--[\w][\w-]*", page)) - taken):
-            # Options named in prose of another command ("`strata run --vehicle`") are fine.
-            if not re.search(rf"strata \w+ [^`]*{re.escape(s)}", page) and s not in text:
-                failures.append(f"strata-{name}.1 names {s}, which `strata {name} --help` does not")
-        if footer(text) not in page:
-            failures.append(f"strata-{name}.1 lacks the exit codes of `strata {name} --help`: {footer(text)}")
+        if name in pages:  # else said above
+            check_page(run(strata, name, "--help"), man_text(man_dir, f"strata-{name}.1"), f"strata-{name}.1",
+                       f"strata {name}", failures)
+    # The programs of their own, beside strata, each with its page.
+    for program in PROGRAMS:
+        path = os.path.join(os.path.dirname(strata), program)
+        if not any(f.startswith(program + ".1") for f in os.listdir(man_dir)):
+            failures.append(f"no man page {program}.1")
+            continue
+        check_page(run(path, "--help"), man_text(man_dir, f"{program}.1"), f"{program}.1", program, failures)
     for f in failures:
         print(f, file=sys.stderr)
     print(f"{len(commands)} commands: {len(failures)} disagreements")

@@ -44,7 +44,7 @@ endif()
 # What must be there, at the standard places.
 set(strata ${root}/usr/bin/strata)
 foreach(f usr/bin/strata usr/share/man/man1/strata.1.gz usr/share/man/man1/strata-run.1.gz
-          usr/share/man/man1/strata-verify.1.gz usr/share/bash-completion/completions/strata
+          usr/share/man/man1/strata-verify.1.gz usr/bin/strata-pnml usr/share/man/man1/strata-pnml.1.gz usr/share/bash-completion/completions/strata
           usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
           usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
           usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl
@@ -102,6 +102,22 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=STRATA_PROLOG_DRIVER ${s
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR err MATCHES "note:")
   fail("strata check of the installed tank rules with the installed driver: exit ${rc}\n${out}${err}")
+endif()
+# strata-pnml from the installed files: a net of its own explored.
+file(WRITE ${root}/two.pnml [=[<?xml version="1.0"?>
+<pnml xmlns="http://www.pnml.org/version-2009/grammar/pnml">
+ <net id="two" type="http://www.pnml.org/version-2009/grammar/ptnet"><page id="g">
+  <place id="a"><initialMarking><text>1</text></initialMarking></place>
+  <place id="b"/>
+  <transition id="t"/>
+  <arc id="e1" source="a" target="t"/><arc id="e2" source="t" target="b"/>
+ </page></net>
+</pnml>
+]=])
+execute_process(COMMAND ${root}/usr/bin/strata-pnml ${root}/two.pnml --format json
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "\"states\": 2,.*\"deadlock\": true")
+  fail("strata-pnml of a net from the installed files: exit ${rc}\n${out}${err}")
 endif()
 execute_process(COMMAND ${strata} --version OUTPUT_VARIABLE version)
 if(NOT version MATCHES "^strata [0-9]+\\.[0-9]+\\.[0-9]+ \\([^)]+\\)")

@@ -63,6 +63,7 @@ TOUR = {
     "strata run missions/tank/tank.coral --answers w.json": (1, r"^mission tank: failed"),
     "strata verify --pnml tests/verify/mutex.pnml --format json": (0, r'"states": 3'),
     "strata verify --pnml tests/verify/mutex.pnml --question deadlock": (0, r"answer\s+no"),
+    "strata-pnml tests/verify/mutex.pnml": (0, r"states\s+3"),
     "strata studio missions": ("serve", r"http://127\.0\.0\.1:\d+"),
     # Ctrl-C once the run has ended (the studio may serve on after it).
     "strata run missions/tank/tank.coral --studio --speed 10": ("serve", r"http://127\.0\.0\.1:\d+",

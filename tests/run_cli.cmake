@@ -1,5 +1,5 @@
 cmake_policy(SET CMP0057 NEW)  # if(... IN_LIST ...)
-# Runs ${STRATA} with ${ARGS} (a ;-list) and checks the exit code against
+# Runs ${STRATA} (the program ${PROGRAM}, strata when not given) with ${ARGS} (a ;-list) and checks the exit code against
 # ${EXPECT}, and optionally stdout/stderr against regexes (STDOUT_MATCH,
 # STDERR_MATCH; STDERR_NOT_MATCH: one stderr must not match).
 execute_process(COMMAND ${STRATA} ${ARGS}
@@ -39,7 +39,9 @@ elseif(EXPECT MATCHES "^(64|65|69|70|74)$" AND NOT ("${ARGS}" MATCHES "(^|;)--fo
   endforeach()
   set(_commands check dump run compare verify export studio vehicle primitives library sonar plot campaign config
                 completion manpages)
-  if(_sub IN_LIST _commands)
+  if(DEFINED PROGRAM AND NOT PROGRAM STREQUAL "strata")
+    set(_voice "${PROGRAM}: ")   # a program of its own (strata-pnml)
+  elseif(_sub IN_LIST _commands)
     set(_voice "strata ${_sub}( [a-z]+)?: ")
   else()
     set(_voice "strata: ")

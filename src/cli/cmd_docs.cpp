@@ -11,6 +11,7 @@
 #include "cli/cli_docs.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/pnml_verify.h"
 #include "core/file.h"
 
 namespace strata::cli {
@@ -59,7 +60,8 @@ Runner add_docs_commands(CLI::App& app, const std::string& version) {
     std::string completions;
   };
   auto pages = std::make_shared<Pages>();
-  auto* manpages = app.add_subcommand("manpages", "Write the man pages (strata.1, strata-COMMAND.1) into a folder");
+  auto* manpages =
+      app.add_subcommand("manpages", "Write the man pages (strata.1, strata-COMMAND.1, strata-pnml.1) into a folder");
   manpages->group("");  // hidden: the build's tool (cmake/install.cmake)
   manpages->add_option("dir", pages->dir, "The folder")->required();
   manpages->add_option("--date", pages->date, "The pages' date (default: today, UTC)");
@@ -71,7 +73,12 @@ Runner add_docs_commands(CLI::App& app, const std::string& version) {
       std::cout << (*shell == "bash" ? bash_completion(app) : zsh_completion(app));
       return static_cast<int>(kExitOk);
     }
-    const int rc = write_files(pages->dir, man_pages(app, version, pages->date.empty() ? today() : pages->date));
+    const std::string date = pages->date.empty() ? today() : pages->date;
+    std::vector<GeneratedFile> written = man_pages(app, version, date);
+    // strata-pnml's page, from its own command line (cli/pnml_verify.h).
+    for (GeneratedFile& page : man_pages(PnmlCommandLine(version).app, version, date))
+      written.push_back(std::move(page));
+    const int rc = write_files(pages->dir, written);
     if (rc != kExitOk || pages->completions.empty()) return rc;
     return write_files(pages->completions, {{"strata.bash", bash_completion(app)}, {"_strata", zsh_completion(app)}});
   };

@@ -52,12 +52,39 @@ const CLI::App* named_command(const CLI::App& app, int argc, const char* const* 
   return at;
 }
 
+// "PATH: unknown option '--nte': did you mean '--net'?" for each option
+// from argv[from] on that command does not know, and where to look.
+std::vector<std::string> unknown_options(const CLI::App& command, const std::string& path, int from, int argc,
+                                         const char* const* argv) {
+  std::vector<std::string> hints;
+  const std::vector<std::string> known = option_spellings(command);
+  for (int i = from; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-' || (arg[1] >= '0' && arg[1] <= '9') || arg[1] == '.') continue;
+    if (arg.substr(0, 2) != "--" && arg.size() > 2) continue;  // -abc: short flags together, left to CLI11
+    const std::string name(arg.substr(0, arg.find('=')));
+    bool found = false;
+    for (const auto& k : known) found = found || k == name;
+    if (found) continue;
+    std::string hint = fmt::format("{}: unknown option '{}'", path, name);
+    if (auto s = core::suggest(name, known)) hint += fmt::format(": did you mean '{}'?", *s);
+    hints.push_back(hint);
+  }
+  if (!hints.empty()) hints.push_back(fmt::format("`{} --help` lists its options", path));
+  return hints;
+}
+
 }  // namespace
 
 std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* const* argv) {
   std::vector<std::string> hints;
   if (argc < 2) return hints;
   const std::string first = argv[1];
+  // A program without commands (strata-pnml): its options from the first
+  // argument on.
+  const bool has_commands = !app.get_subcommands([](const CLI::App*) { return true; }).empty();
+  if (!has_commands) return unknown_options(app, app.get_name(), 1, argc, argv);
   if (first.empty() || first[0] == '-') return hints;
   const CLI::App* sub = nullptr;
   for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) {
@@ -73,23 +100,7 @@ std::vector<std::string> usage_hints(const CLI::App& app, int argc, const char* 
   }
   // The command the options belong to: `config show`'s, not `config`'s.
   const std::string path = command_path(app, argc, argv);
-  sub = named_command(app, argc, argv);
-  const std::vector<std::string> known = option_spellings(*sub);
-  for (int i = 2; i < argc; ++i) {
-    std::string_view arg = argv[i];
-    if (arg == "--") break;
-    if (arg.size() < 2 || arg[0] != '-' || (arg[1] >= '0' && arg[1] <= '9') || arg[1] == '.') continue;
-    if (arg.substr(0, 2) != "--" && arg.size() > 2) continue;  // -abc: short flags together, left to CLI11
-    const std::string name(arg.substr(0, arg.find('=')));
-    bool found = false;
-    for (const auto& k : known) found = found || k == name;
-    if (found) continue;
-    std::string hint = fmt::format("{}: unknown option '{}'", path, name);
-    if (auto s = core::suggest(name, known)) hint += fmt::format(": did you mean '{}'?", *s);
-    hints.push_back(hint);
-  }
-  if (!hints.empty()) hints.push_back(fmt::format("`{} --help` lists its options", path));
-  return hints;
+  return unknown_options(*named_command(app, argc, argv), path, 2, argc, argv);
 }
 
 std::string command_path(const CLI::App& app, int argc, const char* const* argv) {
@@ -111,7 +122,7 @@ std::vector<std::string> usage_error(const CLI::App& app, const CLI::ParseError&
   if (!lines.empty()) return lines;
   const std::string path = command_path(app, argc, argv);
   std::string what = error.what();
-  if (path == app.get_name() && argc < 2) {
+  if (path == app.get_name() && argc < 2 && !visible_commands(app).empty()) {
     lines.push_back(fmt::format("{}: give a command: {}", path, join(visible_commands(app))));
     lines.push_back(fmt::format("`{} --help` says what each does", path));
     return lines;
