@@ -138,6 +138,7 @@ Runner add_verify_command(CLI::App& app) {
   cmd->add_option("--max-memory", o->max_memory_mb,
                   "Stop each analysis step before the process would hold more than this many MB (what is not "
                   "settled is then not decided; 0: no limit; default for --pnml: no limit)")
+      ->check(CLI::Range(std::size_t{0}, kMaxMemoryMb))
       ->capture_default_str();
   cmd->add_option("--time-limit", o->time_limit_s,
                   "Stop after this many seconds in all (what is not settled is then not decided; 0: none)")

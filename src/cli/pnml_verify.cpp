@@ -161,6 +161,7 @@ PnmlCommandLine::PnmlCommandLine(const std::string& version)
   app.add_option("--max-memory", options.max_memory_mb,
                  "Stop before the process would hold more than this many MB (what is not settled is then not "
                  "decided; 0: no limit)")
+      ->check(CLI::Range(std::size_t{0}, kMaxMemoryMb))
       ->capture_default_str();
   app.add_option("--time-limit", options.time_limit_s,
                  "Stop after this many seconds (what is not settled is then not decided; 0: none)")

@@ -15,6 +15,10 @@
 
 namespace strata::cli {
 
+// The largest --max-memory, MB (1 PiB): shifted to bytes it still fits, and
+// a negative number is refused rather than wrapped to a huge one.
+inline constexpr std::size_t kMaxMemoryMb = std::size_t{1} << 30;
+
 struct PnmlVerifyOptions {
   std::string path;
   std::string format = "text";    // text | json
