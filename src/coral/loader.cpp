@@ -98,6 +98,8 @@ bool lexically_inside(const std::string& dir, const std::string& path) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
+bool is_coral_file(const std::string& path) { return fs::path(path).extension() == ".coral"; }
+
 class Loader {
  public:
   Loader(const FileProvider& provider, const Library& library, core::SourceManager& sources, core::DiagnosticSink& sink)
@@ -123,6 +125,22 @@ class Loader {
       }
     }
     if (done_.count(key)) return;
+    // An import reads CORAL files only, by the name the file has once its
+    // links are resolved: a mission's folder cannot show another file's
+    // lines in its syntax errors (a link `phases.coral -> ~/.ssh/id_rsa`, an
+    // `import "/etc/passwd";`), which a run of `strata check` in CI would
+    // put in its log. The root is the file the user named.
+    if (from != nullptr && !is_coral_file(key)) {
+      sink_.report(core::DiagnosticKind::FileUnreadable, from->span,
+                   is_coral_file(fs::path(path).lexically_normal().string())
+                       ? fmt::format("'{}' is a link to '{}', which is not a CORAL file (.coral): an import reads "
+                                     "only CORAL files, and this one is not read",
+                                     path, key)
+                       : fmt::format("'{}' is not a CORAL file (.coral): an import reads only CORAL files, and "
+                                     "this one is not read",
+                                     path));
+      return;
+    }
     if (stack_.size() >= kMaxImportDepth) {
       sink_.report(core::DiagnosticKind::ImportTooDeep, from ? from->span : core::SourceSpan{},
                    fmt::format("imports are nested more than {} deep", kMaxImportDepth));

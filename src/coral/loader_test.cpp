@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,64 @@ TEST(Loader, AFifoGivenAsASourceIsAnErrorNotAHang) {
   ASSERT_FALSE(r);
   EXPECT_EQ(core::ErrorCode::Io, r.error().code);
   EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
+}
+
+// A mission's folder could have `strata check` show any readable file's
+// lines in its syntax errors: `import "/etc/passwd";`, or a link
+// `phases.coral -> ~/.ssh/id_rsa` (and CI puts those errors in its log).
+// An import now reads CORAL files only, by the name they have once links
+// are resolved; a link to a CORAL file elsewhere still loads.
+class LoaderOnDisk : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/strata_loader_XXXXXX";
+    ASSERT_NE(nullptr, ::mkdtemp(tmpl));
+    dir_ = tmpl;
+    std::filesystem::create_directories(dir_ / "mission");
+    std::ofstream(dir_ / "secret.txt") << "TOKEN=abc123 do not show\n";
+    std::ofstream(dir_ / "shared.coral")
+        << "net shared { place s = 1; exit e; transition t { wait { s } signal { e } } }\n";
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // The diagnostics of loading mission/m.coral, which imports `import`.
+  std::vector<core::Diagnostic> load_importing(const std::string& import) {
+    std::ofstream(dir_ / "mission/m.coral") << "import \"" << import << "\";\n";
+    DiskFileProvider disk;
+    core::SourceManager sources;
+    core::DiagnosticSink sink;
+    load((dir_ / "mission/m.coral").string(), disk, sources, sink);
+    for (core::FileId f = 0; f < sources.size(); ++f) {
+      EXPECT_EQ(std::string::npos, sources.text(f).find("TOKEN")) << "read: " << sources.path(f);
+    }
+    return sink.diagnostics();
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(LoaderOnDisk, AnImportOfAFileThatIsNotCoralIsRefusedUnread) {
+  for (const std::string& import : {(dir_ / "secret.txt").string(), std::string("../secret.txt")}) {
+    const auto d = load_importing(import);
+    ASSERT_EQ(1u, d.size()) << import;
+    EXPECT_EQ(core::DiagnosticKind::FileUnreadable, d[0].kind);
+    EXPECT_NE(std::string::npos, d[0].message.find("is not a CORAL file (.coral)")) << d[0].message;
+  }
+}
+
+TEST_F(LoaderOnDisk, AnImportThroughALinkToAFileThatIsNotCoralIsRefusedUnreadNamingTheTarget) {
+  std::filesystem::create_symlink(dir_ / "secret.txt", dir_ / "mission/phases.coral");
+  const auto d = load_importing("phases.coral");
+  ASSERT_EQ(1u, d.size());
+  EXPECT_EQ(core::DiagnosticKind::FileUnreadable, d[0].kind);
+  EXPECT_NE(std::string::npos, d[0].message.find("is a link to '" + (dir_ / "secret.txt").string() + "'"))
+      << d[0].message;
+}
+
+TEST_F(LoaderOnDisk, AnImportThroughALinkToACoralFileLoads) {
+  std::filesystem::create_symlink(dir_ / "shared.coral", dir_ / "mission/linked.coral");
+  EXPECT_TRUE(load_importing("linked.coral").empty());
+  EXPECT_TRUE(load_importing("../shared.coral").empty());
 }
 
 TEST(Loader, AMissingSourceSaysCannotOpen) {
