@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <future>
 #include <string>
+#include <vector>
 
 #include "studio/server.h"
 #include "studio/server_test_support.h"
@@ -114,6 +115,78 @@ TEST(StudioServerStop, AConnectionKeptAliveDoesNotHoldTheStop) {
   if (!in_time) page.stop();  // lets the stop end, so the test does
   stopped.get();
   EXPECT_FALSE(page.Get("/api/files"));  // the studio is gone
+  fs::remove_all(root);
+}
+
+// The same with many pages at once, as many as the workers: connections
+// kept alive after a request, connections that sent half a request line and
+// connections that sent nothing. The stop ends every one (each client sees
+// its end) and leaves no descriptor of them behind.
+TEST(StudioServerStop, ManyConnectionsKeptOpenDoNotHoldTheStopAndNoneIsLeft) {
+  const fs::path root = make_temp_dir("strata_studio_stop_many");
+  ASSERT_FALSE(root.empty());
+  const auto open_fds = [] {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator("/proc/self/fd")) ++n;
+    return n;
+  };
+  const std::size_t fds_before = open_fds();
+  std::vector<int> clients;
+  {
+    EventHub hub;
+    StudioOptions o;
+    o.root = root;
+    o.keep_alive = std::chrono::hours(1);
+    StudioServer server(o, hub);
+    auto port = server.start();
+    ASSERT_TRUE(port.ok()) << port.error().message;
+    const std::string host = "127.0.0.1:" + std::to_string(port.value());
+    constexpr int kEach = 12;  // 36 in all: under the 48 workers
+    for (int kind = 0; kind < 3; ++kind) {
+      for (int i = 0; i < kEach; ++i) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        ASSERT_GE(fd, 0);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(port.value());
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        ASSERT_EQ(0, ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr));
+        timeval tv{60, 0};  // a bound on the test: a stop that holds fails it
+        ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+        clients.push_back(fd);
+        if (kind == 0) {  // a page between its requests
+          const std::string get = "GET /api/files HTTP/1.1\r\nHost: " + host + "\r\n\r\n";
+          ASSERT_EQ(static_cast<ssize_t>(get.size()), ::send(fd, get.data(), get.size(), MSG_NOSIGNAL));
+          std::string got;
+          char buf[4096];
+          while (got.find("\r\n\r\n") == std::string::npos) {
+            const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+            ASSERT_GT(n, 0);
+            got.append(buf, static_cast<std::size_t>(n));
+          }
+          EXPECT_EQ(0u, got.find("HTTP/1.1 200")) << got.substr(0, 200);
+        } else if (kind == 1) {  // half a request line
+          ASSERT_EQ(11, ::send(fd, "GET /api/fi", 11, MSG_NOSIGNAL));
+        }
+      }
+    }
+    auto stopped = std::async(std::launch::async, [&server] { server.stop(); });
+    const bool in_time = stopped.wait_for(std::chrono::minutes(1)) == std::future_status::ready;
+    EXPECT_TRUE(in_time) << "the stop waited on open connections";
+    if (!in_time) {
+      for (int fd : clients) ::shutdown(fd, SHUT_RDWR);  // lets the stop end, so the test does
+    }
+    stopped.get();
+  }
+  // Each client sees its connection end (the rest of a reply, then EOF).
+  for (int fd : clients) {
+    char buf[4096];
+    ssize_t n = 0;
+    while ((n = ::recv(fd, buf, sizeof buf, 0)) > 0) {}
+    EXPECT_EQ(0, n) << "a connection still open after the stop (errno " << errno << ")";
+    ::close(fd);
+  }
+  EXPECT_EQ(fds_before, open_fds());
   fs::remove_all(root);
 }
 
