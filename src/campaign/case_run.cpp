@@ -316,7 +316,10 @@ CaseRun run_case_once(const Spec& spec, const Case& c, const std::string& scenar
   o.scenario = kScenarioName;
   o.read_file = [&scenario](const std::string& path) -> core::Result<std::string> {
     if (path == kScenarioName) return scenario;
-    return core::read_regular_file(path, kMaxMissionFileBytes);
+    // A mission file is what its name says, as for `strata run`
+    // (coral::DiskFileProvider): a link x.coral to a file that is not is
+    // not read.
+    return core::read_regular_file_as_named(path, kMaxMissionFileBytes, ".coral");
   };
   o.max_sim_time_s = spec.max_sim_time_s;
   o.telemetry_hz = spec.telemetry_hz;

@@ -53,10 +53,13 @@ std::string DiskFileProvider::canonical(const std::string& path) const {
   return ec ? fs::path(path).lexically_normal().string() : p.string();
 }
 
+// A file named .coral must be one once its links are resolved: a link
+// phases.coral -> ~/.ssh/id_rsa is not read (its lines would show in the
+// syntax errors).
 core::Result<std::string> DiskFileProvider::read(const std::string& path) const {
-  auto text = core::read_regular_file(path, kMaxSourceSize, [](const std::string& p, const char* reason) {
-    return fmt::format("cannot open '{}': {}", p, reason);
-  });
+  auto text = core::read_regular_file_as_named(
+      path, kMaxSourceSize, ".coral",
+      [](const std::string& p, const char* reason) { return fmt::format("cannot open '{}': {}", p, reason); });
   if (!text && text.error().code == core::ErrorCode::Overflow) {
     // Too big to be a mission: the text's fault, not the disk's.
     return core::make_error(core::ErrorCode::InvalidInput,
@@ -98,7 +101,11 @@ bool lexically_inside(const std::string& dir, const std::string& path) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
-bool is_coral_file(const std::string& path) { return fs::path(path).extension() == ".coral"; }
+constexpr std::string_view kCoralSuffix = ".coral";
+
+bool is_coral_file(std::string_view path) {
+  return path.size() >= kCoralSuffix.size() && path.substr(path.size() - kCoralSuffix.size()) == kCoralSuffix;
+}
 
 class Loader {
  public:
@@ -125,20 +132,16 @@ class Loader {
       }
     }
     if (done_.count(key)) return;
-    // An import reads CORAL files only, by the name the file has once its
-    // links are resolved: a mission's folder cannot show another file's
-    // lines in its syntax errors (a link `phases.coral -> ~/.ssh/id_rsa`, an
-    // `import "/etc/passwd";`), which a run of `strata check` in CI would
-    // put in its log. The root is the file the user named.
-    if (from != nullptr && !is_coral_file(key)) {
+    // An import reads CORAL files only: a mission's folder must not have
+    // `strata check` show another file's lines in its syntax errors
+    // (`import "/etc/passwd";`), which a run in CI would put in its log. A
+    // link named .coral to a file that is not is refused where it is read
+    // (DiskFileProvider::read). The root is the file the user named.
+    if (from != nullptr && !is_coral_file(path)) {
       sink_.report(core::DiagnosticKind::FileUnreadable, from->span,
-                   is_coral_file(fs::path(path).lexically_normal().string())
-                       ? fmt::format("'{}' is a link to '{}', which is not a CORAL file (.coral): an import reads "
-                                     "only CORAL files, and this one is not read",
-                                     path, key)
-                       : fmt::format("'{}' is not a CORAL file (.coral): an import reads only CORAL files, and "
-                                     "this one is not read",
-                                     path));
+                   fmt::format("'{}' is not a CORAL file (.coral): an import reads only CORAL files, and this one is "
+                               "not read",
+                               path));
       return;
     }
     if (stack_.size() >= kMaxImportDepth) {

@@ -133,6 +133,14 @@ TEST_F(LoaderOnDisk, AnImportThroughALinkToACoralFileLoads) {
   EXPECT_TRUE(load_importing("../shared.coral").empty());
 }
 
+TEST_F(LoaderOnDisk, AFolderNamedAsACoralFileIsNotRead) {
+  std::filesystem::create_directories(dir_ / "mission/dir.coral");
+  const auto d = load_importing("dir.coral");
+  ASSERT_EQ(1u, d.size());
+  EXPECT_EQ(core::DiagnosticKind::FileUnreadable, d[0].kind);
+  EXPECT_NE(std::string::npos, d[0].message.find("not a regular file")) << d[0].message;
+}
+
 TEST(Loader, AMissingSourceSaysCannotOpen) {
   DiskFileProvider disk;
   auto r = disk.read("/nonexistent/strata/mission.coral");

@@ -24,7 +24,41 @@ Error errno_error(const std::string& what) {
   return make_error(ErrorCode::Io, fmt::format("{}: {}", what, std::strerror(errno)));
 }
 
+namespace {
+
+// What fd really is, its links resolved; empty when that cannot be told (a
+// name longer than the kernel gives, /proc not mounted).
+std::string opened_name(int fd) {
+  char buf[4096];
+  const std::string link = fmt::format("/proc/self/fd/{}", fd);
+  const ssize_t n = ::readlink(link.c_str(), buf, sizeof buf);
+  if (n <= 0 || static_cast<std::size_t>(n) >= sizeof buf) return {};
+  return std::string(buf, static_cast<std::size_t>(n));
+}
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+Result<std::string> read_open_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open,
+                                   std::string_view suffix);
+
+}  // namespace
+
 Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open) {
+  return read_open_file(path, max_bytes, cannot_open, {});
+}
+
+Result<std::string> read_regular_file_as_named(const std::string& path, std::size_t max_bytes, std::string_view suffix,
+                                               CannotOpenText cannot_open) {
+  return read_open_file(path, max_bytes, cannot_open, ends_with(path, suffix) ? suffix : std::string_view());
+}
+
+namespace {
+
+// suffix: not empty, the name the open file has must end in it.
+Result<std::string> read_open_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open,
+                                   std::string_view suffix) {
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
@@ -42,6 +76,18 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
   }
   if (!S_ISREG(st.st_mode)) {
     return make_error(ErrorCode::Io, fmt::format("cannot read '{}': not a regular file", path));
+  }
+  if (!suffix.empty()) {
+    const std::string real = opened_name(fd);
+    if (real.empty()) {
+      return make_error(ErrorCode::Io, fmt::format("'{}': where it leads cannot be told (a name too long to "
+                                                   "resolve), so it cannot be shown to be a {} file; not read",
+                                                   path, suffix));
+    }
+    if (!ends_with(real, suffix)) {
+      return make_error(ErrorCode::Io,
+                        fmt::format("'{}' is a link to '{}', which is not a {} file; not read", path, real, suffix));
+    }
   }
   if (static_cast<std::size_t>(st.st_size) > max_bytes) {
     return make_error(ErrorCode::Overflow, fmt::format("'{}' is {} bytes, over the limit of {} bytes", path,
@@ -68,6 +114,8 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
   text.resize(got);
   return text;
 }
+
+}  // namespace
 
 namespace {
 

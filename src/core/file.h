@@ -34,6 +34,16 @@ using CannotOpenText = std::string (*)(const std::string& path, const char* reas
 Result<std::string> read_regular_file(const std::string& path, std::size_t max_bytes,
                                       CannotOpenText cannot_open = nullptr);
 
+// read_regular_file for a file that must be what its name says: when path
+// ends in `suffix` (".coral"), the file opened must too, by the name it
+// has once its links are resolved (what /proc/self/fd says of the open
+// file), checked before a byte of it is read. Else ErrorCode::Io, naming
+// where the link leads ("'x.coral' is a link to '/etc/passwd', which is not
+// a .coral file; not read"), or saying that could not be told. A path that
+// does not end in suffix is read as read_regular_file reads it.
+Result<std::string> read_regular_file_as_named(const std::string& path, std::size_t max_bytes, std::string_view suffix,
+                                               CannotOpenText cannot_open = nullptr);
+
 struct WriteOptions {
   // The permissions of the file written, less the process's umask (as for
   // any file the process creates).

@@ -92,6 +92,70 @@ TEST_F(ReadRegularFile, AMissingFileIsAnIoError) {
   EXPECT_NE(r.error().message.find("nosuch.pl"), std::string::npos);
 }
 
+// A file named x.coral must be one once its links are resolved: a mission
+// folder's link phases.coral -> a secret had its lines shown in syntax
+// errors (coral::DiskFileProvider, a campaign's cases).
+TEST_F(ReadRegularFile, ALinkNamedForOneKindToAFileOfAnotherIsRefusedNamingItsTarget) {
+  const std::string secret = write("secret.txt", "TOKEN=abc\n");
+  fs::create_symlink(secret, dir_ / "phases.coral");
+  auto r = read_regular_file_as_named((dir_ / "phases.coral").string(), 1024, ".coral");
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, ErrorCode::Io);
+  EXPECT_EQ(r.error().message.find("TOKEN"), std::string::npos);
+  EXPECT_NE(r.error().message.find("is a link to '" + fs::canonical(secret).string() + "', which is not a .coral file"),
+            std::string::npos)
+      << r.error().message;
+}
+
+TEST_F(ReadRegularFile, ALinkToAFileOfTheKindItsNameSaysIsRead) {
+  const std::string shared = write("shared.coral", "net n { }\n");
+  fs::create_symlink(shared, dir_ / "linked.coral");
+  auto r = read_regular_file_as_named((dir_ / "linked.coral").string(), 1024, ".coral");
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r.value(), "net n { }\n");
+  auto plain = read_regular_file_as_named(write("data.toml", "a = 1\n"), 1024, ".coral");  // another kind: as named
+  ASSERT_TRUE(plain) << plain.error().message;
+}
+
+// Resolving the links by name (std::filesystem::weakly_canonical) fails
+// once a path passes PATH_MAX, which the kernel, following one link at a
+// time, does not mind: a chain of links through long folder names got a
+// secret read as phases.coral. The open file's own name is asked instead;
+// when even that cannot be told, the file is refused.
+TEST_F(ReadRegularFile, ALinkThroughPathsLongerThanTheSystemResolvesIsStillCheckedOrRefused) {
+  const std::string secret = fs::canonical(write("secret.txt", "TOKEN=abc\n")).string();
+  // 20 folders of 250-character names, made one inside the other (a path
+  // that long cannot be named whole); links relative to their folders, each
+  // under PATH_MAX: phases.coral -> 10 levels/y, y -> 10 more levels/z, z ->
+  // the secret.
+  std::vector<int> fds{::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)};
+  std::string first_half, second_half;
+  for (int i = 0; i < 20; ++i) {
+    const std::string name(250, static_cast<char>('a' + i));
+    ASSERT_EQ(0, ::mkdirat(fds.back(), name.c_str(), 0700)) << std::strerror(errno);
+    fds.push_back(::openat(fds.back(), name.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    ASSERT_GE(fds.back(), 0) << std::strerror(errno);
+    (i < 10 ? first_half : second_half) += name + "/";
+  }
+  ASSERT_EQ(0, ::symlinkat(secret.c_str(), fds[20], "z"));
+  ASSERT_EQ(0, ::symlinkat((second_half + "z").c_str(), fds[10], "y"));
+  ASSERT_EQ(0, ::symlinkat((first_half + "y").c_str(), fds[0], "phases.coral"));
+  for (int fd : fds) ::close(fd);
+  // The kernel follows it to the secret; naming where it leads fails.
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(dir_ / "phases.coral", ec);
+  EXPECT_TRUE(ec) << "resolved to " << resolved << ": the case no longer reaches past PATH_MAX";
+  auto r = read_regular_file_as_named((dir_ / "phases.coral").string(), 1024, ".coral");
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, ErrorCode::Io);
+  EXPECT_EQ(r.error().message.find("TOKEN"), std::string::npos);
+  EXPECT_TRUE(r.error().message.find("which is not a .coral file") != std::string::npos ||
+              r.error().message.find("cannot be told") != std::string::npos)
+      << r.error().message;
+  // The folders' names are too long for remove_all to name them whole.
+  ASSERT_EQ(0, ::system(fmt::format("rm -rf '{}'", dir_.string()).c_str()));
+}
+
 class WriteFileAtomically : public ReadRegularFile {
  protected:
   static std::string slurp(const fs::path& p) {
