@@ -52,7 +52,11 @@ struct Command {
 
 struct Ran {
   double seconds = -1.0;  // wall; negative when it did not start or did not exit 0
-  double rss_mib = 0.0;   // peak resident set
+  // Peak resident set (wait4's ru_maxrss). The child starts as a copy of
+  // this process's memory, so the figure is never under this benchmark's
+  // own resident size at the spawn (a few MiB: check it with
+  // /usr/bin/time when a figure comes near it).
+  double rss_mib = 0.0;
 };
 
 // Runs command to its end.

@@ -150,7 +150,13 @@ PnmlCommandLine::PnmlCommandLine(const std::string& version)
           "strata-pnml") {
   options.who = question.who = "strata-pnml";
   app.set_version_flag("--version", "strata-pnml " + version);
-  app.add_option("net", options.path, "The net: a PNML file")->required();
+  app.add_option("net", options.path, "The net: a PNML file")
+      ->required()
+      ->check(CLI::Validator(
+          [](const std::string& path) {
+            return path.empty() ? std::string("an empty name names no file") : std::string();
+          },
+          "FILE"));
   app.add_option("--max-states", options.max_states,
                  "Stop exploring after this many markings (what needs the whole graph is then not decided; "
                  "default: no limit)")
