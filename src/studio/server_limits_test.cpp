@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <future>
@@ -178,12 +179,17 @@ TEST(StudioServerStop, ManyConnectionsKeptOpenDoNotHoldTheStopAndNoneIsLeft) {
     }
     stopped.get();
   }
-  // Each client sees its connection end (the rest of a reply, then EOF).
+  // Each client sees its connection end: EOF, or a reset where the server
+  // closed with bytes it had not read (the half request line) or had not
+  // accepted the connection yet; never the receive timeout of a
+  // connection left open.
   for (int fd : clients) {
     char buf[4096];
     ssize_t n = 0;
     while ((n = ::recv(fd, buf, sizeof buf, 0)) > 0) {}
-    EXPECT_EQ(0, n) << "a connection still open after the stop (errno " << errno << ")";
+    const int error = n < 0 ? errno : 0;
+    EXPECT_TRUE(n == 0 || error == ECONNRESET)
+        << "a connection not ended by the stop: recv " << n << ", errno " << error;
     ::close(fd);
   }
   EXPECT_EQ(fds_before, open_fds());
