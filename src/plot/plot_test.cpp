@@ -170,6 +170,23 @@ TEST(Script, DepthAxisIsReversedAndNamesAreQuoted) {
   EXPECT_NE(std::string::npos, gnuplot_script(p, Format::Png, "/d", "/d/plot.png").find("set terminal png "));
 }
 
+// A log's net name with a newline in it ended gnuplot's `set label` line,
+// and the next line of the name ran as a command (`print system(...)`):
+// `strata plot` of a log someone else wrote ran their commands.
+TEST(Script, ANewlineInALogsTextCannotEndItsCommand) {
+  MissionPlot p = read_fixture("leak_phase2.jsonl");
+  p.phases[0].net = std::string("x\nprint system(\"touch /tmp/pwned\")\r\n#\0", 38);
+  p.mission = "m\nquit";
+  const std::string s = gnuplot_script(p, Format::Svg, "/d", "/d/plot.svg");
+  EXPECT_NE(std::string::npos, s.find("set label 'x print system(\"touch /tmp/pwned\")  #")) << s;
+  std::istringstream lines(s);
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_NE(0u, line.rfind("print", 0)) << line;
+    EXPECT_NE(0u, line.rfind("quit", 0)) << line;
+    EXPECT_EQ(std::string::npos, line.find('\r')) << line;
+  }
+}
+
 TEST(Script, HeadingBreaksWhereItCrossesNorth) {
   TempDir dir;
   ASSERT_TRUE(write_data(read_fixture("heading.jsonl"), dir.path()));

@@ -14,11 +14,15 @@ namespace strata::plot::script {
 namespace fs = std::filesystem;
 
 // A gnuplot single-quoted string: nothing is special inside but the quote,
-// written twice.
+// written twice, and the end of the line: gnuplot ends a command at a
+// newline whatever quote is open, so a net name in a log with
+// "\nprint system('...')" in it ran that command when the log was plotted.
+// Control characters (newlines, carriage returns, NUL) become spaces.
 std::string gp_string(std::string_view text) {
   std::string out = "'";
   for (char c : text) {
-    out += c;
+    const auto u = static_cast<unsigned char>(c);
+    out += u < 0x20 || u == 0x7f ? ' ' : c;
     if (c == '\'') out += '\'';
   }
   return out + "'";

@@ -1,0 +1,33 @@
+# `strata plot` of a log someone else wrote: a net name with a newline in it
+# ended gnuplot's `set label` line, and the rest of the name ran as a
+# gnuplot command (`print system("...")`). Now the picture is drawn and the
+# command never runs; a log named with a newline (the picture's name comes
+# from it) is refused. Skipped without gnuplot.
+find_program(GNUPLOT gnuplot)
+if(NOT GNUPLOT)
+  message("skipped: gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)")
+  return()
+endif()
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+file(READ ${LOG} log)
+string(REPLACE "\"net\":\"initialize\"" "\"net\":\"x\\nprint system(\\\"touch ${OUT}/ran\\\")\\n#\"" evil "${log}")
+if(evil STREQUAL log)
+  message(FATAL_ERROR "the fixture ${LOG} has no phase 'initialize' to rename")
+endif()
+file(WRITE ${OUT}/evil.jsonl "${evil}")
+execute_process(COMMAND ${STRATA} plot ${OUT}/evil.jsonl -o ${OUT}/evil.svg
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${OUT}/evil.svg)
+  message(FATAL_ERROR "strata plot: exit ${rc}\n${out}\n${err}")
+endif()
+if(EXISTS ${OUT}/ran)
+  message(FATAL_ERROR "the log's net name ran a command in gnuplot")
+endif()
+file(WRITE "${OUT}/a\nb.jsonl" "${log}")
+execute_process(COMMAND ${STRATA} plot "${OUT}/a\nb.jsonl"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
+if(NOT rc EQUAL 64 OR NOT err MATCHES "has a control character; name another with -o")
+  message(FATAL_ERROR "a log named with a newline: exit ${rc}\n${out}\n${err}")
+endif()
+file(REMOVE_RECURSE ${OUT})
