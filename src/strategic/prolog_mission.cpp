@@ -320,7 +320,10 @@ core::Result<std::unique_ptr<PrologMission>> PrologMission::load_collecting(
     const std::string& path, const tactical::Catalogue& catalogue, std::vector<PrologMessage>& messages,
     const LoadLimits& limits, KeepRules keep_rules, tactical::ExecutionLevel level) {
   std::error_code ec;
-  if (auto probe = core::read_regular_file(path, limits.max_bytes); !probe) {
+  // A file named .pl must be one once opened (links resolved): a link
+  // m.pl -> ~/.ssh/id_rsa had its lines shown in the syntax errors. The
+  // files it consults are checked by the driver (mission_file/2).
+  if (auto probe = core::read_regular_file_as_named(path, limits.max_bytes, ".pl"); !probe) {
     if (probe.error().code != core::ErrorCode::Overflow) return probe.error();
     messages.push_back(
         {core::DiagnosticKind::FileTooLarge, path, 0, 0,

@@ -242,6 +242,26 @@ TEST_F(PrologMissionTest, a_link_in_the_missions_folder_to_a_file_outside_is_ref
   EXPECT_EQ(text.find("secret words"), std::string::npos) << text;
 }
 
+// Regression: the mission file itself, a link m.pl -> a secret, was read
+// and the secret's line shown in a syntax error (`strata check m.pl` in a
+// repository someone else wrote). A file named .pl must be one once opened.
+TEST_F(PrologMissionTest, a_mission_file_linked_to_a_file_that_is_not_rules_is_refused_unread) {
+  const std::string secret = rules_.write("outside/secret.txt", "password = \"the secret words\"\n");
+  const std::filesystem::path link = rules_.dir() / "missions/tank/m.pl";
+  std::filesystem::create_directories(link.parent_path());
+  std::filesystem::create_symlink(secret, link);
+  prolog_mission_testing::Reported messages;
+  auto m =
+      PrologMission::load(link.string(), tactical::Catalogue::builtin(), messages.sources, messages.sink, LoadLimits{});
+  ASSERT_FALSE(m.ok()) << "the rules loaded";
+  EXPECT_EQ(core::ErrorCode::Io, m.error().code);
+  EXPECT_NE(m.error().message.find("is a link to '" + std::filesystem::canonical(secret).string() +
+                                   "', which is not a .pl file; not read"),
+            std::string::npos)
+      << m.error().message;
+  EXPECT_EQ(messages.text().find("secret words"), std::string::npos) << messages.text();
+}
+
 // Regression: with the mission's folder reached through a linked folder,
 // whether its own consult/1 passed depended on how the path and the
 // working folder spelt it (`cd LINK/tank && strata check m.pl` refused it).
