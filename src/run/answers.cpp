@@ -73,6 +73,10 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
     // "[json.exception.parse_error.101] parse error at line 1, column 3: syntax error ..."
     // text-ok: nlohmann's own prefix is cut for the reader; nothing is decided on it.
     if (auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
+    // And its quote of the text ("; last read: '...'"): the line and column
+    // say where, and a file that is not what it was said to be (a campaign
+    // spec's `answers` naming someone's secrets) is not shown.
+    if (auto quoted = what.find("; last read:"); quoted != std::string::npos) what.resize(quoted);
     return invalid(fmt::format("{}:{}:{}: not JSON: {}", path, line, col, what));
   }
   if (!j.is_object()) return invalid(fmt::format("{}: not an answers file: the top is not an object", path));
