@@ -93,14 +93,25 @@ TEST_F(StudioServerTest, AHostNamedTwiceOrEmptyIsRefused) {
 // run out: Ctrl-C took 5 s. Here the keep-alive is an hour, so a stop that
 // waits for it does not return (the wait below is a bound on the test, not
 // on the stop).
+// A studio on root whose connections are kept alive for an hour: a stop
+// that waits for them does not return.
+struct LongKeepAliveStudio {
+  static StudioOptions options(const fs::path& root) {
+    StudioOptions o;
+    o.root = root;
+    o.keep_alive = std::chrono::hours(1);
+    return o;
+  }
+  explicit LongKeepAliveStudio(const fs::path& root) : server(options(root), hub) {}
+  EventHub hub;
+  StudioServer server;
+};
+
 TEST(StudioServerStop, AConnectionKeptAliveDoesNotHoldTheStop) {
   const fs::path root = make_temp_dir("strata_studio_stop");
   ASSERT_FALSE(root.empty());
-  EventHub hub;
-  StudioOptions o;
-  o.root = root;
-  o.keep_alive = std::chrono::hours(1);
-  StudioServer server(o, hub);
+  LongKeepAliveStudio studio(root);
+  StudioServer& server = studio.server;
   auto port = server.start();
   ASSERT_TRUE(port.ok()) << port.error().message;
   httplib::Client page("127.0.0.1", port.value());
@@ -134,11 +145,8 @@ TEST(StudioServerStop, ManyConnectionsKeptOpenDoNotHoldTheStopAndNoneIsLeft) {
   const std::size_t fds_before = open_fds();
   std::vector<int> clients;
   {
-    EventHub hub;
-    StudioOptions o;
-    o.root = root;
-    o.keep_alive = std::chrono::hours(1);
-    StudioServer server(o, hub);
+    LongKeepAliveStudio studio(root);
+    StudioServer& server = studio.server;
     auto port = server.start();
     ASSERT_TRUE(port.ok()) << port.error().message;
     const std::string host = "127.0.0.1:" + std::to_string(port.value());

@@ -3,11 +3,8 @@
 # gnuplot command (`print system("...")`). Now the picture is drawn and the
 # command never runs; a log named with a newline (the picture's name comes
 # from it) is refused. Skipped without gnuplot.
-find_program(GNUPLOT gnuplot)
-if(NOT GNUPLOT)
-  message("skipped: gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/needs_gnuplot.cmake)
+strata_plot_needs_gnuplot()
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 file(READ ${LOG} log)

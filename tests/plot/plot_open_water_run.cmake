@@ -3,11 +3,8 @@
 # panel with the estimated and true tracks and the planned line, and the
 # altitude panel. Keeps the plot honest about the log strata writes today,
 # not only about the fixture. Skipped without gnuplot.
-find_program(GNUPLOT gnuplot)
-if(NOT GNUPLOT)
-  message("skipped: gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/needs_gnuplot.cmake)
+strata_plot_needs_gnuplot()
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 execute_process(COMMAND ${STRATA} run ${RUN}/open_water_leg.coral --scenario ${RUN}/open_water_leg.toml

@@ -1,10 +1,7 @@
 # `strata plot LOG` with no -o: writes LOG's name with .svg for .jsonl, an SVG
 # naming the log's phases and its abort. Skipped without gnuplot.
-find_program(GNUPLOT gnuplot)
-if(NOT GNUPLOT)
-  message("skipped: gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/needs_gnuplot.cmake)
+strata_plot_needs_gnuplot()
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 file(COPY_FILE ${LOG} ${OUT}/run.jsonl)
