@@ -76,6 +76,7 @@ core::Result<AnswerScript> parse_answers(std::string_view text, const std::strin
     // And its quote of the text ("; last read: '...'"): the line and column
     // say where, and a file that is not what it was said to be (a campaign
     // spec's `answers` naming someone's secrets) is not shown.
+    // text-ok: nlohmann's quote of the input is cut for the reader; nothing is decided on it.
     if (auto quoted = what.find("; last read:"); quoted != std::string::npos) what.resize(quoted);
     return invalid(fmt::format("{}:{}:{}: not JSON: {}", path, line, col, what));
   }
