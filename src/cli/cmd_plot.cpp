@@ -1,7 +1,6 @@
 // `strata plot LOG [-o FILE.svg|FILE.png]`: a mission log drawn by gnuplot
 // (plot/gnuplot.h): depth and setpoint against time with the phases as
 // bands and the aborts marked, and the heading when the log has it.
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -33,15 +32,6 @@ struct PlotOptions {
 int run_plot(const PlotOptions& o) {
   fs::path output = o.output;
   if (output.empty()) output = fs::path(o.log).replace_extension(".svg");
-  // gnuplot is told the picture's name in its script: a name with a
-  // control character (a log named with a newline in it) would have to
-  // change to be written there.
-  if (const std::string name = output.string();
-      std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
-    std::cerr << fmt::format("strata plot: the picture's name {:?} has a control character; name another with -o\n",
-                             name);
-    return kExitUsage;
-  }
   const auto format = plot::format_for(output);
   if (!format) {
     std::cerr << fmt::format("strata plot: '{}': the output is a .svg or a .png file\n", output.string());
