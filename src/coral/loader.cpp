@@ -101,11 +101,7 @@ bool lexically_inside(const std::string& dir, const std::string& path) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
-constexpr std::string_view kCoralSuffix = ".coral";
-
-bool is_coral_file(std::string_view path) {
-  return path.size() >= kCoralSuffix.size() && path.substr(path.size() - kCoralSuffix.size()) == kCoralSuffix;
-}
+bool is_coral_file(std::string_view path) { return path.ends_with(".coral"); }
 
 class Loader {
  public:

@@ -36,10 +36,6 @@ std::string opened_name(int fd) {
   return std::string(buf, static_cast<std::size_t>(n));
 }
 
-bool ends_with(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
-
 Result<std::string> read_open_file(const std::string& path, std::size_t max_bytes, CannotOpenText cannot_open,
                                    std::string_view suffix);
 
@@ -51,7 +47,8 @@ Result<std::string> read_regular_file(const std::string& path, std::size_t max_b
 
 Result<std::string> read_regular_file_as_named(const std::string& path, std::size_t max_bytes, std::string_view suffix,
                                                CannotOpenText cannot_open) {
-  return read_open_file(path, max_bytes, cannot_open, ends_with(path, suffix) ? suffix : std::string_view());
+  return read_open_file(path, max_bytes, cannot_open,
+                        std::string_view(path).ends_with(suffix) ? suffix : std::string_view());
 }
 
 namespace {
@@ -84,7 +81,7 @@ Result<std::string> read_open_file(const std::string& path, std::size_t max_byte
                                                    "resolve), so it cannot be shown to be a {} file; not read",
                                                    path, suffix));
     }
-    if (!ends_with(real, suffix)) {
+    if (!std::string_view(real).ends_with(suffix)) {
       return make_error(ErrorCode::Io,
                         fmt::format("'{}' is a link to '{}', which is not a {} file; not read", path, real, suffix));
     }
