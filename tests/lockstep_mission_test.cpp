@@ -2,9 +2,8 @@
 // in-process through the real stack: CoralEngine -> TacticalLevel ->
 // VehicleLink -> TCP loopback -> VehicleServer. Lockstep is the wall clock
 // made fast: the branches share simulated time, the run is deterministic,
-// and the wall clock (at speed 20) makes the same calls at the same
-// simulated times within a cycle.
-#include <cmath>
+// and the wall clock (at speed 20) makes the same calls in the same order,
+// none of them earlier than lockstep's by more than a cycle.
 #include <optional>
 #include <sstream>
 #include <string>
@@ -156,7 +155,11 @@ TEST(LockstepMission, TheSameMissionTwiceLogsTheSame) {
 }
 
 // (c) Lockstep is the wall clock made fast: the same calls in the same
-// order, at simulated times within one cycle (0.1 s) of each other.
+// order with the same answers, and no reply on the wall clock earlier than
+// a cycle (0.1 s) before lockstep's. How much later it may come depends on
+// the machine's load (a reply late by 5 ms of wall time is 0.1 s of
+// simulated time at speed 20), so it is not bounded here: it once failed a
+// run at a load of 6, 0.2 s apart.
 TEST(LockstepMission, LockstepAndTheWallClockAgree) {
   MissionRun lockstep = run_two_branches(protocol::ClockMode::Lockstep);
   MissionRun wall = run_two_branches(protocol::ClockMode::Wall);
@@ -169,7 +172,7 @@ TEST(LockstepMission, LockstepAndTheWallClockAgree) {
     SCOPED_TRACE(i);
     EXPECT_EQ(lockstep.calls[i].primitive, wall.calls[i].primitive);
     EXPECT_EQ(lockstep.calls[i].value, wall.calls[i].value);
-    EXPECT_LE(std::fabs(lockstep.calls[i].sim_time_s - wall.calls[i].sim_time_s), 0.1 + 1e-6)
+    EXPECT_GE(wall.calls[i].sim_time_s, lockstep.calls[i].sim_time_s - 0.1 - 1e-6)
         << "lockstep:\n"
         << describe(lockstep.calls) << "wall:\n"
         << describe(wall.calls);

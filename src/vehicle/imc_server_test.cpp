@@ -235,8 +235,9 @@ TEST(ImcVehicleServer, AbortFailsThePlanAndTheVehicleSurfacesItself) {
   auto here = peer.wait_for<imc::EstimatedState>();
   ASSERT_TRUE(here);
   const auto refs_before = peer.count<imc::FollowRefState>();
-  peer.send(reference_here(*here, 2.0));
-  peer.cycles(3);
+  // Counted once the vehicle has read it (a count after three cycles the
+  // peer had already received missed it at a load of 6).
+  send_and_settle(rig, peer, reference_here(*here, 2.0));
   EXPECT_EQ(refs_before, peer.count<imc::FollowRefState>());
   EXPECT_EQ(1u, rig.vehicle_counts().references_ignored);
 }

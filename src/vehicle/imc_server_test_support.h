@@ -69,6 +69,13 @@ class Rig {
   std::size_t peers() {
     return on_loop([this] { return server_.peer_count(); });
   }
+  // The vehicle's clock, as its packets stamp it.
+  double timestamp() {
+    return on_loop([this] { return server_.vehicle().timestamp(); });
+  }
+  // Returns once the vehicle has read n datagrams in all (false past
+  // kWallLimit: a broken vehicle). A datagram is acted on as it is read.
+  bool wait_read(std::uint64_t n);
 
  private:
   static ImcServerOptions options(std::size_t max_peers) {
@@ -145,6 +152,22 @@ class TestPeer {
   void cycles(int n) {
     for (int i = 0; i < n; ++i) ASSERT_TRUE(wait_for<imc::EstimatedState>());
   }
+  // Waits until a packet stamped later than vehicle time t has come: the
+  // vehicle's packets come in the order it sent them (one socket, loopback),
+  // so every packet it sent up to t has come too. Skips what it waited past.
+  bool wait_past(double t) {
+    std::unique_lock lock(mutex_);
+    const auto deadline = std::chrono::steady_clock::now() + kWallLimit;
+    while (true) {
+      for (; cursor_ < packets_.size(); ++cursor_) {
+        if (packets_[cursor_].header.timestamp > t) {
+          ++cursor_;
+          return true;
+        }
+      }
+      if (cv_.wait_until(lock, deadline) == std::cv_status::timeout && cursor_ == packets_.size()) return false;
+    }
+  }
   std::vector<imc::Packet> packets() const {
     std::lock_guard lock(mutex_);
     return packets_;
@@ -199,6 +222,25 @@ class TestPeer {
   std::size_t cursor_ = 0;
   std::size_t undecodable_ = 0;
 };
+
+inline bool Rig::wait_read(std::uint64_t n) {
+  const auto deadline = std::chrono::steady_clock::now() + kWallLimit;
+  while (counts().datagrams < n) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(1ms);
+  }
+  return true;
+}
+
+// Sends m and returns once the vehicle has acted on it and the peer has
+// every packet the vehicle sent until then, whatever the machine's load:
+// what m made the vehicle send (or not) can be counted after it.
+inline void send_and_settle(Rig& rig, TestPeer& peer, imc::Message m) {
+  const auto read = rig.counts().datagrams;
+  peer.send(std::move(m));
+  ASSERT_TRUE(rig.wait_read(read + 1));
+  ASSERT_TRUE(peer.wait_past(rig.timestamp()));
+}
 
 inline imc::PlanControl start_plan(std::uint16_t request_id, float timeout_s, std::uint16_t control_src = kPeerId) {
   imc::FollowReference fr;
