@@ -3,13 +3,15 @@
 mission over the Phoenix protocol (issue 35's target).
 
 For each case MISSION[@SCENARIO], a fresh `strata vehicle --imc --port 0`
-(the scenario's file, faster than real time) is started on loopback, and
+(the scenario's file; faster than real time at --speed, or with --lockstep
+in lockstep with the run, the same whatever the machine's load) is started
+on loopback, and
 `strata compare MISSION MISSION --vehicle-b imc://127.0.0.1:PORT` runs A on
 the embedded lockstep vehicle and B on the IMC one; the comparison must say
 the two ran the same commands in the same order with the same outcome. The
 vehicle is stopped by its process id whatever happens.
 
-  imc_e2e.py --strata BIN --source REPO --speed K [--work DIR] CASE...
+  imc_e2e.py --strata BIN --source REPO (--speed K | --lockstep) [--work DIR] CASE...
 
 Two cases are not missions: `safe_end` (a run ended by --max-sim-time on the
 vehicle's clock must be surfaced by a z = 0 Reference and say so in
@@ -40,8 +42,8 @@ import time
 PORT = re.compile(r"udp://127\.0\.0\.1:(\d+)")
 
 
-def start_vehicle(strata, scenario, speed):
-    cmd = [strata, "vehicle", "--imc", "--port", "0", "--speed", str(speed)]
+def start_vehicle(strata, scenario, speed, lockstep=False):
+    cmd = [strata, "vehicle", "--imc", "--port", "0"] + (["--lockstep"] if lockstep else ["--speed", str(speed)])
     if scenario:
         cmd += ["--scenario", scenario]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -237,6 +239,9 @@ def main():
     ap.add_argument("--strata", required=True)
     ap.add_argument("--source", required=True)
     ap.add_argument("--speed", type=float, default=20.0)
+    ap.add_argument("--lockstep", action="store_true",
+                    help="the compared cases' vehicles in lockstep with their runs (strata vehicle --imc --lockstep), "
+                         "not on the wall clock at --speed")
     ap.add_argument("--jobs", type=int, default=3, help="compared cases run at once (default 3)")
     ap.add_argument("cases", nargs="+")
     a = ap.parse_args()
@@ -279,7 +284,7 @@ def compare_case(a, case):
     scenario_path = ""
     if scenario:
         scenario_path = os.path.join(os.path.dirname(mission_path), "scenarios", scenario + ".toml")
-    proc, port = start_vehicle(a.strata, scenario_path, a.speed)
+    proc, port = start_vehicle(a.strata, scenario_path, a.speed, a.lockstep)
     try:
         cmd = [a.strata, "compare", mission_path, mission_path, "--format", "json",
                "--vehicle-b", f"imc://127.0.0.1:{port}", "--speed", str(a.speed)]

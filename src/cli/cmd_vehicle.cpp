@@ -36,6 +36,7 @@ struct VehicleOptions {
   VerbosityFlags verbosity;
   // --imc: IMC over UDP (docs/imc.md)
   bool imc = false;
+  bool imc_lockstep = false;  // --lockstep
   std::optional<std::uint16_t> port;
   std::string imc_id = "0x2C01";
   bool imc_id_given = false;
@@ -60,12 +61,14 @@ std::optional<std::uint16_t> parse_imc_id(const std::string& text) {
 std::string imc_conflict(const VehicleOptions& o) {
   if (!o.imc) {
     if (o.port) return "--port is for --imc (the Phoenix protocol listens on --listen ADDRESS:PORT)";
+    if (o.imc_lockstep) return "--lockstep is for --imc (the Phoenix protocol is in lockstep unless --realtime)";
     if (o.imc_id_given) return "--imc-id is for --imc";
     return "";
   }
   if (o.interface) return "--interface prints the Phoenix protocol; --imc speaks IMC (docs/imc.md)";
   if (o.hello_timeout_given) return "--hello-timeout is the Phoenix protocol's; an IMC peer announces itself";
   if (o.listen_given && o.port) return "give --port or --listen, not both";
+  if (o.imc_lockstep && o.realtime) return "give --lockstep or --realtime, not both";
   return "";
 }
 
@@ -90,6 +93,7 @@ int run_imc_vehicle(const VehicleOptions& o, const vehicle::VehicleParams& param
     so.port = endpoint.value().second;
   }
   so.speed = o.speed;
+  so.lockstep = o.imc_lockstep;
   so.imc_id = *parse_imc_id(o.imc_id);
   so.trace = o.trace || o.verbosity.level() == Verbosity::Verbose;
   so.log = [](const std::string& line) { std::cerr << "vehicle: " << line << std::endl; };
@@ -107,9 +111,11 @@ int run_imc_vehicle(const VehicleOptions& o, const vehicle::VehicleParams& param
   const bool quiet = o.verbosity.level() == Verbosity::Quiet;
   if (!quiet) {
     std::cerr << fmt::format(
-                     "vehicle: IMC on udp://{}:{} (wall clock, speed {}, scenario {}, seed {}); "
+                     "vehicle: IMC on udp://{}:{} ({}, scenario {}, seed {}); "
                      "announce to it to be heard",
-                     so.address, server.port(), o.speed, scenario_label(o, scenario), scenario.seed)
+                     so.address, server.port(),
+                     so.lockstep ? "lockstep with its controller" : fmt::format("wall clock, speed {}", o.speed),
+                     scenario_label(o, scenario), scenario.seed)
               << std::endl;
   }
   asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -228,7 +234,10 @@ Runner add_vehicle_command(CLI::App& app, const LoadedConfig& config) {
       ->capture_default_str();
   cmd->add_flag("--imc", o->imc,
                 "Speak IMC (LSTS, 5.4) over UDP instead of the Phoenix protocol: an IMC vehicle steered by a "
-                "FollowReference plan, always on the wall clock (docs/imc.md)");
+                "FollowReference plan, on the wall clock unless --lockstep (docs/imc.md)");
+  cmd->add_flag("--lockstep", o->imc_lockstep,
+                "With --imc: step each cycle when the controller (a Strata run) has done with the last one, not "
+                "on the wall clock: as fast as it goes, the same run whatever the machine's load");
   cmd->add_option("--port", o->port,
                   "With --imc: the UDP port on 127.0.0.1 (default 6002, DUNE's; 0 picks a free port, printed on "
                   "the first line)");

@@ -162,10 +162,25 @@ void ImcLink::handle(const imc::Packet& packet) {
       vehicle_heard_ = true;
       vehicle_.id = packet.header.src;
       vehicle_.name = printable(a->sys_name);
+      // One of the services, separated by ';' (IMC's Announce).
+      for (std::string_view rest = a->services; !rest.empty();) {
+        const auto cut = rest.find(';');
+        lockstep_ = lockstep_ || rest.substr(0, cut) == imc::kLockstepService;
+        rest = cut == std::string_view::npos ? std::string_view{} : rest.substr(cut + 1);
+      }
     }
     return;
   }
   if (!vehicle_heard_) return;  // nothing counts before the vehicle said who it is
+  if (std::holds_alternative<imc::Heartbeat>(m)) {
+    // Lockstep: the vehicle's Heartbeat ends its cycle (its streams came
+    // before it); the answer goes once what they started is done.
+    if (lockstep_ && t0_) {
+      cycle_end_s_ = run_time(packet.header.timestamp);
+      note_activity();
+    }
+    return;
+  }
   if (std::holds_alternative<imc::EstimatedState>(m)) {
     on_estimated_state(packet);
     return;
@@ -492,12 +507,28 @@ void ImcLink::arm_heartbeat() {
   heartbeat_timer_.async_wait([this, me](const asio::error_code& e) {
     if (e || closed_) return;
     // DUNE forgets a peer after 30 s without traffic; Announce each 10 s as it does.
-    send_packet(imc::Message(imc::Heartbeat{}), vehicle_heard_ ? vehicle_.id : imc::kNullId);
+    // In lockstep a Heartbeat answers a cycle: the answers are the traffic.
+    if (!lockstep_) send_packet(imc::Message(imc::Heartbeat{}), vehicle_heard_ ? vehicle_.id : imc::kNullId);
     // UDP: a plan start or its reply lost on the way is asked again.
     if (connecting_ && plan_requested_ && !plan_running_) start_plan();
     if (++heartbeats_ % 10 == 0 || !vehicle_heard_) announce();
     arm_heartbeat();
   });
+}
+
+void ImcLink::note_activity() {
+  if (!lockstep_) return;
+  const std::uint64_t generation = ++activity_;
+  asio::post(io_, [weak = std::weak_ptr<ExecutionLink>(shared_from_this()), generation] {
+    if (auto link = weak.lock()) std::static_pointer_cast<ImcLink>(link)->maybe_answer_cycle(generation);
+  });
+}
+
+void ImcLink::maybe_answer_cycle(std::uint64_t generation) {
+  if (generation != activity_ || closed_ || holds() > 0 || !cycle_end_s_) return;
+  if (answered_s_ && *answered_s_ >= *cycle_end_s_) return;
+  answered_s_ = cycle_end_s_;
+  send_packet(imc::Message(imc::Heartbeat{}), vehicle_.id);  // stamped with the vehicle's newest time
 }
 
 void ImcLink::arm_lost() {

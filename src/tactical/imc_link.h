@@ -28,6 +28,9 @@
 //    on_fault; a silent vehicle through on_lost.
 //  - Filtering: only the messages a controller needs, from the vehicle's id,
 //    are decoded (the header is read first); everything else is counted.
+//  - Lockstep: a vehicle that offers it (`strata vehicle --imc --lockstep`)
+//    ends each cycle with a Heartbeat and waits for this link's, sent once
+//    the cycle's work is done (no call issued since, no Hold alive).
 //
 // Threads: every method on the io_context's thread; handlers run there.
 #include <array>
@@ -157,6 +160,9 @@ class ImcLink final : public ExecutionLink {
   // not take a Reference), or "" (no surface commanded).
   std::string_view surface_method() const { return surface_method_; }
   bool plan_running() const { return plan_running_; }
+  // The vehicle offered lockstep (imc::kLockstepService): this link answers
+  // each of its cycles, and sends no Heartbeat on the wall clock.
+  bool lockstep() const { return lockstep_; }
 
  private:
   ImcLink(asio::io_context& io, ImcLinkOptions options);
@@ -220,6 +226,12 @@ class ImcLink final : public ExecutionLink {
   void announce();
   void arm_heartbeat();
   void arm_lost();
+  // Lockstep: a check posted after each thing that may issue calls; the
+  // newest one, with no Hold alive, answers the vehicle's newest cycle (its
+  // Heartbeat, which ends the cycle) with a Heartbeat, once.
+  void note_activity();
+  void maybe_answer_cycle(std::uint64_t generation);
+  void hold_released() override { note_activity(); }
   void fault(const std::string& why);
   void lost(const std::string& why);
   void fail_all(const core::Error& error);
@@ -255,6 +267,10 @@ class ImcLink final : public ExecutionLink {
   bool stopped_elsewhere_ = false;
   std::optional<std::pair<double, double>> origin_;  // lat, lon of the first EstimatedState
   std::uint64_t heartbeats_ = 0;
+  bool lockstep_ = false;
+  std::uint64_t activity_ = 0;
+  std::optional<double> cycle_end_s_;  // lockstep: the run time of the vehicle's newest Heartbeat
+  std::optional<double> answered_s_;   // ... and of the newest one answered
   std::uint64_t send_errors_ = 0;
   std::uint16_t plan_request_id_ = 0;
   std::uint16_t next_request_id_ = 1;

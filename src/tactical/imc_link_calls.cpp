@@ -81,6 +81,11 @@ protocol::RequestId ImcLink::send(protocol::Request request, ReplyHandler handle
   auto later = [this](ReplyHandler h, core::Result<protocol::VehicleMessage> r) {
     asio::post(io_, [h = std::move(h), r = std::move(r)]() mutable { h(std::move(r)); });
   };
+  // Lockstep: a call is activity, checked after its reply posted below.
+  struct Noted {
+    ImcLink& link;
+    ~Noted() { link.note_activity(); }
+  } noted{*this};
   if (!connected_) {
     later(std::move(handler),
           make_error(ErrorCode::Closed, fmt::format("cannot send `{} {}`: no link to the IMC vehicle",

@@ -254,6 +254,58 @@ TEST(ImcLink, AStartWhoseReplyWasLostIsConfirmedByThePlansState) {
   EXPECT_TRUE(rig.link->plan_running());
 }
 
+// The Heartbeats the link sent the vehicle, by their stamps (run time).
+std::vector<double> heartbeats_sent(const ScriptedVehicle& v) {
+  std::vector<double> out;
+  for (const auto& p : v.received) {
+    if (std::holds_alternative<imc::Heartbeat>(p.message)) out.push_back(p.header.timestamp - kEpoch);
+  }
+  return out;
+}
+
+// `strata vehicle --imc --lockstep` (docs/imc.md, "Lockstep"): the vehicle's
+// Heartbeat ends a cycle; the link answers it once, stamped with it, when
+// what the cycle started is done: not while a Hold is alive.
+TEST(ImcLink, ALockstepVehicleIsAnsweredOncePerCycleWhenTheWorkIsDone) {
+  ImcRig rig;
+  rig.connect(fmt::format("imc+udp://127.0.0.1:6002/;{}", imc::kLockstepService));
+  EXPECT_TRUE(rig.link->lockstep());
+  ASSERT_TRUE(heartbeats_sent(rig.vehicle).empty());
+  rig.vehicle.state();
+  rig.vehicle.send(imc::Heartbeat{});  // the cycle's end
+  rig.vehicle.send(imc::Heartbeat{});  // twice at one time: one answer
+  ASSERT_TRUE(run_until(rig.io, [&] { return !heartbeats_sent(rig.vehicle).empty(); }));
+  EXPECT_NEAR(rig.vehicle.t_s, heartbeats_sent(rig.vehicle).back(), 1e-5);
+  // A Hold (an outcome queued for the mission) keeps the answer back.
+  auto hold = rig.link->hold();
+  rig.vehicle.state();
+  rig.vehicle.send(imc::Heartbeat{});
+  run_until(
+      rig.io, [] { return false; }, 100ms);
+  EXPECT_EQ(1u, heartbeats_sent(rig.vehicle).size());
+  hold.release();
+  ASSERT_TRUE(run_until(rig.io, [&] { return heartbeats_sent(rig.vehicle).size() == 2; }));
+  EXPECT_NEAR(rig.vehicle.t_s, heartbeats_sent(rig.vehicle).back(), 1e-5);
+  run_until(
+      rig.io, [] { return false; }, 50ms);
+  EXPECT_EQ(2u, heartbeats_sent(rig.vehicle).size());
+}
+
+// DUNE offers no lockstep, and a service only like it is not it: the link
+// then heartbeats on the wall clock and answers no cycle.
+TEST(ImcLink, OnlyTheLockstepServiceItselfMakesALockstepLink) {
+  for (const std::string services :
+       {"imc+udp://127.0.0.1:6002/", "strata://lockstep2", "xstrata://lockstep;imc+udp://127.0.0.1:6002/", ""}) {
+    SCOPED_TRACE(services);
+    ImcRig rig;
+    rig.connect(services);
+    EXPECT_FALSE(rig.link->lockstep());
+  }
+  ImcRig rig;
+  rig.connect(fmt::format("{};imc+udp://127.0.0.1:6002/", imc::kLockstepService));
+  EXPECT_TRUE(rig.link->lockstep());
+}
+
 TEST(ImcLinkAddress, ParsesHostPortAndAnOptionalId) {
   auto a = parse_imc_vehicle("imc://127.0.0.1:6002");
   ASSERT_TRUE(a.ok());

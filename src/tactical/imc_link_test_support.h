@@ -53,10 +53,11 @@ class ScriptedVehicle {
     ASSERT_TRUE(peer_.has_value()) << "the link never wrote to the vehicle";
     socket_.send_to(asio::buffer(bytes), *peer_);
   }
-  void announce() {
+  void announce(std::string services = "imc+udp://127.0.0.1:6002/") {
     imc::Announce a;
     a.sys_name = "lauv-simulator-1";
     a.sys_type = imc::Announce::kSysTypeUuv;
+    a.services = std::move(services);
     send(a);
   }
   // One navigation cycle: the clock moves by dt, then EstimatedState.
@@ -160,10 +161,10 @@ struct ImcRig {
   }
   // The DUNE sequence: the link announces, the vehicle announces back and
   // streams its state; the link starts its plan; the vehicle says SUCCESS.
-  void connect() {
+  void connect(std::string services = "imc+udp://127.0.0.1:6002/") {
     link->connect([this](core::Result<ImcVehicleInfo> r) { connected = std::move(r); });
     ASSERT_TRUE(run_until(io, [&] { return !vehicle.received.empty(); }));
-    vehicle.announce();
+    vehicle.announce(std::move(services));
     vehicle.state();
     ASSERT_TRUE(run_until(io, [&] { return vehicle.plan_start.has_value(); }));
     vehicle.plan_reply(imc::PlanControl::kSuccess, "plan loaded");

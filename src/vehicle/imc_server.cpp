@@ -1,6 +1,7 @@
 #include "vehicle/imc_server.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -122,7 +123,10 @@ void ImcVehicleServer::on_datagram(std::size_t n) {
   }
   peer->last_heard_s = sim_.time_s();
   peer->last_heard_wall = Clock::now();
-  if (id == imc::Heartbeat::kId) return;
+  if (id == imc::Heartbeat::kId) {
+    on_heartbeat(packet.header.timestamp);
+    return;
+  }
   if (id == imc::PlanControl::kId || id == imc::Reference::kId || id == imc::Abort::kId ||
       id == imc::SetEntityParameters::kId) {
     ++counts_.accepted;
@@ -164,6 +168,24 @@ void ImcVehicleServer::on_announce(const imc::Header& h) {
 // ---- the clock ---------------------------------------------------------------------
 
 void ImcVehicleServer::tick() {
+  // Lockstep: the next cycle when a controller has done with this one (its
+  // Heartbeat ends the wait early), else after lockstep_wait. With the
+  // link lost (nothing is heard) or no peer, on the wall clock.
+  if (options_.lockstep && stepped_ && !peers_.empty() && !sim_.link_lost()) {
+    awaiting_ = vehicle_.timestamp();
+    tick_timer_.expires_after(options_.lockstep_wait);
+    tick_timer_.async_wait([this](const asio::error_code& e) {
+      if (e || stopped_) return;
+      ++counts_.lockstep_waits_ended;
+      awaiting_.reset();
+      cycle();
+      tick();
+    });
+    return;
+  }
+  awaiting_.reset();
+  // Out of a lockstep wait, the wall clock's cycle counts from now.
+  if (options_.lockstep) tick_timer_.expires_at(asio::steady_timer::time_point{});
   // Two cycles behind at the most: what waits in the socket is read
   // between cycles, at the simulated time it came (cycle_timer.h).
   arm_next_cycle(tick_timer_, sim_.params().cycle_s, options_.speed, 2);
@@ -174,7 +196,24 @@ void ImcVehicleServer::tick() {
   });
 }
 
+void ImcVehicleServer::on_heartbeat(double timestamp) {
+  // A millisecond's slack: the controller's stamp is the vehicle's,
+  // carried through its own arithmetic (a cycle is 100 ms).
+  // A stamp that is no time (NaN, infinite) answers nothing.
+  if (!awaiting_ || !std::isfinite(timestamp) || timestamp + 1e-3 < *awaiting_) return;
+  awaiting_.reset();
+  // The waiting timer's handler sees operation_aborted and does nothing;
+  // the cycle runs after what this datagram's reading queued.
+  tick_timer_.cancel();
+  asio::post(io_, [this] {
+    if (stopped_) return;
+    cycle();
+    tick();
+  });
+}
+
 void ImcVehicleServer::cycle() {
+  stepped_ = true;
   vehicle_.step();
   forget_silent_peers();
   if (sim_.time_s() + 1e-9 >= next_announce_s_) {
@@ -182,6 +221,9 @@ void ImcVehicleServer::cycle() {
     next_announce_s_ += kImcAnnouncePeriodS;
   }
   flush_outbox();
+  // Lockstep: a Heartbeat ends every cycle, after its streams; the
+  // controller answers it when it has done with them.
+  if (options_.lockstep) send(imc::Heartbeat{}, imc::kNullId, imc::kAnyEntity);
 }
 
 void ImcVehicleServer::forget_silent_peers() {
@@ -209,6 +251,7 @@ imc::Announce ImcVehicleServer::announce() const {
   a.lat = lat;
   a.lon = lon;
   a.services = fmt::format("imc+udp://{}:{}/", options_.address, port_);
+  if (options_.lockstep) a.services += fmt::format(";{}", imc::kLockstepService);
   return a;
 }
 

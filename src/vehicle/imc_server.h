@@ -3,7 +3,8 @@
 // socket (docs/imc.md, "strata vehicle --imc"). ImcVehicle (imc_vehicle.h)
 // is what it does; this is who hears it.
 //
-// Clock: always the wall clock. The simulation steps on a timer every
+// Clock: the wall clock, or lockstep with its controller (options.lockstep).
+// On the wall clock the simulation steps on a timer every
 // cycle_s / speed wall seconds (as `strata vehicle --realtime --speed K`);
 // every time in the IMC behaviour (the streams' rates, the Announce period,
 // a FollowReference's timeout) is simulated time, so a run at --speed 50 is
@@ -29,6 +30,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +43,10 @@
 
 namespace strata::vehicle {
 
+// How long a lockstep vehicle waits for its controller's answer to a cycle
+// (wall time; imc::kLockstepService is what it offers).
+inline constexpr std::chrono::seconds kImcLockstepWait{5};
+
 struct ImcServerOptions {
   std::string address = "127.0.0.1";
   std::uint16_t port = 0;  // 0: a free port, see ImcVehicleServer::port()
@@ -52,6 +58,14 @@ struct ImcServerOptions {
   // and sent too (except the streams, which would drown the rest).
   std::function<void(const std::string&)> log;
   bool trace = false;
+  // Lockstep (docs/imc.md, "Lockstep"): after each cycle the simulation waits
+  // for a controller to say it has done with it (a Heartbeat stamped with
+  // that cycle's time or later) instead of for the wall clock, as fast as
+  // the controller goes and the same whatever the machine's load. Offered in
+  // the Announce's services as imc::kLockstepService; a controller that does
+  // not answer gets a cycle each lockstep_wait of wall time.
+  bool lockstep = false;
+  std::chrono::milliseconds lockstep_wait = kImcLockstepWait;
 };
 
 // Contact timeouts and periods (simulated seconds unless said).
@@ -59,15 +73,16 @@ inline constexpr double kImcPeerSilenceS = 30.0;
 inline constexpr double kImcAnnouncePeriodS = 10.0;
 
 struct ImcServerCounts {
-  std::uint64_t datagrams = 0;          // read from the socket
-  std::uint64_t accepted = 0;           // decoded from an announced peer, given to the vehicle
-  imc::DropCounts dropped;              // did not decode (Filtered: from an address that did not announce)
-  std::uint64_t peers_refused = 0;      // Announces past max_peers
-  std::uint64_t peers_forgotten = 0;    // silent for kImcPeerSilenceS
-  std::uint64_t not_acted_on = 0;       // decoded, from a peer, a message the vehicle does not act on
-  std::uint64_t lost_in_link_loss = 0;  // read while the scenario's link_loss lasts
-  std::uint64_t sent = 0;               // datagrams sent (one per peer per message)
-  std::uint64_t send_failed = 0;        // the socket refused one (buffer full, peer gone)
+  std::uint64_t datagrams = 0;             // read from the socket
+  std::uint64_t accepted = 0;              // decoded from an announced peer, given to the vehicle
+  imc::DropCounts dropped;                 // did not decode (Filtered: from an address that did not announce)
+  std::uint64_t peers_refused = 0;         // Announces past max_peers
+  std::uint64_t peers_forgotten = 0;       // silent for kImcPeerSilenceS
+  std::uint64_t not_acted_on = 0;          // decoded, from a peer, a message the vehicle does not act on
+  std::uint64_t lost_in_link_loss = 0;     // read while the scenario's link_loss lasts
+  std::uint64_t sent = 0;                  // datagrams sent (one per peer per message)
+  std::uint64_t send_failed = 0;           // the socket refused one (buffer full, peer gone)
+  std::uint64_t lockstep_waits_ended = 0;  // lockstep: cycles that came after lockstep_wait, unanswered
 };
 
 class ImcVehicleServer {
@@ -100,6 +115,8 @@ class ImcVehicleServer {
   void on_announce(const imc::Header& h);
   void tick();
   void cycle();
+  // Lockstep: a Heartbeat stamped at or after the cycle waited for ends the wait.
+  void on_heartbeat(double timestamp);
   void forget_silent_peers();
   imc::Announce announce() const;
   // Encodes m (from this vehicle's id, entity 0) and sends it to every peer
@@ -116,7 +133,9 @@ class ImcVehicleServer {
   asio::steady_timer tick_timer_;
   std::uint16_t port_ = 0;
   bool stopped_ = false;
-  bool clock_started_ = false;  // at the first peer's Announce
+  bool clock_started_ = false;      // at the first peer's Announce
+  bool stepped_ = false;            // a cycle has run (lockstep waits only after one)
+  std::optional<double> awaiting_;  // lockstep: the timestamp of the cycle waiting for its answer
   std::array<std::uint8_t, 65536> buffer_{};
   asio::ip::udp::endpoint from_;
   std::vector<Peer> peers_;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <thread>
 #include <vector>
@@ -240,6 +241,46 @@ TEST(ImcVehicleServer, AbortFailsThePlanAndTheVehicleSurfacesItself) {
   send_and_settle(rig, peer, reference_here(*here, 2.0));
   EXPECT_EQ(refs_before, peer.count<imc::FollowRefState>());
   EXPECT_EQ(1u, rig.vehicle_counts().references_ignored);
+}
+
+// `strata vehicle --imc --lockstep` (docs/imc.md, "Lockstep"): it offers
+// the service, ends each cycle with a Heartbeat, and runs the next one only
+// when a Heartbeat stamped with that cycle's time (or later) comes.
+TEST(ImcVehicleServer, InLockstepEachCycleWaitsForAHeartbeatStampedWithIt) {
+  Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));  // no cycle without an answer
+  TestPeer peer(rig.port());
+  peer.announce();
+  auto a = peer.wait_for<imc::Announce>();
+  ASSERT_TRUE(a);
+  EXPECT_NE(std::string::npos, a->services.find(";strata://lockstep")) << a->services;
+  ASSERT_TRUE(peer.wait_for<imc::EstimatedState>());
+  ASSERT_TRUE(peer.wait_for<imc::Heartbeat>());
+  const double first = rig.timestamp();
+  // An answer stamped before the cycle is not one, nor is a stamp that is
+  // no time: read, and no cycle ran.
+  const auto read = rig.counts().datagrams;
+  peer.send(imc::Heartbeat{}, kVehicleId, first - 0.1);
+  peer.send(imc::Heartbeat{}, kVehicleId, std::numeric_limits<double>::quiet_NaN());
+  peer.send(imc::Heartbeat{}, kVehicleId, std::numeric_limits<double>::infinity());
+  ASSERT_TRUE(rig.wait_read(read + 3));
+  EXPECT_DOUBLE_EQ(first, rig.timestamp());
+  for (int cycle = 1; cycle <= 3; ++cycle) {
+    peer.send(imc::Heartbeat{}, kVehicleId, rig.timestamp());
+    ASSERT_TRUE(peer.wait_past(first + 0.1 * (cycle - 1) + 1e-3));
+    EXPECT_NEAR(first + 0.1 * cycle, rig.timestamp(), 1e-6);
+  }
+  EXPECT_EQ(0u, rig.counts().lockstep_waits_ended);
+}
+
+// A controller that never answers (not a Strata link) still gets a cycle
+// each lockstep_wait of wall time, counted.
+TEST(ImcVehicleServer, InLockstepAnUnansweredCycleEndsAfterItsWait) {
+  Rig rig(Scenario::nominal(), 16, std::chrono::milliseconds(10));
+  TestPeer peer(rig.port());
+  peer.announce();
+  ASSERT_TRUE(peer.wait_for<imc::Announce>());
+  peer.cycles(4);
+  EXPECT_GE(rig.counts().lockstep_waits_ended, 3u);
 }
 
 TEST(ImcVehicleServer, GarbageIsCountedAndDroppedAndTheVehicleGoesOn) {

@@ -39,8 +39,11 @@ inline constexpr auto kWallLimit = 120s;
 // The simulated vehicle and its IMC server, on a thread of their own.
 class Rig {
  public:
-  explicit Rig(Scenario scenario = Scenario::nominal(), std::size_t max_peers = 16)
-      : sim_(default_params(), std::move(scenario)), server_(io_, sim_, options(max_peers)) {
+  // lockstep_wait: a lockstep vehicle (ImcServerOptions::lockstep) waiting
+  // that long for an unanswered cycle.
+  explicit Rig(Scenario scenario = Scenario::nominal(), std::size_t max_peers = 16,
+               std::optional<std::chrono::milliseconds> lockstep_wait = std::nullopt)
+      : sim_(default_params(), std::move(scenario)), server_(io_, sim_, options(max_peers, lockstep_wait)) {
     auto r = server_.start();
     EXPECT_TRUE(r.ok());
     thread_ = std::thread([this] { io_.run(); });
@@ -78,10 +81,12 @@ class Rig {
   bool wait_read(std::uint64_t n);
 
  private:
-  static ImcServerOptions options(std::size_t max_peers) {
+  static ImcServerOptions options(std::size_t max_peers, std::optional<std::chrono::milliseconds> lockstep_wait) {
     ImcServerOptions o;
     o.speed = 50.0;
     o.max_peers = max_peers;
+    o.lockstep = lockstep_wait.has_value();
+    o.lockstep_wait = lockstep_wait.value_or(o.lockstep_wait);
     return o;
   }
 
@@ -108,13 +113,13 @@ class TestPeer {
     reader_.join();
   }
 
-  void send(imc::Message m, std::uint16_t dst = kVehicleId) {
+  void send(imc::Message m, std::uint16_t dst = kVehicleId, double timestamp = 1.0) {
     imc::Packet p;
     p.header.src = id_;
     p.header.src_ent = kPeerEnt;
     p.header.dst = dst;
     p.header.dst_ent = imc::kAnyEntity;
-    p.header.timestamp = 1.0;
+    p.header.timestamp = timestamp;
     p.message = std::move(m);
     auto bytes = imc::encode(p);
     ASSERT_TRUE(bytes.ok());
