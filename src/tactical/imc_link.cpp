@@ -529,6 +529,9 @@ void ImcLink::maybe_answer_cycle(std::uint64_t generation) {
   if (answered_s_ && *answered_s_ >= *cycle_end_s_) return;
   answered_s_ = cycle_end_s_;
   send_packet(imc::Message(imc::Heartbeat{}), vehicle_.id);  // stamped with the vehicle's newest time
+  // The vehicle waited for this answer: its silence counts from now, not
+  // from its last state (this side's work, however long, is not its loss).
+  arm_lost();
 }
 
 void ImcLink::arm_lost() {

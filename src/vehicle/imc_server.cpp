@@ -124,7 +124,7 @@ void ImcVehicleServer::on_datagram(std::size_t n) {
   peer->last_heard_s = sim_.time_s();
   peer->last_heard_wall = Clock::now();
   if (id == imc::Heartbeat::kId) {
-    on_heartbeat(packet.header.timestamp);
+    on_heartbeat(packet.header);
     return;
   }
   if (id == imc::PlanControl::kId || id == imc::Reference::kId || id == imc::Abort::kId ||
@@ -161,7 +161,16 @@ void ImcVehicleServer::on_announce(const imc::Header& h) {
     // does not live through its faults alone (at --speed 100, a second of
     // wall time is 100 s of the scenario).
     clock_started_ = true;
-    tick();
+    if (options_.lockstep) {
+      cycle_now();  // not a wall-clock cycle's wait first
+    } else {
+      tick();
+    }
+  } else if (awaiting_) {
+    // Lockstep: a new controller answers cycles it has seen; it starts from
+    // one of its own, not after the wait for a controller that may be gone
+    // (the run before it).
+    cycle_now();
   }
 }
 
@@ -173,9 +182,12 @@ void ImcVehicleServer::tick() {
   // link lost (nothing is heard) or no peer, on the wall clock.
   if (options_.lockstep && stepped_ && !peers_.empty() && !sim_.link_lost()) {
     awaiting_ = vehicle_.timestamp();
+    const std::uint64_t wait = ++wait_;
     tick_timer_.expires_after(options_.lockstep_wait);
-    tick_timer_.async_wait([this](const asio::error_code& e) {
-      if (e || stopped_) return;
+    tick_timer_.async_wait([this, wait](const asio::error_code& e) {
+      // An expiry already queued when an answer came cannot be cancelled:
+      // it is stale, and the answer's cycle runs instead.
+      if (e || stopped_ || wait != wait_ || !awaiting_) return;
       ++counts_.lockstep_waits_ended;
       awaiting_.reset();
       cycle();
@@ -196,12 +208,23 @@ void ImcVehicleServer::tick() {
   });
 }
 
-void ImcVehicleServer::on_heartbeat(double timestamp) {
-  // A millisecond's slack: the controller's stamp is the vehicle's,
-  // carried through its own arithmetic (a cycle is 100 ms).
-  // A stamp that is no time (NaN, infinite) answers nothing.
-  if (!awaiting_ || !std::isfinite(timestamp) || timestamp + 1e-3 < *awaiting_) return;
+void ImcVehicleServer::on_heartbeat(const imc::Header& h) {
+  if (!awaiting_) return;
+  // The cycle's own stamp, to a millisecond (the controller's stamp is the
+  // vehicle's, carried through its own arithmetic; a cycle is 100 ms): not
+  // a console's Heartbeat on the wall clock, nor a stamp that is no time.
+  if (!std::isfinite(h.timestamp) || std::abs(h.timestamp - *awaiting_) > 1e-3) return;
+  // While a plan runs, its controller paces the vehicle, not another peer.
+  if (const auto controller = vehicle_.plan_controller();
+      controller && *controller != imc::kNullId && *controller != h.src) {
+    return;
+  }
+  cycle_now();
+}
+
+void ImcVehicleServer::cycle_now() {
   awaiting_.reset();
+  ++wait_;
   // The waiting timer's handler sees operation_aborted and does nothing;
   // the cycle runs after what this datagram's reading queued.
   tick_timer_.cancel();

@@ -45,7 +45,7 @@ namespace strata::vehicle {
 
 // How long a lockstep vehicle waits for its controller's answer to a cycle
 // (wall time; imc::kLockstepService is what it offers).
-inline constexpr std::chrono::seconds kImcLockstepWait{5};
+inline constexpr std::chrono::seconds kImcLockstepWait{30};
 
 struct ImcServerOptions {
   std::string address = "127.0.0.1";
@@ -59,8 +59,8 @@ struct ImcServerOptions {
   std::function<void(const std::string&)> log;
   bool trace = false;
   // Lockstep (docs/imc.md, "Lockstep"): after each cycle the simulation waits
-  // for a controller to say it has done with it (a Heartbeat stamped with
-  // that cycle's time or later) instead of for the wall clock, as fast as
+  // for its controller to say it has done with it (a Heartbeat stamped with
+  // that cycle's time) instead of for the wall clock, as fast as
   // the controller goes and the same whatever the machine's load. Offered in
   // the Announce's services as imc::kLockstepService; a controller that does
   // not answer gets a cycle each lockstep_wait of wall time.
@@ -115,8 +115,11 @@ class ImcVehicleServer {
   void on_announce(const imc::Header& h);
   void tick();
   void cycle();
-  // Lockstep: a Heartbeat stamped at or after the cycle waited for ends the wait.
-  void on_heartbeat(double timestamp);
+  // Lockstep: a Heartbeat stamped with the cycle waited for, from the
+  // running plan's controller (any peer when no plan runs), ends the wait.
+  void on_heartbeat(const imc::Header& h);
+  // Lockstep: the next cycle now (an answer, a new controller, the first one).
+  void cycle_now();
   void forget_silent_peers();
   imc::Announce announce() const;
   // Encodes m (from this vehicle's id, entity 0) and sends it to every peer
@@ -136,6 +139,7 @@ class ImcVehicleServer {
   bool clock_started_ = false;      // at the first peer's Announce
   bool stepped_ = false;            // a cycle has run (lockstep waits only after one)
   std::optional<double> awaiting_;  // lockstep: the timestamp of the cycle waiting for its answer
+  std::uint64_t wait_ = 0;          // lockstep: the wait's number (a timer's handler already queued is stale)
   std::array<std::uint8_t, 65536> buffer_{};
   asio::ip::udp::endpoint from_;
   std::vector<Peer> peers_;

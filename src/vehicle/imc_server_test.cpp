@@ -256,19 +256,57 @@ TEST(ImcVehicleServer, InLockstepEachCycleWaitsForAHeartbeatStampedWithIt) {
   ASSERT_TRUE(peer.wait_for<imc::EstimatedState>());
   ASSERT_TRUE(peer.wait_for<imc::Heartbeat>());
   const double first = rig.timestamp();
-  // An answer stamped before the cycle is not one, nor is a stamp that is
-  // no time: read, and no cycle ran.
+  // A Heartbeat stamped with another time is no answer (an earlier cycle,
+  // a later one, a console's on the wall clock), nor is a stamp that is no
+  // time: read, and no cycle ran.
   const auto read = rig.counts().datagrams;
-  peer.send(imc::Heartbeat{}, kVehicleId, first - 0.1);
-  peer.send(imc::Heartbeat{}, kVehicleId, std::numeric_limits<double>::quiet_NaN());
-  peer.send(imc::Heartbeat{}, kVehicleId, std::numeric_limits<double>::infinity());
-  ASSERT_TRUE(rig.wait_read(read + 3));
+  for (const double stamp : {first - 0.1, first + 0.1, 1.79e9, std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::infinity()}) {
+    peer.send(imc::Heartbeat{}, kVehicleId, stamp);
+  }
+  ASSERT_TRUE(rig.wait_read(read + 5));
   EXPECT_DOUBLE_EQ(first, rig.timestamp());
   for (int cycle = 1; cycle <= 3; ++cycle) {
     peer.send(imc::Heartbeat{}, kVehicleId, rig.timestamp());
     ASSERT_TRUE(peer.wait_past(first + 0.1 * (cycle - 1) + 1e-3));
     EXPECT_NEAR(first + 0.1 * cycle, rig.timestamp(), 1e-6);
   }
+  EXPECT_EQ(0u, rig.counts().lockstep_waits_ended);
+}
+
+// While a plan runs, its controller paces the vehicle: another peer's
+// answer, even stamped right, is not one.
+TEST(ImcVehicleServer, InLockstepOnlyThePlansControllerAnswersWhileItRuns) {
+  Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));
+  TestPeer peer(rig.port());
+  TestPeer other(rig.port(), 0x4002);
+  other.announce();
+  ASSERT_TRUE(other.wait_for<imc::Announce>());
+  start(peer);  // its plan, steered by it
+  const auto read = rig.counts().datagrams;
+  const double waiting = rig.timestamp();
+  other.send(imc::Heartbeat{}, kVehicleId, waiting);
+  ASSERT_TRUE(rig.wait_read(read + 1));
+  EXPECT_DOUBLE_EQ(waiting, rig.timestamp());
+  peer.send(imc::Heartbeat{}, kVehicleId, waiting);
+  ASSERT_TRUE(peer.wait_past(waiting + 1e-3));
+  EXPECT_NEAR(waiting + 0.1, rig.timestamp(), 1e-6);
+}
+
+// A second run on the same vehicle: the first controller (gone, or silent)
+// never answers its last cycle; a new one is not kept waiting for it.
+TEST(ImcVehicleServer, InLockstepANewControllerDoesNotWaitForTheLastOnesAnswer) {
+  Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));
+  TestPeer first(rig.port());
+  first.announce();
+  ASSERT_TRUE(first.wait_for<imc::EstimatedState>());
+  ASSERT_TRUE(first.wait_for<imc::Heartbeat>());
+  const double waiting = rig.timestamp();
+  TestPeer second(rig.port(), 0x4002);
+  second.announce();
+  ASSERT_TRUE(second.wait_for<imc::Announce>());
+  ASSERT_TRUE(second.wait_for<imc::EstimatedState>());
+  EXPECT_NEAR(waiting + 0.1, rig.timestamp(), 1e-6);  // one cycle, then it waits for an answer
   EXPECT_EQ(0u, rig.counts().lockstep_waits_ended);
 }
 

@@ -109,6 +109,10 @@ class ImcVehicle {
   double timestamp() const { return kImcEpochS + sim_.time_s(); }
   const ImcVehicleCounts& counts() const { return counts_; }
   bool plan_executing() const { return plan_.has_value(); }
+  // The IMC id that steers the running plan (kNullId: any), if one runs.
+  std::optional<std::uint16_t> plan_controller() const {
+    return plan_ ? std::optional<std::uint16_t>(plan_->control_src) : std::nullopt;
+  }
 
   // The messages as they would be sent now.
   imc::EstimatedState estimated_state() const;
