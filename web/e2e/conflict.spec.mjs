@@ -1,7 +1,7 @@
 // No lost work: two tabs on one file, Reload or keep mine after a 412, and
 // leaving or switching with unsaved edits asks first.
 import fs from 'node:fs';
-import { test, expect, studio, waitFor, openPage, TANK } from './fixtures.mjs';
+import { test, expect, studio, waitFor, openPage, patient, TANK } from './fixtures.mjs';
 
 const TABS = 'missions/tank/two_tabs.coral';
 
@@ -26,7 +26,7 @@ async function twoTabs(page) {
   // 0.5 s), which shows the same conflict and disables Save: both are
   // the conflict this test is about.
   if (!(await studio(two, '!!s.state.conflict'))) {
-    await two.locator('#btn-save').click({ timeout: 5000 }).catch(async (e) => {
+    await two.locator('#btn-save').click({ timeout: patient(5000) }).catch(async (e) => {
       if (!(await studio(two, '!!s.state.conflict'))) throw e;
     });
   }
@@ -67,13 +67,13 @@ test('switching file with unsaved edits asks; dismissing keeps the edits', async
   const asked = [];
   page.on('dialog', (d) => { asked.push(d.message()); d.dismiss(); });
   await page.locator('#file-list li[data-path="missions/tank/initialize.coral"]').click();
-  await expect.poll(() => asked.length, { timeout: 5000 }).toBe(1);
+  await expect.poll(() => asked.length, { timeout: patient(5000) }).toBe(1);
   expect(asked[0]).toMatch(/Discard the unsaved changes/);
   expect(await studio(page, 's.path')).toBe(TANK);
   expect(await studio(page, '/unsaved_one/.test(s.text)')).toBe(true);
   // The open file clicked again (it would be read from disk) asks too.
   await page.locator(`#file-list li[data-path="${TANK}"]`).click();
-  await expect.poll(() => asked.length, { timeout: 5000 }).toBe(2);
+  await expect.poll(() => asked.length, { timeout: patient(5000) }).toBe(2);
   expect(await studio(page, '/unsaved_one/.test(s.text) && s.dirty')).toBe(true);
   page.removeAllListeners('dialog');
   page.on('dialog', (d) => { asked.push(d.message()); d.accept(); });
@@ -92,6 +92,6 @@ test('leaving the page with unsaved edits asks first (beforeunload)', async ({ p
   await page.evaluate(() => { document.body.click(); });   // a user gesture, which beforeunload needs
   await page.mouse.click(5, 5);
   await page.close({ runBeforeUnload: true });
-  await expect.poll(() => kinds.length, { timeout: 5000 }).toBe(1);
+  await expect.poll(() => kinds.length, { timeout: patient(5000) }).toBe(1);
   expect(kinds[0]).toBe('beforeunload');
 });

@@ -1,7 +1,7 @@
 // Changes on disk (file_changed): the open file, clean, is read again; with
 // unsaved edits the conflict (Reload / Keep mine) is shown, nothing lost.
 import fs from 'node:fs';
-import { test, expect, studio, waitFor } from './fixtures.mjs';
+import { test, expect, studio, waitFor, patient } from './fixtures.mjs';
 
 const DISK = 'missions/tank/on_disk.coral';
 
@@ -72,7 +72,7 @@ test('an imported file changed on disk: the lists are read again, the open file 
   const text = await studio(page, 's.text');
   const imp = 'missions/tank/initialize.coral';
   page.studio.write(imp, `${page.studio.read(imp)}\n// changed import\n`);
-  await expect(page.locator('#file-list li[data-path="missions/tank/made_later.coral"]')).toHaveCount(1, { timeout: 10000 });
+  await expect(page.locator('#file-list li[data-path="missions/tank/made_later.coral"]')).toHaveCount(1, { timeout: patient(10000) });
   expect(await studio(page, 's.text')).toBe(text);
   expect(await studio(page, "s.path")).toBe('missions/tank/tank.coral');
 });

@@ -10,6 +10,9 @@ import path from 'node:path';
 import { spawn, spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { test as base, expect } from '@playwright/test';
+import { PATIENCE, patient } from './patience.mjs';
+
+export { PATIENCE, patient };
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 export const repo = path.resolve(here, '..', '..');
@@ -40,7 +43,8 @@ async function startStudio(dir) {
   proc.stderr.on('data', (c) => { err += c; if (err.length > 20000) err = err.slice(-10000); });
   const url = await new Promise((resolve, reject) => {
     let buf = '';
-    const t = setTimeout(() => reject(new Error(`no URL from strata studio in 15 s; stderr: ${err.slice(-500)}`)), 15000);
+    const t = setTimeout(() => reject(new Error(`no URL from strata studio in ${patient(15)} s; stderr: ${err.slice(-500)}`)),
+      patient(15000));
     proc.stdout.on('data', (c) => {
       buf += c;
       if (!buf.includes('\n')) return;
@@ -119,13 +123,13 @@ export { expect };
 // The value of expr, evaluated with s = window.__studio and cy = window.__cy.
 export const studio = (page, expr) => page.evaluate(`(() => { const s = window.__studio, cy = window.__cy; return ${expr}; })()`);
 
-// Waits (polling, bounded) until expr is true in the page.
+// Waits (polling, bounded: ms times PATIENCE) until expr is true in the page.
 export async function waitFor(page, expr, ms = 10000, what) {
   try {
-    await page.waitForFunction(`(() => { const s = window.__studio, cy = window.__cy; try { return !!(${expr}); } catch { return false; } })()`, null, { timeout: ms, polling: 50 });
+    await page.waitForFunction(`(() => { const s = window.__studio, cy = window.__cy; try { return !!(${expr}); } catch { return false; } })()`, null, { timeout: patient(ms), polling: 50 });
   } catch {
     const err = await studio(page, 's && s.lastError').catch(() => null);
-    throw new Error(`timed out after ${ms} ms waiting for ${what || expr}${err ? `; page error: ${err}` : ''}`);
+    throw new Error(`timed out after ${patient(ms)} ms waiting for ${what || expr}${err ? `; page error: ${err}` : ''}`);
   }
 }
 

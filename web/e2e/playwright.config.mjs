@@ -6,10 +6,12 @@
 //
 // Environment: STRATA (the binary; default build/dev/strata), STRATA_WEB_ROOT
 // (serve a page from disk instead of the embedded one), STRATA_E2E_OUT (the
-// screenshots, figures and Playwright's output), STRATA_E2E_WORKERS (1 or 2).
+// screenshots, figures and Playwright's output), STRATA_E2E_WORKERS (1 or 2),
+// STRATA_E2E_PATIENCE (how many times the written limits to wait: patience.mjs).
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { defineConfig } from '@playwright/test';
+import { patient } from './patience.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const out = path.resolve(process.env.STRATA_E2E_OUT || path.join(here, '..', '..', 'build', 'dev', 'tests', 'e2e-artifacts'));
@@ -21,15 +23,15 @@ export default defineConfig({
   workers: Math.max(1, Math.min(2, Number(process.env.STRATA_E2E_WORKERS) || 2)),
   fullyParallel: true,
   retries: 0,
-  timeout: 150_000,
+  timeout: patient(75_000),
   globalTimeout: 900_000,
-  expect: { timeout: 15_000 },
+  expect: { timeout: patient(15_000) },
   reporter: [['list']],
   use: {
     headless: true,
     viewport: { width: 1500, height: 950 },
-    actionTimeout: 15_000,
-    navigationTimeout: 60_000,   // an ASan strata on a loaded machine
+    actionTimeout: patient(15_000),
+    navigationTimeout: patient(15_000),   // an ASan strata on a loaded machine
     launchOptions: {
       executablePath: process.env.STRATA_CHROMIUM || '/usr/bin/chromium',
       args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',

@@ -9,7 +9,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { spawn, spawnSync } from 'node:child_process';
 import { test, expect } from '@playwright/test';
-import { repo, STRATA, waitFor, studio } from './fixtures.mjs';
+import { repo, STRATA, waitFor, studio, patient } from './fixtures.mjs';
 
 // The studio steps of a document: the command, and the address pattern it
 // shows (its `...` matching what varies).
@@ -47,7 +47,8 @@ async function startAsWritten(command, cwd) {
   proc.stderr.on('data', (c) => { err += c; if (err.length > 20000) err = err.slice(-10000); });
   const first = await new Promise((resolve, reject) => {
     let buf = '';
-    const t = setTimeout(() => reject(new Error(`\`${command}\` printed no line in 30 s; stderr: ${err.slice(-500)}`)), 30000);
+    const t = setTimeout(() => reject(new Error(`\`${command}\` printed no line in ${patient(30)} s; stderr: ${err.slice(-500)}`)),
+      patient(30000));
     proc.stdout.on('data', (c) => {
       buf += c;
       if (!buf.includes('\n')) return;
