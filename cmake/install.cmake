@@ -26,6 +26,10 @@ install(DIRECTORY ${STRATA_GEN_DIR}/man/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man
 install(FILES ${STRATA_GEN_DIR}/completion/strata.bash
         DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/bash-completion/completions RENAME strata)
 install(FILES ${STRATA_GEN_DIR}/completion/_strata DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/zsh/vendor-completions)
+install(FILES ${STRATA_GEN_DIR}/completion/strata-pnml.bash
+        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/bash-completion/completions RENAME strata-pnml)
+install(FILES ${STRATA_GEN_DIR}/completion/_strata-pnml
+        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/zsh/vendor-completions)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/missions/ DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/missions
         PATTERN "*.layout.json" EXCLUDE PATTERN "runs" EXCLUDE)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/library/ DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/strata/library

@@ -45,7 +45,8 @@ endif()
 set(strata ${root}/usr/bin/strata)
 foreach(f usr/bin/strata usr/share/man/man1/strata.1.gz usr/share/man/man1/strata-run.1.gz
           usr/share/man/man1/strata-verify.1.gz usr/bin/strata-pnml usr/share/man/man1/strata-pnml.1.gz usr/share/bash-completion/completions/strata
-          usr/share/zsh/vendor-completions/_strata usr/share/strata/missions/tank/tank.coral
+          usr/share/zsh/vendor-completions/_strata usr/share/bash-completion/completions/strata-pnml
+          usr/share/zsh/vendor-completions/_strata-pnml usr/share/strata/missions/tank/tank.coral
           usr/share/strata/missions/tank/tank.pl usr/share/doc/strata/LICENSE usr/share/doc/strata/NOTICE
           usr/share/strata/library/coral/goto.coral usr/share/strata/library/prolog/goto.pl
           usr/lib/strata/modules/libstrata_studio_http.so usr/lib/strata/strata_driver.qlf
@@ -171,12 +172,26 @@ execute_process(COMMAND bash -c "${script}" bash ${root}/usr/share/bash-completi
 if(NOT rc EQUAL 0 OR NOT out MATCHES "1:verify\n" OR NOT out MATCHES "2:--max-states\n")
   fail("bash completion: exit ${rc}: ${out}${err}")
 endif()
+# strata-pnml's: its options (it has no subcommands).
+set(script [=[
+source "$1"
+COMP_WORDS=(strata-pnml --max-s); COMP_CWORD=1; _strata_pnml; echo "1:${COMPREPLY[*]}"
+complete -p strata-pnml
+]=])
+execute_process(COMMAND bash -c "${script}" bash ${root}/usr/share/bash-completion/completions/strata-pnml
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "1:--max-states\n" OR NOT out MATCHES "-F _strata_pnml strata-pnml")
+  fail("bash completion of strata-pnml: exit ${rc}: ${out}${err}")
+endif()
 find_program(ZSH zsh)
 if(ZSH)
-  execute_process(COMMAND ${ZSH} -n ${root}/usr/share/zsh/vendor-completions/_strata RESULT_VARIABLE rc ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    fail("zsh -n _strata: ${err}")
-  endif()
+  foreach(script _strata _strata-pnml)
+    execute_process(COMMAND ${ZSH} -n ${root}/usr/share/zsh/vendor-completions/${script} RESULT_VARIABLE rc
+                    ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      fail("zsh -n ${script}: ${err}")
+    endif()
+  endforeach()
 else()
   message("note: zsh is missing: the zsh script's syntax is not checked")
 endif()

@@ -66,7 +66,8 @@ Runner add_docs_commands(CLI::App& app, const std::string& version) {
   manpages->add_option("dir", pages->dir, "The folder")->required();
   manpages->add_option("--date", pages->date, "The pages' date (default: today, UTC)");
   manpages->add_option("--completions", pages->completions,
-                       "Also write the completion scripts strata.bash and _strata (zsh) into this folder");
+                       "Also write the completion scripts strata.bash and _strata (zsh), and strata-pnml's, into "
+                       "this folder");
 
   return [&app, shell, pages, completion, version] {
     if (completion->parsed()) {
@@ -75,12 +76,15 @@ Runner add_docs_commands(CLI::App& app, const std::string& version) {
     }
     const std::string date = pages->date.empty() ? today() : pages->date;
     std::vector<GeneratedFile> written = man_pages(app, version, date);
-    // strata-pnml's page, from its own command line (cli/pnml_verify.h).
-    for (GeneratedFile& page : man_pages(PnmlCommandLine(version).app, version, date))
-      written.push_back(std::move(page));
+    // strata-pnml's page and completions, from its own command line (cli/pnml_verify.h).
+    const PnmlCommandLine pnml(version);
+    for (GeneratedFile& page : man_pages(pnml.app, version, date)) written.push_back(std::move(page));
     const int rc = write_files(pages->dir, written);
     if (rc != kExitOk || pages->completions.empty()) return rc;
-    return write_files(pages->completions, {{"strata.bash", bash_completion(app)}, {"_strata", zsh_completion(app)}});
+    return write_files(pages->completions, {{"strata.bash", bash_completion(app)},
+                                            {"_strata", zsh_completion(app)},
+                                            {"strata-pnml.bash", bash_completion(pnml.app)},
+                                            {"_strata-pnml", zsh_completion(pnml.app)}});
   };
 }
 
