@@ -122,8 +122,11 @@ int run_imc_vehicle(const VehicleOptions& o, const vehicle::VehicleParams& param
   signals.async_wait([&](const asio::error_code& e, int) {
     if (e) return;
     if (!quiet) {
-      std::cerr << fmt::format("vehicle: stopping; {} datagrams read, {} dropped ({})", server.counts().datagrams,
-                               server.counts().dropped.total(), server.counts().dropped.summary())
+      std::cerr << fmt::format("vehicle: stopping; {} datagrams read, {} dropped ({}){}", server.counts().datagrams,
+                               server.counts().dropped.total(), server.counts().dropped.summary(),
+                               so.lockstep ? fmt::format("; {} cycles unanswered (lockstep)",
+                                                         server.counts().lockstep_waits_ended)
+                                           : "")
                 << std::endl;
     }
     server.stop();

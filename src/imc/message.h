@@ -29,9 +29,9 @@ inline constexpr std::size_t kMaxDepth = 8;
 // a datagram allocates a bounded number of messages.
 inline constexpr std::size_t kMaxInlineMessages = 1024;
 // Strata's own convention on top of IMC (docs/imc.md, "Lockstep"): a vehicle
-// whose Announce lists this service waits, after each cycle, for its
-// controller's Heartbeat stamped with that cycle's time; a Strata link that
-// hears it sends one when it has done with each EstimatedState.
+// whose Announce lists this service ends each cycle with a Heartbeat and
+// waits for its controller's, stamped with that cycle's time; a Strata link
+// that hears it sends one when it has done with the cycle.
 inline constexpr std::string_view kLockstepService = "strata://lockstep";
 
 // The wire's types, as messages.def names them.

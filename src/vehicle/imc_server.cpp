@@ -225,8 +225,9 @@ void ImcVehicleServer::on_heartbeat(const imc::Header& h) {
 void ImcVehicleServer::cycle_now() {
   awaiting_.reset();
   ++wait_;
-  // The waiting timer's handler sees operation_aborted and does nothing;
-  // the cycle runs after what this datagram's reading queued.
+  // The waiting timer's handler sees operation_aborted, or (already
+  // queued) a wait number gone by, and does nothing; the cycle runs after
+  // what this datagram's reading queued.
   tick_timer_.cancel();
   asio::post(io_, [this] {
     if (stopped_) return;
