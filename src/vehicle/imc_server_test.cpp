@@ -293,6 +293,26 @@ TEST(ImcVehicleServer, InLockstepOnlyThePlansControllerAnswersWhileItRuns) {
   EXPECT_NEAR(waiting + 0.1, rig.timestamp(), 1e-6);
 }
 
+// A thousand right answers at once (a flood, or a controller gone wrong)
+// are one cycle: the vehicle waits again after it.
+TEST(ImcVehicleServer, InLockstepAThousandAnswersToOneCycleRunOneCycle) {
+  Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));
+  TestPeer peer(rig.port());
+  peer.announce();
+  ASSERT_TRUE(peer.wait_for<imc::EstimatedState>());
+  ASSERT_TRUE(peer.wait_for<imc::Heartbeat>());
+  const double waiting = rig.timestamp();
+  // In tens of a hundred, each read before the next: a hundred small
+  // datagrams fit the vehicle's socket buffer, so none is dropped unread.
+  const auto read = rig.counts().datagrams;
+  for (int batch = 1; batch <= 10; ++batch) {
+    for (int i = 0; i < 100; ++i) peer.send(imc::Heartbeat{}, kVehicleId, waiting);
+    ASSERT_TRUE(rig.wait_read(read + 100 * static_cast<std::uint64_t>(batch)));
+  }
+  EXPECT_NEAR(waiting + 0.1, rig.timestamp(), 1e-6);
+  EXPECT_EQ(0u, rig.counts().lockstep_waits_ended);
+}
+
 // A second run on the same vehicle: the first controller (gone, or silent)
 // never answers its last cycle; a new one is not kept waiting for it.
 TEST(ImcVehicleServer, InLockstepANewControllerDoesNotWaitForTheLastOnesAnswer) {
