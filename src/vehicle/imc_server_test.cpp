@@ -293,15 +293,21 @@ TEST(ImcVehicleServer, InLockstepOnlyThePlansControllerAnswersWhileItRuns) {
   EXPECT_NEAR(waiting + 0.1, rig.timestamp(), 1e-6);
 }
 
+// Announced to a lockstep vehicle, its first cycle read to its end: the
+// time the vehicle now waits at (0 if that did not come).
+double first_lockstep_cycle(Rig& rig, TestPeer& peer) {
+  peer.announce();
+  if (!peer.wait_for<imc::EstimatedState>() || !peer.wait_for<imc::Heartbeat>()) return 0;
+  return rig.timestamp();
+}
+
 // A thousand right answers at once (a flood, or a controller gone wrong)
 // are one cycle: the vehicle waits again after it.
 TEST(ImcVehicleServer, InLockstepAThousandAnswersToOneCycleRunOneCycle) {
   Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));
   TestPeer peer(rig.port());
-  peer.announce();
-  ASSERT_TRUE(peer.wait_for<imc::EstimatedState>());
-  ASSERT_TRUE(peer.wait_for<imc::Heartbeat>());
-  const double waiting = rig.timestamp();
+  const double waiting = first_lockstep_cycle(rig, peer);
+  ASSERT_GT(waiting, 0);
   // In tens of a hundred, each read before the next: a hundred small
   // datagrams fit the vehicle's socket buffer, so none is dropped unread.
   const auto read = rig.counts().datagrams;
@@ -318,10 +324,8 @@ TEST(ImcVehicleServer, InLockstepAThousandAnswersToOneCycleRunOneCycle) {
 TEST(ImcVehicleServer, InLockstepANewControllerDoesNotWaitForTheLastOnesAnswer) {
   Rig rig(Scenario::nominal(), 16, std::chrono::hours(1));
   TestPeer first(rig.port());
-  first.announce();
-  ASSERT_TRUE(first.wait_for<imc::EstimatedState>());
-  ASSERT_TRUE(first.wait_for<imc::Heartbeat>());
-  const double waiting = rig.timestamp();
+  const double waiting = first_lockstep_cycle(rig, first);
+  ASSERT_GT(waiting, 0);
   TestPeer second(rig.port(), 0x4002);
   second.announce();
   ASSERT_TRUE(second.wait_for<imc::Announce>());

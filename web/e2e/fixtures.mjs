@@ -10,9 +10,9 @@ import path from 'node:path';
 import { spawn, spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { test as base, expect } from '@playwright/test';
-import { PATIENCE, patient } from './patience.mjs';
+import { patient } from './patience.mjs';
 
-export { PATIENCE, patient };
+export { patient };
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 export const repo = path.resolve(here, '..', '..');
@@ -123,7 +123,7 @@ export { expect };
 // The value of expr, evaluated with s = window.__studio and cy = window.__cy.
 export const studio = (page, expr) => page.evaluate(`(() => { const s = window.__studio, cy = window.__cy; return ${expr}; })()`);
 
-// Waits (polling, bounded: ms times PATIENCE) until expr is true in the page.
+// Waits (polling, bounded: patient(ms), patience.mjs) until expr is true in the page.
 export async function waitFor(page, expr, ms = 10000, what) {
   try {
     await page.waitForFunction(`(() => { const s = window.__studio, cy = window.__cy; try { return !!(${expr}); } catch { return false; } })()`, null, { timeout: patient(ms), polling: 50 });
